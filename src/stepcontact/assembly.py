@@ -1,0 +1,381 @@
+"""Assembly: model -> global stiffness, load vectors and contact operators.
+
+Degrees of freedom: every node has ux, uy; frame nodes also rz.  Tied nodes
+(:class:`~stepcontact.model.Tie`) share their translations.  All element matrices are built
+for all elements at once and scattered through one COO -> CSR conversion (:func:`scatter`).
+
+The contact operator B (2m × ndof) gives the mutual displacements of the CFEs,
+w = B u + w⁰ with rows 0..m-1 = u_τ and rows m..2m-1 = u_n (see :mod:`stepcontact.contact`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import _fem
+from .contact import ContactElements, build_contact, chain_order
+from .errors import ModelError
+from .model import (
+    Body,
+    BodyForce,
+    EdgeLoad,
+    Frame,
+    Model,
+    NodalLoad,
+    PrescribedDisplacement,
+)
+
+_DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
+
+
+@dataclass(frozen=True, eq=False)
+class DofMap:
+    """Global DOF numbers: ``of[node, c]`` for c = x, y, rz (−1 where the node has none)."""
+
+    of: np.ndarray
+    ndof: int
+
+    def nodes(self, nodes: np.ndarray, c: int) -> np.ndarray:
+        return self.of[nodes, c]
+
+
+@dataclass(frozen=True, eq=False)
+class LoadVectors:
+    """A load pattern as vectors: forces ``f`` (N, per unit λ) and prescribed displacements
+    ``u`` (m, per unit λ, nonzero only on prescribed DOFs listed in ``dofs``)."""
+
+    f: np.ndarray
+    u: np.ndarray
+    dofs: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class System:
+    """The assembled linear system of a model (input to the solvers).
+
+    Attributes
+    ----------
+    model : Model
+    dofs : DofMap
+    K : csr_matrix (ndof, ndof)
+        Stiffness of bodies, frames and springs, N/m.
+    fixed : (ndof,) bool
+        DOFs with a support or a prescribed displacement.
+    loads : dict[str, LoadVectors]
+    cfe : ContactElements
+    B : csr_matrix (2m, ndof)
+        Contact operator, w = B u + w0, rows [u_τ; u_n].
+    w0 : (2m,) float
+        [0; −g⁰].
+    """
+
+    model: Model
+    dofs: DofMap
+    K: sp.csr_matrix
+    fixed: np.ndarray
+    loads: dict
+    cfe: ContactElements
+    B: sp.csr_matrix
+    w0: np.ndarray
+
+    @property
+    def ndof(self) -> int:
+        return self.dofs.ndof
+
+    @property
+    def m(self) -> int:
+        return self.cfe.m
+
+
+def scatter(rows: np.ndarray, cols: np.ndarray, vals: np.ndarray, shape) -> sp.csr_matrix:
+    """Sum COO triplets (any shape, flattened) into a CSR matrix; the one scatter helper."""
+    r, c, v = (np.asarray(a).ravel() for a in (rows, cols, vals))
+    keep = (r >= 0) & (c >= 0)
+    return sp.coo_matrix((v[keep], (r[keep], c[keep])), shape=shape).tocsr()
+
+
+def dof_map(model: Model) -> DofMap:
+    """Number the DOFs; ties merge translations (union-find over node pairs)."""
+    n = sum(b.n_nodes for b in model.bodies)
+    parent = np.arange(n)
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for tie in model.ties:
+        a = model.global_nodes(tie.a)
+        b = model.global_nodes(tie.b)
+        if len(a) != len(b):
+            raise ModelError(f"tie '{tie.name}'", f"node sets differ in size ({len(a)} vs {len(b)})")
+        for i, j in zip(a.tolist(), b.tolist(), strict=True):
+            ri, rj = find(i), find(j)
+            if ri != rj:
+                parent[max(ri, rj)] = min(ri, rj)
+    root = np.array([find(i) for i in range(n)]) if model.ties else parent
+    uniq, inv = np.unique(root, return_inverse=True)
+    of = np.full((n, 3), -1, dtype=np.int64)
+    of[:, 0] = 2 * inv
+    of[:, 1] = 2 * inv + 1
+    ndof = 2 * len(uniq)
+    off = model.node_offsets
+    for b in model.bodies:
+        if isinstance(b, Frame):
+            ids = off[b.name] + np.arange(b.n_nodes)
+            of[ids, 2] = ndof + np.arange(b.n_nodes)
+            ndof += b.n_nodes
+    return DofMap(of, ndof)
+
+
+def _frame_stiffness(fr: Frame, gdofs: np.ndarray):
+    """COO triplets of 2D Euler–Bernoulli frame elements (vectorised over the bars)."""
+    p = fr.points
+    c = fr.cells
+    d = p[c[:, 1]] - p[c[:, 0]]
+    L = np.linalg.norm(d, axis=1)
+    cs, sn = d[:, 0] / L, d[:, 1] / L
+    ne = len(c)
+    EA, EI = fr.E * fr.A, fr.E * fr.I
+    k = np.zeros((ne, 6, 6))
+    a = EA / L
+    b12, b6, b4, b2 = 12 * EI / L**3, 6 * EI / L**2, 4 * EI / L, 2 * EI / L
+    k[:, 0, 0] = k[:, 3, 3] = a
+    k[:, 0, 3] = k[:, 3, 0] = -a
+    k[:, 1, 1] = k[:, 4, 4] = b12
+    k[:, 1, 4] = k[:, 4, 1] = -b12
+    k[:, 1, 2] = k[:, 2, 1] = k[:, 1, 5] = k[:, 5, 1] = b6
+    k[:, 4, 2] = k[:, 2, 4] = k[:, 4, 5] = k[:, 5, 4] = -b6
+    k[:, 2, 2] = k[:, 5, 5] = b4
+    k[:, 2, 5] = k[:, 5, 2] = b2
+    T = np.zeros((ne, 6, 6))
+    for o in (0, 3):
+        T[:, o, o] = cs
+        T[:, o, o + 1] = sn
+        T[:, o + 1, o] = -sn
+        T[:, o + 1, o + 1] = cs
+        T[:, o + 2, o + 2] = 1.0
+    kg = np.einsum("eji,ejk,ekl->eil", T, k, T)
+    ed = np.column_stack([gdofs[c[:, 0]], gdofs[c[:, 1]]])  # (ne, 6)
+    return np.repeat(ed[:, :, None], 6, 2), np.repeat(ed[:, None, :], 6, 1), kg
+
+
+def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
+    """Global stiffness of continua (scikit-fem), frames and springs, N/m."""
+    rows, cols, vals = [], [], []
+    off = model.node_offsets
+    for b in model.bodies:
+        ids = off[b.name] + np.arange(b.n_nodes)
+        if isinstance(b, Body):
+            Kb = _fem.stiffness(b, model.plane, model.thickness).tocoo()
+            gd = dofs.of[ids][:, :2].ravel()  # body-local vector DOF 2i+c -> global
+            rows.append(gd[Kb.row])
+            cols.append(gd[Kb.col])
+            vals.append(Kb.data)
+        else:
+            gd = dofs.of[ids]  # (n, 3)
+            r, c, v = _frame_stiffness(b, gd)
+            rows.append(r.ravel())
+            cols.append(c.ravel())
+            vals.append(v.ravel())
+    for s in model.springs:
+        a = model.global_nodes(s.a)
+        if s.b is not None:
+            bb = model.global_nodes(s.b)
+            if len(bb) != len(a):
+                raise ModelError(f"spring '{s.name}'", "node sets a and b differ in size")
+        else:
+            bb = None
+        for comp, k in ((0, s.kx), (1, s.ky)):
+            if k == 0:
+                continue
+            da = dofs.of[a, comp]
+            if bb is None:
+                rows.append(da)
+                cols.append(da)
+                vals.append(np.full(len(da), k))
+            else:
+                db = dofs.of[bb, comp]
+                rows.append(np.r_[da, db, da, db])
+                cols.append(np.r_[da, db, db, da])
+                vals.append(np.r_[np.full(2 * len(da), k), np.full(2 * len(da), -k)])
+    if not rows:
+        return sp.csr_matrix((dofs.ndof, dofs.ndof))
+    return scatter(np.concatenate(rows), np.concatenate(cols), np.concatenate(vals),
+                   (dofs.ndof, dofs.ndof))
+
+
+def _pressure_function(spec, body, ns, item: str):
+    """Turn a pressure spec (constant, (start, end) pair, callable) into p(x, y)."""
+    if spec is None:
+        return None
+    if callable(spec):
+        return spec
+    if np.ndim(spec) == 0:
+        v = float(spec)
+        if not np.isfinite(v):
+            raise ModelError(item, f"pressure is {v}")
+        return lambda x, y: v + 0.0 * x
+    p0, p1 = (float(v) for v in spec)
+    if not (np.isfinite(p0) and np.isfinite(p1)):
+        raise ModelError(item, "pressure is NaN or inf")
+    order, s = chain_order(body, ns)
+    pts = body.points[order]
+    total = s[-1] if s[-1] > 0 else 1.0
+
+    def linear(x, y):
+        # arc-length coordinate of (x, y): position along the nearest chain segment
+        xy = np.stack([np.ravel(x), np.ravel(y)], axis=1)
+        a, b = pts[:-1], pts[1:]
+        ab = b - a
+        L2 = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
+        t = np.clip(np.einsum("pjk,jk->pj", xy[:, None] - a[None], ab) / L2, 0, 1)
+        d = np.linalg.norm(xy[:, None] - (a[None] + t[..., None] * ab[None]), axis=2)
+        j = np.argmin(d, axis=1)
+        sa = s[:-1][j] + t[np.arange(len(xy)), j] * np.sqrt(L2[j])
+        return (p0 + (p1 - p0) * sa / total).reshape(np.shape(x))
+
+    return linear
+
+
+def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
+    """Force vector and prescribed displacements of one load pattern (per unit λ)."""
+    pat = model.pattern(name)
+    f = np.zeros(dofs.ndof)
+    u = np.zeros(dofs.ndof)
+    pdofs: list[np.ndarray] = []
+    off = model.node_offsets
+    for i, ld in enumerate(pat.loads):
+        item = f"load pattern '{name}' load {i}"
+        if isinstance(ld, NodalLoad):
+            ids = model.global_nodes(ld.nodes)
+            for c, v in enumerate((ld.fx, ld.fy, ld.mz)):
+                if v == 0:
+                    continue
+                if not np.isfinite(v):
+                    raise ModelError(item, f"nodal force component {c} is {v}")
+                d = dofs.of[ids, c]
+                if np.any(d < 0):
+                    raise ModelError(item, "moment on a node without rotation (not a frame node)")
+                np.add.at(f, d, v)
+        elif isinstance(ld, EdgeLoad):
+            b = model.body(ld.nodes.body)
+            if not isinstance(b, Body):
+                raise ModelError(item, f"edge loads need a continuum body, '{b.name}' is a frame")
+            from .contact import curve_edges
+
+            edges = curve_edges(b, ld.nodes)
+            if len(edges) == 0:
+                raise ModelError(f"{item} ({ld.nodes.label})", "contains no boundary edge")
+            from .contact import _edge_to_facet
+
+            facets = _edge_to_facet(b, edges)
+            pn = _pressure_function(ld.normal, b, ld.nodes, item)
+            pt = _pressure_function(ld.tangential, b, ld.nodes, item)
+            fb = _fem.edge_load(b, facets, pn, pt, model.thickness)
+            if not np.all(np.isfinite(fb)):
+                raise ModelError(item, "pressure function gives NaN or inf")
+            ids = off[b.name] + np.arange(b.n_nodes)
+            np.add.at(f, dofs.of[ids][:, :2].ravel(), fb)
+        elif isinstance(ld, BodyForce):
+            names = ld.bodies or tuple(b.name for b in model.bodies)
+            if not np.all(np.isfinite(ld.g)):
+                raise ModelError(item, "gravity vector is NaN or inf")
+            for bn in names:
+                b = model.body(bn)
+                ids = off[b.name] + np.arange(b.n_nodes)
+                if isinstance(b, Body):
+                    fb = _fem.body_force(b, ld.g, model.thickness)
+                    np.add.at(f, dofs.of[ids][:, :2].ravel(), fb)
+                else:
+                    c = b.cells
+                    L = np.linalg.norm(b.points[c[:, 1]] - b.points[c[:, 0]], axis=1)
+                    w = b.density * b.A * L / 2
+                    for comp in (0, 1):
+                        for end in (0, 1):
+                            np.add.at(f, dofs.of[ids[c[:, end]], comp], w * ld.g[comp])
+        elif isinstance(ld, PrescribedDisplacement):
+            if ld.dof not in _DOF_INDEX:
+                raise ModelError(item, f"unknown dof '{ld.dof}'")
+            if not np.isfinite(ld.value):
+                raise ModelError(item, f"prescribed value is {ld.value}")
+            ids = model.global_nodes(ld.nodes)
+            d = dofs.of[ids, _DOF_INDEX[ld.dof]]
+            if np.any(d < 0):
+                raise ModelError(item, "rotation prescribed on a node without rotation")
+            u[d] = ld.value
+            pdofs.append(d)
+        else:
+            raise ModelError(item, f"unknown load type {type(ld).__name__}")
+    pd = np.unique(np.concatenate(pdofs)) if pdofs else np.zeros(0, dtype=np.int64)
+    return LoadVectors(f, u, pd)
+
+
+def contact_operator(cfe: ContactElements, dofs: DofMap) -> tuple[sp.csr_matrix, np.ndarray]:
+    """B (2m × ndof) with rows [u_τ; u_n] and w0 = [0; −g⁰] (see :mod:`stepcontact.contact`)."""
+    m = cfe.m
+    nodes = np.concatenate([cfe.plus_nodes, cfe.minus_nodes], axis=1)  # (m, 6)
+    w = np.concatenate([cfe.plus_w, -cfe.minus_w], axis=1)  # u⁺ − u⁻
+    valid = nodes >= 0
+    safe = np.where(valid, nodes, 0)
+    rows, cols, vals = [], [], []
+    k = np.repeat(np.arange(m)[:, None], nodes.shape[1], 1)
+    for c in (0, 1):
+        d = np.where(valid, dofs.of[safe, c], -1)
+        rows += [k, m + k]
+        cols += [d, d]
+        vals += [w * cfe.tangent[:, c : c + 1], -w * cfe.normal[:, c : c + 1]]
+    B = scatter(np.concatenate([r.ravel() for r in rows]), np.concatenate([c.ravel() for c in cols]),
+                np.concatenate([v.ravel() for v in vals]), (2 * m, dofs.ndof))
+    w0 = np.r_[np.zeros(m), -cfe.gap]
+    return B, w0
+
+
+def assemble(model: Model) -> System:
+    """Assemble the whole model (stiffness, supports, loads, CFEs)."""
+    if not model.bodies:
+        raise ModelError("model", "has no body")
+    dofs = dof_map(model)
+    K = stiffness(model, dofs)
+    fixed = np.zeros(dofs.ndof, dtype=bool)
+    for s in model.supports:
+        ids = model.global_nodes(s.nodes)
+        for dname in s.dofs:
+            d = dofs.of[ids, _DOF_INDEX[dname]]
+            if np.any(d < 0):
+                raise ModelError(f"support '{s.name}'", "fixes rz of a node without rotation")
+            fixed[d] = True
+    loads = {p.name: load_vectors(model, dofs, p.name) for p in model.patterns}
+    for lv in loads.values():
+        fixed[lv.dofs] = True
+    cfe = build_contact(model)
+    B, w0 = contact_operator(cfe, dofs)
+    if not fixed.any() and cfe.m == 0:
+        raise ModelError("model", "has no supports and no contact: it is free to move")
+    _check_restrained(model, dofs, K, B, fixed)
+    return System(model, dofs, K, fixed, loads, cfe, B, w0)
+
+
+def _check_restrained(model: Model, dofs: DofMap, K, B, fixed) -> None:
+    """Every body must be connected (elements, ties, springs, CFEs) to a support."""
+    A = (abs(K) + abs(B.T @ B)).tocsr()
+    A = A + sp.diags(np.ones(dofs.ndof))
+    ncomp, lab = sp.csgraph.connected_components(A, directed=False)
+    grounded = np.zeros(ncomp, dtype=bool)
+    grounded[lab[fixed]] = True
+    for s in model.springs:  # springs to the ground restrain their component
+        if s.b is None:
+            ids = model.global_nodes(s.a)
+            grounded[lab[dofs.of[ids, 0]]] = True
+    off = model.node_offsets
+    for b in model.bodies:
+        d = dofs.of[off[b.name] : off[b.name] + b.n_nodes, 0]
+        if not grounded[lab[d]].all():
+            raise ModelError(
+                f"body '{b.name}'",
+                "is not restrained: no support, spring or contact connects it to a support",
+            )

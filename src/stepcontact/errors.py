@@ -1,0 +1,30 @@
+"""Exceptions raised for bad input and for numerical situations that are not results.
+
+A physically meaningful outcome (loss of equilibrium, lift-off) is *not* an exception: it is
+reported in the result with its load factor.  Exceptions are for input that cannot be analysed.
+"""
+
+from __future__ import annotations
+
+
+class StepContactError(Exception):
+    """Base class of all stepcontact errors."""
+
+
+class ModelError(StepContactError, ValueError):
+    """The model is wrong; the message names the offending item (body, node set, field...).
+
+    Attributes
+    ----------
+    item : str
+        Name of the offending item, e.g. ``"body 'block'"`` or ``"segments[2].start"``.
+    """
+
+    def __init__(self, item: str, problem: str):
+        self.item = item
+        self.problem = problem
+        super().__init__(f"{item}: {problem}")
+
+
+class SolverError(StepContactError, RuntimeError):
+    """The solver cannot go on for a numerical reason (not a physical outcome)."""

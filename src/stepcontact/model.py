@@ -1,0 +1,620 @@
+"""The model: bodies, frames, springs, supports, loads, contact interfaces and load program.
+
+Everything here is a plain, immutable dataclass.  Changing a model returns a new one
+(:meth:`Model.add`, :func:`dataclasses.replace`).  Node sets are stored relative to a body
+(body name + local node indices), so they stay valid when other bodies are added.
+
+Units are SI throughout: metres, newtons, pascals, kilograms.  In 2D a force "per node" is a
+force on the whole thickness of the model (N); pressures are in Pa and are multiplied by the
+thickness when integrated.
+
+Data flows one way: model -> :mod:`stepcontact.assembly` -> :mod:`stepcontact.static` ->
+:mod:`stepcontact.results` -> post-processing.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from .errors import ModelError
+
+PlaneKind = Literal["strain", "stress"]
+ElementKind = Literal["tri3", "tri6", "quad4", "quad8", "quad9"]
+ELEMENT_KINDS: tuple[str, ...] = ("tri3", "tri6", "quad4", "quad8", "quad9")
+DOF_NAMES: tuple[str, ...] = ("x", "y", "rz")
+
+
+# --------------------------------------------------------------------------------------------
+# materials and bodies
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Material:
+    """Isotropic linear-elastic material.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus, Pa.
+    nu : float
+        Poisson's ratio (-1 < nu < 0.5).
+    density : float
+        Mass density, kg/m³ (used for self-weight and, later, dynamics).
+    """
+
+    E: float
+    nu: float
+    density: float = 0.0
+
+    def check(self, item: str) -> None:
+        if not np.isfinite(self.E) or self.E <= 0:
+            raise ModelError(item, f"Young's modulus E must be positive and finite, got {self.E}")
+        if not np.isfinite(self.nu) or not -1.0 < self.nu < 0.5:
+            raise ModelError(item, f"Poisson's ratio nu must lie in (-1, 0.5), got {self.nu}")
+        if not np.isfinite(self.density) or self.density < 0:
+            raise ModelError(item, f"density must be >= 0, got {self.density}")
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """A linear-elastic continuum body meshed with one scikit-fem element kind.
+
+    Use :func:`stepcontact.mesh.rectangle` or :meth:`Body.from_mesh` to make one.
+
+    Attributes
+    ----------
+    name : str
+        Unique name of the body.
+    mesh : skfem.Mesh
+        The scikit-fem mesh (its geometry; for quadratic elements the mid-side nodes are the
+        degrees of freedom of the quadratic basis).
+    element : str
+        ``"tri3"``, ``"tri6"``, ``"quad4"``, ``"quad8"`` or ``"quad9"``.
+    material : Material
+    points : ndarray (n, 2)
+        Coordinates of the body's nodes (the scalar degrees of freedom of the basis), m.
+    cells : ndarray (n_elements, nodes_per_element)
+        Local node indices of each element (scikit-fem's local DOF order).
+    boundary : ndarray (n_facets, 2 or 3)
+        Local node indices of each boundary edge: two end nodes, then the mid-side node for
+        quadratic elements.
+    boundary_facets : ndarray (n_facets,)
+        Indices of those edges among the mesh facets (scikit-fem numbering).
+    """
+
+    name: str
+    mesh: object
+    element: str
+    material: Material
+    points: np.ndarray
+    cells: np.ndarray
+    boundary: np.ndarray
+    boundary_facets: np.ndarray
+    kind: str = field(default="continuum", init=False)
+
+    @classmethod
+    def from_mesh(cls, name: str, mesh, element: str, material: Material) -> Body:
+        """Build a body from a scikit-fem mesh (``MeshTri``/``MeshQuad`` or their P2 variants)."""
+        from ._fem import body_arrays
+
+        if element not in ELEMENT_KINDS:
+            raise ModelError(f"body '{name}'", f"unknown element '{element}', use {ELEMENT_KINDS}")
+        material.check(f"body '{name}'.material")
+        pts, cells, bnd, bfac = body_arrays(name, mesh, element)
+        return cls(name, mesh, element, material, pts, cells, bnd, bfac)
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.points)
+
+
+@dataclass(frozen=True, eq=False)
+class Frame:
+    """A group of 2D Euler–Bernoulli frame elements (3 DOFs per node: ux, uy, rz).
+
+    Attributes
+    ----------
+    name : str
+    points : ndarray (n, 2)
+        Node coordinates, m.
+    cells : ndarray (n_elements, 2)
+        Local node indices of each bar.
+    E : float
+        Young's modulus, Pa.
+    A : float
+        Cross-section area, m².
+    I : float
+        Second moment of area, m⁴.
+    density : float
+        kg/m³.
+    """
+
+    name: str
+    points: np.ndarray
+    cells: np.ndarray
+    E: float
+    A: float
+    I: float
+    density: float = 0.0
+    kind: str = field(default="frame", init=False)
+
+    def __post_init__(self):
+        pts = np.asarray(self.points, dtype=float).reshape(-1, 2)
+        cells = np.asarray(self.cells, dtype=np.int64).reshape(-1, 2)
+        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "cells", cells)
+        item = f"frame '{self.name}'"
+        for key in ("E", "A", "I"):
+            v = getattr(self, key)
+            if not np.isfinite(v) or v <= 0:
+                raise ModelError(f"{item}.{key}", f"must be positive and finite, got {v}")
+        if not np.all(np.isfinite(pts)):
+            raise ModelError(f"{item}.points", "contains NaN or inf")
+        if cells.size and (cells.min() < 0 or cells.max() >= len(pts)):
+            raise ModelError(f"{item}.cells", "refers to a node that does not exist")
+        lengths = np.linalg.norm(pts[cells[:, 1]] - pts[cells[:, 0]], axis=1)
+        bad = np.flatnonzero(lengths <= 1e-12 * max(1.0, np.ptp(pts) if pts.size else 1.0))
+        if bad.size:
+            raise ModelError(f"{item} element {bad[0]}", "has zero length")
+        unused = np.setdiff1d(np.arange(len(pts)), cells.ravel())
+        if unused.size:
+            raise ModelError(f"{item} node {unused[0]}", "belongs to no element")
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.points)
+
+    @classmethod
+    def line(
+        cls, name: str, start, end, n: int, *, E: float, A: float, I: float, density: float = 0.0
+    ) -> Frame:
+        """A straight frame from ``start`` to ``end`` divided into ``n`` elements."""
+        s = np.linspace(0.0, 1.0, n + 1)[:, None]
+        pts = (1 - s) * np.asarray(start, float) + s * np.asarray(end, float)
+        cells = np.column_stack([np.arange(n), np.arange(1, n + 1)])
+        return cls(name, pts, cells, E, A, I, density)
+
+
+# --------------------------------------------------------------------------------------------
+# node sets
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class NodeSet:
+    """Nodes of one body (or frame), as local indices into its ``points``.
+
+    The order is kept: for contact curves it is the order along the curve.
+    """
+
+    body: str
+    index: np.ndarray
+    name: str = ""
+
+    def __post_init__(self):
+        object.__setattr__(self, "index", np.asarray(self.index, dtype=np.int64).ravel())
+
+    def __len__(self) -> int:
+        return len(self.index)
+
+    @property
+    def label(self) -> str:
+        return f"node set '{self.name}'" if self.name else f"node set on '{self.body}'"
+
+
+# --------------------------------------------------------------------------------------------
+# supports, ties, springs
+# --------------------------------------------------------------------------------------------
+def _parse_dofs(dofs: str | Sequence[str], item: str) -> tuple[str, ...]:
+    """"xy", "x", "rz", "xyrz" or a sequence of names -> tuple of DOF names."""
+    if isinstance(dofs, str):
+        text = dofs.replace(",", "").replace(" ", "")
+        rz = "rz" in text
+        text = text.replace("rz", "")
+        bad = set(text) - {"x", "y"}
+        if bad:
+            raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use x, y, rz")
+        dofs = [d for d in ("x", "y") if d in text] + (["rz"] if rz else [])
+    out = tuple(dict.fromkeys(dofs))
+    for d in out:
+        if d not in DOF_NAMES:
+            raise ModelError(item, f"unknown degree of freedom '{d}', use x, y, rz")
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Support:
+    """Fixed degrees of freedom (``dofs`` any of ``"x"``, ``"y"``, ``"rz"``) of a node set."""
+
+    name: str
+    nodes: NodeSet
+    dofs: tuple[str, ...] = ("x", "y")
+
+    def __post_init__(self):
+        object.__setattr__(self, "dofs", _parse_dofs(self.dofs, f"support '{self.name}'.dofs"))
+
+
+@dataclass(frozen=True, eq=False)
+class Tie:
+    """Ties the translations of node set ``a`` to those of node set ``b`` (pairwise).
+
+    Used to connect frames to continuum nodes.  The tied nodes share their ux, uy DOFs.
+    """
+
+    name: str
+    a: NodeSet
+    b: NodeSet
+
+
+@dataclass(frozen=True, eq=False)
+class Spring:
+    """Linear springs between pairs of nodes (``b`` None: to the ground).
+
+    ``kx``, ``ky`` are the stiffnesses along x and y, N/m (per spring, for the whole thickness).
+    """
+
+    name: str
+    a: NodeSet
+    b: NodeSet | None = None
+    kx: float = 0.0
+    ky: float = 0.0
+
+    def __post_init__(self):
+        for key in ("kx", "ky"):
+            v = getattr(self, key)
+            if not np.isfinite(v) or v < 0:
+                raise ModelError(f"spring '{self.name}'.{key}", f"must be >= 0, got {v}")
+
+
+# --------------------------------------------------------------------------------------------
+# loads
+# --------------------------------------------------------------------------------------------
+PressureSpec = float | tuple[float, float] | Callable[[np.ndarray, np.ndarray], np.ndarray] | None
+
+
+@dataclass(frozen=True, eq=False)
+class NodalLoad:
+    """Forces on each node of a node set: fx, fy in N, mz in N·m (frames only)."""
+
+    nodes: NodeSet
+    fx: float = 0.0
+    fy: float = 0.0
+    mz: float = 0.0
+
+
+@dataclass(frozen=True, eq=False)
+class EdgeLoad:
+    """Pressure on the boundary edges of a body whose nodes all lie in ``nodes``.
+
+    ``normal`` is the pressure in Pa, positive pushing *into* the body (against the outward
+    normal); ``tangential`` is the traction in Pa along the tangent t = (-n_y, n_x) of the
+    outward normal n.  Each can be a constant, a pair ``(p_start, p_end)`` varying linearly
+    along the node set (from its first to its last node, by arc length), or a function
+    ``p(x, y)`` of position (vectorised, arrays in m, returns Pa).
+    """
+
+    nodes: NodeSet
+    normal: PressureSpec = None
+    tangential: PressureSpec = None
+
+
+@dataclass(frozen=True, eq=False)
+class BodyForce:
+    """Self-weight: density × acceleration ``g`` (m/s²) on the named bodies (all when empty)."""
+
+    g: tuple[float, float] = (0.0, -9.81)
+    bodies: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, eq=False)
+class PrescribedDisplacement:
+    """Prescribed displacement ``value`` (m, or rad for rz) of ``dof`` of each node of a set.
+
+    Scaled by the load factor of its pattern, like any load.
+    """
+
+    nodes: NodeSet
+    dof: str
+    value: float
+
+
+Load = NodalLoad | EdgeLoad | BodyForce | PrescribedDisplacement
+
+
+@dataclass(frozen=True, eq=False)
+class LoadPattern:
+    """A named set of loads applied together with one load factor λ."""
+
+    name: str
+    loads: tuple = ()
+
+    def __post_init__(self):
+        object.__setattr__(self, "loads", tuple(self.loads))
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One segment of the load program: ``pattern``'s factor goes from ``start`` to ``end``.
+
+    ``start`` None means "from where the pattern stands" (0 if never applied).  A segment whose
+    ``start`` differs from the pattern's current factor does not chain and is an error.
+    """
+
+    pattern: str
+    end: float
+    start: float | None = None
+
+
+# --------------------------------------------------------------------------------------------
+# contact interfaces
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ContactLayer:
+    """Compliant contact layer, article eq. (11).
+
+    Either stiffnesses per unit area ``kn``, ``kt`` (Pa/m) are given directly, or the layer's
+    thickness ``thickness`` (ζ_n⁰, m), modulus ``E`` (E_c, Pa) and Poisson ratio ``nu`` (μ_c),
+    giving ρ_n = (1-μ_c²) ζ_n⁰ / E_c, ρ_τ = 2(1+μ_c) ζ_n⁰ / E_c and C = A_k / ρ.
+    """
+
+    kn: float | None = None
+    kt: float | None = None
+    thickness: float | None = None
+    E: float | None = None
+    nu: float = 0.0
+
+    def stiffness_per_area(self, item: str) -> tuple[float, float]:
+        """(C_n/A, C_τ/A) in Pa/m."""
+        if self.kn is not None or self.kt is not None:
+            kn, kt = self.kn, self.kt
+            if kn is None or kt is None:
+                raise ModelError(item, "give both kn and kt, or thickness, E and nu")
+        else:
+            if self.thickness is None or self.E is None:
+                raise ModelError(item, "give kn and kt, or thickness, E and nu of the layer")
+            if self.thickness <= 0 or self.E <= 0 or not -1 < self.nu < 0.5:
+                raise ModelError(item, "layer thickness and E must be > 0, nu in (-1, 0.5)")
+            kn = self.E / ((1 - self.nu**2) * self.thickness)
+            kt = self.E / (2 * (1 + self.nu) * self.thickness)
+        for key, v in (("kn", kn), ("kt", kt)):
+            if not np.isfinite(v) or v <= 0:
+                raise ModelError(f"{item}.{key}", f"stiffness must be positive, got {v}")
+        return float(kn), float(kt)
+
+
+@dataclass(frozen=True, eq=False)
+class Interface:
+    """A pair of boundary curves joined by frame-type contact finite elements (CFEs).
+
+    One CFE is made at every node of ``plus`` (S+); its other end is the closest point of
+    ``minus`` (S−): a node (node-to-node) or a point inside a boundary edge, tied to that
+    edge's nodes by interpolation (node-to-segment), so the meshes need not match.
+
+    Parameters
+    ----------
+    name : str
+    plus, minus : NodeSet
+        Nodes on S+ and S− (any order; the curve order is rebuilt from the mesh edges).
+    friction : float
+        Coulomb friction coefficient f_k >= 0.
+    gap : float or callable
+        Initial gap (m, >= 0); a function g(x, y) of the S+ point is allowed.  When None the
+        geometric distance between the two ends along the normal is used.
+    normal : (2,) or None
+        Unit normal pointing from S− towards S+.  When None the outward normal of S− at the
+        projected point is used (needed when the ends of a CFE coincide).
+    layer : ContactLayer or None
+        Compliant layer (eq. (11)); None means rigid contact enforced exactly.
+    """
+
+    name: str
+    plus: NodeSet
+    minus: NodeSet
+    friction: float = 0.0
+    gap: float | Callable | None = None
+    normal: tuple[float, float] | None = None
+    layer: ContactLayer | None = None
+
+    def __post_init__(self):
+        item = f"interface '{self.name}'"
+        if not np.isfinite(self.friction) or self.friction < 0:
+            raise ModelError(f"{item}.friction", f"must be >= 0, got {self.friction}")
+        if self.plus.body == self.minus.body:
+            pass  # self-contact of one body is allowed (a crack), but the sets must differ
+        if isinstance(self.gap, int | float) and (not np.isfinite(self.gap) or self.gap < 0):
+            raise ModelError(f"{item}.gap", f"must be >= 0, got {self.gap}")
+        if self.normal is not None:
+            n = np.asarray(self.normal, float)
+            if n.shape != (2,) or not np.all(np.isfinite(n)) or np.linalg.norm(n) == 0:
+                raise ModelError(f"{item}.normal", "must be a non-zero 2-vector")
+
+
+# --------------------------------------------------------------------------------------------
+# the model
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class Model:
+    """A 2D structural model.
+
+    Parameters
+    ----------
+    bodies : tuple of Body or Frame
+        Global node numbering follows this order: the nodes of ``bodies[0]`` first, etc.
+    plane : "strain" or "stress"
+    thickness : float
+        Out-of-plane thickness, m (1 m for plane strain per metre run).
+    """
+
+    bodies: tuple = ()
+    plane: str = "strain"
+    thickness: float = 1.0
+    supports: tuple[Support, ...] = ()
+    ties: tuple[Tie, ...] = ()
+    springs: tuple[Spring, ...] = ()
+    interfaces: tuple[Interface, ...] = ()
+    patterns: tuple[LoadPattern, ...] = ()
+    program: tuple[Segment, ...] = ()
+    name: str = "model"
+
+    def __post_init__(self):
+        for key in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program"):
+            object.__setattr__(self, key, tuple(getattr(self, key)))
+        if self.plane not in ("strain", "stress"):
+            raise ModelError("model.plane", f"must be 'strain' or 'stress', got '{self.plane}'")
+        if not np.isfinite(self.thickness) or self.thickness <= 0:
+            raise ModelError("model.thickness", f"must be positive, got {self.thickness}")
+        seen: set[str] = set()
+        for b in self.bodies:
+            if b.name in seen:
+                raise ModelError(f"body '{b.name}'", "duplicate body name")
+            seen.add(b.name)
+        for kind, items in (("pattern", self.patterns), ("interface", self.interfaces)):
+            names = [it.name for it in items]
+            dup = {n for n in names if names.count(n) > 1}
+            if dup:
+                raise ModelError(f"{kind} '{sorted(dup)[0]}'", f"duplicate {kind} name")
+
+    # ---- construction -----------------------------------------------------------------------
+    def add(self, *items) -> Model:
+        """Return a new model with ``items`` added (bodies, frames, supports, ties, springs,
+        interfaces, load patterns, segments), dispatched on their type."""
+        groups: dict[str, list] = {
+            k: list(getattr(self, k))
+            for k in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program")
+        }
+        kinds = {
+            Body: "bodies",
+            Frame: "bodies",
+            Support: "supports",
+            Tie: "ties",
+            Spring: "springs",
+            Interface: "interfaces",
+            LoadPattern: "patterns",
+            Segment: "program",
+        }
+        for it in items:
+            key = kinds.get(type(it))
+            if key is None:
+                raise ModelError("model.add", f"cannot add an object of type {type(it).__name__}")
+            groups[key].append(it)
+        return dataclasses.replace(self, **{k: tuple(v) for k, v in groups.items()})
+
+    def replace(self, **changes) -> Model:
+        """A copy with fields replaced (``dataclasses.replace``)."""
+        return dataclasses.replace(self, **changes)
+
+    # ---- lookup -------------------------------------------------------------------------------
+    def body(self, name: str) -> Body | Frame:
+        for b in self.bodies:
+            if b.name == name:
+                return b
+        known = ", ".join(repr(b.name) for b in self.bodies) or "none"
+        raise ModelError(f"body '{name}'", f"no such body (known: {known})")
+
+    def pattern(self, name: str) -> LoadPattern:
+        for p in self.patterns:
+            if p.name == name:
+                return p
+        known = ", ".join(repr(p.name) for p in self.patterns) or "none"
+        raise ModelError(f"load pattern '{name}'", f"no such pattern (known: {known})")
+
+    @property
+    def node_offsets(self) -> dict[str, int]:
+        """Global index of local node 0 of every body."""
+        out, k = {}, 0
+        for b in self.bodies:
+            out[b.name] = k
+            k += b.n_nodes
+        return out
+
+    @property
+    def points(self) -> np.ndarray:
+        """Coordinates of all nodes, (n_nodes, 2), m, in global numbering."""
+        if not self.bodies:
+            return np.zeros((0, 2))
+        return np.vstack([b.points for b in self.bodies])
+
+    def global_nodes(self, ns: NodeSet) -> np.ndarray:
+        """Global node indices of a node set (checks that the set is valid)."""
+        b = self.body(ns.body)
+        if ns.index.size and (ns.index.min() < 0 or ns.index.max() >= b.n_nodes):
+            raise ModelError(ns.label, f"refers to nodes that body '{b.name}' does not have")
+        return self.node_offsets[b.name] + ns.index
+
+    def select(
+        self,
+        body: str,
+        where: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+        *,
+        x: float | None = None,
+        y: float | None = None,
+        boundary: bool = True,
+        name: str = "",
+        atol: float | None = None,
+    ) -> NodeSet:
+        """Nodes of ``body`` by a predicate ``where(x, y)`` or by coordinate (``x=``/``y=``).
+
+        With ``boundary=True`` (default) only nodes on the body's boundary are returned,
+        which is what loads, supports and interfaces need.  An empty selection is an error.
+        """
+        b = self.body(body)
+        return select_nodes(b, where, x=x, y=y, boundary=boundary, name=name, atol=atol)
+
+    def segments_resolved(self) -> list[tuple[str, float, float]]:
+        """The load program as (pattern, start, end), with starts filled in and chaining
+        checked: ``start`` must equal the factor the pattern has reached."""
+        current: dict[str, float] = {}
+        out = []
+        for i, seg in enumerate(self.program):
+            self.pattern(seg.pattern)  # raises with the name
+            now = current.get(seg.pattern, 0.0)
+            start = now if seg.start is None else float(seg.start)
+            if not np.isfinite(seg.end) or not np.isfinite(start):
+                raise ModelError(f"program segment {i} ('{seg.pattern}')", "start/end not finite")
+            if abs(start - now) > 1e-12 * max(1.0, abs(now)):
+                raise ModelError(
+                    f"program segment {i} ('{seg.pattern}').start",
+                    f"does not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
+                    f"segment starts at {start:g}",
+                )
+            out.append((seg.pattern, start, float(seg.end)))
+            current[seg.pattern] = float(seg.end)
+        return out
+
+
+def select_nodes(
+    b: Body | Frame,
+    where=None,
+    *,
+    x: float | None = None,
+    y: float | None = None,
+    boundary: bool = True,
+    name: str = "",
+    atol: float | None = None,
+) -> NodeSet:
+    """Node set of one body by predicate or coordinates; see :meth:`Model.select`."""
+    pts = b.points
+    if atol is None:
+        atol = 1e-9 * max(1.0, float(np.ptp(pts, axis=0).max()) if len(pts) else 1.0)
+    mask = np.ones(len(pts), dtype=bool)
+    if where is not None:
+        mask &= np.asarray(where(pts[:, 0], pts[:, 1]), dtype=bool)
+    if x is not None:
+        mask &= np.abs(pts[:, 0] - x) <= atol
+    if y is not None:
+        mask &= np.abs(pts[:, 1] - y) <= atol
+    if boundary and isinstance(b, Body):
+        on_b = np.zeros(len(pts), dtype=bool)
+        on_b[b.boundary.ravel()] = True
+        mask &= on_b
+    idx = np.flatnonzero(mask)
+    label = f"node set '{name}'" if name else f"selection on body '{b.name}'"
+    if idx.size == 0:
+        raise ModelError(label, "selects no node")
+    return NodeSet(b.name, idx, name)
+
+
+def iter_loads(pattern: LoadPattern) -> Iterable:
+    return iter(pattern.loads)

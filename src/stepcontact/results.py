@@ -1,0 +1,260 @@
+"""Result objects of a static run: the event log, the state after every event, fields.
+
+A :class:`StaticResult` has named fields (never numbered columns) and is saved to / loaded from
+one netCDF4/HDF5 file through xarray (:mod:`stepcontact.io`).  Units: forces N, stresses Pa,
+displacements m; contact stresses are N/A_k and Q/A_k in Pa.
+
+Reported states are indexed by ``i``: state 0 is the start of the program; every event point
+gives one state (the working scheme *after* the switch, forces at the event); the end of every
+load segment gives one state.  Between two consecutive states the path is linear in λ.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .enums import ContactState, Status, Transition
+
+
+@dataclass(frozen=True)
+class Event:
+    """One CFE changing state.
+
+    Attributes
+    ----------
+    step : int
+        Number of the main step (event point) in the run, from 1.
+    state : int
+        Index of the reported state at this event point.
+    segment : int
+        Load-program segment.
+    pattern : str
+        Load pattern of that segment.
+    lam : float
+        Load factor of that pattern at the event.
+    cfe : int
+        Global CFE index.
+    interface : str
+        Interface name.
+    local : int
+        Index of the CFE along its interface.
+    position : float
+        Arc length along the interface, m.
+    x, y : float
+        Coordinates of the CFE's S+ end, m.
+    transition : Transition
+    N, Q : float
+        Normal and tangential force at the event, N (N ≤ 0 compression).
+    """
+
+    step: int
+    state: int
+    segment: int
+    pattern: str
+    lam: float
+    cfe: int
+    interface: str
+    local: int
+    position: float
+    x: float
+    y: float
+    transition: Transition
+    N: float
+    Q: float
+
+
+@dataclass(frozen=True)
+class Multipliers:
+    """Stability multipliers of one load segment (load factors of its pattern, None if the
+    thing did not happen in the segment)."""
+
+    segment: int
+    pattern: str
+    first_slip: float | None = None
+    first_opening: float | None = None
+    first_closing: float | None = None
+    equilibrium_lost: float | None = None
+
+
+@dataclass
+class StaticResult:
+    """Everything a static run produced.
+
+    Arrays with a leading ``n_states`` axis hold one row per reported state; arrays with an
+    ``m`` axis one column per CFE.
+
+    Attributes
+    ----------
+    lam : (n_states,) load factor of the active segment's pattern
+    segment : (n_states,) segment index
+    factors : (n_states, n_patterns) factors of all patterns
+    kind : (n_states,) "start", "event" or "segment_end"
+    N, Q : (n_states, m) CFE forces, N
+    un, ut : (n_states, m) mutual displacements u_n, u_τ, m
+    state : (n_states, m) ContactState values (scheme after the state)
+    residual : (n_states,) relative equilibrium residual ‖K u + Bᵀs − f‖ / ‖f‖
+    violation : (n_states,) largest relative violation of conditions (1)
+    events : list of Event
+    multipliers : list of Multipliers (one per segment reached)
+    status : Status
+    message : str
+    fields : dict state index -> displacement vector (ndof,), m (states with stored fields)
+    stresses : dict state index -> {body name: (n_el, 4) σxx, σyy, σxy, σzz, Pa}
+    counters : dict of run statistics (events, rate solves, factorisations, solves, seconds)
+    mechanism : description of the mechanism when equilibrium is lost (bodies, mode)
+    geometry : "points" (n_nodes, 2), "dof_of" (n_nodes, 3), "bodies" list of
+        {"name", "kind", "element", "cells"} — enough to draw and export fields
+    """
+
+    pattern_names: tuple[str, ...]
+    segments: list[tuple[str, float, float]]
+    cfe: dict[str, np.ndarray]
+    interface_names: tuple[str, ...]
+    lam: np.ndarray
+    segment: np.ndarray
+    factors: np.ndarray
+    kind: np.ndarray
+    N: np.ndarray
+    Q: np.ndarray
+    un: np.ndarray
+    ut: np.ndarray
+    state: np.ndarray
+    residual: np.ndarray
+    violation: np.ndarray
+    events: list[Event]
+    multipliers: list[Multipliers]
+    status: Status
+    message: str
+    fields: dict[int, np.ndarray] = field(default_factory=dict)
+    stresses: dict[int, dict[str, np.ndarray]] = field(default_factory=dict)
+    counters: dict[str, float] = field(default_factory=dict)
+    mechanism: dict[str, object] | None = None
+    geometry: dict[str, object] = field(default_factory=dict)
+    units: dict[str, str] = field(
+        default_factory=lambda: {
+            "lam": "1", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
+            "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2",
+        }
+    )
+    _recover: Callable[[int], np.ndarray] | None = field(default=None, repr=False)
+
+    # ---- convenience -----------------------------------------------------------------------
+    @property
+    def n_states(self) -> int:
+        return len(self.lam)
+
+    @property
+    def m(self) -> int:
+        return self.N.shape[1]
+
+    @property
+    def sigma_n(self) -> np.ndarray:
+        """Normal contact stress N/A_k, Pa (≤ 0 compression)."""
+        return self.N / self.cfe["area"][None, :]
+
+    @property
+    def tau(self) -> np.ndarray:
+        """Tangential contact stress Q/A_k, Pa."""
+        return self.Q / self.cfe["area"][None, :]
+
+    def states_of(self, i: int) -> list[ContactState]:
+        return [ContactState(int(v)) for v in self.state[i]]
+
+    def interpolate(self, lam: float, segment: int | None = None) -> dict[str, np.ndarray]:
+        """CFE quantities at any λ of a segment (exact: the path is linear between events)."""
+        seg = self.segment[-1] if segment is None else segment
+        idx = np.flatnonzero(self.segment == seg)
+        lams = self.lam[idx]
+        lo, hi = min(lams), max(lams)
+        if not lo - 1e-12 <= lam <= hi + 1e-12:
+            raise ValueError(f"λ = {lam} outside segment {seg} range [{lo}, {hi}]")
+        # consecutive states bracket lam (events are ordered along the segment's path)
+        for a, b in zip(idx[:-1], idx[1:], strict=True):
+            la, lb = self.lam[a], self.lam[b]
+            if min(la, lb) - 1e-12 <= lam <= max(la, lb) + 1e-12:
+                t = 0.0 if lb == la else (lam - la) / (lb - la)
+                return {
+                    k: (1 - t) * getattr(self, k)[a] + t * getattr(self, k)[b]
+                    for k in ("N", "Q", "un", "ut")
+                } | {"state": self.state[a]}
+        i = idx[-1]
+        return {k: getattr(self, k)[i] for k in ("N", "Q", "un", "ut")} | {"state": self.state[i]}
+
+    def displacement(self, i: int) -> np.ndarray:
+        """Displacement vector (ndof,) at reported state ``i``, m; computed on request when it
+        was not stored (needs the in-memory solver of the run)."""
+        if i in self.fields:
+            return self.fields[i]
+        if self._recover is None:
+            raise KeyError(
+                f"displacements of state {i} were not stored; re-run with store_fields='all'"
+            )
+        return self._recover(i)
+
+    def summary(self) -> str:
+        """A short text summary: status, counts, multipliers, worst residuals."""
+        lines = [
+            f"status: {self.status.value} — {self.message}",
+            f"CFEs: {self.m}, events: {len(self.events)}, states: {self.n_states}",
+            f"max equilibrium residual: {np.max(self.residual, initial=0):.2e}, "
+            f"max contact-condition violation: {np.max(self.violation, initial=0):.2e}",
+        ]
+        for mu in self.multipliers:
+            def fmt(v):
+                return "—" if v is None else f"{v:.6g}"
+
+            lines.append(
+                f"segment {mu.segment} ('{mu.pattern}'): first slip λ={fmt(mu.first_slip)}, "
+                f"first opening λ={fmt(mu.first_opening)}, "
+                f"equilibrium lost λ={fmt(mu.equilibrium_lost)}"
+            )
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return (
+            f"<StaticResult status={self.status.value} events={len(self.events)} "
+            f"states={self.n_states} cfes={self.m}>"
+        )
+
+    # ---- I/O (implemented in stepcontact.io) -------------------------------------------------
+    def to_dataset(self):
+        """The result as an :class:`xarray.Dataset` (what is written to the result file)."""
+        from .io import result_to_dataset
+
+        return result_to_dataset(self)
+
+    def save(self, path) -> None:
+        """Write the result atomically to a netCDF4/HDF5 file."""
+        from .io import save_result
+
+        save_result(self, path)
+
+    @classmethod
+    def load(cls, path) -> StaticResult:
+        """Load a result written by :meth:`save`."""
+        from .io import load_result
+
+        return load_result(path)
+
+    def events_table(self):
+        """The event log as a :class:`pandas.DataFrame`."""
+        import pandas as pd
+
+        rows = [
+            {**e.__dict__, "transition": e.transition.value} for e in self.events
+        ]
+        cols = list(Event.__dataclass_fields__)
+        return pd.DataFrame(rows, columns=cols)
+
+
+def transition_counts(events: list[Event]) -> dict[str, int]:
+    out: dict[str, int] = {t.value: 0 for t in Transition}
+    for e in events:
+        out[e.transition.value] += 1
+    return out
+
+
+__all__ = ["Event", "Multipliers", "StaticResult", "Status", "transition_counts"]
