@@ -4,7 +4,8 @@ A CFE k joins a point of S+ to the opposite point of S− (method.md §2).  Its 
 
     u_τk = t_k · (u⁺ − u⁻),        u_nk = −n_k · (u⁺ − u⁻) − g_k⁰
 
-with n_k the unit normal pointing from S− to S+, t_k = (−n_y, n_x), g_k⁰ ≥ 0 the initial gap.
+with n_k the unit normal pointing from S− to S+, t_k = (n_y, −n_x) (n turned clockwise:
++x for an interface whose normal is +y), g_k⁰ ≥ 0 the initial gap.
 So u_n ≤ 0 means no interpenetration and u_n < 0 is an open gap (article sign convention).
 Its end on S− may lie inside a boundary edge and is then interpolated from that edge's nodes
 (node-to-segment); the meshes of the two sides need not match.
@@ -40,7 +41,7 @@ class ContactElements:
     plus_w, minus_w : (m, 3) float
         Interpolation weights of those nodes.
     normal, tangent : (m, 2) float
-        Unit normal (S− → S+) and tangent t = (−n_y, n_x).
+        Unit normal (S− → S+) and tangent t = (n_y, −n_x).
     x : (m, 2) float
         Coordinates of the S+ end, m.
     s : (m,) float
@@ -284,7 +285,7 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
             nrm = d / dist[:, None]
         else:
             nrm = nout[seg]
-    tan = np.column_stack([-nrm[:, 1], nrm[:, 0]])
+    tan = np.column_stack([nrm[:, 1], -nrm[:, 0]])
     geo_gap = np.einsum("ij,ij->i", xp - xm, nrm)
     if itf.gap is None:
         gap = geo_gap

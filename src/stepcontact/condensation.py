@@ -1,0 +1,243 @@
+"""Condensation of the structure to the contact unknowns: one factorisation for the whole run.
+
+Equilibrium and kinematics of the structure (free DOFs f, prescribed DOFs p):
+
+    K_ff u_f + K_fp u_p + B_fᵀ s = f_f,        w = B_f u_f + B_p u_p + w⁰
+
+with s = [Q; −N] the CFE forces and w = [u_τ; u_n] their mutual displacements.  A body held
+only by contact makes K_ff singular, so the matrix that is factorised (once) is
+
+    K₀ = K_ff + B_fᵀ D B_f,          D = d·I  (d > 0, any value: it cancels exactly)
+
+which is regular whenever the structure with every CFE stuck is.  With t = s − D ŵ and
+ŵ = B_f u_f, the structure is condensed exactly to
+
+    (I − G D) ŵ + G s = Σ_P c_P ĥ_P,     G = B_f K₀⁻¹ B_fᵀ,   ĥ_P = B_f K₀⁻¹ (f_P − K_fp u_P)
+
+Between two events the working scheme writes one linear relation per CFE component,
+R_w w' + R_s s' = r (stuck: w' = 0; open: s' = 0; compliant: s' = C w'; slipping:
+Q' = σ f (−N)'), so the rates along a load pattern follow from one dense solve of size 2m:
+
+    A t' = r − R_w (ĥ + e) − R_s D ĥ,     A = R_s − (R_w + R_s D) G
+
+A singular A is a working scheme that is a mechanism (equilibrium lost).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from .assembly import System
+from .enums import ContactState
+from .linalg import factorize
+
+#: relation kinds of one CFE component in a working scheme
+FREE, FIXED, SPRING, FRICTION = 0, 1, 2, 3
+
+
+class MechanismError(Exception):
+    """The working scheme is a mechanism (singular condensed matrix)."""
+
+    def __init__(self, A: np.ndarray, lu):
+        self.A = A
+        self.lu = lu
+        super().__init__("working scheme is a mechanism")
+
+
+@dataclass
+class Relations:
+    """Per-component relations of a working scheme: kind, stiffness, slip direction.
+
+    ``kind[j]`` for j < m is the tangential component of CFE j, ``kind[m + j]`` its normal.
+    For FRICTION rows (tangential only) ``sigma[j]`` is the slip direction.  ``imposed`` marks
+    components whose force (FREE rows) or displacement (FIXED rows) rate is prescribed.
+    """
+
+    kind: np.ndarray
+    stiff: np.ndarray
+    sigma: np.ndarray
+
+
+def scheme_relations(states: np.ndarray, cfe, article: bool = False) -> Relations:
+    """Relations of the working scheme given the CFE states (vectorised).
+
+    Open: both components free.  Stick: tangential fixed (or spring C_τ), normal fixed (or
+    spring C_n).  Slip (exact): Q = σ f (−N); slip (article, eqs. (4)–(6)): tangential force
+    held during the step (free) and corrected afterwards by compensating forces.
+    """
+    m = len(states)
+    kind = np.empty(2 * m, dtype=np.int8)
+    stiff = np.r_[cfe.kt, cfe.kn].astype(float)
+    closed = states != ContactState.OPEN
+    slipping = (states == ContactState.SLIP_POS) | (states == ContactState.SLIP_NEG)
+    rigid_t = ~np.isfinite(cfe.kt)
+    rigid_n = ~np.isfinite(cfe.kn)
+    kt = np.where(rigid_t, FIXED, SPRING)
+    kn = np.where(rigid_n, FIXED, SPRING)
+    kind[:m] = np.where(closed, np.where(slipping, FREE if article else FRICTION, kt), FREE)
+    kind[m:] = np.where(closed, kn, FREE)
+    sigma = np.where(states == ContactState.SLIP_POS, 1.0,
+                     np.where(states == ContactState.SLIP_NEG, -1.0, 0.0))
+    return Relations(kind, stiff, sigma)
+
+
+@dataclass
+class Condensed:
+    """The structure condensed to its 2m contact unknowns (see module docstring).
+
+    Build with :meth:`from_system`.  Holds the one factorisation of K₀.
+    """
+
+    system: System
+    free: np.ndarray
+    presc: np.ndarray
+    factor: object
+    Bf: sp.csr_matrix
+    Bp: sp.csr_matrix
+    Kff: sp.csr_matrix
+    Kfp: sp.csr_matrix
+    d: float
+    G: np.ndarray
+    hhat: dict[str, np.ndarray]
+    e: dict[str, np.ndarray]
+    y: dict[str, np.ndarray]
+    counters: dict[str, float] = field(default_factory=dict)
+
+    @classmethod
+    def from_system(cls, system: System, backend: str = "auto", block: int = 256) -> Condensed:
+        """Factorise K₀ once and condense to the contact unknowns (2m block solves)."""
+        fixed = system.fixed
+        free = np.flatnonzero(~fixed)
+        presc = np.flatnonzero(fixed)
+        K = system.K.tocsr()
+        Kff = K[free][:, free].tocsr()
+        Kfp = K[free][:, presc].tocsr()
+        Bf = system.B[:, free].tocsr()
+        Bp = system.B[:, presc].tocsr()
+        diag = Kff.diagonal()
+        d = float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0
+        K0 = (Kff + d * (Bf.T @ Bf)).tocsc()
+        factor = factorize(K0, backend)
+        n2m = Bf.shape[0]
+        G = np.zeros((n2m, n2m))
+        BfT = Bf.T.tocsc()
+        nsolve = 0
+        for s in range(0, n2m, block):
+            cols = BfT[:, s : s + block].toarray()
+            X = factor.solve(cols)
+            G[:, s : s + block] = Bf @ X
+            nsolve += cols.shape[1]
+        G = 0.5 * (G + G.T)
+        hhat, e, y = {}, {}, {}
+        for name, lv in system.loads.items():
+            rhs = lv.f[free] - Kfp @ lv.u[presc]
+            y[name] = factor.solve(rhs)
+            hhat[name] = Bf @ y[name]
+            e[name] = Bp @ lv.u[presc]
+            nsolve += 1
+        counters = {"factorizations": 1, "solves": nsolve, "condensed_columns": n2m}
+        return cls(system, free, presc, factor, Bf, Bp, Kff, Kfp, d, G, hhat, e, y, counters)
+
+    @property
+    def m(self) -> int:
+        return self.G.shape[0] // 2
+
+    # ---- the scheme matrix -----------------------------------------------------------------
+    def scheme_matrix(self, rel: Relations, cfe) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        """Sparse R_w, R_s of the relations R_w w' + R_s s' = r."""
+        m = self.m
+        n = 2 * m
+        j = np.arange(n)
+        rw = np.where(rel.kind == FIXED, 1.0, np.where(rel.kind == SPRING, -rel.stiff, 0.0))
+        rw = np.where(np.isfinite(rw), rw, 0.0)
+        rs = np.where(rel.kind == FIXED, 0.0, 1.0)
+        Rw = sp.csr_matrix((rw, (j, j)), shape=(n, n))
+        fr = np.flatnonzero(rel.kind[:m] == FRICTION)
+        rows = np.r_[j, fr]
+        cols = np.r_[j, m + fr]
+        vals = np.r_[rs, -rel.sigma[fr] * cfe.friction[fr]]
+        Rs = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+        return Rw, Rs
+
+    def factor_scheme(self, rel: Relations, cfe):
+        """LU of the scheme matrix A; raises MechanismError if A is (numerically) singular."""
+        Rw, Rs = self.scheme_matrix(rel, cfe)
+        A = Rs.toarray() - (Rw + self.d * Rs) @ self.G
+        lu = sla.lu_factor(A, check_finite=False)
+        anorm = np.linalg.norm(A, 1)
+        rcond = sla.lapack.dgecon(lu[0], anorm, norm="1")[0] if A.size else 1.0
+        self.counters["scheme_factorizations"] = self.counters.get("scheme_factorizations", 0) + 1
+        if not rcond > 1e-13:
+            raise MechanismError(A, lu)
+        return Rw, Rs, lu
+
+    def solve(self, fact, hhat: np.ndarray, e: np.ndarray, r: np.ndarray):
+        """Rates (s', w') for load rate (ĥ, e) and relation right-hand side r."""
+        Rw, Rs, lu = fact
+        rhs = r - Rw @ (hhat + e) - self.d * (Rs @ hhat)
+        t = sla.lu_solve(lu, rhs, check_finite=False)
+        w_hat = hhat - self.G @ t
+        s = t + self.d * w_hat
+        return s, w_hat + e
+
+    # ---- fields ----------------------------------------------------------------------------
+    def displacement(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """Full displacement vector (ndof,) of a state: one solve with the K₀ factorisation."""
+        sysm = self.system
+        u = np.zeros(sysm.ndof)
+        up = np.zeros(len(self.presc))
+        rhs_load = np.zeros(len(self.free))
+        e = np.zeros(2 * self.m)
+        for name, c in factors.items():
+            if c == 0.0:
+                continue
+            lv = sysm.loads[name]
+            up += c * lv.u[self.presc]
+            rhs_load += c * lv.f[self.free]
+            e += c * self.e[name]
+        w_hat = w - sysm.w0 - e
+        t = s - self.d * w_hat
+        rhs = rhs_load - self.Kfp @ up - self.Bf.T @ t
+        u[self.free] = self.factor.solve(rhs)
+        u[self.presc] = up
+        self.counters["solves"] = self.counters.get("solves", 0) + 1
+        return u
+
+    def check(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray, u: np.ndarray):
+        """Relative equilibrium residual and kinematic mismatch of a state.
+
+        residual = ‖K_ff u_f + K_fp u_p + B_fᵀ s − f_f‖ / ‖f_f + |B_fᵀ s|‖ (max norms);
+        kinematic = ‖B u + w⁰ − w‖ / max(‖w‖, ‖u‖·‖B‖).
+        """
+        sysm = self.system
+        f = np.zeros(sysm.ndof)
+        for name, c in factors.items():
+            f += c * sysm.loads[name].f
+        uf, up = u[self.free], u[self.presc]
+        Ku = self.Kff @ uf + self.Kfp @ up
+        Bs = self.Bf.T @ s
+        r = Ku + Bs - f[self.free]
+        scale = max(np.abs(Ku).max(initial=0), np.abs(Bs).max(initial=0),
+                    np.abs(f[self.free]).max(initial=0), 1e-300)
+        wk = sysm.B @ u + sysm.w0
+        kscale = max(np.abs(w).max(initial=0), np.abs(u).max(initial=0), 1e-300)
+        return float(np.abs(r).max(initial=0) / scale), float(np.abs(wk - w).max(initial=0) / kscale)
+
+    def null_mode(self, A: np.ndarray, lu) -> np.ndarray:
+        """Null vector t of a singular scheme matrix (inverse iteration on its LU)."""
+        rng = np.random.default_rng(0)
+        x = rng.standard_normal(A.shape[0])
+        for _ in range(3):
+            x = sla.lu_solve(lu, x, check_finite=False)
+            x /= np.linalg.norm(x)
+        return x
+
+    def mode_displacement(self, t: np.ndarray) -> np.ndarray:
+        """Displacement of a mechanism mode t of the condensed unknowns."""
+        u = np.zeros(self.system.ndof)
+        u[self.free] = -self.factor.solve(self.Bf.T @ t)
+        return u

@@ -1,0 +1,604 @@
+"""Result files: a :class:`~stepcontact.results.StaticResult` as an :class:`xarray.Dataset`.
+
+One result is one netCDF4/HDF5 file written with the ``h5netcdf`` engine.  The layout is
+self-describing: every variable carries ``units`` (SI: N, m, Pa, m2, N m-1; ``"1"`` for
+dimensionless numbers, indices and labels) and a ``long_name``.
+
+Dimensions
+----------
+``state``
+    Reported states (λ, forces, working scheme after each state).
+``cfe``
+    Contact finite elements; the CFE geometry arrays are ``cfe_<key>`` variables.
+``event``
+    The event log, one entry per CFE transition (``event_<field>`` variables).
+``pattern``, ``interface``, ``segment_index``, ``multiplier``
+    Load patterns, interface names, load-program segments, stability multipliers.
+``field_state``, ``dof``
+    Stored displacement vectors ``u``.
+``node``, ``xy``, ``node_dof``, ``element__<body>``, ``cell_node__<body>``
+    Geometry for drawing and export (``points``, ``dof_of``, ``cells__<body>``).
+
+Enumerations are stored so they round-trip: contact states as integers with CF
+``flag_values`` / ``flag_meanings`` attributes, transitions and the run status as their string
+values.  Dictionaries without a natural array layout (counters, mechanism, units) are JSON
+strings in the dataset attributes; JSON keeps floats exactly (shortest ``repr``), so a
+save → load round trip is bit-exact.
+
+Files are written atomically (temporary file in the target directory, then
+:func:`os.replace`): an interrupted write never leaves a half-written result.
+
+Example
+-------
+>>> from stepcontact.io import load_result, save_result
+>>> save_result(res, "out/run.nc")          # doctest: +SKIP
+>>> res2 = load_result("out/run.nc")        # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import uuid
+from enum import Enum
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from . import enums as _enums
+from .enums import ContactState, Status, Transition
+from .results import Event, Multipliers, StaticResult
+
+FORMAT = "stepcontact-static-result"
+FORMAT_VERSION = 1
+
+_XY = np.array(["x", "y"])
+_NODE_DOF = np.array(["ux", "uy", "rz"])
+_STRESS_COMPONENTS = np.array(["xx", "yy", "xy", "zz"])
+
+# field name -> (python kind, units, long name)
+_EVENT_SPEC: dict[str, tuple[str, str, str]] = {
+    "step": ("int", "1", "main step (event point) number, from 1"),
+    "state": ("int", "1", "index of the reported state at the event"),
+    "segment": ("int", "1", "load-program segment"),
+    "pattern": ("str", "1", "load pattern of the segment"),
+    "lam": ("float", "1", "load factor of the pattern at the event"),
+    "cfe": ("int", "1", "global CFE index"),
+    "interface": ("str", "1", "interface name"),
+    "local": ("int", "1", "CFE index along its interface"),
+    "position": ("float", "m", "arc length along the interface"),
+    "x": ("float", "m", "x coordinate of the CFE's S+ end"),
+    "y": ("float", "m", "y coordinate of the CFE's S+ end"),
+    "transition": ("transition", "1", "transition of the CFE"),
+    "N": ("float", "N", "normal CFE force at the event (negative in compression)"),
+    "Q": ("float", "N", "tangential CFE force at the event"),
+}
+
+_MULT_SPEC: dict[str, tuple[str, str, str]] = {
+    "segment": ("int", "1", "load-program segment"),
+    "pattern": ("str", "1", "load pattern of the segment"),
+    "first_slip": ("float?", "1", "load factor at the first slip (NaN: none)"),
+    "first_opening": ("float?", "1", "load factor at the first opening (NaN: none)"),
+    "first_closing": ("float?", "1", "load factor at the first closing (NaN: none)"),
+    "equilibrium_lost": ("float?", "1", "load factor at loss of equilibrium (NaN: none)"),
+}
+
+# CFE geometry arrays: key -> (units, long name, name of the trailing dimension)
+_CFE_SPEC: dict[str, tuple[str, str, str | None]] = {
+    "interface": ("1", "interface index of the CFE", None),
+    "local": ("1", "CFE index along its interface", None),
+    "plus_nodes": ("1", "global nodes of the S+ end (-1 padding)", "end_node"),
+    "plus_w": ("1", "interpolation weights of the S+ end", "end_node"),
+    "minus_nodes": ("1", "global nodes of the S- end (-1 padding)", "end_node"),
+    "minus_w": ("1", "interpolation weights of the S- end", "end_node"),
+    "normal": ("1", "unit normal from S- to S+", "xy"),
+    "tangent": ("1", "unit tangent t = (-n_y, n_x)", "xy"),
+    "x": ("m", "coordinates of the S+ end", "xy"),
+    "s": ("m", "arc length along the interface", None),
+    "area": ("m2", "contact area A_k", None),
+    "friction": ("1", "Coulomb friction coefficient f_k", None),
+    "gap": ("m", "initial gap g_k0", None),
+    "kn": ("N m-1", "normal contact-layer stiffness C_nk (inf: rigid)", None),
+    "kt": ("N m-1", "tangential contact-layer stiffness C_tk (inf: rigid)", None),
+}
+
+_STATE_VARS: dict[str, tuple[str, str]] = {
+    "N": ("N", "normal CFE force (negative in compression)"),
+    "Q": ("N", "tangential CFE force"),
+    "un": ("m", "mutual normal displacement u_n (negative: open gap)"),
+    "ut": ("m", "mutual tangential displacement u_t"),
+}
+
+
+# --------------------------------------------------------------------------------------------
+# JSON with numpy arrays, tuples and enums (exact floats)
+# --------------------------------------------------------------------------------------------
+def _to_jsonable(obj: Any) -> Any:
+    """Plain JSON structure for ``obj``; arrays, tuples, enums and int keys are tagged."""
+    if isinstance(obj, Enum):
+        return {"__enum__": type(obj).__name__, "value": obj.value}
+    if isinstance(obj, np.ndarray):
+        if obj.dtype.kind not in "biufU":
+            raise TypeError(f"cannot store an array of dtype {obj.dtype} as JSON")
+        return {"__ndarray__": obj.tolist(), "dtype": obj.dtype.str, "shape": list(obj.shape)}
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, tuple):
+        return {"__tuple__": [_to_jsonable(v) for v in obj]}
+    if isinstance(obj, list):
+        return [_to_jsonable(v) for v in obj]
+    if isinstance(obj, dict):
+        if all(isinstance(k, str) for k in obj):
+            if "__enum__" in obj or "__ndarray__" in obj or "__tuple__" in obj or "__dict__" in obj:
+                return {"__dict__": [[k, _to_jsonable(v)] for k, v in obj.items()]}
+            return {k: _to_jsonable(v) for k, v in obj.items()}
+        return {"__dict__": [[_to_jsonable(k), _to_jsonable(v)] for k, v in obj.items()]}
+    if obj is None or isinstance(obj, bool | int | float | str):
+        return obj
+    raise TypeError(f"cannot store an object of type {type(obj).__name__} in a result file")
+
+
+def _from_jsonable(obj: Any) -> Any:
+    """Inverse of :func:`_to_jsonable`."""
+    if isinstance(obj, list):
+        return [_from_jsonable(v) for v in obj]
+    if not isinstance(obj, dict):
+        return obj
+    if "__enum__" in obj:
+        return getattr(_enums, obj["__enum__"])(obj["value"])
+    if "__ndarray__" in obj:
+        return np.array(obj["__ndarray__"], dtype=np.dtype(obj["dtype"])).reshape(obj["shape"])
+    if "__tuple__" in obj:
+        return tuple(_from_jsonable(v) for v in obj["__tuple__"])
+    if "__dict__" in obj:
+        return {_hashable(_from_jsonable(k)): _from_jsonable(v) for k, v in obj["__dict__"]}
+    return {k: _from_jsonable(v) for k, v in obj.items()}
+
+
+def _hashable(k: Any) -> Any:
+    return tuple(k) if isinstance(k, list) else k
+
+
+def _dumps(obj: Any) -> str:
+    return json.dumps(_to_jsonable(obj), ensure_ascii=False)
+
+
+def _loads(text: str) -> Any:
+    return _from_jsonable(json.loads(text))
+
+
+# --------------------------------------------------------------------------------------------
+# result -> dataset
+# --------------------------------------------------------------------------------------------
+def _var(dims: tuple[str, ...], data: Any, units: str, long_name: str, **attrs: Any):
+    return (dims, data, {"units": units, "long_name": long_name, **attrs})
+
+
+def _str_array(values: Any) -> np.ndarray:
+    return np.array([str(v) for v in values], dtype=str) if len(values) else np.zeros(0, "<U1")
+
+
+def _safe_names(names: list[str]) -> dict[str, str]:
+    """Unique variable-name tokens (letters, digits, ``_``) for body names."""
+    out: dict[str, str] = {}
+    used: set[str] = set()
+    for name in names:
+        if name in out:
+            continue
+        base = re.sub(r"[^A-Za-z0-9_]", "_", name) or "body"
+        tok, n = base, 1
+        while tok in used:
+            tok, n = f"{base}_{n}", n + 1
+        used.add(tok)
+        out[name] = tok
+    return out
+
+
+def _flag_attrs(dtype: np.dtype) -> dict[str, Any]:
+    return {
+        "flag_values": np.array([int(s) for s in ContactState], dtype=dtype),
+        "flag_meanings": " ".join(s.name.lower() for s in ContactState),
+    }
+
+
+def result_to_dataset(res: StaticResult) -> xr.Dataset:
+    """The result as an :class:`xarray.Dataset` (the content of a result file).
+
+    Parameters
+    ----------
+    res : StaticResult
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``state``, ``cfe``, ``event``, ``pattern``, ``interface``,
+        ``segment_index``, ``multiplier``; ``field_state`` and ``dof`` when displacement
+        fields were stored; ``node`` etc. when the result has a geometry.  Forces in N,
+        displacements and coordinates in m, stresses in Pa.
+    """
+    n, m = res.n_states, res.m
+    dv: dict[str, Any] = {}
+    coords: dict[str, Any] = {
+        "state": _var(("state",), np.arange(n), "1", "reported state index"),
+        "cfe": _var(("cfe",), np.arange(m), "1", "contact finite element index"),
+        "event": _var(("event",), np.arange(len(res.events)), "1", "event index"),
+        "pattern": _var(("pattern",), _str_array(res.pattern_names), "1", "load pattern"),
+        "interface": _var(("interface",), _str_array(res.interface_names), "1", "interface"),
+        "segment_index": _var(
+            ("segment_index",), np.arange(len(res.segments)), "1", "load-program segment"
+        ),
+        "multiplier": _var(
+            ("multiplier",), np.arange(len(res.multipliers)), "1", "multiplier record"
+        ),
+    }
+
+    # ---- per state ---------------------------------------------------------------------------
+    dv["lam"] = _var(("state",), np.asarray(res.lam), "1", "load factor of the active pattern")
+    dv["segment"] = _var(("state",), np.asarray(res.segment), "1", "load-program segment")
+    dv["factors"] = _var(
+        ("state", "pattern"), np.asarray(res.factors).reshape(n, len(res.pattern_names)),
+        "1", "load factors of all patterns",
+    )
+    dv["kind"] = _var(("state",), _str_array(res.kind), "1", "kind of reported state")
+    for key, (units, long_name) in _STATE_VARS.items():
+        dv[key] = _var(("state", "cfe"), np.asarray(getattr(res, key)), units, long_name)
+    st = np.asarray(res.state)
+    dv["contact_state"] = _var(
+        ("state", "cfe"), st, "1", "contact state of the CFE after the state",
+        **_flag_attrs(st.dtype),
+    )
+    dv["residual"] = _var(
+        ("state",), np.asarray(res.residual), "1", "relative equilibrium residual"
+    )
+    dv["violation"] = _var(
+        ("state",), np.asarray(res.violation), "1",
+        "largest relative violation of the contact conditions",
+    )
+
+    # ---- CFE geometry --------------------------------------------------------------------------
+    cfe_extra: dict[str, Any] = {}
+    sizes: dict[str, int] = {"xy": 2}
+    for key, val in res.cfe.items():
+        if not (isinstance(val, np.ndarray) and val.ndim >= 1 and val.shape[0] == m):
+            cfe_extra[key] = val
+            continue
+        units, long_name, trail = _CFE_SPEC.get(key, ("1", f"CFE array '{key}'", None))
+        dims = ["cfe"]
+        for j, size in enumerate(val.shape[1:], start=1):
+            name = trail if (j == 1 and trail is not None) else f"cfe_{key}_dim{j}"
+            if sizes.setdefault(name, size) != size:
+                name = f"cfe_{key}_dim{j}"
+            dims.append(name)
+        dv[f"cfe_{key}"] = _var(tuple(dims), val, units, long_name)
+    if "xy" in {d for v in dv.values() for d in v[0]}:
+        coords["xy"] = _var(("xy",), _XY, "1", "coordinate axis")
+
+    # ---- events ----------------------------------------------------------------------------
+    for name, (kind, units, long_name) in _EVENT_SPEC.items():
+        vals = [getattr(e, name) for e in res.events]
+        if kind == "int":
+            arr = np.array(vals, dtype=np.int64)
+        elif kind == "float":
+            arr = np.array(vals, dtype=np.float64)
+        elif kind == "transition":
+            arr = _str_array([Transition(v).value for v in vals])
+        else:
+            arr = _str_array(vals)
+        attrs = {"values": " ".join(t.value for t in Transition)} if kind == "transition" else {}
+        dv[f"event_{name}"] = _var(("event",), arr, units, long_name, **attrs)
+
+    # ---- load program and multipliers ------------------------------------------------------
+    segs = list(res.segments)
+    dv["segment_pattern"] = _var(
+        ("segment_index",), _str_array([s[0] for s in segs]), "1", "pattern of the segment"
+    )
+    dv["segment_lam_start"] = _var(
+        ("segment_index",), np.array([s[1] for s in segs], dtype=np.float64), "1",
+        "load factor at the start of the segment",
+    )
+    dv["segment_lam_end"] = _var(
+        ("segment_index",), np.array([s[2] for s in segs], dtype=np.float64), "1",
+        "load factor at the end of the segment",
+    )
+    for name, (kind, units, long_name) in _MULT_SPEC.items():
+        vals = [getattr(mu, name) for mu in res.multipliers]
+        if kind == "int":
+            arr = np.array(vals, dtype=np.int64)
+        elif kind == "str":
+            arr = _str_array(vals)
+        else:
+            arr = np.array([np.nan if v is None else v for v in vals], dtype=np.float64)
+        dv[f"multiplier_{name}"] = _var(("multiplier",), arr, units, long_name)
+
+    # ---- displacement fields ---------------------------------------------------------------
+    if res.fields:
+        keys = sorted(res.fields)
+        coords["field_state"] = _var(
+            ("field_state",), np.array(keys, dtype=np.int64), "1",
+            "reported state of the stored displacement field",
+        )
+        dv["u"] = _var(
+            ("field_state", "dof"), np.stack([np.asarray(res.fields[k]) for k in keys]),
+            "m", "nodal displacements (rotations in rad)",
+        )
+
+    # ---- geometry and stresses -------------------------------------------------------------
+    geo = dict(res.geometry)
+    bodies = list(geo.pop("bodies", []) or [])
+    body_names = [str(b["name"]) for b in bodies]
+    stress_bodies = [b for s in sorted(res.stresses) for b in res.stresses[s]]
+    tok = _safe_names(body_names + stress_bodies)
+    if "points" in geo:
+        dv["points"] = _var(("node", "xy"), np.asarray(geo.pop("points")), "m", "node coordinates")
+        coords["xy"] = _var(("xy",), _XY, "1", "coordinate axis")
+    if "dof_of" in geo:
+        dof_of = np.asarray(geo.pop("dof_of"))
+        dv["dof_of"] = _var(
+            ("node", "node_dof"), dof_of, "1", "global dof of each node's ux, uy, rz (-1: none)"
+        )
+        if dof_of.shape[1] == len(_NODE_DOF):
+            coords["node_dof"] = _var(("node_dof",), _NODE_DOF, "1", "nodal degree of freedom")
+    body_vars: list[str] = []
+    for b in bodies:
+        t = tok[str(b["name"])]
+        extra = {k: v for k, v in b.items() if k not in ("name", "kind", "element", "cells")}
+        cells = np.asarray(b["cells"])
+        var = f"cells__{t}"
+        dv[var] = _var(
+            (f"element__{t}", f"cell_node__{t}"), cells, "1",
+            f"connectivity of body '{b['name']}' (global node ids)",
+            body=str(b["name"]), kind=str(b.get("kind", "")), element=str(b.get("element", "")),
+            extra=_dumps(extra),
+        )
+        body_vars.append(var)
+    geo_vars: list[str] = []
+    for key, val in list(geo.items()):
+        if isinstance(val, np.ndarray) and val.ndim >= 1 and val.dtype.kind in "biufU":
+            dims = tuple(f"geometry__{key}_dim{j}" for j in range(val.ndim))
+            dv[f"geometry__{key}"] = _var(dims, val, "1", f"geometry array '{key}'")
+            geo_vars.append(key)
+            geo.pop(key)
+
+    stress_vars: list[str] = []
+    if res.stresses:
+        coords["stress_component"] = _var(
+            ("stress_component",), _STRESS_COMPONENTS, "1", "stress component"
+        )
+    for body in dict.fromkeys(stress_bodies):
+        t = tok[body]
+        states = [s for s in sorted(res.stresses) if body in res.stresses[s]]
+        arr = np.stack([np.asarray(res.stresses[s][body]) for s in states])
+        if arr.ndim != 3 or arr.shape[2] != len(_STRESS_COMPONENTS):
+            raise ValueError(
+                f"stresses of body '{body}': expected (n_el, 4) arrays σxx, σyy, σxy, σzz, "
+                f"got {arr.shape[1:]}"
+            )
+        coords[f"stress_state__{t}"] = _var(
+            (f"stress_state__{t}",), np.array(states, dtype=np.int64), "1",
+            f"reported states with stresses of body '{body}'",
+        )
+        var = f"stress__{t}"
+        dv[var] = _var(
+            (f"stress_state__{t}", f"stress_element__{t}", "stress_component"), arr, "Pa",
+            f"element stresses of body '{body}'", body=body,
+        )
+        stress_vars.append(var)
+
+    attrs = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "title": "stepcontact static result",
+        "status": Status(res.status).value,
+        "message": str(res.message),
+        "counters": _dumps(dict(res.counters)),
+        "mechanism": _dumps(res.mechanism),
+        "units": _dumps(dict(res.units)),
+        "cfe_extra": _dumps(cfe_extra),
+        "body_variables": _dumps(body_vars),
+        "stress_variables": _dumps(stress_vars),
+        "geometry_arrays": _dumps(geo_vars),
+        "geometry_extra": _dumps(geo),
+        "geometry_keys": _dumps([str(k) for k in res.geometry]),
+    }
+    return xr.Dataset(dv, coords=coords, attrs=attrs)
+
+
+# --------------------------------------------------------------------------------------------
+# dataset -> result
+# --------------------------------------------------------------------------------------------
+def _py(kind: str, v: Any) -> Any:
+    if kind == "int":
+        return int(v)
+    if kind == "float":
+        return float(v)
+    if kind == "float?":
+        return None if np.isnan(v) else float(v)
+    if kind == "transition":
+        return Transition(str(v))
+    return str(v)
+
+
+def dataset_to_result(ds: xr.Dataset) -> StaticResult:
+    """Inverse of :func:`result_to_dataset` (``ds`` must be loaded in memory)."""
+    if ds.attrs.get("format") != FORMAT:
+        raise ValueError("not a stepcontact static result (attribute 'format' missing)")
+    if int(ds.attrs["format_version"]) > FORMAT_VERSION:
+        raise ValueError(
+            f"result file format version {ds.attrs['format_version']} is newer than this "
+            f"stepcontact supports ({FORMAT_VERSION})"
+        )
+
+    def arr(name: str) -> np.ndarray:
+        return ds[name].values
+
+    def strs(name: str) -> list[str]:
+        return [str(v) for v in arr(name)]
+
+    cfe: dict[str, Any] = {
+        str(name)[len("cfe_"):]: arr(str(name))
+        for name in ds.data_vars
+        if str(name).startswith("cfe_")
+    }
+    cfe.update(_loads(ds.attrs["cfe_extra"]))
+
+    n_ev = ds.sizes["event"]
+    ev_cols = {k: arr(f"event_{k}") for k in _EVENT_SPEC}
+    events = [
+        Event(**{k: _py(spec[0], ev_cols[k][i]) for k, spec in _EVENT_SPEC.items()})
+        for i in range(n_ev)
+    ]
+    mu_cols = {k: arr(f"multiplier_{k}") for k in _MULT_SPEC}
+    multipliers = [
+        Multipliers(**{k: _py(spec[0], mu_cols[k][i]) for k, spec in _MULT_SPEC.items()})
+        for i in range(ds.sizes["multiplier"])
+    ]
+    segments = [
+        (p, float(a), float(b))
+        for p, a, b in zip(
+            strs("segment_pattern"), arr("segment_lam_start"), arr("segment_lam_end"),
+            strict=True,
+        )
+    ]
+    fields: dict[int, np.ndarray] = {}
+    if "u" in ds:
+        u = arr("u")
+        fields = {int(k): u[i].copy() for i, k in enumerate(arr("field_state"))}
+
+    stresses: dict[int, dict[str, np.ndarray]] = {}
+    for var in _loads(ds.attrs["stress_variables"]):
+        body = str(ds[var].attrs["body"])
+        t = var[len("stress__"):]
+        for i, s in enumerate(arr(f"stress_state__{t}")):
+            stresses.setdefault(int(s), {})[body] = ds[var].values[i].copy()
+    stresses = dict(sorted(stresses.items()))
+
+    geo_arrays = set(_loads(ds.attrs["geometry_arrays"]))
+    geo_extra = _loads(ds.attrs["geometry_extra"])
+    geometry: dict[str, Any] = {}
+    for key in _loads(ds.attrs["geometry_keys"]):
+        if key in ("points", "dof_of") and key in ds:
+            geometry[key] = arr(key)
+        elif key == "bodies":
+            geometry[key] = [
+                {"name": str(ds[var].attrs["body"]), "kind": str(ds[var].attrs["kind"]),
+                 "element": str(ds[var].attrs["element"]), "cells": arr(var),
+                 **_loads(ds[var].attrs["extra"])}
+                for var in _loads(ds.attrs["body_variables"])
+            ]
+        elif key in geo_arrays:
+            geometry[key] = arr(f"geometry__{key}")
+        else:
+            geometry[key] = geo_extra[key]
+
+    return StaticResult(
+        pattern_names=tuple(strs("pattern")),
+        segments=segments,
+        cfe=cfe,
+        interface_names=tuple(strs("interface")),
+        lam=arr("lam"),
+        segment=arr("segment"),
+        factors=arr("factors"),
+        kind=arr("kind").astype(str),
+        N=arr("N"),
+        Q=arr("Q"),
+        un=arr("un"),
+        ut=arr("ut"),
+        state=arr("contact_state"),
+        residual=arr("residual"),
+        violation=arr("violation"),
+        events=events,
+        multipliers=multipliers,
+        status=Status(ds.attrs["status"]),
+        message=str(ds.attrs["message"]),
+        fields=fields,
+        stresses=stresses,
+        counters=_loads(ds.attrs["counters"]),
+        mechanism=_loads(ds.attrs["mechanism"]),
+        geometry=geometry,
+        units=_loads(ds.attrs["units"]),
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# files
+# --------------------------------------------------------------------------------------------
+def save_result(res: StaticResult, path: str | os.PathLike[str]) -> Path:
+    """Write ``res`` to ``path`` (netCDF4/HDF5, engine ``h5netcdf``) atomically.
+
+    The dataset is written to a temporary file next to ``path`` which then replaces ``path``
+    with :func:`os.replace`; if writing fails the temporary file is removed and an existing
+    file at ``path`` is left untouched.  Parent directories are created.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
+    path = Path(path)
+    if path.exists() and path.is_dir():
+        raise IsADirectoryError(f"path '{path}' is a directory, expected a result file name")
+    ds = result_to_dataset(res)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+    try:
+        ds.to_netcdf(tmp, engine="h5netcdf")
+        with open(tmp, "rb+") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def load_result(path: str | os.PathLike[str]) -> StaticResult:
+    """Load a result written by :func:`save_result` (exact inverse; ``_recover`` is None)."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"path '{path}': no such result file")
+    with xr.open_dataset(
+        path, engine="h5netcdf", decode_times=False, decode_timedelta=False
+    ) as ds:
+        ds = ds.load()
+    return dataset_to_result(ds)
+
+
+class ResultWriter:
+    """Solver hook that writes the result so far at the end of every load segment.
+
+    An interrupted run then keeps every finished segment on disk; each write is atomic.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        Result file.
+
+    Example
+    -------
+    >>> writer = ResultWriter("out/run.nc")
+    >>> writer.after_segment(res)          # doctest: +SKIP
+    """
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = Path(path)
+        self.writes = 0
+
+    def after_segment(self, result: StaticResult) -> None:
+        """Save ``result`` (the run up to the end of the segment just finished)."""
+        save_result(result, self.path)
+        self.writes += 1
+
+    def __repr__(self) -> str:
+        return f"ResultWriter('{self.path}', writes={self.writes})"
+
+
+__all__ = [
+    "ResultWriter",
+    "dataset_to_result",
+    "load_result",
+    "result_to_dataset",
+    "save_result",
+]

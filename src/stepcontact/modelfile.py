@@ -1,0 +1,837 @@
+"""Model files: a whole model (geometry, materials, contact, loads, program) in one TOML file.
+
+The file is validated with pydantic (unknown keys, wrong types, NaN/inf and out-of-range
+values are rejected) and then turned into an immutable :class:`~stepcontact.model.Model`.
+Every problem is reported as one :class:`~stepcontact.errors.ModelError` whose ``item`` is the
+path of the offending field in the file, e.g. ``bodies[1].material.E``,
+``interfaces[0].plus`` or ``patterns.push.loads[0].normal``; when several fields are wrong,
+all of them are listed in the message (and in the ``errors`` attribute of the exception).
+
+Units are SI: m, N, Pa, kg/m³, m/s².  A short file::
+
+    [model]
+    name = "block on foundation"
+    plane = "strain"            # or "stress"
+    thickness = 1.0             # m
+
+    [materials.concrete]
+    E = 30e9                    # Pa
+    nu = 0.2
+    density = 2400              # kg/m³
+
+    [[bodies]]
+    name = "block"
+    kind = "rectangle"
+    corner0 = [0.0, 0.0]        # m
+    corner1 = [2.0, 1.0]
+    nx = 8
+    ny = 4
+    element = "quad4"           # tri3, tri6, quad4, quad8, quad9
+    material = "concrete"       # or an inline table {E = ..., nu = ..., density = ...}
+
+    [node_sets.block_bottom]
+    body = "block"
+    y = 0.0                     # nodes with y = 0 (also x = ..., where = {xmin, xmax, ymin, ymax})
+
+    [[interfaces]]
+    name = "joint"
+    plus = "block_bottom"       # node-set names
+    minus = "foundation_top"
+    friction = 0.6
+
+    [patterns.weight]
+    loads = [{ type = "gravity", g = [0.0, -9.81], bodies = ["block"] }]
+
+    [[program]]
+    pattern = "weight"
+    end = 1.0                   # λ goes from where the pattern stands (0) to 1
+
+Load types: ``gravity`` (g, bodies), ``nodal`` (nodes, fx, fy in N, mz in N·m), ``pressure``
+(nodes, normal and/or tangential in Pa: a number or a pair [start, end] varying linearly
+along the node set), ``displacement`` (nodes, dof = "x" | "y" | "rz", value in m or rad).
+:func:`schema` gives the complete JSON schema.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from collections.abc import Callable
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    NonNegativeInt,
+    PlainValidator,
+    Tag,
+    ValidationError,
+    WithJsonSchema,
+    field_validator,
+    model_validator,
+)
+
+from .errors import ModelError
+from .mesh import rectangle
+from .model import (
+    Body,
+    BodyForce,
+    ContactLayer,
+    EdgeLoad,
+    Frame,
+    Interface,
+    LoadPattern,
+    Material,
+    Model,
+    NodalLoad,
+    NodeSet,
+    PrescribedDisplacement,
+    Segment,
+    Spring,
+    Support,
+    Tie,
+    _parse_dofs,
+    select_nodes,
+)
+
+# tags of the discriminated unions; they appear in pydantic's error locations and are removed
+# from the field paths shown to the user
+_TAGS = {
+    "kind=rectangle",
+    "kind=mesh",
+    "type=gravity",
+    "type=nodal",
+    "type=pressure",
+    "type=displacement",
+    "material=name",
+    "material=table",
+}
+_MAX_LISTED = 8
+
+
+class _Spec(BaseModel):
+    """Base of every table of the file: unknown keys and NaN/inf are errors."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
+
+
+Point = tuple[float, float]
+
+
+# --------------------------------------------------------------------------------------------
+# model, materials, bodies, frames
+# --------------------------------------------------------------------------------------------
+class ModelSection(_Spec):
+    """``[model]``: name, plane ("strain" or "stress") and out-of-plane thickness (m)."""
+
+    name: str | None = None
+    plane: Literal["strain", "stress"] = "strain"
+    thickness: float = Field(1.0, gt=0, description="out-of-plane thickness, m")
+
+
+class MaterialSpec(_Spec):
+    """``[materials.NAME]``: isotropic linear-elastic material."""
+
+    E: float = Field(gt=0, description="Young's modulus, Pa")
+    nu: float = Field(gt=-1.0, lt=0.5, description="Poisson's ratio")
+    density: float = Field(0.0, ge=0, description="mass density, kg/m³")
+
+    def build(self) -> Material:
+        return Material(self.E, self.nu, self.density)
+
+
+def _material_tag(v: Any) -> str | None:
+    if isinstance(v, str):
+        return "material=name"
+    if isinstance(v, dict | MaterialSpec):
+        return "material=table"
+    return None
+
+
+MaterialRef = Annotated[
+    Annotated[str, Tag("material=name")] | Annotated[MaterialSpec, Tag("material=table")],
+    Discriminator(
+        _material_tag,
+        custom_error_type="material_ref",
+        custom_error_message="must be a material name or an inline table {E, nu, density}",
+    ),
+]
+
+
+class RectangleSpec(_Spec):
+    """``[[bodies]]`` with ``kind = "rectangle"``: [x0, x1] × [y0, y1] meshed nx × ny."""
+
+    name: str
+    kind: Literal["rectangle"] = "rectangle"
+    corner0: Point = Field(description="lower-left corner (x0, y0), m")
+    corner1: Point = Field(description="upper-right corner (x1, y1), m")
+    nx: int = Field(ge=1, description="cells along x")
+    ny: int = Field(ge=1, description="cells along y")
+    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] = "quad4"
+    grading: tuple[float, float] = Field(
+        (1.0, 1.0), description="geometric growth of the cell sizes along x and y (> 0)"
+    )
+    material: MaterialRef
+
+    @field_validator("grading")
+    @classmethod
+    def _positive_grading(cls, v: tuple[float, float]) -> tuple[float, float]:
+        if min(v) <= 0:
+            raise ValueError("grading factors must be > 0")
+        return v
+
+    @model_validator(mode="after")
+    def _non_empty(self) -> RectangleSpec:
+        if not (self.corner1[0] > self.corner0[0] and self.corner1[1] > self.corner0[1]):
+            raise ValueError("corner1 must lie above and to the right of corner0")
+        return self
+
+
+class MeshBodySpec(_Spec):
+    """``[[bodies]]`` read from a mesh file (``mesh = "file.msh"``): reserved, not yet
+    supported."""
+
+    name: str
+    kind: Literal["mesh"] = "mesh"
+    mesh: str = Field(description="mesh file (reserved: not yet supported)")
+    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] | None = None
+    material: MaterialRef
+
+
+def _body_tag(v: Any) -> str | None:
+    if isinstance(v, dict):
+        if "mesh" in v or v.get("kind") == "mesh":
+            return "kind=mesh"
+        kind = v.get("kind", "rectangle")
+        return f"kind={kind}" if kind in ("rectangle", "mesh") else None
+    if isinstance(v, RectangleSpec | MeshBodySpec):
+        return f"kind={v.kind}"
+    return None
+
+
+BodySpec = Annotated[
+    Annotated[RectangleSpec, Tag("kind=rectangle")] | Annotated[MeshBodySpec, Tag("kind=mesh")],
+    Discriminator(
+        _body_tag,
+        custom_error_type="body_kind",
+        custom_error_message="kind must be 'rectangle' (mesh files are reserved)",
+    ),
+]
+
+
+class FrameSpec(_Spec):
+    """``[[frames]]``: a straight Euler–Bernoulli frame from ``start`` to ``end``."""
+
+    name: str
+    kind: Literal["line"] = "line"
+    start: Point = Field(description="first node, m")
+    end: Point = Field(description="last node, m")
+    n: int = Field(ge=1, description="number of elements")
+    E: float = Field(gt=0, description="Young's modulus, Pa")
+    A: float = Field(gt=0, description="cross-section area, m²")
+    I: float = Field(gt=0, description="second moment of area, m⁴")
+    density: float = Field(0.0, ge=0, description="kg/m³")
+
+
+# --------------------------------------------------------------------------------------------
+# node sets, supports, ties, springs, interfaces
+# --------------------------------------------------------------------------------------------
+class BoxSpec(_Spec):
+    """``where = {xmin, xmax, ymin, ymax}``: nodes inside the box (bounds inclusive, m)."""
+
+    xmin: float | None = None
+    xmax: float | None = None
+    ymin: float | None = None
+    ymax: float | None = None
+
+
+class NodeSetSpec(_Spec):
+    """``[node_sets.NAME]``: nodes of one body (or frame) by coordinate, box or index."""
+
+    body: str
+    x: float | None = Field(None, description="nodes with this x, m")
+    y: float | None = Field(None, description="nodes with this y, m")
+    where: BoxSpec | None = None
+    index: list[NonNegativeInt] | None = Field(None, description="local node indices")
+    boundary: bool = Field(True, description="only nodes on the body's boundary")
+
+    @model_validator(mode="after")
+    def _index_alone(self) -> NodeSetSpec:
+        if self.index is not None and (
+            self.x is not None or self.y is not None or self.where is not None
+        ):
+            raise ValueError("give either index or x / y / where, not both")
+        return self
+
+
+def _check_dofs(v: str) -> str:
+    try:
+        _parse_dofs(v, "dofs")
+    except ModelError as e:
+        raise ValueError(e.problem) from None
+    return v
+
+
+class SupportSpec(_Spec):
+    """``[[supports]]``: fixed degrees of freedom ("xy", "x", "y", "rz", "xyrz") of a node
+    set."""
+
+    name: str | None = None
+    nodes: str
+    dofs: str = "xy"
+
+    @field_validator("dofs")
+    @classmethod
+    def _known_dofs(cls, v: str) -> str:
+        return _check_dofs(v)
+
+
+class TieSpec(_Spec):
+    """``[[ties]]``: translations of node set ``a`` tied pairwise to those of ``b``."""
+
+    name: str | None = None
+    a: str
+    b: str
+
+
+class SpringSpec(_Spec):
+    """``[[springs]]``: springs between node sets ``a`` and ``b`` (``b`` absent: ground)."""
+
+    name: str | None = None
+    a: str
+    b: str | None = None
+    kx: float = Field(0.0, ge=0, description="N/m")
+    ky: float = Field(0.0, ge=0, description="N/m")
+
+
+class LayerSpec(_Spec):
+    """Compliant contact layer (eq. (11)): ``{kn, kt}`` in Pa/m or ``{thickness, E, nu}``."""
+
+    kn: float | None = Field(None, gt=0, description="normal stiffness per area, Pa/m")
+    kt: float | None = Field(None, gt=0, description="tangential stiffness per area, Pa/m")
+    thickness: float | None = Field(None, gt=0, description="layer thickness ζ_n⁰, m")
+    E: float | None = Field(None, gt=0, description="layer modulus E_c, Pa")
+    nu: float | None = Field(None, gt=-1.0, lt=0.5, description="layer Poisson ratio μ_c")
+
+    @model_validator(mode="after")
+    def _one_form(self) -> LayerSpec:
+        direct = self.kn is not None or self.kt is not None
+        physical = any(v is not None for v in (self.thickness, self.E, self.nu))
+        if direct and physical:
+            raise ValueError("give either {kn, kt} or {thickness, E, nu}, not both")
+        if direct and (self.kn is None or self.kt is None):
+            raise ValueError("give both kn and kt")
+        if not direct and (self.thickness is None or self.E is None):
+            raise ValueError("give {kn, kt} or {thickness, E, nu}")
+        return self
+
+    def build(self) -> ContactLayer:
+        if self.kn is not None:
+            return ContactLayer(kn=self.kn, kt=self.kt)
+        return ContactLayer(thickness=self.thickness, E=self.E, nu=self.nu or 0.0)
+
+
+class InterfaceSpec(_Spec):
+    """``[[interfaces]]``: CFEs from every node of ``plus`` (S+) to ``minus`` (S−)."""
+
+    name: str
+    plus: str
+    minus: str
+    friction: float = Field(0.0, ge=0, description="Coulomb friction coefficient")
+    gap: float | None = Field(None, ge=0, description="initial gap, m (default: geometric)")
+    normal: Point | None = Field(None, description="unit normal from S− to S+")
+    layer: LayerSpec | None = None
+
+    @field_validator("normal")
+    @classmethod
+    def _nonzero(cls, v: Point | None) -> Point | None:
+        if v is not None and math.hypot(*v) == 0:
+            raise ValueError("normal must be a non-zero vector")
+        return v
+
+
+# --------------------------------------------------------------------------------------------
+# loads, patterns, program
+# --------------------------------------------------------------------------------------------
+def _pressure_value(v: Any) -> float | tuple[float, float]:
+    """A pressure: a finite number, or a pair [start, end] of finite numbers (Pa)."""
+
+    def num(x: Any) -> float:
+        if isinstance(x, bool) or not isinstance(x, int | float):
+            raise ValueError("must be a number (Pa) or a pair [start, end] of numbers (Pa)")
+        if not math.isfinite(x):
+            raise ValueError("must be a finite number (NaN and inf are not allowed)")
+        return float(x)
+
+    if isinstance(v, list | tuple):
+        if len(v) != 2:
+            raise ValueError("a varying pressure is a pair [start, end] (Pa)")
+        return (num(v[0]), num(v[1]))
+    return num(v)
+
+
+Pressure = Annotated[
+    float | tuple[float, float],
+    PlainValidator(_pressure_value),
+    WithJsonSchema(
+        {
+            "anyOf": [
+                {"type": "number"},
+                {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2},
+            ],
+            "description": "Pa: a constant, or [start, end] varying linearly along the node set",
+        }
+    ),
+]
+
+
+class GravityLoad(_Spec):
+    """Self-weight: density × ``g`` (m/s²) on ``bodies`` (all bodies when empty)."""
+
+    type: Literal["gravity"] = "gravity"
+    g: Point = (0.0, -9.81)
+    bodies: list[str] = []
+
+
+class NodalLoadSpec(_Spec):
+    """Forces on every node of a node set: fx, fy in N, mz in N·m."""
+
+    type: Literal["nodal"] = "nodal"
+    nodes: str
+    fx: float = 0.0
+    fy: float = 0.0
+    mz: float = 0.0
+
+
+class PressureLoad(_Spec):
+    """Pressure on the body edges in a node set (normal > 0 pushes into the body), Pa."""
+
+    type: Literal["pressure"] = "pressure"
+    nodes: str
+    normal: Pressure | None = None
+    tangential: Pressure | None = None
+
+    @model_validator(mode="after")
+    def _something(self) -> PressureLoad:
+        if self.normal is None and self.tangential is None:
+            raise ValueError("give normal and/or tangential pressure")
+        return self
+
+
+class DisplacementLoad(_Spec):
+    """Prescribed displacement ``value`` (m, or rad for rz) of ``dof`` of a node set."""
+
+    type: Literal["displacement"] = "displacement"
+    nodes: str
+    dof: Literal["x", "y", "rz"]
+    value: float
+
+
+def _load_tag(v: Any) -> str | None:
+    t = v.get("type") if isinstance(v, dict) else getattr(v, "type", None)
+    return f"type={t}" if t in ("gravity", "nodal", "pressure", "displacement") else None
+
+
+LoadSpec = Annotated[
+    Annotated[GravityLoad, Tag("type=gravity")]
+    | Annotated[NodalLoadSpec, Tag("type=nodal")]
+    | Annotated[PressureLoad, Tag("type=pressure")]
+    | Annotated[DisplacementLoad, Tag("type=displacement")],
+    Discriminator(
+        _load_tag,
+        custom_error_type="load_type",
+        custom_error_message=(
+            "type must be 'gravity', 'nodal', 'pressure' or 'displacement'"
+        ),
+    ),
+]
+
+
+class PatternSpec(_Spec):
+    """``[patterns.NAME]``: loads applied together with one load factor λ."""
+
+    loads: list[LoadSpec] = []
+
+
+class SegmentSpec(_Spec):
+    """``[[program]]``: the factor of ``pattern`` goes from ``start`` to ``end``."""
+
+    pattern: str
+    end: float
+    start: float | None = Field(None, description="default: where the pattern stands")
+
+
+class ModelFile(_Spec):
+    """The whole model file."""
+
+    model: ModelSection = ModelSection()
+    materials: dict[str, MaterialSpec] = {}
+    bodies: list[BodySpec] = []
+    frames: list[FrameSpec] = []
+    node_sets: dict[str, NodeSetSpec] = {}
+    supports: list[SupportSpec] = []
+    ties: list[TieSpec] = []
+    springs: list[SpringSpec] = []
+    interfaces: list[InterfaceSpec] = []
+    patterns: dict[str, PatternSpec] = {}
+    program: list[SegmentSpec] = Field(min_length=1)
+
+
+# --------------------------------------------------------------------------------------------
+# errors
+# --------------------------------------------------------------------------------------------
+_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def _path(loc: tuple[str | int, ...] | list[str | int]) -> str:
+    """pydantic location -> field path as written in the file, e.g. ``bodies[1].material.E``."""
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        elif part in _TAGS:
+            continue
+        else:
+            key = part if _KEY.match(part) else f'"{part}"'
+            out += f".{key}" if out else key
+    return out or "model file"
+
+
+def _message(err: dict[str, Any]) -> str:
+    kind = err["type"]
+    if kind == "missing":
+        return "required field is missing"
+    if kind == "extra_forbidden":
+        return "unknown field (not part of the model file format)"
+    if kind == "finite_number":
+        msg = "must be a finite number (NaN and inf are not allowed)"
+    elif kind in ("value_error", "assertion_error"):
+        msg = str(err["msg"]).removeprefix("Value error, ").removeprefix("Assertion failed, ")
+    else:
+        msg = str(err["msg"])
+        msg = msg[:1].lower() + msg[1:]
+    value = err.get("input")
+    if isinstance(value, str | int | float | bool) and kind != "too_short":
+        msg += f" (got {value!r})"
+    return msg
+
+
+class _Problems:
+    """Collects (path, message) pairs and raises them as one :class:`ModelError`."""
+
+    def __init__(self) -> None:
+        self.items: list[tuple[str, str]] = []
+
+    def add(self, path: str, problem: str) -> None:
+        self.items.append((path, problem))
+
+    def raise_if_any(self) -> None:
+        if self.items:
+            raise _model_error(self.items)
+
+
+def _model_error(items: list[tuple[str, str]]) -> ModelError:
+    (path, problem), rest = items[0], items[1:]
+    if rest:
+        listed = "; ".join(f"{p}: {m}" for p, m in rest[:_MAX_LISTED])
+        more = f"; and {len(rest) - _MAX_LISTED} more" if len(rest) > _MAX_LISTED else ""
+        problem = f"{problem} (also {listed}{more})"
+    err = ModelError(path, problem)
+    err.errors = list(items)  # type: ignore[attr-defined]
+    return err
+
+
+def _validate(d: dict[str, Any]) -> ModelFile:
+    try:
+        return ModelFile.model_validate(d)
+    except ValidationError as e:
+        items = [(_path(err["loc"]), _message(err)) for err in e.errors()]
+        raise _model_error(items) from None
+
+
+# --------------------------------------------------------------------------------------------
+# building the Model
+# --------------------------------------------------------------------------------------------
+def _known(names) -> str:
+    names = list(names)
+    return ", ".join(repr(n) for n in names) if names else "none defined"
+
+
+def _check_references(spec: ModelFile) -> None:
+    """Every name used (materials, bodies, node sets, patterns) exists; names are unique."""
+    p = _Problems()
+    bodies = [b.name for b in spec.bodies] + [f.name for f in spec.frames]
+    for i, b in enumerate(spec.bodies):
+        if isinstance(b.material, str) and b.material not in spec.materials:
+            p.add(
+                f"bodies[{i}].material",
+                f"unknown material '{b.material}' (known: {_known(spec.materials)})",
+            )
+    seen: set[str] = set()
+    for group in ("bodies", "frames"):
+        for i, b in enumerate(getattr(spec, group)):
+            if b.name in seen:
+                p.add(f"{group}[{i}].name", f"duplicate body name '{b.name}'")
+            seen.add(b.name)
+    if not bodies:
+        p.add("bodies", "the model has no body and no frame")
+    for name, ns in spec.node_sets.items():
+        if ns.body not in bodies:
+            p.add(f"{_path(['node_sets', name])}.body",
+                  f"unknown body '{ns.body}' (known: {_known(bodies)})")
+
+    def node_set(path: str, name: str | None) -> None:
+        if name is not None and name not in spec.node_sets:
+            p.add(path, f"unknown node set '{name}' (known: {_known(spec.node_sets)})")
+
+    for i, s in enumerate(spec.supports):
+        node_set(f"supports[{i}].nodes", s.nodes)
+    for i, t in enumerate(spec.ties):
+        node_set(f"ties[{i}].a", t.a)
+        node_set(f"ties[{i}].b", t.b)
+    for i, s in enumerate(spec.springs):
+        node_set(f"springs[{i}].a", s.a)
+        node_set(f"springs[{i}].b", s.b)
+    names: set[str] = set()
+    for i, itf in enumerate(spec.interfaces):
+        node_set(f"interfaces[{i}].plus", itf.plus)
+        node_set(f"interfaces[{i}].minus", itf.minus)
+        if itf.name in names:
+            p.add(f"interfaces[{i}].name", f"duplicate interface name '{itf.name}'")
+        names.add(itf.name)
+    for pname, pat in spec.patterns.items():
+        for j, ld in enumerate(pat.loads):
+            path = f"{_path(['patterns', pname, 'loads', j])}"
+            if isinstance(ld, GravityLoad):
+                for b in ld.bodies:
+                    if b not in bodies:
+                        p.add(f"{path}.bodies", f"unknown body '{b}' (known: {_known(bodies)})")
+            else:
+                node_set(f"{path}.nodes", ld.nodes)
+    current: dict[str, float] = {}
+    for i, seg in enumerate(spec.program):
+        if seg.pattern not in spec.patterns:
+            p.add(f"program[{i}].pattern",
+                  f"unknown load pattern '{seg.pattern}' (known: {_known(spec.patterns)})")
+            continue
+        now = current.get(seg.pattern, 0.0)
+        if seg.start is not None and abs(seg.start - now) > 1e-12 * max(1.0, abs(now)):
+            p.add(
+                f"program[{i}].start",
+                f"segments do not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
+                f"this segment starts at {seg.start:g}",
+            )
+        current[seg.pattern] = seg.end
+    p.raise_if_any()
+
+
+def _box(box: BoxSpec, atol: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """Predicate of a box with inclusive bounds (tolerance ``atol``, m)."""
+    lo = np.array([-np.inf if box.xmin is None else box.xmin,
+                   -np.inf if box.ymin is None else box.ymin]) - atol
+    hi = np.array([np.inf if box.xmax is None else box.xmax,
+                   np.inf if box.ymax is None else box.ymax]) + atol
+
+    def inside(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1])
+
+    return inside
+
+
+def _build_node_set(name: str, ns: NodeSetSpec, body: Body | Frame) -> NodeSet:
+    path = _path(["node_sets", name])
+    if ns.index is not None:
+        idx = np.asarray(ns.index, dtype=np.int64)
+        if idx.size == 0:
+            raise ModelError(f"{path}.index", "selects no node")
+        if idx.max() >= body.n_nodes:
+            raise ModelError(
+                f"{path}.index",
+                f"node {int(idx.max())} does not exist (body '{body.name}' has {body.n_nodes})",
+            )
+        return NodeSet(body.name, idx, name)
+    pts = body.points
+    atol = 1e-9 * max(1.0, float(np.ptp(pts, axis=0).max()) if len(pts) else 1.0)
+    where = _box(ns.where, atol) if ns.where is not None else None
+    try:
+        return select_nodes(body, where, x=ns.x, y=ns.y, boundary=ns.boundary, name=name)
+    except ModelError as e:
+        raise ModelError(path, f"{e.problem} on body '{body.name}'") from None
+
+
+def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Model:
+    """Build a :class:`~stepcontact.model.Model` from the parsed contents of a model file.
+
+    Parameters
+    ----------
+    d : dict
+        The TOML document as a dict (what :func:`tomllib.load` returns).
+    base_dir : path, optional
+        Directory against which relative file names in the model (mesh files) are resolved.
+
+    Raises
+    ------
+    ModelError
+        Whose ``item`` is the field path of the (first) problem, e.g. ``bodies[1].material.E``.
+
+    Example
+    -------
+    >>> import tomllib
+    >>> from stepcontact.modelfile import model_from_dict
+    >>> text = '''
+    ... [materials.steel]
+    ... E = 210e9
+    ... nu = 0.3
+    ... [[bodies]]
+    ... name = "plate"
+    ... corner0 = [0, 0]
+    ... corner1 = [1, 1]
+    ... nx = 2
+    ... ny = 2
+    ... material = "steel"
+    ... [node_sets.bottom]
+    ... body = "plate"
+    ... y = 0
+    ... [[supports]]
+    ... nodes = "bottom"
+    ... [patterns.push]
+    ... loads = [{type = "nodal", nodes = "bottom", fx = 1e3}]
+    ... [[program]]
+    ... pattern = "push"
+    ... end = 1
+    ... '''
+    >>> model_from_dict(tomllib.loads(text)).bodies[0].n_nodes
+    9
+    """
+    spec = _validate(d)
+    _check_references(spec)
+    base = Path(base_dir) if base_dir is not None else Path.cwd()
+
+    bodies: list[Body | Frame] = []
+    for i, b in enumerate(spec.bodies):
+        if isinstance(b, MeshBodySpec):
+            raise ModelError(
+                f"bodies[{i}].mesh",
+                f"mesh files ({base / b.mesh}) are not yet supported; use kind = 'rectangle'",
+            )
+        mat = spec.materials[b.material] if isinstance(b.material, str) else b.material
+        try:
+            bodies.append(
+                rectangle(b.name, b.corner0, b.corner1, b.nx, b.ny, mat.build(), b.element,
+                          grading=b.grading)
+            )
+        except ModelError as e:
+            raise ModelError(f"bodies[{i}]", e.problem) from None
+    for i, f in enumerate(spec.frames):
+        try:
+            bodies.append(
+                Frame.line(f.name, f.start, f.end, f.n, E=f.E, A=f.A, I=f.I, density=f.density)
+            )
+        except ModelError as e:
+            raise ModelError(f"frames[{i}]", e.problem) from None
+    by_name = {b.name: b for b in bodies}
+    sets = {
+        name: _build_node_set(name, ns, by_name[ns.body]) for name, ns in spec.node_sets.items()
+    }
+
+    supports = [
+        Support(s.name or s.nodes, sets[s.nodes], _parse_dofs(s.dofs, f"supports[{i}].dofs"))
+        for i, s in enumerate(spec.supports)
+    ]
+    ties = []
+    for i, t in enumerate(spec.ties):
+        if len(sets[t.a]) != len(sets[t.b]):
+            raise ModelError(
+                f"ties[{i}]",
+                f"node sets '{t.a}' ({len(sets[t.a])} nodes) and '{t.b}' ({len(sets[t.b])} "
+                "nodes) differ in size",
+            )
+        ties.append(Tie(t.name or f"{t.a}-{t.b}", sets[t.a], sets[t.b]))
+    springs = [
+        Spring(s.name or s.a, sets[s.a], None if s.b is None else sets[s.b], s.kx, s.ky)
+        for s in spec.springs
+    ]
+    interfaces = [
+        Interface(
+            itf.name,
+            sets[itf.plus],
+            sets[itf.minus],
+            friction=itf.friction,
+            gap=itf.gap,
+            normal=itf.normal,
+            layer=None if itf.layer is None else itf.layer.build(),
+        )
+        for itf in spec.interfaces
+    ]
+    patterns = []
+    for pname, pat in spec.patterns.items():
+        loads: list[object] = []
+        for ld in pat.loads:
+            if isinstance(ld, GravityLoad):
+                loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
+            elif isinstance(ld, NodalLoadSpec):
+                loads.append(NodalLoad(sets[ld.nodes], ld.fx, ld.fy, ld.mz))
+            elif isinstance(ld, PressureLoad):
+                loads.append(EdgeLoad(sets[ld.nodes], ld.normal, ld.tangential))
+            else:
+                loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
+        patterns.append(LoadPattern(pname, tuple(loads)))
+    program = [Segment(s.pattern, s.end, s.start) for s in spec.program]
+    return Model(
+        bodies=tuple(bodies),
+        plane=spec.model.plane,
+        thickness=spec.model.thickness,
+        supports=tuple(supports),
+        ties=tuple(ties),
+        springs=tuple(springs),
+        interfaces=tuple(interfaces),
+        patterns=tuple(patterns),
+        program=tuple(program),
+        name=spec.model.name or "model",
+    )
+
+
+def load_model(path: str | Path) -> Model:
+    """Read a TOML model file and build the :class:`~stepcontact.model.Model`.
+
+    The model's name defaults to the file's stem when ``[model] name`` is not given.
+
+    Raises
+    ------
+    FileNotFoundError
+        When the file does not exist.
+    ModelError
+        When the file is not valid TOML (``item`` is the file name) or the model is wrong
+        (``item`` is the field path, e.g. ``interfaces[0].plus``).
+
+    Example
+    -------
+    >>> from importlib.resources import files
+    >>> from stepcontact.modelfile import load_model
+    >>> model = load_model(files("stepcontact") / "data" / "demo.toml")
+    >>> [itf.name for itf in model.interfaces]
+    ['joint']
+    """
+    path = Path(str(path))
+    with open(path, "rb") as fh:
+        try:
+            d = tomllib.load(fh)
+        except tomllib.TOMLDecodeError as e:
+            raise ModelError(str(path), f"not a valid TOML file: {e}") from None
+    model = model_from_dict(d, base_dir=path.parent)
+    if not (d.get("model") or {}).get("name"):
+        model = model.replace(name=path.stem)
+    return model
+
+
+def schema() -> dict[str, Any]:
+    """The JSON schema of the model file format (a dict, ready for :func:`json.dumps`)."""
+    return ModelFile.model_json_schema()
+
+
+__all__ = ["ModelFile", "load_model", "model_from_dict", "schema"]
