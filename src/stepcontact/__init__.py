@@ -2,6 +2,7 @@
 
 from .enums import ContactState, SlipTreatment, Status, Transition
 from .errors import ModelError, SolverError, StepContactError
+from .assembly import System, assemble
 from .mesh import rectangle
 from .model import (
     Body,
@@ -21,6 +22,8 @@ from .model import (
     Support,
     Tie,
 )
+from .results import Event, Multipliers, StaticResult
+from .static import StepInfo, solve_static
 
 __version__ = "0.1.0"
 
@@ -49,4 +52,11 @@ __all__ = [
     "Tie",
     "Transition",
     "rectangle",
+    "assemble",
+    "solve_static",
+    "Event",
+    "Multipliers",
+    "StaticResult",
+    "StepInfo",
+    "System",
 ]

@@ -167,18 +167,22 @@ class Condensed:
         """LU of the scheme matrix A; raises MechanismError if A is (numerically) singular."""
         Rw, Rs = self.scheme_matrix(rel, cfe)
         A = Rs.toarray() - (Rw + self.d * Rs) @ self.G
+        # rows of stuck components scale like 1/d, rows of free ones like 1: equilibrate rows
+        # so that the condition estimate measures a mechanism, not the choice of units
+        rscale = 1.0 / np.maximum(np.abs(A).max(axis=1), 1e-300)
+        A *= rscale[:, None]
         lu = sla.lu_factor(A, check_finite=False)
         anorm = np.linalg.norm(A, 1)
         rcond = sla.lapack.dgecon(lu[0], anorm, norm="1")[0] if A.size else 1.0
         self.counters["scheme_factorizations"] = self.counters.get("scheme_factorizations", 0) + 1
         if not rcond > 1e-13:
             raise MechanismError(A, lu)
-        return Rw, Rs, lu
+        return Rw, Rs, lu, rscale
 
     def solve(self, fact, hhat: np.ndarray, e: np.ndarray, r: np.ndarray):
         """Rates (s', w') for load rate (ĥ, e) and relation right-hand side r."""
-        Rw, Rs, lu = fact
-        rhs = r - Rw @ (hhat + e) - self.d * (Rs @ hhat)
+        Rw, Rs, lu, rscale = fact
+        rhs = rscale * (r - Rw @ (hhat + e) - self.d * (Rs @ hhat))
         t = sla.lu_solve(lu, rhs, check_finite=False)
         w_hat = hhat - self.G @ t
         s = t + self.d * w_hat
@@ -207,11 +211,12 @@ class Condensed:
         self.counters["solves"] = self.counters.get("solves", 0) + 1
         return u
 
-    def check(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray, u: np.ndarray):
+    def check(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray, u: np.ndarray,
+              w_scale: float = 0.0):
         """Relative equilibrium residual and kinematic mismatch of a state.
 
         residual = ‖K_ff u_f + K_fp u_p + B_fᵀ s − f_f‖ / ‖f_f + |B_fᵀ s|‖ (max norms);
-        kinematic = ‖B u + w⁰ − w‖ / max(‖w‖, ‖u‖·‖B‖).
+        kinematic = ‖B u + w⁰ − w‖ / max(‖w‖, ‖u‖, w_scale).
         """
         sysm = self.system
         f = np.zeros(sysm.ndof)
@@ -224,7 +229,7 @@ class Condensed:
         scale = max(np.abs(Ku).max(initial=0), np.abs(Bs).max(initial=0),
                     np.abs(f[self.free]).max(initial=0), 1e-300)
         wk = sysm.B @ u + sysm.w0
-        kscale = max(np.abs(w).max(initial=0), np.abs(u).max(initial=0), 1e-300)
+        kscale = max(np.abs(w).max(initial=0), np.abs(u).max(initial=0), w_scale, 1e-300)
         return float(np.abs(r).max(initial=0) / scale), float(np.abs(wk - w).max(initial=0) / kscale)
 
     def null_mode(self, A: np.ndarray, lu) -> np.ndarray:

@@ -193,14 +193,23 @@ class RectangleSpec(_Spec):
 
 
 class MeshBodySpec(_Spec):
-    """``[[bodies]]`` read from a mesh file (``mesh = "file.msh"``): reserved, not yet
-    supported."""
+    """``[[bodies]]`` read from a mesh file (``mesh = "file.msh"`` or ``kind = "mesh"``).
 
-    name: str
-    kind: Literal["mesh"] = "mesh"
+    Reserved for a later version: any use of it is reported as "not yet supported".
+    """
+
+    model_config = ConfigDict(extra="allow")
+
+    kind: Literal["mesh", "rectangle"] = "mesh"
     mesh: str = Field(description="mesh file (reserved: not yet supported)")
-    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] | None = None
-    material: MaterialRef
+
+    @field_validator("mesh")
+    @classmethod
+    def _reserved(cls, v: str) -> str:
+        raise ValueError(
+            f"mesh files ('{v}') are not yet supported; use kind = 'rectangle' with corner0, "
+            "corner1, nx, ny"
+        )
 
 
 def _body_tag(v: Any) -> str | None:
@@ -515,8 +524,9 @@ def _message(err: dict[str, Any]) -> str:
     else:
         msg = str(err["msg"])
         msg = msg[:1].lower() + msg[1:]
+        msg = re.sub(r"^input should (be|have)", r"must \1", msg)
     value = err.get("input")
-    if isinstance(value, str | int | float | bool) and kind != "too_short":
+    if isinstance(value, str | int | float | bool) and repr(value) not in msg:
         msg += f" (got {value!r})"
     return msg
 
@@ -714,11 +724,8 @@ def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Mo
 
     bodies: list[Body | Frame] = []
     for i, b in enumerate(spec.bodies):
-        if isinstance(b, MeshBodySpec):
-            raise ModelError(
-                f"bodies[{i}].mesh",
-                f"mesh files ({base / b.mesh}) are not yet supported; use kind = 'rectangle'",
-            )
+        if isinstance(b, MeshBodySpec):  # rejected by validation until mesh files exist
+            raise ModelError(f"bodies[{i}].mesh", f"{base / b.mesh}: not yet supported")
         mat = spec.materials[b.material] if isinstance(b.material, str) else b.material
         try:
             bodies.append(

@@ -102,6 +102,16 @@ def _default_lams(res: StaticResult, segment: int | None) -> list[tuple[int, flo
     return out
 
 
+def _snapshot(res: StaticResult, segment: int, lam: float) -> dict[str, np.ndarray]:
+    """CFE quantities at ``lam`` of ``segment``: :meth:`StaticResult.interpolate`, except that
+    at the λ of a reported state the scheme is the one after the last state there."""
+    snap = res.interpolate(lam, segment)
+    at = np.flatnonzero((np.asarray(res.segment) == segment) & (np.asarray(res.lam) == lam))
+    if at.size:
+        snap = snap | {"state": np.asarray(res.state)[at[-1]]}
+    return snap
+
+
 def _pattern_of(res: StaticResult, seg: int) -> str:
     if 0 <= seg < len(res.segments):
         return str(res.segments[seg][0])
@@ -125,7 +135,8 @@ def plot_interfaces(
 
     Stresses are shown in MPa, kPa or Pa (whichever reads best; the unit is in the axis label).
     The values at any λ come from :meth:`StaticResult.interpolate` (exact: the path is linear
-    between events).
+    between events); at the λ of a reported state the strip shows the working scheme after
+    the last state with that λ (e.g. including an event at the very end of a segment).
 
     Parameters
     ----------
@@ -155,11 +166,11 @@ def plot_interfaces(
         if not lam_list:
             raise ValueError("lams: give at least one load factor (or None for the default)")
         picks = [(seg, v) for v in lam_list]
-    snaps = [(s, v, res.interpolate(v, s)) for s, v in picks]
+    snaps = [(s, v, _snapshot(res, s, v)) for s, v in picks]
 
     names = list(res.interface_names)
     ncol = max(1, len(names))
-    fig = _new_figure(figsize=(4.8 * ncol, 7.5))
+    fig = _new_figure(figsize=(max(8.5, 4.8 * ncol), 7.5))
     if not names or res.m == 0:
         ax = fig.add_subplot()
         ax.text(0.5, 0.5, "no contact interfaces", ha="center", va="center")
@@ -233,12 +244,14 @@ def plot_interfaces(
         for cs in ContactState
         if cs is not ContactState.BONDED or int(cs) in shown
     ]
-    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 6),
-               fontsize=8, frameon=False)
-    pats = dict.fromkeys(_pattern_of(res, s) for s, _, _ in snaps)
-    lam_txt = ", ".join(f"{v:.4g}" for _, v, _ in snaps)
+    fig.legend(handles=handles, loc="outside lower center",
+               ncol=min(len(handles), max(4, 3 * ncol)), fontsize=8, frameon=False)
+    by_pattern: dict[str, list[str]] = {}
+    for sg, v, _ in snaps:
+        by_pattern.setdefault(_pattern_of(res, sg), []).append(f"{v:.4g}")
     fig.suptitle(
-        f"Contact stresses — pattern {', '.join(repr(p) for p in pats)}, λ = {lam_txt}"
+        "Contact stresses at "
+        + ";\n".join(f"pattern '{p}' λ = {', '.join(v)}" for p, v in by_pattern.items())
     )
     _save(fig, out)
     return fig
@@ -251,8 +264,8 @@ def plot_load_path(
 
     Top: the load factor λ of the active pattern against the reported state index, one line
     per segment, events marked by their transition (the number of events so far on the top
-    axis).  Bottom: stacked counts of open / stick / slip+ / slip− CFEs in the working scheme
-    after each state.
+    axis).  Bottom: stacked bars of the numbers of open / stick / slip+ / slip− CFEs in the
+    working scheme after each state.
 
     Parameters
     ----------
@@ -265,7 +278,7 @@ def plot_load_path(
     matplotlib.figure.Figure
     """
     from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
+    from matplotlib.ticker import MaxNLocator
 
     out = _check_path(path)
     fig = _new_figure(figsize=(8.0, 6.5))
@@ -277,7 +290,10 @@ def plot_load_path(
     seg_handles = []
     for j, s in enumerate(dict.fromkeys(segs.tolist())):
         idx = np.flatnonzero(segs == s)
-        ax_l.plot(i[idx], lam[idx], color=f"C{j % 10}", lw=1.2, marker=".", ms=4)
+        x, y = i[idx], lam[idx]
+        if idx[0] > 0 and 0 <= s < len(res.segments):  # the segment starts at the state before
+            x, y = np.r_[idx[0] - 1, x], np.r_[res.segments[s][1], y]
+        ax_l.plot(x, y, color=f"C{j % 10}", lw=1.2, marker=".", ms=4)
         seg_handles.append(
             Line2D([], [], color=f"C{j % 10}", lw=1.2,
                    label=f"segment {s}: '{_pattern_of(res, int(s))}'")
@@ -311,16 +327,15 @@ def plot_load_path(
     counts = np.array([(st == int(cs)).sum(axis=1) for cs in ContactState]) if st.size else None
     present = [cs for cs in ContactState if counts is not None and counts[int(cs)].any()]
     if counts is not None and present:
-        ax_c.stackplot(
-            i, *[counts[int(cs)] for cs in present], step="post",
-            colors=[STATE_COLORS[cs] for cs in present], edgecolor="0.3", linewidth=0.3,
-        )
-        ax_c.legend(
-            handles=[Patch(facecolor=STATE_COLORS[cs], edgecolor="0.4", label=cs.label)
-                     for cs in present],
-            fontsize=8, loc="upper left", ncol=len(present),
-        )
-        ax_c.set_ylim(0, res.m)
+        bottom = np.zeros(res.n_states)
+        for cs in present:  # the scheme after state i, as a bar of width 1 centred on i
+            ax_c.bar(i, counts[int(cs)], width=1.0, bottom=bottom, color=STATE_COLORS[cs],
+                     edgecolor="0.3", linewidth=0.3, label=cs.label)
+            bottom += counts[int(cs)]
+        ax_c.legend(fontsize=8, loc="upper left", ncol=len(present))
+        ax_c.set_ylim(0, res.m * 1.15)
+    ax_c.set_xlim(-0.5, max(res.n_states, 1) - 0.5)
+    ax_c.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax_c.set_ylabel("number of CFEs")
     ax_c.set_xlabel("reported state i")
     ax_c.grid(True, alpha=0.3)

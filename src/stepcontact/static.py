@@ -293,7 +293,7 @@ class StaticSolver:
         m = self.cfe.m
         i = len(self._rec["lam"])
         u = self.cond.displacement(self.c, self.s, self.w)
-        res, kin = self.cond.check(self.c, self.s, self.w, u)
+        res, kin = self.cond.check(self.c, self.s, self.w, u, self.W_scale)
         viol = max(kin, self._violation())
         r = self._rec
         r["lam"].append(lam)
@@ -547,7 +547,8 @@ class StaticSolver:
             return False, None, None
         self.states = new
         changed = np.any(old != new) or first
-        if changed or fired.any():
+        if changed or fired.any() or (self.article and np.any((new == SLIP_POS) |
+                                                              (new == SLIP_NEG))):
             self._correct(new)
         if self.article:
             ds, dw, *_ = self._rates(new, pattern_rates, article=True)
