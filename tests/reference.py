@@ -176,7 +176,6 @@ def _qp_active_quadprog(r: _Reduced) -> np.ndarray:
 def _qp_active_osqp(r: _Reduced) -> np.ndarray:
     import osqp
 
-    n = r.K.shape[0]
     m = len(r.g)
     comp = np.flatnonzero(r.D > 0)
     nz = len(comp)
@@ -205,11 +204,16 @@ def _solve_active(r: _Reduced, active: np.ndarray) -> tuple[np.ndarray, np.ndarr
     rhs = np.r_[r.f, r.g[A]]
     n = r.K.shape[0]
     try:
-        sol = spla.splu(M).solve(rhs)
+        lu = spla.splu(M)
     except RuntimeError as exc:  # exactly singular: a mechanism for this active set
         raise ReferenceFailure(f"singular saddle-point system ({exc}): mechanism") from exc
-    if not np.all(np.isfinite(sol)):
-        raise ReferenceFailure("non-finite solution: mechanism")
+    sol = lu.solve(rhs)
+    piv = np.abs(lu.U.diagonal())
+    resid = np.linalg.norm(M @ sol - rhs) / max(np.linalg.norm(rhs), 1e-300)
+    if not np.all(np.isfinite(sol)) or piv.min() < 1e-13 * piv.max() or resid > 1e-8:
+        raise ReferenceFailure(
+            f"(numerically) singular saddle-point system: mechanism (smallest relative pivot "
+            f"{piv.min() / piv.max():.1e}, residual {resid:.1e})")
     p = np.zeros(len(r.g))
     p[A] = sol[n:]
     return sol[:n], p
@@ -217,11 +221,18 @@ def _solve_active(r: _Reduced, active: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 def _polish(r: _Reduced, active: np.ndarray, max_iter: int) -> tuple[np.ndarray, np.ndarray,
                                                                        np.ndarray, int]:
-    """Primal-dual active-set iteration on the exact problem, from ``active``."""
-    seen: set[bytes] = set()
-    active = active.copy()
-    for it in range(1, max_iter + 1):
+    """Primal-dual active-set iteration on the exact problem, from ``active``.
+
+    All sign violations are corrected at once; if that gives a mechanism or an active set
+    already visited, only the worst violation is corrected.
+    """
+    try:
         x, p = _solve_active(r, active)
+    except ReferenceFailure:  # the identification stage left a mechanism: start bonded
+        active = np.ones_like(active)
+        x, p = _solve_active(r, active)
+    seen = {active.tobytes()}
+    for it in range(1, max_iter + 1):
         gapv = r.Bn @ x - r.g - r.D * p  # u_n + N/C_n  (≤ 0 wanted)
         x_scale = max(float(np.abs(x).max(initial=0.0)), float(np.abs(r.g).max(initial=0.0)),
                       1e-300)
@@ -230,20 +241,25 @@ def _polish(r: _Reduced, active: np.ndarray, max_iter: int) -> tuple[np.ndarray,
         add = ~active & (gapv > 1e-12 * x_scale)
         if not drop.any() and not add.any():
             return x, p, active, it
-        key = active.tobytes()
-        seen.add(key)
-        new = active & ~drop | add
-        if new.tobytes() in seen:  # cycling: change only the worst offender
-            new = active.copy()
-            worst_p = np.where(drop, -p / p_scale, 0.0)
-            worst_g = np.where(add, gapv / x_scale, 0.0)
-            if worst_p.max() >= worst_g.max():
-                new[np.argmax(worst_p)] = False
-            else:
-                new[np.argmax(worst_g)] = True
+        worst = active.copy()
+        bad_p = np.where(drop, -p / p_scale, 0.0)
+        bad_g = np.where(add, gapv / x_scale, 0.0)
+        if bad_p.max() >= bad_g.max():
+            worst[np.argmax(bad_p)] = False
+        else:
+            worst[np.argmax(bad_g)] = True
+        for new in (active & ~drop | add, worst):
             if new.tobytes() in seen:
-                raise ReferenceFailure("the active-set iteration cycles")
-        active = new
+                continue
+            try:
+                x, p = _solve_active(r, new)
+            except ReferenceFailure:
+                continue
+            active = new
+            seen.add(new.tobytes())
+            break
+        else:
+            raise ReferenceFailure("no admissible active set: mechanism or cycling")
     raise ReferenceFailure(f"no consistent active set after {max_iter} iterations")
 
 

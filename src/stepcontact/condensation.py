@@ -163,14 +163,33 @@ class Condensed:
         Rs = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
         return Rw, Rs
 
+    def scheme_rows(self, rel: Relations, cfe, idx: np.ndarray):
+        """Rows ``idx`` of the scheme matrix A = R_s − (R_w + d R_s) G, equilibrated.
+
+        Rows of stuck components scale like 1/d and rows of free ones like 1, so each row is
+        divided by its largest entry: the condition estimate then measures a mechanism, not the
+        choice of units.  Returns (rows (k, 2m), row scales (k,)).
+        """
+        m = self.m
+        kind = rel.kind[idx]
+        rw = np.where(kind == FIXED, 1.0, np.where(kind == SPRING, -rel.stiff[idx], 0.0))
+        rw = np.where(np.isfinite(rw), rw, 0.0)
+        rs = np.where(kind == FIXED, 0.0, 1.0)
+        rows = -(rw + self.d * rs)[:, None] * self.G[idx]
+        rows[np.arange(len(idx)), idx] += rs
+        fr = np.flatnonzero(kind == FRICTION)
+        if fr.size:
+            j = idx[fr]
+            c = -rel.sigma[j] * cfe.friction[j]
+            rows[fr, m + j] += c
+            rows[fr] -= (self.d * c)[:, None] * self.G[m + j]
+        scale = 1.0 / np.maximum(np.abs(rows).max(axis=1), 1e-300)
+        return rows * scale[:, None], scale
+
     def factor_scheme(self, rel: Relations, cfe):
         """LU of the scheme matrix A; raises MechanismError if A is (numerically) singular."""
         Rw, Rs = self.scheme_matrix(rel, cfe)
-        A = Rs.toarray() - (Rw + self.d * Rs) @ self.G
-        # rows of stuck components scale like 1/d, rows of free ones like 1: equilibrate rows
-        # so that the condition estimate measures a mechanism, not the choice of units
-        rscale = 1.0 / np.maximum(np.abs(A).max(axis=1), 1e-300)
-        A *= rscale[:, None]
+        A, rscale = self.scheme_rows(rel, cfe, np.arange(2 * self.m))
         lu = sla.lu_factor(A, check_finite=False)
         anorm = np.linalg.norm(A, 1)
         rcond = sla.lapack.dgecon(lu[0], anorm, norm="1")[0] if A.size else 1.0
@@ -246,3 +265,111 @@ class Condensed:
         u = np.zeros(self.system.ndof)
         u[self.free] = -self.factor.solve(self.Bf.T @ t)
         return u
+
+
+@dataclass
+class _SchemeFactor:
+    """A factorised working scheme: a base LU plus a low-rank (Woodbury) row update."""
+
+    owner: SchemeSolver
+    idx: np.ndarray
+    V: np.ndarray | None
+    Z: np.ndarray | None
+    C_lu: tuple | None
+    scale: np.ndarray
+    rel: Relations
+
+    def solve(self, hhat: np.ndarray, e: np.ndarray, r: np.ndarray):
+        """Rates (s', w') of this scheme for load rate (ĥ, e) and relation right-hand side r."""
+        o = self.owner
+        cond = o.cond
+        rel = self.rel
+        m = cond.m
+        kind = rel.kind
+        rw = np.where(kind == FIXED, 1.0, np.where(kind == SPRING, -rel.stiff, 0.0))
+        rw = np.where(np.isfinite(rw), rw, 0.0)
+        rs = np.where(kind == FIXED, 0.0, 1.0)
+        rsh = rs * hhat
+        fr = np.flatnonzero(kind[:m] == FRICTION)
+        rsh[fr] += -rel.sigma[fr] * o.cfe.friction[fr] * hhat[m + fr]
+        rhs = self.scale * (r - rw * (hhat + e) - cond.d * rsh)
+        y = sla.lu_solve(o.lu, rhs, check_finite=False)
+        if self.V is not None:
+            y = y - self.Z @ sla.lu_solve(self.C_lu, self.V @ y, check_finite=False)
+        w_hat = hhat - cond.G @ y
+        s = y + cond.d * w_hat
+        return s, w_hat + e
+
+
+class SchemeSolver:
+    """Solves working schemes that differ from a factorised base scheme in a few rows.
+
+    The dense scheme matrix A (2m × 2m) is LU-factorised for a base scheme; a scheme that
+    differs in k rows is solved by the Woodbury identity with the cached columns A₀⁻¹ e_j
+    (O(m² k) instead of O(m³)).  The base is refactorised when k exceeds ``max_rank``.  A
+    singular capacitance matrix is confirmed by a full factorisation before a mechanism is
+    reported.
+    """
+
+    def __init__(self, cond: Condensed, cfe, max_rank: int = 48):
+        self.cond = cond
+        self.cfe = cfe
+        self.max_rank = max_rank
+        self.base: Relations | None = None
+        self.lu = None
+        self.rows0: np.ndarray | None = None
+        self.scale0: np.ndarray | None = None
+        self.Zcache: dict[int, np.ndarray] = {}
+        self.n_full = 0
+        self.n_update = 0
+
+    def _refactor(self, rel: Relations) -> None:
+        n = 2 * self.cond.m
+        A, scale = self.cond.scheme_rows(rel, self.cfe, np.arange(n))
+        lu = sla.lu_factor(A, check_finite=False)
+        rcond = sla.lapack.dgecon(lu[0], np.linalg.norm(A, 1), norm="1")[0] if n else 1.0
+        self.n_full += 1
+        self.cond.counters["scheme_factorizations"] = self.n_full
+        if not rcond > 1e-13:
+            raise MechanismError(A, lu)
+        self.base = Relations(rel.kind.copy(), rel.stiff, rel.sigma.copy())
+        self.lu, self.rows0, self.scale0 = lu, A, scale
+        self.Zcache = {}
+
+    def _z(self, j: int) -> np.ndarray:
+        z = self.Zcache.get(j)
+        if z is None:
+            e = np.zeros(self.rows0.shape[0])
+            e[j] = 1.0
+            z = sla.lu_solve(self.lu, e, check_finite=False)
+            self.Zcache[j] = z
+        return z
+
+    def factor(self, rel: Relations) -> _SchemeFactor:
+        """Factor of the scheme ``rel`` (raises MechanismError if it is a mechanism)."""
+        n = 2 * self.cond.m
+        if self.base is None:
+            self._refactor(rel)
+        b = self.base
+        m = self.cond.m
+        diff = rel.kind != b.kind
+        diff[:m] |= (rel.kind[:m] == FRICTION) & (rel.sigma != b.sigma)
+        idx = np.flatnonzero(diff)
+        if idx.size > self.max_rank:
+            self._refactor(rel)
+            idx = idx[:0]
+        if idx.size == 0:
+            return _SchemeFactor(self, idx, None, None, None, self.scale0, rel)
+        rows, scale_new = self.cond.scheme_rows(rel, self.cfe, idx)
+        V = rows - self.rows0[idx]
+        Z = np.column_stack([self._z(int(j)) for j in idx])
+        C = np.eye(idx.size) + V @ Z
+        self.n_update += 1
+        if np.linalg.cond(C) > 1e12:
+            # possibly singular: decide with a full factorisation of this scheme
+            self._refactor(rel)
+            return _SchemeFactor(self, idx[:0], None, None, None, self.scale0, rel)
+        scale = self.scale0.copy()
+        scale[idx] = scale_new
+        del n
+        return _SchemeFactor(self, idx, V, Z, sla.lu_factor(C, check_finite=False), scale, rel)

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .assembly import System, assemble
-from .condensation import Condensed, MechanismError, scheme_relations
+from .condensation import Condensed, MechanismError, SchemeSolver, scheme_relations
 from .enums import ContactState, SlipTreatment, Status, Transition
 from .errors import ModelError
 from .model import Body, Model
@@ -127,6 +127,7 @@ class StaticSolver:
         self.rtol = rtol
         t0 = time.perf_counter()
         self.cond = Condensed.from_system(system, backend)
+        self.schemes = SchemeSolver(self.cond, system.cfe)
         self.t_setup = time.perf_counter() - t0
         self.f = self.cfe.friction
         self.kt = self.cfe.kt
@@ -167,7 +168,7 @@ class StaticSolver:
     # ---- rates --------------------------------------------------------------------------------
     def _rates(self, states, pattern, article=None, r=None):
         rel = scheme_relations(states, self.cfe, self.article if article is None else article)
-        fact = self.cond.factor_scheme(rel, self.cfe)
+        fact = self.schemes.factor(rel)
         self.counters["rate_solves"] += 1
         if pattern is None:
             h = np.zeros(2 * self.cfe.m)
@@ -175,7 +176,7 @@ class StaticSolver:
         else:
             h, e = pattern
         rr = np.zeros(2 * self.cfe.m) if r is None else r
-        ds, dw = self.cond.solve(fact, h, e, rr)
+        ds, dw = fact.solve(h, e, rr)
         return ds, dw, fact, rel
 
     def _rate_problem(self, L: np.ndarray, guess: np.ndarray, pattern) -> tuple:
@@ -275,8 +276,8 @@ class StaticSolver:
         r[:m] = np.where(slipping, sig * self.f * p - Q, r[:m])
         if not np.any(np.abs(r) > 0):
             return
-        fact = self.cond.factor_scheme(rel, self.cfe)
-        ds, dw = self.cond.solve(fact, np.zeros(2 * m), np.zeros(2 * m), r)
+        fact = self.schemes.factor(rel)
+        ds, dw = fact.solve(np.zeros(2 * m), np.zeros(2 * m), r)
         self.s += ds
         self.w += dw
         self.counters["corrections"] += 1
