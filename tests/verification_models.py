@@ -329,9 +329,84 @@ def hertz_model(h0: float) -> Model:
 
 def hertz_half_width(x: np.ndarray, N: np.ndarray) -> float:
     """Contact half-width of the FE solution: midway between the last closed CFE and the first
-    open one along x (error ≤ half the local spacing)."""
+    open one along x (error ≤ half the local spacing).  Closed: N < −1e-9 max|N| (open CFEs may
+    carry round-off forces)."""
     order = np.argsort(x)
     x, N = x[order], N[order]
-    closed = np.flatnonzero(N < 0)
+    closed = np.flatnonzero(N < -1e-9 * np.abs(N).max())
     k = closed.max()
     return float(0.5 * (x[k] + x[k + 1])) if k + 1 < len(x) else float(x[k])
+
+
+# --------------------------------------------------------------------------------------------
+# random frictional systems (property tests)
+# --------------------------------------------------------------------------------------------
+RANDOM_KINDS = ("block", "stack", "beam")
+
+
+def random_frictional_model(
+    kind: str,
+    frictions: tuple[float, float],
+    loads1: list[tuple[float, float]],
+    loads2: list[tuple[float, float]],
+    split: float | None = None,
+) -> Model:
+    """A small frictional system with random loads.
+
+    ``kind``: ``"block"`` (block on base), ``"stack"`` (block B on block A on a base, meshes
+    not matching) or ``"beam"`` (a frame on three frictional bearings against a rigid base).
+    ``frictions``: coefficients of the (up to two) interfaces.  ``loads1``/``loads2``: (fx, fy)
+    per loaded node, in units of the weight W divided by the number of loaded nodes (the extra
+    entries are ignored; for the beam W is three times its weight).  Program: weight 0→1,
+    'L1' 0→1, 'L2' 0→1, 'L1' 1→0; with ``split``
+    the segment of 'L2' is split in two at ``split``.
+    """
+    if kind == "block":
+        m = block_on_base(friction=frictions[0], w=1.5, h=0.5, nx=3, ny=1)
+        loaded = m.select("block", y=0.5)
+        W = SOFT.density * G * 0.75
+        weight = BodyForce(bodies=("block",))
+    elif kind == "stack":
+        base = rectangle("base", (-0.5, -0.4), (2.0, 0.0), 5, 1, SOFT)
+        a = rectangle("A", (0.0, 0.0), (1.5, 0.4), 2, 1, SOFT)
+        b = rectangle("B", (0.2, 0.4), (1.2, 0.8), 3, 1, SOFT)
+        m = Model().add(base, a, b)
+        m = m.add(
+            Support("base_bottom", m.select("base", y=-0.4)),
+            Interface("A_on_base", m.select("A", y=0.0), m.select("base", y=0.0),
+                      friction=frictions[0]),
+            Interface("B_on_A", m.select("B", y=0.4), m.select("A", y=0.4),
+                      friction=frictions[1]),
+        )
+        loaded = m.select("B", y=0.8)
+        W = SOFT.density * G * (0.6 + 0.4)
+        weight = BodyForce(bodies=("A", "B"))
+    elif kind == "beam":
+        beam = Frame.line("beam", (0.0, 0.0), (4.0, 0.0), 4, E=30e9, A=0.15, I=3.1e-3,
+                          density=2500.0)
+        base = rectangle("base", (-0.5, -0.5), (4.5, 0.0), 5, 1, CONCRETE)
+        m = Model().add(beam, base)
+        bearings = m.select("beam", where=lambda x, y: np.isin(np.round(x, 9), [0.0, 2.0, 4.0]))
+        m = m.add(
+            Support("rigid_base", m.select("base", boundary=False)),
+            Interface("bearings", bearings, m.select("base", y=0.0), friction=frictions[0]),
+        )
+        loaded = m.select("beam", where=lambda x, y: np.isin(np.round(x, 9), [1.0, 2.0, 3.0]))
+        W = 3 * 2500.0 * 0.15 * 4.0 * G  # loads up to 3 × the beam's weight: bearings open
+        weight = BodyForce(bodies=("beam",))
+    else:
+        raise ValueError(kind)
+    n = len(loaded)
+
+    def pattern(name, loads):
+        return LoadPattern(name, [
+            NodalLoad(NodeSet(loaded.body, [node]), fx=fx * W / n, fy=fy * W / n)
+            for node, (fx, fy) in zip(loaded.index, loads, strict=False)
+        ])
+
+    program = [Segment("weight", 1.0), Segment("L1", 1.0)]
+    program += [Segment("L2", 1.0)] if split is None else [Segment("L2", split),
+                                                          Segment("L2", 1.0)]
+    program += [Segment("L1", 0.0)]
+    return m.add(LoadPattern("weight", [weight]), pattern("L1", loads1), pattern("L2", loads2),
+                 *program)

@@ -7,7 +7,7 @@ Equilibrium and kinematics of the structure (free DOFs f, prescribed DOFs p):
 with s = [Q; −N] the CFE forces and w = [u_τ; u_n] their mutual displacements.  A body held
 only by contact makes K_ff singular, so the matrix that is factorised (once) is
 
-    K₀ = K_ff + B_fᵀ D B_f,          D = d·I  (d > 0, any value: it cancels exactly)
+    K₀ = K_ff + B_fᵀ D B_f,          D = diag(d_j), d_j = Σ_a B_ja² K_aa > 0 (any positive value cancels exactly)
 
 which is regular whenever the structure with every CFE stuck is.  With t = s − D ŵ and
 ŵ = B_f u_f, the structure is condensed exactly to
@@ -34,6 +34,11 @@ import scipy.sparse as sp
 from .assembly import System
 from .enums import ContactState
 from .linalg import factorize
+
+#: a scheme matrix whose reciprocal condition number (rows equilibrated) is below this is a
+#: mechanism.  G carries a relative round-off of about eps·cond(K₀), so exact mechanisms of
+#: slender structures show rcond of 1e-12..1e-11, well below any stable scheme met in practice.
+RCOND_MECHANISM = 1e-10
 
 #: relation kinds of one CFE component in a working scheme
 FREE, FIXED, SPRING, FRICTION = 0, 1, 2, 3
@@ -85,6 +90,15 @@ def scheme_relations(states: np.ndarray, cfe, article: bool = False) -> Relation
     return Relations(kind, stiff, sigma)
 
 
+def stabilisation(Kff: sp.spmatrix, Bf: sp.spmatrix) -> np.ndarray:
+    """D of K₀ = K_ff + B_fᵀ D B_f: for each CFE component the stiffness of the DOFs it joins,
+    d_j = Σ_a B_ja² K_aa, so that stuck and free rows of the scheme matrix stay comparable."""
+    diag = Kff.diagonal()
+    d = np.asarray(Bf.multiply(Bf) @ diag).ravel()
+    fallback = float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0
+    return np.where(d > 0, d, fallback)
+
+
 @dataclass
 class Condensed:
     """The structure condensed to its 2m contact unknowns (see module docstring).
@@ -100,7 +114,7 @@ class Condensed:
     Bp: sp.csr_matrix
     Kff: sp.csr_matrix
     Kfp: sp.csr_matrix
-    d: float
+    d: np.ndarray
     G: np.ndarray
     hhat: dict[str, np.ndarray]
     e: dict[str, np.ndarray]
@@ -118,9 +132,8 @@ class Condensed:
         Kfp = K[free][:, presc].tocsr()
         Bf = system.B[:, free].tocsr()
         Bp = system.B[:, presc].tocsr()
-        diag = Kff.diagonal()
-        d = float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0
-        K0 = (Kff + d * (Bf.T @ Bf)).tocsc()
+        d = stabilisation(Kff, Bf)
+        K0 = (Kff + Bf.T @ sp.diags(d) @ Bf).tocsc()
         factor = factorize(K0, backend)
         n2m = Bf.shape[0]
         G = np.zeros((n2m, n2m))
@@ -175,14 +188,14 @@ class Condensed:
         rw = np.where(kind == FIXED, 1.0, np.where(kind == SPRING, -rel.stiff[idx], 0.0))
         rw = np.where(np.isfinite(rw), rw, 0.0)
         rs = np.where(kind == FIXED, 0.0, 1.0)
-        rows = -(rw + self.d * rs)[:, None] * self.G[idx]
+        rows = -(rw + self.d[idx] * rs)[:, None] * self.G[idx]
         rows[np.arange(len(idx)), idx] += rs
         fr = np.flatnonzero(kind == FRICTION)
         if fr.size:
             j = idx[fr]
             c = -rel.sigma[j] * cfe.friction[j]
             rows[fr, m + j] += c
-            rows[fr] -= (self.d * c)[:, None] * self.G[m + j]
+            rows[fr] -= (self.d[m + j] * c)[:, None] * self.G[m + j]
         scale = 1.0 / np.maximum(np.abs(rows).max(axis=1), 1e-300)
         return rows * scale[:, None], scale
 
@@ -194,14 +207,14 @@ class Condensed:
         anorm = np.linalg.norm(A, 1)
         rcond = sla.lapack.dgecon(lu[0], anorm, norm="1")[0] if A.size else 1.0
         self.counters["scheme_factorizations"] = self.counters.get("scheme_factorizations", 0) + 1
-        if not rcond > 1e-13:
+        if not rcond > RCOND_MECHANISM:
             raise MechanismError(A, lu)
         return Rw, Rs, lu, rscale
 
     def solve(self, fact, hhat: np.ndarray, e: np.ndarray, r: np.ndarray):
         """Rates (s', w') for load rate (ĥ, e) and relation right-hand side r."""
         Rw, Rs, lu, rscale = fact
-        rhs = rscale * (r - Rw @ (hhat + e) - self.d * (Rs @ hhat))
+        rhs = rscale * (r - Rw @ (hhat + e) - Rs @ (self.d * hhat))
         t = sla.lu_solve(lu, rhs, check_finite=False)
         w_hat = hhat - self.G @ t
         s = t + self.d * w_hat
@@ -289,10 +302,11 @@ class _SchemeFactor:
         rw = np.where(kind == FIXED, 1.0, np.where(kind == SPRING, -rel.stiff, 0.0))
         rw = np.where(np.isfinite(rw), rw, 0.0)
         rs = np.where(kind == FIXED, 0.0, 1.0)
-        rsh = rs * hhat
+        dh = cond.d * hhat
+        rsh = rs * dh
         fr = np.flatnonzero(kind[:m] == FRICTION)
-        rsh[fr] += -rel.sigma[fr] * o.cfe.friction[fr] * hhat[m + fr]
-        rhs = self.scale * (r - rw * (hhat + e) - cond.d * rsh)
+        rsh[fr] += -rel.sigma[fr] * o.cfe.friction[fr] * dh[m + fr]
+        rhs = self.scale * (r - rw * (hhat + e) - rsh)
         y = sla.lu_solve(o.lu, rhs, check_finite=False)
         if self.V is not None:
             y = y - self.Z @ sla.lu_solve(self.C_lu, self.V @ y, check_finite=False)
@@ -330,7 +344,7 @@ class SchemeSolver:
         rcond = sla.lapack.dgecon(lu[0], np.linalg.norm(A, 1), norm="1")[0] if n else 1.0
         self.n_full += 1
         self.cond.counters["scheme_factorizations"] = self.n_full
-        if not rcond > 1e-13:
+        if not rcond > RCOND_MECHANISM:
             raise MechanismError(A, lu)
         self.base = Relations(rel.kind.copy(), rel.stiff, rel.sigma.copy())
         self.lu, self.rows0, self.scale0 = lu, A, scale
@@ -365,7 +379,7 @@ class SchemeSolver:
         Z = np.column_stack([self._z(int(j)) for j in idx])
         C = np.eye(idx.size) + V @ Z
         self.n_update += 1
-        if np.linalg.cond(C) > 1e12:
+        if np.linalg.cond(C) > 0.1 / RCOND_MECHANISM:
             # possibly singular: decide with a full factorisation of this scheme
             self._refactor(rel)
             return _SchemeFactor(self, idx[:0], None, None, None, self.scale0, rel)

@@ -433,10 +433,12 @@ class StaticSolver:
             # start of segment: rate problem over everything at its limit
             fired = np.zeros(m, dtype=bool)
             small_steps = 0
+            seg_start = True
             while True:
                 lam = lam0 + direction * mu
-                ok, ds, dw = self._event_point(fired, (h, e), lam, seg, pattern, mult, first, span)
-                first = False
+                ok, ds, dw = self._event_point(fired, (h, e), lam, seg, pattern, mult, first, span,
+                                               seg_start)
+                first = seg_start = False
                 if not ok:
                     stop = True
                     break
@@ -501,7 +503,8 @@ class StaticSolver:
                 break
         return self._result(time.perf_counter() - t0)
 
-    def _event_point(self, fired, pattern_rates, lam, seg, pattern, mult, first, span):
+    def _event_point(self, fired, pattern_rates, lam, seg, pattern, mult, first, span,
+                     seg_start=False):
         """Decide the scheme at the current point; record it if anything changed."""
         m = self.cfe.m
         self._update_scales()
@@ -547,16 +550,20 @@ class StaticSolver:
             self._record(lam, seg, "event")
             return False, None, None
         self.states = new
-        changed = np.any(old != new) or first
+        switched = bool(np.any(old != new))
+        changed = switched or first
         if changed or fired.any() or (self.article and np.any((new == SLIP_POS) |
                                                               (new == SLIP_NEG))):
             self._correct(new)
         if self.article:
             ds, dw, *_ = self._rates(new, pattern_rates, article=True)
         self._update_scales(ds, dw, span)
-        if changed:
+        if seg_start and not switched:
+            # a state at the start of every segment, so that any λ of it can be interpolated
+            self._record(lam, seg, "start" if first else "segment_start")
+        if switched:
             self.step += 1
-            i = self._record(lam, seg, "start" if first and not np.any(old != new) else "event")
+            i = self._record(lam, seg, "event")
             n_before = len(self.events)
             self._log_events(old, new, lam, seg, pattern, i)
             for ev in self.events[n_before:]:
