@@ -58,13 +58,15 @@ def slab_model(k: int) -> sc.Model:
     )
 
 
-def run(k: int) -> dict:
+def run(k: int, backend: str = "auto", save: str | None = None) -> dict:
     model = slab_model(k)
     t0 = time.perf_counter()
     system = assemble(model)
     t_asm = time.perf_counter() - t0
     t0 = time.perf_counter()
-    res = sc.solve_static(system, store_fields="ends")
+    res = sc.solve_static(system, store_fields="ends", backend=backend)
+    if save:
+        res.save(save)
     t_total = time.perf_counter() - t0
     # reference timings: one factorisation and one solve of the same matrix, same backend
     fixed = system.fixed
@@ -73,7 +75,7 @@ def run(k: int) -> dict:
     Bf = system.B[:, free]
     K0 = (Kff + Bf.T @ sp.diags(stabilisation(Kff, Bf)) @ Bf).tocsc()
     t0 = time.perf_counter()
-    F = factorize(K0)
+    F = factorize(K0, backend)
     t_f = time.perf_counter() - t0
     b = np.random.default_rng(0).standard_normal(K0.shape[0])
     reps = 5
@@ -107,10 +109,13 @@ def run(k: int) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4, 8])
+    ap.add_argument("--backend", default="auto",
+                    help="sparse backend: auto, scipy, cholmod, pypardiso (default: auto)")
+    ap.add_argument("--save", default=None, help="write each result to SAVE-k<k>.nc")
     args = ap.parse_args()
     rows = []
     for k in args.sizes:
-        r = run(k)
+        r = run(k, args.backend, f"{args.save}-k{k}.nc" if args.save else None)
         rows.append(r)
         print(
             f"k={r['k']}: {r['ndof']} DOFs, {r['cfes']} CFEs, {r['events']} events "

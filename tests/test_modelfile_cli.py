@@ -296,8 +296,8 @@ ERROR_CASES = {
     "half a layer": (
         _set(["interfaces", 0, "layer"], {"kn": 1e9}), "interfaces[0].layer", "kn and kt"
     ),
-    "mesh file reserved": (
-        _set(["bodies", 0, "mesh"], "dam.msh"), "bodies[0].mesh", "not yet supported"
+    "mesh file in a body": (
+        _set(["bodies", 0, "mesh"], "dam.msh"), "bodies[0].mesh", "in the [mesh] section"
     ),
     "unknown gravity body": (
         _set(["patterns", "weight", "loads", 0, "bodies"], ["blok"]),

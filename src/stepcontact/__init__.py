@@ -2,6 +2,7 @@
 
 from .enums import ContactState, SlipTreatment, Status, Transition
 from .errors import ModelError, SolverError, StepContactError
+from .export import export_vtu, export_xdmf
 from .assembly import System, assemble
 from .mesh import rectangle
 from .model import (
@@ -54,6 +55,8 @@ __all__ = [
     "rectangle",
     "assemble",
     "solve_static",
+    "export_vtu",
+    "export_xdmf",
     "Event",
     "Multipliers",
     "StaticResult",

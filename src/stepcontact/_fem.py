@@ -21,6 +21,7 @@ from skfem import (
     asm,
 )
 from skfem.helpers import ddot, dot, sym_grad, trace
+from skfem.mesh.mesh_2d_2 import Mesh2D2
 
 from .errors import ModelError
 
@@ -53,11 +54,15 @@ def body_arrays(name: str, mesh, kind: str):
     item = f"body '{name}'"
     cls_name = _ELEMENTS[kind][1]
     if not type(mesh).__name__.startswith(cls_name):
-        raise ModelError(item, f"element '{kind}' needs a {cls_name} mesh, got {type(mesh).__name__}")
+        raise ModelError(
+            item, f"element '{kind}' needs a {cls_name} mesh, got {type(mesh).__name__}"
+        )
     if not np.all(np.isfinite(mesh.p)):
         bad = int(np.flatnonzero(~np.all(np.isfinite(mesh.p), axis=0))[0])
         raise ModelError(f"{item} node {bad}", "coordinate is NaN or inf")
-    used = np.zeros(mesh.p.shape[1], dtype=bool)
+    # quadratic geometries (MeshTri2, MeshQuad2) list their mid-side nodes after the vertices
+    n_vertices = int(mesh.t.max()) + 1 if isinstance(mesh, Mesh2D2) else mesh.p.shape[1]
+    used = np.zeros(n_vertices, dtype=bool)
     used[mesh.t.ravel()] = True
     if not used.all():
         raise ModelError(f"{item} node {int(np.flatnonzero(~used)[0])}", "belongs to no element")
@@ -87,14 +92,17 @@ def _check_jacobians(item: str, mesh) -> None:
     tol = 1e-12 * size**2
     small = np.abs(det).min(axis=1) <= tol
     if small.any():
-        raise ModelError(f"{item} element {int(np.flatnonzero(small)[0])}", "is degenerate (zero area)")
+        raise ModelError(
+            f"{item} element {int(np.flatnonzero(small)[0])}", "is degenerate (zero area)"
+        )
     # an element whose Jacobian changes sign inside it is folded (inverted corner, bow-tie);
     # element orientation itself is free in scikit-fem, so only a sign change is an error
     sign = np.sign(det)
     bad = np.any(sign != sign[:, :1], axis=1)
     if bad.any():
         raise ModelError(
-            f"{item} element {int(np.flatnonzero(bad)[0])}", "is inverted (its Jacobian changes sign)"
+            f"{item} element {int(np.flatnonzero(bad)[0])}",
+            "is inverted (its Jacobian changes sign)",
         )
 
 

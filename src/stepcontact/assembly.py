@@ -292,12 +292,18 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                     fb = _fem.body_force(b, ld.g, model.thickness)
                     np.add.at(f, dofs.of[ids][:, :2].ravel(), fb)
                 else:
+                    # consistent loads of a uniform line load q = ρ A g (N/m): q L/2 at each
+                    # end and the end moments ±q⊥ L²/12 of its part normal to the bar
                     c = b.cells
-                    L = np.linalg.norm(b.points[c[:, 1]] - b.points[c[:, 0]], axis=1)
-                    w = b.density * b.A * L / 2
-                    for comp in (0, 1):
-                        for end in (0, 1):
-                            np.add.at(f, dofs.of[ids[c[:, end]], comp], w * ld.g[comp])
+                    d = b.points[c[:, 1]] - b.points[c[:, 0]]
+                    L = np.linalg.norm(d, axis=1)
+                    q = b.density * b.A * np.asarray(ld.g, float)
+                    q_perp = (-d[:, 1] * q[0] + d[:, 0] * q[1]) / L
+                    for end, sign in ((0, 1.0), (1, -1.0)):
+                        nodes = dofs.of[ids[c[:, end]]]
+                        for comp in (0, 1):
+                            np.add.at(f, nodes[:, comp], q[comp] * L / 2)
+                        np.add.at(f, nodes[:, 2], sign * q_perp * L**2 / 12)
         elif isinstance(ld, PrescribedDisplacement):
             if ld.dof not in _DOF_INDEX:
                 raise ModelError(item, f"unknown dof '{ld.dof}'")

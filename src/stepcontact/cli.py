@@ -1,4 +1,4 @@
-"""Command line: ``stepcontact run MODEL.toml``, ``stepcontact demo``, ``stepcontact check``.
+"""Command line: ``stepcontact run MODEL.toml``, ``stepcontact demo``, ``stepcontact validate``.
 
 The CLI sits at the end of the data flow (model file -> model -> solver -> result -> files) and
 only wires those pieces together; the progress bar is a solver hook.  Bad input never shows a
@@ -424,30 +424,74 @@ def demo(
         typer.echo(json.dumps(summaries, indent=2))
 
 
+def problems_table(problems: Sequence[Any], title: str) -> Table:
+    """Problems of a model file (:class:`~stepcontact.modelfile.Problem`) as a rich table."""
+    table = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_edge=False,
+                  pad_edge=False)
+    table.add_column("", no_wrap=True)
+    table.add_column("item", overflow="fold")
+    table.add_column("problem", overflow="fold")
+    for p in problems:
+        style = "red" if p.severity == "error" else "yellow"
+        table.add_row(Text(p.severity, style=style), p.item, p.message)
+    return table
+
+
 @app.command()
-def check(
+def validate(
     model_file: Annotated[Path, typer.Argument(metavar="MODEL.toml", help="TOML model file.")],
+    as_json: JsonOption = False,
 ) -> None:
-    """Validate a model file and assemble it, without solving; print its size."""
-    from .assembly import assemble
+    """Check a model file and list all its problems at once (alias: check).
+
+    Schema, unknown names, mesh groups and materials, element quality, mesh nodes in no
+    element, bodies overlapping without an interface; then the model is assembled.  Exit code
+    2 when there are errors (warnings alone exit with 0).
+    """
+    from .modelfile import validation_report
 
     console = Console(highlight=False, soft_wrap=True)
-    try:
-        model = _load(model_file)
-        system = assemble(model)
-        model.segments_resolved()
-    except _Failure as e:
-        raise _fail(str(e), False) from None
-    except StepContactError as e:
-        raise _fail(f"{model_file}: {_error_text(e)}", False) from None
-    nodes = sum(b.n_nodes for b in model.bodies)
-    console.print(
-        Text(
-            f"{model_file}: OK — model '{model.name}': {len(model.bodies)} bodies, {nodes} nodes, "
-            f"{system.dofs.ndof} DOFs, {system.cfe.m} CFEs on {len(model.interfaces)} "
-            f"interfaces, {len(model.patterns)} load patterns, {len(model.program)} segments"
+    report = validation_report(model_file)
+    errors, warnings = report.errors, report.warnings
+    if as_json:
+        typer.echo(json.dumps({
+            "status": "error" if errors else "ok",
+            "file": str(model_file),
+            "errors": len(errors),
+            "warnings": len(warnings),
+            "problems": [asdict(p) for p in report.problems],
+            "summary": report.summary(),
+        }, indent=2))
+    elif report.problems:
+        console.print(problems_table(report.problems, f"{model_file}: {len(errors)} errors, "
+                                     f"{len(warnings)} warnings"))
+    if errors:
+        first = errors[0]
+        msg = f"{first.item}: {first.message}"
+        if len(errors) > 1:
+            msg = f"{len(errors)} errors, the first: {msg}"
+        Console(stderr=True, soft_wrap=True, highlight=False).print(
+            Text(f"error: {model_file}: {' '.join(msg.split())}", style="red")
         )
-    )
+        raise typer.Exit(EXIT_ERROR)
+    if not as_json:
+        s = report.summary()
+        console.print(Text(
+            f"model OK: '{s['model']}': {s['bodies']} bodies, {s['nodes']} nodes, {s['dofs']} "
+            f"DOFs, {s['cfes']} CFEs on {s['interfaces']} interfaces, {s['patterns']} load "
+            f"patterns, {s['segments']} segments"
+            + (f" ({len(warnings)} warnings)" if warnings else ""),
+            style="green",
+        ))
+
+
+@app.command(hidden=True)
+def check(
+    model_file: Annotated[Path, typer.Argument(metavar="MODEL.toml", help="TOML model file.")],
+    as_json: JsonOption = False,
+) -> None:
+    """Alias of validate."""
+    validate(model_file, as_json=as_json)
 
 
 @app.command()
@@ -459,3 +503,433 @@ def schema() -> None:
 
 
 __all__ = ["ProgressHook", "app", "events_table", "result_summary"]
+
+
+# --------------------------------------------------------------------------------------------
+# plot and info: figures and a summary of a result file
+# --------------------------------------------------------------------------------------------
+PLOT_KINDS = ("deformed", "stresses", "load-displacement", "timeline")
+_NEEDS_FIELDS = ("deformed", "load-displacement")
+
+
+def _load_result_file(path: Path) -> StaticResult:
+    """Load a result file; errors are one line naming the file."""
+    from .io import load_result
+
+    if not path.is_file():
+        raise _Failure(f"result file not found: {path}")
+    try:
+        return load_result(path)
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        msg = _error_text(e)
+        if not msg.startswith("not a stepcontact"):
+            msg = f"not a stepcontact result file ({msg})"
+        raise _Failure(f"{path}: {msg}") from None
+
+
+def _parse_node(text: str | None) -> int | tuple[float, float] | None:
+    """``--node``: ``X,Y`` (m) or a node index."""
+    if text is None:
+        return None
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        if len(parts) == 1:
+            return int(parts[0])
+        if len(parts) == 2:
+            x, y = float(parts[0]), float(parts[1])
+            if math.isfinite(x) and math.isfinite(y):
+                return x, y
+    except ValueError:
+        pass
+    raise _Failure(f"--node '{text}': give the coordinates X,Y in m (e.g. --node 3,2) or a "
+                   "node index (e.g. --node 117)")
+
+
+def _plot_targets(result_file: Path, kinds: Sequence[str], output: Path | None,
+                  fmt: str) -> dict[str, Path]:
+    """Figure file of each kind: ``-o`` itself (one kind, with a suffix) or
+    ``DIR/RESULT-<kind>.<fmt>`` (``DIR``: ``-o`` or the result file's directory)."""
+    if fmt not in ("png", "pdf", "svg"):
+        raise _Failure(f"--format '{fmt}': use png, pdf or svg")
+    is_dir = output is not None and (output.is_dir() or not output.suffix)
+    if output is not None and not is_dir:
+        if len(kinds) > 1:
+            raise _Failure(f"-o {output}: --kind all writes one figure per kind, give a "
+                           "directory")
+        if output.suffix.lower() not in PLOT_SUFFIXES:
+            raise _Failure(f"-o {output}: unsupported file type, use one of "
+                           f"{', '.join(PLOT_SUFFIXES)} (or a directory)")
+        return {kinds[0]: output}
+    folder = output if output is not None else result_file.parent
+    return {k: folder / f"{result_file.stem}-{k}.{fmt}" for k in kinds}
+
+
+def _check_plot_options(kinds: Sequence[str], lam: Sequence[float] | None,
+                        state: Sequence[int] | None, node: str | None) -> None:
+    if lam and "stresses" not in kinds:
+        raise _Failure("--lam applies to --kind stresses (use --state for the deformed shape)")
+    if node is not None and "load-displacement" not in kinds:
+        raise _Failure("--node applies to --kind load-displacement")
+    if state and len(state) > 1 and kinds == ["deformed"]:
+        raise _Failure("--kind deformed draws one state: give a single --state")
+
+
+def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any]) -> None:
+    """One figure of ``kind`` written to ``path``; plotting errors become one-line failures."""
+    from . import plotting
+
+    states = opts["state"] or None
+    try:
+        if kind == "deformed":
+            plotting.plot_deformed(res, state=states[-1] if states else None,
+                                   scale=opts["scale"], path=path, dpi=opts["dpi"])
+        elif kind == "stresses":
+            plotting.plot_interfaces(res, lams=opts["lam"] or None, segment=opts["segment"],
+                                     states=states, path=path, dpi=opts["dpi"])
+        elif kind == "load-displacement":
+            plotting.plot_load_displacement(res, node=opts["node"], dof=opts["dof"],
+                                            body=opts["body"], path=path, dpi=opts["dpi"])
+        else:
+            plotting.plot_event_timeline(res, path=path, dpi=opts["dpi"])
+    except ValueError as e:
+        raise _Failure(f"plot {kind}: {_error_text(e)}") from None
+
+
+def _plot_missing_fields(res: StaticResult, kind: str, state: Sequence[int] | None) -> bool:
+    """True when a loaded result lacks the displacements ``kind`` needs."""
+    if kind not in _NEEDS_FIELDS:
+        return False
+    wanted = range(res.n_states) if kind == "load-displacement" else [
+        (state[-1] if state else -1) % max(res.n_states, 1)]
+    return any(i not in res.fields for i in wanted)
+
+
+@app.command()
+def plot(
+    result_file: Annotated[
+        Path, typer.Argument(metavar="RESULT.nc", help="Result file written by 'run'.")
+    ],
+    kind: Annotated[
+        str,
+        typer.Option("--kind", "-k", help="deformed, stresses, load-displacement, timeline or "
+                     "all (one file per kind)."),
+    ] = "stresses",
+    lam: Annotated[
+        list[float] | None,
+        typer.Option("--lam", help="stresses: load factor λ to draw, of the last segment "
+                     "reached or of --segment (repeat for several), e.g. --lam 1e4."),
+    ] = None,
+    segment: Annotated[
+        int | None, typer.Option("--segment", help="stresses: the segment --lam refers to.")
+    ] = None,
+    state: Annotated[
+        list[int] | None,
+        typer.Option("--state", help="Reported state to draw (negative: from the end); "
+                     "deformed: one state (default the last), stresses: repeat for several."),
+    ] = None,
+    node: Annotated[
+        str | None,
+        typer.Option("--node", help="load-displacement: node X,Y in m (the nearest node) or "
+                     "its index, e.g. --node 3,2. Default: the node that moves most."),
+    ] = None,
+    dof: Annotated[
+        str, typer.Option("--dof", help="load-displacement: x, y or rz.")
+    ] = "y",
+    body: Annotated[
+        str | None,
+        typer.Option("--body", help="load-displacement: body of --node when bodies share "
+                     "the point."),
+    ] = None,
+    scale: Annotated[
+        float | None,
+        typer.Option("--scale", help="deformed: displacement magnification (default "
+                     "automatic)."),
+    ] = None,
+    output: Annotated[
+        Path | None,
+        typer.Option("--output", "-o", help="Figure file (.png, .pdf, .svg), or a directory. "
+                     "Default: RESULT-<kind>.png next to the result file."),
+    ] = None,
+    fmt: Annotated[
+        str, typer.Option("--format", help="File type when -o is a directory: png, pdf, svg.")
+    ] = "png",
+    dpi: Annotated[
+        float, typer.Option("--dpi", min=1.0, help="Resolution of PNG figures, dots per inch.")
+    ] = 150.0,
+) -> None:
+    """Draw figures of a result file.
+
+    Examples:
+
+        stepcontact plot run.nc                 # writes run-stresses.png
+
+        stepcontact plot run.nc --kind stresses --lam 1e4 --lam 2e4 -o s.pdf
+
+        stepcontact plot run.nc --kind deformed --state -1 --scale 500 -o d.svg
+
+        stepcontact plot run.nc --kind load-displacement --node 3,2 --dof x
+
+        stepcontact plot run.nc --kind timeline --dpi 300
+
+        stepcontact plot run.nc --kind all -o figures/ --format pdf
+    """
+    console = Console(highlight=False, soft_wrap=True)
+    skipped: list[str] = []
+    try:
+        if kind != "all" and kind not in PLOT_KINDS:
+            raise _Failure(f"unknown --kind '{kind}': use {', '.join(PLOT_KINDS)} or all")
+        kinds = list(PLOT_KINDS) if kind == "all" else [kind]
+        _check_plot_options(kinds, lam, state, node)
+        opts = {"lam": lam, "segment": segment, "state": state, "node": _parse_node(node),
+                "dof": dof, "body": body, "scale": scale, "dpi": dpi}
+        targets = _plot_targets(result_file, kinds, output, fmt)
+        res = _load_result_file(result_file)
+        written = []
+        for k, path in targets.items():
+            if kind == "all" and _plot_missing_fields(res, k, state):
+                skipped.append(k)
+                continue
+            _draw_figure(res, k, path, opts)
+            written.append(str(path))
+    except _Failure as e:
+        raise _fail(str(e), False) from None
+    except OSError as e:
+        raise _fail(_error_text(e), False) from None
+    if skipped:
+        console.print(Text(f"skipped {', '.join(skipped)}: the displacements are not stored in "
+                           "the result file (run with store_fields='all')", style="yellow"))
+    console.print(Text("written: " + ", ".join(written), style="green"))
+
+
+def result_info(res: StaticResult, path: Path | None = None) -> dict[str, Any]:
+    """What ``stepcontact info --json`` prints: :func:`result_summary` plus the model size,
+    the segments with their λ ranges and multipliers, residuals and units."""
+    import numpy as np
+
+    geo = res.geometry or {}
+    iface = np.asarray(res.cfe.get("interface", np.zeros(0, int)), dtype=np.int64)
+    dof_of = np.asarray(geo.get("dof_of", np.zeros((0, 3), int)))
+    ndof = res.counters.get("ndof", int(dof_of.max()) + 1 if dof_of.size else None)
+    model = {
+        "nodes": len(geo["points"]) if "points" in geo else None,
+        "dofs": _jsonable(ndof),
+        "cfes": int(res.m),
+        "interfaces": [
+            {"name": name, "cfes": int(np.sum(iface == j))}
+            for j, name in enumerate(res.interface_names)
+        ],
+        "bodies": [
+            {"name": str(b["name"]), "kind": str(b.get("kind", "")),
+             "element": str(b.get("element", "")), "elements": int(len(b["cells"]))}
+            for b in geo.get("bodies", [])
+        ],
+        "patterns": list(res.pattern_names),
+    }
+    return result_summary(
+        res,
+        **({} if path is None else {"file": str(path)}),
+        model=model,
+        segments=[{k: _jsonable(v) for k, v in r.items()} for r in res.segments_summary()],
+        max_residual=_jsonable(float(np.max(res.residual, initial=0.0))),
+        max_violation=_jsonable(float(np.max(res.violation, initial=0.0))),
+        fields_stored=len(res.fields),
+        units=dict(res.units),
+    )
+
+
+def _info_fmt(v: Any) -> str:
+    return "—" if v is None else f"{v:.6g}" if isinstance(v, float) else str(v)
+
+
+def _info_sci(v: float | None) -> str:
+    return "—" if v is None else f"{v:.2e}"
+
+
+def _info_tables(info: dict[str, Any]) -> list[Table]:
+    """Rich tables of :func:`result_info`: model, segments, multipliers, transitions."""
+    opts = {"title_justify": "left", "box": box.SIMPLE_HEAD, "show_edge": False,
+            "pad_edge": False}
+    mdl = info["model"]
+    size = Table(title="model", show_header=False, **opts)
+    size.add_column(justify="left")
+    size.add_column(justify="left")
+    for label, value in (
+        ("nodes", mdl["nodes"]), ("DOFs", mdl["dofs"]), ("CFEs", mdl["cfes"]),
+        ("interfaces", ", ".join(f"{i['name']} ({i['cfes']} CFEs)" for i in mdl["interfaces"])
+         or "none"),
+        ("bodies", ", ".join(f"{b['name']} ({b['elements']} {b['element'] or b['kind']})"
+                             for b in mdl["bodies"]) or "—"),
+        ("load patterns", ", ".join(mdl["patterns"]) or "none"),
+        ("states", f"{info['states']} ({info['fields_stored']} with displacement fields)"),
+        ("max residual", _info_sci(info["max_residual"])),
+        ("max violation", _info_sci(info["max_violation"])),
+        ("units", ", ".join(f"{k} {v}" for k, v in info["units"].items())),
+    ):
+        size.add_row(label, _info_fmt(value))
+    segs = Table(title="segments (λ of the segment's pattern)", **opts)
+    mult = Table(title="stability multipliers (λ; — : did not happen)", **opts)
+    for table, columns in (
+        (segs, {"segment": "segment", "pattern": "pattern", "λ start": "lam_start",
+                "λ end": "lam_end", "λ reached": "lam_reached", "states": "states",
+                "events": "events"}),
+        (mult, {"segment": "segment", "pattern": "pattern", "first slip": "first_slip",
+                "first opening": "first_opening", "first closing": "first_closing",
+                "equilibrium lost": "equilibrium_lost"}),
+    ):
+        for h in columns:
+            table.add_column(h, justify="left" if h == "pattern" else "right")
+        for r in info["segments"]:
+            table.add_row(*(_info_fmt(r[k]) for k in columns.values()))
+    trans = Table(title=f"events by transition ({info['events']})", **opts)
+    trans.add_column("transition")
+    trans.add_column("count", justify="right")
+    for t, n in info["transitions"].items():
+        if n:
+            trans.add_row(t, str(n))
+    return [size, segs, mult, trans]
+
+
+@app.command()
+def info(
+    result_file: Annotated[
+        Path, typer.Argument(metavar="RESULT.nc", help="Result file written by 'run'.")
+    ],
+    as_json: JsonOption = False,
+) -> None:
+    """Summarise a result file: status, model size, segments, events, multipliers.
+
+    Examples:
+
+        stepcontact info run.nc
+
+        stepcontact info run.nc --json | jq .multipliers
+    """
+    try:
+        res = _load_result_file(result_file)
+    except _Failure as e:
+        raise _fail(str(e), as_json) from None
+    summary = result_info(res, result_file)
+    if as_json:
+        typer.echo(json.dumps(summary, indent=2, ensure_ascii=False))
+        return
+    console = Console(highlight=False, soft_wrap=True)
+    console.rule(f"stepcontact result: {result_file}")
+    console.print(Text(f"status: {summary['status']} — {summary['message']}"))
+    for table in _info_tables(summary):
+        console.print(table)
+
+
+# --------------------------------------------------------------------------------------------
+# export: ParaView files (VTU series with .pvd, XDMF)
+# --------------------------------------------------------------------------------------------
+def _export_load(path: Path) -> StaticResult:
+    """Load the result file to export; errors are one line naming the file."""
+    from .io import load_result
+
+    if not path.is_file():
+        raise _Failure(f"result file not found: {path}")
+    try:
+        return load_result(path)
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        msg = _error_text(e)
+        if not msg.startswith("not a stepcontact"):
+            msg = f"not a stepcontact result file ({msg})"
+        raise _Failure(f"{path}: {msg}") from None
+
+
+def _export_files(vtu: Path | None, xdmf: Path | None, name: str) -> list[Path]:
+    """Every file the export wrote (collection/XDMF files; frames live beside them)."""
+    out: list[Path] = []
+    if vtu is not None:
+        out += [vtu / f"{name}.pvd", vtu / f"{name}_cfe.pvd"]
+    if xdmf is not None:
+        cfe = xdmf.with_name(f"{xdmf.stem}_cfe.xdmf")
+        out += [xdmf, xdmf.with_suffix(".h5"), cfe, cfe.with_suffix(".h5")]
+    return [p for p in out if p.is_file()]
+
+
+@app.command()
+def export(
+    result_file: Annotated[
+        Path, typer.Argument(metavar="RESULT.nc", help="Result file written by 'run'.")
+    ],
+    vtu: Annotated[
+        Path | None,
+        typer.Option("--vtu", metavar="DIR", help="Write a VTU time series into DIR: "
+                     "NAME.pvd (bodies), NAME_cfe.pvd (contact elements), frames in DIR/NAME/."),
+    ] = None,
+    xdmf: Annotated[
+        Path | None,
+        typer.Option("--xdmf", metavar="FILE.xdmf", help="Write XDMF time series FILE.xdmf + "
+                     "FILE.h5 (bodies) and FILE_cfe.xdmf + FILE_cfe.h5 (contact elements)."),
+    ] = None,
+    states: Annotated[
+        str,
+        typer.Option("--states", help="States to export: all, stored (with displacements), "
+                     "events, ends (segment ends) or indices such as 0,5,-1. States without "
+                     "stored displacements are skipped with a note."),
+    ] = "all",
+    name: Annotated[
+        str | None,
+        typer.Option("--name", help="Base name of the VTU files. Default: the result file's "
+                     "name without .nc."),
+    ] = None,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")
+    ] = False,
+    as_json: JsonOption = False,
+) -> None:
+    """Export a result file for ParaView: VTU series (.pvd) and/or XDMF (.xdmf + .h5).
+
+    One frame per reported state; the time of a frame is the load-path parameter
+    t = Σ|Δλ| (λ itself, segment and state index are field data). Displacements in m,
+    stresses in Pa, CFE forces N and Q in N (N < 0 compression). See docs/paraview.md.
+
+    Examples:
+
+        stepcontact export run.nc --vtu run-vtu
+
+        stepcontact export run.nc --vtu out --xdmf out/run.xdmf --states events
+    """
+    from .export import export_vtu, export_xdmf, select_states
+
+    console = Console(highlight=False, soft_wrap=True)
+    try:
+        if vtu is None and xdmf is None:
+            raise _Failure("nothing to export: give --vtu DIR and/or --xdmf FILE.xdmf")
+        if xdmf is not None and xdmf.suffix.lower() != ".xdmf":
+            raise _Failure(f"--xdmf {xdmf}: the file name must end in .xdmf")
+        base = name if name is not None else result_file.stem
+        res = _export_load(result_file)
+        try:
+            kept, skipped = select_states(res, states)
+        except ValueError as e:
+            raise _Failure(f"--states: {_error_text(e)}") from None
+        if kept.size == 0:
+            raise _Failure(f"{result_file}: none of the selected states has stored "
+                           "displacements (run with store_fields='all')")
+        try:
+            if vtu is not None:
+                export_vtu(res, vtu, states=kept, name=base)
+            if xdmf is not None:
+                export_xdmf(res, xdmf, states=kept)
+        except ValueError as e:
+            raise _Failure(_error_text(e)) from None
+        written = [str(p) for p in _export_files(vtu, xdmf, base)]
+    except _Failure as e:
+        raise _fail(str(e), as_json) from None
+    except OSError as e:
+        raise _fail(_error_text(e), as_json) from None
+    if as_json:
+        typer.echo(json.dumps({
+            "status": "ok", "result_file": str(result_file), "frames": int(kept.size),
+            "states": kept.tolist(), "skipped": skipped.tolist(), "written": written,
+        }, indent=2, ensure_ascii=False))
+        return
+    if quiet:
+        return
+    if skipped.size:
+        console.print(Text(f"skipped {skipped.size} state(s) without stored displacements "
+                           "(run with store_fields='all' to export them)", style="yellow"))
+    console.print(Text(f"exported {kept.size} frame(s) of {res.n_states} states", style="green"))
+    console.print(Text("written: " + ", ".join(written), style="green"))

@@ -25,6 +25,7 @@ A singular A is a working scheme that is a mechanism (equilibrium lost).
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -42,6 +43,13 @@ RCOND_MECHANISM = 1e-10
 
 #: relation kinds of one CFE component in a working scheme
 FREE, FIXED, SPRING, FRICTION = 0, 1, 2, 3
+
+
+def _lu(A: np.ndarray):
+    """Dense LU; a singular matrix is a mechanism the caller detects from rcond, not a warning."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sla.LinAlgWarning)
+        return sla.lu_factor(A, check_finite=False)
 
 
 class MechanismError(Exception):
@@ -203,7 +211,7 @@ class Condensed:
         """LU of the scheme matrix A; raises MechanismError if A is (numerically) singular."""
         Rw, Rs = self.scheme_matrix(rel, cfe)
         A, rscale = self.scheme_rows(rel, cfe, np.arange(2 * self.m))
-        lu = sla.lu_factor(A, check_finite=False)
+        lu = _lu(A)
         anorm = np.linalg.norm(A, 1)
         rcond = sla.lapack.dgecon(lu[0], anorm, norm="1")[0] if A.size else 1.0
         self.counters["scheme_factorizations"] = self.counters.get("scheme_factorizations", 0) + 1
@@ -264,8 +272,36 @@ class Condensed:
         kscale = max(np.abs(w).max(initial=0), np.abs(u).max(initial=0), w_scale, 1e-300)
         return float(np.abs(r).max(initial=0) / scale), float(np.abs(wk - w).max(initial=0) / kscale)
 
+    def condensed_residual(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray,
+                           w_scale: float = 0.0) -> float:
+        """Relative residual of the condensed equilibrium equations (no solve):
+
+            ‖ŵ + G (s − D ŵ) − Σ_P c_P ĥ_P‖ / max(‖ŵ‖, ‖Σ c ĥ‖, w_scale),   ŵ = w − w⁰ − Σ c e_P
+
+        Exactly equivalent to ‖K u + Bᵀ s − f‖ = 0 with u recovered from (s, w); used at the
+        states whose displacement field is not computed (large models, intermediate events).
+        """
+        e = np.zeros(2 * self.m)
+        h = np.zeros(2 * self.m)
+        for name, c in factors.items():
+            if c != 0.0:
+                e += c * self.e[name]
+                h += c * self.hhat[name]
+        w_hat = w - self.system.w0 - e
+        r = w_hat + self.G @ (s - self.d * w_hat) - h
+        scale = max(np.abs(w_hat).max(initial=0), np.abs(h).max(initial=0), w_scale, 1e-300)
+        return float(np.abs(r).max(initial=0) / scale)
+
     def null_mode(self, A: np.ndarray, lu) -> np.ndarray:
         """Null vector t of a singular scheme matrix (inverse iteration on its LU)."""
+        lu_m, piv = lu
+        d = np.abs(np.diag(lu_m))
+        tiny = 1e-14 * max(float(d.max(initial=0.0)), 1e-300)
+        if np.any(d < tiny):  # exactly singular: lift the zero pivots to round-off level
+            lu_m = lu_m.copy()
+            k = np.flatnonzero(d < tiny)
+            lu_m[k, k] = tiny
+            lu = (lu_m, piv)
         rng = np.random.default_rng(0)
         x = rng.standard_normal(A.shape[0])
         for _ in range(3):
@@ -340,7 +376,7 @@ class SchemeSolver:
     def _refactor(self, rel: Relations) -> None:
         n = 2 * self.cond.m
         A, scale = self.cond.scheme_rows(rel, self.cfe, np.arange(n))
-        lu = sla.lu_factor(A, check_finite=False)
+        lu = _lu(A)
         rcond = sla.lapack.dgecon(lu[0], np.linalg.norm(A, 1), norm="1")[0] if n else 1.0
         self.n_full += 1
         self.cond.counters["scheme_factorizations"] = self.n_full
@@ -386,4 +422,4 @@ class SchemeSolver:
         scale = self.scale0.copy()
         scale[idx] = scale_new
         del n
-        return _SchemeFactor(self, idx, V, Z, sla.lu_factor(C, check_finite=False), scale, rel)
+        return _SchemeFactor(self, idx, V, Z, _lu(C), scale, rel)

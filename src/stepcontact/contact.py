@@ -92,7 +92,8 @@ class ContactElements:
         zi = np.zeros(0, dtype=np.int64)
         return ContactElements(
             (), zi, zi, np.zeros((0, 3), np.int64), np.zeros((0, 3)), np.zeros((0, 3), np.int64),
-            np.zeros((0, 3)), np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, 2)), z, z, z, z, z, z,
+            np.zeros((0, 3)), np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, 2)),
+            z, z, z, z, z, z,
         )
 
 
@@ -247,13 +248,19 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
     scale = max(1.0, float(np.ptp(model.points, axis=0).max()))
     tol = 1e-9 * scale
 
-    order, s = chain_order(bp, itf.plus)
+    if itf.pairs:  # explicit node pairs, in the given order
+        order = np.asarray(itf.plus.index, dtype=np.int64)
+        s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(bp.points[order], axis=0), axis=1))]
+    else:
+        order, s = chain_order(bp, itf.plus)
     trib = tributary_lengths(bp, itf.plus)[order]
     if np.all(trib == 0):  # isolated nodes: use half distances to neighbours
         gaps = np.diff(s)
         trib = 0.5 * (np.r_[gaps, 0.0] + np.r_[0.0, gaps]) if len(s) > 1 else np.ones(1)
     xp = bp.points[order]
     m = len(order)
+    if itf.pairs:
+        return _pair_elements(model, itf, order, xp, s, trib, tol, scale)
 
     medges = curve_edges(bm, itf.minus)
     if len(medges) == 0:
@@ -285,6 +292,40 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
             nrm = d / dist[:, None]
         else:
             nrm = nout[seg]
+    return _finish(model, itf, order, xp, xm, nrm, s, trib, n_m, wm, tol, scale)
+
+
+def _pair_elements(model: Model, itf: Interface, order, xp, s, trib, tol, scale):
+    """CFEs of explicit node pairs plus[i] – minus[i] (``Interface.pairs``)."""
+    item = f"interface '{itf.name}'"
+    bm = model.body(itf.minus.body)
+    m = len(order)
+    mn = np.asarray(itf.minus.index, dtype=np.int64)
+    xm = bm.points[mn]
+    n_m = np.full((m, MAX_END_NODES), -1, dtype=np.int64)
+    n_m[:, 0] = mn + model.node_offsets[bm.name]
+    wm = np.zeros((m, MAX_END_NODES))
+    wm[:, 0] = 1.0
+    if itf.normal is not None:
+        nrm = np.tile(np.asarray(itf.normal, float) / np.linalg.norm(itf.normal), (m, 1))
+    else:
+        d = xp - xm
+        dist = np.linalg.norm(d, axis=1)
+        if np.any(dist <= tol):
+            k = int(np.flatnonzero(dist <= tol)[0])
+            raise ModelError(
+                f"{item} CFE {k} (nodes {order[k]} of '{itf.plus.body}' and {mn[k]} of "
+                f"'{bm.name}')", "its ends coincide and no normal is given")
+        nrm = d / dist[:, None]
+    return _finish(model, itf, order, xp, xm, nrm, s, trib, n_m, wm, tol, scale)
+
+
+def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, tol, scale):
+    """Gaps, areas, layer stiffnesses and the S+ ends: the arrays of one interface."""
+    item = f"interface '{itf.name}'"
+    bp = model.body(itf.plus.body)
+    off = model.node_offsets
+    m = len(order)
     tan = np.column_stack([nrm[:, 1], -nrm[:, 0]])
     geo_gap = np.einsum("ij,ij->i", xp - xm, nrm)
     if itf.gap is None:
@@ -306,7 +347,7 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
     else:
         gap = np.full(m, float(itf.gap))
 
-    area = trib * model.thickness
+    area = trib * model.thickness if itf.area is None else np.full(m, float(itf.area))
     if np.any(area <= 0):
         k = int(np.flatnonzero(area <= 0)[0])
         raise ModelError(f"{item} CFE {k}", "has zero contact area (isolated node?)")
@@ -337,6 +378,8 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
         kn=kn,
         kt=kt,
     )
+
+
 
 
 def build_contact(model: Model) -> ContactElements:

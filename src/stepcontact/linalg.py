@@ -48,7 +48,14 @@ class _Pardiso:
     name: str = "pypardiso"
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        return self.solver.solve(self.A, np.asarray(b, dtype=float))
+        # phase 33 (solve with the stored factors) directly: pypardiso's ``solve`` hashes the
+        # whole matrix on every call to decide whether it is already factorised
+        b = np.asfortranarray(b, dtype=float)
+        try:
+            self.solver.set_phase(33)
+            return self.solver._call_pardiso(self.A, b)
+        except AttributeError:  # a pypardiso without these internals
+            return self.solver.solve(self.A, b)
 
 
 def available_backends() -> list[str]:

@@ -407,6 +407,14 @@ class Interface:
         projected point is used (needed when the ends of a CFE coincide).
     layer : ContactLayer or None
         Compliant layer (eq. (11)); None means rigid contact enforced exactly.
+    pairs : bool
+        Join ``plus[i]`` to ``minus[i]`` node to node, in the given order, instead of
+        projecting S+ on S− (point supports with uplift, nodes that form no curve, bearings).
+        The normal is then ``normal`` or, when not given, the direction from the S− node to the
+        S+ node (an error if they coincide).
+    area : float or None
+        Contact area of every CFE, m² (default: tributary length along S+ × thickness; for a
+        single isolated node, 1 m × thickness).
     """
 
     name: str
@@ -416,6 +424,8 @@ class Interface:
     gap: float | Callable | None = None
     normal: tuple[float, float] | None = None
     layer: ContactLayer | None = None
+    pairs: bool = False
+    area: float | None = None
 
     def __post_init__(self):
         item = f"interface '{self.name}'"
@@ -429,6 +439,14 @@ class Interface:
             n = np.asarray(self.normal, float)
             if n.shape != (2,) or not np.all(np.isfinite(n)) or np.linalg.norm(n) == 0:
                 raise ModelError(f"{item}.normal", "must be a non-zero 2-vector")
+        if self.area is not None and not (np.isfinite(self.area) and self.area > 0):
+            raise ModelError(f"{item}.area", f"must be > 0 m², got {self.area}")
+        if self.pairs and len(self.plus) != len(self.minus):
+            raise ModelError(
+                f"{item}.pairs",
+                f"plus has {len(self.plus)} nodes and minus {len(self.minus)}: node pairs need "
+                "the same number on both sides",
+            )
 
 
 # --------------------------------------------------------------------------------------------

@@ -46,6 +46,12 @@ Units are SI: m, N, Pa, kg/m³, m/s².  A short file::
     pattern = "weight"
     end = 1.0                   # λ goes from where the pattern stands (0) to 1
 
+Bodies can also come from a gmsh mesh: ``[mesh] file = "dam.msh"`` (or a ``.geo`` file with
+``order``, ``element``, ``size``), then ``[[bodies]] kind = "mesh"``, ``group = "<physical
+surface>"``, ``material = ...``; physical curves and points are node sets, named directly
+(``nodes = "base"``) or through ``[node_sets.NAME] group = "..."`` (see :mod:`.meshfile`).
+:func:`validate_model_file` reports every problem of a file at once.
+
 Load types: ``gravity`` (g, bodies), ``nodal`` (nodes, fx, fy in N, mz in N·m), ``pressure``
 (nodes, normal and/or tangential in Pa: a number or a pair [start, end] varying linearly
 along the node set), ``displacement`` (nodes, dof = "x" | "y" | "rz", value in m or rad).
@@ -58,6 +64,7 @@ import math
 import re
 import tomllib
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -76,8 +83,10 @@ from pydantic import (
     model_validator,
 )
 
-from .errors import ModelError
+from . import meshcheck
+from .errors import ModelError, StepContactError
 from .mesh import rectangle
+from .meshfile import GROUP_KINDS, MeshFile, read_mesh
 from .model import (
     Body,
     BodyForce,
@@ -193,30 +202,51 @@ class RectangleSpec(_Spec):
 
 
 class MeshBodySpec(_Spec):
-    """``[[bodies]]`` read from a mesh file (``mesh = "file.msh"`` or ``kind = "mesh"``).
+    """``[[bodies]]`` with ``kind = "mesh"``: the cells of one physical surface of ``[mesh]``.
 
-    Reserved for a later version: any use of it is reported as "not yet supported".
+    ``group`` is the physical surface (default: ``name``); ``name`` defaults to ``group``.
+    ``element`` defaults to the kind of the cells (tri3, tri6, quad4, quad8, quad9); a linear
+    mesh may use the quadratic element of its shape.  ``material`` is required (a missing one
+    is reported with the other problems of the file).
     """
 
-    model_config = ConfigDict(extra="allow")
-
-    kind: Literal["mesh", "rectangle"] = "mesh"
-    mesh: str = Field(description="mesh file (reserved: not yet supported)")
+    mesh: str | None = Field(None, description="not here: the mesh file goes in [mesh] file")
+    kind: Literal["mesh"] = "mesh"
+    name: str | None = None
+    group: str | None = Field(None, description="physical surface (default: name)")
+    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] | None = None
+    material: MaterialRef | None = None
 
     @field_validator("mesh")
     @classmethod
-    def _reserved(cls, v: str) -> str:
-        raise ValueError(
-            f"mesh files ('{v}') are not yet supported; use kind = 'rectangle' with corner0, "
-            "corner1, nx, ny"
-        )
+    def _mesh_in_section(cls, v: str | None) -> str | None:
+        if v is not None:
+            raise ValueError(
+                f"give the mesh file once, in the [mesh] section (file = \"{v}\"), and the "
+                "physical surface of this body here (kind = \"mesh\", group = \"...\")"
+            )
+        return v
+
+    @model_validator(mode="after")
+    def _named(self) -> MeshBodySpec:
+        if self.name is None and self.group is None:
+            raise ValueError("give the physical surface (group = ...) and/or the body name")
+        return self
+
+    @property
+    def body_name(self) -> str:
+        return self.name if self.name is not None else str(self.group)
+
+    @property
+    def surface(self) -> str:
+        return self.group if self.group is not None else str(self.name)
 
 
 def _body_tag(v: Any) -> str | None:
     if isinstance(v, dict):
-        if "mesh" in v or v.get("kind") == "mesh":
-            return "kind=mesh"
-        kind = v.get("kind", "rectangle")
+        kind = v.get("kind")
+        if kind is None or "mesh" in v:
+            kind = "mesh" if ("group" in v or "mesh" in v) else "rectangle"
         return f"kind={kind}" if kind in ("rectangle", "mesh") else None
     if isinstance(v, RectangleSpec | MeshBodySpec):
         return f"kind={v.kind}"
@@ -228,9 +258,36 @@ BodySpec = Annotated[
     Discriminator(
         _body_tag,
         custom_error_type="body_kind",
-        custom_error_message="kind must be 'rectangle' (mesh files are reserved)",
+        custom_error_message="kind must be 'rectangle' or 'mesh'",
     ),
 ]
+
+
+def _body_name(b: RectangleSpec | MeshBodySpec) -> str:
+    return b.body_name if isinstance(b, MeshBodySpec) else b.name
+
+
+class MeshSection(_Spec):
+    """``[mesh]``: the gmsh mesh whose physical groups mesh bodies and node sets use.
+
+    ``file`` is a ``.msh`` file, or a ``.geo`` file (or gmsh Python script) meshed with gmsh
+    when it is installed, with ``order``, ``element`` and ``size``.  Relative to the model file.
+    """
+
+    file: str = Field(description=".msh file, or .geo / gmsh .py script; relative to this file")
+    order: Literal[1, 2] | None = Field(None, description="element order (.geo only)")
+    element: Literal["tri", "quad"] | None = Field(None, description="cells (.geo only)")
+    size: float | None = Field(None, gt=0, description="largest element size, m (.geo only)")
+    ignore: list[str] = Field([], description="physical surfaces that are not bodies")
+
+    @model_validator(mode="after")
+    def _geo_options(self) -> MeshSection:
+        given = [k for k in ("order", "element", "size") if getattr(self, k) is not None]
+        if given and not self.file.endswith((".geo", ".py")):
+            raise ValueError(
+                f"{', '.join(given)} only apply when meshing a .geo file or gmsh script"
+            )
+        return self
 
 
 class FrameSpec(_Spec):
@@ -260,9 +317,12 @@ class BoxSpec(_Spec):
 
 
 class NodeSetSpec(_Spec):
-    """``[node_sets.NAME]``: nodes of one body (or frame) by coordinate, box or index."""
+    """``[node_sets.NAME]``: nodes of one body (or frame) by coordinate, box or index, or the
+    nodes of a physical curve or point of ``[mesh]`` (``group``; ``body`` is then needed only
+    for a curve shared by two conforming bodies)."""
 
-    body: str
+    body: str | None = None
+    group: str | None = Field(None, description="physical curve or point of [mesh]")
     x: float | None = Field(None, description="nodes with this x, m")
     y: float | None = Field(None, description="nodes with this y, m")
     where: BoxSpec | None = None
@@ -271,6 +331,11 @@ class NodeSetSpec(_Spec):
 
     @model_validator(mode="after")
     def _index_alone(self) -> NodeSetSpec:
+        by_coord = self.x is not None or self.y is not None or self.where is not None
+        if self.group is not None and (by_coord or self.index is not None):
+            raise ValueError("give either group or x / y / where / index, not both")
+        if self.group is None and self.body is None:
+            raise ValueError("give body (with x / y / where / index) or group")
         if self.index is not None and (
             self.x is not None or self.y is not None or self.where is not None
         ):
@@ -479,6 +544,7 @@ class ModelFile(_Spec):
     """The whole model file."""
 
     model: ModelSection = ModelSection()
+    mesh: MeshSection | None = None
     materials: dict[str, MaterialSpec] = {}
     bodies: list[BodySpec] = []
     frames: list[FrameSpec] = []
@@ -531,18 +597,44 @@ def _message(err: dict[str, Any]) -> str:
     return msg
 
 
+@dataclass(frozen=True)
+class Problem:
+    """One problem of a model file.
+
+    ``item`` names the field (``bodies[1].material``), the physical group or the bodies
+    concerned; ``severity`` is ``"error"`` (the model cannot be run) or ``"warning"``.
+    """
+
+    item: str
+    message: str
+    severity: Literal["error", "warning"] = "error"
+
+    def __str__(self) -> str:
+        return f"{self.item}: {self.message}"
+
+
 class _Problems:
     """Collects (path, message) pairs and raises them as one :class:`ModelError`."""
 
     def __init__(self) -> None:
         self.items: list[tuple[str, str]] = []
+        self.warnings: list[tuple[str, str]] = []
 
     def add(self, path: str, problem: str) -> None:
-        self.items.append((path, problem))
+        if (path, problem) not in self.items:
+            self.items.append((path, problem))
+
+    def warn(self, path: str, problem: str) -> None:
+        self.warnings.append((path, problem))
 
     def raise_if_any(self) -> None:
         if self.items:
             raise _model_error(self.items)
+
+    def problems(self) -> list[Problem]:
+        return [Problem(p, m) for p, m in self.items] + [
+            Problem(p, m, "warning") for p, m in self.warnings
+        ]
 
 
 def _model_error(items: list[tuple[str, str]]) -> ModelError:
@@ -570,74 +662,6 @@ def _validate(d: dict[str, Any]) -> ModelFile:
 def _known(names) -> str:
     names = list(names)
     return ", ".join(repr(n) for n in names) if names else "none defined"
-
-
-def _check_references(spec: ModelFile) -> None:
-    """Every name used (materials, bodies, node sets, patterns) exists; names are unique."""
-    p = _Problems()
-    bodies = [b.name for b in spec.bodies] + [f.name for f in spec.frames]
-    for i, b in enumerate(spec.bodies):
-        if isinstance(b.material, str) and b.material not in spec.materials:
-            p.add(
-                f"bodies[{i}].material",
-                f"unknown material '{b.material}' (known: {_known(spec.materials)})",
-            )
-    seen: set[str] = set()
-    for group in ("bodies", "frames"):
-        for i, b in enumerate(getattr(spec, group)):
-            if b.name in seen:
-                p.add(f"{group}[{i}].name", f"duplicate body name '{b.name}'")
-            seen.add(b.name)
-    if not bodies:
-        p.add("bodies", "the model has no body and no frame")
-    for name, ns in spec.node_sets.items():
-        if ns.body not in bodies:
-            p.add(f"{_path(['node_sets', name])}.body",
-                  f"unknown body '{ns.body}' (known: {_known(bodies)})")
-
-    def node_set(path: str, name: str | None) -> None:
-        if name is not None and name not in spec.node_sets:
-            p.add(path, f"unknown node set '{name}' (known: {_known(spec.node_sets)})")
-
-    for i, s in enumerate(spec.supports):
-        node_set(f"supports[{i}].nodes", s.nodes)
-    for i, t in enumerate(spec.ties):
-        node_set(f"ties[{i}].a", t.a)
-        node_set(f"ties[{i}].b", t.b)
-    for i, s in enumerate(spec.springs):
-        node_set(f"springs[{i}].a", s.a)
-        node_set(f"springs[{i}].b", s.b)
-    names: set[str] = set()
-    for i, itf in enumerate(spec.interfaces):
-        node_set(f"interfaces[{i}].plus", itf.plus)
-        node_set(f"interfaces[{i}].minus", itf.minus)
-        if itf.name in names:
-            p.add(f"interfaces[{i}].name", f"duplicate interface name '{itf.name}'")
-        names.add(itf.name)
-    for pname, pat in spec.patterns.items():
-        for j, ld in enumerate(pat.loads):
-            path = f"{_path(['patterns', pname, 'loads', j])}"
-            if isinstance(ld, GravityLoad):
-                for b in ld.bodies:
-                    if b not in bodies:
-                        p.add(f"{path}.bodies", f"unknown body '{b}' (known: {_known(bodies)})")
-            else:
-                node_set(f"{path}.nodes", ld.nodes)
-    current: dict[str, float] = {}
-    for i, seg in enumerate(spec.program):
-        if seg.pattern not in spec.patterns:
-            p.add(f"program[{i}].pattern",
-                  f"unknown load pattern '{seg.pattern}' (known: {_known(spec.patterns)})")
-            continue
-        now = current.get(seg.pattern, 0.0)
-        if seg.start is not None and abs(seg.start - now) > 1e-12 * max(1.0, abs(now)):
-            p.add(
-                f"program[{i}].start",
-                f"segments do not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
-                f"this segment starts at {seg.start:g}",
-            )
-        current[seg.pattern] = seg.end
-    p.raise_if_any()
 
 
 def _box(box: BoxSpec, atol: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
@@ -674,6 +698,401 @@ def _build_node_set(name: str, ns: NodeSetSpec, body: Body | Frame) -> NodeSet:
         raise ModelError(path, f"{e.problem} on body '{body.name}'") from None
 
 
+class _Builder:
+    """Builds the model of a validated file, collecting every problem on the way.
+
+    Nothing stops at the first problem: an item that depends on a broken one (a node set of a
+    body that could not be made, a support on that node set, ...) is skipped silently, since
+    the broken item is reported already.
+    """
+
+    def __init__(self, spec: ModelFile, base: Path, problems: _Problems):
+        self.spec = spec
+        self.base = base
+        self.p = problems
+        self.mesh: MeshFile | None = None
+        self.mesh_failed = False
+        self.bodies: dict[str, Body | Frame] = {}
+        self.paths: dict[str, str] = {}  # body name -> field path, e.g. "bodies[1]"
+        self.surface_of: dict[str, str] = {}  # mesh body name -> physical surface
+        self.failed: set[str] = set()  # bodies that could not be made
+        self.sets: dict[str, NodeSet] = {}
+        self.implicit: dict[str, str] = {}  # physical group used as a node set -> first path
+
+    # ---- mesh and references -------------------------------------------------------------
+    def read_mesh(self) -> None:
+        ms = self.spec.mesh
+        if ms is None:
+            for i, b in enumerate(self.spec.bodies):
+                if isinstance(b, MeshBodySpec):
+                    self.p.add(f"bodies[{i}]", "a mesh body needs a mesh: add [mesh] with "
+                               "file = \"NAME.msh\" (relative to the model file)")
+            return
+        path = Path(ms.file).expanduser()
+        path = path if path.is_absolute() else self.base / path
+        try:
+            self.mesh = read_mesh(path, ms.order or 1, ms.element or "tri", ms.size)
+        except ModelError as e:
+            self.mesh_failed = True
+            self.p.add("mesh.file", f"{path}: {e.problem}")
+
+    def _group_problem(self, name: str, dims: tuple[int, ...]) -> str | None:
+        """Why ``name`` is not a usable physical group of these dimensions (None if it is)."""
+        assert self.mesh is not None
+        g = self.mesh.groups.get(name)
+        wanted = " or ".join(GROUP_KINDS[d] for d in dims)
+        if g is None:
+            return (f"physical group '{name}' not found in {self.mesh.path.name}; groups are: "
+                    f"{self.mesh.describe()}")
+        if g.dim not in dims:
+            return f"'{name}' is a physical {g.kind}, a physical {wanted} is needed here"
+        return None
+
+    def check_references(self) -> None:
+        """Every name used (materials, bodies, node sets, physical groups, patterns) exists;
+        names are unique."""
+        spec, p, mesh = self.spec, self.p, self.mesh
+        bodies = [_body_name(b) for b in spec.bodies] + [f.name for f in spec.frames]
+        mesh_bodies = {b.body_name for b in spec.bodies if isinstance(b, MeshBodySpec)}
+        surfaces: dict[str, str] = {}
+        for i, b in enumerate(spec.bodies):
+            if isinstance(b.material, str) and b.material not in spec.materials:
+                p.add(
+                    f"bodies[{i}].material",
+                    f"unknown material '{b.material}' (known: {_known(spec.materials)})",
+                )
+            if not isinstance(b, MeshBodySpec):
+                continue
+            if b.material is None:
+                p.add(f"bodies[{i}].material",
+                      f"physical surface '{b.surface}' has no material: give material = "
+                      "\"NAME\" or an inline table {E, nu, density}")
+            if mesh is not None:
+                field = f"bodies[{i}].{'group' if b.group is not None else 'name'}"
+                why = self._group_problem(b.surface, (2,))
+                if why is not None:
+                    p.add(field, why)
+                elif b.surface in surfaces:
+                    p.add(field, f"physical surface '{b.surface}' is body '{surfaces[b.surface]}'"
+                          " already")
+                surfaces.setdefault(b.surface, b.body_name)
+        if mesh is not None and self.spec.mesh is not None:
+            ignore = self.spec.mesh.ignore
+            for j, s in enumerate(ignore):
+                why = self._group_problem(s, (2,))
+                if why is not None:
+                    p.add(f"mesh.ignore[{j}]", why)
+            for s in mesh.surfaces:
+                if s not in surfaces and s not in ignore:
+                    p.add("mesh", f"physical surface '{s}' is not a body: add [[bodies]] with "
+                          f"kind = \"mesh\", group = \"{s}\" and its material (or list it in "
+                          "mesh.ignore)")
+        seen: set[str] = set()
+        for group in ("bodies", "frames"):
+            for i, b in enumerate(getattr(spec, group)):
+                name = _body_name(b) if group == "bodies" else b.name
+                if name in seen:
+                    p.add(f"{group}[{i}].name", f"duplicate body name '{name}'")
+                seen.add(name)
+        if not bodies:
+            p.add("bodies", "the model has no body and no frame")
+        for name, ns in spec.node_sets.items():
+            path = _path(["node_sets", name])
+            if ns.body is not None and ns.body not in bodies:
+                p.add(f"{path}.body", f"unknown body '{ns.body}' (known: {_known(bodies)})")
+            elif ns.group is not None and ns.body is not None and ns.body not in mesh_bodies:
+                p.add(f"{path}.body", f"body '{ns.body}' is not a mesh body (kind = \"mesh\"); "
+                      "a physical group's nodes belong to a mesh body")
+            if ns.group is not None:
+                if mesh is not None:
+                    why = self._group_problem(ns.group, (0, 1))
+                    if why is not None:
+                        p.add(f"{path}.group", why)
+                elif not self.mesh_failed:
+                    p.add(f"{path}.group", "physical groups need the [mesh] section")
+
+        def node_set(path: str, name: str | None) -> None:
+            if name is None or name in spec.node_sets:
+                return
+            if mesh is not None and name in mesh.groups:
+                why = self._group_problem(name, (0, 1))
+                if why is None:
+                    self.implicit.setdefault(name, path)
+                else:
+                    p.add(path, f"{why} (a node set or a physical curve or point)")
+                return
+            if self.mesh_failed:
+                return  # may be a group of the mesh that could not be read
+            groups = ""
+            if mesh is not None:
+                groups = f"; physical curves and points: {_known(mesh.names(1) + mesh.names(0))}"
+            p.add(path, f"unknown node set '{name}' (known: {_known(spec.node_sets)}{groups})")
+
+        for i, s in enumerate(spec.supports):
+            node_set(f"supports[{i}].nodes", s.nodes)
+        for i, t in enumerate(spec.ties):
+            node_set(f"ties[{i}].a", t.a)
+            node_set(f"ties[{i}].b", t.b)
+        for i, s in enumerate(spec.springs):
+            node_set(f"springs[{i}].a", s.a)
+            node_set(f"springs[{i}].b", s.b)
+        names: set[str] = set()
+        for i, itf in enumerate(spec.interfaces):
+            node_set(f"interfaces[{i}].plus", itf.plus)
+            node_set(f"interfaces[{i}].minus", itf.minus)
+            if itf.name in names:
+                p.add(f"interfaces[{i}].name", f"duplicate interface name '{itf.name}'")
+            names.add(itf.name)
+        for pname, pat in spec.patterns.items():
+            for j, ld in enumerate(pat.loads):
+                path = f"{_path(['patterns', pname, 'loads', j])}"
+                if isinstance(ld, GravityLoad):
+                    for b in ld.bodies:
+                        if b not in bodies:
+                            p.add(f"{path}.bodies",
+                                  f"unknown body '{b}' (known: {_known(bodies)})")
+                else:
+                    node_set(f"{path}.nodes", ld.nodes)
+        current: dict[str, float] = {}
+        for i, seg in enumerate(spec.program):
+            if seg.pattern not in spec.patterns:
+                p.add(f"program[{i}].pattern",
+                      f"unknown load pattern '{seg.pattern}' (known: {_known(spec.patterns)})")
+                continue
+            now = current.get(seg.pattern, 0.0)
+            if seg.start is not None and abs(seg.start - now) > 1e-12 * max(1.0, abs(now)):
+                p.add(
+                    f"program[{i}].start",
+                    f"segments do not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
+                    f"this segment starts at {seg.start:g}",
+                )
+            current[seg.pattern] = seg.end
+
+    # ---- bodies and node sets -------------------------------------------------------------
+    def _material(self, ref: str | MaterialSpec | None) -> Material | None:
+        if isinstance(ref, str):
+            spec = self.spec.materials.get(ref)
+            return None if spec is None else spec.build()
+        return None if ref is None else ref.build()
+
+    def build_bodies(self) -> None:
+        for i, b in enumerate(self.spec.bodies):
+            name = _body_name(b)
+            if name in self.paths:
+                continue  # duplicate name, reported
+            self.paths[name] = f"bodies[{i}]"
+            mat = self._material(b.material)
+            if isinstance(b, MeshBodySpec):
+                self.surface_of[name] = b.surface
+            if mat is None:
+                self.failed.add(name)
+                continue
+            try:
+                if isinstance(b, RectangleSpec):
+                    self.bodies[name] = rectangle(
+                        b.name, b.corner0, b.corner1, b.nx, b.ny, mat, b.element,
+                        grading=b.grading,
+                    )
+                    continue
+                if self.mesh is None or self._group_problem(b.surface, (2,)) is not None:
+                    self.failed.add(name)
+                    continue
+                self.bodies[name] = self.mesh.body(b.surface, mat, name=name, element=b.element)
+            except ModelError as e:
+                self.failed.add(name)
+                detail = e.problem if e.item.startswith("body ") else f"{e.item} {e.problem}"
+                self.p.add(f"bodies[{i}]", detail)
+        for i, f in enumerate(self.spec.frames):
+            if f.name in self.paths:
+                continue
+            self.paths[f.name] = f"frames[{i}]"
+            try:
+                self.bodies[f.name] = Frame.line(
+                    f.name, f.start, f.end, f.n, E=f.E, A=f.A, I=f.I, density=f.density
+                )
+            except ModelError as e:
+                self.failed.add(f.name)
+                self.p.add(f"frames[{i}]", e.problem)
+
+    def _group_set(self, group: str, body: str | None, name: str, path: str, hint: str) -> None:
+        """Node set ``name`` of a physical group; problems are reported at ``path``."""
+        assert self.mesh is not None
+        if self._group_problem(group, (0, 1)) is not None:
+            return
+        if body is not None and body not in self.bodies:
+            return
+        if body is None:
+            broken = {s for b, s in self.surface_of.items() if b in self.failed}
+            if broken & set(self.mesh.owners(group)):
+                return  # on a body that could not be made
+        try:
+            self.sets[name] = self.mesh.node_set(group, body, name)
+        except ModelError as e:
+            extra = hint if "say which body" in e.problem else ""
+            self.p.add(path, f"{e.item} {e.problem}{extra}")
+
+    def build_node_sets(self) -> None:
+        for name, ns in self.spec.node_sets.items():
+            path = _path(["node_sets", name])
+            if ns.group is not None:
+                if self.mesh is not None:
+                    hint = f": add body = \"...\" to [{path}]"
+                    self._group_set(ns.group, ns.body, name, f"{path}.group", hint)
+                continue
+            body = self.bodies.get(str(ns.body))
+            if body is None:
+                continue
+            try:
+                self.sets[name] = _build_node_set(name, ns, body)
+            except ModelError as e:
+                self.p.add(e.item, e.problem)
+        for group, path in self.implicit.items():
+            hint = (f": define [node_sets.NAME] with group = \"{group}\" and body = \"...\" and "
+                    "use NAME here")
+            self._group_set(group, None, group, path, hint)
+
+    # ---- the model ------------------------------------------------------------------------
+    def model(self) -> Model | None:
+        """The model (None when it cannot be made); problems are in ``self.p``."""
+        self.read_mesh()
+        self.check_references()
+        self.build_bodies()
+        self.build_node_sets()
+        spec, sets, p = self.spec, self.sets, self.p
+
+        def have(*names: str | None) -> bool:
+            return all(n is None or n in sets for n in names)
+
+        supports = []
+        for i, s in enumerate(spec.supports):
+            if have(s.nodes):
+                supports.append(Support(s.name or s.nodes, sets[s.nodes],
+                                        _parse_dofs(s.dofs, f"supports[{i}].dofs")))
+        ties = []
+        for i, t in enumerate(spec.ties):
+            if not have(t.a, t.b):
+                continue
+            if len(sets[t.a]) != len(sets[t.b]):
+                p.add(
+                    f"ties[{i}]",
+                    f"node sets '{t.a}' ({len(sets[t.a])} nodes) and '{t.b}' ({len(sets[t.b])} "
+                    "nodes) differ in size",
+                )
+                continue
+            ties.append(Tie(t.name or f"{t.a}-{t.b}", sets[t.a], sets[t.b]))
+        springs = [
+            Spring(s.name or s.a, sets[s.a], None if s.b is None else sets[s.b], s.kx, s.ky)
+            for s in spec.springs
+            if have(s.a, s.b)
+        ]
+        interfaces = []
+        for i, itf in enumerate(spec.interfaces):
+            if not have(itf.plus, itf.minus):
+                continue
+            try:
+                interfaces.append(Interface(
+                    itf.name,
+                    sets[itf.plus],
+                    sets[itf.minus],
+                    friction=itf.friction,
+                    gap=itf.gap,
+                    normal=itf.normal,
+                    layer=None if itf.layer is None else itf.layer.build(),
+                ))
+            except ModelError as e:
+                p.add(f"interfaces[{i}]", e.problem)
+        patterns = []
+        for pname, pat in spec.patterns.items():
+            loads: list[object] = []
+            for ld in pat.loads:
+                if isinstance(ld, GravityLoad):
+                    loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
+                elif not have(ld.nodes):
+                    continue
+                elif isinstance(ld, NodalLoadSpec):
+                    loads.append(NodalLoad(sets[ld.nodes], ld.fx, ld.fy, ld.mz))
+                elif isinstance(ld, PressureLoad):
+                    loads.append(EdgeLoad(sets[ld.nodes], ld.normal, ld.tangential))
+                else:
+                    loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
+            patterns.append(LoadPattern(pname, tuple(loads)))
+        program = [Segment(s.pattern, s.end, s.start) for s in spec.program]
+        try:
+            return Model(
+                bodies=tuple(self.bodies.values()),
+                plane=spec.model.plane,
+                thickness=spec.model.thickness,
+                supports=tuple(supports),
+                ties=tuple(ties),
+                springs=tuple(springs),
+                interfaces=tuple(interfaces),
+                patterns=tuple(patterns),
+                program=tuple(program),
+                name=spec.model.name or "model",
+            )
+        except ModelError as e:
+            p.add(e.item, e.problem)
+            return None
+
+    # ---- checks of ``validate`` -----------------------------------------------------------
+    def _where(self, name: str) -> str:
+        """``body 'x'`` or ``physical surface 'x'`` for messages."""
+        s = self.surface_of.get(name)
+        return f"physical surface '{s}'" if s is not None else f"body '{name}'"
+
+    def check_geometry(self, model: Model) -> None:
+        """Element quality, nodes in no element, bodies overlapping without an interface."""
+        p = self.p
+        continua = [b for b in model.bodies if isinstance(b, Body)]
+        for b in continua:
+            pts, cells = meshcheck.corners(b)
+            q = meshcheck.quality(pts, cells)
+            path = self.paths.get(b.name, f"body '{b.name}'")
+            k = q.worst
+            c = pts[cells[k]].mean(axis=0)
+            at = f"centroid ({c[0]:.6g}, {c[1]:.6g})"
+            if q.quality[k] <= 0:
+                n = int(np.count_nonzero(q.quality <= 0))
+                p.add(path, f"{self._where(b.name)} element {k} is inverted ({at}); "
+                      f"{n} inverted element{'s' * (n > 1)}")
+            elif q.quality[k] < meshcheck.QUALITY_WARN:
+                n = int(np.count_nonzero(q.quality < meshcheck.QUALITY_WARN))
+                p.warn(path, f"{self._where(b.name)} element {k} is nearly degenerate: quality "
+                       f"{q.quality[k]:.3g} (1 is best), aspect ratio {q.aspect[k]:.3g}, {at}; "
+                       f"{n} element{'s' * (n > 1)} below {meshcheck.QUALITY_WARN}")
+            j = int(np.argmax(q.aspect))
+            if q.aspect[j] > meshcheck.ASPECT_WARN:
+                n = int(np.count_nonzero(q.aspect > meshcheck.ASPECT_WARN))
+                c = pts[cells[j]].mean(axis=0)
+                p.warn(path, f"{self._where(b.name)} element {j} is elongated: aspect ratio "
+                       f"{q.aspect[j]:.3g}, quality {q.quality[j]:.3g}, centroid "
+                       f"({c[0]:.6g}, {c[1]:.6g}); {n} element{'s' * (n > 1)} above "
+                       f"{meshcheck.ASPECT_WARN:g}")
+        if self.mesh is not None:
+            orphans = self.mesh.orphan_nodes()
+            if orphans.size:
+                x, y = self.mesh.points[orphans[0]]
+                p.warn("mesh", f"{orphans.size} node{'s' * (orphans.size > 1)} of "
+                       f"{self.mesh.path.name} belong to no element of a physical surface and "
+                       f"are ignored (e.g. node {int(orphans[0])} at ({x:.6g}, {y:.6g}))")
+        joined = {frozenset((i.plus.body, i.minus.body)) for i in model.interfaces}
+        for ia, a in enumerate(continua):
+            for b in continua[ia + 1:]:
+                if frozenset((a.name, b.name)) in joined:
+                    continue
+                hit = meshcheck.overlap(a, b)
+                inner, outer = (a, b) if hit is not None else (b, a)
+                hit = hit if hit is not None else meshcheck.overlap(b, a)
+                if hit is None:
+                    continue
+                (x, y), k = hit
+                p.add(f"bodies '{a.name}' and '{b.name}'",
+                      f"overlap without an interface: point ({x:.6g}, {y:.6g}) of "
+                      f"{self._where(inner.name)} lies inside element {k} of "
+                      f"{self._where(outer.name)}; join them with an [[interfaces]] entry or "
+                      "fix the geometry")
+
+
 def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Model:
     """Build a :class:`~stepcontact.model.Model` from the parsed contents of a model file.
 
@@ -682,12 +1101,14 @@ def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Mo
     d : dict
         The TOML document as a dict (what :func:`tomllib.load` returns).
     base_dir : path, optional
-        Directory against which relative file names in the model (mesh files) are resolved.
+        Directory against which relative file names in the model (the mesh file) are
+        resolved; default: the current directory.
 
     Raises
     ------
     ModelError
-        Whose ``item`` is the field path of the (first) problem, e.g. ``bodies[1].material.E``.
+        Whose ``item`` is the field path of the first problem, e.g. ``bodies[1].material.E``;
+        all problems are listed in the message and in its ``errors`` attribute.
 
     Example
     -------
@@ -719,94 +1140,27 @@ def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Mo
     9
     """
     spec = _validate(d)
-    _check_references(spec)
+    problems = _Problems()
     base = Path(base_dir) if base_dir is not None else Path.cwd()
+    model = _Builder(spec, base, problems).model()
+    problems.raise_if_any()
+    assert model is not None
+    return model
 
-    bodies: list[Body | Frame] = []
-    for i, b in enumerate(spec.bodies):
-        if isinstance(b, MeshBodySpec):  # rejected by validation until mesh files exist
-            raise ModelError(f"bodies[{i}].mesh", f"{base / b.mesh}: not yet supported")
-        mat = spec.materials[b.material] if isinstance(b.material, str) else b.material
-        try:
-            bodies.append(
-                rectangle(b.name, b.corner0, b.corner1, b.nx, b.ny, mat.build(), b.element,
-                          grading=b.grading)
-            )
-        except ModelError as e:
-            raise ModelError(f"bodies[{i}]", e.problem) from None
-    for i, f in enumerate(spec.frames):
-        try:
-            bodies.append(
-                Frame.line(f.name, f.start, f.end, f.n, E=f.E, A=f.A, I=f.I, density=f.density)
-            )
-        except ModelError as e:
-            raise ModelError(f"frames[{i}]", e.problem) from None
-    by_name = {b.name: b for b in bodies}
-    sets = {
-        name: _build_node_set(name, ns, by_name[ns.body]) for name, ns in spec.node_sets.items()
-    }
 
-    supports = [
-        Support(s.name or s.nodes, sets[s.nodes], _parse_dofs(s.dofs, f"supports[{i}].dofs"))
-        for i, s in enumerate(spec.supports)
-    ]
-    ties = []
-    for i, t in enumerate(spec.ties):
-        if len(sets[t.a]) != len(sets[t.b]):
-            raise ModelError(
-                f"ties[{i}]",
-                f"node sets '{t.a}' ({len(sets[t.a])} nodes) and '{t.b}' ({len(sets[t.b])} "
-                "nodes) differ in size",
-            )
-        ties.append(Tie(t.name or f"{t.a}-{t.b}", sets[t.a], sets[t.b]))
-    springs = [
-        Spring(s.name or s.a, sets[s.a], None if s.b is None else sets[s.b], s.kx, s.ky)
-        for s in spec.springs
-    ]
-    interfaces = [
-        Interface(
-            itf.name,
-            sets[itf.plus],
-            sets[itf.minus],
-            friction=itf.friction,
-            gap=itf.gap,
-            normal=itf.normal,
-            layer=None if itf.layer is None else itf.layer.build(),
-        )
-        for itf in spec.interfaces
-    ]
-    patterns = []
-    for pname, pat in spec.patterns.items():
-        loads: list[object] = []
-        for ld in pat.loads:
-            if isinstance(ld, GravityLoad):
-                loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
-            elif isinstance(ld, NodalLoadSpec):
-                loads.append(NodalLoad(sets[ld.nodes], ld.fx, ld.fy, ld.mz))
-            elif isinstance(ld, PressureLoad):
-                loads.append(EdgeLoad(sets[ld.nodes], ld.normal, ld.tangential))
-            else:
-                loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
-        patterns.append(LoadPattern(pname, tuple(loads)))
-    program = [Segment(s.pattern, s.end, s.start) for s in spec.program]
-    return Model(
-        bodies=tuple(bodies),
-        plane=spec.model.plane,
-        thickness=spec.model.thickness,
-        supports=tuple(supports),
-        ties=tuple(ties),
-        springs=tuple(springs),
-        interfaces=tuple(interfaces),
-        patterns=tuple(patterns),
-        program=tuple(program),
-        name=spec.model.name or "model",
-    )
+def _read_toml(path: Path) -> dict[str, Any]:
+    with open(path, "rb") as fh:
+        try:
+            return tomllib.load(fh)
+        except tomllib.TOMLDecodeError as e:
+            raise ModelError(str(path), f"not a valid TOML file: {e}") from None
 
 
 def load_model(path: str | Path) -> Model:
     """Read a TOML model file and build the :class:`~stepcontact.model.Model`.
 
-    The model's name defaults to the file's stem when ``[model] name`` is not given.
+    The model's name defaults to the file's stem when ``[model] name`` is not given; the mesh
+    file of ``[mesh]`` is relative to the model file.
 
     Raises
     ------
@@ -825,15 +1179,113 @@ def load_model(path: str | Path) -> Model:
     ['joint']
     """
     path = Path(str(path))
-    with open(path, "rb") as fh:
-        try:
-            d = tomllib.load(fh)
-        except tomllib.TOMLDecodeError as e:
-            raise ModelError(str(path), f"not a valid TOML file: {e}") from None
+    d = _read_toml(path)
     model = model_from_dict(d, base_dir=path.parent)
     if not (d.get("model") or {}).get("name"):
         model = model.replace(name=path.stem)
     return model
+
+
+# --------------------------------------------------------------------------------------------
+# validation
+# --------------------------------------------------------------------------------------------
+@dataclass
+class Validation:
+    """What :func:`validation_report` found: every problem, and the model's size when it
+    could be assembled."""
+
+    path: Path
+    problems: list[Problem] = field(default_factory=list)
+    model: Model | None = None
+    ndof: int | None = None
+    n_cfes: int | None = None
+
+    @property
+    def errors(self) -> list[Problem]:
+        return [p for p in self.problems if p.severity == "error"]
+
+    @property
+    def warnings(self) -> list[Problem]:
+        return [p for p in self.problems if p.severity == "warning"]
+
+    @property
+    def ok(self) -> bool:
+        return not self.errors
+
+    def summary(self) -> dict[str, Any]:
+        """Size of the model (what ``stepcontact validate --json`` prints)."""
+        m = self.model
+        if m is None:
+            return {}
+        return {
+            "model": m.name,
+            "bodies": len(m.bodies),
+            "nodes": int(sum(b.n_nodes for b in m.bodies)),
+            "elements": int(sum(len(b.cells) for b in m.bodies)),
+            "dofs": self.ndof,
+            "cfes": self.n_cfes,
+            "interfaces": len(m.interfaces),
+            "patterns": len(m.patterns),
+            "segments": len(m.program),
+        }
+
+
+def validation_report(path: str | Path) -> Validation:
+    """Check a model file and report *all* its problems (see :func:`validate_model_file`)."""
+    path = Path(str(path))
+    out = Validation(path)
+    try:
+        d = _read_toml(path)
+    except FileNotFoundError:
+        out.problems.append(Problem(str(path), "file not found"))
+        return out
+    except ModelError as e:
+        out.problems.append(Problem(e.item, e.problem))
+        return out
+    try:
+        spec = _validate(d)
+    except ModelError as e:
+        out.problems = [Problem(p, m) for p, m in getattr(e, "errors", [(e.item, e.problem)])]
+        return out
+    problems = _Problems()
+    builder = _Builder(spec, path.parent, problems)
+    model = builder.model()
+    if model is not None:
+        if not spec.model.name:
+            model = model.replace(name=path.stem)
+        builder.check_geometry(model)
+        out.model = model
+    if model is not None and not problems.items:
+        from .assembly import assemble
+
+        try:
+            system = assemble(model)
+            model.segments_resolved()
+            out.ndof, out.n_cfes = int(system.dofs.ndof), int(system.cfe.m)
+        except StepContactError as e:
+            problems.add(getattr(e, "item", "model"), getattr(e, "problem", str(e)))
+    out.problems = problems.problems()
+    return out
+
+
+def validate_model_file(path: str | Path) -> list[Problem]:
+    """Every problem of a model file at once, each naming its field or physical group.
+
+    Checks the TOML syntax and the schema, unknown names (materials, bodies, node sets,
+    physical groups, patterns), that every physical surface of the mesh is a body with a
+    material, element quality (inverted elements are errors; nearly degenerate or elongated
+    ones warnings, with the worst element's index, quality and aspect ratio), mesh nodes that
+    belong to no element (warning), bodies that overlap without an interface between them,
+    and finally that the model assembles.  An empty list means the model is OK.
+
+    Example
+    -------
+    >>> from importlib.resources import files
+    >>> from stepcontact.modelfile import validate_model_file
+    >>> validate_model_file(files("stepcontact") / "data" / "demo.toml")
+    []
+    """
+    return validation_report(path).problems
 
 
 def schema() -> dict[str, Any]:
@@ -841,4 +1293,13 @@ def schema() -> dict[str, Any]:
     return ModelFile.model_json_schema()
 
 
-__all__ = ["ModelFile", "load_model", "model_from_dict", "schema"]
+__all__ = [
+    "ModelFile",
+    "Problem",
+    "Validation",
+    "load_model",
+    "model_from_dict",
+    "schema",
+    "validate_model_file",
+    "validation_report",
+]

@@ -1,4 +1,5 @@
-"""Plots of a static result: contact stresses along the interfaces and the load path.
+"""Plots of a static result: contact stresses, load path, deformed shape, load–displacement
+curve and event timeline.
 
 matplotlib is imported inside the functions (``import stepcontact`` stays light).  Figures are
 built on the Agg canvas without pyplot: nothing is shown, no global figure registry is touched;
@@ -12,6 +13,9 @@ Example
 >>> from stepcontact.plotting import plot_interfaces, plot_load_path
 >>> fig = plot_interfaces(res, path="out/interfaces.png")   # doctest: +SKIP
 >>> fig = plot_load_path(res, path="out/load_path.pdf")     # doctest: +SKIP
+>>> fig = plot_deformed(res, path="out/deformed.svg")       # doctest: +SKIP
+>>> fig = plot_load_displacement(res, node=(3.0, 2.0), dof="x")  # doctest: +SKIP
+>>> fig = plot_event_timeline(res, path="out/timeline.png")  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -49,6 +53,7 @@ TRANSITION_MARKERS: dict[Transition, tuple[str, str]] = {
 }
 
 _SUFFIXES = (".png", ".pdf", ".svg")
+DPI = 150  #: default resolution of saved raster figures, dots per inch
 
 
 def _new_figure(**kw) -> Figure:
@@ -60,7 +65,9 @@ def _new_figure(**kw) -> Figure:
     return fig
 
 
-def _check_path(path: str | os.PathLike[str] | None) -> Path | None:
+def _check_path(path: str | os.PathLike[str] | None, dpi: float = DPI) -> Path | None:
+    if not (np.isfinite(dpi) and dpi > 0):
+        raise ValueError(f"dpi={dpi}: must be a positive number of dots per inch")
     if path is None:
         return None
     p = Path(path)
@@ -71,10 +78,10 @@ def _check_path(path: str | os.PathLike[str] | None) -> Path | None:
     return p
 
 
-def _save(fig: Figure, path: Path | None) -> None:
+def _save(fig: Figure, path: Path | None, dpi: float = DPI) -> None:
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=150)
+        fig.savefig(path, dpi=dpi)
 
 
 def _stress_scale(values: np.ndarray) -> tuple[float, str]:
@@ -112,6 +119,22 @@ def _snapshot(res: StaticResult, segment: int, lam: float) -> dict[str, np.ndarr
     return snap
 
 
+def _state_index(res: StaticResult, state: int) -> int:
+    """A reported-state index checked against ``res.n_states`` (negative: from the end)."""
+    n = res.n_states
+    if isinstance(state, bool) or not isinstance(state, int | np.integer):
+        raise ValueError(f"state={state!r}: give the index of a reported state (an integer)")
+    if not -n <= int(state) < n:
+        raise ValueError(f"state {state} does not exist: the result has states 0..{n - 1}")
+    return int(state) % n
+
+
+def _state_snapshot(res: StaticResult, i: int) -> tuple[int, float, dict[str, np.ndarray]]:
+    """(segment, λ, CFE quantities) of reported state ``i`` (the scheme after the state)."""
+    snap = {k: np.asarray(getattr(res, k))[i] for k in ("N", "Q", "un", "ut", "state")}
+    return int(res.segment[i]), float(res.lam[i]), snap
+
+
 def _pattern_of(res: StaticResult, seg: int) -> str:
     if 0 <= seg < len(res.segments):
         return str(res.segments[seg][0])
@@ -123,13 +146,16 @@ def plot_interfaces(
     lams: Sequence[float] | float | None = None,
     path: str | os.PathLike[str] | None = None,
     segment: int | None = None,
+    *,
+    states: Sequence[int] | int | None = None,
+    dpi: float = DPI,
 ) -> Figure:
     """Contact stresses and CFE states along every interface at chosen load factors.
 
     One column per interface (``res.interface_names``) with three panels against the position
-    s along the interface (m):
+    s along the interface (m), in the manner of the stress diagrams of the article (Fig. 4):
 
-    * the normal contact stress σ_n = N/A (negative in compression),
+    * the normal contact stress σ_n = N/A (negative in compression), the diagram shaded,
     * the tangential stress τ = Q/A with the friction limits ±f|σ_n| dashed (eq. (1)),
     * a strip with the state of each CFE (open / stick / slip+ / slip−) for each λ.
 
@@ -148,6 +174,11 @@ def plot_interfaces(
         Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
     segment : int, optional
         Load-program segment the ``lams`` belong to; default the last segment reached.
+    states : int or sequence of int, optional
+        Reported states to draw instead of (or besides) ``lams``: the forces of the state and
+        the working scheme after it (negative indices count from the end).
+    dpi : float
+        Resolution of a saved raster figure, dots per inch.
 
     Returns
     -------
@@ -157,16 +188,24 @@ def plot_interfaces(
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    out = _check_path(path)
-    if lams is None:
+    out = _check_path(path, dpi)
+    snaps = []
+    if states is not None:
+        picked = [states] if np.isscalar(states) else list(states)
+        if not picked:
+            raise ValueError("states: give at least one reported state (or None)")
+        snaps = [_state_snapshot(res, _state_index(res, i)) for i in picked]
+    if lams is None and not snaps:
         picks = _default_lams(res, segment)
+    elif lams is None:
+        picks = []
     else:
         seg = int(res.segment[-1]) if segment is None else int(segment)
         lam_list = [float(lams)] if np.isscalar(lams) else [float(v) for v in lams]
         if not lam_list:
             raise ValueError("lams: give at least one load factor (or None for the default)")
         picks = [(seg, v) for v in lam_list]
-    snaps = [(s, v, _snapshot(res, s, v)) for s, v in picks]
+    snaps = [(s, v, _snapshot(res, s, v)) for s, v in picks] + snaps
 
     names = list(res.interface_names)
     ncol = max(1, len(names))
@@ -175,7 +214,7 @@ def plot_interfaces(
         ax = fig.add_subplot()
         ax.text(0.5, 0.5, "no contact interfaces", ha="center", va="center")
         ax.set_axis_off()
-        _save(fig, out)
+        _save(fig, out, dpi)
         return fig
 
     area = np.asarray(res.cfe["area"], dtype=float)
@@ -191,6 +230,7 @@ def plot_interfaces(
     cmap = ListedColormap([STATE_COLORS[c] for c in ContactState])
     norm = BoundaryNorm(np.r_[np.array(codes) - 0.5, codes[-1] + 0.5], cmap.N)
     colors = [f"C{j % 10}" for j in range(len(snaps))]
+    shade = 0.15 if len(snaps) == 1 else 0.06  # the diagrams' fill, lighter when they overlap
     labels = [f"'{_pattern_of(res, s)}' λ = {v:.4g}" for s, v, _ in snaps]
 
     axes = fig.subplots(3, ncol, squeeze=False, sharex="col", height_ratios=[3, 3, 1.2])
@@ -209,7 +249,9 @@ def plot_interfaces(
             tau = snap["Q"][k] / area[k] / scale
             lim = fric[k] * np.abs(sig)
             ax_n.plot(s, sig, color=colors[j], marker=mk, ms=3, lw=1.4)
+            ax_n.fill_between(s, sig, color=colors[j], alpha=shade, lw=0)
             ax_t.plot(s, tau, color=colors[j], marker=mk, ms=3, lw=1.4)
+            ax_t.fill_between(s, tau, color=colors[j], alpha=shade, lw=0)
             ax_t.plot(s, lim, color=colors[j], ls="--", lw=0.9)
             ax_t.plot(s, -lim, color=colors[j], ls="--", lw=0.9)
         for ax in (ax_n, ax_t):
@@ -253,12 +295,12 @@ def plot_interfaces(
         "Contact stresses at "
         + ";\n".join(f"pattern '{p}' λ = {', '.join(v)}" for p, v in by_pattern.items())
     )
-    _save(fig, out)
+    _save(fig, out, dpi)
     return fig
 
 
 def plot_load_path(
-    res: StaticResult, path: str | os.PathLike[str] | None = None
+    res: StaticResult, path: str | os.PathLike[str] | None = None, *, dpi: float = DPI
 ) -> Figure:
     """The load path: λ at each reported state and the number of CFEs in each state.
 
@@ -272,6 +314,8 @@ def plot_load_path(
     res : StaticResult
     path : str or PathLike, optional
         Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
+    dpi : float
+        Resolution of a saved raster figure, dots per inch.
 
     Returns
     -------
@@ -280,7 +324,7 @@ def plot_load_path(
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
 
-    out = _check_path(path)
+    out = _check_path(path, dpi)
     fig = _new_figure(figsize=(8.0, 6.5))
     ax_l, ax_c = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
     i = np.arange(res.n_states)
@@ -342,8 +386,544 @@ def plot_load_path(
     fig.suptitle(
         f"Load path — {res.status.value}, {len(res.events)} events, {res.m} CFEs"
     )
-    _save(fig, out)
+    _save(fig, out, dpi)
     return fig
 
 
-__all__ = ["STATE_COLORS", "TRANSITION_MARKERS", "plot_interfaces", "plot_load_path"]
+# --------------------------------------------------------------------------------------------
+# helpers of the mesh figures
+# --------------------------------------------------------------------------------------------
+#: outline node order of a cell in scikit-fem's local DOF order (corners, then the mid-side
+#: nodes of the edges 01, 12, 23 (02 for triangles), 30)
+_RING: dict[str, tuple[int, ...]] = {
+    "tri3": (0, 1, 2),
+    "tri6": (0, 3, 1, 4, 2, 5),
+    "quad4": (0, 1, 2, 3),
+    "quad8": (0, 4, 1, 5, 2, 6, 3, 7),
+    "quad9": (0, 4, 1, 5, 2, 6, 3, 7),
+}
+_DOFS: dict[str, int] = {"x": 0, "ux": 0, "y": 1, "uy": 1, "rz": 2}
+_DOF_LABEL = ("$u_x$", "$u_y$", r"$\varphi_z$")
+
+
+def _geometry(res: StaticResult) -> tuple[np.ndarray, np.ndarray, list[dict]]:
+    """(points (n, 2) m, dof_of (n, 3), bodies) of the result, or a ValueError."""
+    geo = res.geometry or {}
+    if not all(k in geo for k in ("points", "dof_of", "bodies")):
+        raise ValueError(
+            "this result has no mesh geometry (points, dof_of, bodies): it cannot be drawn"
+        )
+    return (np.asarray(geo["points"], dtype=float), np.asarray(geo["dof_of"]),
+            list(geo["bodies"]))
+
+
+def _extent(points: np.ndarray) -> float:
+    """Largest side of the bounding box of the nodes, m (1 when degenerate)."""
+    size = float(np.max(np.ptp(points, axis=0))) if len(points) else 0.0
+    return size if size > 0 and np.isfinite(size) else 1.0
+
+
+def _field(res: StaticResult, i: int) -> np.ndarray:
+    """Displacement vector of state ``i``; a ValueError that says how to get it if missing."""
+    try:
+        return np.asarray(res.displacement(i), dtype=float)
+    except KeyError:
+        stored = sorted(res.fields)
+        have = (f"stored for states {_ranges(stored)}" if stored else "no field is stored")
+        raise ValueError(
+            f"the displacements of state {i} are not in this result ({have}); re-run with "
+            "solve_static(model, store_fields='all') (or plot the in-memory result, which "
+            "recovers any state)"
+        ) from None
+
+
+def _ranges(values: Sequence[int]) -> str:
+    """``[0, 1, 2, 5]`` → ``"0–2, 5"``."""
+    out: list[str] = []
+    for v in values:
+        if out and out[-1].split("–")[-1] == str(v - 1):
+            out[-1] = f"{out[-1].split('–')[0]}–{v}"
+        else:
+            out.append(str(v))
+    return ", ".join(out)
+
+
+def _node_u(dof_of: np.ndarray, u: np.ndarray, comps: Sequence[int] = (0, 1)) -> np.ndarray:
+    """Nodal values (n_nodes, len(comps)) of the DOF components ``comps`` (0 where none)."""
+    d = dof_of[:, list(comps)]
+    return np.where(d >= 0, u[np.maximum(d, 0)], 0.0)
+
+
+def _nice_floor(x: float) -> float:
+    """The largest 1, 2 or 5 × 10^k not above ``x`` (> 0)."""
+    k = np.floor(np.log10(x))
+    mant = x / 10**k
+    return float(max(c for c in (1.0, 2.0, 5.0, 10.0) if c <= mant * (1 + 1e-12)) * 10**k)
+
+
+def _length_scale(values: np.ndarray) -> tuple[float, str]:
+    """Divisor and unit so that lengths (m) read well: m, mm or µm."""
+    peak = float(np.max(np.abs(values), initial=0.0)) if values.size else 0.0
+    if not np.isfinite(peak) or peak >= 0.1 or peak == 0:
+        return 1.0, "m"
+    return (1e-3, "mm") if peak >= 1e-4 else (1e-6, "µm")
+
+
+def _ring(element: str, n_per_cell: int) -> tuple[np.ndarray, int]:
+    """Outline node order of a cell and the number of nodes per edge (2, or 3 if quadratic)."""
+    ring = _RING.get(element)
+    if ring is None or max(ring) >= n_per_cell:
+        ring = tuple(range(min(n_per_cell, 4)))  # unknown element: its corners
+    return np.asarray(ring), 3 if len(ring) in (6, 8) else 2
+
+
+def _cell_edges(cells: np.ndarray, element: str) -> np.ndarray:
+    """(n_cells · n_edges, 2 or 3) node ids of every cell edge: end, [mid-side,] end."""
+    ring, per = _ring(element, cells.shape[1])
+    r = cells[:, ring]
+    starts = np.arange(0, r.shape[1], per - 1)
+    cols = (starts[:, None] + np.arange(per)[None, :]) % r.shape[1]
+    return r[:, cols].reshape(-1, per)
+
+
+def _boundary_edges(edges: np.ndarray) -> np.ndarray:
+    """The edges that belong to one cell only (the outline of the body)."""
+    if not len(edges):
+        return edges
+    key = np.sort(edges[:, [0, -1]], axis=1)
+    _, inv, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    return edges[counts[inv.ravel()] == 1]
+
+
+def _draw_bodies(ax, bodies: list[dict], xy: np.ndarray, *, reference: bool = False) -> None:
+    """Cells (light edges), outlines and frames of all bodies at node positions ``xy`` (m).
+
+    ``reference``: the undeformed configuration as thin dashed grey outlines only.
+    """
+    from matplotlib.collections import LineCollection, PolyCollection
+
+    for j, b in enumerate(bodies):
+        cells = np.asarray(b["cells"], dtype=np.int64)
+        if not cells.size:
+            continue
+        color = "0.6" if reference else f"C{j % 10}"
+        style = {"linestyles": "--", "linewidths": 0.7, "zorder": 1} if reference else {}
+        if str(b.get("kind")) == "frame" or cells.shape[1] == 2:
+            ax.add_collection(LineCollection(
+                xy[cells[:, :2]], colors=color,
+                **(style or {"linewidths": 2.4, "capstyle": "round", "zorder": 3}),
+            ))
+            continue
+        element = str(b.get("element", ""))
+        if not reference:
+            ring, _ = _ring(element, cells.shape[1])
+            ax.add_collection(PolyCollection(
+                xy[cells[:, ring]], facecolors=color, alpha=0.12, edgecolors="none", zorder=1,
+            ))
+            ax.add_collection(PolyCollection(
+                xy[cells[:, ring]], facecolors="none", edgecolors="0.55", linewidths=0.3,
+                zorder=2,
+            ))
+        edges = _boundary_edges(_cell_edges(cells, element))
+        ax.add_collection(LineCollection(
+            xy[edges], colors=color, **(style or {"linewidths": 1.3, "zorder": 3}),
+        ))
+
+
+def _cfe_displacement(points: np.ndarray, un: np.ndarray, xc: np.ndarray) -> np.ndarray:
+    """Displacements (m, 2) at the CFE positions ``xc``: the mean of the (at most two,
+    coincident) nodes nearest to each CFE (its S+ and S− nodes), ``un`` nodal (n, 2)."""
+    from scipy.spatial import cKDTree
+
+    if not len(xc):
+        return np.zeros((0, 2))
+    k = min(2, len(points))
+    d, j = cKDTree(points).query(xc, k=k)
+    d, j = d.reshape(len(xc), k), j.reshape(len(xc), k)
+    both = d[:, -1] <= d[:, 0] + 1e-9 * _extent(points)
+    w = np.column_stack([np.ones(len(xc)), both.astype(float)])[:, :k]
+    return np.einsum("mk,mkc->mc", w, un[j]) / w.sum(axis=1)[:, None]
+
+
+def _state_handles(codes: np.ndarray, *, bars: bool = False) -> list:
+    """Legend handles of the contact states present in ``codes``: dots with their counts, or
+    (``bars``) patches named ``state …``."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    out = []
+    for cs in ContactState:
+        n = int(np.sum(codes == int(cs)))
+        if n and bars:
+            out.append(Patch(facecolor=STATE_COLORS[cs], edgecolor="0.4",
+                             label=f"state {cs.label}"))
+        elif n:
+            out.append(Line2D([], [], ls="none", marker="o", ms=7, mfc=STATE_COLORS[cs],
+                              mec="0.2", label=f"{cs.label} ({n})"))
+    return out
+
+
+def _transition_handles(transitions: Sequence[Transition], prefix: str = "") -> list:
+    """Legend handles of the event markers of the transitions present."""
+    from matplotlib.lines import Line2D
+
+    return [
+        Line2D([], [], ls="none", marker=TRANSITION_MARKERS[t][0],
+               color=TRANSITION_MARKERS[t][1], mec="k", mew=0.4, label=prefix + t.value)
+        for t in Transition if t in set(transitions)
+    ]
+
+
+def _segment_chain(res: StaticResult, seg: int) -> tuple[np.ndarray, np.ndarray]:
+    """Reported states along segment ``seg`` and their λ, from the segment's start.
+
+    When the segment has no ``segment_start`` state of its own, the state before it (the end of
+    the previous segment) is prepended at the segment's starting λ: it is the same state.
+    """
+    idx = np.flatnonzero(np.asarray(res.segment) == seg)
+    lam = np.asarray(res.lam, dtype=float)[idx]
+    first = str(np.asarray(res.kind)[idx[0]]) if idx.size else "start"
+    if idx.size and idx[0] > 0 and first not in ("start", "segment_start") and (
+        0 <= seg < len(res.segments)
+    ):
+        idx, lam = np.r_[idx[0] - 1, idx], np.r_[float(res.segments[seg][1]), lam]
+    return idx, lam
+
+
+def _path_fraction(lam: np.ndarray) -> np.ndarray:
+    """Fraction 0 → 1 of the λ range a segment covered (from its start; 1 if it has none)."""
+    span = np.max(np.abs(lam - lam[0]), initial=0.0)
+    return np.abs(lam - lam[0]) / span if span > 0 else np.ones_like(lam)
+
+
+def _segments_reached(res: StaticResult) -> list[int]:
+    return [int(s) for s in dict.fromkeys(np.asarray(res.segment).tolist())]
+
+
+# --------------------------------------------------------------------------------------------
+# deformed shape
+# --------------------------------------------------------------------------------------------
+def plot_deformed(
+    res: StaticResult,
+    state: int | None = None,
+    scale: float | None = None,
+    path: str | os.PathLike[str] | None = None,
+    *,
+    dpi: float = DPI,
+) -> Figure:
+    """The deformed mesh of every body with the CFEs coloured by their contact state.
+
+    Continuum bodies are drawn as their cells (light edges, tinted by body) and outline;
+    frames as lines between their displaced nodes.  The undeformed outlines are dashed grey.
+    Each CFE is a dot at its displaced position (mean of its S+ and S− nodes), coloured by
+    its state in the working scheme after the state (open / stick / slip+ / slip− / bonded).
+
+    Parameters
+    ----------
+    res : StaticResult
+        Needs ``geometry`` and the displacements of ``state`` (stored fields, or an in-memory
+        result that recovers them).
+    state : int, optional
+        Reported state (negative: from the end); default the last one.
+    scale : float, optional
+        Displacement magnification (dimensionless); default automatic: the largest 1, 2 or
+        5 × 10^k that makes the largest displacement at most 10 % of the model size.  Stated
+        in the title.
+    path : str or PathLike, optional
+        Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
+    dpi : float
+        Resolution of a saved raster figure, dots per inch.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    out = _check_path(path, dpi)
+    i = _state_index(res, res.n_states - 1 if state is None else state)
+    if scale is not None and not (np.isfinite(scale) and scale > 0):
+        raise ValueError(f"scale={scale}: the magnification must be a positive number")
+    points, dof_of, bodies = _geometry(res)
+    un = _node_u(dof_of, _field(res, i))
+    size = _extent(points)
+    umax = float(np.max(np.linalg.norm(un, axis=1), initial=0.0))
+    if scale is None:
+        scale = _nice_floor(0.1 * size / umax) if umax > 0 else 1.0
+    xy = points + scale * un
+
+    lo, hi = np.minimum(points.min(0), xy.min(0)), np.maximum(points.max(0), xy.max(0))
+    w, h = np.maximum(hi - lo, 1e-3 * size)
+    fig = _new_figure(figsize=(9.0, round(float(np.clip(9.0 * h / w + 1.2, 3.0, 9.0)), 1)))
+    ax = fig.add_subplot()
+    _draw_bodies(ax, bodies, points, reference=True)
+    _draw_bodies(ax, bodies, xy)
+    handles = []
+    if res.m:
+        codes = np.asarray(res.state)[i]
+        xc = np.asarray(res.cfe["x"], dtype=float).reshape(res.m, 2)
+        pc = xc + scale * _cfe_displacement(points, un, xc)
+        ax.scatter(pc[:, 0], pc[:, 1], s=22, c=[STATE_COLORS[ContactState(int(v))] for v in codes],
+                   edgecolors="0.15", linewidths=0.5, zorder=4)
+        handles = _state_handles(codes)
+    pad = 0.04 * max(w, h)
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x, m")
+    ax.set_ylabel("y, m")
+    ax.grid(True, alpha=0.2)
+    if handles:
+        ax.legend(handles=handles, title="CFE state", fontsize=8, title_fontsize=8, loc="best")
+    seg = int(res.segment[i])
+    fig.suptitle(
+        f"Deformed shape at state {i} ({res.kind[i]}, '{_pattern_of(res, seg)}' "
+        f"λ = {float(res.lam[i]):.6g}) — displacements × {scale:g}, "
+        f"max |u| = {umax:.3g} m"
+    )
+    _save(fig, out, dpi)
+    return fig
+
+
+# --------------------------------------------------------------------------------------------
+# load–displacement curve
+# --------------------------------------------------------------------------------------------
+def _resolve_node(
+    res: StaticResult,
+    node: int | Sequence[float] | None,
+    body: str | None,
+    comp: int,
+    u_last: np.ndarray,
+) -> int:
+    """Global node index from an index, coordinates (m) or None (largest |u| at the end)."""
+    points, dof_of, bodies = _geometry(res)
+    names = [str(b["name"]) for b in bodies]
+    owner = np.full(len(points), -1)
+    for j, b in enumerate(bodies):
+        owner[np.asarray(b["cells"], dtype=np.int64).ravel()] = j
+    if body is not None and body not in names:
+        raise ValueError(f"body '{body}' does not exist; bodies: {', '.join(names)}")
+    cand = np.flatnonzero(owner == names.index(body)) if body is not None else np.arange(
+        len(points))
+    if isinstance(node, int | np.integer) and not isinstance(node, bool):
+        if not 0 <= int(node) < len(points):
+            raise ValueError(f"node {node} does not exist: nodes are 0..{len(points) - 1}")
+        if dof_of[int(node), comp] < 0:
+            raise ValueError(f"node {node} has no DOF {('ux', 'uy', 'rz')[comp]}")
+        return int(node)
+    cand = cand[dof_of[cand, comp] >= 0]
+    if not cand.size:
+        raise ValueError(f"no node{'' if body is None else f' of {body!r}'} has DOF "
+                         f"{('ux', 'uy', 'rz')[comp]}")
+    if node is None:
+        return int(cand[np.argmax(np.abs(_node_u(dof_of, u_last, (comp,))[cand, 0]))])
+    try:
+        xy = np.asarray(node, dtype=float).reshape(2)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"node={node!r}: give a node index or its coordinates (x, y) in m"
+        ) from None
+    d = np.linalg.norm(points[cand] - xy, axis=1)
+    size = _extent(points)
+    if d.min() > 0.05 * size:
+        k = int(cand[np.argmin(d)])
+        raise ValueError(f"no node near ({xy[0]:g}, {xy[1]:g}): the nearest, node {k} at "
+                         f"({points[k, 0]:g}, {points[k, 1]:g}), is {d.min():.3g} m away")
+    near = cand[d <= d.min() + 1e-9 * size]
+    shared = sorted({names[owner[k]] for k in near})
+    if len(shared) > 1:
+        raise ValueError(f"the node at ({xy[0]:g}, {xy[1]:g}) is shared by bodies "
+                         f"{', '.join(map(repr, shared))}: choose one (body=...; CLI: --body)")
+    return int(near[0])
+
+
+def plot_load_displacement(
+    res: StaticResult,
+    node: int | Sequence[float] | None = None,
+    dof: str = "y",
+    path: str | os.PathLike[str] | None = None,
+    *,
+    body: str | None = None,
+    axis: str = "lam",
+    dpi: float = DPI,
+) -> Figure:
+    """Load factor against the displacement of one node, with the events marked.
+
+    Between consecutive reported states the working scheme is fixed and the structure linear,
+    so the curve through the states is exact.  Each event is marked at its state by its
+    transition.  Needs the displacements of every state (``store_fields='all'``, the default
+    for models up to 20 000 DOFs, or the in-memory result).
+
+    Parameters
+    ----------
+    res : StaticResult
+    node : int or (x, y), optional
+        Global node index, or coordinates in m (the nearest node; ``body`` chooses between
+        coincident nodes of different bodies).  Default: the node with the largest |u| in
+        ``dof`` at the last state.
+    dof : "x", "y" or "rz"
+        Displacement component u_x, u_y (m) or the rotation φ_z of a frame node (rad).
+    path : str or PathLike, optional
+        Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
+    body : str, optional
+        Body the node belongs to.
+    axis : "lam" or "path"
+        ``lam``: one panel per segment with the load factor λ of its pattern; ``path``: one
+        panel with the load-path parameter t = segment + |λ − λ_start| / (the λ range the
+        segment covered), so that every segment reached spans one unit.
+    dpi : float
+        Resolution of a saved raster figure, dots per inch.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    out = _check_path(path, dpi)
+    if dof not in _DOFS:
+        raise ValueError(f"dof={dof!r}: use 'x', 'y' or 'rz'")
+    if axis not in ("lam", "path"):
+        raise ValueError(f"axis={axis!r}: use 'lam' or 'path'")
+    comp = _DOFS[dof]
+    missing = [i for i in range(res.n_states) if i not in res.fields]
+    if missing and res._recover is None:
+        _field(res, missing[0])  # raises with the explanation
+    U = np.stack([_field(res, i) for i in range(res.n_states)])
+    k = _resolve_node(res, node, body, comp, U[-1])
+    points, dof_of, bodies = _geometry(res)
+    u = U[:, dof_of[k, comp]]
+    div, unit = (1.0, "rad") if comp == 2 else _length_scale(u)
+    owner = next((str(b["name"]) for b in bodies if np.any(np.asarray(b["cells"]) == k)), "?")
+    xlabel = (f"{_DOF_LABEL[comp]} of node {k} ('{owner}', x = {points[k, 0]:.4g} m, "
+              f"y = {points[k, 1]:.4g} m), {unit}")
+
+    segs = _segments_reached(res)
+    panels = len(segs) if axis == "lam" else 1
+    fig = _new_figure(figsize=(7.5, min(3.0 * panels + 1.2, 11.0)))
+    axes = np.atleast_1d(fig.subplots(panels, 1, sharex=True, squeeze=False)[:, 0])
+    seen: list[Transition] = []
+    for j, s in enumerate(segs):
+        ax = axes[j if axis == "lam" else 0]
+        idx, lam = _segment_chain(res, s)
+        if axis == "path":
+            lam = s + _path_fraction(lam)
+        ax.plot(u[idx] / div, lam, color=f"C{j % 10}", lw=1.3, marker=".", ms=4,
+                label=f"segment {s}: '{_pattern_of(res, s)}'")
+        y_of = dict(zip(idx.tolist(), lam.tolist(), strict=True))
+        marks = {(e.state, e.transition) for e in res.events if e.segment == s}
+        for i, tr in sorted(marks, key=lambda m: (m[0], m[1].value)):
+            marker, color = TRANSITION_MARKERS[tr]
+            ax.plot([u[i] / div], [y_of.get(i, float(res.lam[i]))], ls="none",
+                    marker=marker, color=color, ms=8, mec="k", mew=0.4, zorder=4)
+            seen.append(tr)
+        if axis == "lam":
+            ax.set_ylabel(f"λ of '{_pattern_of(res, s)}'")
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+        ax.axvline(0.0, color="k", lw=0.5)
+    if axis == "path":
+        axes[0].set_ylabel("load-path parameter t")
+        axes[0].legend(fontsize=8, loc="best")
+    axes[-1].set_xlabel(xlabel)
+    if seen:
+        fig.legend(handles=_transition_handles(seen), loc="outside lower center",
+                   ncol=len(set(seen)), fontsize=8, frameon=False, title="events")
+    fig.suptitle(f"Load–displacement — {res.status.value}, {len(res.events)} events")
+    _save(fig, out, dpi)
+    return fig
+
+
+# --------------------------------------------------------------------------------------------
+# event timeline
+# --------------------------------------------------------------------------------------------
+def plot_event_timeline(
+    res: StaticResult, path: str | os.PathLike[str] | None = None, *, dpi: float = DPI
+) -> Figure:
+    """Which CFE changed to which state at which λ.
+
+    One row of panels per interface (y: position s along it, m) and one column per segment
+    reached (x: λ of its pattern).  Every CFE is a horizontal bar coloured by its state between
+    consecutive reported states; each event is a marker at (λ, s) shaped and coloured by its
+    transition.
+
+    Parameters
+    ----------
+    res : StaticResult
+    path : str or PathLike, optional
+        Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
+    dpi : float
+        Resolution of a saved raster figure, dots per inch.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.collections import LineCollection
+
+    out = _check_path(path, dpi)
+    names = list(res.interface_names)
+    segs = _segments_reached(res)
+    nrow, ncol = max(1, len(names)), max(1, len(segs))
+    fig = _new_figure(figsize=(min(3.8 * ncol + 2.0, 16.0), min(2.6 * nrow + 1.6, 12.0)))
+    fig.suptitle(f"Event timeline — {len(res.events)} events, {res.m} CFEs, "
+                 f"{res.status.value}")
+    if not names or res.m == 0 or not segs:
+        ax = fig.add_subplot()
+        ax.text(0.5, 0.5, "no contact interfaces", ha="center", va="center")
+        ax.set_axis_off()
+        _save(fig, out, dpi)
+        return fig
+    axes = fig.subplots(nrow, ncol, squeeze=False, sharey="row")
+    iface = np.asarray(res.cfe["interface"])
+    pos = np.asarray(res.cfe["s"], dtype=float)
+    st = np.asarray(res.state)
+    palette = np.array([STATE_COLORS[cs] for cs in ContactState])
+    for c, s in enumerate(segs):
+        idx, lam = _segment_chain(res, s)
+        for r, name in enumerate(names):
+            ax = axes[r, c]
+            k = np.flatnonzero(iface == r)
+            lw = float(np.clip(150.0 / max(k.size, 1), 0.8, 6.0))
+            if k.size and idx.size > 1:
+                shape = (idx.size - 1, k.size)  # (intervals between states, CFEs)
+                y = np.broadcast_to(pos[k][None, :], shape)
+                ends = [np.stack([np.broadcast_to(v[:, None], shape), y], -1)
+                        for v in (lam[:-1], lam[1:])]
+                segments = np.stack(ends, axis=2)  # (intervals, CFEs, 2 ends, xy)
+                ax.add_collection(LineCollection(
+                    segments.reshape(-1, 2, 2), colors=palette[st[idx[:-1]][:, k].ravel()],
+                    linewidths=lw, capstyle="butt", zorder=1,
+                ))
+            for e in res.events:
+                if e.segment == s and e.interface == name:
+                    marker, color = TRANSITION_MARKERS[e.transition]
+                    ax.plot([e.lam], [e.position], ls="none", marker=marker, color=color,
+                            ms=7, mec="k", mew=0.4, zorder=3)
+            ax.autoscale_view()
+            if k.size:
+                span = np.ptp(pos[k]) or 1.0
+                ax.set_ylim(pos[k].min() - 0.05 * span, pos[k].max() + 0.05 * span)
+            if 0 <= s < len(res.segments) and res.segments[s][2] < res.segments[s][1]:
+                ax.invert_xaxis()  # unloading: λ decreases along the path
+            ax.grid(True, alpha=0.3)
+            if r == 0:
+                ax.set_title(f"segment {s}: '{_pattern_of(res, s)}'", fontsize=9)
+            if r == nrow - 1:
+                ax.set_xlabel(f"λ of '{_pattern_of(res, s)}'")
+            if c == 0:
+                ax.set_ylabel(f"s along '{name}', m")
+    handles = _state_handles(st.ravel(), bars=True) + _transition_handles(
+        [e.transition for e in res.events], prefix="→ ")
+    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 6),
+               fontsize=8, frameon=False)
+    _save(fig, out, dpi)
+    return fig
+
+
+__all__ = [
+    "DPI",
+    "STATE_COLORS",
+    "TRANSITION_MARKERS",
+    "plot_deformed",
+    "plot_event_timeline",
+    "plot_interfaces",
+    "plot_load_displacement",
+    "plot_load_path",
+]

@@ -95,7 +95,9 @@ class StaticResult:
     N, Q : (n_states, m) CFE forces, N
     un, ut : (n_states, m) mutual displacements u_n, u_τ, m
     state : (n_states, m) ContactState values (scheme after the state)
-    residual : (n_states,) relative equilibrium residual ‖K u + Bᵀs − f‖ / ‖f‖
+    residual : (n_states,) relative equilibrium residual ‖K u + Bᵀs − f‖ / ‖f‖ at states with a
+        stored displacement field; at the other states (large models) the residual of the
+        condensed equations, which are exactly equivalent (see ``Condensed.condensed_residual``)
     violation : (n_states,) largest relative violation of conditions (1)
     events : list of Event
     multipliers : list of Multipliers (one per segment reached)
@@ -213,10 +215,64 @@ class StaticResult:
             )
         return "\n".join(lines)
 
+    def segments_summary(self) -> list[dict[str, object]]:
+        """One record per load-program segment: its pattern, λ range (start, end, reached —
+        None if not reached), numbers of states and events, and its stability multipliers."""
+        mult = {mu.segment: mu for mu in self.multipliers}
+        segs = np.asarray(self.segment)
+        ev_seg = np.array([e.segment for e in self.events], dtype=np.int64)
+        rows: list[dict[str, object]] = []
+        for j, (pattern, a, b) in enumerate(self.segments):
+            idx = np.flatnonzero(segs == j)
+            mu = mult.get(j, Multipliers(j, pattern))
+            rows.append({
+                "segment": j, "pattern": pattern, "lam_start": float(a), "lam_end": float(b),
+                "lam_reached": float(self.lam[idx[-1]]) if idx.size else None,
+                "states": int(idx.size), "events": int(np.sum(ev_seg == j)),
+                **{k: getattr(mu, k) for k in _MULTIPLIER_KEYS},
+            })
+        return rows
+
     def __repr__(self) -> str:
+        counts = ", ".join(f"{k} {v}" for k, v in transition_counts(self.events).items() if v)
+        n_if = len(self.interface_names)
+        lines = [
+            f"<StaticResult {self.status.value}: {self.n_states} states, {len(self.events)} "
+            f"events{f' ({counts})' if counts else ''}, {self.m} CFEs on {n_if} "
+            f"interface{'' if n_if == 1 else 's'}, fields at {len(self.fields)} states",
+        ]
+        rows = self.segments_summary()
+        for r in rows[:_REPR_SEGMENTS]:
+            reached = "not reached" if r["lam_reached"] is None else (
+                f"reached {r['lam_reached']:.6g}")
+            mults = "".join(
+                f"; {k.replace('_', ' ')} {r[k]:.6g}" for k in _MULTIPLIER_KEYS
+                if r[k] is not None
+            )
+            lines.append(f"  segment {r['segment']} '{r['pattern']}' λ {r['lam_start']:.6g} → "
+                         f"{r['lam_end']:.6g}: {reached}{mults}")
+        if len(rows) > _REPR_SEGMENTS:
+            lines.append(f"  … {len(rows) - _REPR_SEGMENTS} more segments")
+        lines.append(f"  {self.message}>")
+        return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        """Jupyter display: the counts and a table of the segments and their multipliers."""
+        from html import escape
+
+        def cell(v: object) -> str:
+            return "—" if v is None else escape(f"{v:.6g}" if isinstance(v, float) else str(v))
+
+        rows = self.segments_summary()
+        head = "".join(f"<th>{escape(k.replace('_', ' '))}</th>" for k in rows[0]) if rows else ""
+        body = "".join(
+            "<tr>" + "".join(f"<td>{cell(v)}</td>" for v in r.values()) + "</tr>" for r in rows
+        )
         return (
-            f"<StaticResult status={self.status.value} events={len(self.events)} "
-            f"states={self.n_states} cfes={self.m}>"
+            f"<div><b>StaticResult</b> — <code>{escape(self.status.value)}</code>: "
+            f"{escape(self.message)}<br>{self.n_states} states, {len(self.events)} events, "
+            f"{self.m} CFEs, {len(self.interface_names)} interface(s), fields at "
+            f"{len(self.fields)} states<table><tr>{head}</tr>{body}</table></div>"
         )
 
     # ---- I/O (implemented in stepcontact.io) -------------------------------------------------
@@ -239,6 +295,65 @@ class StaticResult:
 
         return load_result(path)
 
+    def cfe_history(self, *, as_frame: bool = False):
+        """Per-CFE histories: every reported state × every CFE, for notebooks.
+
+        The CFE variables of :meth:`to_dataset` (``N``, ``Q`` in N; ``un``, ``ut`` in m;
+        ``contact_state`` as :class:`ContactState` codes) plus ``sigma_n`` and ``tau`` (Pa),
+        on the dimensions ``state`` and ``cfe``, without the rest of the result file.
+        Coordinates: ``lam``, ``segment``, ``pattern``, ``kind`` of each state; ``interface``
+        (name), ``local``, ``position`` (arc length, m), ``x``, ``y`` (m), ``area`` (m²) and
+        ``friction`` of each CFE.
+
+        Parameters
+        ----------
+        as_frame : bool
+            Return a long :class:`pandas.DataFrame` (index ``state``, ``cfe``) instead.
+
+        Returns
+        -------
+        xarray.Dataset or pandas.DataFrame
+
+        Example
+        -------
+        >>> h = res.cfe_history()                                   # doctest: +SKIP
+        >>> h.sigma_n.sel(cfe=h.interface == "joint").isel(state=-1)  # doctest: +SKIP
+        """
+        import xarray as xr
+
+        n, m = self.n_states, self.m
+        units = {**_HISTORY_UNITS, **{k: v for k, v in self.units.items() if k in _HISTORY_UNITS}}
+        data = {"N": self.N, "Q": self.Q, "sigma_n": self.sigma_n, "tau": self.tau,
+                "un": self.un, "ut": self.ut}
+        dv = {k: (("state", "cfe"), np.asarray(v, dtype=float).reshape(n, m),
+                  {"units": units[k], "long_name": _HISTORY_NAMES[k]}) for k, v in data.items()}
+        st = np.asarray(self.state).reshape(n, m)
+        dv["contact_state"] = (("state", "cfe"), st, {
+            "units": "1", "long_name": "contact state of the CFE after the state",
+            "flag_values": np.array([int(c) for c in ContactState], dtype=st.dtype),
+            "flag_meanings": " ".join(c.name.lower() for c in ContactState),
+        })
+        seg = np.asarray(self.segment, dtype=np.int64)
+        pattern = np.array([self.segments[s][0] if 0 <= s < len(self.segments) else ""
+                            for s in seg.tolist()], dtype=str)
+        xy = np.asarray(self.cfe.get("x", np.zeros((m, 2))), dtype=float).reshape(m, 2)
+        iface = np.asarray(self.cfe.get("interface", np.zeros(m, int)), dtype=np.int64)
+        names = np.array(self.interface_names, dtype=str)[iface] if m else np.array([], str)
+        cfe_coords = {
+            "interface": names, "local": self.cfe.get("local", np.arange(m)),
+            "position": self.cfe.get("s", np.full(m, np.nan)), "x": xy[:, 0], "y": xy[:, 1],
+            "area": self.cfe.get("area", np.full(m, np.nan)),
+            "friction": self.cfe.get("friction", np.full(m, np.nan)),
+        }
+        coords = {
+            "state": np.arange(n), "lam": ("state", np.asarray(self.lam, dtype=float)),
+            "segment": ("state", seg), "pattern": ("state", pattern),
+            "kind": ("state", np.asarray(self.kind).astype(str)), "cfe": np.arange(m),
+            **{k: ("cfe", np.asarray(v)) for k, v in cfe_coords.items()},
+        }
+        ds = xr.Dataset(dv, coords=coords, attrs={"status": self.status.value})
+        return ds.to_dataframe() if as_frame else ds
+
     def events_table(self):
         """The event log as a :class:`pandas.DataFrame`."""
         import pandas as pd
@@ -248,6 +363,19 @@ class StaticResult:
         ]
         cols = list(Event.__dataclass_fields__)
         return pd.DataFrame(rows, columns=cols)
+
+
+_MULTIPLIER_KEYS = ("first_slip", "first_opening", "first_closing", "equilibrium_lost")
+_REPR_SEGMENTS = 8  #: segments listed by ``repr`` (the rest are counted)
+_HISTORY_UNITS = {"N": "N", "Q": "N", "sigma_n": "Pa", "tau": "Pa", "un": "m", "ut": "m"}
+_HISTORY_NAMES = {
+    "N": "normal CFE force (negative in compression)",
+    "Q": "tangential CFE force",
+    "sigma_n": "normal contact stress N/A (negative in compression)",
+    "tau": "tangential contact stress Q/A",
+    "un": "mutual normal displacement u_n (negative: open gap)",
+    "ut": "mutual tangential displacement u_t",
+}
 
 
 def transition_counts(events: list[Event]) -> dict[str, int]:

@@ -31,6 +31,7 @@ import numpy as np
 
 from .assembly import System, assemble
 from .condensation import Condensed, MechanismError, SchemeSolver, scheme_relations
+from .lcp import lemke
 from .enums import ContactState, SlipTreatment, Status, Transition
 from .errors import ModelError
 from .model import Body, Model
@@ -111,6 +112,7 @@ class StaticSolver:
         hooks: Sequence = (),
         backend: str = "auto",
         rtol: float = 1e-10,
+        rate_solver: str = "pivoting",
     ):
         self.sys = system
         self.cfe = system.cfe
@@ -122,6 +124,9 @@ class StaticSolver:
         if store_fields not in ("auto", "all", "ends"):
             raise ModelError("store_fields", f"must be auto, all or ends, got '{store_fields}'")
         self.store_fields = store_fields
+        if rate_solver not in ("pivoting", "lemke"):
+            raise ModelError("rate_solver", f"must be 'pivoting' or 'lemke', got '{rate_solver}'")
+        self.rate_solver = rate_solver
         self.max_events = max_events
         self.hooks = tuple(hooks)
         self.rtol = rtol
@@ -150,7 +155,7 @@ class StaticSolver:
         self.message = "load program completed"
         self.mechanism: dict | None = None
         self.step = 0
-        self.counters = {"rate_solves": 0, "pivots": 0, "corrections": 0}
+        self.counters = {"rate_solves": 0, "pivots": 0, "corrections": 0, "lemke": 0}
 
     # ---- scales and tolerances ---------------------------------------------------------------
     def _update_scales(self, ds=None, dw=None, span=1.0):
@@ -168,7 +173,11 @@ class StaticSolver:
     # ---- rates --------------------------------------------------------------------------------
     def _rates(self, states, pattern, article=None, r=None):
         rel = scheme_relations(states, self.cfe, self.article if article is None else article)
-        fact = self.schemes.factor(rel)
+        try:
+            fact = self.schemes.factor(rel)
+        except MechanismError as exc:
+            exc.states = states.copy()  # the scheme that is a mechanism, reported with it
+            raise
         self.counters["rate_solves"] += 1
         if pattern is None:
             h = np.zeros(2 * self.cfe.m)
@@ -179,80 +188,205 @@ class StaticSolver:
         ds, dw = fact.solve(h, e, rr)
         return ds, dw, fact, rel
 
+    def _limits(self, L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Which CFEs of L sit at their normal limit (p = 0 closed, or u_n = 0 open), and which
+        are two-sided in friction as well (Q = 0 and f p = 0): boolean arrays over all CFEs."""
+        m = self.cfe.m
+        Q, p = self.s[:m], self.s[m:]
+        tf = 1e3 * self.rtol * self.F_scale
+        normal_lim = np.zeros(m, dtype=bool)
+        normal_lim[L] = np.where(self.states[L] == OPEN, -self.w[m + L] <= 1e3 * self.rtol *
+                                 self.W_scale, p[L] <= tf)
+        two_sided = np.zeros(m, dtype=bool)
+        two_sided[L] = normal_lim[L] | ((np.abs(Q[L]) <= tf) & (self.f[L] * p[L] <= tf))
+        return normal_lim, two_sided
+
+    def _inconsistent(self, trial, L, ds, dw, normal_lim, two_sided) -> np.ndarray:
+        """States the rates of scheme ``trial`` point to for the CFEs in L (equal to
+        ``trial[L]`` where the rates satisfy the contact conditions (1) of the CFE)."""
+        m = self.cfe.m
+        f = self.f
+        sigma = np.sign(self.s[:m])
+        dQ, dp = ds[:m], ds[m:]
+        dg = -dw[m:]
+        finite_kt = np.isfinite(self.kt)
+        dslip = dw[:m] - np.where(finite_kt, dQ / np.where(finite_kt, self.kt, 1.0), 0.0)
+        rf = 1e3 * self.rtol * max(np.abs(ds).max(initial=0), 1e-300)
+        rw = 1e3 * self.rtol * max(np.abs(dw).max(initial=0), 1e-300)
+        st = trial[L]
+        new = st.copy()
+        # open: the gap must not close
+        viol_open = (st == OPEN) & (dg[L] < -rw)
+        new[viol_open] = np.where(f[L][viol_open] > 0, STICK, SLIP_POS)
+        # stick
+        stick = st == STICK
+        nl = normal_lim[L]
+        ts = two_sided[L]
+        v1 = stick & nl & (dp[L] < -rf)
+        new[v1] = OPEN
+        v2 = stick & ~v1 & ts & (np.abs(dQ[L]) > f[L] * dp[L] + rf)
+        new[v2] = np.where(dQ[L][v2] > 0, SLIP_POS, SLIP_NEG)
+        v3 = stick & ~ts & (sigma[L] * dQ[L] > f[L] * dp[L] + rf)
+        new[v3] = np.where(sigma[L][v3] > 0, SLIP_POS, SLIP_NEG)
+        # slip
+        slipping = (st == SLIP_POS) | (st == SLIP_NEG)
+        sg = np.where(st == SLIP_POS, 1.0, -1.0)
+        v4 = slipping & nl & (dp[L] < -rf)
+        new[v4] = OPEN
+        v5 = slipping & ~v4 & (f[L] > 0) & (sg * dslip[L] < -rw)
+        new[v5] = STICK
+        return new
+
     def _rate_problem(self, L: np.ndarray, guess: np.ndarray, pattern) -> tuple:
         """Choose states of the CFEs in L (ascending) so that the rates are consistent.
 
         Murty's least-index principal pivoting written on CFE states: solve the rates of the
         trial scheme, find the lowest-index CFE whose rates violate its contact conditions,
-        switch it to the state the violation points to, repeat.  Returns (states, ds, dw).
+        switch it to the state the violation points to, repeat.  If the pivoting cycles or does
+        not converge (the rate problem is not a P-problem, e.g. large f), the rate problem is
+        written as an LCP and solved by Lemke's method (:meth:`_rate_problem_lemke`).  With
+        ``rate_solver="lemke"`` Lemke's method is used whenever the guessed scheme (the current
+        one with the natural transitions of the CFEs that fired) is not consistent.  When the
+        rate problem has several solutions the one nearest the guess is kept.  Returns
+        (states, ds, dw).
         """
-        m = self.cfe.m
-        f = self.f
-        Q, p = self.s[:m], self.s[m:]
-        tf = 1e3 * self.rtol * self.F_scale
-        two_sided = np.zeros(m, dtype=bool)
-        normal_lim = np.zeros(m, dtype=bool)
-        normal_lim[L] = np.where(self.states[L] == OPEN, -self.w[m + L] <= 1e3 * self.rtol *
-                                 self.W_scale, p[L] <= tf)
-        two_sided[L] = normal_lim[L] | ((np.abs(Q[L]) <= tf) & (f[L] * p[L] <= tf))
-        sigma = np.sign(Q)
+        normal_lim, two_sided = self._limits(L)
+        if self.rate_solver == "lemke":
+            try:  # the guessed scheme is kept when its rates are consistent (as in pivoting)
+                ds, dw, *_ = self._rates(guess, pattern, article=False)
+                if np.all(self._inconsistent(guess, L, ds, dw, normal_lim, two_sided) ==
+                          guess[L]):
+                    return guess, ds, dw
+            except MechanismError:
+                pass
+            try:
+                return self._rate_problem_lemke(L, guess, pattern, normal_lim, two_sided)
+            except _RateProblemFailure:
+                pass
         trial = guess.copy()
         visited: set[bytes] = set()
         tried_revert = False
+        first_mechanism: MechanismError | None = None
+        failure = None
         for _ in range(20 * max(len(L), 1) + 20):
             key = trial[L].tobytes()
             if key in visited:
-                raise _RateProblemFailure(
+                failure = _RateProblemFailure(
                     Status.CYCLING, L,
                     "the working schemes cycle: no consistent scheme found by pivoting",
                 )
+                break
             visited.add(key)
             try:
                 ds, dw, fact, rel = self._rates(trial, pattern, article=False)
-            except MechanismError:
+            except MechanismError as exc:
                 if not tried_revert and np.any(trial[L] != self.states[L]):
                     tried_revert = True
+                    first_mechanism = exc
                     trial = guess.copy()
                     trial[L] = np.where(self.states[L] == OPEN, OPEN, self.states[L])
                     visited.clear()
                     continue
+                if first_mechanism is not None:
+                    exc.states = first_mechanism.states
                 raise
-            dQ, dp = ds[:m], ds[m:]
-            dg = -dw[m:]
-            dslip = dw[:m] - np.where(np.isfinite(self.kt), dQ / np.where(np.isfinite(self.kt),
-                                                                        self.kt, 1.0), 0.0)
-            rf = 1e3 * self.rtol * max(np.abs(ds).max(initial=0), 1e-300)
-            rw = 1e3 * self.rtol * max(np.abs(dw).max(initial=0), 1e-300)
-            st = trial[L]
-            new = st.copy()
-            # open: the gap must not close
-            viol_open = (st == OPEN) & (dg[L] < -rw)
-            new[viol_open] = np.where(f[L][viol_open] > 0, STICK, SLIP_POS)
-            # stick
-            stick = st == STICK
-            nl = normal_lim[L]
-            ts = two_sided[L]
-            v1 = stick & nl & (dp[L] < -rf)
-            new[v1] = OPEN
-            v2 = stick & ~v1 & ts & (np.abs(dQ[L]) > f[L] * dp[L] + rf)
-            new[v2] = np.where(dQ[L][v2] > 0, SLIP_POS, SLIP_NEG)
-            v3 = stick & ~ts & (sigma[L] * dQ[L] > f[L] * dp[L] + rf)
-            new[v3] = np.where(sigma[L][v3] > 0, SLIP_POS, SLIP_NEG)
-            # slip
-            slipping = (st == SLIP_POS) | (st == SLIP_NEG)
-            sg = np.where(st == SLIP_POS, 1.0, -1.0)
-            v4 = slipping & nl & (dp[L] < -rf)
-            new[v4] = OPEN
-            v5 = slipping & ~v4 & (f[L] > 0) & (sg * dslip[L] < -rw)
-            new[v5] = STICK
-            bad = np.flatnonzero(new != st)
+            new = self._inconsistent(trial, L, ds, dw, normal_lim, two_sided)
+            bad = np.flatnonzero(new != trial[L])
             if bad.size == 0:
                 return trial, ds, dw
             i = bad[0]  # least index rule
             trial = trial.copy()
             trial[L[i]] = new[i]
             self.counters["pivots"] += 1
-        raise _RateProblemFailure(Status.RATE_PROBLEM, L, "pivoting did not converge")
+        if failure is None:
+            failure = _RateProblemFailure(
+                Status.RATE_PROBLEM, L,
+                "pivoting did not find a consistent scheme")
+        if self.rate_solver == "lemke":
+            raise failure
+        try:
+            return self._rate_problem_lemke(L, guess, pattern, normal_lim, two_sided)
+        except _RateProblemFailure as exc:
+            raise _RateProblemFailure(failure.status, L, f"{failure} ({exc})") from None
+
+    def _rate_problem_lemke(self, L, guess, pattern, normal_lim, two_sided) -> tuple:
+        """The rate problem over the CFEs in L as an LCP, solved by Lemke's method.
+
+        Base scheme: every CFE of L closed and stuck (frictionless ones: closed, Q = 0), the
+        others as in ``guess``.  The LCP variables z ≥ 0 are, per CFE of L, the opening rate o
+        (only at the normal limit) and the slip rates a⁺, a⁻ (both when two-sided, else the one
+        in the direction of Q), entered through the right-hand side r of the relations (rigid:
+        w' = r; compliant layer: s' = C (w' − slip) …).  Their complements are w = (p', f p' − Q',
+        f p' + Q') ≥ 0.  One rate solve per variable gives the columns of M.
+        """
+        m = self.cfe.m
+        f = self.f
+        fric = f[L] > 0
+        base = guess.copy()
+        base[L] = np.where(fric, STICK, SLIP_POS)
+        # the stiffest choice for L; if it is a mechanism, every scheme is: MechanismError
+        ds0, dw0, fact, rel = self._rates(base, pattern, article=False)
+        sigma = np.where(self.states == SLIP_NEG, -1.0,
+                         np.where(self.states == SLIP_POS, 1.0, np.sign(self.s[:m])))
+        var_cfe, var_kind = [], []  # kind: 0 opening, +1 slip+, −1 slip−
+        for k, is_fric in zip(L.tolist(), fric.tolist(), strict=True):
+            if normal_lim[k]:
+                var_cfe.append(k)
+                var_kind.append(0)
+            if not is_fric:
+                continue
+            if two_sided[k] or sigma[k] == 0:
+                var_cfe += [k, k]
+                var_kind += [1, -1]
+            else:
+                var_cfe.append(k)
+                var_kind.append(int(sigma[k]))
+        var_cfe = np.asarray(var_cfe, dtype=int)
+        var_kind = np.asarray(var_kind, dtype=int)
+        nv = len(var_cfe)
+        if nv == 0:
+            raise _RateProblemFailure(Status.RATE_PROBLEM, L, "Lemke's method: no variables")
+        # right-hand sides of the relations for a unit value of each variable
+        kt, kn = self.cfe.kt[var_cfe], self.cfe.kn[var_cfe]
+        R = np.zeros((2 * m, nv))
+        cols = np.arange(nv)
+        op = var_kind == 0
+        R[m + var_cfe[op], cols[op]] = np.where(np.isfinite(kn[op]), kn[op], -1.0)
+        sl = ~op
+        R[var_cfe[sl], cols[sl]] = var_kind[sl] * np.where(np.isfinite(kt[sl]), -kt[sl], 1.0)
+        zero = np.zeros(2 * m)
+        dS = np.empty((2 * m, nv))
+        for j in range(nv):
+            dS[:, j], _ = fact.solve(zero, zero, R[:, j])
+        self.counters["rate_solves"] += nv
+
+        # complements w = c_p p' + c_Q Q' of every variable, for the base rates and each column
+        cp = np.where(op, 1.0, f[var_cfe])[:, None]
+        cq = np.where(op, 0.0, -var_kind)[:, None]
+        W = cp * np.c_[ds0, dS][m + var_cfe] + cq * np.c_[ds0, dS][var_cfe]
+        q, Mx = W[:, 0], W[:, 1:]
+        sol = lemke(Mx, q)
+        self.counters["lemke"] += 1
+        if sol.solved:
+            active = sol.z > 1e-9 * max(np.abs(sol.z).max(initial=0), 1e-300)
+        elif sol.ray is not None:
+            active = sol.ray  # the rates grow without bound along this scheme: a mechanism?
+        else:
+            raise _RateProblemFailure(Status.RATE_PROBLEM, L, f"Lemke's method: {sol.message}")
+        trial = base.copy()
+        # slips first, then openings override (an opening CFE carries no force)
+        for kind, state in ((1, SLIP_POS), (-1, SLIP_NEG), (0, OPEN)):
+            sel = active & (var_kind == kind)
+            trial[var_cfe[sel]] = state
+        # consistent rates exist unless this scheme is a mechanism: equilibrium is lost
+        ds, dw, *_ = self._rates(trial, pattern, article=False)
+        if not sol.solved:
+            raise _RateProblemFailure(Status.RATE_PROBLEM, L, f"Lemke's method: {sol.message}")
+        new = self._inconsistent(trial, L, ds, dw, normal_lim, two_sided)
+        if np.any(new != trial[L]):
+            raise _RateProblemFailure(Status.RATE_PROBLEM, L,
+                                      "Lemke's method: its scheme is not consistent")
+        return trial, ds, dw
 
     # ---- corrections at fixed λ (snap to the scheme; article: compensating forces (4)-(6)) ---
     def _correct(self, states):
@@ -291,10 +425,13 @@ class StaticSolver:
         return self.sys.ndof <= 20_000
 
     def _record(self, lam: float, seg: int, kind: str):
-        m = self.cfe.m
         i = len(self._rec["lam"])
-        u = self.cond.displacement(self.c, self.s, self.w)
-        res, kin = self.cond.check(self.c, self.s, self.w, u, self.W_scale)
+        store = kind != "event" or self._store_all_fields()
+        if store:  # full field: residual of the whole model and kinematics B u + w⁰ = w
+            u = self.cond.displacement(self.c, self.s, self.w)
+            res, kin = self.cond.check(self.c, self.s, self.w, u, self.W_scale)
+        else:  # no solve: the condensed equations (equivalent), field recoverable on request
+            res, kin = self.cond.condensed_residual(self.c, self.s, self.w, self.W_scale), 0.0
         viol = max(kin, self._violation())
         r = self._rec
         r["lam"].append(lam)
@@ -306,11 +443,9 @@ class StaticSolver:
         r["state"].append(self.states.copy())
         r["residual"].append(res)
         r["violation"].append(viol)
-        if kind != "event" or self._store_all_fields():
+        if store:
             self.fields[i] = u
-        if kind == "segment_end":
             self.stresses[i] = self._stresses(u)
-        del m
         return i
 
     def _violation(self) -> float:
@@ -537,6 +672,9 @@ class StaticSolver:
                             f"{seg}): {modes}")
             self.mechanism = info
             mult["equilibrium_lost"] = lam
+            if getattr(exc, "states", None) is not None:
+                # report the scheme that is the mechanism (e.g. the last CFEs slipping)
+                self.states = exc.states
             self.step += 1
             i = self._record(lam, seg, "event")
             self._log_events(old, self.states, lam, seg, pattern, i)
@@ -558,6 +696,12 @@ class StaticSolver:
         if self.article:
             ds, dw, *_ = self._rates(new, pattern_rates, article=True)
         self._update_scales(ds, dw, span)
+        if first and switched:
+            # contact made at the very start (zero gaps at λ = 0) is the initial scheme, not an
+            # event: compare with "closed and stuck" there, so only slips at λ = 0 are events
+            made = (old == OPEN) & (new != OPEN)
+            old = np.where(made, np.where(self.f > 0, STICK, new), old)
+            switched = bool(np.any(old != new))
         if seg_start and not switched:
             # a state at the start of every segment, so that any λ of it can be interpolated
             self._record(lam, seg, "start" if first else "segment_start")
@@ -590,7 +734,9 @@ class StaticSolver:
         cfe_arrays = {
             "interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
             "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction, "gap": cfe.gap,
-            "kn": cfe.kn, "kt": cfe.kt,
+            "kn": cfe.kn, "kt": cfe.kt, "tangent": cfe.tangent,
+            "plus_nodes": cfe.plus_nodes, "plus_w": cfe.plus_w,
+            "minus_nodes": cfe.minus_nodes, "minus_w": cfe.minus_w,
         }
         model = self.sys.model
         geometry = {
@@ -643,6 +789,7 @@ def solve_static(
     max_events: int = 100_000,
     hooks: Sequence = (),
     backend: str = "auto",
+    rate_solver: str = "pivoting",
 ) -> StaticResult:
     """Trace the exact quasi-static load path of ``model`` through its load program.
 
@@ -666,6 +813,9 @@ def solve_static(
         Objects with optional ``after_event(StepInfo)`` and ``after_segment(StaticResult)``.
     backend : str
         Sparse factorisation backend (``auto``, ``scipy``, ``cholmod``, ``pypardiso``).
+    rate_solver : str
+        Rate problem of a new scheme: ``pivoting`` (least-index principal pivoting on CFE
+        states, Lemke's method when it cycles) or ``lemke`` (Lemke's method first).
 
     Returns
     -------
@@ -683,5 +833,6 @@ def solve_static(
     if not system.model.program:
         raise ModelError("model.program", "is empty: give at least one load segment")
     solver = StaticSolver(system, slip=slip, eps_p=eps_p, store_fields=store_fields,
-                          max_events=max_events, hooks=hooks, backend=backend)
+                          max_events=max_events, hooks=hooks, backend=backend,
+                          rate_solver=rate_solver)
     return solver.run()

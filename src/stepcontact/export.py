@@ -1,0 +1,749 @@
+"""ParaView output: a result as a VTU time series (``.pvd``) or an XDMF time series.
+
+One *frame* is written per selected reported state (the start, every event, every load-segment
+start and end).  Each frame has two grids:
+
+bodies (``NAME.pvd`` / ``FILE.xdmf``)
+    The continuum cells of every body (VTK triangle, quadratic triangle, quad, quadratic quad,
+    biquadratic quad for tri3, tri6, quad4, quad8, quad9), frame elements as line cells.
+    Cells are oriented counter-clockwise (normals +z).  Point data ``displacement`` (3
+    components, z = 0, m) and, when the model has frames, ``rotation`` (rad, NaN at nodes
+    without a rotational DOF).  Cell data ``sigma_xx``, ``sigma_yy``, ``sigma_xy``,
+    ``sigma_zz``, ``von_mises`` (Pa; NaN on frame cells and at states without stored stresses —
+    the solver stores stresses at segment ends) and ``body`` (index into the model's bodies).
+contact elements (``NAME_cfe.pvd`` / ``FILE_cfe.xdmf``)
+    One line cell per CFE from its S+ point to its S− point (a degenerate line where they
+    coincide).  Cell data ``N``, ``Q`` (N; N < 0 compression), ``sigma_n``, ``tau`` (Pa),
+    ``un``, ``ut`` (m; u_n < 0 open gap), ``state`` (:class:`~stepcontact.enums.ContactState`
+    codes: 0 open, 1 stick, 2 slip+, 3 slip−, 4 bonded), ``interface`` (index into the
+    interface names), ``cfe`` (global index), ``local``, ``s`` (m), ``normal`` (S− → S+),
+    ``area`` (m²), ``friction``, ``gap`` (m).  Point data ``displacement`` (m) only when the
+    result knows the interpolation of the CFE ends (``cfe`` arrays ``plus_nodes``,
+    ``plus_w``, ``minus_nodes``, ``minus_w``); without them the S− point is placed at
+    x − g⁰ n.
+
+Time
+----
+ParaView needs increasing times.  The time of a frame is the load-path parameter
+``t = Σ |Δλ|`` accumulated along the load program (:func:`load_path_parameter`): for a state
+of segment k, t = Σ_{j<k} |λ_end,j − λ_start,j| + |λ − λ_start,k|, so t = λ for a single
+segment starting at λ = 0 and t grows through unloading segments too.  Several states can share
+one t (simultaneous events, a segment end and the next segment's start); the frame times are
+then separated by ``TIME_SEPARATION`` × max(1, t_max) so that every frame keeps its own time
+step.  Each VTU frame carries field data ``TimeValue`` (the frame time), ``load_path_t``
+(exact t), ``lam`` (λ), ``segment``, ``state`` (reported-state index), ``state_kind`` (0 start,
+1 segment start, 2 event, 3 segment end) and ``factors`` (load factors of all patterns).  XDMF
+has no per-frame field data that meshio can read back: there the same values are
+``<Information>`` elements of each time grid.
+
+Writes are atomic: everything is written into a hidden temporary directory next to the target
+and then renamed into place, so an interrupted export never leaves a half-written series.
+
+Example
+-------
+>>> import stepcontact as sc
+>>> res = sc.solve_static(model, store_fields="all")           # doctest: +SKIP
+>>> sc.export_vtu(res, "out/paraview")                          # doctest: +SKIP
+PosixPath('out/paraview/result.pvd')
+>>> sc.export_xdmf(res, "out/result.xdmf", states="ends")      # doctest: +SKIP
+PosixPath('out/result.xdmf')
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import re
+import shutil
+import tempfile
+import uuid
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from xml.etree import ElementTree as ET
+from xml.sax.saxutils import quoteattr
+
+import meshio
+import numpy as np
+from meshio.xdmf import TimeSeriesWriter
+from meshio.xdmf.common import meshio_to_xdmf_type, meshio_type_to_xdmf_index, numpy_to_xdmf_dtype
+
+from .enums import ContactState
+from .results import StaticResult
+
+_log = logging.getLogger(__name__)
+
+#: relative separation of frame times that would otherwise coincide (× max(1, t_max))
+TIME_SEPARATION = 1e-9
+
+#: codes of the ``state_kind`` field data
+STATE_KINDS = {"start": 0, "segment_start": 1, "event": 2, "segment_end": 3}
+
+StateSelection = str | int | Sequence[int] | np.ndarray | None
+
+# element name of a body -> meshio cell type
+_ELEMENT_TYPES = {
+    "tri3": "triangle",
+    "tri6": "triangle6",
+    "quad4": "quad",
+    "quad8": "quad8",
+    "quad9": "quad9",
+    "frame2": "line",
+}
+# nodes per cell of a continuum body -> meshio cell type (bodies with other element names)
+_NODES_TYPES = {3: "triangle", 6: "triangle6", 4: "quad", 8: "quad8", 9: "quad9"}
+_NODES_PER_CELL = {"triangle": 3, "triangle6": 6, "quad": 4, "quad8": 8, "quad9": 9, "line": 2}
+# node permutation reversing the orientation of a cell (corners, then mid-edge, then centre):
+# scikit-fem's P2 / serendipity / Q2 node order (corners, edges 01 12 20|23 30, centre) is
+# VTK's order for quadratic triangles and (bi)quadratic quads
+_REVERSE = {
+    "triangle": [0, 2, 1],
+    "triangle6": [0, 2, 1, 5, 4, 3],
+    "quad": [0, 3, 2, 1],
+    "quad8": [0, 3, 2, 1, 7, 6, 5, 4],
+    "quad9": [0, 3, 2, 1, 7, 6, 5, 4, 8],
+}
+_STRESS_NAMES = ("sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz")
+_CFE_END_KEYS = ("plus_nodes", "plus_w", "minus_nodes", "minus_w")
+
+
+# --------------------------------------------------------------------------------------------
+# frames: which states, at which times
+# --------------------------------------------------------------------------------------------
+def load_path_parameter(result: StaticResult) -> np.ndarray:
+    """Load-path parameter t = Σ|Δλ| of every reported state (dimensionless, like λ).
+
+    For a state of segment k: t = Σ_{j<k} |λ_end,j − λ_start,j| + |λ − λ_start,k|.  Within a
+    segment λ moves monotonically from its start to its end, so this is the cumulative sum of
+    |Δλ| along the states, continued across segment changes; t = λ for a single segment that
+    starts at λ = 0.  Results without a usable load program fall back to Σ|Δλ| between
+    consecutive states (t = 0 at state 0).
+
+    Returns
+    -------
+    ndarray (n_states,)
+    """
+    lam = np.asarray(result.lam, dtype=float)
+    seg = np.asarray(result.segment, dtype=np.int64)
+    segs = list(result.segments)
+    if lam.size == 0:
+        return np.zeros(0)
+    if segs and seg.min() >= 0 and seg.max() < len(segs):
+        start = np.array([float(s[1]) for s in segs])
+        end = np.array([float(s[2]) for s in segs])
+        before = np.r_[0.0, np.cumsum(np.abs(end - start))]
+        return before[seg] + np.abs(lam - start[seg])
+    return np.r_[0.0, np.cumsum(np.abs(np.diff(lam)))]
+
+
+def frame_times(t: np.ndarray) -> np.ndarray:
+    """Strictly increasing frame times from non-decreasing values ``t``.
+
+    A value that does not exceed its predecessor by ``TIME_SEPARATION`` × max(1, max|t|) is
+    moved up to that separation; all other values are kept exactly.
+    """
+    t = np.asarray(t, dtype=float)
+    out = t.copy()
+    if out.size == 0:
+        return out
+    delta = TIME_SEPARATION * max(1.0, float(np.max(np.abs(t))))
+    for k in range(1, len(out)):  # loop over frames
+        out[k] = max(out[k], out[k - 1] + delta)
+    return out
+
+
+def _parse_selection(result: StaticResult, states: StateSelection) -> np.ndarray:
+    """State indices named by ``states`` (sorted, unique; may lack displacement fields)."""
+    n = result.n_states
+    kind = np.asarray(result.kind).astype(str)
+    if states is None:
+        states = "stored"
+    if isinstance(states, str):
+        key = states.strip().lower()
+        if key == "stored":
+            return np.array(sorted(k for k in result.fields if 0 <= k < n), dtype=np.int64)
+        if key == "all":
+            return np.arange(n, dtype=np.int64)
+        if key == "events":
+            return np.flatnonzero(kind == "event").astype(np.int64)
+        if key == "ends":
+            return np.flatnonzero(kind == "segment_end").astype(np.int64)
+        try:
+            states = [int(v) for v in key.split(",") if v.strip()]
+        except ValueError:
+            raise ValueError(
+                f"states '{states}': use 'stored', 'all', 'events', 'ends' or state indices "
+                "such as '0,3,-1'"
+            ) from None
+    idx = np.atleast_1d(np.asarray(states))
+    if idx.size and idx.dtype.kind not in "iu":
+        raise ValueError(f"states: expected integer state indices, got {idx.dtype}")
+    idx = idx.astype(np.int64)
+    bad = (idx < -n) | (idx >= n)
+    if bad.any():
+        raise ValueError(
+            f"state {int(idx[bad][0])} does not exist (the result has {n} states, 0…{n - 1})"
+        )
+    return np.unique(np.where(idx < 0, idx + n, idx))
+
+
+def select_states(
+    result: StaticResult, states: StateSelection = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The states to export and the selected states skipped for lack of displacements.
+
+    Parameters
+    ----------
+    result : StaticResult
+    states : None, str, int or sequence of int
+        ``None`` or ``"stored"``: every state with a stored displacement field
+        (``result.fields``); ``"all"``: every reported state; ``"events"``: the event states;
+        ``"ends"``: the load-segment ends; state indices (negative count from the end), also
+        as a string ``"0,3,-1"``.  States are exported in increasing order.
+
+    Returns
+    -------
+    (exported, skipped) : two int arrays
+        ``skipped`` are selected states whose displacements were neither stored nor can be
+        recomputed (a result loaded from a file only has its stored fields).
+    """
+    idx = _parse_selection(result, states)
+    recover = getattr(result, "_recover", None) is not None
+    have = np.array([recover or int(i) in result.fields for i in idx], dtype=bool)
+    return idx[have], idx[~have]
+
+
+@dataclass(frozen=True)
+class _Frames:
+    states: np.ndarray  #: exported state indices
+    t: np.ndarray  #: load-path parameter of those states
+    time: np.ndarray  #: strictly increasing frame times
+    skipped: np.ndarray  #: selected states without displacements
+
+
+def _frames(result: StaticResult, states: StateSelection) -> _Frames:
+    kept, skipped = select_states(result, states)
+    if skipped.size:
+        _log.warning(
+            "skipped %d selected state(s) without stored displacements (%s); re-run with "
+            "store_fields='all' to export them", skipped.size, _short_list(skipped),
+        )
+    if kept.size == 0:
+        raise ValueError(
+            "no selected state has stored displacements: nothing to export (re-run with "
+            "store_fields='all', or select states with fields)"
+        )
+    t = load_path_parameter(result)[kept]
+    return _Frames(kept, t, frame_times(t), skipped)
+
+
+def _short_list(idx: np.ndarray, limit: int = 10) -> str:
+    items = [str(int(i)) for i in idx[:limit]]
+    return ", ".join(items) + (", …" if idx.size > limit else "")
+
+
+def _field_data(result: StaticResult, i: int, t: float, time: float) -> dict[str, np.ndarray]:
+    kind = str(np.asarray(result.kind).astype(str)[i])
+    return {
+        "TimeValue": np.array([time]),
+        "load_path_t": np.array([t]),
+        "lam": np.array([float(result.lam[i])]),
+        "segment": np.array([int(result.segment[i])], dtype=np.int64),
+        "state": np.array([i], dtype=np.int64),
+        "state_kind": np.array([STATE_KINDS.get(kind, -1)], dtype=np.int64),
+        "factors": np.asarray(result.factors[i], dtype=float).ravel(),
+    }
+
+
+# --------------------------------------------------------------------------------------------
+# grids
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _BodyGrid:
+    points: np.ndarray  #: (n_nodes, 3), m
+    blocks: list[tuple[str, np.ndarray]]  #: one (meshio type, connectivity) per body
+    names: list[str]
+    continuum: list[bool]
+    dof_of: np.ndarray  #: (n_nodes, 3) global dof of ux, uy, rz (-1: none)
+
+
+@dataclass(frozen=True)
+class _CfeGrid:
+    points: np.ndarray  #: (2m, 3): S+ ends, then S− ends, m
+    lines: np.ndarray  #: (m, 2)
+    nodes: np.ndarray | None  #: (2m, J) interpolation nodes of the ends (-1 padding)
+    weights: np.ndarray | None  #: (2m, J)
+
+
+def _cell_type(body: dict, nodes_per_cell: int) -> str:
+    element = str(body.get("element", ""))
+    kind = str(body.get("kind", ""))
+    if kind == "frame":
+        ctype = "line"
+    elif element in _ELEMENT_TYPES:
+        ctype = _ELEMENT_TYPES[element]
+    elif nodes_per_cell in _NODES_TYPES and kind in ("continuum", ""):
+        ctype = _NODES_TYPES[nodes_per_cell]
+    else:
+        raise ValueError(f"body '{body.get('name')}': cannot export element '{element}'")
+    if _NODES_PER_CELL[ctype] != nodes_per_cell:
+        raise ValueError(
+            f"body '{body.get('name')}': element '{element}' with {nodes_per_cell} nodes per "
+            "cell"
+        )
+    return ctype
+
+
+def _counter_clockwise(ctype: str, cells: np.ndarray, xy: np.ndarray) -> np.ndarray:
+    """``cells`` with every clockwise cell's node order reversed (positive signed area)."""
+    if ctype not in _REVERSE or cells.size == 0:
+        return cells
+    n_corner = 3 if ctype.startswith("triangle") else 4
+    c = xy[cells[:, :n_corner]]  # (n_el, n_corner, 2)
+    nxt = np.roll(c, -1, axis=1)
+    area2 = np.sum(c[..., 0] * nxt[..., 1] - nxt[..., 0] * c[..., 1], axis=1)
+    return np.where((area2 < 0)[:, None], cells[:, _REVERSE[ctype]], cells)
+
+
+def _body_grid(result: StaticResult) -> _BodyGrid:
+    geo = result.geometry or {}
+    if "points" not in geo or "dof_of" not in geo or not geo.get("bodies"):
+        raise ValueError("the result has no geometry (points, dof_of, bodies): cannot export")
+    xy = np.asarray(geo["points"], dtype=float).reshape(-1, 2)
+    points = np.column_stack([xy, np.zeros(len(xy))])
+    dof_of = np.asarray(geo["dof_of"], dtype=np.int64)
+    blocks, names, continuum = [], [], []
+    for body in geo["bodies"]:
+        cells = np.asarray(body["cells"], dtype=np.int64)
+        cells = cells.reshape(len(cells), -1)
+        ctype = _cell_type(body, cells.shape[1])
+        blocks.append((ctype, _counter_clockwise(ctype, cells, xy)))
+        names.append(str(body["name"]))
+        continuum.append(ctype != "line")
+    return _BodyGrid(points, blocks, names, continuum, dof_of)
+
+
+def _cfe_grid(result: StaticResult, xy: np.ndarray) -> _CfeGrid:
+    cfe = result.cfe
+    m = result.m
+    plus = np.asarray(cfe["x"], dtype=float).reshape(m, 2)
+    if all(k in cfe for k in _CFE_END_KEYS):
+        nodes = np.concatenate([np.asarray(cfe["plus_nodes"]), np.asarray(cfe["minus_nodes"])])
+        nodes = nodes.astype(np.int64).reshape(2 * m, -1)
+        w = np.concatenate([np.asarray(cfe["plus_w"]), np.asarray(cfe["minus_w"])])
+        w = np.where(nodes >= 0, w.astype(float).reshape(2 * m, -1), 0.0)
+        ends = np.einsum("pj,pjc->pc", w, xy[np.maximum(nodes, 0)])
+        ends[:m] = plus
+    else:
+        nodes = w = None
+        gap = np.asarray(cfe.get("gap", np.zeros(m)), dtype=float).reshape(m)
+        normal = np.asarray(cfe["normal"], dtype=float).reshape(m, 2)
+        ends = np.concatenate([plus, plus - gap[:, None] * normal])
+    points = np.column_stack([ends, np.zeros(2 * m)])
+    lines = np.column_stack([np.arange(m), m + np.arange(m)]).astype(np.int64)
+    return _CfeGrid(points, lines, nodes, w)
+
+
+# --------------------------------------------------------------------------------------------
+# frame data
+# --------------------------------------------------------------------------------------------
+def _nodal_displacement(grid: _BodyGrid, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(n_nodes, 3) displacements (z = 0), m, and (n_nodes,) rotations, rad (NaN: no DOF)."""
+    dof = grid.dof_of
+    disp = np.zeros((len(dof), 3))
+    for c in range(2):
+        disp[:, c] = np.where(dof[:, c] >= 0, u[np.maximum(dof[:, c], 0)], 0.0)
+    rz = dof[:, 2] if dof.shape[1] > 2 else np.full(len(dof), -1)
+    rot = np.where(rz >= 0, u[np.maximum(rz, 0)], np.nan)
+    return disp, rot
+
+
+def von_mises(stress: np.ndarray) -> np.ndarray:
+    """Von Mises stress (Pa) of (n, 4) stresses σxx, σyy, σxy, σzz (Pa)."""
+    sxx, syy, sxy, szz = (stress[:, j] for j in range(4))
+    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)
+
+
+def _body_data(
+    result: StaticResult, grid: _BodyGrid, i: int, disp: np.ndarray, rot: np.ndarray
+) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
+    point_data = {"displacement": disp}
+    if np.any(grid.dof_of[:, 2:] >= 0):
+        point_data["rotation"] = rot
+    at_state = result.stresses.get(i, {})
+    cell_data: dict[str, list[np.ndarray]] = {k: [] for k in (*_STRESS_NAMES, "von_mises")}
+    cell_data["body"] = []
+    for b, ((_, cells), name, cont) in enumerate(
+        zip(grid.blocks, grid.names, grid.continuum, strict=True)
+    ):
+        s = np.full((len(cells), 4), np.nan)
+        if cont and name in at_state:
+            given = np.asarray(at_state[name], dtype=float)
+            if given.shape != s.shape:
+                raise ValueError(
+                    f"stresses of body '{name}' at state {i}: shape {given.shape}, expected "
+                    f"{s.shape}"
+                )
+            s = given
+        for j, key in enumerate(_STRESS_NAMES):
+            cell_data[key].append(s[:, j].copy())
+        cell_data["von_mises"].append(von_mises(s))
+        cell_data["body"].append(np.full(len(cells), b, dtype=np.int32))
+    return point_data, cell_data
+
+
+def _cfe_static(result: StaticResult) -> dict[str, np.ndarray]:
+    cfe, m = result.cfe, result.m
+
+    def get(key: str, default: float) -> np.ndarray:
+        return np.asarray(cfe.get(key, np.full(m, default)), dtype=float).reshape(m)
+
+    normal = np.asarray(cfe["normal"], dtype=float).reshape(m, 2)
+    return {
+        "interface": np.asarray(cfe["interface"]).astype(np.int32).reshape(m),
+        "cfe": np.arange(m, dtype=np.int32),
+        "local": np.asarray(cfe.get("local", np.arange(m))).astype(np.int32).reshape(m),
+        "s": get("s", np.nan),
+        "normal": np.column_stack([normal, np.zeros(m)]),
+        "area": get("area", np.nan),
+        "friction": get("friction", np.nan),
+        "gap": get("gap", np.nan),
+    }
+
+
+def _cfe_data(
+    result: StaticResult, grid: _CfeGrid, static: dict[str, np.ndarray], i: int,
+    disp: np.ndarray,
+) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
+    point_data = {}
+    if grid.nodes is not None and grid.weights is not None:
+        point_data["displacement"] = np.einsum(
+            "pj,pjc->pc", grid.weights, disp[np.maximum(grid.nodes, 0)]
+        )
+    per_state = {
+        "N": result.N[i], "Q": result.Q[i], "sigma_n": result.sigma_n[i], "tau": result.tau[i],
+        "un": result.un[i], "ut": result.ut[i],
+    }
+    cell = {k: np.asarray(v, dtype=float).copy() for k, v in per_state.items()}
+    cell["state"] = np.asarray(result.state[i]).astype(np.int32)
+    cell |= static
+    return point_data, {k: [v] for k, v in cell.items()}
+
+
+_Data = tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]
+
+
+def _iter_frames(
+    result: StaticResult, frames: _Frames, body: _BodyGrid, cfe: _CfeGrid | None
+) -> Iterator[tuple[int, float, float, _Data, _Data | None]]:
+    """Per frame: (state, t, time, body point/cell data, CFE point/cell data or None)."""
+    static = _cfe_static(result) if cfe is not None else {}
+    for i, t, time in zip(frames.states.tolist(), frames.t, frames.time, strict=True):
+        u = np.asarray(result.displacement(i), dtype=float)
+        disp, rot = _nodal_displacement(body, u)
+        bpd, bcd = _body_data(result, body, i, disp, rot)
+        cdata = _cfe_data(result, cfe, static, i, disp) if cfe is not None else None
+        yield i, float(t), float(time), (bpd, bcd), cdata
+
+
+# --------------------------------------------------------------------------------------------
+# VTU + PVD
+# --------------------------------------------------------------------------------------------
+def _field_data_xml(field_data: dict[str, np.ndarray]) -> str:
+    """A VTK XML ``<FieldData>`` element with ASCII arrays (floats written exactly)."""
+    parts = ["<FieldData>"]
+    for name, value in field_data.items():
+        v = np.atleast_1d(value)
+        if v.dtype.kind == "f":
+            typ, text = "Float64", " ".join(repr(float(x)) for x in v)
+        else:
+            typ, text = "Int64", " ".join(str(int(x)) for x in v)
+        parts.append(
+            f'<DataArray type="{typ}" Name={quoteattr(name)} NumberOfTuples="{v.size}" '
+            f'format="ascii">{text}</DataArray>'
+        )
+    parts.append("</FieldData>")
+    return "".join(parts)
+
+
+def _write_vtu(
+    path: Path,
+    points: np.ndarray,
+    blocks: list[tuple[str, np.ndarray]],
+    point_data: dict[str, np.ndarray],
+    cell_data: dict[str, list[np.ndarray]],
+    field_data: dict[str, np.ndarray],
+) -> None:
+    mesh = meshio.Mesh(points, blocks, point_data=point_data, cell_data=cell_data)
+    meshio.write(path, mesh, file_format="vtu")
+    # meshio's VTU writer drops field data: insert it as the grid's first child
+    text = path.read_text(encoding="utf-8")
+    tag = "<UnstructuredGrid>"
+    if tag not in text:
+        raise RuntimeError(f"{path}: unexpected VTU layout written by meshio")
+    text = text.replace(tag, tag + _field_data_xml(field_data), 1)
+    path.write_text(text, encoding="utf-8")
+
+
+def _comment(text: str) -> str:
+    return " " + text.replace("--", "- -") + " "
+
+
+def _write_pvd(path: Path, entries: list[tuple[float, str]], notes: list[str]) -> None:
+    root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
+    for note in notes:
+        root.append(ET.Comment(_comment(note)))
+    coll = ET.SubElement(root, "Collection")
+    for time, file in entries:
+        ET.SubElement(coll, "DataSet", timestep=repr(float(time)), group="", part="0", file=file)
+    ET.indent(root)
+    ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)
+
+
+def _notes(result: StaticResult, body: _BodyGrid) -> list[str]:
+    codes = ", ".join(f"{int(s)} {s.label}" for s in ContactState)
+    return [
+        "stepcontact export; units SI: m, N, Pa; time = load-path parameter t = sum |dlambda|",
+        "body ids: " + ", ".join(f"{k} {n}" for k, n in enumerate(body.names)),
+        "interface ids: " + ", ".join(f"{k} {n}" for k, n in enumerate(result.interface_names)),
+        f"CFE state codes: {codes}",
+        "field data of every frame: TimeValue, load_path_t, lam, segment, state, "
+        "state_kind (0 start, 1 segment start, 2 event, 3 segment end), factors",
+    ]
+
+
+_NAME_RE = re.compile(r"[^/\\\x00]+")
+
+
+def _check_name(name: str) -> None:
+    if not _NAME_RE.fullmatch(name) or name in (".", "..") or name.startswith("."):
+        raise ValueError(f"name '{name}': use a plain file name (no path separators)")
+
+
+def _is_series_dir(path: Path, name: str) -> bool:
+    """True when ``path`` is a directory holding nothing but files of the series ``name``."""
+    if not path.is_dir():
+        return False
+    pattern = re.compile(re.escape(name) + r"(_cfe)?_\d+\.vtu")
+    return all(p.is_file() and pattern.fullmatch(p.name) for p in path.iterdir())
+
+
+def export_vtu(
+    result: StaticResult,
+    directory: str | os.PathLike[str],
+    *,
+    states: StateSelection = None,
+    name: str = "result",
+) -> Path:
+    """Write the result as VTU time series with ``.pvd`` collection files for ParaView.
+
+    Files: ``DIR/NAME.pvd`` (bodies and frames), ``DIR/NAME_cfe.pvd`` (contact elements; not
+    written for a model without CFEs), and the frames ``DIR/NAME/NAME_<state>.vtu`` and
+    ``DIR/NAME/NAME_cfe_<state>.vtu``.  An existing series of the same name is replaced (the
+    folder ``DIR/NAME`` must hold nothing else); other files in ``DIR`` are left alone.  The
+    arrays, units and the time parameter are described in the module documentation
+    (:mod:`stepcontact.export`) and in ``docs/paraview.md``.
+
+    Parameters
+    ----------
+    result : StaticResult
+        A result with geometry (from :func:`~stepcontact.solve_static` or a result file).
+    directory : path
+        Output folder (created).
+    states : None, "stored", "all", "events", "ends", int or sequence of int
+        States to write (see :func:`select_states`); default: every state with a stored
+        displacement field.  Selected states without displacements are skipped with a
+        warning on the ``stepcontact.export`` logger.
+    name : str
+        Base name of the files.
+
+    Returns
+    -------
+    pathlib.Path
+        The bodies' ``.pvd`` file (open it in ParaView; the CFEs' file is beside it).
+    """
+    _check_name(name)
+    directory = Path(directory)
+    frames = _frames(result, states)
+    body = _body_grid(result)
+    cfe = _cfe_grid(result, body.points[:, :2]) if result.m else None
+    directory.mkdir(parents=True, exist_ok=True)
+    data_dir = directory / name
+    if data_dir.exists() and not _is_series_dir(data_dir, name):
+        raise FileExistsError(
+            f"'{data_dir}' exists and is not a VTU series '{name}' written by stepcontact: "
+            "choose another name or directory"
+        )
+    width = max(4, len(str(result.n_states - 1)))
+    notes = _notes(result, body)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=".tmp", dir=directory))
+    old: Path | None = None
+    try:
+        (tmp / name).mkdir()
+        body_entries: list[tuple[float, str]] = []
+        cfe_entries: list[tuple[float, str]] = []
+        for i, t, time, (bpd, bcd), cdata in _iter_frames(result, frames, body, cfe):
+            fdata = _field_data(result, i, t, time)
+            rel = f"{name}/{name}_{i:0{width}d}.vtu"
+            _write_vtu(tmp / rel, body.points, body.blocks, bpd, bcd, fdata)
+            body_entries.append((time, rel))
+            if cfe is not None and cdata is not None:
+                rel = f"{name}/{name}_cfe_{i:0{width}d}.vtu"
+                _write_vtu(tmp / rel, cfe.points, [("line", cfe.lines)], *cdata, fdata)
+                cfe_entries.append((time, rel))
+        pvd = tmp / f"{name}.pvd"
+        cfe_pvd = tmp / f"{name}_cfe.pvd"
+        _write_pvd(pvd, body_entries, notes)
+        if cfe is not None:
+            _write_pvd(cfe_pvd, cfe_entries, notes)
+        # move into place: the frames folder first, then the collection files
+        if data_dir.exists():
+            old = directory / f".{name}.old-{uuid.uuid4().hex}"
+            os.replace(data_dir, old)
+        try:
+            os.replace(tmp / name, data_dir)
+        except BaseException:
+            if old is not None:
+                os.replace(old, data_dir)
+                old = None
+            raise
+        if cfe is not None:
+            os.replace(cfe_pvd, directory / cfe_pvd.name)
+        else:
+            (directory / cfe_pvd.name).unlink(missing_ok=True)
+        os.replace(pvd, directory / pvd.name)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    return directory / f"{name}.pvd"
+
+
+# --------------------------------------------------------------------------------------------
+# XDMF
+# --------------------------------------------------------------------------------------------
+class _XdmfWriter(TimeSeriesWriter):
+    """meshio's XDMF time-series writer with three fixes.
+
+    The HDF5 file is written next to the ``.xdmf`` file (meshio opens it in the working
+    directory), line cells get ``NodesPerElement="2"``, and mixed topologies with line cells are
+    encoded correctly (type 2, node count 2, nodes).
+    """
+
+    def __enter__(self):
+        import h5py
+
+        self.h5_filename = str(self.filename.with_suffix(".h5"))
+        self.h5_file = h5py.File(self.h5_filename, "w")
+        return self
+
+    def cells(self, cells, grid: ET.Element) -> None:
+        blocks = [(str(t), np.asarray(d)) for t, d in cells]
+        if len({t for t, _ in blocks}) == 1:
+            ctype = blocks[0][0]
+            data = np.concatenate([d for _, d in blocks])
+            attrs = {"TopologyType": meshio_to_xdmf_type[ctype][0],
+                     "NumberOfElements": str(len(data))}
+            if ctype == "line":
+                attrs["NodesPerElement"] = "2"
+            dims = "{} {}".format(*data.shape)
+        else:
+            parts = []
+            for ctype, d in blocks:
+                cols = [np.full((len(d), 1), meshio_type_to_xdmf_index[ctype], dtype=d.dtype)]
+                if ctype == "line":
+                    cols.append(np.full((len(d), 1), 2, dtype=d.dtype))
+                parts.append(np.hstack([*cols, d]).ravel())
+            data = np.concatenate(parts)
+            attrs = {"TopologyType": "Mixed",
+                     "NumberOfElements": str(sum(len(d) for _, d in blocks))}
+            dims = str(data.size)
+        topo = ET.SubElement(grid, "Topology", **attrs)
+        dt, prec = numpy_to_xdmf_dtype[data.dtype.name]
+        item = ET.SubElement(topo, "DataItem", DataType=dt, Dimensions=dims,
+                             Format=self.data_format, Precision=prec)
+        item.text = self.numpy_to_xml_string(data)
+
+    def information(self, values: dict[str, np.ndarray]) -> None:
+        """Attach ``<Information>`` elements to the time grid written last."""
+        grid = list(self.collection)[-1]
+        for key, v in values.items():
+            text = " ".join(repr(x) for x in np.atleast_1d(v).tolist())
+            ET.SubElement(grid, "Information", Name=key, Value=text)
+
+
+def export_xdmf(
+    result: StaticResult,
+    path: str | os.PathLike[str],
+    *,
+    states: StateSelection = None,
+) -> Path:
+    """Write the result as XDMF time series (``.xdmf`` + ``.h5``) for ParaView.
+
+    Files: ``FILE.xdmf`` + ``FILE.h5`` (bodies and frames; one ``Mixed`` topology when the
+    bodies have different cell types), ``FILE_cfe.xdmf`` + ``FILE_cfe.h5`` (contact elements;
+    not written without CFEs).  Written with meshio's ``TimeSeriesWriter``; open them with
+    ParaView's "Xdmf3 Reader T" (or "XDMF Reader").  Arrays, units and the time parameter as
+    for :func:`export_vtu`; λ, segment and state index of each frame are ``<Information>``
+    elements of its time grid.  Both pairs of files are written atomically.
+
+    Parameters
+    ----------
+    result : StaticResult
+    path : path
+        The bodies' ``.xdmf`` file (parent folders are created).
+    states : see :func:`select_states`
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".xdmf":
+        raise ValueError(f"'{path}': the XDMF file name must end in .xdmf")
+    _check_name(path.name)
+    frames = _frames(result, states)
+    body = _body_grid(result)
+    cfe = _cfe_grid(result, body.points[:, :2]) if result.m else None
+    path.parent.mkdir(parents=True, exist_ok=True)
+    cfe_path = path.with_name(f"{path.stem}_cfe.xdmf")
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.stem}.", suffix=".tmp", dir=path.parent))
+    try:
+        with (
+            _XdmfWriter(tmp / path.name) as wb,
+            _XdmfWriter(tmp / cfe_path.name) as wc,
+        ):
+            wb.write_points_cells(body.points, body.blocks)
+            if cfe is not None:
+                wc.write_points_cells(cfe.points, [("line", cfe.lines)])
+            for i, t, time, (bpd, bcd), cdata in _iter_frames(result, frames, body, cfe):
+                info = _field_data(result, i, t, time)
+                wb.write_data(time, point_data=bpd, cell_data=bcd)
+                wb.information(info)
+                if cdata is not None:
+                    wc.write_data(time, point_data=cdata[0] or None, cell_data=cdata[1])
+                    wc.information(info)
+        outputs = [path] + ([cfe_path] if cfe is not None else [])
+        for out in outputs:  # data first, then the XML that points to it
+            os.replace(tmp / out.with_suffix(".h5").name, out.with_suffix(".h5"))
+        for out in outputs:
+            os.replace(tmp / out.name, out)
+        if cfe is None:
+            cfe_path.unlink(missing_ok=True)
+            cfe_path.with_suffix(".h5").unlink(missing_ok=True)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return path
+
+
+__all__ = [
+    "STATE_KINDS",
+    "TIME_SEPARATION",
+    "export_vtu",
+    "export_xdmf",
+    "frame_times",
+    "load_path_parameter",
+    "select_states",
+    "von_mises",
+]
