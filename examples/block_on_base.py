@@ -26,5 +26,6 @@ print(res.summary())
 print(res.events_table()[["step", "lam", "position", "transition", "N", "Q"]].to_string())
 W = 2 * 1 * 2400 * 9.81
 lost = res.multipliers[-1].equilibrium_lost
-print(f"sliding at H = {lost:.6f} N, f·W = {0.5 * W:.6f} N, relative error {lost / (0.5 * W) - 1:.1e}")
+err = lost / (0.5 * W) - 1
+print(f"sliding at H = {lost:.6f} N, f·W = {0.5 * W:.6f} N, relative error {err:.1e}")
 assert abs(lost / (0.5 * W) - 1) < 1e-9

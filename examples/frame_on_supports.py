@@ -2,7 +2,8 @@
 
 A steel beam rests on five supports (rigid contact, frictionless) of a stiff base.  Its own
 weight presses it down; an upward force then lifts its right end, and the supports next to it
-open one after another.  A pin at the left end holds the beam horizontally.  Run:  python examples/frame_on_supports.py
+open one after another.  A pin at the left end holds the beam horizontally.
+Run:  python examples/frame_on_supports.py
 """
 
 import numpy as np

@@ -185,7 +185,6 @@ def test_vtu_series_matches_the_result(block, tmp_path):
     assert_allclose(t[~seg0], 1.0 + res.lam[states][~seg0])
 
     xy = np.asarray(res.geometry["points"])
-    ends = set(np.flatnonzero(np.asarray(res.kind) == "segment_end"))
     for (time, file), (_, cfile), i in zip(entries, cfe_entries, states, strict=True):
         mesh = meshio.read(file)
         assert_array_equal(mesh.points[:, :2], xy)

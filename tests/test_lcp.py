@@ -11,9 +11,9 @@ import itertools
 
 import numpy as np
 import pytest
-import verification_models as vm
 
 import stepcontact as sc
+import verification_models as vm
 from stepcontact.lcp import lemke
 from stepcontact.static import StaticSolver
 

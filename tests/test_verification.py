@@ -176,9 +176,14 @@ def test_uplift_lifts_slab_off_at_its_weight(weight):
     assert res.status == Status.EQUILIBRIUM_LOST, res.message
     mu = res.multipliers[1]
     assert mu.equilibrium_lost == pytest.approx(lam_star, rel=1e-9)
-    # at lift-off every contact force has vanished (1e-9 relative to the weight); the scheme
-    # reported at a mechanism is the last consistent one, so the states are not checked
+    # at lift-off every contact force has vanished (1e-9 relative to the weight) and the
+    # reported scheme is the mechanism: every CFE open, the slab translating upwards
     assert_allclose(res.N[last(res)], 0.0, rtol=0, atol=1e-9 * W)
+    assert np.all(res.state[last(res)] == 0)
+    (body,) = res.mechanism["bodies"]
+    assert body["body"] == "slab" and body["mode"] == "lift-off"
+    tx, ty = body["translation"]
+    assert abs(tx) < 1e-6 and ty == pytest.approx(1.0, rel=1e-6)
     if weight == "top_pressure":  # every N reaches 0 at λ*: no opening before the loss
         assert mu.first_opening is None or mu.first_opening == pytest.approx(lam_star, rel=1e-9)
         assert all(e.lam == pytest.approx(lam_star, rel=1e-9)

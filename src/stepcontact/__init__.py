@@ -1,9 +1,9 @@
 """stepcontact: exact step-by-step analysis of structures with unilateral contact and friction."""
 
+from .assembly import System, assemble
 from .enums import ContactState, SlipTreatment, Status, Transition
 from .errors import ModelError, SolverError, StepContactError
 from .export import export_vtu, export_xdmf
-from .assembly import System, assemble
 from .mesh import rectangle
 from .model import (
     Body,

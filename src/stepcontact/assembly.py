@@ -112,7 +112,8 @@ def dof_map(model: Model) -> DofMap:
         a = model.global_nodes(tie.a)
         b = model.global_nodes(tie.b)
         if len(a) != len(b):
-            raise ModelError(f"tie '{tie.name}'", f"node sets differ in size ({len(a)} vs {len(b)})")
+            raise ModelError(f"tie '{tie.name}'",
+                             f"node sets differ in size ({len(a)} vs {len(b)})")
         for i, j in zip(a.tolist(), b.tolist(), strict=True):
             ri, rj = find(i), find(j)
             if ri != rj:
@@ -335,7 +336,8 @@ def contact_operator(cfe: ContactElements, dofs: DofMap) -> tuple[sp.csr_matrix,
         rows += [k, m + k]
         cols += [d, d]
         vals += [w * cfe.tangent[:, c : c + 1], -w * cfe.normal[:, c : c + 1]]
-    B = scatter(np.concatenate([r.ravel() for r in rows]), np.concatenate([c.ravel() for c in cols]),
+    B = scatter(np.concatenate([r.ravel() for r in rows]),
+                np.concatenate([c.ravel() for c in cols]),
                 np.concatenate([v.ravel() for v in vals]), (2 * m, dofs.ndof))
     w0 = np.r_[np.zeros(m), -cfe.gap]
     return B, w0

@@ -7,7 +7,8 @@ Equilibrium and kinematics of the structure (free DOFs f, prescribed DOFs p):
 with s = [Q; −N] the CFE forces and w = [u_τ; u_n] their mutual displacements.  A body held
 only by contact makes K_ff singular, so the matrix that is factorised (once) is
 
-    K₀ = K_ff + B_fᵀ D B_f,          D = diag(d_j), d_j = Σ_a B_ja² K_aa > 0 (any positive value cancels exactly)
+    K₀ = K_ff + B_fᵀ D B_f,     D = diag(d_j),  d_j = Σ_a B_ja² K_aa > 0
+    (any positive D cancels exactly)
 
 which is regular whenever the structure with every CFE stuck is.  With t = s − D ŵ and
 ŵ = B_f u_f, the structure is condensed exactly to
@@ -270,7 +271,8 @@ class Condensed:
                     np.abs(f[self.free]).max(initial=0), 1e-300)
         wk = sysm.B @ u + sysm.w0
         kscale = max(np.abs(w).max(initial=0), np.abs(u).max(initial=0), w_scale, 1e-300)
-        return float(np.abs(r).max(initial=0) / scale), float(np.abs(wk - w).max(initial=0) / kscale)
+        kin = float(np.abs(wk - w).max(initial=0) / kscale)
+        return float(np.abs(r).max(initial=0) / scale), kin
 
     def condensed_residual(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray,
                            w_scale: float = 0.0) -> float:
@@ -292,22 +294,30 @@ class Condensed:
         scale = max(np.abs(w_hat).max(initial=0), np.abs(h).max(initial=0), w_scale, 1e-300)
         return float(np.abs(r).max(initial=0) / scale)
 
-    def null_mode(self, A: np.ndarray, lu) -> np.ndarray:
-        """Null vector t of a singular scheme matrix (inverse iteration on its LU)."""
+    def null_modes(self, A: np.ndarray, lu, k: int = 3) -> np.ndarray:
+        """Null vectors t (columns) of a singular scheme matrix: block inverse iteration on its
+        LU, then the combinations of the block that A maps to (near) zero (σ ≤ 1e-6 ‖A‖)."""
         lu_m, piv = lu
         d = np.abs(np.diag(lu_m))
         tiny = 1e-14 * max(float(d.max(initial=0.0)), 1e-300)
         if np.any(d < tiny):  # exactly singular: lift the zero pivots to round-off level
             lu_m = lu_m.copy()
-            k = np.flatnonzero(d < tiny)
-            lu_m[k, k] = tiny
+            j = np.flatnonzero(d < tiny)
+            lu_m[j, j] = tiny
             lu = (lu_m, piv)
-        rng = np.random.default_rng(0)
-        x = rng.standard_normal(A.shape[0])
+        n = A.shape[0]
+        X = np.random.default_rng(0).standard_normal((n, min(k, n)))
         for _ in range(3):
-            x = sla.lu_solve(lu, x, check_finite=False)
-            x /= np.linalg.norm(x)
-        return x
+            X = np.linalg.qr(sla.lu_solve(lu, X, check_finite=False))[0]
+        _, sv, Vt = np.linalg.svd(A @ X, full_matrices=False)
+        keep = sv <= 1e-6 * max(np.linalg.norm(A, 2), 1e-300)
+        if not keep.any():
+            keep[np.argmin(sv)] = True
+        return X @ Vt[keep].T
+
+    def null_mode(self, A: np.ndarray, lu) -> np.ndarray:
+        """One null vector t of a singular scheme matrix."""
+        return self.null_modes(A, lu, 1)[:, 0]
 
     def mode_displacement(self, t: np.ndarray) -> np.ndarray:
         """Displacement of a mechanism mode t of the condensed unknowns."""

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from enum import Enum, IntEnum
+from enum import IntEnum, StrEnum
 
 
 class ContactState(IntEnum):
@@ -35,7 +35,7 @@ class ContactState(IntEnum):
         return {0: "open", 1: "stick", 2: "slip+", 3: "slip-", 4: "bonded"}[int(self)]
 
 
-class Transition(str, Enum):
+class Transition(StrEnum):
     """What happened to a CFE at an event."""
 
     CLOSED = "closed"  #: open -> contact
@@ -61,7 +61,7 @@ class Transition(str, Enum):
         return Transition.STUCK
 
 
-class Status(str, Enum):
+class Status(StrEnum):
     """How a run ended."""
 
     COMPLETED = "completed"  #: the whole load program was applied
@@ -71,7 +71,7 @@ class Status(str, Enum):
     MAX_EVENTS = "max_events"  #: the event budget was exhausted
 
 
-class SlipTreatment(str, Enum):
+class SlipTreatment(StrEnum):
     """How slip is written into the working scheme (method.md §3)."""
 
     EXACT = "exact"  #: Q = σ f N in the scheme; every event exact

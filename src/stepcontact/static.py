@@ -31,15 +31,19 @@ import numpy as np
 
 from .assembly import System, assemble
 from .condensation import Condensed, MechanismError, SchemeSolver, scheme_relations
-from .lcp import lemke
 from .enums import ContactState, SlipTreatment, Status, Transition
 from .errors import ModelError
+from .lcp import lemke
 from .model import Body, Model
 from .results import Event, Multipliers, StaticResult
 
 OPEN, STICK, SLIP_POS, SLIP_NEG = (int(s) for s in (ContactState.OPEN, ContactState.STICK,
                                                     ContactState.SLIP_POS, ContactState.SLIP_NEG))
 _INF = np.inf
+#: a CFE whose event function is within LIMIT_TOL · rtol of the path's force (displacement)
+#: scale is at its limit and joins the rate problem.  Its function is then snapped to the
+#: limit, so this bounds the violation of conditions (1) that a reported state can carry.
+LIMIT_TOL = 10.0
 
 
 @dataclass
@@ -167,7 +171,7 @@ class StaticSolver:
 
     def _tol_phi(self) -> np.ndarray:
         """Absolute tolerance of each event-function column (forces, forces, forces, gaps)."""
-        tf, tw = 1e3 * self.rtol * self.F_scale, 1e3 * self.rtol * self.W_scale
+        tf, tw = LIMIT_TOL * self.rtol * self.F_scale, LIMIT_TOL * self.rtol * self.W_scale
         return np.array([tf, tf, tf, tw])
 
     # ---- rates --------------------------------------------------------------------------------
@@ -193,9 +197,9 @@ class StaticSolver:
         are two-sided in friction as well (Q = 0 and f p = 0): boolean arrays over all CFEs."""
         m = self.cfe.m
         Q, p = self.s[:m], self.s[m:]
-        tf = 1e3 * self.rtol * self.F_scale
+        tf = LIMIT_TOL * self.rtol * self.F_scale
         normal_lim = np.zeros(m, dtype=bool)
-        normal_lim[L] = np.where(self.states[L] == OPEN, -self.w[m + L] <= 1e3 * self.rtol *
+        normal_lim[L] = np.where(self.states[L] == OPEN, -self.w[m + L] <= LIMIT_TOL * self.rtol *
                                  self.W_scale, p[L] <= tf)
         two_sided = np.zeros(m, dtype=bool)
         two_sided[L] = normal_lim[L] | ((np.abs(Q[L]) <= tf) & (self.f[L] * p[L] <= tf))
@@ -287,8 +291,8 @@ class StaticSolver:
                     trial[L] = np.where(self.states[L] == OPEN, OPEN, self.states[L])
                     visited.clear()
                     continue
-                if first_mechanism is not None:
-                    exc.states = first_mechanism.states
+                if first_mechanism is not None:  # report the natural scheme's mechanism
+                    raise first_mechanism from None
                 raise
             new = self._inconsistent(trial, L, ds, dw, normal_lim, two_sided)
             bad = np.flatnonzero(new != trial[L])
@@ -502,11 +506,17 @@ class StaticSolver:
 
     # ---- mechanism description ----------------------------------------------------------------
     def _describe_mechanism(self, exc: MechanismError, lam: float, pattern: str, seg: int):
-        t = self.cond.null_mode(exc.A, exc.lu)
-        u = self.cond.mode_displacement(t)
+        # the mechanism in which the load does the most work: among the null modes of the
+        # scheme, the combination along f (a slab freed of all contact can translate and
+        # rotate; the load lifts it)
+        T = self.cond.null_modes(exc.A, exc.lu)
+        U = np.column_stack([self.cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
         lv = self.sys.loads[pattern]
-        if float(lv.f @ u) < 0:
-            u = -u
+        work = lv.f @ U
+        if np.any(work != 0):  # u ∝ projection of f on the modes: largest work per ‖u‖
+            u = U @ np.linalg.lstsq(U.T @ U, work, rcond=None)[0]
+        else:
+            u = U[:, 0]
         model = self.sys.model
         off = model.node_offsets
         umax = np.abs(u).max() or 1.0
@@ -557,9 +567,10 @@ class StaticSolver:
             direction = 1.0 if lam1 >= lam0 else -1.0
             span = abs(lam1 - lam0)
             big = max(abs(lam0), abs(lam1))
-            self.W_scale = max(self.W_scale, float(np.abs(self.cond.y[pattern]).max(initial=0)) * big)
-            self.F_scale = max(self.F_scale, float(np.abs(self.sys.loads[pattern].f).max(initial=0))
-                               * big)
+            y_max = float(np.abs(self.cond.y[pattern]).max(initial=0))
+            f_max = float(np.abs(self.sys.loads[pattern].f).max(initial=0))
+            self.W_scale = max(self.W_scale, y_max * big)
+            self.F_scale = max(self.F_scale, f_max * big)
             h = direction * self.cond.hhat[pattern]
             e = direction * self.cond.e[pattern]
             mu = 0.0
@@ -641,7 +652,6 @@ class StaticSolver:
     def _event_point(self, fired, pattern_rates, lam, seg, pattern, mult, first, span,
                      seg_start=False):
         """Decide the scheme at the current point; record it if anything changed."""
-        m = self.cfe.m
         self._update_scales()
         tol = self._tol_phi()
         phi = event_functions(self.states, self.s, self.w, self.f)
@@ -652,7 +662,7 @@ class StaticSolver:
         # natural transitions of the CFEs whose functions fired
         if fired.any() or first:
             col = np.argmin(np.where(np.isfinite(phi), phi / tol[None, :], _INF), axis=1)
-            lim = at_limit & ~slipping
+            lim = at_limit  # slipping CFEs have only column 0 (p → 0: open)
             guess = np.where(lim & (col == 0), OPEN, guess)
             guess = np.where(lim & (col == 1), SLIP_POS, guess)
             guess = np.where(lim & (col == 2), SLIP_NEG, guess)
