@@ -420,6 +420,10 @@ class InterfaceSpec(_Spec):
     gap: float | None = Field(None, ge=0, description="initial gap, m (default: geometric)")
     normal: Point | None = Field(None, description="unit normal from S− to S+")
     layer: LayerSpec | None = None
+    pairs: bool = Field(False, description="join plus[i] to minus[i] node to node, in the "
+                        "node sets' order, instead of projecting S+ on S−")
+    area: float | None = Field(None, gt=0, description="contact area of every CFE, m² "
+                               "(default: tributary length × thickness)")
 
     @field_validator("normal")
     @classmethod
@@ -998,6 +1002,8 @@ class _Builder:
                     gap=itf.gap,
                     normal=itf.normal,
                     layer=None if itf.layer is None else itf.layer.build(),
+                    pairs=itf.pairs,
+                    area=itf.area,
                 ))
             except ModelError as e:
                 p.add(f"interfaces[{i}]", e.problem)
