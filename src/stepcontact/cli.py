@@ -356,8 +356,17 @@ def run(
 ) -> None:
     """Run the load program of a model file.
 
-    Prints the events and the summary; writes the result file and a figure of the contact
-    stresses.
+    Prints the events and the summary; writes the result file and a contact-stress figure.
+
+    Examples:
+
+        stepcontact run dam.toml                  # writes dam.nc and dam.png
+
+        stepcontact run dam.toml -o r.nc --plot r.pdf --lam 1.5 --lam 2
+
+        stepcontact run dam.toml --slip article --eps-p 0.01
+
+        stepcontact run dam.toml --json --quiet   # JSON summary only
     """
     console = Console(highlight=False)
     try:
@@ -395,6 +404,12 @@ def demo(
     """Run the two demo models: a block sliding under a push, a block tipping under uplift.
 
     Writes their model files, result files and figures into a directory.
+
+    Examples:
+
+        stepcontact demo                       # into ./stepcontact-demo/
+
+        stepcontact demo -o /tmp/demo --quiet
     """
     from .demo import DEMO_FILES, demo_model, demo_text, demo_uplift_model
 
@@ -444,9 +459,17 @@ def validate(
 ) -> None:
     """Check a model file and list all its problems at once (alias: check).
 
-    Schema, unknown names, mesh groups and materials, element quality, mesh nodes in no
-    element, bodies overlapping without an interface; then the model is assembled.  Exit code
-    2 when there are errors (warnings alone exit with 0).
+    Checks the schema, names, mesh groups, materials and element quality.
+
+    Finds orphan nodes and bodies that overlap without an interface; assembles the model.
+
+    Exit code 2 when there are errors (warnings alone exit with 0).
+
+    Examples:
+
+        stepcontact validate examples/data/gmsh_block.toml
+
+        stepcontact validate dam.toml --json
     """
     from .modelfile import validation_report
 
@@ -496,7 +519,14 @@ def check(
 
 @app.command()
 def schema() -> None:
-    """Print the JSON schema of the model file format."""
+    """Print the JSON schema of the model file format.
+
+    Examples:
+
+        stepcontact schema > stepcontact.schema.json
+
+    Point your editor at it (e.g. the "Even Better TOML" extension: a #:schema comment).
+    """
     from .modelfile import schema as file_schema
 
     typer.echo(json.dumps(file_schema(), indent=2))
