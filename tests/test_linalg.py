@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
-import verification_models as vm
 
 import stepcontact as sc
+import verification_models as vm
 from stepcontact.errors import SolverError
 from stepcontact.linalg import available_backends, factorize
 

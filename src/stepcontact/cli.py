@@ -852,21 +852,6 @@ def info(
 # --------------------------------------------------------------------------------------------
 # export: ParaView files (VTU series with .pvd, XDMF)
 # --------------------------------------------------------------------------------------------
-def _export_load(path: Path) -> StaticResult:
-    """Load the result file to export; errors are one line naming the file."""
-    from .io import load_result
-
-    if not path.is_file():
-        raise _Failure(f"result file not found: {path}")
-    try:
-        return load_result(path)
-    except (OSError, ValueError, KeyError, TypeError) as e:
-        msg = _error_text(e)
-        if not msg.startswith("not a stepcontact"):
-            msg = f"not a stepcontact result file ({msg})"
-        raise _Failure(f"{path}: {msg}") from None
-
-
 def _export_files(vtu: Path | None, xdmf: Path | None, name: str) -> list[Path]:
     """Every file the export wrote (collection/XDMF files; frames live beside them)."""
     out: list[Path] = []
@@ -930,7 +915,7 @@ def export(
         if xdmf is not None and xdmf.suffix.lower() != ".xdmf":
             raise _Failure(f"--xdmf {xdmf}: the file name must end in .xdmf")
         base = name if name is not None else result_file.stem
-        res = _export_load(result_file)
+        res = _load_result_file(result_file)
         try:
             kept, skipped = select_states(res, states)
         except ValueError as e:

@@ -69,6 +69,7 @@ from meshio.xdmf import TimeSeriesWriter
 from meshio.xdmf.common import meshio_to_xdmf_type, meshio_type_to_xdmf_index, numpy_to_xdmf_dtype
 
 from .enums import ContactState
+from .mesh import REVERSED_NODE_ORDER
 from .results import StaticResult
 
 _log = logging.getLogger(__name__)
@@ -93,16 +94,9 @@ _ELEMENT_TYPES = {
 # nodes per cell of a continuum body -> meshio cell type (bodies with other element names)
 _NODES_TYPES = {3: "triangle", 6: "triangle6", 4: "quad", 8: "quad8", 9: "quad9"}
 _NODES_PER_CELL = {"triangle": 3, "triangle6": 6, "quad": 4, "quad8": 8, "quad9": 9, "line": 2}
-# node permutation reversing the orientation of a cell (corners, then mid-edge, then centre):
 # scikit-fem's P2 / serendipity / Q2 node order (corners, edges 01 12 20|23 30, centre) is
 # VTK's order for quadratic triangles and (bi)quadratic quads
-_REVERSE = {
-    "triangle": [0, 2, 1],
-    "triangle6": [0, 2, 1, 5, 4, 3],
-    "quad": [0, 3, 2, 1],
-    "quad8": [0, 3, 2, 1, 7, 6, 5, 4],
-    "quad9": [0, 3, 2, 1, 7, 6, 5, 4, 8],
-}
+_REVERSE = REVERSED_NODE_ORDER
 _STRESS_NAMES = ("sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz")
 _CFE_END_KEYS = ("plus_nodes", "plus_w", "minus_nodes", "minus_w")
 

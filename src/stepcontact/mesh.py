@@ -8,6 +8,16 @@ from skfem import MeshQuad, MeshTri
 from .errors import ModelError
 from .model import Body, Material
 
+#: local node permutation reversing a cell's orientation (corners, then mid-edge nodes, then the
+#: centre).  Gmsh, VTK and scikit-fem (P2 / serendipity / Q2) share this node order.
+REVERSED_NODE_ORDER: dict[str, list[int]] = {
+    "triangle": [0, 2, 1],
+    "triangle6": [0, 2, 1, 5, 4, 3],
+    "quad": [0, 3, 2, 1],
+    "quad8": [0, 3, 2, 1, 7, 6, 5, 4],
+    "quad9": [0, 3, 2, 1, 7, 6, 5, 4, 8],
+}
+
 
 def _axis(a: float, b: float, n: int, grading: float) -> np.ndarray:
     """n intervals from a to b; ``grading`` > 1 makes them grow geometrically from a to b."""

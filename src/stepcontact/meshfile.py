@@ -46,6 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import ModelError
+from .mesh import REVERSED_NODE_ORDER
 from .model import Body, Material, NodeSet
 
 #: gmsh (meshio) cell type -> stepcontact element kind
@@ -66,14 +67,7 @@ COMPATIBLE: dict[str, tuple[str, ...]] = {
 }
 GROUP_KINDS = ("point", "curve", "surface")
 
-# local node order reversing a cell's orientation (gmsh node ordering)
-_FLIP = {
-    "triangle": [0, 2, 1],
-    "triangle6": [0, 2, 1, 5, 4, 3],
-    "quad": [0, 3, 2, 1],
-    "quad8": [0, 3, 2, 1, 7, 6, 5, 4],
-    "quad9": [0, 3, 2, 1, 7, 6, 5, 4, 8],
-}
+_FLIP = REVERSED_NODE_ORDER  # gmsh node ordering
 # nodes of a curve cell in their order along the curve
 _ALONG = {"line": [0, 1], "line3": [0, 2, 1], "vertex": [0]}
 _CORNERS = {"triangle": 3, "triangle6": 3, "quad": 4, "quad8": 4, "quad9": 4}
