@@ -553,6 +553,13 @@ def _gmsh():
             "the gmsh Python package is needed to mesh .geo files: `pip install gmsh` "
             "(or `pip install stepcontact[gmsh]`), or give the .msh file instead",
         ) from None
+    except OSError as e:  # pragma: no cover - the wheel's library needs system libraries
+        raise ModelError(
+            "gmsh",
+            f"the gmsh package is installed but its library cannot be loaded ({e}); install "
+            "the system libraries it needs (e.g. libglu1-mesa, libxcursor1, libxft2, "
+            "libxinerama1) or give the .msh file instead",
+        ) from None
     return gmsh
 
 
