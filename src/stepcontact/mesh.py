@@ -28,6 +28,19 @@ def _axis(a: float, b: float, n: int, grading: float) -> np.ndarray:
     return a + (b - a) * h / h[-1]
 
 
+def _grid(name: str, field: str, v, a: float, b: float) -> np.ndarray:
+    """Given grid lines: finite, strictly increasing, from a to b (the corners)."""
+    v = np.asarray(v, float)
+    item = f"body '{name}'.{field}"
+    if v.ndim != 1 or len(v) < 2 or not np.all(np.isfinite(v)) or np.any(np.diff(v) <= 0):
+        raise ModelError(item, "must be at least two finite, strictly increasing coordinates")
+    tol = 1e-9 * max(abs(a), abs(b), b - a)
+    if abs(v[0] - a) > tol or abs(v[-1] - b) > tol:
+        raise ModelError(item, f"must run from {a:g} to {b:g} (the corners), got "
+                               f"{v[0]:g} … {v[-1]:g}")
+    return v
+
+
 def rectangle(
     name: str,
     corner0: tuple[float, float],
@@ -59,8 +72,8 @@ def rectangle(
         raise ModelError(f"body '{name}'", f"empty rectangle {corner0} - {corner1}")
     if nx < 1 or ny < 1:
         raise ModelError(f"body '{name}'", "nx and ny must be >= 1")
-    xs = _axis(x0, x1, nx, grading[0]) if xs is None else np.asarray(xs, float)
-    ys = _axis(y0, y1, ny, grading[1]) if ys is None else np.asarray(ys, float)
+    xs = _axis(x0, x1, nx, grading[0]) if xs is None else _grid(name, "xs", xs, x0, x1)
+    ys = _axis(y0, y1, ny, grading[1]) if ys is None else _grid(name, "ys", ys, y0, y1)
     if element.startswith("tri"):
         mesh = MeshTri.init_tensor(xs, ys)
     elif element.startswith("quad"):

@@ -194,7 +194,18 @@ class NodeSet:
     name: str = ""
 
     def __post_init__(self):
-        object.__setattr__(self, "index", np.asarray(self.index, dtype=np.int64).ravel())
+        index = np.asarray(self.index).ravel()
+        label = f"node set '{self.name}'" if self.name else f"node set on '{self.body}'"
+        if index.size and not np.issubdtype(index.dtype, np.integer):
+            raise ModelError(label, f"node ids must be integers, got {index.dtype}")
+        index = index.astype(np.int64)
+        if np.any(index < 0):
+            raise ModelError(label, f"negative node id {int(index[index < 0][0])}")
+        uniq, counts = np.unique(index, return_counts=True)
+        if np.any(counts > 1):
+            raise ModelError(label, f"node {int(uniq[counts > 1][0])} is listed more than once "
+                                    "(a load or CFE would be applied twice)")
+        object.__setattr__(self, "index", index)
 
     def __len__(self) -> int:
         return len(self.index)
@@ -623,14 +634,20 @@ def select_nodes(
         mask &= np.abs(pts[:, 0] - x) <= atol
     if y is not None:
         mask &= np.abs(pts[:, 1] - y) <= atol
+    interior = 0
     if boundary and isinstance(b, Body):
         on_b = np.zeros(len(pts), dtype=bool)
         on_b[b.boundary.ravel()] = True
+        interior = int(np.sum(mask & ~on_b))
         mask &= on_b
     idx = np.flatnonzero(mask)
     label = f"node set '{name}'" if name else f"selection on body '{b.name}'"
     if idx.size == 0:
-        raise ModelError(label, "selects no node")
+        hint = (f"; {interior} interior node(s) match: select them with boundary=False"
+                if interior else "")
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        raise ModelError(label, f"selects no node (the body spans x {lo[0]:g} … {hi[0]:g}, "
+                                f"y {lo[1]:g} … {hi[1]:g} m){hint}")
     return NodeSet(b.name, idx, name)
 
 
