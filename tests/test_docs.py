@@ -1,0 +1,254 @@
+"""The documentation is checked against the code.
+
+* the generated references (docs/model-file-reference.md, docs/cli.md) are up to date;
+* every complete TOML model in docs/*.md (one with a ``[[program]]``) is valid, and every TOML
+  block parses;
+* the Python snippets of docs/user-guide.md run, in order, as one session;
+* the example model files validate against the JSON schema and load;
+* relative links between the documents point to existing files.
+
+Markers (HTML comments on the line before a code block, invisible when rendered):
+``<!-- norun -->`` — a Python block that is not run (only compiled);
+``<!-- fragment: reason -->`` — a TOML block that is an overview, not a complete model.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+import time
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from stepcontact.modelfile import load_model, model_from_dict, schema
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+GUIDE = DOCS / "user-guide.md"
+MODEL_FILES = sorted((ROOT / "examples" / "data").glob("*.toml")) + sorted(
+    (ROOT / "src" / "stepcontact" / "data").glob("*.toml")
+)
+SNIPPET_BUDGET = 5.0  #: seconds the user-guide snippets may take (reported, not asserted)
+
+
+def _generator():
+    spec = importlib.util.spec_from_file_location("generate_reference",
+                                                  DOCS / "generate_reference.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@dataclass(frozen=True)
+class Block:
+    """A fenced code block of a markdown file."""
+
+    path: Path
+    line: int  # line of the opening fence, from 1
+    lang: str
+    text: str
+    marker: str  # the HTML comment on the line before the fence ("" if none)
+
+    @property
+    def id(self) -> str:
+        return f"{self.path.name}:{self.line}"
+
+
+def code_blocks(path: Path) -> list[Block]:
+    """Fenced code blocks (```lang ... ```) of a markdown file, with their markers."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    blocks, i = [], 0
+    while i < len(lines):
+        m = re.match(r"^(`{3,})\s*([\w+-]*)\s*$", lines[i])
+        if not m:
+            i += 1
+            continue
+        fence, lang = m.group(1), m.group(2).lower()
+        j = i + 1
+        while j < len(lines) and not lines[j].startswith(fence):
+            j += 1
+        assert j < len(lines), f"{path.name}:{i + 1}: unclosed code block"
+        k = i - 1
+        while k >= 0 and not lines[k].strip():
+            k -= 1
+        prev = lines[k].strip() if k >= 0 else ""
+        marker = prev if prev.startswith("<!--") and prev.endswith("-->") else ""
+        blocks.append(Block(path, i + 1, lang, "\n".join(lines[i + 1:j]) + "\n", marker))
+        i = j + 1
+    return blocks
+
+
+DOC_FILES = sorted(DOCS.glob("*.md"))
+TOML_BLOCKS = [b for p in DOC_FILES for b in code_blocks(p) if b.lang == "toml"]
+MODEL_BLOCKS = [b for b in TOML_BLOCKS if re.search(r"^\s*\[\[program\]\]", b.text, re.M)]
+PYTHON_BLOCKS = [b for b in code_blocks(GUIDE) if b.lang == "python"]
+
+
+# --------------------------------------------------------------------------------------------
+# (a) generated references
+# --------------------------------------------------------------------------------------------
+def test_generated_references_are_up_to_date():
+    gen = _generator()
+    files = gen.outputs()
+    assert set(files) == {DOCS / "model-file-reference.md", DOCS / "cli.md"}
+    for path, text in files.items():
+        assert path.is_file(), f"{path.name} is missing: run  python docs/generate_reference.py"
+        assert path.read_text(encoding="utf-8") == text, (
+            f"docs/{path.name} is out of date: run  python docs/generate_reference.py"
+        )
+    assert gen.stale(files) == []
+
+
+def test_generator_check_mode_reports_stale_files(monkeypatch, capsys):
+    gen = _generator()
+    assert gen.main(["--check"]) == 0
+    real = gen.outputs()
+    changed = {p: text + "\nchanged\n" for p, text in real.items()}
+    monkeypatch.setattr(gen, "outputs", lambda: changed)
+    assert gen.main(["--check"]) == 1  # and writes nothing
+    assert "is out of date" in capsys.readouterr().err
+    assert all(p.read_text(encoding="utf-8") == t for p, t in real.items())
+
+
+def test_model_file_reference_covers_the_schema():
+    """Every table of the schema has a section and every field a row."""
+    text = (DOCS / "model-file-reference.md").read_text(encoding="utf-8")
+    s = schema()
+    for name in s["properties"]:
+        assert f"[{name}" in text or f"[[{name}]]" in text, name
+    for def_name, d in s["$defs"].items():
+        for field in d.get("properties", {}):
+            assert f"| `{field}` |" in text, f"{def_name}.{field}"
+    for kind in ("rectangle", "mesh"):
+        assert f'`[[bodies]] kind = "{kind}"`' in text
+    for load in ("gravity", "nodal", "pressure", "displacement"):
+        assert f'loads with type = "{load}"' in text
+
+
+def test_cli_reference_covers_every_command_and_option():
+    import typer
+
+    from stepcontact.cli import app
+
+    text = (DOCS / "cli.md").read_text(encoding="utf-8")
+    group = typer.main.get_command(app)
+    ctx = group.context_class(group, info_name="stepcontact")
+    for name in group.list_commands(ctx):
+        cmd = group.get_command(ctx, name)
+        assert f"## `stepcontact {name}`" in text, name
+        for p in cmd.get_params(ctx):
+            for opt in p.opts if p.param_type_name == "option" else []:
+                assert opt in text, f"{name} {opt}"
+    assert "\x1b" not in text  # no ANSI escapes
+
+
+# --------------------------------------------------------------------------------------------
+# (b) TOML models in the documentation
+# --------------------------------------------------------------------------------------------
+def test_docs_have_complete_models():
+    assert [b for b in MODEL_BLOCKS if b.path == GUIDE], "the user guide has no complete model"
+
+
+@pytest.mark.parametrize("block", TOML_BLOCKS, ids=[b.id for b in TOML_BLOCKS])
+def test_toml_block_parses(block):
+    tomllib.loads(block.text)
+
+
+@pytest.mark.parametrize("block", MODEL_BLOCKS, ids=[b.id for b in MODEL_BLOCKS])
+def test_toml_model_in_docs_is_valid(block):
+    if block.marker.startswith("<!-- fragment"):
+        reason = block.marker.removeprefix("<!-- fragment").strip(" :->")
+        pytest.skip(f"{block.id} is marked as a fragment: {reason or 'not a complete model'}")
+    data = tomllib.loads(block.text)
+    mesh_file = (data.get("mesh") or {}).get("file")
+    if mesh_file is not None:
+        pytest.skip(f"{block.id} references the mesh file '{mesh_file}', which the docs do not "
+                    "ship")
+    model = model_from_dict(data)
+    assert model.program
+    try:
+        import jsonschema
+    except ImportError:  # the pydantic validation above is the reference
+        return
+    jsonschema.Draft202012Validator(schema()).validate(data)
+
+
+# --------------------------------------------------------------------------------------------
+# (c) Python snippets of the user guide
+# --------------------------------------------------------------------------------------------
+def test_user_guide_has_snippets():
+    assert len([b for b in PYTHON_BLOCKS if b.marker != "<!-- norun -->"]) >= 5
+
+
+@pytest.mark.parametrize("block", PYTHON_BLOCKS, ids=[b.id for b in PYTHON_BLOCKS])
+def test_user_guide_snippet_compiles(block):
+    compile(block.text, block.id, "exec")
+
+
+def test_user_guide_snippets_run(tmp_path, monkeypatch, capsys):
+    """The snippets build on each other (as in a notebook): run them in order in one
+    namespace, in a temporary directory; ``<!-- norun -->`` blocks are skipped."""
+    monkeypatch.chdir(tmp_path)
+    namespace: dict[str, object] = {"__name__": "__user_guide__"}
+    t0 = time.perf_counter()
+    for block in PYTHON_BLOCKS:
+        if block.marker == "<!-- norun -->":
+            continue
+        try:
+            exec(compile(block.text, block.id, "exec"), namespace)
+        except Exception as exc:
+            raise AssertionError(f"the snippet at docs/{block.id} fails: {exc!r}") from exc
+    elapsed = time.perf_counter() - t0
+    capsys.readouterr()
+    if elapsed > SNIPPET_BUDGET:  # keep them fast; not a failure (machines differ)
+        print(f"user-guide snippets took {elapsed:.1f} s (budget {SNIPPET_BUDGET} s)")
+
+
+# --------------------------------------------------------------------------------------------
+# (d) example model files
+# --------------------------------------------------------------------------------------------
+def _ids(paths: list[Path]) -> list[str]:
+    return [p.relative_to(ROOT).as_posix() for p in paths]
+
+
+def test_there_are_example_model_files():
+    assert len(MODEL_FILES) >= 3
+
+
+@pytest.mark.parametrize("path", MODEL_FILES, ids=_ids(MODEL_FILES))
+def test_example_model_file_matches_the_json_schema(path):
+    jsonschema = pytest.importorskip("jsonschema")
+    with open(path, "rb") as fh:
+        data = tomllib.load(fh)
+    jsonschema.Draft202012Validator(schema()).validate(data)
+
+
+@pytest.mark.parametrize("path", MODEL_FILES, ids=_ids(MODEL_FILES))
+def test_example_model_file_loads(path):
+    model = load_model(path)
+    assert model.bodies and model.program
+
+
+# --------------------------------------------------------------------------------------------
+# links
+# --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("path", DOC_FILES, ids=[p.name for p in DOC_FILES])
+def test_relative_links_exist(path):
+    text = path.read_text(encoding="utf-8")
+    text = re.sub(r"```.*?```", "", text, flags=re.S)  # links in code blocks are not links
+    for target in re.findall(r"\]\(([^)\s]+)\)", text):
+        if re.match(r"^[a-z]+:", target) or target.startswith("#"):
+            continue
+        file = target.split("#")[0]
+        assert (path.parent / file).exists(), f"{path.name}: broken link to {target}"
+
+
+def test_index_links_every_document():
+    text = (DOCS / "index.md").read_text(encoding="utf-8")
+    for doc in DOC_FILES:
+        if doc.name != "index.md":
+            assert f"]({doc.name})" in text, f"index.md does not link {doc.name}"
