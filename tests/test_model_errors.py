@@ -111,3 +111,30 @@ def test_rectangle_grid_lines():
             "must run from 0 to 2")
     _raises(lambda: sc.rectangle("r", (0, 0), (2, 1), 2, 1, MAT, ys=[0, 0.7, 0.5, 1]),
             "body 'r'.ys", "strictly increasing")
+
+
+def test_mechanism_with_every_cfe_stuck_is_an_error():
+    """A block held by one CFE can rotate about it: K₀ is singular although its LU meets no
+    exact zero pivot.  The condition estimate catches it and names the body."""
+    m = _block_on_base()
+    blk = m.body("blk")
+    one = sc.NodeSet("blk", [int(np.argmin(np.hypot(*(blk.points - [0.5, 0.0]).T)))])
+    itf = m.interfaces[0]
+    m2 = sc.Model(bodies=list(m.bodies)).add(
+        *m.supports, sc.Interface("j", one, itf.minus, 0.5), *m.patterns, *m.program)
+    _raises(lambda: sc.solve_static(m2), "model",
+            "mechanism even with every CFE stuck")
+    with pytest.raises(sc.ModelError, match="body 'blk' can move"):
+        sc.solve_static(m2)
+
+
+def test_model_without_interfaces_is_plain_linear_analysis():
+    b = sc.rectangle("b", (0, 0), (1, 1), 2, 2, MAT)
+    m = sc.Model(bodies=[b])
+    m = m.add(sc.Support("s", m.select("b", y=0)), sc.LoadPattern("w", [sc.BodyForce()]),
+              sc.Segment("w", 1.0), sc.Segment("w", 0.0))
+    res = sc.solve_static(m)
+    assert res.status == sc.Status.COMPLETED and res.m == 0 and not res.events
+    assert res.residual.max() < 1e-12
+    u1 = res.displacement(int(np.flatnonzero(res.kind == "segment_end")[0]))
+    assert np.abs(u1).max() > 0 and np.allclose(res.displacement(res.n_states - 1), 0.0)

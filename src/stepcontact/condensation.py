@@ -32,9 +32,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from .assembly import System
 from .enums import ContactState
+from .errors import ModelError
 from .linalg import factorize
 
 #: a scheme matrix whose reciprocal condition number (rows equilibrated) is below this is a
@@ -44,6 +46,48 @@ RCOND_MECHANISM = 1e-10
 
 #: relation kinds of one CFE component in a working scheme
 FREE, FIXED, SPRING, FRICTION = 0, 1, 2, 3
+
+
+#: K₀ whose 1-norm condition estimate exceeds this is singular: the structure is a mechanism
+#: even with every CFE stuck (a rank deficiency shows as pivots at round-off, cond ≳ 1e15;
+#: well-posed FE stiffness matrices, slender frames included, stay below about 1e12)
+COND_SINGULAR = 1e13
+
+
+def check_regular(system: System, K0: sp.spmatrix, factor, free: np.ndarray) -> None:
+    """Raise a ModelError naming the bodies that are free to move if K₀ is singular.
+
+    A sparse LU of a singular matrix often meets no exactly zero pivot (round-off), so the
+    factorisation alone proves nothing: the condition number is estimated (Hager–Higham
+    1-norm estimate of K₀⁻¹, a few solves) and the mechanism located from a solve, whose
+    answer is dominated by the null mode.
+    """
+    n = K0.shape[0]
+    if n == 0:
+        return
+    inv = spla.LinearOperator((n, n), matvec=factor.solve, rmatvec=factor.solve, dtype=float)
+    with np.errstate(all="ignore"):
+        cond = float(spla.onenormest(inv)) * float(spla.norm(K0, 1))
+    if np.isfinite(cond) and cond < COND_SINGULAR:
+        return
+    with np.errstate(all="ignore"):
+        x = np.zeros(system.ndof)
+        x[free] = factor.solve(np.random.default_rng(0).standard_normal(n))
+    x = np.nan_to_num(np.abs(x), nan=np.inf)
+    model = system.model
+    free_bodies = []
+    for b in model.bodies:
+        ids = model.node_offsets[b.name] + np.arange(b.n_nodes)
+        d = system.dofs.of[ids]
+        if np.max(x[d[d >= 0]], initial=0.0) > 1e-3 * np.max(x):
+            free_bodies.append(f"'{b.name}'")
+    where = (f"bod{'y' if len(free_bodies) == 1 else 'ies'} {', '.join(free_bodies)} can move "
+             "as a mechanism" if free_bodies else "a mechanism")
+    raise ModelError(
+        "model",
+        f"the structure is a mechanism even with every CFE stuck (stiffness condition "
+        f"estimate {cond:.1e}): {where}; add supports, springs or contact interfaces",
+    )
 
 
 def _lu(A: np.ndarray):
@@ -144,6 +188,7 @@ class Condensed:
         d = stabilisation(Kff, Bf)
         K0 = (Kff + Bf.T @ sp.diags(d) @ Bf).tocsc()
         factor = factorize(K0, backend)
+        check_regular(system, K0, factor, free)
         n2m = Bf.shape[0]
         G = np.zeros((n2m, n2m))
         BfT = Bf.T.tocsc()
@@ -205,7 +250,7 @@ class Condensed:
             c = -rel.sigma[j] * cfe.friction[j]
             rows[fr, m + j] += c
             rows[fr] -= (self.d[m + j] * c)[:, None] * self.G[m + j]
-        scale = 1.0 / np.maximum(np.abs(rows).max(axis=1), 1e-300)
+        scale = 1.0 / np.maximum(np.abs(rows).max(axis=1, initial=0.0), 1e-300)
         return rows * scale[:, None], scale
 
     def factor_scheme(self, rel: Relations, cfe):

@@ -91,7 +91,7 @@ class StaticResult:
     lam : (n_states,) load factor of the active segment's pattern
     segment : (n_states,) segment index
     factors : (n_states, n_patterns) factors of all patterns
-    kind : (n_states,) "start", "event" or "segment_end"
+    kind : (n_states,) "start", "segment_start", "event" or "segment_end"
     N, Q : (n_states, m) CFE forces, N
     un, ut : (n_states, m) mutual displacements u_n, u_τ, m
     state : (n_states, m) ContactState values (scheme after the state)

@@ -814,9 +814,10 @@ def solve_static(
         ε_p of eq. (5) (article mode only): the largest relative change of a friction limit in
         one step.
     store_fields : "auto", "all" or "ends"
-        Which states keep full displacement fields (segment ends always do; ``auto`` stores all
-        states for models up to 20 000 DOFs).  Any other state can be recovered afterwards with
-        :meth:`StaticResult.displacement` while the result is in memory.
+        Which states keep full displacement fields and stresses (the start, segment starts and
+        segment ends always do; ``auto`` stores all states for models up to 20 000 DOFs).  Any
+        other state can be recovered afterwards with :meth:`StaticResult.displacement` while
+        the result is in memory.
     max_events : int
         Event-point budget.
     hooks : sequence
