@@ -70,6 +70,11 @@ class System:
         Contact operator, w = B u + w0, rows [u_τ; u_n].
     w0 : (2m,) float
         [0; −g⁰].
+    reaction_rows : csr_matrix (n_r, ndof)
+        Row r sums the DOFs of one reaction resultant (a support's x, y or rz DOFs; the DOFs a
+        load pattern prescribes): R = reaction_rows · (K u + Bᵀ s − f).
+    reaction_labels : tuple of str
+        ``"support:x"``, ``"support:y"``, ``"support:rz"``, ``"pattern (prescribed):x"`` …
     """
 
     model: Model
@@ -80,6 +85,8 @@ class System:
     cfe: ContactElements
     B: sp.csr_matrix
     w0: np.ndarray
+    reaction_rows: sp.csr_matrix | None = None
+    reaction_labels: tuple[str, ...] = ()
 
     @property
     def ndof(self) -> int:
@@ -350,22 +357,52 @@ def assemble(model: Model) -> System:
     dofs = dof_map(model)
     K = stiffness(model, dofs)
     fixed = np.zeros(dofs.ndof, dtype=bool)
+    groups: list[tuple[str, np.ndarray]] = []  # (label, DOFs) of each reaction resultant
     for s in model.supports:
         ids = model.global_nodes(s.nodes)
         for dname in s.dofs:
             d = dofs.of[ids, _DOF_INDEX[dname]]
             if np.any(d < 0):
                 raise ModelError(f"support '{s.name}'", "fixes rz of a node without rotation")
+            groups.append((f"{s.name}:{dname}", d))
             fixed[d] = True
     loads = {p.name: load_vectors(model, dofs, p.name) for p in model.patterns}
-    for lv in loads.values():
+    comp_of = np.full(dofs.ndof, -1)
+    has = dofs.of >= 0
+    comp_of[dofs.of[has]] = np.nonzero(has)[1]
+    for name, lv in loads.items():
         fixed[lv.dofs] = True
+        if len(lv.dofs):
+            comp = comp_of[lv.dofs]
+            for c, dname in enumerate(("x", "y", "rz")):
+                if np.any(comp == c):
+                    groups.append((f"{name} (prescribed):{dname}", lv.dofs[comp == c]))
     cfe = build_contact(model)
     B, w0 = contact_operator(cfe, dofs)
     if not fixed.any() and cfe.m == 0:
         raise ModelError("model", "has no supports and no contact: it is free to move")
     _check_restrained(model, dofs, K, B, fixed)
-    return System(model, dofs, K, fixed, loads, cfe, B, w0)
+    rows, labels = _reaction_rows(groups, dofs.ndof)
+    return System(model, dofs, K, fixed, loads, cfe, B, w0, rows, labels)
+
+
+def _reaction_rows(groups: list[tuple[str, np.ndarray]], ndof: int):
+    """0/1 rows summing each group's DOFs; a DOF in several groups counts in the first only."""
+    seen = np.zeros(ndof, dtype=bool)
+    r, c, labels = [], [], []
+    for label, d in groups:
+        d = np.unique(d[~seen[d]])
+        if d.size == 0:
+            continue
+        seen[d] = True
+        r.append(np.full(d.size, len(labels)))
+        c.append(d)
+        labels.append(label)
+    if not labels:
+        return sp.csr_matrix((0, ndof)), ()
+    r_all, c_all = np.concatenate(r), np.concatenate(c)
+    rows = sp.csr_matrix((np.ones(r_all.size), (r_all, c_all)), shape=(len(labels), ndof))
+    return rows, tuple(labels)
 
 
 def _check_restrained(model: Model, dofs: DofMap, K, B, fixed) -> None:

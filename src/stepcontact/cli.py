@@ -595,11 +595,16 @@ def _plot_targets(result_file: Path, kinds: Sequence[str], output: Path | None,
 
 
 def _check_plot_options(kinds: Sequence[str], lam: Sequence[float] | None,
-                        state: Sequence[int] | None, node: str | None) -> None:
+                        state: Sequence[int] | None, node: str | None,
+                        reaction: str | None = None) -> None:
     if lam and "stresses" not in kinds:
         raise _Failure("--lam applies to --kind stresses (use --state for the deformed shape)")
     if node is not None and "load-displacement" not in kinds:
         raise _Failure("--node applies to --kind load-displacement")
+    if reaction is not None and "load-displacement" not in kinds:
+        raise _Failure("--reaction applies to --kind load-displacement")
+    if reaction is not None and node is not None:
+        raise _Failure("give either --node (a displacement) or --reaction (a support), not both")
     if state and len(state) > 1 and kinds == ["deformed"]:
         raise _Failure("--kind deformed draws one state: give a single --state")
 
@@ -618,17 +623,21 @@ def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any])
                                      states=states, path=path, dpi=opts["dpi"])
         elif kind == "load-displacement":
             plotting.plot_load_displacement(res, node=opts["node"], dof=opts["dof"],
-                                            body=opts["body"], path=path, dpi=opts["dpi"])
+                                            body=opts["body"], path=path, dpi=opts["dpi"],
+                                            reaction=opts["reaction"])
         else:
             plotting.plot_event_timeline(res, path=path, dpi=opts["dpi"])
     except ValueError as e:
         raise _Failure(f"plot {kind}: {_error_text(e)}") from None
 
 
-def _plot_missing_fields(res: StaticResult, kind: str, state: Sequence[int] | None) -> bool:
+def _plot_missing_fields(res: StaticResult, kind: str, state: Sequence[int] | None,
+                         reaction: str | None = None) -> bool:
     """True when a loaded result lacks the displacements ``kind`` needs."""
     if kind not in _NEEDS_FIELDS:
         return False
+    if kind == "load-displacement" and reaction is not None:
+        return False  # reactions are known at every state
     wanted = range(res.n_states) if kind == "load-displacement" else [
         (state[-1] if state else -1) % max(res.n_states, 1)]
     return any(i not in res.fields for i in wanted)
@@ -670,6 +679,11 @@ def plot(
         typer.Option("--body", help="load-displacement: body of --node when bodies share "
                      "the point."),
     ] = None,
+    reaction: Annotated[
+        str | None,
+        typer.Option("--reaction", help="load-displacement: plot λ against the resultant "
+                     "reaction of this support along --dof instead of a displacement."),
+    ] = None,
     scale: Annotated[
         float | None,
         typer.Option("--scale", help="deformed: displacement magnification (default "
@@ -699,6 +713,8 @@ def plot(
 
         stepcontact plot run.nc --kind load-displacement --node 3,2 --dof x
 
+        stepcontact plot run.nc --kind load-displacement --reaction bed --dof x
+
         stepcontact plot run.nc --kind timeline --dpi 300
 
         stepcontact plot run.nc --kind all -o figures/ --format pdf
@@ -709,14 +725,14 @@ def plot(
         if kind != "all" and kind not in PLOT_KINDS:
             raise _Failure(f"unknown --kind '{kind}': use {', '.join(PLOT_KINDS)} or all")
         kinds = list(PLOT_KINDS) if kind == "all" else [kind]
-        _check_plot_options(kinds, lam, state, node)
+        _check_plot_options(kinds, lam, state, node, reaction)
         opts = {"lam": lam, "segment": segment, "state": state, "node": _parse_node(node),
-                "dof": dof, "body": body, "scale": scale, "dpi": dpi}
+                "dof": dof, "body": body, "scale": scale, "dpi": dpi, "reaction": reaction}
         targets = _plot_targets(result_file, kinds, output, fmt)
         res = _load_result_file(result_file)
         written = []
         for k, path in targets.items():
-            if kind == "all" and _plot_missing_fields(res, k, state):
+            if kind == "all" and _plot_missing_fields(res, k, state, reaction):
                 skipped.append(k)
                 continue
             _draw_figure(res, k, path, opts)
@@ -763,6 +779,9 @@ def result_info(res: StaticResult, path: Path | None = None) -> dict[str, Any]:
         max_residual=_jsonable(float(np.max(res.residual, initial=0.0))),
         max_violation=_jsonable(float(np.max(res.violation, initial=0.0))),
         fields_stored=len(res.fields),
+        reactions_last_state={lb: _jsonable(float(v)) for lb, v in
+                              zip(res.reaction_labels, res.reactions[-1], strict=True)}
+        if res.n_states and len(res.reaction_labels) else {},
         units=dict(res.units),
     )
 
@@ -816,7 +835,16 @@ def _info_tables(info: dict[str, Any]) -> list[Table]:
     for t, n in info["transitions"].items():
         if n:
             trans.add_row(t, str(n))
-    return [size, segs, mult, trans]
+    tables = [size, segs, mult, trans]
+    if info.get("reactions_last_state"):
+        reac = Table(title="support reactions on the structure at the last state (N; N·m for rz)",
+                     **opts)
+        reac.add_column("support:dof")
+        reac.add_column("reaction", justify="right")
+        for lb, v in info["reactions_last_state"].items():
+            reac.add_row(lb, _info_fmt(v))
+        tables.append(reac)
+    return tables
 
 
 @app.command()

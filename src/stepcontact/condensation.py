@@ -173,6 +173,10 @@ class Condensed:
     e: dict[str, np.ndarray]
     y: dict[str, np.ndarray]
     counters: dict[str, float] = field(default_factory=dict)
+    #: reaction resultants R = Σ_P c_P r_P + R_s s + R_t t (see :meth:`reactions`)
+    r_load: dict[str, np.ndarray] = field(default_factory=dict)
+    R_s: np.ndarray | None = None
+    R_t: np.ndarray | None = None
 
     @classmethod
     def from_system(cls, system: System, backend: str = "auto", block: int = 256) -> Condensed:
@@ -206,8 +210,43 @@ class Condensed:
             hhat[name] = Bf @ y[name]
             e[name] = Bp @ lv.u[presc]
             nsolve += 1
+        # reaction resultants: one solve per resultant, then every state costs a matvec
+        Sp = system.reaction_rows[:, presc] if system.reaction_rows is not None else None
+        r_load: dict[str, np.ndarray] = {}
+        R_s = R_t = None
+        if Sp is not None and Sp.shape[0]:
+            Kpf = K[presc][:, free].tocsr()
+            Kpp = K[presc][:, presc].tocsr()
+            V = factor.solve((Kfp @ Sp.T).toarray())
+            V = V.reshape(len(free), Sp.shape[0])
+            nsolve += Sp.shape[0]
+            R_t = -(Bf @ V).T
+            R_s = (Sp @ Bp.T).toarray()
+            for name, lv in system.loads.items():
+                up = lv.u[presc]
+                r_load[name] = Sp @ (Kpf @ y[name] + Kpp @ up - lv.f[presc])
         counters = {"factorizations": 1, "solves": nsolve, "condensed_columns": n2m}
-        return cls(system, free, presc, factor, Bf, Bp, Kff, Kfp, d, G, hhat, e, y, counters)
+        return cls(system, free, presc, factor, Bf, Bp, Kff, Kfp, d, G, hhat, e, y, counters,
+                   r_load, R_s, R_t)
+
+    def reactions(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """Reaction resultants of the supports (and prescribed DOFs) on the structure, N (N·m
+        for rz), at any state — no solve:
+
+            R = S_p (K_pf u_f + K_pp u_p + B_pᵀ s − f_p)
+              = Σ_P c_P S_p (K_pf y_P + K_pp u_P − f_P) − (B_f K₀⁻¹ K_fp S_pᵀ)ᵀ t + S_p B_pᵀ s
+
+        with t = s − D ŵ as in :meth:`displacement` (``system.reaction_rows`` gives S)."""
+        if self.R_s is None:
+            return np.zeros(0)
+        R = self.R_s @ s
+        e = np.zeros(2 * self.m)
+        for name, c in factors.items():
+            if c != 0.0:
+                R = R + c * self.r_load[name]
+                e += c * self.e[name]
+        w_hat = w - self.system.w0 - e
+        return R + self.R_t @ (s - self.d * w_hat)
 
     @property
     def m(self) -> int:

@@ -257,6 +257,13 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
         ("state",), np.asarray(res.violation), "1",
         "largest relative violation of the contact conditions",
     )
+    if len(res.reaction_labels):
+        coords["reaction"] = _var(("reaction",), _str_array(list(res.reaction_labels)), "1",
+                                  "support:component of each reaction resultant")
+        dv["reactions"] = _var(
+            ("state", "reaction"), np.asarray(res.reactions, float), "N",
+            "resultant reaction of the support on the structure (N·m for rz components)",
+        )
 
     # ---- CFE geometry --------------------------------------------------------------------------
     cfe_extra: dict[str, Any] = {}
@@ -519,6 +526,9 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
         mechanism=_loads(ds.attrs["mechanism"]),
         geometry=geometry,
         units=_loads(ds.attrs["units"]),
+        reactions=(arr("reactions") if "reactions" in ds
+                   else np.zeros((ds.sizes["state"], 0))),
+        reaction_labels=tuple(strs("reaction")) if "reaction" in ds.coords else (),
     )
 
 

@@ -735,6 +735,13 @@ def _resolve_node(
     return int(near[0])
 
 
+def _force_scale(values: np.ndarray, comp: int) -> tuple[float, str]:
+    """Divisor and unit for forces (N, kN, MN) or moments (N·m, kN·m, MN·m)."""
+    big = float(np.max(np.abs(values), initial=0.0))
+    div, prefix = next(((d, p) for d, p in ((1e6, "M"), (1e3, "k")) if big >= d), (1.0, ""))
+    return div, f"{prefix}N·m" if comp == 2 else f"{prefix}N"
+
+
 def plot_load_displacement(
     res: StaticResult,
     node: int | Sequence[float] | None = None,
@@ -744,8 +751,10 @@ def plot_load_displacement(
     body: str | None = None,
     axis: str = "lam",
     dpi: float = DPI,
+    reaction: str | None = None,
 ) -> Figure:
-    """Load factor against the displacement of one node, with the events marked.
+    """Load factor against the displacement of one node (or a support reaction), with the
+    events marked.
 
     Between consecutive reported states the working scheme is fixed and the structure linear,
     so the curve through the states is exact.  Each event is marked at its state by its
@@ -771,6 +780,10 @@ def plot_load_displacement(
         segment covered), so that every segment reached spans one unit.
     dpi : float
         Resolution of a saved raster figure, dots per inch.
+    reaction : str, optional
+        Plot against the resultant reaction of this support (or of the DOFs a load pattern
+        prescribes) along ``dof`` instead of a displacement: N (kN, MN), or N·m for rz.  Known
+        at every state, so no stored fields are needed.
 
     Returns
     -------
@@ -782,17 +795,26 @@ def plot_load_displacement(
     if axis not in ("lam", "path"):
         raise ValueError(f"axis={axis!r}: use 'lam' or 'path'")
     comp = _DOFS[dof]
-    missing = [i for i in range(res.n_states) if i not in res.fields]
-    if missing and res._recover is None:
-        _field(res, missing[0])  # raises with the explanation
-    U = np.stack([_field(res, i) for i in range(res.n_states)])
-    k = _resolve_node(res, node, body, comp, U[-1])
-    points, dof_of, bodies = _geometry(res)
-    u = U[:, dof_of[k, comp]]
-    div, unit = (1.0, "rad") if comp == 2 else _length_scale(u)
-    owner = next((str(b["name"]) for b in bodies if np.any(np.asarray(b["cells"]) == k)), "?")
-    xlabel = (f"{_DOF_LABEL[comp]} of node {k} ('{owner}', x = {points[k, 0]:.4g} m, "
-              f"y = {points[k, 1]:.4g} m), {unit}")
+    if reaction is not None:
+        try:
+            u = res.reaction(reaction, dof)
+        except KeyError as e:
+            raise ValueError(str(e.args[0])) from None
+        div, unit = _force_scale(u, comp)
+        xlabel = f"reaction of '{reaction}' along {dof} (on the structure), {unit}"
+    else:
+        missing = [i for i in range(res.n_states) if i not in res.fields]
+        if missing and res._recover is None:
+            _field(res, missing[0])  # raises with the explanation
+        U = np.stack([_field(res, i) for i in range(res.n_states)])
+        k = _resolve_node(res, node, body, comp, U[-1])
+        points, dof_of, bodies = _geometry(res)
+        u = U[:, dof_of[k, comp]]
+        div, unit = (1.0, "rad") if comp == 2 else _length_scale(u)
+        owner = next((str(b["name"]) for b in bodies if np.any(np.asarray(b["cells"]) == k)),
+                     "?")
+        xlabel = (f"{_DOF_LABEL[comp]} of node {k} ('{owner}', x = {points[k, 0]:.4g} m, "
+                  f"y = {points[k, 1]:.4g} m), {unit}")
 
     segs = _segments_reached(res)
     panels = len(segs) if axis == "lam" else 1
@@ -825,7 +847,8 @@ def plot_load_displacement(
     if seen:
         fig.legend(handles=_transition_handles(seen), loc="outside lower center",
                    ncol=len(set(seen)), fontsize=8, frameon=False, title="events")
-    fig.suptitle(f"Load–displacement — {res.status.value}, {len(res.events)} events")
+    what = "reaction" if reaction is not None else "displacement"
+    fig.suptitle(f"Load–{what} — {res.status.value}, {len(res.events)} events")
     _save(fig, out, dpi)
     return fig
 

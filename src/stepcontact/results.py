@@ -109,6 +109,10 @@ class StaticResult:
     mechanism : description of the mechanism when equilibrium is lost (bodies, mode)
     geometry : "points" (n_nodes, 2), "dof_of" (n_nodes, 3), "bodies" list of
         {"name", "kind", "element", "cells"} — enough to draw and export fields
+    reactions : (n_states, n_r) resultant reactions of the supports on the structure, N
+        (N·m for rz), at every state: one column per ``reaction_labels`` entry
+        (``"support:x"``, ``"support:y"``, ``"support:rz"``; DOFs prescribed by a load pattern:
+        ``"pattern (prescribed):x"``)
     """
 
     pattern_names: tuple[str, ...]
@@ -135,6 +139,8 @@ class StaticResult:
     counters: dict[str, float] = field(default_factory=dict)
     mechanism: dict[str, object] | None = None
     geometry: dict[str, object] = field(default_factory=dict)
+    reactions: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    reaction_labels: tuple[str, ...] = ()
     units: dict[str, str] = field(
         default_factory=lambda: {
             "lam": "1", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
@@ -184,6 +190,17 @@ class StaticResult:
                 } | {"state": self.state[a]}
         i = idx[-1]
         return {k: getattr(self, k)[i] for k in ("N", "Q", "un", "ut")} | {"state": self.state[i]}
+
+    def reaction(self, support: str, dof: str = "y") -> np.ndarray:
+        """History (n_states,) of the resultant reaction of ``support`` on the structure along
+        ``dof`` ("x", "y": N; "rz": N·m).  ``support`` is a support name, or a load pattern's
+        name for the DOFs it prescribes."""
+        for label in (f"{support}:{dof}", f"{support} (prescribed):{dof}"):
+            if label in self.reaction_labels:
+                return self.reactions[:, self.reaction_labels.index(label)]
+        known = sorted({lb.rsplit(":", 1)[0] for lb in self.reaction_labels})
+        raise KeyError(f"no reaction '{support}' along {dof} (reactions: "
+                       f"{', '.join(f'{k!r}' for k in known) or 'none'})")
 
     def displacement(self, i: int) -> np.ndarray:
         """Displacement vector (ndof,) at reported state ``i``, m; computed on request when it

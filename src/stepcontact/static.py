@@ -150,7 +150,8 @@ class StaticSolver:
         self.W_scale = float(np.max(np.abs(system.w0), initial=0.0)) or 1e-300
         # records
         self._rec: dict[str, list] = {k: [] for k in ("lam", "segment", "factors", "kind", "s", "w",
-                                                      "state", "residual", "violation")}
+                                                      "state", "residual", "violation",
+                                                      "reactions")}
         self.fields: dict[int, np.ndarray] = {}
         self.stresses: dict[int, dict[str, np.ndarray]] = {}
         self.events: list[Event] = []
@@ -447,6 +448,7 @@ class StaticSolver:
         r["state"].append(self.states.copy())
         r["residual"].append(res)
         r["violation"].append(viol)
+        r["reactions"].append(self.cond.reactions(self.c, self.s, self.w))
         if store:
             self.fields[i] = u
             self.stresses[i] = self._stresses(u)
@@ -776,6 +778,8 @@ class StaticSolver:
             status=self.status if not partial else self.status, message=self.message,
             fields=dict(self.fields), stresses=dict(self.stresses), counters=counters,
             mechanism=self.mechanism, geometry=geometry,
+            reactions=np.array(r["reactions"], float).reshape(n, len(self.sys.reaction_labels)),
+            reaction_labels=tuple(self.sys.reaction_labels),
         )
         factors = r["factors"]
         names = list(self.c)
