@@ -17,6 +17,8 @@ from numpy.testing import assert_allclose, assert_array_equal
 from typer.testing import CliRunner
 
 import stepcontact as sc
+import verification_models as vm
+from cli_checks import assert_one_line_error
 from stepcontact import export as ex
 from stepcontact.cli import app
 from stepcontact.io import load_result
@@ -49,22 +51,8 @@ def block_model(block_el: str = "quad4", base_el: str = "quad4", *, push: bool =
 
 
 def frame_model() -> sc.Model:
-    """A beam on five frictionless supports of a base; weight, then its right end is lifted."""
-    beam = sc.Frame.line("beam", (0.0, 0.5), (8.0, 0.5), 8, E=210e9, A=0.01, I=2e-4,
-                         density=7850.0)
-    base = sc.rectangle("base", (-1.0, 0.0), (9.0, 0.5), 10, 1, sc.Material(200e9, 0.2))
-    m = sc.Model(bodies=[base, beam], name="frame")
-    xs = np.array([0.0, 2.0, 4.0, 6.0, 8.0])
-    on = m.select("beam", where=lambda x, y: np.isin(np.round(x, 9), xs))
-    return m.add(
-        sc.Support("ground", m.select("base", y=0.0), "xy"),
-        sc.Support("pin", m.select("beam", x=0.0), "x"),
-        sc.Interface("supports", plus=on, minus=m.select("base", y=0.5), friction=0.0),
-        sc.LoadPattern("weight", [sc.BodyForce(bodies=("beam",))]),
-        sc.LoadPattern("lift", [sc.NodalLoad(m.select("beam", x=8.0), fy=1.0)]),
-        sc.Segment("weight", 1.0),
-        sc.Segment("lift", 1e6),
-    )
+    """A beam on frictionless supports; weight, then its right end is lifted."""
+    return vm.beam_on_supports()
 
 
 def with_cfe_ends(res: sc.StaticResult, model: sc.Model) -> sc.StaticResult:
@@ -450,15 +438,6 @@ def test_writes_are_atomic(block, tmp_path, monkeypatch):
 # command line
 # --------------------------------------------------------------------------------------------
 runner = CliRunner()
-
-
-def assert_one_line_error(result, fragment: str):
-    assert result.exit_code == 2, result.output
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("error: ")
-    assert fragment in lines[0], lines[0]
-    assert "Traceback" not in result.output
 
 
 @pytest.fixture(scope="module")

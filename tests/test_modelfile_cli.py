@@ -20,6 +20,7 @@ from numpy.testing import assert_allclose
 from typer.testing import CliRunner
 
 import stepcontact
+from cli_checks import assert_one_line_error
 from stepcontact import (
     BodyForce,
     EdgeLoad,
@@ -478,15 +479,6 @@ def model_file(tmp_path):
 
 
 runner = CliRunner()
-
-
-def assert_one_line_error(result, fragment: str):
-    assert result.exit_code == 2, result.output
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1, result.stderr
-    assert lines[0].startswith("error: ")
-    assert fragment in lines[0]
-    assert "Traceback" not in result.output
 
 
 def test_help_and_version():

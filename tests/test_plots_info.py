@@ -12,6 +12,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 from typer.testing import CliRunner
 
 import stepcontact as sc
+import verification_models as vm
 from stepcontact.cli import app
 from stepcontact.enums import ContactState
 from stepcontact.plotting import (
@@ -47,20 +48,8 @@ def block_model(element: str = "quad4") -> sc.Model:
 
 
 def frame_model() -> sc.Model:
-    """A beam on three frictionless supports, lifted at its right end until it tips."""
-    beam = sc.Frame.line("beam", (0, 0.5), (8, 0.5), 8, E=210e9, A=0.01, I=2e-4, density=7850)
-    base = sc.rectangle("base", (-1, 0), (9, 0.5), 10, 1, sc.Material(200e9, 0.2))
-    m = sc.Model(bodies=[base, beam], name="frame")
-    on = m.select("beam", where=lambda x, y: np.isin(np.round(x, 9), [0.0, 4.0, 8.0]))
-    return m.add(
-        sc.Support("ground", m.select("base", y=0), "xy"),
-        sc.Support("pin", m.select("beam", x=0.0), "x"),
-        sc.Interface("supports", plus=on, minus=m.select("base", y=0.5), friction=0.0),
-        sc.LoadPattern("weight", [sc.BodyForce(bodies=("beam",))]),
-        sc.LoadPattern("lift", [sc.NodalLoad(m.select("beam", x=8.0), fy=1.0)]),
-        sc.Segment("weight", 1.0),
-        sc.Segment("lift", 1e6),
-    )
+    """A beam on frictionless supports; weight, then its right end is lifted."""
+    return vm.beam_on_supports((0.0, 4.0, 8.0))
 
 
 @pytest.fixture(scope="module")

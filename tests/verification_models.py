@@ -410,3 +410,22 @@ def random_frictional_model(
     program += [Segment("L1", 0.0)]
     return m.add(LoadPattern("weight", [weight]), pattern("L1", loads1), pattern("L2", loads2),
                  *program)
+
+
+def beam_on_supports(xs: tuple[float, ...] = (0.0, 2.0, 4.0, 6.0, 8.0)) -> Model:
+    """A steel beam (0, 0.5)–(8, 0.5) on frictionless supports at ``xs`` of a base; weight,
+    then its right end is lifted by 1 N per unit λ (the supports open one after another)."""
+    beam = Frame.line("beam", (0.0, 0.5), (8.0, 0.5), 8, E=210e9, A=0.01, I=2e-4,
+                      density=7850.0)
+    base = rectangle("base", (-1.0, 0.0), (9.0, 0.5), 10, 1, Material(200e9, 0.2))
+    m = Model(bodies=[base, beam], name="frame")
+    on = m.select("beam", where=lambda x, y: np.isin(np.round(x, 9), np.asarray(xs)))
+    return m.add(
+        Support("ground", m.select("base", y=0.0), "xy"),
+        Support("pin", m.select("beam", x=0.0), "x"),
+        Interface("supports", plus=on, minus=m.select("base", y=0.5), friction=0.0),
+        LoadPattern("weight", [BodyForce(bodies=("beam",))]),
+        LoadPattern("lift", [NodalLoad(m.select("beam", x=8.0), fy=1.0)]),
+        Segment("weight", 1.0),
+        Segment("lift", 1e6),
+    )
