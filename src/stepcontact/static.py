@@ -528,8 +528,9 @@ class StaticSolver:
             ub = u[self.sys.dofs.of[ids][:, :2]] / umax
             if np.abs(ub).max() < 1e-3:
                 continue
-            x = b.points - b.points.mean(axis=0)
-            # rigid fit u = T + θ × x
+            xc = b.points.mean(axis=0)
+            x = b.points - xc
+            # rigid fit u = T + θ ẑ × (x − x̄)
             A = np.zeros((2 * len(x), 3))
             A[0::2, 0] = 1
             A[1::2, 1] = 1
@@ -537,15 +538,22 @@ class StaticSolver:
             A[1::2, 2] = x[:, 0]
             sol = np.linalg.lstsq(A, ub.ravel(), rcond=None)[0]
             size = float(np.ptp(b.points, axis=0).max())
-            tx, ty, th = sol[0], sol[1], sol[2] * size / 2
-            if abs(th) > max(abs(tx), abs(ty)):
-                mode = "rotation (overturning)"
+            tx, ty, th = sol
+            # centre of rotation P (u(P) = 0): a rotation about a point near the body is
+            # overturning; a far centre is a translation (sliding, lift-off)
+            centre = None
+            if abs(th) * size > 1e-9 * max(abs(tx), abs(ty), 1e-300):
+                centre = xc + np.array([-ty, tx]) / th
+                centre[np.abs(centre) < 1e-9 * size] = 0.0  # round-off off a zero coordinate
+            if centre is not None and np.linalg.norm(centre - xc) <= 5.0 * size:
+                mode = f"rotation (overturning) about ({centre[0]:.4g}, {centre[1]:.4g})"
             elif abs(tx) >= abs(ty):
                 mode = "sliding"
             else:
                 mode = "lift-off" if ty > 0 else "sinking"
             bodies.append({"body": b.name, "mode": mode, "translation": [float(tx), float(ty)],
-                           "rotation": float(sol[2])})
+                           "rotation": float(th),
+                           "centre": None if centre is None else [float(c) for c in centre]})
         m = self.cfe.m
         return {
             "lam": lam,
