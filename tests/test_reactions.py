@@ -84,3 +84,21 @@ def test_prescribed_displacement_reaction_and_round_trip(tmp_path):
     assert (tmp_path / "p.png").stat().st_size > 1000
     out = CliRunner().invoke(app, ["plot", str(path), "--kind", "timeline", "--reaction", "pull"])
     assert out.exit_code == 2 and "--reaction applies to --kind load-displacement" in out.output
+
+
+def test_plot_json_and_quiet(tmp_path):
+    res = sc.solve_static(vm.sliding_block(0.4, 10.0), store_fields="all")
+    path = tmp_path / "r.nc"
+    res.save(path)
+    out = CliRunner().invoke(app, ["plot", str(path), "--kind", "all", "-o", str(tmp_path),
+                                   "--json"])
+    assert out.exit_code == 0, out.output
+    import json
+
+    info = json.loads(out.stdout)
+    assert info["status"] == "ok" and len(info["written"]) == 4 and info["skipped"] == []
+    assert all((tmp_path / p).stat().st_size > 1000 for p in info["written"])
+    out = CliRunner().invoke(app, ["plot", str(path), "-q", "-o", str(tmp_path / "q.png")])
+    assert out.exit_code == 0 and out.stdout == "" and (tmp_path / "q.png").exists()
+    out = CliRunner().invoke(app, ["plot", str(tmp_path / "missing.nc"), "--json"])
+    assert out.exit_code == 2 and json.loads(out.stdout)["status"] == "error"

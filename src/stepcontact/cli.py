@@ -700,6 +700,10 @@ def plot(
     dpi: Annotated[
         float, typer.Option("--dpi", min=1.0, help="Resolution of PNG figures, dots per inch.")
     ] = 150.0,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")
+    ] = False,
+    as_json: JsonOption = False,
 ) -> None:
     """Draw figures of a result file.
 
@@ -738,9 +742,14 @@ def plot(
             _draw_figure(res, k, path, opts)
             written.append(str(path))
     except _Failure as e:
-        raise _fail(str(e), False) from None
+        raise _fail(str(e), as_json) from None
     except OSError as e:
-        raise _fail(_error_text(e), False) from None
+        raise _fail(_error_text(e), as_json) from None
+    if as_json:
+        typer.echo(json.dumps({"status": "ok", "written": written, "skipped": skipped}))
+        return
+    if quiet:
+        return
     if skipped:
         console.print(Text(f"skipped {', '.join(skipped)}: the displacements are not stored in "
                            "the result file (run with store_fields='all')", style="yellow"))
