@@ -60,11 +60,14 @@ _NODE_DOF = np.array(["ux", "uy", "rz"])
 _STRESS_COMPONENTS = np.array(["xx", "yy", "xy", "zz"])
 
 # field name -> (python kind, units, long name)
+_SEGMENT_SPEC: dict[str, tuple[str, str, str]] = {
+    "segment": ("int", "1", "load-program segment"),
+    "pattern": ("str", "1", "load pattern of the segment"),
+}
 _EVENT_SPEC: dict[str, tuple[str, str, str]] = {
     "step": ("int", "1", "main step (event point) number, from 1"),
     "state": ("int", "1", "index of the reported state at the event"),
-    "segment": ("int", "1", "load-program segment"),
-    "pattern": ("str", "1", "load pattern of the segment"),
+    **_SEGMENT_SPEC,
     "lam": ("float", "1", "load factor of the pattern at the event"),
     "cfe": ("int", "1", "global CFE index"),
     "interface": ("str", "1", "interface name"),
@@ -78,8 +81,7 @@ _EVENT_SPEC: dict[str, tuple[str, str, str]] = {
 }
 
 _MULT_SPEC: dict[str, tuple[str, str, str]] = {
-    "segment": ("int", "1", "load-program segment"),
-    "pattern": ("str", "1", "load pattern of the segment"),
+    **_SEGMENT_SPEC,
     "first_slip": ("float?", "1", "load factor at the first slip (NaN: none)"),
     "first_opening": ("float?", "1", "load factor at the first opening (NaN: none)"),
     "first_closing": ("float?", "1", "load factor at the first closing (NaN: none)"),

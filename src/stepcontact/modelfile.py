@@ -66,7 +66,7 @@ import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, Union
 
 import numpy as np
 from pydantic import (
@@ -154,6 +154,16 @@ class MaterialSpec(_Spec):
         return Material(self.E, self.nu, self.density)
 
 
+def _tagged_union(tagger, error_type: str, message: str, **variants: type) -> Any:
+    """A pydantic union discriminated by ``tagger`` (value -> tag or None); ``variants`` maps
+    each tag to its model.  An untaggable value fails with ``message`` (one line, no list of
+    every variant's errors)."""
+    members = tuple(Annotated[t, Tag(tag)] for tag, t in variants.items())
+    return Annotated[Union[members],  # noqa: UP007 - a union built at run time
+                     Discriminator(tagger, custom_error_type=error_type,
+                                   custom_error_message=message)]
+
+
 def _material_tag(v: Any) -> str | None:
     if isinstance(v, str):
         return "material=name"
@@ -162,14 +172,10 @@ def _material_tag(v: Any) -> str | None:
     return None
 
 
-MaterialRef = Annotated[
-    Annotated[str, Tag("material=name")] | Annotated[MaterialSpec, Tag("material=table")],
-    Discriminator(
-        _material_tag,
-        custom_error_type="material_ref",
-        custom_error_message="must be a material name or an inline table {E, nu, density}",
-    ),
-]
+MaterialRef = _tagged_union(
+    _material_tag, "material_ref", "must be a material name or an inline table {E, nu, density}",
+    **{"material=name": str, "material=table": MaterialSpec},
+)
 
 
 class RectangleSpec(_Spec):
@@ -253,14 +259,10 @@ def _body_tag(v: Any) -> str | None:
     return None
 
 
-BodySpec = Annotated[
-    Annotated[RectangleSpec, Tag("kind=rectangle")] | Annotated[MeshBodySpec, Tag("kind=mesh")],
-    Discriminator(
-        _body_tag,
-        custom_error_type="body_kind",
-        custom_error_message="kind must be 'rectangle' or 'mesh'",
-    ),
-]
+BodySpec = _tagged_union(
+    _body_tag, "body_kind", "kind must be 'rectangle' or 'mesh'",
+    **{"kind=rectangle": RectangleSpec, "kind=mesh": MeshBodySpec},
+)
 
 
 def _body_name(b: RectangleSpec | MeshBodySpec) -> str:
@@ -515,19 +517,11 @@ def _load_tag(v: Any) -> str | None:
     return f"type={t}" if t in ("gravity", "nodal", "pressure", "displacement") else None
 
 
-LoadSpec = Annotated[
-    Annotated[GravityLoad, Tag("type=gravity")]
-    | Annotated[NodalLoadSpec, Tag("type=nodal")]
-    | Annotated[PressureLoad, Tag("type=pressure")]
-    | Annotated[DisplacementLoad, Tag("type=displacement")],
-    Discriminator(
-        _load_tag,
-        custom_error_type="load_type",
-        custom_error_message=(
-            "type must be 'gravity', 'nodal', 'pressure' or 'displacement'"
-        ),
-    ),
-]
+LoadSpec = _tagged_union(
+    _load_tag, "load_type", "type must be 'gravity', 'nodal', 'pressure' or 'displacement'",
+    **{"type=gravity": GravityLoad, "type=nodal": NodalLoadSpec,
+       "type=pressure": PressureLoad, "type=displacement": DisplacementLoad},
+)
 
 
 class PatternSpec(_Spec):
