@@ -25,9 +25,9 @@ import numpy as np
 import scipy.sparse as sp
 
 import stepcontact as sc
-from stepcontact.assembly import assemble
-from stepcontact.condensation import stabilisation
-from stepcontact.linalg import factorize
+from stepcontact.fem.assembly import assemble
+from stepcontact.solver.condensation import stabilisation
+from stepcontact.solver.linalg import factorize
 
 
 def slab_model(k: int) -> sc.Model:

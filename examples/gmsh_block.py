@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 
 import stepcontact as sc
-from stepcontact.meshfile import read_msh
-from stepcontact.modelfile import load_model, validate_model_file
+from stepcontact.io.meshfile import read_msh
+from stepcontact.io.modelfile import load_model, validate_model_file
 
 DATA = Path(__file__).resolve().parent / "data"
 

@@ -9,7 +9,7 @@ Run:  python examples/slab_uplift.py
 from pathlib import Path
 
 import stepcontact as sc
-from stepcontact.plotting import plot_interfaces
+from stepcontact.post.plotting import plot_interfaces
 
 concrete = sc.Material(E=30e9, nu=0.2, density=2400)
 rock = sc.Material(E=5e9, nu=0.25, density=2200)

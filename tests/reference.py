@@ -1,4 +1,4 @@
-"""Independent references for verifying :mod:`stepcontact.static` (helpers, no tests).
+"""Independent references for verifying :mod:`stepcontact.solver.static` (helpers, no tests).
 
 Frictionless unilateral contact is path independent: the final state is the minimiser of the
 potential energy under the non-penetration constraints,
@@ -10,7 +10,7 @@ potential energy under the non-penetration constraints,
     \\quad u_P = \\bar u_P \\ (\\text{supports and prescribed displacements}),
 
 with K, B_n = rows m..2m-1 of ``B`` and g⁰ = −w0[m:] taken from
-:func:`stepcontact.assembly.assemble`.  Its KKT conditions are the frictionless contact
+:func:`stepcontact.fem.assembly.assemble`.  Its KKT conditions are the frictionless contact
 conditions (1) of the article with p = −N ≥ 0:
 
 .. math::
@@ -54,7 +54,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from stepcontact.assembly import System
+from stepcontact.fem.assembly import System
 from stepcontact.model import Model
 
 #: relative regularisation of K used by the quadprog stage only (never in the final answer)

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from stepcontact.modelfile import load_model, model_from_dict, schema
+from stepcontact.io.modelfile import load_model, model_from_dict, schema
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"

@@ -19,9 +19,9 @@ from typer.testing import CliRunner
 import stepcontact as sc
 import verification_models as vm
 from cli_checks import assert_one_line_error
-from stepcontact import export as ex
 from stepcontact.cli import app
-from stepcontact.io import load_result
+from stepcontact.io import export as ex
+from stepcontact.results.file import load_result
 
 MAT = sc.Material(1e9, 0.25, 2000.0)
 STRESS = ("sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz")
@@ -384,7 +384,7 @@ def test_states_without_fields_are_skipped(tmp_path, caplog):
     loaded = load_result(tmp_path / "ends.nc")
     stored = sorted(loaded.fields)
     assert len(stored) < loaded.n_states
-    with caplog.at_level(logging.WARNING, logger="stepcontact.export"):
+    with caplog.at_level(logging.WARNING, logger="stepcontact.io.export"):
         sc.export_vtu(loaded, tmp_path / "v", states="all")
     assert "skipped" in caplog.text
     entries = read_pvd(tmp_path / "v" / "result.pvd")

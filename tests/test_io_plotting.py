@@ -10,7 +10,8 @@ import xarray as xr
 from numpy.testing import assert_allclose, assert_array_equal
 
 from stepcontact.enums import ContactState, Status, Transition
-from stepcontact.io import (
+from stepcontact.post.plotting import plot_interfaces, plot_load_path
+from stepcontact.results.file import (
     _EVENT_SPEC,
     _MULT_SPEC,
     ResultWriter,
@@ -18,8 +19,7 @@ from stepcontact.io import (
     result_to_dataset,
     save_result,
 )
-from stepcontact.plotting import plot_interfaces, plot_load_path
-from stepcontact.results import Event, Multipliers, StaticResult
+from stepcontact.results.result import Event, Multipliers, StaticResult
 
 OPEN, STICK, SP, SN = (int(c) for c in (ContactState.OPEN, ContactState.STICK,
                                           ContactState.SLIP_POS, ContactState.SLIP_NEG))
@@ -396,7 +396,7 @@ def test_no_contact_elements(tmp_path):
 def test_demo_run_round_trip_and_plots(tmp_path):
     """A real run: the writer hook saves at every segment end; the file round-trips exactly."""
     from stepcontact.demo import demo_uplift_model
-    from stepcontact.static import solve_static
+    from stepcontact.solver.static import solve_static
 
     w = ResultWriter(tmp_path / "partial.nc")
     res = solve_static(demo_uplift_model(), hooks=[w])

@@ -14,8 +14,8 @@ import pytest
 
 import stepcontact as sc
 import verification_models as vm
-from stepcontact.lcp import lemke
-from stepcontact.static import StaticSolver
+from stepcontact.solver.lcp import lemke
+from stepcontact.solver.static import StaticSolver
 
 
 def enumerate_lcp(M: np.ndarray, q: np.ndarray) -> list[np.ndarray]:

@@ -9,7 +9,7 @@ import scipy.sparse as sp
 import stepcontact as sc
 import verification_models as vm
 from stepcontact.errors import SolverError
-from stepcontact.linalg import available_backends, factorize
+from stepcontact.solver.linalg import available_backends, factorize
 
 
 def _spd(n: int = 200, seed: int = 0) -> sp.csc_matrix:

@@ -1,4 +1,4 @@
-"""Gmsh mesh input (stepcontact.meshfile), mesh bodies in model files and `stepcontact validate`.
+"""Gmsh mesh input (stepcontact.io.meshfile), mesh bodies in model files and `stepcontact validate`.
 
 The committed example mesh (examples/data/gmsh_block.msh, made from gmsh_block.geo) is read
 without gmsh; tests that mesh .geo files need the gmsh package and are skipped without it.
@@ -21,10 +21,10 @@ from typer.testing import CliRunner
 
 import stepcontact as sc
 from stepcontact import ModelError
-from stepcontact._fem import stiffness
 from stepcontact.cli import app
-from stepcontact.meshfile import mesh_geo, read_mesh, read_msh
-from stepcontact.modelfile import load_model, validate_model_file, validation_report
+from stepcontact.fem.continuum import stiffness
+from stepcontact.io.meshfile import mesh_geo, read_mesh, read_msh
+from stepcontact.io.modelfile import load_model, validate_model_file, validation_report
 
 DATA = Path(__file__).resolve().parent.parent / "examples" / "data"
 def _need_gmsh() -> None:

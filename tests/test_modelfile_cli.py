@@ -33,8 +33,8 @@ from stepcontact import (
 from stepcontact.cli import ProgressHook, app, events_table, result_summary
 from stepcontact.demo import demo_model, demo_text, demo_uplift_model
 from stepcontact.enums import ContactState, Status, Transition
-from stepcontact.modelfile import load_model, model_from_dict, schema
-from stepcontact.results import Event, Multipliers, StaticResult
+from stepcontact.io.modelfile import load_model, model_from_dict, schema
+from stepcontact.results.result import Event, Multipliers, StaticResult
 
 DEMO = files("stepcontact") / "data" / "demo.toml"
 
@@ -464,9 +464,9 @@ def fake_solver(monkeypatch):
         calls["plot"].append({"path": Path(path), "lams": lams})
         Path(path).write_bytes(b"\x89PNG fake")
 
-    monkeypatch.setattr("stepcontact.static.solve_static", solve_static)
+    monkeypatch.setattr("stepcontact.solver.static.solve_static", solve_static)
     monkeypatch.setattr(StaticResult, "save", save)
-    monkeypatch.setattr("stepcontact.plotting.plot_interfaces", plot_interfaces)
+    monkeypatch.setattr("stepcontact.post.plotting.plot_interfaces", plot_interfaces)
     calls["state"] = [state]
     return calls
 

@@ -15,7 +15,7 @@ import stepcontact as sc
 import verification_models as vm
 from stepcontact.cli import app
 from stepcontact.enums import ContactState
-from stepcontact.plotting import (
+from stepcontact.post.plotting import (
     STATE_COLORS,
     TRANSITION_MARKERS,
     plot_deformed,

@@ -12,8 +12,8 @@ from typer.testing import CliRunner
 
 import stepcontact as sc
 import verification_models as vm
-from stepcontact.assembly import assemble
 from stepcontact.cli import app
+from stepcontact.fem.assembly import assemble
 
 G = 9.81
 

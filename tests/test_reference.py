@@ -30,7 +30,7 @@ from stepcontact import (
     Support,
     rectangle,
 )
-from stepcontact.assembly import assemble
+from stepcontact.fem.assembly import assemble
 
 E, A, I, L = 200e9, 1e-3, 1e-6, 2.0
 

@@ -28,8 +28,8 @@ from reference import (
     frictionless_reference,
 )
 from stepcontact import ContactState, Status, Transition
-from stepcontact.assembly import assemble
-from stepcontact.static import solve_static
+from stepcontact.fem.assembly import assemble
+from stepcontact.solver.static import solve_static
 
 OPEN, STICK, SLIP_POS, SLIP_NEG = (int(s) for s in (ContactState.OPEN, ContactState.STICK,
                                                     ContactState.SLIP_POS,

@@ -1,14 +1,13 @@
 """stepcontact: exact step-by-step analysis of structures with unilateral contact and friction."""
 
-from .assembly import System, assemble
-from .demo import demo_model
-from .enums import ContactState, SlipTreatment, Status, Transition
-from .errors import ModelError, SolverError, StepContactError
-from .export import export_vtu, export_xdmf
-from .io import load_result
-from .mesh import rectangle
-from .meshfile import MeshFile, read_msh
-from .model import (
+from stepcontact.demo import demo_model
+from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
+from stepcontact.errors import ModelError, SolverError, StepContactError
+from stepcontact.fem.assembly import System, assemble
+from stepcontact.io.export import export_vtu, export_xdmf
+from stepcontact.io.meshfile import MeshFile, read_msh
+from stepcontact.io.modelfile import load_model, model_from_dict, validate_model_file
+from stepcontact.model import (
     Body,
     BodyForce,
     ContactLayer,
@@ -26,9 +25,10 @@ from .model import (
     Support,
     Tie,
 )
-from .modelfile import load_model, model_from_dict, validate_model_file
-from .results import Event, Multipliers, StaticResult
-from .static import StepInfo, solve_static
+from stepcontact.model.mesh import rectangle
+from stepcontact.results.file import load_result
+from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.solver.static import StepInfo, solve_static
 
 _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",
           "plot_event_timeline")
@@ -37,7 +37,7 @@ _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displ
 def __getattr__(name: str):
     """Figures are imported on first use (matplotlib is slow to import)."""
     if name in _PLOTS:
-        from . import plotting
+        from stepcontact.post import plotting
 
         return getattr(plotting, name)
     raise AttributeError(f"module 'stepcontact' has no attribute '{name}'")

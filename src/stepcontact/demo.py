@@ -22,8 +22,8 @@ from __future__ import annotations
 
 from importlib.resources import as_file, files
 
-from .model import Model
-from .modelfile import load_model
+from stepcontact.io.modelfile import load_model
+from stepcontact.model import Model
 
 DEMO_FILES: dict[str, str] = {"slide": "demo.toml", "uplift": "demo_uplift.toml"}
 

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .errors import SolverError
+from stepcontact.errors import SolverError
 
 
 class Factor(Protocol):

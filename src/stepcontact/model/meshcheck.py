@@ -1,6 +1,6 @@
 """Geometric checks of continuum bodies: element quality and overlap of two bodies.
 
-Used by :func:`stepcontact.modelfile.validate_model_file`; everything is vectorised over the
+Used by :func:`stepcontact.io.modelfile.validate_model_file`; everything is vectorised over the
 elements.  Only the corner nodes of the elements are used (curved sides are ignored).
 """
 
@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .model import Body
+from stepcontact.model.items import Body
 
 #: elements with a quality below this are reported (1 is an equilateral triangle or a rectangle)
 QUALITY_WARN = 0.1

@@ -32,13 +32,13 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 from rich.text import Text
 
-from . import __version__
-from .enums import SlipTreatment
-from .errors import StepContactError
+from stepcontact import __version__
+from stepcontact.enums import SlipTreatment
+from stepcontact.errors import StepContactError
 
 if TYPE_CHECKING:
-    from .model import Model
-    from .results import StaticResult
+    from stepcontact.model import Model
+    from stepcontact.results.result import StaticResult
 
 EXIT_ERROR = 2  #: exit code for bad input (model errors, missing files, solver errors)
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
@@ -85,7 +85,7 @@ def _fail(message: str, as_json: bool) -> typer.Exit:
 
 def _load(path: Path) -> Model:
     """Load a model file; errors name the file."""
-    from .modelfile import load_model
+    from stepcontact.io.modelfile import load_model
 
     try:
         return load_model(path)
@@ -134,8 +134,8 @@ class ProgressHook:
 def _solve(
     model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool
 ) -> StaticResult:
-    """Run :func:`stepcontact.static.solve_static` with a progress bar on stderr."""
-    from . import static
+    """Run :func:`stepcontact.solver.static.solve_static` with a progress bar on stderr."""
+    from stepcontact.solver import static
 
     segments = model.segments_resolved()
     with Progress(
@@ -191,7 +191,7 @@ def events_table(res: StaticResult, max_rows: int = TABLE_ROWS) -> Table:
 
 def _plot(res: StaticResult, path: Path, lams: Sequence[float] | None) -> None:
     """Contact stresses along the interfaces, written to ``path`` (PNG, PDF or SVG)."""
-    from . import plotting
+    from stepcontact.post import plotting
 
     try:
         plotting.plot_interfaces(res, lams=list(lams) if lams else None, path=path)
@@ -223,7 +223,7 @@ def _jsonable(v: Any) -> Any:
 
 def result_summary(res: StaticResult, **extra: Any) -> dict[str, Any]:
     """Machine-readable summary of a run (what ``--json`` prints)."""
-    from .results import transition_counts
+    from stepcontact.results.result import transition_counts
 
     return {
         "status": res.status.value,
@@ -411,7 +411,7 @@ def demo(
 
         stepcontact demo -o /tmp/demo --quiet
     """
-    from .demo import DEMO_FILES, demo_model, demo_text, demo_uplift_model
+    from stepcontact.demo import DEMO_FILES, demo_model, demo_text, demo_uplift_model
 
     console = Console(highlight=False)
     builders = {"slide": demo_model, "uplift": demo_uplift_model}
@@ -440,7 +440,7 @@ def demo(
 
 
 def problems_table(problems: Sequence[Any], title: str) -> Table:
-    """Problems of a model file (:class:`~stepcontact.modelfile.Problem`) as a rich table."""
+    """Problems of a model file (:class:`~stepcontact.io.modelfile.Problem`) as a rich table."""
     table = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_edge=False,
                   pad_edge=False)
     table.add_column("", no_wrap=True)
@@ -471,7 +471,7 @@ def validate(
 
         stepcontact validate dam.toml --json
     """
-    from .modelfile import validation_report
+    from stepcontact.io.modelfile import validation_report
 
     console = Console(highlight=False, soft_wrap=True)
     report = validation_report(model_file)
@@ -527,7 +527,7 @@ def schema() -> None:
 
     Point your editor at it (e.g. the "Even Better TOML" extension: a #:schema comment).
     """
-    from .modelfile import schema as file_schema
+    from stepcontact.io.modelfile import schema as file_schema
 
     typer.echo(json.dumps(file_schema(), indent=2))
 
@@ -544,7 +544,7 @@ _NEEDS_FIELDS = ("deformed", "load-displacement")
 
 def _load_result_file(path: Path) -> StaticResult:
     """Load a result file; errors are one line naming the file."""
-    from .io import load_result
+    from stepcontact.results.file import load_result
 
     if not path.is_file():
         raise _Failure(f"result file not found: {path}")
@@ -611,7 +611,7 @@ def _check_plot_options(kinds: Sequence[str], lam: Sequence[float] | None,
 
 def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any]) -> None:
     """One figure of ``kind`` written to ``path``; plotting errors become one-line failures."""
-    from . import plotting
+    from stepcontact.post import plotting
 
     states = opts["state"] or None
     try:
@@ -943,7 +943,7 @@ def export(
 
         stepcontact export run.nc --vtu out --xdmf out/run.xdmf --states events
     """
-    from .export import export_vtu, export_xdmf, select_states
+    from stepcontact.io.export import export_vtu, export_xdmf, select_states
 
     console = Console(highlight=False, soft_wrap=True)
     try:

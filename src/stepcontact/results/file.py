@@ -30,7 +30,7 @@ Files are written atomically (temporary file in the target directory, then
 
 Example
 -------
->>> from stepcontact.io import load_result, save_result
+>>> from stepcontact.results import load_result, save_result
 >>> save_result(res, "out/run.nc")          # doctest: +SKIP
 >>> res2 = load_result("out/run.nc")        # doctest: +SKIP
 """
@@ -48,9 +48,9 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from . import enums as _enums
-from .enums import ContactState, Status, Transition
-from .results import Event, Multipliers, StaticResult
+from stepcontact import enums as _enums
+from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.results.result import Event, Multipliers, StaticResult
 
 FORMAT = "stepcontact-static-result"
 FORMAT_VERSION = 1

@@ -8,7 +8,7 @@ Units are SI throughout: metres, newtons, pascals, kilograms.  In 2D a force "pe
 force on the whole thickness of the model (N); pressures are in Pa and are multiplied by the
 thickness when integrated.
 
-Data flows one way: model -> :mod:`stepcontact.assembly` -> :mod:`stepcontact.static` ->
+Data flows one way: model -> :mod:`stepcontact.fem` -> :mod:`stepcontact.solver` ->
 :mod:`stepcontact.results` -> post-processing.
 """
 
@@ -21,7 +21,7 @@ from typing import Literal
 
 import numpy as np
 
-from .errors import ModelError
+from stepcontact.errors import ModelError
 
 PlaneKind = Literal["strain", "stress"]
 ElementKind = Literal["tri3", "tri6", "quad4", "quad8", "quad9"]
@@ -63,7 +63,7 @@ class Material:
 class Body:
     """A linear-elastic continuum body meshed with one scikit-fem element kind.
 
-    Use :func:`stepcontact.mesh.rectangle` or :meth:`Body.from_mesh` to make one.
+    Use :func:`stepcontact.model.mesh.rectangle` or :meth:`Body.from_mesh` to make one.
 
     Attributes
     ----------
@@ -99,7 +99,7 @@ class Body:
     @classmethod
     def from_mesh(cls, name: str, mesh, element: str, material: Material) -> Body:
         """Build a body from a scikit-fem mesh (``MeshTri``/``MeshQuad`` or their P2 variants)."""
-        from ._fem import body_arrays
+        from stepcontact.fem.continuum import body_arrays
 
         if element not in ELEMENT_KINDS:
             raise ModelError(f"body '{name}'", f"unknown element '{element}', use {ELEMENT_KINDS}")

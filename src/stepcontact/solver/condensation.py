@@ -34,10 +34,10 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .assembly import System
-from .enums import ContactState
-from .errors import ModelError
-from .linalg import factorize
+from stepcontact.enums import ContactState
+from stepcontact.errors import ModelError
+from stepcontact.fem.assembly import System
+from stepcontact.solver.linalg import factorize
 
 #: a scheme matrix whose reciprocal condition number (rows equilibrated) is below this is a
 #: mechanism.  G carries a relative round-off of about eps·cond(K₀), so exact mechanisms of

@@ -68,9 +68,9 @@ import numpy as np
 from meshio.xdmf import TimeSeriesWriter
 from meshio.xdmf.common import meshio_to_xdmf_type, meshio_type_to_xdmf_index, numpy_to_xdmf_dtype
 
-from .enums import ContactState
-from .mesh import REVERSED_NODE_ORDER
-from .results import StaticResult
+from stepcontact.enums import ContactState
+from stepcontact.model.mesh import REVERSED_NODE_ORDER
+from stepcontact.results.result import StaticResult
 
 _log = logging.getLogger(__name__)
 
@@ -536,7 +536,7 @@ def export_vtu(
     ``DIR/NAME/NAME_cfe_<state>.vtu``.  An existing series of the same name is replaced (the
     folder ``DIR/NAME`` must hold nothing else); other files in ``DIR`` are left alone.  The
     arrays, units and the time parameter are described in the module documentation
-    (:mod:`stepcontact.export`) and in ``docs/paraview.md``.
+    (:mod:`stepcontact.io.export`) and in ``docs/paraview.md``.
 
     Parameters
     ----------
@@ -547,7 +547,7 @@ def export_vtu(
     states : None, "stored", "all", "events", "ends", int or sequence of int
         States to write (see :func:`select_states`); default: every state with a stored
         displacement field.  Selected states without displacements are skipped with a
-        warning on the ``stepcontact.export`` logger.
+        warning on the ``stepcontact.io.export`` logger.
     name : str
         Base name of the files.
 

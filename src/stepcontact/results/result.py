@@ -1,7 +1,7 @@
 """Result objects of a static run: the event log, the state after every event, fields.
 
 A :class:`StaticResult` has named fields (never numbered columns) and is saved to / loaded from
-one netCDF4/HDF5 file through xarray (:mod:`stepcontact.io`).  Units: forces N, stresses Pa,
+one netCDF4/HDF5 file through xarray (:mod:`stepcontact.results.file`).  Units: forces N, stresses Pa,
 displacements m; contact stresses are N/A_k and Q/A_k in Pa.
 
 Reported states are indexed by ``i``: state 0 is the start of the program; every event point
@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .enums import ContactState, Status, Transition
+from stepcontact.enums import ContactState, Status, Transition
 
 
 @dataclass(frozen=True)
@@ -292,23 +292,23 @@ class StaticResult:
             f"{len(self.fields)} states<table><tr>{head}</tr>{body}</table></div>"
         )
 
-    # ---- I/O (implemented in stepcontact.io) -------------------------------------------------
+    # ---- I/O (implemented in stepcontact.results.file) -------------------------------------------------
     def to_dataset(self):
         """The result as an :class:`xarray.Dataset` (what is written to the result file)."""
-        from .io import result_to_dataset
+        from stepcontact.results.file import result_to_dataset
 
         return result_to_dataset(self)
 
     def save(self, path) -> None:
         """Write the result atomically to a netCDF4/HDF5 file."""
-        from .io import save_result
+        from stepcontact.results.file import save_result
 
         save_result(self, path)
 
     @classmethod
     def load(cls, path) -> StaticResult:
         """Load a result written by :meth:`save`."""
-        from .io import load_result
+        from stepcontact.results.file import load_result
 
         return load_result(path)
 

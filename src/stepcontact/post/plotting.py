@@ -10,7 +10,7 @@ compression; the Coulomb condition is |τ| ≤ f |σ_n| with τ = Q/A (eq. (1)).
 
 Example
 -------
->>> from stepcontact.plotting import plot_interfaces, plot_load_path
+>>> from stepcontact.post.plotting import plot_interfaces, plot_load_path
 >>> fig = plot_interfaces(res, path="out/interfaces.png")   # doctest: +SKIP
 >>> fig = plot_load_path(res, path="out/load_path.pdf")     # doctest: +SKIP
 >>> fig = plot_deformed(res, path="out/deformed.svg")       # doctest: +SKIP
@@ -27,12 +27,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .enums import ContactState, Transition
+from stepcontact.enums import ContactState, Transition
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from .results import StaticResult
+    from stepcontact.results.result import StaticResult
 
 #: colours of the CFE states (open, stick, slip+, slip−, bonded)
 STATE_COLORS: dict[ContactState, str] = {

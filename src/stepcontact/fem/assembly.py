@@ -5,7 +5,8 @@ Degrees of freedom: every node has ux, uy; frame nodes also rz.  Tied nodes
 for all elements at once and scattered through one COO -> CSR conversion (:func:`scatter`).
 
 The contact operator B (2m × ndof) gives the mutual displacements of the CFEs,
-w = B u + w⁰ with rows 0..m-1 = u_τ and rows m..2m-1 = u_n (see :mod:`stepcontact.contact`).
+w = B u + w⁰ with rows 0..m-1 = u_τ and rows m..2m-1 = u_n
+(see :mod:`stepcontact.contact.geometry`).
 """
 
 from __future__ import annotations
@@ -15,10 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from . import _fem
-from .contact import ContactElements, build_contact, chain_order
-from .errors import ModelError
-from .model import (
+from stepcontact.contact.geometry import ContactElements, build_contact, chain_order
+from stepcontact.errors import ModelError
+from stepcontact.fem import continuum as _fem
+from stepcontact.model import (
     Body,
     BodyForce,
     EdgeLoad,
@@ -274,12 +275,12 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             b = model.body(ld.nodes.body)
             if not isinstance(b, Body):
                 raise ModelError(item, f"edge loads need a continuum body, '{b.name}' is a frame")
-            from .contact import curve_edges
+            from stepcontact.contact.geometry import curve_edges
 
             edges = curve_edges(b, ld.nodes)
             if len(edges) == 0:
                 raise ModelError(f"{item} ({ld.nodes.label})", "contains no boundary edge")
-            from .contact import _edge_to_facet
+            from stepcontact.contact.geometry import _edge_to_facet
 
             facets = _edge_to_facet(b, edges)
             pn = _pressure_function(ld.normal, b, ld.nodes, item)
@@ -330,7 +331,7 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
 
 
 def contact_operator(cfe: ContactElements, dofs: DofMap) -> tuple[sp.csr_matrix, np.ndarray]:
-    """B (2m × ndof) with rows [u_τ; u_n] and w0 = [0; −g⁰] (see :mod:`stepcontact.contact`)."""
+    """B (2m × ndof) with rows [u_τ; u_n] and w0 = [0; −g⁰] (see the geometry module)."""
     m = cfe.m
     nodes = np.concatenate([cfe.plus_nodes, cfe.minus_nodes], axis=1)  # (m, 6)
     w = np.concatenate([cfe.plus_w, -cfe.minus_w], axis=1)  # u⁺ − u⁻

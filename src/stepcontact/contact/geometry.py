@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ModelError
-from .model import Body, Frame, Interface, Model, NodeSet
+from stepcontact.errors import ModelError
+from stepcontact.model import Body, Frame, Interface, Model, NodeSet
 
 MAX_END_NODES = 3
 

@@ -23,7 +23,7 @@ package is installed (``pip install gmsh``).
 Example
 -------
 >>> import stepcontact as sc
->>> from stepcontact.meshfile import read_msh
+>>> from stepcontact.io.meshfile import read_msh
 >>> mf = read_msh("examples/data/gmsh_block.msh")                # doctest: +SKIP
 >>> concrete = sc.Material(30e9, 0.2, 2400)
 >>> found, block = mf.body("foundation", concrete), mf.body("block", concrete)  # doctest: +SKIP
@@ -45,9 +45,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ModelError
-from .mesh import REVERSED_NODE_ORDER
-from .model import Body, Material, NodeSet
+from stepcontact.errors import ModelError
+from stepcontact.model import Body, Material, NodeSet
+from stepcontact.model.mesh import REVERSED_NODE_ORDER
 
 #: gmsh (meshio) cell type -> stepcontact element kind
 CELL_KINDS: dict[str, str] = {
@@ -262,7 +262,7 @@ class MeshFile:
             raise ModelError(g.label, f"node renumbering failed (mismatch {err:g} m)")
         edges = mid = None
         if element != native:  # mid-side nodes that the file does not have
-            from ._fem import basis_of
+            from stepcontact.fem.continuum import basis_of
 
             f = np.sort(body.mesh.facets, axis=0)
             edges = f[0].astype(np.int64) * body.n_nodes + f[1]

@@ -29,13 +29,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .assembly import System, assemble
-from .condensation import Condensed, MechanismError, SchemeSolver, scheme_relations
-from .enums import ContactState, SlipTreatment, Status, Transition
-from .errors import ModelError
-from .lcp import lemke
-from .model import Body, Model
-from .results import Event, Multipliers, StaticResult
+from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
+from stepcontact.errors import ModelError
+from stepcontact.fem.assembly import System, assemble
+from stepcontact.model import Body, Model
+from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.solver.condensation import (
+    Condensed,
+    MechanismError,
+    SchemeSolver,
+    scheme_relations,
+)
+from stepcontact.solver.lcp import lemke
 
 OPEN, STICK, SLIP_POS, SLIP_NEG = (int(s) for s in (ContactState.OPEN, ContactState.STICK,
                                                     ContactState.SLIP_POS, ContactState.SLIP_NEG))
@@ -478,7 +483,7 @@ class StaticSolver:
 
     def _stresses(self, u):
         out = {}
-        from . import _fem
+        from stepcontact.fem import continuum as _fem
 
         off = self.sys.model.node_offsets
         for b in self.sys.model.bodies:

@@ -1,6 +1,6 @@
 """scikit-fem glue: bases, element stiffness, edge and body loads, stresses of continuum bodies.
 
-Private: users go through :mod:`stepcontact.model` and :mod:`stepcontact.assembly`.
+Private: users go through :mod:`stepcontact.model` and :mod:`stepcontact.fem.assembly`.
 Everything is vectorised over the elements by scikit-fem; nothing here loops over elements.
 """
 
@@ -23,7 +23,7 @@ from skfem import (
 from skfem.helpers import ddot, dot, sym_grad, trace
 from skfem.mesh.mesh_2d_2 import Mesh2D2
 
-from .errors import ModelError
+from stepcontact.errors import ModelError
 
 _ELEMENTS = {
     "tri3": (ElementTriP1, "MeshTri"),

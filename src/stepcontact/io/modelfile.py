@@ -83,11 +83,10 @@ from pydantic import (
     model_validator,
 )
 
-from . import meshcheck
-from .errors import ModelError, StepContactError
-from .mesh import rectangle
-from .meshfile import GROUP_KINDS, MeshFile, read_mesh
-from .model import (
+from stepcontact.errors import ModelError, StepContactError
+from stepcontact.io.meshfile import GROUP_KINDS, MeshFile, read_mesh
+from stepcontact.model import meshcheck
+from stepcontact.model.items import (
     Body,
     BodyForce,
     ContactLayer,
@@ -107,6 +106,7 @@ from .model import (
     _parse_dofs,
     select_nodes,
 )
+from stepcontact.model.mesh import rectangle
 
 # tags of the discriminated unions; they appear in pydantic's error locations and are removed
 # from the field paths shown to the user
@@ -1113,7 +1113,7 @@ def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Mo
     Example
     -------
     >>> import tomllib
-    >>> from stepcontact.modelfile import model_from_dict
+    >>> from stepcontact.io.modelfile import model_from_dict
     >>> text = '''
     ... [materials.steel]
     ... E = 210e9
@@ -1173,7 +1173,7 @@ def load_model(path: str | Path) -> Model:
     Example
     -------
     >>> from importlib.resources import files
-    >>> from stepcontact.modelfile import load_model
+    >>> from stepcontact.io.modelfile import load_model
     >>> model = load_model(files("stepcontact") / "data" / "demo.toml")
     >>> [itf.name for itf in model.interfaces]
     ['joint']
@@ -1256,7 +1256,7 @@ def validation_report(path: str | Path) -> Validation:
         builder.check_geometry(model)
         out.model = model
     if model is not None and not problems.items:
-        from .assembly import assemble
+        from stepcontact.fem.assembly import assemble
 
         try:
             system = assemble(model)
@@ -1281,7 +1281,7 @@ def validate_model_file(path: str | Path) -> list[Problem]:
     Example
     -------
     >>> from importlib.resources import files
-    >>> from stepcontact.modelfile import validate_model_file
+    >>> from stepcontact.io.modelfile import validate_model_file
     >>> validate_model_file(files("stepcontact") / "data" / "demo.toml")
     []
     """

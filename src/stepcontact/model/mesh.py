@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 from skfem import MeshQuad, MeshTri
 
-from .errors import ModelError
-from .model import Body, Material
+from stepcontact.errors import ModelError
+from stepcontact.model.items import Body, Material
 
 #: local node permutation reversing a cell's orientation (corners, then mid-edge nodes, then the
 #: centre).  Gmsh, VTK and scikit-fem (P2 / serendipity / Q2) share this node order.

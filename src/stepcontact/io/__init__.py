@@ -1,0 +1,1 @@
+"""Input and output beside results: model files (TOML), Gmsh meshes, ParaView export."""

@@ -1,0 +1,1 @@
+"""Post-processing: figures (imported lazily: matplotlib is slow to import)."""
