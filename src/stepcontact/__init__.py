@@ -2,7 +2,7 @@
 
 from stepcontact.demo import demo_model
 from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
-from stepcontact.errors import ModelError, SolverError, StepContactError
+from stepcontact.errors import ContactHeldWarning, ModelError, SolverError, StepContactError
 from stepcontact.fem.assembly import System, assemble
 from stepcontact.io.export import export_vtu, export_xdmf
 from stepcontact.io.meshfile import MeshFile, read_msh
@@ -28,6 +28,7 @@ from stepcontact.model import (
 from stepcontact.model.mesh import rectangle
 from stepcontact.results.file import load_result
 from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.solver.condensation import Condensation, condense
 from stepcontact.solver.static import StepInfo, solve_static
 
 _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",
@@ -57,6 +58,7 @@ __all__ = [
     "Body",
     "BodyForce",
     "ContactLayer",
+    "ContactHeldWarning",
     "ContactState",
     "EdgeLoad",
     "Frame",
@@ -80,6 +82,8 @@ __all__ = [
     "rectangle",
     "assemble",
     "solve_static",
+    "condense",
+    "Condensation",
     "export_vtu",
     "export_xdmf",
     "Event",

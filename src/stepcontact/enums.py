@@ -16,10 +16,12 @@ class ContactState(IntEnum):
     SLIP_POS = 2  #: S2c: slipping, Q = -f N, slip increment > 0
     SLIP_NEG = 3  #: S2c: slipping, Q = +f N, slip increment < 0
     BONDED = 4  #: joint with initial strength, bond intact (eq. (12)); reserved
+    CLOSED = 5  #: frictionless contact: u_n = 0, N <= 0, Q = 0 (no stick/slip distinction)
 
     @property
     def closed(self) -> bool:
-        return self in (ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG)
+        return self in (ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG,
+                        ContactState.CLOSED)
 
     @property
     def slipping(self) -> bool:
@@ -32,7 +34,7 @@ class ContactState(IntEnum):
 
     @property
     def label(self) -> str:
-        return {0: "open", 1: "stick", 2: "slip+", 3: "slip-", 4: "bonded"}[int(self)]
+        return {0: "open", 1: "stick", 2: "slip+", 3: "slip-", 4: "bonded", 5: "closed"}[int(self)]
 
 
 class Transition(StrEnum):
@@ -52,7 +54,7 @@ class Transition(StrEnum):
             return Transition.OPENED
         if old == ContactState.BONDED:
             return Transition.BROKEN
-        if old == ContactState.OPEN and new == ContactState.STICK:
+        if old == ContactState.OPEN and new in (ContactState.STICK, ContactState.CLOSED):
             return Transition.CLOSED
         if new == ContactState.SLIP_POS:
             return Transition.SLIP_POS
@@ -69,6 +71,8 @@ class Status(StrEnum):
     RATE_PROBLEM = "rate_problem"  #: no (or no unique) consistent scheme: large friction
     CYCLING = "cycling"  #: the working schemes cycle at one load factor
     MAX_EVENTS = "max_events"  #: the event budget was exhausted
+    VIOLATION = "violation"  #: the contact conditions could not be met to the tolerance
+    INCOMPLETE = "incomplete"  #: a partial result written while the run was going on
 
 
 class SlipTreatment(StrEnum):

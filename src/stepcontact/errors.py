@@ -28,3 +28,8 @@ class ModelError(StepContactError, ValueError):
 
 class SolverError(StepContactError, RuntimeError):
     """The solver cannot go on for a numerical reason (not a physical outcome)."""
+
+
+class ContactHeldWarning(UserWarning):
+    """A CFE component whose relative motion is held by supports on both sides: the supports
+    carry that component and the CFE does not (its row of the contact operator is zero)."""

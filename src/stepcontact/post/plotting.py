@@ -41,6 +41,7 @@ STATE_COLORS: dict[ContactState, str] = {
     ContactState.SLIP_POS: "#d62728",
     ContactState.SLIP_NEG: "#1f77b4",
     ContactState.BONDED: "#9467bd",
+    ContactState.CLOSED: "#8c564b",
 }
 
 TRANSITION_MARKERS: dict[Transition, tuple[str, str]] = {
@@ -284,7 +285,7 @@ def plot_interfaces(
     handles += [
         Patch(facecolor=STATE_COLORS[cs], edgecolor="0.4", label=cs.label)
         for cs in ContactState
-        if cs is not ContactState.BONDED or int(cs) in shown
+        if cs not in (ContactState.BONDED, ContactState.CLOSED) or int(cs) in shown
     ]
     fig.legend(handles=handles, loc="outside lower center",
                ncol=min(len(handles), max(4, 3 * ncol)), fontsize=8, frameon=False)

@@ -40,6 +40,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import time
 import uuid
 from enum import Enum
 from pathlib import Path
@@ -404,6 +405,9 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
         "message": str(res.message),
         "counters": _dumps(dict(res.counters)),
         "mechanism": _dumps(res.mechanism),
+        "nonunique": _dumps(list(res.nonunique)),
+        "complete": int(Status(res.status) != Status.INCOMPLETE),
+        "path_axis": "lam",
         "units": _dumps(dict(res.units)),
         "cfe_extra": _dumps(cfe_extra),
         "body_variables": _dumps(body_vars),
@@ -526,6 +530,7 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
         stresses=stresses,
         counters=_loads(ds.attrs["counters"]),
         mechanism=_loads(ds.attrs["mechanism"]),
+        nonunique=_loads(ds.attrs["nonunique"]) if "nonunique" in ds.attrs else [],
         geometry=geometry,
         units=_loads(ds.attrs["units"]),
         reactions=(arr("reactions") if "reactions" in ds
@@ -579,29 +584,49 @@ def load_result(path: str | os.PathLike[str]) -> StaticResult:
 
 
 class ResultWriter:
-    """Solver hook that writes the result so far at the end of every load segment.
+    """Solver hook that writes the result as the run goes (atomically each time).
 
-    An interrupted run then keeps every finished segment on disk; each write is atomic.
+    The file holds every state finished so far, with status ``incomplete`` until the run ends;
+    an interrupted run (Ctrl-C) writes what it has.  Writes are at most one per
+    ``min_interval`` seconds (the last segment's result and :meth:`finish` always write), so
+    long programs of many short segments do not spend their time writing.
 
     Parameters
     ----------
     path : str or PathLike
         Result file.
+    min_interval : float
+        Seconds between two writes at segment ends (0: every segment).
 
     Example
     -------
-    >>> writer = ResultWriter("out/run.nc")
-    >>> writer.after_segment(res)          # doctest: +SKIP
+    >>> res = sc.solve_static(model, output="out/run.nc")          # doctest: +SKIP
     """
 
-    def __init__(self, path: str | os.PathLike[str]) -> None:
+    def __init__(self, path: str | os.PathLike[str], min_interval: float = 0.0) -> None:
         self.path = Path(path)
+        self.min_interval = float(min_interval)
         self.writes = 0
+        self._last = -float("inf")
+
+    def _write(self, result: StaticResult) -> None:
+        save_result(result, self.path)
+        self.writes += 1
+        self._last = time.monotonic()
 
     def after_segment(self, result: StaticResult) -> None:
         """Save ``result`` (the run up to the end of the segment just finished)."""
-        save_result(result, self.path)
-        self.writes += 1
+        final = Status(result.status) != Status.INCOMPLETE
+        if final or time.monotonic() - self._last >= self.min_interval:
+            self._write(result)
+
+    def interrupted(self, result: StaticResult) -> None:
+        """The run was interrupted: keep what it has."""
+        self._write(result)
+
+    def finish(self, result: StaticResult) -> None:
+        """The run has ended: write the complete result."""
+        self._write(result)
 
     def __repr__(self) -> str:
         return f"ResultWriter('{self.path}', writes={self.writes})"

@@ -147,7 +147,39 @@ class StaticResult:
             "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2",
         }
     )
+    #: rate problems with several admissible schemes: {"lam", "segment", "pattern", "cfes",
+    #: "followed", "alternatives", "why"} (state labels per CFE)
+    nonunique: list[dict[str, object]] = field(default_factory=list)
+    #: recomputes the displacement field of a state from its contact unknowns (in memory only:
+    #: it holds the run's factorisation; dropped when pickled or saved)
     _recover: Callable[[int], np.ndarray] | None = field(default=None, repr=False)
+
+    def __getstate__(self) -> dict:
+        state = dict(self.__dict__)
+        state["_recover"] = None
+        return state
+
+    def recover_fields(self, model) -> None:
+        """Attach field recovery to a result loaded from a file or unpickled: ``model`` (the
+        same model, or its assembled system) is condensed once more (one factorisation), and
+        :meth:`displacement` then recomputes any state exactly from its contact unknowns."""
+        from stepcontact.fem.assembly import System, assemble
+        from stepcontact.solver.condensation import Condensed
+
+        system = model if isinstance(model, System) else assemble(model)
+        if system.m != self.m:
+            raise ValueError(f"the model has {system.m} CFEs, the result {self.m}")
+        cond = Condensed.from_system(system)
+        names = list(self.pattern_names)
+        m = self.m
+
+        def recover(i: int) -> np.ndarray:
+            s = np.r_[self.Q[i], -self.N[i]]
+            w = np.r_[self.ut[i], self.un[i]]
+            return cond.displacement(dict(zip(names, self.factors[i], strict=True)), s, w)
+
+        self._recover = recover
+        del m
 
     # ---- convenience -----------------------------------------------------------------------
     @property
@@ -209,7 +241,8 @@ class StaticResult:
             return self.fields[i]
         if self._recover is None:
             raise KeyError(
-                f"displacements of state {i} were not stored; re-run with store_fields='all'"
+                f"displacements of state {i} were not stored; call res.recover_fields(model) "
+                "or re-run with store_fields='all'"
             )
         return self._recover(i)
 

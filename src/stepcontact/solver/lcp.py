@@ -1,11 +1,17 @@
-"""Linear complementarity problems: Lemke's method.
+"""Linear complementarity problems: principal pivoting, Lemke's method, enumeration.
 
-Find z ≥ 0 with w = M z + q ≥ 0 and zᵀw = 0.  The static solver uses it for the rate problem
-of a new working scheme when the least-index principal pivoting over CFE states cycles
-(matrices that are not P-matrices: large friction coefficients, several CFEs touching at once).
-Lemke's method with the covering vector d = 1 and a lexicographic ratio test terminates for any
-M; it finds a solution whenever M is copositive-plus (and in practice for the rate problems of
-frictional contact), and otherwise ends on a secondary ray, which is reported, not guessed over.
+Find z ≥ 0 with w = M z + q ≥ 0 and zᵀw = 0.  The rate problem at a degenerate point of the
+load path (CFEs at their limits) is such an LCP (:mod:`stepcontact.solver.rate`):
+
+* :func:`principal_pivoting` — Murty's least-index method from a given starting basis (the
+  current working scheme); it terminates and is unique-answer for P-matrices (frictionless
+  contact, small friction), and reports cycling otherwise;
+* :func:`lemke` — Lemke's method with the covering vector d = 1 and a lexicographic ratio
+  test, which terminates for any M: it finds a solution whenever M is copositive-plus (and in
+  practice for the rate problems of frictional contact), and otherwise ends on a secondary
+  ray, which is reported, not guessed over;
+* :func:`enumerate_solutions` — every solution of a small LCP (batched over complementary
+  bases), to tell whether the rate problem has one answer or several.
 """
 
 from __future__ import annotations
@@ -63,7 +69,7 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None,
     if n == 0 or np.all(q >= 0):
         return LCPResult(np.zeros(n), q.copy(), True, 0, "trivial solution z = 0")
     cs = np.abs(M).max(axis=0)
-    cs = np.where(cs > 0, 1.0 / cs, 1.0)
+    cs = np.divide(1.0, cs, out=np.ones_like(cs), where=cs > 0)
     Ms = M * cs[None, :]
     qs_scale = max(np.abs(q).max(), 1e-300)
     # tableau: w − Ms z − d z0 = q   ->  [I, −Ms, −d | q]
@@ -113,4 +119,76 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None,
     return LCPResult(np.zeros(n), q.copy(), False, max_pivots, "pivot budget exhausted")
 
 
-__all__ = ["LCPResult", "lemke"]
+def principal_pivoting(M: np.ndarray, q: np.ndarray, start: np.ndarray | None = None,
+                       max_pivots: int | None = None, tol: float = 1e-12) -> LCPResult:
+    """Murty's least-index principal pivoting from the basis ``start`` (boolean: z_i basic).
+
+    Each pass solves M_αα z_α = −q_α, w_ᾱ = q_ᾱ + M_ᾱα z_α and flips the least index whose z
+    or w is negative.  Terminates for P-matrices; a repeated basis (cycling) or a singular
+    principal block is reported as not solved.
+    """
+    M = np.asarray(M, dtype=float)
+    q = np.asarray(q, dtype=float)
+    n = len(q)
+    alpha = np.zeros(n, bool) if start is None else np.asarray(start, bool).copy()
+    scale = max(np.abs(q).max(initial=0.0), 1e-300)
+    seen: set[bytes] = set()
+    max_pivots = max_pivots or 20 * (n + 1)
+    for k in range(max_pivots):
+        key = alpha.tobytes()
+        if key in seen:
+            return LCPResult(np.zeros(n), q.copy(), False, k, "principal pivoting cycles")
+        seen.add(key)
+        z = np.zeros(n)
+        a = np.flatnonzero(alpha)
+        if a.size:
+            try:
+                z[a] = np.linalg.solve(M[np.ix_(a, a)], -q[a])
+            except np.linalg.LinAlgError:
+                return LCPResult(np.zeros(n), q.copy(), False, k,
+                                 "principal pivoting met a singular principal block")
+        w = M @ z + q
+        zs = max(np.abs(z).max(initial=0.0) * np.abs(M).max(initial=0.0), scale)
+        bad = np.flatnonzero((alpha & (z < -tol * zs / max(np.abs(M).max(initial=0), 1e-300)))
+                             | (~alpha & (w < -tol * zs)))
+        if bad.size == 0:
+            z = np.where(alpha, np.maximum(z, 0.0), 0.0)
+            return LCPResult(z, np.where(alpha, 0.0, w), True, k, "solved")
+        alpha[bad[0]] = ~alpha[bad[0]]
+    return LCPResult(np.zeros(n), q.copy(), False, max_pivots, "pivot budget exhausted")
+
+
+def enumerate_solutions(M: np.ndarray, q: np.ndarray, bases: np.ndarray,
+                        tol: float = 1e-9) -> list[np.ndarray]:
+    """Every solution z of the LCP (M, q) among the complementary bases ``bases`` (a boolean
+    array (n_bases, n): z_i basic), batched by basis size.  A solution is kept when
+    z ≥ −tol·scale and w ≥ −tol·scale; returns the list of z (solutions may repeat when the
+    LCP is degenerate: the caller compares what they stand for)."""
+    M = np.asarray(M, dtype=float)
+    q = np.asarray(q, dtype=float)
+    n = len(q)
+    out: list[np.ndarray] = []
+    mscale = max(np.abs(M).max(initial=0.0), 1e-300)
+    qscale = max(np.abs(q).max(initial=0.0), 1e-300)
+    sizes = bases.sum(axis=1)
+    for k in np.unique(sizes):
+        B = bases[sizes == k]
+        Z = np.zeros((len(B), n))
+        if k:
+            idx = np.array([np.flatnonzero(b) for b in B])  # (nb, k)
+            Mk = M[idx[:, :, None], idx[:, None, :]]
+            ok = np.abs(np.linalg.det(Mk)) > 1e-12 * mscale ** k
+            if not ok.any():
+                continue
+            B, idx, Mk, Z = B[ok], idx[ok], Mk[ok], Z[ok]
+            zk = np.linalg.solve(Mk, -q[idx][..., None])[..., 0]
+            np.put_along_axis(Z, idx, zk, axis=1)
+        W = Z @ M.T + q
+        zs = np.maximum(np.abs(Z).max(axis=1) * mscale, qscale)
+        good = np.all(Z >= -tol * zs[:, None] / mscale, axis=1) & np.all(
+            np.where(B, True, W >= -tol * zs[:, None]), axis=1)
+        out.extend(np.maximum(Z[good], 0.0))
+    return out
+
+
+__all__ = ["LCPResult", "enumerate_solutions", "lemke", "principal_pivoting"]

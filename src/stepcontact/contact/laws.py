@@ -1,0 +1,295 @@
+"""Contact laws: what the state of a contact finite element (CFE) means.
+
+A law owns, for its CFEs, everything the solver needs to know about their states — and nothing
+about load factors, time or matrices:
+
+* the **relation rows** of each state in the working scheme (article eqs. (1), (11)): one linear
+  relation per CFE component between the rates of the mutual displacements w = [u_τ; u_n] and
+  of the forces s = [Q; p] (p = −N ≥ 0 in compression)::
+
+      kind FIXED:   w_j' = r_j                      (rigid, no relative motion)
+      kind SPRING:  s_j' − C_j w_j' = r_j           (compliant layer, eq. (11))
+      kind FREE:    s_j' + c_j s_partner' = r_j     (c_j = 0: force prescribed; slip: Q' = σ f p')
+
+* the **event functions** as values φ ≥ 0 that are affine in (s, w) for a fixed state, so that
+  their rates along a path are the same forms applied to the rates (eqs. (2)–(3));
+* the **transitions** each event function triggers;
+* the **variables of the rate problem** at a degenerate point (opening and slip rates) with
+  their complements, so that the engine can write the linear complementarity problem;
+* the **measure of violation** of its conditions at a state.
+
+The faceted form of friction: the Coulomb limit in 2D is two facets f p ∓ Q ≥ 0 (slip+ and
+slip−); a faceted cone in 3D and the strength surface of a bonded joint (eq. (12), four facets
+in (N, Q)) are further laws with more facets, added without touching the engine.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from stepcontact.enums import ContactState
+
+OPEN, STICK, SLIP_POS, SLIP_NEG, CLOSED = (int(s) for s in (
+    ContactState.OPEN, ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG,
+    ContactState.CLOSED))
+
+#: relation kinds of one CFE component in a working scheme
+FREE, FIXED, SPRING = 0, 1, 2
+
+#: kinds of rate-problem variables
+OPENING, SLIP_PLUS, SLIP_MINUS = 0, 1, -1
+
+_INF = np.inf
+
+
+@dataclass
+class Relations:
+    """Relations of a working scheme, one per CFE component (j < m: tangential of CFE j;
+    m + j: normal of CFE j): ``kind``, spring stiffness ``stiff`` (N/m) and ``couple``, the
+    coefficient of the partner component's force rate in a FREE row."""
+
+    kind: np.ndarray
+    stiff: np.ndarray
+    couple: np.ndarray
+
+    @staticmethod
+    def empty(m: int) -> Relations:
+        return Relations(np.zeros(2 * m, np.int8), np.zeros(2 * m), np.zeros(2 * m))
+
+    def key(self) -> bytes:
+        return self.kind.tobytes() + self.couple.tobytes()
+
+
+@dataclass
+class RateVariables:
+    """Variables z ≥ 0 of the rate problem of one law (global CFE ids, kinds) and, per
+    variable, its effect on the base scheme's relations (``row`` component, ``value``: the
+    relation right-hand side for z = 1) and its complement w = cp·p' + cq·Q' ≥ 0."""
+
+    cfe: np.ndarray
+    kind: np.ndarray
+    row: np.ndarray
+    value: np.ndarray
+    cp: np.ndarray
+    cq: np.ndarray
+
+
+class CoulombLaw:
+    """Unilateral contact with Coulomb friction, rigid or with a compliant layer (eqs. (1), (11)).
+
+    States: OPEN (S3c: N = Q = 0, u_n ≤ 0), STICK (S1c: closed, |Q| ≤ −f N, no slip),
+    SLIP_POS / SLIP_NEG (S2c: Q = ∓ f N … written Q = σ f p), and CLOSED for frictionless CFEs
+    (f = 0: closed, Q = 0; there is no stick or slip to tell apart).
+
+    Event functions (columns), each ≥ 0 while the state holds:
+
+    0. p = −N                (closed → open, eq. (3))
+    1. f p − Q               (stick → slip+, eq. (2))
+    2. f p + Q               (stick → slip−, eq. (2))
+    3. −u_n                  (open → closed, eq. (3))
+
+    Parameters
+    ----------
+    cfes : (k,) int
+        Global indices of the CFEs governed by this law.
+    friction, kn, kt : (k,) float
+        f, C_n, C_τ (N/m; ``inf`` for rigid contact) of those CFEs.
+    held_normal, held_tangent : (k,) bool, optional
+        Components whose relative motion is held by supports on both sides (their row of the
+        contact operator is zero): the supports carry that component.  A CFE held normally
+        carries nothing (it stays OPEN); one held tangentially is frictionless.
+    """
+
+    n_columns = 4
+
+    def __init__(self, cfes, friction, kn, kt, held_normal=None, held_tangent=None):
+        self.cfes = np.asarray(cfes, dtype=np.int64)
+        k = len(self.cfes)
+        self.inert = np.zeros(k, bool) if held_normal is None else np.asarray(held_normal, bool)
+        ht = np.zeros(k, bool) if held_tangent is None else np.asarray(held_tangent, bool)
+        self.f = np.where(ht | self.inert, 0.0, np.asarray(friction, dtype=float))
+        self.kn = np.asarray(kn, dtype=float)
+        self.kt = np.asarray(kt, dtype=float)
+        self.rigid_n = ~np.isfinite(self.kn)
+        self.rigid_t = ~np.isfinite(self.kt)
+        self.frictional = self.f > 0
+
+    # ---- states ----------------------------------------------------------------------------
+    def closed_state(self) -> np.ndarray:
+        """The state a CFE takes when it closes (and the base of the rate problem)."""
+        return np.where(self.frictional, STICK, CLOSED)
+
+    @staticmethod
+    def slipping(states: np.ndarray) -> np.ndarray:
+        return (states == SLIP_POS) | (states == SLIP_NEG)
+
+    # ---- relations (eqs. (1), (11)) ----------------------------------------------------------
+    def relations(self, states: np.ndarray, rel: Relations, m: int, article: bool = False) -> None:
+        """Write the relation rows of this law's CFEs in ``states`` into ``rel``.
+
+        Open: both forces zero (FREE).  Stick: tangential fixed (or spring C_τ), normal fixed
+        (or spring C_n).  Closed frictionless: Q = 0, normal as stick.  Slip (exact):
+        Q' − σ f p' = 0; slip (article, eqs. (4)–(6)): Q held during the step (FREE) and
+        corrected afterwards by compensating forces.
+        """
+        c = self.cfes
+        closed = (states != OPEN) & ~self.inert
+        slipping = self.slipping(states) & closed
+        frictionless = closed & ~self.frictional
+        kt = np.where(self.rigid_t, FIXED, SPRING)
+        kn = np.where(self.rigid_n, FIXED, SPRING)
+        rel.kind[c] = np.where(closed & ~slipping & ~frictionless, kt, FREE)
+        rel.kind[m + c] = np.where(closed, kn, FREE)
+        rel.stiff[c] = self.kt
+        rel.stiff[m + c] = self.kn
+        sigma = np.where(states == SLIP_POS, 1.0, -1.0)
+        rel.couple[c] = np.where(slipping & ~frictionless & (not article), -sigma * self.f, 0.0)
+        rel.couple[m + c] = 0.0
+
+    # ---- event functions (eqs. (2), (3)) -----------------------------------------------------
+    def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray:
+        """φ (k, 4) of the CFEs in ``states`` (``+inf`` where a function does not apply).
+
+        With ``affine=False`` the constant part is dropped, which turns values into rates
+        when (Q, p, u_n) are rates: φ' = event_values(states, Q', p', u_n', affine=False).
+        """
+        k = len(states)
+        closed = (states != OPEN) & ~self.inert
+        stick = (states == STICK) & closed & self.frictional
+        out = np.full((k, 4), _INF)
+        out[closed, 0] = p[closed]
+        out[stick, 1] = self.f[stick] * p[stick] - Q[stick]
+        out[stick, 2] = self.f[stick] * p[stick] + Q[stick]
+        op = (states == OPEN) & ~self.inert
+        out[op, 3] = -un[op]
+        del affine  # every function of this law is linear in (Q, p, u_n); gaps sit in u_n
+        return out
+
+    def fire(self, states: np.ndarray, col: np.ndarray) -> np.ndarray:
+        """The natural transition of each CFE whose event function ``col`` reached zero
+        (col < 0: none)."""
+        new = states.copy()
+        new = np.where(col == 0, OPEN, new)
+        new = np.where(col == 1, SLIP_POS, new)
+        new = np.where(col == 2, SLIP_NEG, new)
+        return np.where(col == 3, self.closed_state(), new)
+
+    # ---- the consistency check at a degenerate point ------------------------------------------
+    def limits(self, states, Q, p, un, tf: float, tw: float):
+        """Which CFEs sit at their normal limit (p = 0 closed, u_n = 0 open), and which are
+        two-sided in friction as well (Q = 0 and f p = 0)."""
+        normal = np.where(states == OPEN, -un <= tw, p <= tf) & ~self.inert
+        two_sided = normal | ((np.abs(Q) <= tf) & (self.f * p <= tf))
+        return normal, two_sided & ~self.inert
+
+    def consistent(self, trial, Q, dQ, dp, dun, dut, normal_lim, two_sided, rf, rw):
+        """States that the rates of scheme ``trial`` point to (equal to ``trial`` where the
+        rates satisfy the contact conditions (1) of the CFE at its limits)."""
+        f = self.f
+        sigma = np.sign(Q)
+        dg = -dun
+        dslip = dut - np.where(self.rigid_t, 0.0, dQ / np.where(self.rigid_t, 1.0, self.kt))
+        new = trial.copy()
+        viol_open = (trial == OPEN) & (dg < -rw) & ~self.inert
+        new[viol_open] = self.closed_state()[viol_open]
+        closed_fl = trial == CLOSED
+        new[closed_fl & normal_lim & (dp < -rf)] = OPEN
+        stick = trial == STICK
+        v1 = stick & normal_lim & (dp < -rf)
+        new[v1] = OPEN
+        v2 = stick & ~v1 & two_sided & (np.abs(dQ) > f * dp + rf)
+        new[v2] = np.where(dQ[v2] > 0, SLIP_POS, SLIP_NEG)
+        v3 = stick & ~two_sided & (sigma * dQ > f * dp + rf)
+        new[v3] = np.where(sigma[v3] > 0, SLIP_POS, SLIP_NEG)
+        slipping = self.slipping(trial)
+        sg = np.where(trial == SLIP_POS, 1.0, -1.0)
+        v4 = slipping & normal_lim & (dp < -rf)
+        new[v4] = OPEN
+        v5 = slipping & ~v4 & self.frictional & (sg * dslip < -rw)
+        new[v5] = STICK
+        return new
+
+    def rate_variables(self, local, states, Q, normal_lim, two_sided) -> RateVariables:
+        """Variables of the rate problem for the CFEs ``local`` (indices into this law's CFEs):
+        an opening rate o ≥ 0 where the CFE is at its normal limit (complement p' ≥ 0), and
+        slip rates a± ≥ 0 on the friction facets it touches (complement f p' ∓ Q' ≥ 0).
+
+        Their effect on the stuck base scheme enters through the right-hand side of the
+        relations: rigid u_n' = −o, u_τ' = a⁺ − a⁻; compliant p' − C_n u_n' = C_n o,
+        Q' − C_τ u_τ' = −C_τ (a⁺ − a⁻).
+        """
+        sigma = np.where(states == SLIP_NEG, -1.0,
+                         np.where(states == SLIP_POS, 1.0, np.sign(Q)))[local]
+        op = normal_lim[local]
+        fr = self.frictional[local]
+        both = fr & (two_sided[local] | (sigma == 0))
+        one = fr & ~both
+        # per CFE: [opening?, slip+?, slip−?]
+        take = np.column_stack([op, both | (one & (sigma > 0)), both | (one & (sigma < 0))])
+        rows, cols = np.nonzero(take)
+        loc = local[rows]
+        kind = np.array([OPENING, SLIP_PLUS, SLIP_MINUS])[cols]
+        glob = self.cfes[loc]
+        is_op = kind == OPENING
+        kn, kt = self.kn[loc], self.kt[loc]
+        value = np.where(is_op, np.where(self.rigid_n[loc], -1.0, kn),
+                         kind * np.where(self.rigid_t[loc], 1.0, -kt))
+        return RateVariables(
+            cfe=glob, kind=kind, row=np.where(is_op, 1, 0),  # 1: normal, 0: tangential
+            value=value, cp=np.where(is_op, 1.0, self.f[loc]),
+            cq=np.where(is_op, 0.0, -kind.astype(float)),
+        )
+
+    def states_from_active(self, base, var_local, var_kind, active, z) -> np.ndarray:
+        """The scheme a solution of the rate problem stands for: openings first, then the
+        net slip direction (a⁺ − a⁻) of each CFE whose slip rates are active."""
+        new = base.copy()
+        net = np.zeros(len(base))
+        np.add.at(net, var_local, np.where(active & (var_kind != OPENING), var_kind * z, 0.0))
+        slips = np.zeros(len(base), bool)
+        slips[var_local[active & (var_kind != OPENING)]] = True
+        new[slips & (net >= 0)] = SLIP_POS
+        new[slips & (net < 0)] = SLIP_NEG
+        opened = np.zeros(len(base), bool)
+        opened[var_local[active & (var_kind == OPENING)]] = True
+        new[opened] = OPEN
+        return new
+
+    # ---- corrections and violation ----------------------------------------------------------
+    def snap(self, states, Q, p, un):
+        """Right-hand side (r_τ, r_n) that moves the state onto the relations of ``states`` at
+        a fixed load: open → N = Q = 0; closed rigid → u_n = 0; compliant → p = C_n u_n;
+        slipping → Q = σ f p (in article mode this is the compensating correction δQ of
+        eq. (4)); closed frictionless → Q = 0."""
+        closed = (states != OPEN) & ~self.inert
+        r_t = np.where(~closed | (states == CLOSED), -Q, 0.0)
+        r_n = np.where(~closed, -p, 0.0)
+        r_n = np.where(closed & self.rigid_n, -un, r_n)
+        kn = np.where(self.rigid_n, 0.0, self.kn)
+        r_n = np.where(closed & ~self.rigid_n, kn * un - p, r_n)
+        sig = np.where(states == SLIP_POS, 1.0, -1.0)
+        r_t = np.where(self.slipping(states) & closed, sig * self.f * p - Q, r_t)
+        return r_t, r_n
+
+    def violation(self, states, Q, p, un, F: float, W: float) -> float:
+        """Largest relative violation of conditions (1) (and of the slip law) at a state:
+        forces relative to ``F``, displacements relative to ``W``."""
+        if len(states) == 0:
+            return 0.0
+        closed = (states != OPEN) & ~self.inert
+        sig = np.where(states == SLIP_POS, 1.0, -1.0)
+        v = [
+            np.where(self.inert, 0.0, np.maximum(-p, 0)) / F,  # N ≤ 0
+            np.where(~closed, np.abs(p) + np.abs(Q), 0) / F,  # open: N = Q = 0
+            np.where(~closed & ~self.inert, np.maximum(un, 0), 0) / W,  # open: u_n ≤ 0
+            np.where(closed & self.rigid_n, np.abs(un), 0) / W,  # closed rigid: u_n = 0
+            np.maximum(np.abs(Q) - self.f * p, 0) / F,  # |Q| ≤ f(−N)
+            np.where(self.slipping(states) & closed, np.abs(Q - sig * self.f * p), 0) / F,
+        ]
+        return float(max(x.max(initial=0) for x in v))
+
+
+__all__ = ["CLOSED", "FIXED", "FREE", "OPEN", "SLIP_NEG", "SLIP_POS", "SPRING", "STICK",
+           "CoulombLaw", "RateVariables", "Relations"]

@@ -1,0 +1,335 @@
+"""The event engine: the contact state along a path, its events and the next working scheme.
+
+It knows nothing of load factors or time.  A driver gives it the rates of the load on the
+contact unknowns (the *forcing* (ĥ, e) of :mod:`stepcontact.solver.condensation`) and a step
+parameter μ; between two events the working scheme is fixed and every contact unknown is
+linear in μ, so the engine
+
+1. finds the earliest root of all event functions of all laws along the current rates
+   (vectorised; eqs. (2)–(3)); several CFEs whose roots lie within a relative 1e-10 of it form
+   one event point (:meth:`EventEngine.next_event`);
+2. advances the contact unknowns to it (:meth:`EventEngine.advance`);
+3. decides the next scheme by the consistency check over every CFE at its limits and every
+   slipping CFE (:meth:`EventEngine.decide`, the rate problem of
+   :mod:`stepcontact.solver.rate`);
+4. snaps the state onto the relations of the new scheme at the fixed point (round-off; in the
+   article's slip treatment the compensating forces of eqs. (4), (6)).
+
+Restart: a CFE whose function has just reached zero has, under the rates of the new scheme, a
+rate that keeps it admissible (the consistency check guarantees it), and only functions with a
+negative rate beyond round-off can fire; so no event fires twice at one point and none between
+two points is skipped (the earliest root is always taken).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, Relations
+from stepcontact.solver.rate import RateOutcome, solve_rate_problem
+from stepcontact.solver.schemes import (
+    MechanismError,
+    SchemeSolver,
+    lu,
+    scheme_rhs,
+)
+
+#: a CFE whose event function is within LIMIT_TOL · rtol of the path's force (displacement)
+#: scale is at its limit and joins the rate problem.  Its function is then snapped to the
+#: limit, so this bounds the violation of conditions (1) that a reported state can carry.
+LIMIT_TOL = 10.0
+_INF = np.inf
+
+
+@dataclass
+class Decision:
+    """What :meth:`EventEngine.decide` settled at a point."""
+
+    old: np.ndarray
+    new: np.ndarray
+    ds: np.ndarray
+    dw: np.ndarray
+    outcome: RateOutcome | None = None
+    cfes: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+
+    @property
+    def switched(self) -> bool:
+        return bool(np.any(self.old != self.new))
+
+
+def null_modes(A: np.ndarray, lu_, k: int = 3, trans: int = 0) -> np.ndarray:
+    """Null vectors (columns) of a singular matrix A (``trans=1``: of Aᵀ, the left null
+    vectors) by block inverse iteration on its LU, then the combinations of the block that A
+    maps to (near) zero (σ ≤ 1e-6 ‖A‖)."""
+    lu_m, piv = lu_
+    d = np.abs(np.diag(lu_m))
+    tiny = 1e-14 * max(float(d.max(initial=0.0)), 1e-300)
+    if np.any(d < tiny):  # exactly singular: lift the zero pivots to round-off level
+        lu_m = lu_m.copy()
+        j = np.flatnonzero(d < tiny)
+        lu_m[j, j] = tiny
+        lu_ = (lu_m, piv)
+    import scipy.linalg as sla
+
+    n = A.shape[0]
+    X = np.random.default_rng(0).standard_normal((n, min(k, n)))
+    for _ in range(3):
+        X = np.linalg.qr(sla.lu_solve(lu_, X, trans=trans, check_finite=False))[0]
+    AX = (A.T if trans else A) @ X
+    _, sv, Vt = np.linalg.svd(AX, full_matrices=False)
+    keep = sv <= 1e-6 * max(np.linalg.norm(A, 2), 1e-300)
+    if not keep.any():
+        keep[np.argmin(sv)] = True
+    return X @ Vt[keep].T
+
+
+class EventEngine:
+    """Contact state (states, s = [Q; p], w = [u_τ; u_n]) of all CFEs, moved from event to
+    event by a driver.
+
+    Parameters
+    ----------
+    schemes : SchemeSolver
+        Solves working schemes on the condensed contact unknowns.
+    laws : list
+        Contact laws (:class:`~stepcontact.contact.laws.CoulombLaw`, …), each over its CFEs.
+    w0 : (2m,) float
+        Mutual displacements at rest ([0; −g⁰]).
+    rtol : float
+        Relative tolerance of the path (event grouping, limits, rate signs).
+    article : bool
+        The article's slip treatment (eqs. (4)–(6)) instead of the exact one.
+    rate_solver : "pivoting" or "lemke"
+        First method for the rate problem's LCP.
+    """
+
+    def __init__(self, schemes: SchemeSolver, laws: list, w0: np.ndarray, *, rtol: float = 1e-10,
+                 article: bool = False, eps_p: float = 0.01, rate_solver: str = "pivoting"):
+        self.schemes = schemes
+        self.laws = laws
+        self.m = len(w0) // 2
+        self.rtol = rtol
+        self.article = article
+        self.eps_p = eps_p
+        self.rate_solver = rate_solver
+        self.states = np.full(self.m, OPEN, dtype=np.int64)
+        self.s = np.zeros(2 * self.m)
+        self.w = np.asarray(w0, float).copy()
+        self.F_scale = 1e-300
+        self.W_scale = float(np.max(np.abs(w0), initial=0.0)) or 1e-300
+        self.counters = {"rate_solves": 0, "pivots": 0, "corrections": 0, "lemke": 0}
+
+    # ---- scales and tolerances ---------------------------------------------------------------
+    def update_scales(self, ds=None, dw=None, span: float = 1.0) -> None:
+        """Force and displacement scales of the path so far (and of the coming step)."""
+        self.F_scale = max(self.F_scale, float(np.abs(self.s).max(initial=0)))
+        self.W_scale = max(self.W_scale, float(np.abs(self.w).max(initial=0)))
+        if ds is not None:
+            self.F_scale = max(self.F_scale, float(np.abs(ds).max(initial=0)) * span)
+            self.W_scale = max(self.W_scale, float(np.abs(dw).max(initial=0)) * span)
+
+    def tolerances(self) -> tuple[float, float]:
+        """Absolute limit tolerances (forces, displacements)."""
+        return LIMIT_TOL * self.rtol * self.F_scale, LIMIT_TOL * self.rtol * self.W_scale
+
+    # ---- per-law views ----------------------------------------------------------------------
+    def _parts(self, s, w):
+        m = self.m
+        for law in self.laws:
+            c = law.cfes
+            yield law, c, s[c], s[m + c], w[c], w[m + c]
+
+    def relations(self, states: np.ndarray, article: bool | None = None) -> Relations:
+        rel = Relations.empty(self.m)
+        art = self.article if article is None else article
+        for law in self.laws:
+            law.relations(states[law.cfes], rel, self.m, art)
+        return rel
+
+    def factor(self, states: np.ndarray, article: bool | None = None):
+        try:
+            return self.schemes.factor(self.relations(states, article))
+        except MechanismError as exc:
+            exc.states = states.copy()
+            raise
+
+    def rates(self, states, forcing, r=None, article: bool | None = None):
+        """Rates (s', w') of the scheme ``states`` under ``forcing`` = (ĥ, e) and relation
+        right-hand sides r (default 0).  Raises :class:`MechanismError` if it is singular."""
+        fact = self.factor(states, article)
+        self.counters["rate_solves"] += 1
+        h, e = forcing
+        return fact.solve(h, e, np.zeros(2 * self.m) if r is None else r)
+
+    def rates_singular(self, states, forcing):
+        """Rates of a singular scheme that the load does not drive: the minimum-norm solution
+        (the force rates are unique where the scheme is statically determinate; a free
+        mode's displacement rate is set to zero)."""
+        import scipy.linalg as sla
+
+        rel = self.relations(states, article=False)
+        A, scale = self.schemes.dense(rel)
+        h, e = forcing
+        b = scale * scheme_rhs(self.schemes.d, rel, h, e, np.zeros(2 * self.m))
+        t = sla.lstsq(A, b, cond=1e-10, check_finite=False)[0]
+        w_hat = h - self.schemes.G @ t
+        return t + self.schemes.d * w_hat, w_hat + e
+
+    def drives(self, states, forcing) -> bool:
+        """Does the load drive the mechanism of the singular scheme ``states``?  True when the
+        scheme's equations have no solution for the load rates: the right-hand side is not
+        orthogonal to the left null space of the scheme matrix (Fredholm)."""
+        rel = self.relations(states, article=False)
+        A, scale = self.schemes.dense(rel)
+        f = lu(A)
+        Y = null_modes(A, f, trans=1)
+        h, e = forcing
+        b = scale * scheme_rhs(self.schemes.d, rel, h, e, np.zeros(2 * self.m))
+        bn = np.linalg.norm(b)
+        return bool(bn > 0 and np.abs(Y.T @ b).max(initial=0) > 1e-7 * bn)
+
+    # ---- event functions ----------------------------------------------------------------------
+    def event_values(self, states, s, w, affine: bool = True) -> np.ndarray:
+        ncol = max((law.n_columns for law in self.laws), default=0)
+        out = np.full((self.m, ncol), _INF)
+        for law, c, Q, p, _ut, un in self._parts(s, w):
+            out[c, : law.n_columns] = law.event_values(states[c], Q, p, un, affine)
+        return out
+
+    def tolerance_columns(self) -> np.ndarray:
+        """Absolute tolerance of each event-function column (forces …, gaps last)."""
+        tf, tw = self.tolerances()
+        ncol = max((law.n_columns for law in self.laws), default=0)
+        tol = np.full(ncol, tf)
+        if ncol:
+            tol[-1] = tw
+        return tol
+
+    def next_event(self, ds, dw, remaining: float, group: float) -> tuple[float, float, np.ndarray]:
+        """Earliest root of all event functions along the rates (ds, dw).
+
+        Returns (Δμ, Δμ of the earliest event (inf if none), fired mask (m,)): CFEs whose
+        functions reach zero within ``group`` of the earliest root form one event point."""
+        phi = self.event_values(self.states, self.s, self.w)
+        dphi = np.where(np.isfinite(phi), self.event_values(self.states, ds, dw, affine=False),
+                        0.0)
+        ncol = phi.shape[1]
+        if ncol == 0:
+            return remaining, _INF, np.zeros(self.m, bool)
+        rate_tol = 1e3 * self.rtol * np.r_[
+            [max(np.abs(ds).max(initial=0), 1e-300)] * (ncol - 1),
+            max(np.abs(dw).max(initial=0), 1e-300)]
+        active = np.isfinite(phi) & (dphi < -rate_tol)
+        steps = np.where(active, np.maximum(phi, 0.0) / np.where(active, -dphi, 1.0), _INF)
+        dmu_ev = float(steps.min(initial=_INF))
+        dmu = min(dmu_ev, remaining)
+        fired = np.any(steps <= dmu + group, axis=1) & (dmu_ev <= dmu + group)
+        return dmu, dmu_ev, fired
+
+    def article_step(self, ds) -> float:
+        """Step limit of the article's slip treatment, eq. (5): |ΔQ_p / Q_p| ≤ ε_p."""
+        lim = _INF
+        m = self.m
+        for law, c, _Q, p, _ut, _un in self._parts(self.s, self.w):
+            sl = law.slipping(self.states[c])
+            dqp = law.f * ds[m + c]
+            qp = law.f * p
+            with np.errstate(divide="ignore", invalid="ignore"):
+                v = np.where(sl & (np.abs(dqp) > 0), np.abs(self.eps_p * qp / dqp), _INF)
+            lim = min(lim, float(v.min(initial=_INF)))
+        return lim
+
+    def advance(self, dmu: float, ds, dw) -> None:
+        self.s += dmu * ds
+        self.w += dmu * dw
+
+    # ---- the decision at a point ------------------------------------------------------------
+    def at_limit(self, fired: np.ndarray):
+        """CFEs at their limits (or that fired), the guess (natural transitions of the CFEs
+        whose functions fired) and the limits (normal, two-sided) of every CFE."""
+        self.update_scales()
+        tol = self.tolerance_columns()
+        phi = self.event_values(self.states, self.s, self.w)
+        at = np.any(phi <= tol[None, :], axis=1) | fired
+        slipping = (self.states == SLIP_POS) | (self.states == SLIP_NEG)
+        L = np.flatnonzero(at | slipping)
+        col = np.where(at, np.argmin(np.where(np.isfinite(phi), phi / tol[None, :], _INF), axis=1),
+                       -1)
+        guess = self.states.copy()
+        normal = np.zeros(self.m, bool)
+        two = np.zeros(self.m, bool)
+        tf, tw = self.tolerances()
+        for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
+            guess[c] = law.fire(self.states[c], col[c])
+            normal[c], two[c] = law.limits(self.states[c], Q, p, un, tf, tw)
+        return L, guess, normal, two
+
+    def consistent(self, trial, L, ds, dw, normal, two) -> np.ndarray:
+        """States the rates (ds, dw) of scheme ``trial`` point to, for the CFEs in L."""
+        m = self.m
+        rf = 1e3 * self.rtol * max(np.abs(ds).max(initial=0), 1e-300)
+        rw = 1e3 * self.rtol * max(np.abs(dw).max(initial=0), 1e-300)
+        out = trial.copy()
+        for law, c, Q, _p, _ut, _un in self._parts(self.s, self.w):
+            out[c] = law.consistent(trial[c], Q, ds[c], ds[m + c], dw[m + c], dw[c], normal[c],
+                                    two[c], rf, rw)
+        return out[L]
+
+    def decide(self, fired: np.ndarray, forcing, *, natural: bool = False) -> Decision:
+        """The next scheme at the current point and its rates.
+
+        ``natural``: apply the natural transitions of every CFE at a limit (the start of a
+        path).  Raises :class:`MechanismError` (equilibrium lost, with evidence) or
+        :class:`~stepcontact.solver.rate.RateProblemFailure`."""
+        L, guess, normal, two = self.at_limit(fired)
+        if not (fired.any() or natural):
+            guess = self.states.copy()
+        old = self.states.copy()
+        if L.size:
+            out = solve_rate_problem(self, L, guess, forcing, normal, two, self.rate_solver)
+            new, ds, dw = out.states, out.ds, out.dw
+        else:
+            out = None
+            new = guess
+            try:
+                ds, dw = self.rates(new, forcing, article=False)
+            except MechanismError as exc:
+                if not self.drives(new, forcing):
+                    from stepcontact.enums import Status
+                    from stepcontact.solver.rate import RateProblemFailure
+
+                    raise RateProblemFailure(
+                        Status.RATE_PROBLEM, np.zeros(0, np.int64),
+                        "the working scheme is singular but the load does no work on its "
+                        "free modes") from exc
+                raise
+        self.states = new
+        return Decision(old, new, ds, dw, out, L)
+
+    def snap(self) -> None:
+        """Move the state onto the relations of the current scheme at the fixed point."""
+        m = self.m
+        r = np.zeros(2 * m)
+        for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
+            r[c], r[m + c] = law.snap(self.states[c], Q, p, un)
+        if not np.any(np.abs(r) > 0):
+            return
+        try:
+            fact = self.factor(self.states)
+        except MechanismError:
+            return  # a singular scheme with consistent rates: nothing to snap onto uniquely
+        ds, dw = fact.solve(np.zeros(2 * m), np.zeros(2 * m), r)
+        self.s += ds
+        self.w += dw
+        self.counters["corrections"] += 1
+
+    def violation(self) -> float:
+        """Largest relative violation of every law's conditions at the current state."""
+        F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
+        return max((law.violation(self.states[c], Q, p, un, F, W)
+                    for law, c, Q, p, _ut, un in self._parts(self.s, self.w)), default=0.0)
+
+
+__all__ = ["LIMIT_TOL", "Decision", "EventEngine", "null_modes"]

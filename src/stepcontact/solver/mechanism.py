@@ -1,0 +1,77 @@
+"""The mechanism of a lost equilibrium: which bodies move, and how (sliding, lift-off,
+overturning about a point)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from stepcontact.solver.engine import EventEngine, null_modes
+from stepcontact.solver.schemes import lu
+
+#: a rigid-body fit whose rotation moves the body's extent by less than this fraction of its
+#: translation is a translation (sliding, lift-off); null modes carry round-off of ~1e-8
+TRANSLATION_RTOL = 1e-3
+
+
+def rigid_fit(points: np.ndarray, u: np.ndarray) -> tuple[float, float, float, np.ndarray]:
+    """Least-squares rigid motion u ≈ T + θ ẑ × (x − x̄) of a body: (tx, ty, θ, x̄)."""
+    xc = points.mean(axis=0)
+    x = points - xc
+    A = np.zeros((2 * len(x), 3))
+    A[0::2, 0] = 1
+    A[1::2, 1] = 1
+    A[0::2, 2] = -x[:, 1]
+    A[1::2, 2] = x[:, 0]
+    tx, ty, th = np.linalg.lstsq(A, u.ravel(), rcond=None)[0]
+    return float(tx), float(ty), float(th), xc
+
+
+def classify(points: np.ndarray, u: np.ndarray) -> dict:
+    """Name the rigid motion ``u`` (n, 2) of a body.
+
+    Scale-aware: the rotation counts when it moves the body's extent by at least
+    ``TRANSLATION_RTOL`` of the translation; its centre P (u(P) = 0) near the body
+    (within 5 sizes) is overturning about P, a far centre is a translation."""
+    tx, ty, th, xc = rigid_fit(points, u)
+    size = float(np.ptp(points, axis=0).max()) or 1.0
+    t = max(abs(tx), abs(ty))
+    centre = None
+    if abs(th) * size > TRANSLATION_RTOL * t:
+        centre = xc + np.array([-ty, tx]) / th
+        centre[np.abs(centre) < 1e-9 * size] = 0.0  # round-off off a zero coordinate
+    if centre is not None and np.linalg.norm(centre - xc) <= 5.0 * size:
+        mode = f"rotation (overturning) about ({centre[0]:.4g}, {centre[1]:.4g})"
+    elif abs(tx) >= abs(ty):
+        mode = "sliding"
+        centre = None
+    else:
+        mode = "lift-off" if ty > 0 else "sinking"
+        centre = None
+    return {"mode": mode, "translation": [tx, ty], "rotation": th,
+            "centre": None if centre is None else [float(c) for c in centre]}
+
+
+def describe_mechanism(engine: EventEngine, cond, system, states: np.ndarray,
+                       pattern: str) -> list[dict]:
+    """Bodies that move in the mechanism of scheme ``states`` and their modes: among the null
+    modes of the scheme, the combination along the load of ``pattern`` (the projection of the
+    load on the modes: a slab freed of all contact can translate and rotate; the load lifts
+    it)."""
+    rel = engine.relations(states, article=False)
+    A, _ = engine.schemes.dense(rel)
+    model = system.model
+    T = null_modes(A, lu(A), k=min(3 * max(len(model.bodies), 1), A.shape[0]))
+    U = np.column_stack([cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
+    f = system.loads[pattern].f
+    work = f @ U
+    u = U @ np.linalg.lstsq(U.T @ U, work, rcond=None)[0] if np.any(work != 0) else U[:, 0]
+    off = model.node_offsets
+    umax = np.abs(u).max() or 1.0
+    bodies = []
+    for b in model.bodies:
+        ids = off[b.name] + np.arange(b.n_nodes)
+        ub = u[system.dofs.of[ids][:, :2]] / umax
+        if np.abs(ub).max() < 1e-3:
+            continue
+        bodies.append({"body": b.name, **classify(b.points, ub)})
+    return bodies

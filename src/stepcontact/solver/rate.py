@@ -1,0 +1,290 @@
+"""The rate problem at a degenerate point of the path: which working scheme comes next.
+
+At an event point some CFEs sit at their limits (N = 0, |Q| = f(−N), u_n = 0) and every
+slipping CFE may stick again; at the start of a load path from zero with closed contacts every
+CFE is at every limit at once.  The next scheme is the one whose rates satisfy the contact
+conditions (1) of these CFEs.  Written on the stuck base scheme (every CFE of the point closed
+and stuck: the stiffest choice, regular whenever the structure is not a mechanism with them
+stuck) with the opening and slip rates z ≥ 0 as unknowns, this is the standard linear
+complementarity problem of 2D Coulomb friction:
+
+    w = M z + q ≥ 0,   z ≥ 0,   zᵀ w = 0
+
+    z: opening rate o (CFEs at the normal limit), slip rates a⁺, a⁻ (on the friction facets
+       the CFE touches);
+    w: the complements p' = −N' ≥ 0,  f p' − Q' ≥ 0,  f p' + Q' ≥ 0;
+
+q is the base scheme's response to the load rate and column j of M its response to z_j = 1
+(one block solve with the base scheme's factor).  It is solved by principal pivoting from the
+current scheme (unique answer for P-matrices), then by Lemke's method, which terminates for any
+M.  The rates of the answer are q's rates plus the columns times z: no further factorisation.
+
+Outcomes: a scheme (with, for small problems, every other admissible scheme when there are
+several — a result, reported with the one followed and why); or no solution, where the ray of
+Lemke's method names a scheme: if that scheme is singular and the load drives its mechanism
+(the load is not orthogonal to its left null space), equilibrium is lost; otherwise the rate
+problem has no solution found, reported with the ray as certificate.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from stepcontact.contact.laws import OPEN, OPENING, SLIP_NEG, SLIP_POS, RateVariables
+from stepcontact.enums import Status
+from stepcontact.solver.lcp import enumerate_solutions, lemke, principal_pivoting
+from stepcontact.solver.schemes import MechanismError
+
+#: rate problems with at most this many CFEs (and 3 variables each) are checked for other
+#: solutions by enumeration when M is not positive definite (P-matrix: the answer is unique)
+ENUMERATE_CFES = 5
+
+
+class RateProblemFailure(Exception):
+    """No consistent scheme was found at a point: ``status``, the CFEs involved, a message and,
+    when Lemke's method ended on a ray, that ray's scheme (``certificate``)."""
+
+    def __init__(self, status: Status, cfes: np.ndarray, message: str,
+                 certificate: np.ndarray | None = None):
+        self.status = status
+        self.cfes = cfes
+        self.certificate = certificate
+        super().__init__(message)
+
+
+@dataclass
+class RateOutcome:
+    """The scheme chosen at a point, its rates, how it was found, and the other admissible
+    schemes (``alternatives``: state arrays over ``cfes``) when the answer is not unique."""
+
+    states: np.ndarray
+    ds: np.ndarray
+    dw: np.ndarray
+    method: str
+    cfes: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    alternatives: list[np.ndarray] = field(default_factory=list)
+
+
+def _variables(eng, L, normal_lim, two_sided) -> tuple[RateVariables, np.ndarray]:
+    """The variables of every law for the CFEs in L (and each variable's law-local index)."""
+    parts, local_parts = [], []
+    for law in eng.laws:
+        pos = np.searchsorted(law.cfes, L)
+        pos = np.clip(pos, 0, max(len(law.cfes) - 1, 0))
+        mine = np.flatnonzero(law.cfes[pos] == L) if len(law.cfes) else np.zeros(0, int)
+        local = pos[mine]
+        sl = law.cfes
+        v = law.rate_variables(local, eng.states[sl], eng.s[sl], normal_lim[sl], two_sided[sl])
+        parts.append(v)
+        local_parts.append(np.searchsorted(law.cfes, v.cfe))
+    cat = {k: np.concatenate([getattr(p, k) for p in parts]) for k in
+           ("cfe", "kind", "row", "value", "cp", "cq")}
+    return RateVariables(**cat), np.concatenate(local_parts)
+
+
+def _states_from(eng, base, var, active, z):
+    new = base.copy()
+    for law in eng.laws:
+        sel = np.isin(var.cfe, law.cfes)
+        loc = np.searchsorted(law.cfes, var.cfe[sel])
+        new[law.cfes] = law.states_from_active(base[law.cfes], loc, var.kind[sel], active[sel],
+                                               z[sel])
+    return new
+
+
+def _start_basis(var: RateVariables, guess: np.ndarray) -> np.ndarray:
+    """The complementary basis that stands for the guessed scheme (pivoting starts there, so
+    that a non-unique rate problem continues the current scheme where it can)."""
+    st = guess[var.cfe]
+    return np.where(var.kind == OPENING, st == OPEN,
+                    np.where(var.kind > 0, st == SLIP_POS, st == SLIP_NEG))
+
+
+def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_lim, two_sided,
+                       method: str = "pivoting") -> RateOutcome:
+    """Choose the states of the CFEs in L (ascending) so that the rates are consistent.
+
+    ``eng`` is the :class:`~stepcontact.solver.engine.EventEngine` (its laws, state and scheme
+    solver), ``guess`` the current scheme with the natural transitions of the CFEs that fired,
+    ``forcing`` the load rates (ĥ, e) on the contact unknowns.  Raises
+    :class:`MechanismError` (equilibrium lost, with evidence) or :class:`RateProblemFailure`.
+    """
+    # the guessed scheme is kept when its rates are consistent (the common case, one solve)
+    try:
+        ds, dw = eng.rates(guess, forcing, article=False)
+        if np.array_equal(eng.consistent(guess, L, ds, dw, normal_lim, two_sided), guess[L]):
+            return RateOutcome(guess, ds, dw, "current scheme", L)
+    except MechanismError:
+        pass
+    base = guess.copy()
+    for law in eng.laws:
+        inl = np.isin(law.cfes, L)
+        base[law.cfes[inl]] = law.closed_state()[inl]
+    try:
+        fact = eng.factor(base, article=False)
+    except MechanismError as exc:
+        # the stiffest scheme of the point is singular: so is every other one
+        exc.states = base
+        if eng.drives(base, forcing):
+            raise
+        return _singular_point(eng, L, guess, forcing, normal_lim, two_sided)
+    var, _ = _variables(eng, L, normal_lim, two_sided)
+    m = eng.m
+    h, e = forcing
+    ds0, dw0 = fact.solve(h, e, np.zeros(2 * m))
+    nv = len(var.cfe)
+    if nv == 0:
+        return RateOutcome(base, ds0, dw0, "stuck scheme", L)
+    R = np.zeros((2 * m, nv))
+    R[var.cfe + m * var.row, np.arange(nv)] = var.value
+    dS, dW = fact.solve(np.zeros((2 * m, 1)), np.zeros((2 * m, 1)), R)
+    eng.counters["rate_solves"] += 1 + nv
+    cp, cq = var.cp[:, None], var.cq[:, None]
+    Wm = cp * np.c_[ds0, dS][m + var.cfe] + cq * np.c_[ds0, dS][var.cfe]
+    q, M = Wm[:, 0], Wm[:, 1:]
+    start = _start_basis(var, guess)
+    sol = None
+    how = ""
+    if method == "pivoting":
+        sol = principal_pivoting(M, q, start)
+        eng.counters["pivots"] += sol.pivots
+        how = "principal pivoting from the current scheme"
+    if sol is None or not sol.solved:
+        sol = lemke(M, q)
+        eng.counters["lemke"] += 1
+        how = "Lemke's method from the stuck scheme"
+    if sol.solved:
+        z = sol.z
+        active = z > 1e-9 * max(np.abs(z).max(initial=0), 1e-300)
+        new = _states_from(eng, base, var, active, z)
+        _check_mechanism(eng, new, forcing)
+        out = RateOutcome(new, ds0 + dS @ z, dw0 + dW @ z, how, L)
+        out.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, out)
+        return out
+    # no solution found: the ray names a scheme; equilibrium is lost only with evidence
+    ray = sol.ray if sol.ray is not None else np.zeros(nv, bool)
+    trial = _states_from(eng, base, var, ray, np.ones(nv))
+    try:
+        eng.factor(trial, article=False)
+        singular = False
+    except MechanismError:
+        singular = True
+    if singular and eng.drives(trial, forcing):
+        raise MechanismError(None, None, trial)
+    found = _enumerate(eng, L, base, var, M, q)
+    if found:
+        z = found[0]
+        active = z > 1e-9 * max(np.abs(z).max(initial=0), 1e-300)
+        new = _states_from(eng, base, var, active, z)
+        _check_mechanism(eng, new, forcing)
+        out = RateOutcome(new, ds0 + dS @ z, dw0 + dW @ z, "enumeration of the LCP", L)
+        out.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, out)
+        return out
+    raise RateProblemFailure(
+        Status.RATE_PROBLEM, L,
+        f"the rate problem has no solution found ({sol.message}; the ray's scheme "
+        f"{'is singular but the load does no work on it' if singular else 'is regular'})",
+        certificate=trial[L])
+
+
+def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcome:
+    """The rate problem at a point whose stuck scheme is singular but not driven by the load
+    (a body held at one point, loaded through it): every scheme of the CFEs in L is tried
+    (small L), each with its unique rates, or its minimum-norm rates when it is singular and
+    not driven.  A consistent scheme is followed; if there is none and one of the schemes is a
+    mechanism the load drives, equilibrium is lost."""
+    cfes = L[:ENUMERATE_CFES + 1]
+    if len(L) > ENUMERATE_CFES:
+        raise RateProblemFailure(Status.RATE_PROBLEM, L, "the stuck scheme of the point is "
+                                 "singular but the load does no work on its free modes")
+    options = []
+    for k in cfes:
+        law = next(lw for lw in eng.laws if k in lw.cfes)
+        j = int(np.searchsorted(law.cfes, k))
+        opts = [OPEN, int(law.closed_state()[j])]
+        if law.frictional[j]:
+            opts += [SLIP_POS, SLIP_NEG]
+        options.append(opts)
+    driven = None
+    for combo in itertools.product(*options):
+        trial = guess.copy()
+        trial[cfes] = combo
+        try:
+            ds, dw = eng.rates(trial, forcing, article=False)
+        except MechanismError:
+            if eng.drives(trial, forcing):
+                driven = trial if driven is None else driven
+                continue
+            ds, dw = eng.rates_singular(trial, forcing)
+        if np.array_equal(eng.consistent(trial, L, ds, dw, normal_lim, two_sided), trial[L]):
+            return RateOutcome(trial, ds, dw, "enumeration of the schemes of a singular point", L)
+    if driven is not None:
+        raise MechanismError(None, None, driven)
+    raise RateProblemFailure(Status.RATE_PROBLEM, L, "no consistent scheme at a point whose "
+                             "stuck scheme is singular")
+
+
+def _check_mechanism(eng, states, forcing) -> None:
+    """A solution whose scheme is singular stands for a mechanism (its z grow without bound
+    as the round-off of M → 0): equilibrium is lost when the load drives it."""
+    try:
+        eng.factor(states, article=False)
+    except MechanismError:
+        if eng.drives(states, forcing):
+            raise MechanismError(None, None, states) from None
+
+
+def _bases(var: RateVariables) -> np.ndarray | None:
+    """Complementary bases that stand for distinct CFE states: per CFE none, opening, slip+
+    or slip− (never two at once)."""
+    cfes = np.unique(var.cfe)
+    if len(cfes) > ENUMERATE_CFES:
+        return None
+    choices = []
+    for k in cfes:
+        idx = np.flatnonzero(var.cfe == k)
+        choices.append([None, *idx.tolist()])
+    rows = []
+    for combo in itertools.product(*choices):
+        b = np.zeros(len(var.cfe), bool)
+        b[[i for i in combo if i is not None]] = True
+        rows.append(b)
+    return np.array(rows)
+
+
+def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:
+    bases = _bases(var)
+    if bases is None:
+        return []
+    return enumerate_solutions(M, q, bases)
+
+
+def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list[np.ndarray]:
+    """Other admissible schemes of a small rate problem with several solutions (none when M is
+    positive definite: a P-matrix has exactly one)."""
+    sym = 0.5 * (M + M.T)
+    try:
+        if np.linalg.eigvalsh(sym).min() > 1e-10 * max(np.abs(M).max(initial=0), 1e-300):
+            return []
+    except np.linalg.LinAlgError:
+        pass
+    sols = _enumerate(eng, L, base, var, M, q)
+    if len(sols) < 2:
+        return []
+    scale = max(np.abs(chosen.ds).max(initial=0), 1e-300)
+    seen = [chosen.ds]
+    out = []
+    for z in sols:
+        ds = ds0 + dS @ z
+        if any(np.abs(ds - s).max() <= 1e-7 * scale for s in seen):
+            continue
+        seen.append(ds)
+        active = z > 1e-9 * max(np.abs(z).max(initial=0), 1e-300)
+        out.append(_states_from(eng, base, var, active, z)[L])
+    return out
+
+
+__all__ = ["RateOutcome", "RateProblemFailure", "solve_rate_problem"]
