@@ -1,0 +1,62 @@
+"""Append-only recording of the states of a run: arrays that grow by doubling, so that a
+result can be taken at any moment as views (no rebuilding per segment or per state)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class GrowingArray:
+    """Rows appended one at a time to a preallocated array; ``view`` is the filled part."""
+
+    def __init__(self, row_shape: tuple[int, ...], dtype=float, capacity: int = 64):
+        self._a = np.zeros((capacity, *row_shape), dtype=dtype)
+        self.n = 0
+
+    def append(self, row) -> None:
+        if self.n == len(self._a):
+            grown = np.zeros((2 * len(self._a), *self._a.shape[1:]), dtype=self._a.dtype)
+            grown[: self.n] = self._a[: self.n]
+            self._a = grown
+        self._a[self.n] = row
+        self.n += 1
+
+    @property
+    def view(self) -> np.ndarray:
+        return self._a[: self.n]
+
+
+class Recorder:
+    """The reported states of a run (one row each) and the logs that go with them."""
+
+    COLUMNS = ("lam", "segment", "kind", "factors", "s", "w", "state", "residual", "violation",
+               "reactions")
+
+    def __init__(self, m: int, n_patterns: int, n_reactions: int):
+        self.lam = GrowingArray(())
+        self.segment = GrowingArray((), np.int64)
+        self.kind = GrowingArray((), "U13")
+        self.factors = GrowingArray((n_patterns,))
+        self.s = GrowingArray((2 * m,))
+        self.w = GrowingArray((2 * m,))
+        self.state = GrowingArray((m,), np.int64)
+        self.residual = GrowingArray(())
+        self.violation = GrowingArray(())
+        self.reactions = GrowingArray((n_reactions,))
+        self.fields: dict[int, np.ndarray] = {}
+        self.stresses: dict[int, dict[str, np.ndarray]] = {}
+        self.events: list = []
+        self.multipliers: list = []
+        self.nonunique: list[dict] = []
+
+    def __len__(self) -> int:
+        return self.lam.n
+
+    def append(self, **row) -> int:
+        i = self.lam.n
+        for k in self.COLUMNS:
+            getattr(self, k).append(row[k])
+        return i
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        return {k: getattr(self, k).view for k in self.COLUMNS}
