@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import struct
 
 import numpy as np
 import pytest
@@ -10,7 +11,12 @@ import xarray as xr
 from numpy.testing import assert_allclose, assert_array_equal
 
 from stepcontact.enums import ContactState, Status, Transition
-from stepcontact.post.plotting import plot_interfaces, plot_load_path
+from stepcontact.post.plotting import (
+    STATE_COLORS,
+    TRANSITION_MARKERS,
+    plot_interfaces,
+    plot_load_path,
+)
 from stepcontact.results.file import (
     _EVENT_SPEC,
     _MULT_SPEC,
@@ -299,16 +305,156 @@ def test_load_errors(tmp_path):
 
 
 # --------------------------------------------------------------------------------------------
-# plots
+# plots: what the figures draw (their matplotlib artists), checked against the result's data
 # --------------------------------------------------------------------------------------------
-def _check_png(path):
-    import matplotlib.image as mpimg
+def rgba(color) -> tuple[float, float, float, float]:
+    from matplotlib.colors import to_rgba
 
-    assert path.is_file() and path.stat().st_size > 10_000
-    img = mpimg.imread(path)
-    assert img.ndim == 3 and img.shape[0] > 300 and img.shape[1] > 300
-    assert np.ptp(img[..., :3]) > 0.5  # not a blank image
-    assert len(np.unique(img[..., :3].reshape(-1, 3), axis=0)) > 20
+    return to_rgba(color)
+
+
+def png_size(path) -> tuple[int, int]:
+    """(width, height) in pixels, read from the header of a PNG file."""
+    head = path.read_bytes()[:24]
+    assert head[:8] == b"\x89PNG\r\n\x1a\n", f"{path} is not a PNG file"
+    return struct.unpack(">II", head[16:24])
+
+
+def assert_png_of(path, fig, dpi: float) -> None:
+    """``path`` holds ``fig`` rendered at ``dpi``: a PNG of the figure's size × dpi pixels."""
+    w, h = fig.get_size_inches()
+    assert png_size(path) == (int(w * dpi), int(h * dpi))  # Agg truncates to whole pixels
+
+
+def snapshot(res: StaticResult, segment: int, lam: float) -> dict:
+    """What plot_interfaces draws at ``lam`` of ``segment``: the interpolated forces and, at
+    the λ of a reported state, the working scheme after the last state with that λ."""
+    snap = dict(res.interpolate(lam, segment), segment=segment, lam=lam)
+    at = np.flatnonzero((res.segment == segment) & (res.lam == lam))
+    if at.size:
+        snap["state"] = res.state[at[-1]]
+    return snap
+
+
+def segment_ends(res: StaticResult) -> list[dict]:
+    """The default of plot_interfaces: the end of every segment reached."""
+    return [snapshot(res, s, float(res.lam[np.flatnonzero(res.segment == s)[-1]]))
+            for s in dict.fromkeys(res.segment.tolist())]
+
+
+def check_interfaces_figure(fig, res: StaticResult, snaps: list[dict]) -> None:
+    """The panels of plot_interfaces against the CFE data.
+
+    One column per interface: σ_n = N/A and τ = Q/A over the positions s of its CFEs (in
+    order of s), one colour per snapshot, the friction limits ±f|σ_n| dashed, zero lines, the
+    stress unit in the labels; a strip of CFE states coloured with STATE_COLORS; one legend
+    entry per snapshot and per contact state.
+    """
+    names = list(res.interface_names)
+    ncol = len(names)
+    assert len(fig.axes) == 3 * ncol
+    area, fric, pos = (np.asarray(res.cfe[k], dtype=float) for k in ("area", "friction", "s"))
+    peak = max(np.abs(np.r_[sn["N"] / area, sn["Q"] / area]).max(initial=0) for sn in snaps)
+    div, unit = (1e6, "MPa") if peak >= 1e6 else (1e3, "kPa") if peak >= 1e3 else (1.0, "Pa")
+    for c, name in enumerate(names):
+        ax_n, ax_t, ax_s = fig.axes[c], fig.axes[ncol + c], fig.axes[2 * ncol + c]
+        assert ax_n.get_title() == f"interface '{name}'"
+        assert ax_n.get_ylabel() == rf"$\sigma_n$ = N/A, {unit} (compression < 0)"
+        assert ax_t.get_ylabel() == rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed"
+        assert ax_s.get_xlabel() == "position s along the interface, m"
+        k = np.flatnonzero(np.asarray(res.cfe["interface"]) == c)
+        k = k[np.argsort(pos[k], kind="stable")]
+        n_lines, t_lines = ax_n.get_lines(), ax_t.get_lines()
+        assert len(n_lines) == len(snaps) + 1 and len(t_lines) == 3 * len(snaps) + 1
+        assert len(ax_n.collections) == len(ax_t.collections) == len(snaps)  # shaded diagrams
+        for j, sn in enumerate(snaps):
+            sig = sn["N"][k] / area[k] / div
+            sig_line = n_lines[j]
+            tau_line, upper, lower = t_lines[3 * j:3 * j + 3]
+            for line in (sig_line, tau_line, upper, lower):
+                assert_array_equal(line.get_xdata(), pos[k])
+                assert rgba(line.get_color()) == rgba(f"C{j}")
+            assert_allclose(sig_line.get_ydata(), sig, rtol=1e-12, atol=0)
+            assert_allclose(tau_line.get_ydata(), sn["Q"][k] / area[k] / div, rtol=1e-12, atol=0)
+            assert_allclose(upper.get_ydata(), fric[k] * np.abs(sig), rtol=1e-12, atol=0)
+            assert_allclose(lower.get_ydata(), -fric[k] * np.abs(sig), rtol=1e-12, atol=0)
+            assert upper.get_linestyle() == lower.get_linestyle() == "--"
+            assert sig_line.get_linestyle() == tau_line.get_linestyle() == "-"
+        for zero in (n_lines[-1], t_lines[-1]):
+            assert_array_equal(zero.get_ydata(), [0, 0])
+        strip = ax_s.collections[0]
+        want = np.array([np.asarray(sn["state"])[k] for sn in snaps])
+        assert_array_equal(strip.get_array().reshape(want.shape), want)
+        for code in np.unique(want):
+            assert strip.cmap(strip.norm(code)) == rgba(STATE_COLORS[ContactState(int(code))])
+        assert [t.get_text() for t in ax_s.get_yticklabels()] == [
+            f"λ={sn['lam']:.3g}" for sn in snaps]
+    legend = fig.legends[0]
+    labels = [t.get_text() for t in legend.get_texts()]
+    assert labels[:len(snaps)] == [
+        f"'{res.segments[sn['segment']][0]}' λ = {sn['lam']:.4g}" for sn in snaps]
+    for j, handle in enumerate(legend.legend_handles[:len(snaps)]):
+        assert rgba(handle.get_color()) == rgba(f"C{j}")
+    by_label = {cs.label: cs for cs in ContactState}
+    shown = labels[len(snaps):]
+    assert {"open", "stick", "slip+", "slip-"} <= set(shown)
+    for label, handle in zip(shown, legend.legend_handles[len(snaps):], strict=True):
+        assert handle.get_facecolor() == rgba(STATE_COLORS[by_label[label]])
+
+
+def check_load_path_figure(fig, res: StaticResult) -> None:
+    """The panels of plot_load_path against the result: λ per segment over the state index
+    (from the state before the segment), events marked by transition, dotted segment
+    boundaries, the events so far on the top axis, stacked bars of the CFE states."""
+    ax_l, ax_c = fig.axes
+    lines = ax_l.get_lines()
+    segs = list(dict.fromkeys(res.segment.tolist()))
+    seg_lines = [ln for ln in lines if ln.get_marker() == "."]
+    assert len(seg_lines) == len(segs)
+    for j, (s, line) in enumerate(zip(segs, seg_lines, strict=True)):
+        idx = np.flatnonzero(res.segment == s)
+        x, y = idx, res.lam[idx]
+        if idx[0] > 0:
+            x, y = np.r_[idx[0] - 1, x], np.r_[res.segments[s][1], y]
+            for ax in (ax_l, ax_c):  # a dotted boundary before the segment's first state
+                assert any(ln.get_linestyle() == ":" and np.all(ln.get_xdata() == idx[0] - 0.5)
+                           for ln in ax.get_lines())
+        assert_array_equal(line.get_xdata(), x)
+        assert_allclose(line.get_ydata(), y, rtol=0, atol=0)
+        assert rgba(line.get_color()) == rgba(f"C{j}")
+    markers = {m for m, _ in TRANSITION_MARKERS.values()}
+    marks = [(ln.get_xdata()[0], ln.get_ydata()[0], ln.get_marker(), rgba(ln.get_color()))
+             for ln in lines if ln.get_marker() in markers]
+    want = [(e.state, e.lam, TRANSITION_MARKERS[e.transition][0],
+             rgba(TRANSITION_MARKERS[e.transition][1])) for e in res.events]
+    assert sorted(marks) == sorted(want)
+    transitions = list(dict.fromkeys(e.transition.value for e in res.events))
+    assert [t.get_text() for t in ax_l.get_legend().get_texts()] == [
+        f"segment {s}: '{res.segments[s][0]}'" for s in segs] + transitions
+    assert ax_l.get_ylabel() == "load factor λ of the active pattern"
+    (top,) = ax_l.child_axes
+    assert top.get_xlabel() == "events so far"
+    ticks = np.unique(np.linspace(0, res.n_states - 1, min(res.n_states, 8)).round().astype(int))
+    n_ev = [sum(e.state <= t for e in res.events) for t in ticks]
+    assert_array_equal(top.get_xticks(), ticks)
+    assert [t.get_text() for t in top.get_xticklabels()] == [str(n) for n in n_ev]
+    # bars: the CFEs in each state after state i, stacked, coloured by state
+    present = [cs for cs in ContactState if np.any(res.state == int(cs))]
+    assert [b.get_label() for b in ax_c.containers] == [cs.label for cs in present]
+    total = np.zeros(res.n_states)
+    for cs, bars in zip(present, ax_c.containers, strict=True):
+        count = np.sum(res.state == int(cs), axis=1)
+        assert_array_equal(bars.datavalues, count)
+        assert_array_equal([p.get_y() for p in bars.patches], total)  # stacked
+        assert {p.get_facecolor() for p in bars.patches} == {rgba(STATE_COLORS[cs])}
+        total += count
+    if present:
+        assert_array_equal(total, res.m)
+        assert [t.get_text() for t in ax_c.get_legend().get_texts()] == [
+            cs.label for cs in present]
+    assert ax_c.get_ylabel() == "number of CFEs" and ax_c.get_xlabel() == "reported state i"
+    assert fig.get_suptitle() == (
+        f"Load path — {res.status.value}, {len(res.events)} events, {res.m} CFEs")
 
 
 def test_plot_interfaces_default(tmp_path):
@@ -318,12 +464,18 @@ def test_plot_interfaces_default(tmp_path):
     out = tmp_path / "plots" / "itf.png"
     fig = plot_interfaces(res, path=out)
     assert isinstance(fig, Figure)
-    _check_png(out)
-    assert "'dead'" in fig.get_suptitle() and "'live'" in fig.get_suptitle()
-    # 3 rows × 2 interfaces
-    assert len(fig.axes) == 6
-    ylabel = fig.axes[0].get_ylabel()
-    assert "kPa" in ylabel  # the stresses are O(1e5) Pa
+    assert_png_of(out, fig, dpi=150)  # the parent folder is created; the default resolution
+    assert fig.get_suptitle() == "Contact stresses at pattern 'dead' λ = 1;\npattern 'live' λ = 0.7"
+    snaps = segment_ends(res)
+    # the ends of the segments are the reported states 2 and 4
+    for sn, i in zip(snaps, (2, 4), strict=True):
+        assert_array_equal(sn["N"], res.N[i])
+        assert_array_equal(sn["state"], res.state[i])
+    check_interfaces_figure(fig, res, snaps)  # 3 rows × 2 interfaces
+    assert "kPa" in fig.axes[0].get_ylabel()  # the stresses are O(1e5) Pa
+    # the frictionless-contact and bonded states are in the legend only when drawn
+    assert [t.get_text() for t in fig.legends[0].get_texts()][2:] == [
+        "open", "stick", "slip+", "slip-"]
 
 
 def test_plot_interfaces_chosen_lams(tmp_path):
@@ -335,9 +487,12 @@ def test_plot_interfaces_chosen_lams(tmp_path):
     # σ_n at λ = 0.5 is the interpolated N / A, in kPa
     want = res.interpolate(0.5, 1)["N"][:3] / res.cfe["area"][:3] / 1e3
     assert_allclose(lines[1].get_ydata(), want, rtol=1e-12, atol=0)
+    check_interfaces_figure(fig, res, [snapshot(res, 1, v) for v in (0.3, 0.5, 0.7)])
+    assert fig.get_suptitle() == "Contact stresses at pattern 'live' λ = 0.3, 0.5, 0.7"
     fig2 = plot_interfaces(res, lams=0.2, segment=0, path=tmp_path / "itf.pdf")
     assert (tmp_path / "itf.pdf").read_bytes()[:4] == b"%PDF"
     assert "0.2" in fig2.get_suptitle()
+    check_interfaces_figure(fig2, res, [snapshot(res, 0, 0.2)])
 
 
 def test_plot_interfaces_bad_input(tmp_path):
@@ -351,20 +506,29 @@ def test_plot_interfaces_bad_input(tmp_path):
 def test_plot_load_path(tmp_path):
     res = make_result()
     out = tmp_path / "path.png"
-    fig = plot_load_path(res, path=out)
-    _check_png(out)
+    fig = plot_load_path(res, path=out, dpi=40)
+    assert_png_of(out, fig, dpi=40)
     assert "5 events" in fig.get_suptitle()
-    # after a round trip the plots still work
+    check_load_path_figure(fig, res)
+    # segment 1 starts from the end of segment 0 (state 2) at its starting λ
+    live = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "."][1]
+    assert_array_equal(live.get_xdata(), [2, 3, 4])
+    assert_array_equal(live.get_ydata(), [0.0, 0.3, 0.7])
+    # after a round trip the figures draw the same data
     back = load_result(save_result(res, tmp_path / "r.nc"))
-    plot_load_path(back, path=tmp_path / "path2.png")
-    plot_interfaces(back, path=tmp_path / "itf2.png")
-    _check_png(tmp_path / "itf2.png")
+    check_load_path_figure(plot_load_path(back), res)
+    check_interfaces_figure(plot_interfaces(back), res, segment_ends(res))
 
 
-def test_plot_load_path_no_events(tmp_path):
+def test_plot_load_path_no_events():
     res = make_result(events=False)
-    plot_load_path(res, path=tmp_path / "p.png")
-    _check_png(tmp_path / "p.png")
+    fig = plot_load_path(res)
+    check_load_path_figure(fig, res)
+    markers = {m for m, _ in TRANSITION_MARKERS.values()}
+    assert not [ln for ln in fig.axes[0].get_lines() if ln.get_marker() in markers]
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == [
+        "segment 0: 'dead'", "segment 1: 'live'"]
+    assert "0 events" in fig.get_suptitle()
 
 
 def test_state_strip_shows_scheme_after_last_state(tmp_path):
@@ -386,15 +550,22 @@ def test_no_contact_elements(tmp_path):
     back = load_result(save_result(res, tmp_path / "r.nc"))
     assert_results_equal(res, back)
     assert back.m == 0
-    plot_interfaces(back, path=tmp_path / "i.png")
-    plot_load_path(back, path=tmp_path / "p.png")
-    assert (tmp_path / "i.png").stat().st_size > 1000
-    _check_png(tmp_path / "p.png")
+    fig = plot_interfaces(back, path=tmp_path / "i.png", dpi=30)
+    assert_png_of(tmp_path / "i.png", fig, dpi=30)
+    (ax,) = fig.axes
+    assert [t.get_text() for t in ax.texts] == ["no contact interfaces"]
+    assert not ax.axison and not ax.get_lines()
+    fig = plot_load_path(back, path=tmp_path / "p.png", dpi=30)
+    assert_png_of(tmp_path / "p.png", fig, dpi=30)
+    check_load_path_figure(fig, back)
+    assert not fig.axes[1].containers and fig.axes[1].get_legend() is None  # no CFE: no bars
+    assert fig.get_suptitle().endswith("0 events, 0 CFEs")
 
 
 @pytest.mark.slow
 def test_demo_run_round_trip_and_plots(tmp_path):
-    """A real run: the writer hook saves at every segment end; the file round-trips exactly."""
+    """A real run: the writer hook saves at every segment end; the file round-trips exactly;
+    the figures of the loaded result draw the run's data."""
     from stepcontact.demo import demo_uplift_model
     from stepcontact.solver.static import solve_static
 
@@ -405,7 +576,6 @@ def test_demo_run_round_trip_and_plots(tmp_path):
     assert partial.n_states <= res.n_states
     back = load_result(save_result(res, tmp_path / "run.nc"))
     assert_results_equal(res, back)
-    plot_interfaces(back, path=tmp_path / "itf.png")
-    plot_load_path(back, path=tmp_path / "path.png")
-    _check_png(tmp_path / "itf.png")
-    _check_png(tmp_path / "path.png")
+    assert res.m > 0 and res.events
+    check_interfaces_figure(plot_interfaces(back), res, segment_ends(res))
+    check_load_path_figure(plot_load_path(back), res)

@@ -8,6 +8,7 @@ import json
 import matplotlib.image as mpimg
 import numpy as np
 import pytest
+from matplotlib.colors import to_rgba
 from numpy.testing import assert_allclose, assert_array_equal
 from typer.testing import CliRunner
 
@@ -66,12 +67,97 @@ def runs(tmp_path_factory):
 
 
 def check_png(path, fig, dpi=DPI):
-    """A non-blank PNG of the figure's size × dpi."""
-    assert path.is_file() and path.stat().st_size > 1000
+    """``path`` is a non-blank PNG of ``fig`` at ``dpi``: the figure's size × dpi pixels."""
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", f"{path} is not a PNG file"
     img = mpimg.imread(path)
     w, h = fig.get_size_inches()
     assert img.shape[:2] == (int(h * dpi), int(w * dpi))  # Agg truncates to whole pixels
     assert np.ptp(img[..., :3]) > 0.5
+
+
+def figure_content(fig) -> dict:
+    """What a figure draws: its size, titles and legends and, axis by axis, the labels,
+    texts, legend entries, the data and style of every line, and the geometry, colours and
+    values of every collection (cells, outlines, CFE dots, shaded diagrams, state strips)."""
+
+    def collection(c) -> dict:
+        out = {"type": type(c).__name__, "edge": c.get_edgecolor()}
+        if c.get_array() is not None:  # colours mapped from values (set when drawn)
+            out["face"] = c.to_rgba(np.ravel(c.get_array()))
+        else:
+            out["face"] = c.get_facecolor()
+        if hasattr(c, "get_coordinates"):  # QuadMesh: the cells and their values
+            out |= {"coordinates": c.get_coordinates(), "array": c.get_array()}
+        else:
+            out |= {"paths": [p.vertices for p in c.get_paths()], "offsets": c.get_offsets()}
+        return out
+
+    def texts(legend) -> list[str]:
+        return [] if legend is None else [t.get_text() for t in legend.get_texts()]
+
+    return {
+        "size": fig.get_size_inches(),
+        "suptitle": fig.get_suptitle(),
+        "legends": [texts(lg) for lg in fig.legends],
+        "axes": [
+            {
+                "title": ax.get_title(), "xlabel": ax.get_xlabel(), "ylabel": ax.get_ylabel(),
+                "texts": [t.get_text() for t in ax.texts], "legend": texts(ax.get_legend()),
+                "lines": [
+                    {"x": np.asarray(ln.get_xdata(), float), "y": np.asarray(ln.get_ydata(), float),
+                     "color": to_rgba(ln.get_color()), "marker": ln.get_marker(),
+                     "linestyle": ln.get_linestyle()}
+                    for ln in ax.get_lines()
+                ],
+                "collections": [collection(c) for c in ax.collections],
+            }
+            for ax in fig.axes
+        ],
+    }
+
+
+def assert_same_content(a, b, where="figure") -> None:
+    """Two :func:`figure_content` trees are equal (arrays to 1e-12)."""
+    if isinstance(a, dict):
+        assert list(a) == list(b), where
+        for k in a:
+            assert_same_content(a[k], b[k], f"{where}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), f"{where}: {len(a)} != {len(b)} items"
+        for j, (x, y) in enumerate(zip(a, b, strict=True)):
+            assert_same_content(x, y, f"{where}[{j}]")
+    elif isinstance(a, str) or a is None:
+        assert a == b, f"{where}: {a!r} != {b!r}"
+    else:
+        x, y = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        assert x.shape == y.shape, f"{where}: shape {x.shape} != {y.shape}"
+        assert_allclose(x, y, rtol=1e-12, atol=0, err_msg=where)
+
+
+def assert_same_figure(a, b) -> None:
+    assert_same_content(figure_content(a), figure_content(b))
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """The figures the CLI draws: every figure returned by a plotting function of
+    :mod:`stepcontact.post.plotting` during the test, as (function name, figure)."""
+    from stepcontact.post import plotting
+
+    figures: list[tuple[str, object]] = []
+
+    def recording(name, draw):
+        def wrapper(*args, **kwargs):
+            fig = draw(*args, **kwargs)
+            figures.append((name, fig))
+            return fig
+
+        return wrapper
+
+    for name in ("plot_deformed", "plot_interfaces", "plot_load_displacement",
+                 "plot_event_timeline"):
+        monkeypatch.setattr(plotting, name, recording(name, getattr(plotting, name)))
+    return figures
 
 
 def nodal_u(res, i):
@@ -118,8 +204,6 @@ def test_plot_deformed_geometry_scale_and_states(runs, tmp_path):
     # CFEs coloured by their state after state i
     dots = [c for c in ax.collections if type(c).__name__ == "PathCollection"][0]
     want = [STATE_COLORS[ContactState(int(v))] for v in res.state[i]]
-    from matplotlib.colors import to_rgba
-
     assert_allclose(dots.get_facecolors(), [to_rgba(c) for c in want])
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     n_slip = int(np.sum(res.state[i] == int(ContactState.SLIP_POS)))
@@ -251,13 +335,23 @@ def test_plot_event_timeline(runs, tmp_path):
     bars = fig.axes[1].collections[0]
     n_states_1 = int(np.sum(res.segment == 1))
     assert len(bars.get_segments()) == res.m * (n_states_1 - 1)
-    from matplotlib.colors import to_rgba
-
     last = bars.get_colors()[-res.m:]
     i = np.flatnonzero(res.segment == 1)[-2]
     assert_allclose(last, [to_rgba(STATE_COLORS[ContactState(int(v))]) for v in res.state[i]])
-    fig = plot_event_timeline(runs["frame"], path=tmp_path / "t.svg")
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == [
+        f"state {cs.label}" for cs in ContactState if np.any(res.state == int(cs))
+    ] + [f"→ {t.value}" for t in TRANSITION_MARKERS if t in {e.transition for e in res.events}]
+    assert fig.axes[0].get_ylabel() == "s along 'joint', m"
+    assert [ax.get_xlabel() for ax in fig.axes] == ["λ of 'weight'", "λ of 'push'"]
+    frame = runs["frame"]
+    fig = plot_event_timeline(frame, path=tmp_path / "t.svg")
     assert "<svg" in (tmp_path / "t.svg").read_text()[:2000]
+    marks = [(ln.get_xdata()[0], ln.get_ydata()[0], ln.get_marker())
+             for ax in fig.axes for ln in ax.get_lines()]
+    assert sorted(marks) == sorted(
+        (e.lam, e.position, TRANSITION_MARKERS[e.transition][0]) for e in frame.events)
+    assert fig.get_suptitle() == (f"Event timeline — {len(frame.events)} events, {frame.m} CFEs, "
+                                  f"{frame.status.value}")
 
 
 # --------------------------------------------------------------------------------------------
@@ -272,7 +366,7 @@ API = {
 
 
 @pytest.mark.parametrize("kind", list(API))
-def test_cli_plot_each_kind(runs, tmp_path, kind):
+def test_cli_plot_each_kind(runs, tmp_path, kind, drawn):
     out = tmp_path / f"{kind}.png"
     args = ["plot", str(runs["dir"] / "block.nc"), "--kind", kind, "-o", str(out),
             "--dpi", str(DPI)]
@@ -281,40 +375,84 @@ def test_cli_plot_each_kind(runs, tmp_path, kind):
     result = runner.invoke(app, args)
     assert result.exit_code == 0, result.output
     assert str(out) in result.stdout
-    check_png(out, API[kind](runs["block"]))
+    # one figure, written to -o at --dpi, drawing what the API draws from the run in memory
+    ((_, fig),) = drawn
+    check_png(out, fig)
+    assert_same_figure(fig, API[kind](runs["block"]))
 
 
-def test_cli_plot_all_and_formats(runs, tmp_path):
+def test_cli_plot_all_and_formats(runs, tmp_path, drawn):
+    res = runs["block"]
     nc = runs["dir"] / "block.nc"
     result = runner.invoke(app, ["plot", str(nc), "--kind", "all", "-o", str(tmp_path / "f"),
                                  "--format", "pdf"])
     assert result.exit_code == 0, result.output
     for kind in API:
         assert (tmp_path / "f" / f"block-{kind}.pdf").read_bytes()[:4] == b"%PDF"
+    # every kind with its defaults (load-displacement: the node that moves most in y)
+    defaults = {"deformed": plot_deformed, "stresses": plot_interfaces,
+                "load-displacement": plot_load_displacement, "timeline": plot_event_timeline}
+    assert [name for name, _ in drawn] == [f.__name__ for f in defaults.values()]
+    for (_, fig), draw in zip(drawn, defaults.values(), strict=True):
+        assert_same_figure(fig, draw(res))
+    k = int(np.argmax(np.abs(nodal_u(res, res.n_states - 1)[:, 1])))
+    assert f"$u_y$ of node {k} " in drawn[2][1].axes[-1].get_xlabel()
+    drawn.clear()
     result = runner.invoke(app, ["plot", str(nc), "-k", "deformed", "--state", "2",
                                  "--scale", "500", "-o", str(tmp_path / "d.svg")])
     assert result.exit_code == 0, result.output
     text = (tmp_path / "d.svg").read_text()
     assert "<svg" in text[:2000]
+    ((_, fig),) = drawn
+    assert fig.get_suptitle().startswith("Deformed shape at state 2 (")
+    assert "displacements × 500," in fig.get_suptitle()
+    assert_same_figure(fig, plot_deformed(res, state=2, scale=500.0))
+    drawn.clear()
     result = runner.invoke(app, ["plot", str(nc), "--lam", "1e4", "--lam", "2e4",
                                  "-o", str(tmp_path / "s.png"), "--dpi", str(DPI)])
     assert result.exit_code == 0, result.output
-    check_png(tmp_path / "s.png", plot_interfaces(runs["block"], lams=[1e4, 2e4]))
+    ((_, fig),) = drawn
+    check_png(tmp_path / "s.png", fig)
+    assert_same_figure(fig, plot_interfaces(res, lams=[1e4, 2e4]))
+    # σ_n at the two λ of the last segment ('push'), in the unit of the axis label
+    assert fig.get_suptitle() == "Contact stresses at pattern 'push' λ = 1e+04, 2e+04"
+    unit = fig.axes[0].get_ylabel().split(", ")[1].split()[0]
+    div = {"MPa": 1e6, "kPa": 1e3, "Pa": 1.0}[unit]
+    order = np.argsort(res.cfe["s"], kind="stable")
+    for line, lam in zip(fig.axes[0].get_lines()[:2], (1e4, 2e4), strict=True):
+        want = res.interpolate(lam, 1)["N"] / res.cfe["area"]
+        assert_allclose(line.get_ydata(), want[order] / div, rtol=1e-12)
 
 
-def test_cli_plot_default_output_and_skips(runs, tmp_path):
+def test_cli_plot_default_output_and_skips(runs, tmp_path, drawn):
     import shutil
 
+    ends = runs["ends"]
     nc = tmp_path / "ends.nc"
     shutil.copy(runs["dir"] / "ends.nc", nc)
     result = runner.invoke(app, ["plot", str(nc)])
     assert result.exit_code == 0, result.output
-    assert (tmp_path / "ends-stresses.png").is_file()
+    # default: the contact stresses at the segment ends, next to the result file, 150 dpi
+    ((_, fig),) = drawn
+    check_png(tmp_path / "ends-stresses.png", fig, dpi=150)
+    assert_same_figure(fig, plot_interfaces(ends))
+    drawn.clear()
     result = runner.invoke(app, ["plot", str(nc), "--kind", "all", "--state", "1",
                                  "--dpi", str(DPI)])
     assert result.exit_code == 0, result.output
     assert "skipped load-displacement" in result.stdout
-    assert (tmp_path / "ends-timeline.png").is_file() and (tmp_path / "ends-deformed.png").is_file()
+    # the displacements of every state are not stored: no load-displacement figure
+    assert [name for name, _ in drawn] == ["plot_deformed", "plot_interfaces",
+                                           "plot_event_timeline"]
+    (_, deformed), (_, stresses), (_, timeline) = drawn
+    check_png(tmp_path / "ends-deformed.png", deformed)
+    check_png(tmp_path / "ends-stresses.png", stresses)
+    check_png(tmp_path / "ends-timeline.png", timeline)
+    assert not (tmp_path / "ends-load-displacement.png").exists()
+    assert deformed.get_suptitle().startswith("Deformed shape at state 1 (")
+    assert_same_figure(deformed, plot_deformed(ends, state=1))
+    assert_same_figure(stresses, plot_interfaces(ends, states=[1]))
+    assert_same_figure(timeline, plot_event_timeline(ends))
     result = runner.invoke(app, ["plot", str(nc), "--kind", "load-displacement"])
     assert result.exit_code == 2
     assert "store_fields='all'" in result.stderr

@@ -113,12 +113,15 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     :class:`MechanismError` (equilibrium lost, with evidence) or :class:`RateProblemFailure`.
     """
     # the guessed scheme is kept when its rates are consistent (the common case, one solve)
+    kept = None
     try:
         ds, dw = eng.rates(guess, forcing, article=False)
         if np.array_equal(eng.consistent(guess, L, ds, dw, normal_lim, two_sided), guess[L]):
-            return RateOutcome(guess, ds, dw, "current scheme", L)
+            kept = RateOutcome(guess, ds, dw, "the current scheme stays consistent", L)
     except MechanismError:
         pass
+    if kept is not None and not (len(L) <= ENUMERATE_CFES and _frictional(eng, L)):
+        return kept
     base = guess.copy()
     for law in eng.laws:
         inl = np.isin(law.cfes, L)
@@ -127,6 +130,8 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         fact = eng.factor(base, article=False)
     except MechanismError as exc:
         # the stiffest scheme of the point is singular: so is every other one
+        if kept is not None:
+            return kept
         exc.states = base
         if eng.drives(base, forcing):
             raise
@@ -137,7 +142,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     ds0, dw0 = fact.solve(h, e, np.zeros(2 * m))
     nv = len(var.cfe)
     if nv == 0:
-        return RateOutcome(base, ds0, dw0, "stuck scheme", L)
+        return kept or RateOutcome(base, ds0, dw0, "stuck scheme", L)
     R = np.zeros((2 * m, nv))
     R[var.cfe + m * var.row, np.arange(nv)] = var.value
     dS, dW = fact.solve(np.zeros((2 * m, 1)), np.zeros((2 * m, 1)), R)
@@ -145,6 +150,9 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     cp, cq = var.cp[:, None], var.cq[:, None]
     Wm = cp * np.c_[ds0, dS][m + var.cfe] + cq * np.c_[ds0, dS][var.cfe]
     q, M = Wm[:, 0], Wm[:, 1:]
+    if kept is not None:  # small frictional point: are there other admissible schemes?
+        kept.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, kept)
+        return kept
     start = _start_basis(var, guess)
     sol = None
     how = ""
@@ -173,7 +181,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     except MechanismError:
         singular = True
     if singular and eng.drives(trial, forcing):
-        raise MechanismError(None, None, trial)
+        raise MechanismError(None, None, _admissible(eng, L, trial, forcing, normal_lim))
     found = _enumerate(eng, L, base, var, M, q)
     if found:
         z = found[0]
@@ -183,9 +191,16 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         out = RateOutcome(new, ds0 + dS @ z, dw0 + dW @ z, "enumeration of the LCP", L)
         out.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, out)
         return out
+    complete = _bases(var) is not None
+    names = {OPENING: "opens", 1: "slips +", -1: "slips −"}
+    ray_text = ", ".join(f"CFE {int(k)} {names[int(v)]}" for k, v in
+                         zip(var.cfe[ray], var.kind[ray], strict=True)) or "none"
     raise RateProblemFailure(
         Status.RATE_PROBLEM, L,
-        f"the rate problem has no solution found ({sol.message}; the ray's scheme "
+        ("the rate problem has no solution: no scheme of these CFEs satisfies the contact "
+         "conditions (every one checked); with this much friction the quasi-static path does "
+         "not exist here" if complete else "the rate problem has no solution found") +
+        f" (certificate: {sol.message}, along which {ray_text}; that scheme "
         f"{'is singular but the load does no work on it' if singular else 'is regular'})",
         certificate=trial[L])
 
@@ -222,7 +237,7 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
         if np.array_equal(eng.consistent(trial, L, ds, dw, normal_lim, two_sided), trial[L]):
             return RateOutcome(trial, ds, dw, "enumeration of the schemes of a singular point", L)
     if driven is not None:
-        raise MechanismError(None, None, driven)
+        raise MechanismError(None, None, _admissible(eng, L, driven, forcing, normal_lim))
     raise RateProblemFailure(Status.RATE_PROBLEM, L, "no consistent scheme at a point whose "
                              "stuck scheme is singular")
 
@@ -237,20 +252,47 @@ def _check_mechanism(eng, states, forcing) -> None:
             raise MechanismError(None, None, states) from None
 
 
+def _admissible(eng, L, states, forcing, normal_lim) -> np.ndarray:
+    """The mechanism scheme as reported: a closed CFE at its normal limit that the driven
+    mechanism would pull in tension (p' < 0 in the minimum-norm force rates of the singular
+    scheme) separates instead, until none does (a block lifted off a base opens everywhere,
+    rather than rotating about one corner that would have to hold it down)."""
+    states = states.copy()
+    m = eng.m
+    for _ in range(len(L)):
+        ds, _ = eng.rates_singular(states, forcing)
+        tf = 1e3 * eng.rtol * max(np.abs(ds).max(initial=0), 1e-300)
+        pull = L[(states[L] != OPEN) & normal_lim[L] & (ds[m + L] < -tf)]
+        if pull.size == 0:
+            break
+        states[pull] = OPEN
+    return states
+
+
+def _frictional(eng, L) -> bool:
+    return any(bool(law.frictional[np.isin(law.cfes, L)].any()) for law in eng.laws)
+
+
 def _bases(var: RateVariables) -> np.ndarray | None:
-    """Complementary bases that stand for distinct CFE states: per CFE none, opening, slip+
-    or slip− (never two at once)."""
+    """Complementary bases that stand for distinct CFE states: per CFE none (stick), slip+,
+    slip−, opening alone, or opening with a slip rate (an open CFE moves tangentially too:
+    its Q' = 0 makes the slip complements zero)."""
     cfes = np.unique(var.cfe)
     if len(cfes) > ENUMERATE_CFES:
         return None
     choices = []
     for k in cfes:
         idx = np.flatnonzero(var.cfe == k)
-        choices.append([None, *idx.tolist()])
+        o = [i for i in idx if var.kind[i] == OPENING]
+        slips = [i for i in idx if var.kind[i] != OPENING]
+        opts: list[list[int]] = [[], *([i] for i in slips)]
+        if o:
+            opts += [o, *(o + [i] for i in slips)]
+        choices.append(opts)
     rows = []
     for combo in itertools.product(*choices):
         b = np.zeros(len(var.cfe), bool)
-        b[[i for i in combo if i is not None]] = True
+        b[[i for part in combo for i in part]] = True
         rows.append(b)
     return np.array(rows)
 

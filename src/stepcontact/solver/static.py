@@ -309,6 +309,9 @@ class StaticSolver:
     def _event_point(self, fired, forcing, lam, seg, pattern, mult, first, span, seg_start):
         """Decide the scheme at the current point; record it if anything changed."""
         eng = self.engine
+        if first:  # CFEs in contact at rest (zero gap, not held by supports)
+            _, tw = eng.tolerances()
+            self._touching = (-eng.w[self.cfe.m:] <= tw) & ~self.law.inert
         try:
             dec = eng.decide(fired, forcing, natural=first)
         except MechanismError as exc:
@@ -347,11 +350,12 @@ class StaticSolver:
         if self.article:
             ds, dw = eng.rates(new, forcing, article=True)
         eng.update_scales(ds, dw, span)
-        if first and switched:
-            # contact made at the very start (zero gaps at λ = 0) is the initial scheme, not an
-            # event: compare with "closed" there, so only slips and openings at λ = 0 are events
-            made = (old == OPEN) & (new != OPEN)
-            old = np.where(made, np.where(self.law.frictional, STICK, new), old)
+        if first:
+            # contact at rest (zero gaps at λ = 0) is the initial scheme, not an event: compare
+            # with "closed" there, so that slips and openings at λ = 0 are events
+            touching = self._touching & (old == OPEN)
+            old = np.where(touching, np.where(self.law.frictional, STICK, new), old)
+            old = np.where(touching & (new == OPEN), self.law.closed_state(), old)
             switched = bool(np.any(old != new))
         if seg_start and not switched:
             # a state at the start of every segment, so that any λ of it can be interpolated
