@@ -9,7 +9,12 @@ same backend, peak memory, and last the ratios
     T_total / (T_F + E·T_S)          (target ≤ 2: one factorisation + one solve per event)
     T_total / (E·(T_F + T_S))        (against refactorising at every event)
 
-Run:  python benchmarks/slab_on_foundation.py [--sizes 1 2 4 8]
+A friction sweep (``--sweep K``, default K = 2): 20 runs of the size-K model with friction
+coefficients 0.3 … 1.0, once reusing one condensation (``sc.condense`` then
+``solve_static(..., condensation=c)``) and once as 20 independent runs; the ratio of the two
+times is printed last.
+
+Run:  python benchmarks/slab_on_foundation.py [--sizes 1 2 4 8] [--sweep 2]
 The size factor k gives a foundation mesh of 125k × 19k cells and a slab of 75k × 2k
 (k = 8: 326 740 DOFs, 601 CFEs, about 860 events).  ``--backend`` picks the sparse backend
 (default: the fastest installed); ``--save PREFIX`` writes each result file.
@@ -107,12 +112,34 @@ def run(k: int, backend: str = "auto", save: str | None = None) -> dict:
     }
 
 
+def sweep(k: int, n: int = 20, backend: str = "auto") -> dict:
+    """Time of an n-case friction sweep reusing one condensation against n independent runs."""
+    model = slab_model(k)
+    fs = np.linspace(0.3, 1.0, n)
+    t0 = time.perf_counter()
+    c = sc.condense(model, backend)
+    reused = [sc.solve_static(model.with_friction(f), condensation=c, store_fields="ends",
+                              backend=backend) for f in fs]
+    t_reuse = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    indep = [sc.solve_static(model.with_friction(f), store_fields="ends", backend=backend)
+             for f in fs]
+    t_indep = time.perf_counter() - t0
+    same = all(np.array_equal(a.lam, b.lam) and len(a.events) == len(b.events)
+               for a, b in zip(reused, indep, strict=True))
+    return {"k": k, "n": n, "t_reuse": t_reuse, "t_indep": t_indep, "same": same,
+            "ndof": reused[0].counters["ndof"],
+            "events": [len(r.events) for r in reused]}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[1, 2, 4, 8])
     ap.add_argument("--backend", default="auto",
                     help="sparse backend: auto, scipy, cholmod, pypardiso (default: auto)")
     ap.add_argument("--save", default=None, help="write each result to SAVE-k<k>.nc")
+    ap.add_argument("--sweep", type=int, default=2,
+                    help="size factor of the 20-case friction sweep (0: no sweep)")
     args = ap.parse_args()
     rows = []
     for k in args.sizes:
@@ -128,12 +155,21 @@ def main() -> None:
             f"    {r['message']}",
             flush=True,
         )
+    sw = sweep(args.sweep, backend=args.backend) if args.sweep else None
+    if sw:
+        print(f"friction sweep, k={sw['k']} ({sw['ndof']} DOFs), {sw['n']} cases "
+              f"(events {min(sw['events'])}–{max(sw['events'])}): one condensation "
+              f"{sw['t_reuse']:.2f} s, independent runs {sw['t_indep']:.2f} s, identical "
+              f"paths: {sw['same']}", flush=True)
     print("\nratios (last):")
     for r in rows:
         print(
             f"k={r['k']}: T_total/(T_F+E*T_S) = {r['ratio']:.2f}   "
             f"T_total/(E*(T_F+T_S)) [vs refactorising per event] = {r['ratio_refactor']:.4f}"
         )
+    if sw:
+        print(f"friction sweep k={sw['k']}: T(one condensation)/T(20 independent runs) = "
+              f"{sw['t_reuse'] / sw['t_indep']:.2f}")
 
 
 if __name__ == "__main__":

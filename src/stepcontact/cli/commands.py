@@ -4,7 +4,9 @@ The CLI sits at the end of the data flow (model file -> model -> solver -> resul
 only wires those pieces together; the progress bar is a solver hook.  Bad input never shows a
 traceback: any :class:`~stepcontact.errors.StepContactError`, a missing file or a broken TOML
 file prints one red line ``error: ...`` on stderr and exits with code 2.  A run that ends with
-lost equilibrium is a result (exit code 0), not an error.
+lost equilibrium is a result (exit code 0), not an error; a run that stopped without a physical
+answer (contact conditions not met, no consistent scheme, cycling, event budget) writes its
+result file and exits with code 3.
 
 Example
 -------
@@ -33,7 +35,7 @@ from rich.table import Table
 from rich.text import Text
 
 from stepcontact import __version__
-from stepcontact.enums import SlipTreatment
+from stepcontact.enums import SlipTreatment, Status
 from stepcontact.errors import StepContactError
 
 if TYPE_CHECKING:
@@ -41,6 +43,9 @@ if TYPE_CHECKING:
     from stepcontact.results.result import StaticResult
 
 EXIT_ERROR = 2  #: exit code for bad input (model errors, missing files, solver errors)
+#: exit code of a run that stopped without a physical answer: the contact conditions could not
+#: be met, no consistent scheme, cycling or the event budget (the result file is written)
+EXIT_UNRESOLVED = 3
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 TABLE_ROWS = 50  #: at most this many events are printed (the first ones and the last 10)
 _TAIL_ROWS = 10
@@ -132,7 +137,8 @@ class ProgressHook:
 
 
 def _solve(
-    model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool
+    model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool,
+    output: Path | None = None,
 ) -> StaticResult:
     """Run :func:`stepcontact.solver.static.solve_static` with a progress bar on stderr."""
     from stepcontact.solver import static
@@ -149,7 +155,8 @@ def _solve(
         task = progress.add_task(f"running '{model.name}'", total=max(len(segments), 1))
         hooks = (ProgressHook(progress, task, segments),) if progress_bar else ()
         return static.solve_static(
-            model, slip=slip.value, eps_p=eps_p, max_events=max_events, hooks=hooks
+            model, slip=slip.value, eps_p=eps_p, max_events=max_events, hooks=hooks,
+            output=output,
         )
 
 
@@ -228,6 +235,7 @@ def result_summary(res: StaticResult, **extra: Any) -> dict[str, Any]:
     return {
         "status": res.status.value,
         "message": res.message,
+        "nonunique": res.nonunique,
         "events": len(res.events),
         "states": int(res.n_states),
         "cfes": int(res.m),
@@ -268,12 +276,11 @@ def _analyse(
 ) -> dict[str, Any]:
     """Solve, report, write the result file and the figure; return the JSON summary."""
     _check_plot_path(plot_path)
+    result_path.parent.mkdir(parents=True, exist_ok=True)
     res = _solve(model, slip=slip, eps_p=eps_p, max_events=max_events,
-                 progress_bar=not quiet and not as_json)
+                 progress_bar=not quiet and not as_json, output=result_path)
     if not as_json:
         _report(res, console, title=f"stepcontact: {model.name}", table=not quiet)
-    result_path.parent.mkdir(parents=True, exist_ok=True)
-    res.save(result_path)
     written = [str(result_path)]
     if plot_path is not None:
         plot_path.parent.mkdir(parents=True, exist_ok=True)
@@ -389,6 +396,8 @@ def run(
         raise _fail(_error_text(e), as_json) from None
     if as_json:
         typer.echo(json.dumps(summary, indent=2))
+    if summary.get("status") not in (Status.COMPLETED.value, Status.EQUILIBRIUM_LOST.value):
+        raise typer.Exit(EXIT_UNRESOLVED)
 
 
 @app.command()

@@ -531,11 +531,16 @@ class PatternSpec(_Spec):
 
 
 class SegmentSpec(_Spec):
-    """``[[program]]``: the factor of ``pattern`` goes from ``start`` to ``end``."""
+    """``[[program]]``: the factor of ``pattern`` goes from ``start`` to ``end``; with
+    ``rates``, several patterns move at once (non-proportional loading) and ``pattern`` is the
+    segment's own name."""
 
-    pattern: str
+    pattern: str = Field(description="load pattern; with rates: the segment's name (a label)")
     end: float
     start: float | None = Field(None, description="default: where the pattern stands")
+    rates: dict[str, float] | None = Field(
+        None, description="{pattern = rate, …}: each pattern's factor changes by rate per unit "
+        "of the segment's parameter (which goes from start to end)")
 
 
 class ModelFile(_Spec):
@@ -853,7 +858,17 @@ class _Builder:
                     node_set(f"{path}.nodes", ld.nodes)
         current: dict[str, float] = {}
         for i, seg in enumerate(spec.program):
-            if seg.pattern not in spec.patterns:
+            if seg.rates is not None:
+                if not seg.rates:
+                    p.add(f"program[{i}].rates", "is empty: give {pattern = rate, …}")
+                for name in seg.rates:
+                    if name not in spec.patterns:
+                        p.add(f"program[{i}].rates.{name}",
+                              f"unknown load pattern '{name}' (known: {_known(spec.patterns)})")
+                if seg.pattern in spec.patterns:
+                    p.add(f"program[{i}].pattern", f"'{seg.pattern}' is a load pattern: a "
+                          "segment with rates is named by a label that is not a pattern")
+            elif seg.pattern not in spec.patterns:
                 p.add(f"program[{i}].pattern",
                       f"unknown load pattern '{seg.pattern}' (known: {_known(spec.patterns)})")
                 continue
@@ -1016,7 +1031,7 @@ class _Builder:
                 else:
                     loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
             patterns.append(LoadPattern(pname, tuple(loads)))
-        program = [Segment(s.pattern, s.end, s.start) for s in spec.program]
+        program = [Segment(s.pattern, s.end, s.start, s.rates) for s in spec.program]
         try:
             return Model(
                 bodies=tuple(self.bodies.values()),

@@ -351,11 +351,26 @@ class Segment:
 
     ``start`` None means "from where the pattern stands" (0 if never applied).  A segment whose
     ``start`` differs from the pattern's current factor does not chain and is an error.
+
+    Non-proportional loading: with ``rates`` = {pattern: rate, …} several patterns move at once
+    and ``pattern`` is the segment's own name (a label, not a pattern): its parameter goes from
+    ``start`` to ``end`` and each pattern's factor changes by ``rate`` per unit of it.  Events
+    and multipliers of the segment are given in that parameter.
+
+    Example
+    -------
+    >>> Segment("flood", 2.0, rates={"water": 1.0, "uplift": 0.6})  # doctest: +SKIP
     """
 
     pattern: str
     end: float
     start: float | None = None
+    rates: tuple[tuple[str, float], ...] | None = None
+
+    def __post_init__(self):
+        if self.rates is not None:
+            items = self.rates.items() if isinstance(self.rates, dict) else self.rates
+            object.__setattr__(self, "rates", tuple((str(k), float(v)) for k, v in items))
 
 
 # --------------------------------------------------------------------------------------------
@@ -534,6 +549,18 @@ class Model:
         """A copy with fields replaced (``dataclasses.replace``)."""
         return dataclasses.replace(self, **changes)
 
+    def with_friction(self, friction: float, interface: str | None = None) -> Model:
+        """A copy with the friction coefficient of ``interface`` (every interface when None)
+        set to ``friction``: the stiffness and contact operator are unchanged, so a
+        condensation (:func:`stepcontact.condense`) of this model serves the copy too."""
+        names = [i.name for i in self.interfaces]
+        if interface is not None and interface not in names:
+            raise ModelError(f"interface '{interface}'",
+                             f"no such interface (known: {', '.join(map(repr, names)) or 'none'})")
+        return self.replace(interfaces=tuple(
+            dataclasses.replace(i, friction=friction) if interface in (None, i.name) else i
+            for i in self.interfaces))
+
     # ---- lookup -------------------------------------------------------------------------------
     def body(self, name: str) -> Body | Frame:
         for b in self.bodies:
@@ -592,25 +619,43 @@ class Model:
         return select_nodes(b, where, x=x, y=y, boundary=boundary, name=name, atol=atol)
 
     def segments_resolved(self) -> list[tuple[str, float, float]]:
-        """The load program as (pattern, start, end), with starts filled in and chaining
-        checked: ``start`` must equal the factor the pattern has reached."""
+        """The load program as (pattern or segment name, start, end), with starts filled in and
+        chaining checked: ``start`` must equal the factor the pattern has reached."""
         current: dict[str, float] = {}
         out = []
         for i, seg in enumerate(self.program):
-            self.pattern(seg.pattern)  # raises with the name
+            item = f"program segment {i} ('{seg.pattern}')"
+            if seg.rates is None:
+                self.pattern(seg.pattern)  # raises with the name
+            else:
+                if not seg.rates:
+                    raise ModelError(f"{item}.rates", "is empty: give {pattern: rate, …}")
+                if seg.pattern in {p.name for p in self.patterns}:
+                    raise ModelError(item, "a segment with rates is named by a label that is "
+                                     "not a load pattern")
+                for name, rate in seg.rates:
+                    self.pattern(name)
+                    if not np.isfinite(rate):
+                        raise ModelError(f"{item}.rates['{name}']", "is not finite")
             now = current.get(seg.pattern, 0.0)
             start = now if seg.start is None else float(seg.start)
             if not np.isfinite(seg.end) or not np.isfinite(start):
-                raise ModelError(f"program segment {i} ('{seg.pattern}')", "start/end not finite")
+                raise ModelError(item, "start/end not finite")
             if abs(start - now) > 1e-12 * max(1.0, abs(now)):
                 raise ModelError(
-                    f"program segment {i} ('{seg.pattern}').start",
+                    f"{item}.start",
                     f"does not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
                     f"segment starts at {start:g}",
                 )
             out.append((seg.pattern, start, float(seg.end)))
             current[seg.pattern] = float(seg.end)
         return out
+
+    def segment_rates(self) -> list[dict[str, float]]:
+        """For every segment of the program, the rate of each pattern it moves per unit of the
+        segment's parameter ({pattern: 1} for a single-pattern segment)."""
+        return [{seg.pattern: 1.0} if seg.rates is None else dict(seg.rates)
+                for seg in self.program]
 
 
 def select_nodes(

@@ -1,8 +1,8 @@
 """Result objects of a static run: the event log, the state after every event, fields.
 
 A :class:`StaticResult` has named fields (never numbered columns) and is saved to / loaded from
-one netCDF4/HDF5 file through xarray (:mod:`stepcontact.results.file`).  Units: forces N, stresses Pa,
-displacements m; contact stresses are N/A_k and Q/A_k in Pa.
+one netCDF4/HDF5 file through xarray (:mod:`stepcontact.results.file`).  Units: forces N,
+stresses Pa, displacements m; contact stresses are N/A_k and Q/A_k in Pa.
 
 Reported states are indexed by ``i``: state 0 is the start of the program; every event point
 gives one state (the working scheme *after* the switch, forces at the event); the end of every
@@ -325,7 +325,7 @@ class StaticResult:
             f"{len(self.fields)} states<table><tr>{head}</tr>{body}</table></div>"
         )
 
-    # ---- I/O (implemented in stepcontact.results.file) -------------------------------------------------
+    # ---- I/O (implemented in stepcontact.results.file) ------------------------------------
     def to_dataset(self):
         """The result as an :class:`xarray.Dataset` (what is written to the result file)."""
         from stepcontact.results.file import result_to_dataset

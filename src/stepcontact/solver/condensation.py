@@ -32,7 +32,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 
 from stepcontact.errors import ModelError
@@ -319,27 +318,6 @@ class Condensed:
         r = w_hat + self.G @ (s - self.d * w_hat) - h
         scale = max(np.abs(w_hat).max(initial=0), np.abs(h).max(initial=0), w_scale, 1e-300)
         return float(np.abs(r).max(initial=0) / scale)
-
-    def null_modes(self, A: np.ndarray, lu, k: int = 3) -> np.ndarray:
-        """Null vectors t (columns) of a singular scheme matrix: block inverse iteration on its
-        LU, then the combinations of the block that A maps to (near) zero (σ ≤ 1e-6 ‖A‖)."""
-        lu_m, piv = lu
-        d = np.abs(np.diag(lu_m))
-        tiny = 1e-14 * max(float(d.max(initial=0.0)), 1e-300)
-        if np.any(d < tiny):  # exactly singular: lift the zero pivots to round-off level
-            lu_m = lu_m.copy()
-            j = np.flatnonzero(d < tiny)
-            lu_m[j, j] = tiny
-            lu = (lu_m, piv)
-        n = A.shape[0]
-        X = np.random.default_rng(0).standard_normal((n, min(k, n)))
-        for _ in range(3):
-            X = np.linalg.qr(sla.lu_solve(lu, X, check_finite=False))[0]
-        _, sv, Vt = np.linalg.svd(A @ X, full_matrices=False)
-        keep = sv <= 1e-6 * max(np.linalg.norm(A, 2), 1e-300)
-        if not keep.any():
-            keep[np.argmin(sv)] = True
-        return X @ Vt[keep].T
 
     def mode_displacement(self, t: np.ndarray) -> np.ndarray:
         """Displacement of a mechanism mode t of the condensed unknowns."""

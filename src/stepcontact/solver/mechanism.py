@@ -52,17 +52,16 @@ def classify(points: np.ndarray, u: np.ndarray) -> dict:
 
 
 def describe_mechanism(engine: EventEngine, cond, system, states: np.ndarray,
-                       pattern: str) -> list[dict]:
+                       f: np.ndarray) -> list[dict]:
     """Bodies that move in the mechanism of scheme ``states`` and their modes: among the null
-    modes of the scheme, the combination along the load of ``pattern`` (the projection of the
-    load on the modes: a slab freed of all contact can translate and rotate; the load lifts
+    modes of the scheme, the combination along the load rate ``f`` (ndof,) (the projection of
+    the load on the modes: a slab freed of all contact can translate and rotate; the load lifts
     it)."""
     rel = engine.relations(states, article=False)
     A, _ = engine.schemes.dense(rel)
     model = system.model
     T = null_modes(A, lu(A), k=min(3 * max(len(model.bodies), 1), A.shape[0]))
     U = np.column_stack([cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
-    f = system.loads[pattern].f
     work = f @ U
     u = U @ np.linalg.lstsq(U.T @ U, work, rcond=None)[0] if np.any(work != 0) else U[:, 0]
     off = model.node_offsets

@@ -68,9 +68,9 @@ class RateOutcome:
     alternatives: list[np.ndarray] = field(default_factory=list)
 
 
-def _variables(eng, L, normal_lim, two_sided) -> tuple[RateVariables, np.ndarray]:
-    """The variables of every law for the CFEs in L (and each variable's law-local index)."""
-    parts, local_parts = [], []
+def _variables(eng, L, normal_lim, two_sided) -> RateVariables:
+    """The variables of every law for the CFEs in L."""
+    parts = []
     for law in eng.laws:
         pos = np.searchsorted(law.cfes, L)
         pos = np.clip(pos, 0, max(len(law.cfes) - 1, 0))
@@ -79,10 +79,9 @@ def _variables(eng, L, normal_lim, two_sided) -> tuple[RateVariables, np.ndarray
         sl = law.cfes
         v = law.rate_variables(local, eng.states[sl], eng.s[sl], normal_lim[sl], two_sided[sl])
         parts.append(v)
-        local_parts.append(np.searchsorted(law.cfes, v.cfe))
     cat = {k: np.concatenate([getattr(p, k) for p in parts]) for k in
            ("cfe", "kind", "row", "value", "cp", "cq")}
-    return RateVariables(**cat), np.concatenate(local_parts)
+    return RateVariables(**cat)
 
 
 def _states_from(eng, base, var, active, z):
@@ -136,7 +135,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         if eng.drives(base, forcing):
             raise
         return _singular_point(eng, L, guess, forcing, normal_lim, two_sided)
-    var, _ = _variables(eng, L, normal_lim, two_sided)
+    var = _variables(eng, L, normal_lim, two_sided)
     m = eng.m
     h, e = forcing
     ds0, dw0 = fact.solve(h, e, np.zeros(2 * m))

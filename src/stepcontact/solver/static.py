@@ -144,6 +144,11 @@ class StaticSolver:
         self.step = 0
         self.stress = _stress_recovery(system.model)
 
+    @staticmethod
+    def _combine(vectors: dict[str, np.ndarray], rates: dict[str, float]) -> np.ndarray:
+        """Σ rate_P · vector_P over the patterns a segment moves."""
+        return sum(rate * vectors[name] for name, rate in rates.items())
+
     def _warn_held(self, held_n, held_t) -> None:
         cfe = self.cfe
         for mask, what, effect in ((held_n, "normal", "its normal force (the CFE carries "
@@ -234,17 +239,22 @@ class StaticSolver:
         eng = self.engine
         m = self.cfe.m
         first = True
+        all_rates = self.sys.model.segment_rates()
         for seg, (pattern, lam0, lam1) in enumerate(segments):
             mult = {"first_slip": None, "first_opening": None, "first_closing": None,
                     "equilibrium_lost": None}
+            rates = all_rates[seg]
             direction = 1.0 if lam1 >= lam0 else -1.0
             span = abs(lam1 - lam0)
             big = max(abs(lam0), abs(lam1))
-            y_max = float(np.abs(self.cond.y[pattern]).max(initial=0))
-            f_max = float(np.abs(self.sys.loads[pattern].f).max(initial=0))
+            y_max = float(np.abs(self._combine(self.cond.y, rates)).max(initial=0))
+            self._f = self._combine({k: v.f for k, v in self.sys.loads.items()}, rates)
+            f_max = float(np.abs(self._f).max(initial=0))
             eng.W_scale = max(eng.W_scale, y_max * big)
             eng.F_scale = max(eng.F_scale, f_max * big)
-            forcing = (direction * self.cond.hhat[pattern], direction * self.cond.e[pattern])
+            forcing = (direction * self._combine(self.cond.hhat, rates),
+                       direction * self._combine(self.cond.e, rates))
+            c0 = dict(self.c)
             mu = 0.0
             stop = False
             fired = np.zeros(m, dtype=bool)
@@ -277,11 +287,13 @@ class StaticSolver:
                 else:
                     small_steps = 0
                 eng.advance(dmu, ds, dw)
-                self.c[pattern] += direction * dmu
                 mu = mu + dmu
+                for name, rate in rates.items():
+                    self.c[name] = c0[name] + rate * direction * mu
                 if dmu == remaining or mu >= span * (1 - 1e-15):
                     mu = span
-                    self.c[pattern] = lam1
+                    for name, rate in rates.items():
+                        self.c[name] = c0[name] + rate * (lam1 - lam0)
                     if not fired.any():
                         if self.article:
                             eng.snap()
@@ -318,7 +330,7 @@ class StaticSolver:
             old = eng.states.copy()
             states = exc.states if exc.states is not None else eng.states
             self.status = Status.EQUILIBRIUM_LOST
-            bodies = describe_mechanism(eng, self.cond, self.sys, states, pattern)
+            bodies = describe_mechanism(eng, self.cond, self.sys, states, self._f)
             modes = ", ".join(f"'{b['body']}' {b['mode']}" for b in bodies) or "mechanism"
             self.message = (f"equilibrium lost at λ = {lam:.10g} (pattern '{pattern}', segment "
                             f"{seg}): {modes}")
