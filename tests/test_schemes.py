@@ -127,3 +127,28 @@ def test_superlu_path_equals_dense_lu_path(name, monkeypatch):
     assert np.allclose(a.lam, b.lam, rtol=1e-9, atol=1e-9 * np.abs(a.lam).max())
     assert np.allclose(a.N, b.N, rtol=1e-8, atol=1e-8 * np.abs(a.N).max())
     assert np.allclose(a.Q, b.Q, rtol=1e-8, atol=1e-8 * np.abs(a.N).max())
+
+
+def test_condensation_takes_g_from_a_backend_that_forms_it():
+    """The backend seam: a factor with ``condensed(B)`` (a Schur complement formed by the
+    backend) gives G directly, and the run equals the one with G from block solves."""
+    from stepcontact.solver.condensation import Condensation, static_operator
+
+    model = vm.sliding_block(0.4, 10.0)
+    system = assemble(model)
+    K0, Bf, *_ = static_operator(system)
+
+    class Schur(_DenseLU):
+        calls = 0
+
+        def condensed(self, B):
+            Schur.calls += 1
+            return (B @ self.solve(B.T.toarray()))
+
+    ref = Condensation.build(K0, Bf)
+    c = Condensation.build(K0, Bf, factor=Schur(K0))
+    assert Schur.calls == 1
+    assert np.allclose(c.G, ref.G, rtol=1e-9, atol=1e-9 * np.abs(ref.G).max())
+    a = sc.solve_static(model, condensation=c)
+    b = sc.solve_static(model)
+    assert np.allclose(a.lam, b.lam, rtol=1e-9)

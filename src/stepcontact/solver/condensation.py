@@ -78,7 +78,8 @@ class Condensation:
     def build(cls, A: sp.spmatrix, B: sp.spmatrix, backend: str = "auto", block: int = 256,
               factor: Factor | None = None) -> Condensation:
         """Factorise A (unless ``factor`` is given) and form G with blocks of ``block``
-        right-hand sides."""
+        right-hand sides — or, when the backend's factor has ``condensed(B)`` (a Schur
+        complement formed during factorisation, e.g. MUMPS), from that."""
         t0 = time.perf_counter()
         A = sp.csc_matrix(A)
         B = sp.csr_matrix(B)
@@ -86,11 +87,14 @@ class Condensation:
             factor = factorize(A, backend)
         t1 = time.perf_counter()
         n2m = B.shape[0]
-        G = np.zeros((n2m, n2m))
-        BT = B.T.tocsc()
-        for s in range(0, n2m, block):
-            X = factor.solve(BT[:, s : s + block].toarray())
-            G[:, s : s + block] = B @ X.reshape(A.shape[0], -1)
+        if hasattr(factor, "condensed"):  # a backend that forms B A⁻¹ Bᵀ itself (Schur)
+            G = np.asarray(factor.condensed(B), dtype=float)
+        else:
+            G = np.zeros((n2m, n2m))
+            BT = B.T.tocsc()
+            for s in range(0, n2m, block):
+                X = factor.solve(BT[:, s : s + block].toarray())
+                G[:, s : s + block] = B @ X.reshape(A.shape[0], -1)
         G = 0.5 * (G + G.T)
         counters = {"factorizations": 1, "solves": n2m, "condensed_columns": n2m,
                     "factor_seconds": t1 - t0, "condense_seconds": time.perf_counter() - t1}
