@@ -441,9 +441,9 @@ def fake_solver(monkeypatch):
     state = {"n_events": 3, "raise": None}
 
     def solve_static(model, *, slip="exact", eps_p=0.01, store_fields="auto",
-                     max_events=100000, hooks=()):
+                     max_events=100000, hooks=(), output=None):
         calls["solve"].append({"model": model, "slip": slip, "eps_p": eps_p,
-                               "max_events": max_events, "hooks": hooks})
+                               "max_events": max_events, "hooks": hooks, "output": output})
         if state["raise"] is not None:
             raise state["raise"]
         for k, (_, a, b) in enumerate(model.segments_resolved()):
@@ -454,7 +454,10 @@ def fake_solver(monkeypatch):
             for h in hooks:
                 if hasattr(h, "after_segment"):
                     h.after_segment(res)
-        return fake_result(state["n_events"])
+        res = fake_result(state["n_events"])
+        if output is not None:  # the real solver writes the result file as it goes
+            res.save(output)
+        return res
 
     def save(self, path):
         calls["save"].append(Path(path))
@@ -626,3 +629,16 @@ def test_check_and_schema_commands(model_file, tmp_path):
     result = runner.invoke(app, ["schema"])
     assert result.exit_code == 0
     assert "program" in json.loads(result.stdout)["properties"]
+
+
+def test_run_without_a_physical_answer_exits_3(model_file):
+    """A run stopped by the event budget (no physical answer) writes its result file and exits
+    with code 3 — not 0 ("completed"), not 2 (bad input)."""
+    out = model_file.with_suffix(".nc")
+    result = runner.invoke(app, ["run", str(model_file), "--max-events", "1", "--no-plot", "-q"])
+    assert result.exit_code == 3, result.output
+    assert "status: max_events" in result.stdout
+    from stepcontact.results.file import load_result
+
+    res = load_result(out)
+    assert res.status == Status.MAX_EVENTS and res.to_dataset().attrs["complete"] == 1
