@@ -407,7 +407,7 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
         "mechanism": _dumps(res.mechanism),
         "nonunique": _dumps(list(res.nonunique)),
         "complete": int(Status(res.status) != Status.INCOMPLETE),
-        "path_axis": "lam",
+        "path_axis": res.path_axis,
         "units": _dumps(dict(res.units)),
         "cfe_extra": _dumps(cfe_extra),
         "body_variables": _dumps(body_vars),

@@ -182,6 +182,15 @@ class StaticResult:
         del m
 
     # ---- convenience -----------------------------------------------------------------------
+    #: the path axis of the states: the load factor of the active segment here; a time (s) or
+    #: a stage for the drivers to come (the file records it as ``path_axis``)
+    path_axis = "lam"
+
+    @property
+    def path(self) -> np.ndarray:
+        """The path parameter of every state (``path_axis``: λ of the active segment)."""
+        return getattr(self, self.path_axis)
+
     @property
     def n_states(self) -> int:
         return len(self.lam)
