@@ -297,3 +297,11 @@ def test_zero_start_property(params):
     ok = slice(None) if res.status == sc.Status.COMPLETED else slice(None, -1)
     assert res.residual[ok].max(initial=0) < TOL
     assert res.violation.max() < TOL
+    # restart: no CFE changes twice at one event point, and no event repeats at one λ
+    seen = set()
+    for e in res.events:
+        key = (e.segment, e.lam, e.cfe, e.transition)
+        assert key not in seen, key
+        seen.add(key)
+    steps = [(e.step, e.cfe) for e in res.events]
+    assert len(steps) == len(set(steps))
