@@ -23,7 +23,7 @@ two points is skipped (the earliest root is always taken).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -52,7 +52,6 @@ class Decision:
     ds: np.ndarray
     dw: np.ndarray
     outcome: RateOutcome | None = None
-    cfes: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
 
     @property
     def switched(self) -> bool:
@@ -306,7 +305,7 @@ class EventEngine:
                         "free modes") from exc
                 raise
         self.states = new
-        return Decision(old, new, ds, dw, out, L)
+        return Decision(old, new, ds, dw, out)
 
     def snap(self) -> None:
         """Move the state onto the relations of the current scheme at the fixed point."""
