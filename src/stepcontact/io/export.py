@@ -15,7 +15,7 @@ contact elements (``NAME_cfe.pvd`` / ``FILE_cfe.xdmf``)
     One line cell per CFE from its S+ point to its S− point (a degenerate line where they
     coincide).  Cell data ``N``, ``Q`` (N; N < 0 compression), ``sigma_n``, ``tau`` (Pa),
     ``un``, ``ut`` (m; u_n < 0 open gap), ``state`` (:class:`~stepcontact.enums.ContactState`
-    codes: 0 open, 1 stick, 2 slip+, 3 slip−, 4 bonded), ``interface`` (index into the
+    codes: 0 open, 1 stick, 2 slip+, 3 slip−, 4 bonded, 5 closed), ``interface`` (index into the
     interface names), ``cfe`` (global index), ``local``, ``s`` (m), ``normal`` (S− → S+),
     ``area`` (m²), ``friction``, ``gap`` (m).  Point data ``displacement`` (m) only when the
     result knows the interpolation of the CFE ends (``cfe`` arrays ``plus_nodes``,
