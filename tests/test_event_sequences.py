@@ -145,19 +145,6 @@ def _params():
         yield pytest.param(name, id=name, marks=marks)
 
 
-@pytest.fixture(scope="module")
-def example_calls(tmp_path_factory):
-    """Each example script run once (on first use): its calls in order."""
-    cache: dict[str, list[dict]] = {}
-
-    def get(stem: str) -> list[dict]:
-        if stem not in cache:
-            cache[stem] = run_example(EXAMPLES_DIR / f"{stem}.py", tmp_path_factory.mktemp(stem))
-        return cache[stem]
-
-    return get
-
-
 @pytest.mark.parametrize("name", list(_params()))
 def test_event_sequence(name, example_calls):
     ref = REFERENCE[name]
