@@ -222,9 +222,14 @@ class StaticSolver:
 
     # ---- main loop ---------------------------------------------------------------------------
     def run(self) -> StaticResult:
+        """Run the load program.  BLAS is held to one thread meanwhile: the event loop's dense
+        work is small (2m × 2m), where a second thread only costs synchronisation."""
+        from threadpoolctl import threadpool_limits
+
         t0 = time.perf_counter()
         try:
-            return self._run(t0)
+            with threadpool_limits(limits=1, user_api="blas"):
+                return self._run(t0)
         except KeyboardInterrupt:
             self.status = Status.INCOMPLETE
             self.message = "interrupted"
