@@ -31,6 +31,7 @@ import time
 from dataclasses import asdict
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import stepcontact as sc
@@ -41,7 +42,13 @@ BENCHMARK = ROOT / "benchmarks" / "slab_on_foundation.py"
 DATA = Path(__file__).resolve().parent / "data" / "event_sequences.json"
 BENCHMARK_SIZES = (1, 2)
 SLOW_RUNS = {"slab_on_foundation#k2"}
+#: λ agrees to this relative tolerance, or to ROUNDOFF × the run's largest equilibrium residual
+#: when that is larger: the residual measures the round-off that the run's conditioning allows.
+#: On the slender frame example (residual 1e-9) three exact factorisations (dense LU, SuperLU
+#: with COLAMD, SuperLU with the contact DOFs ordered last) place the events 1e-10..2e-9 apart;
+#: which of those round-off paths a factorisation takes must not decide the test.
 REL = 1e-12
+ROUNDOFF = 10.0
 
 #: run name -> reason: runs whose events changed on purpose are compared on their status only
 CHANGED: dict[str, str] = {}
@@ -120,6 +127,7 @@ def compare(name: str, ref: dict, res) -> None:
         return
     got = record(res)["events"]
     want = ref["events"]
+    rel = max(REL, ROUNDOFF * float(np.max(res.residual, initial=0.0)))
     assert len(got) == len(want), f"{name}: number of events"
     for start, stop in event_points(want):
         w = sorted(want[start:stop], key=_key)
@@ -130,7 +138,7 @@ def compare(name: str, ref: dict, res) -> None:
                 f"{where}: expected {[x[:3] + x[4:5] for x in w]}, "
                 f"got {[x[:3] + x[4:5] for x in g]}"
             )
-            assert abs(b[3] - a[3]) <= REL * max(1.0, abs(a[3])), (
+            assert abs(b[3] - a[3]) <= rel * max(1.0, abs(a[3])), (
                 f"{where}: lam {b[3]!r} != {a[3]!r} for {a[:3]}"
             )
 

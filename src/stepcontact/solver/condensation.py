@@ -77,26 +77,30 @@ class Condensation:
     @classmethod
     def build(cls, A: sp.spmatrix, B: sp.spmatrix, backend: str = "auto", block: int = 256,
               factor: Factor | None = None) -> Condensation:
-        """Factorise A (unless ``factor`` is given) and form G with blocks of ``block``
-        right-hand sides — or, when the backend's factor has ``condensed(B)`` (a Schur
-        complement formed during factorisation, e.g. MUMPS), from that."""
+        """Factorise A (unless ``factor`` is given) with the DOFs that B touches ordered last,
+        and read G off the trailing block of the factors (``Factor.condensed``, see
+        :mod:`stepcontact.solver.linalg`) — or, for a backend without it, form G with blocks
+        of ``block`` right-hand sides."""
         t0 = time.perf_counter()
         A = sp.csc_matrix(A)
         B = sp.csr_matrix(B)
         if factor is None:
-            factor = factorize(A, backend)
+            factor = factorize(A, backend, last=contact_dofs(B))
         t1 = time.perf_counter()
         n2m = B.shape[0]
-        if hasattr(factor, "condensed"):  # a backend that forms B A⁻¹ Bᵀ itself (Schur)
+        can = getattr(factor, "can_condense", None)
+        if can is not None and can(B):  # Schur complement: no solve per row of B
             G = np.asarray(factor.condensed(B), dtype=float)
+            solves = 0
         else:
             G = np.zeros((n2m, n2m))
             BT = B.T.tocsc()
             for s in range(0, n2m, block):
                 X = factor.solve(BT[:, s : s + block].toarray())
                 G[:, s : s + block] = B @ X.reshape(A.shape[0], -1)
+            solves = n2m
         G = 0.5 * (G + G.T)
-        counters = {"factorizations": 1, "solves": n2m, "condensed_columns": n2m,
+        counters = {"factorizations": 1, "solves": solves, "condensed_columns": solves,
                     "factor_seconds": t1 - t0, "condense_seconds": time.perf_counter() - t1}
         return cls(A, B, factor, G, _fingerprint(A, B), counters)
 
@@ -113,6 +117,11 @@ class Condensation:
     def __getstate__(self):
         raise TypeError("a Condensation holds a sparse factorisation and is not picklable; "
                         "build it where it is used (workers: sc.condense(model))")
+
+
+def contact_dofs(B: sp.spmatrix) -> np.ndarray:
+    """The DOFs (columns) that the contact operator B touches, to be ordered last."""
+    return np.flatnonzero(sp.csc_matrix(B).getnnz(axis=0))
 
 
 def static_operator(system: System):
@@ -149,7 +158,7 @@ def factorize_checked(system: System, K0, free, backend: str) -> Factor:
     diagnosis naming the free bodies, whether the factorisation met a zero pivot or not)."""
     from stepcontact.solver.regularity import factorize_regular
 
-    return factorize_regular(system, K0, free, backend)
+    return factorize_regular(system, K0, free, backend, last=contact_dofs(system.B[:, free]))
 
 
 def stabilisation(Kff: sp.spmatrix, Bf: sp.spmatrix) -> np.ndarray:

@@ -84,7 +84,7 @@ _KNOWN_BACKENDS = ("auto", "cholmod", "pypardiso", "scipy")
 
 
 def factorize_regular(system: System, K0: sp.spmatrix, free: np.ndarray,
-                      backend: str = "auto") -> Factor:
+                      backend: str = "auto", last: np.ndarray | None = None) -> Factor:
     """Factorise K₀ (free DOFs ``free`` of ``system``), or raise a :class:`ModelError`
     naming the bodies that can move if K₀ is singular.
 
@@ -92,11 +92,11 @@ def factorize_regular(system: System, K0: sp.spmatrix, free: np.ndarray,
     Jacobi-scaled Rayleigh quotient below :data:`RHO_SINGULAR` (see the module docstring).
     Both give the same message, e.g. ``model: the structure is a mechanism even with every CFE
     stuck: body 'block' can move freely (translation along x); add supports, springs or
-    contact interfaces``.
+    contact interfaces``.  ``last``: DOFs to order last (see :func:`linalg.factorize`).
     """
     K0 = sp.csc_matrix(K0)
     try:
-        factor = factorize(K0, backend)
+        factor = factorize(K0, backend, last=last)
     except _singular_errors():
         if backend not in _KNOWN_BACKENDS:  # "unknown backend" is not a singular matrix
             raise
