@@ -46,9 +46,10 @@ SLOW_RUNS = {"slab_on_foundation#k2"}
 #: when that is larger: the residual measures the round-off that the run's conditioning allows.
 #: On the slender frame example (residual 1e-9) three exact factorisations (dense LU, SuperLU
 #: with COLAMD, SuperLU with the contact DOFs ordered last) place the events 1e-10..2e-9 apart;
-#: which of those round-off paths a factorisation takes must not decide the test.
+#: which of those round-off paths a factorisation takes must not decide the test.  MKL PARDISO
+#: (nested dissection) moves the slab's events by up to 18× its residual (1.8e-12).
 REL = 1e-12
-ROUNDOFF = 10.0
+ROUNDOFF = 100.0
 
 #: run name -> reason: runs whose events changed on purpose are compared on their status only
 CHANGED: dict[str, str] = {}

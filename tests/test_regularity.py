@@ -82,9 +82,10 @@ class _FirstCall:
         self.first = first
         self.calls = 0
 
-    def __call__(self, K, backend="auto"):
+    def __call__(self, K, backend="auto", last=None, groups=None):
         self.calls += 1
-        return self.first(K, backend) if self.calls == 1 else linalg.factorize(K, backend)
+        return (self.first(K, backend) if self.calls == 1 else
+                linalg.factorize(K, backend, last=last, groups=groups))
 
 
 def _zero_pivot(K, backend):

@@ -42,6 +42,13 @@ class DofMap:
     def nodes(self, nodes: np.ndarray, c: int) -> np.ndarray:
         return self.of[nodes, c]
 
+    def node_of(self) -> np.ndarray:
+        """The node of every DOF (ndof,)."""
+        out = np.full(self.ndof, -1)
+        has = self.of >= 0
+        out[self.of[has]] = np.nonzero(has)[0]
+        return out
+
 
 @dataclass(frozen=True, eq=False)
 class LoadVectors:

@@ -96,7 +96,7 @@ def factorize_regular(system: System, K0: sp.spmatrix, free: np.ndarray,
     """
     K0 = sp.csc_matrix(K0)
     try:
-        factor = factorize(K0, backend, last=last)
+        factor = factorize(K0, backend, last=last, groups=system.dofs.node_of()[free])
     except _singular_errors():
         if backend not in _KNOWN_BACKENDS:  # "unknown backend" is not a singular matrix
             raise
