@@ -258,7 +258,8 @@ def factorize(K: sp.spmatrix, backend: str = "auto", last: np.ndarray | None = N
 
     ``last``: DOFs to order last (those a contact operator B touches), so that the factor can
     form B K⁻¹ Bᵀ itself (``condensed``); ``groups``: the node of each DOF, for the ordering.
-    Raises :class:`SolverError` if the matrix is singular (a structure that is a mechanism even with every contact element stuck).
+    Raises :class:`SolverError` if the matrix is singular (a structure that is a mechanism
+    even with every contact element stuck).
     """
     K = sp.csc_matrix(K)
     name = available_backends()[0] if backend == "auto" else backend
