@@ -106,3 +106,21 @@ def test_fill_reducing_order_puts_the_given_dofs_last_and_groups_nodes():
     assert same is not None and same.mean() > 0.9
     order = fill_reducing_order(K0, last)
     assert set(order[-len(last):]) == set(last)
+
+
+def test_too_many_contact_unknowns_for_dense_g_is_a_clear_error_before_any_work():
+    """The size at which dense G stops being sensible is explicit: an estimate in the message,
+    raised before the factorisation (no crash, no swapping)."""
+    from stepcontact.fem.assembly import assemble
+    from stepcontact.solver.condensation import (Condensation, check_dense_memory,
+                                                 dense_memory, schur_fits, static_operator)
+
+    K0, Bf, *_ = static_operator(assemble(_block_model()))
+    need = sum(dense_memory(Bf.shape[0]).values())
+    with pytest.raises(SolverError, match=rf"{Bf.shape[0] // 2} CFEs .*need about"):
+        Condensation.build(K0, Bf, "scipy", memory_limit=0.5 * need)
+    check_dense_memory(Bf.shape[0], limit=2 * need)  # fits: no error
+    with pytest.raises(SolverError, match=r"20000 CFEs \(2m = 40000 contact unknowns\) need "
+                       r"about 47\.7 GB"):
+        check_dense_memory(40_000, limit=16 * 2**30)
+    assert schur_fits(1000, limit=1e9) and not schur_fits(20_000, limit=4e9)

@@ -28,15 +28,61 @@ Friction, gaps, loads and the load program do not enter it, so runs that differ 
 from __future__ import annotations
 
 import hashlib
+import os
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 
-from stepcontact.errors import ModelError
+from stepcontact.errors import ModelError, SolverError
 from stepcontact.fem.assembly import System
 from stepcontact.solver.linalg import Factor, factorize
+
+#: share of the machine's physical memory that the dense contact matrices may take
+DENSE_MEMORY_SHARE = 0.5
+
+
+def physical_memory() -> int | None:
+    """Physical memory of this machine, bytes (None where the OS does not say)."""
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def dense_memory(n2m: int, c: int = 0) -> dict[str, int]:
+    """Estimated bytes of the dense work of a run with 2m = ``n2m`` contact unknowns: G, and
+    the scheme solver's matrix, LU and update workspace (three more 2m × 2m arrays); and, for
+    forming G as a Schur complement on ``c`` contact DOFs, the trailing dense block of the
+    sparse factors with its extracted copies (three c × c arrays)."""
+    return {"G": 8 * n2m**2, "schemes": 3 * 8 * n2m**2, "schur": 3 * 8 * c**2}
+
+
+def _gb(b: float) -> str:
+    return f"{b / 2**30:.1f} GB"
+
+
+def check_dense_memory(n2m: int, limit: float | None = None) -> None:
+    """Raise a :class:`SolverError` with the estimate when the dense contact matrices of
+    2m = ``n2m`` unknowns would take more than ``limit`` bytes (default: DENSE_MEMORY_SHARE of
+    the physical memory): the size at which dense G stops being sensible on this machine."""
+    if limit is None:
+        phys = physical_memory()
+        if phys is None:
+            return
+        limit = DENSE_MEMORY_SHARE * phys
+    est = dense_memory(n2m)
+    need = est["G"] + est["schemes"]
+    if need > limit:
+        m = n2m // 2
+        raise SolverError(
+            f"the contact problem is too large for dense condensation on this machine: "
+            f"{m} CFEs (2m = {n2m} contact unknowns) need about {_gb(need)} for G "
+            f"({_gb(est['G'])}) and the scheme matrix with its LU ({_gb(est['schemes'])}), "
+            f"more than the {_gb(limit)} allowed ({DENSE_MEMORY_SHARE:.0%} of physical "
+            f"memory); coarsen the contact mesh, split the interface, or run on a machine "
+            f"with at least {_gb(need / DENSE_MEMORY_SHARE)}")
 
 
 def _fingerprint(*mats: sp.spmatrix) -> str:
@@ -76,16 +122,20 @@ class Condensation:
 
     @classmethod
     def build(cls, A: sp.spmatrix, B: sp.spmatrix, backend: str = "auto", block: int = 256,
-              factor: Factor | None = None) -> Condensation:
+              factor: Factor | None = None, memory_limit: float | None = None) -> Condensation:
         """Factorise A (unless ``factor`` is given) with the DOFs that B touches ordered last,
         and read G off the trailing block of the factors (``Factor.condensed``, see
-        :mod:`stepcontact.solver.linalg`) — or, for a backend without it, form G with blocks
-        of ``block`` right-hand sides."""
+        :mod:`stepcontact.solver.linalg`) — or, for a backend without it or when that block
+        would not fit (:func:`schur_fits`), form G with blocks of ``block`` right-hand sides.
+        Too many contact unknowns for dense G (:func:`check_dense_memory`, ``memory_limit``
+        in bytes) is a :class:`SolverError` raised before any work."""
         t0 = time.perf_counter()
         A = sp.csc_matrix(A)
         B = sp.csr_matrix(B)
+        check_dense_memory(B.shape[0], memory_limit)
         if factor is None:
-            factor = factorize(A, backend, last=contact_dofs(B))
+            last = contact_dofs(B)
+            factor = factorize(A, backend, last=last if schur_fits(len(last)) else None)
         t1 = time.perf_counter()
         n2m = B.shape[0]
         can = getattr(factor, "can_condense", None)
@@ -117,6 +167,16 @@ class Condensation:
     def __getstate__(self):
         raise TypeError("a Condensation holds a sparse factorisation and is not picklable; "
                         "build it where it is used (workers: sc.condense(model))")
+
+
+def schur_fits(c: int, limit: float | None = None) -> bool:
+    """Whether the dense trailing block of c contact DOFs (and its copies) fits in a quarter
+    of ``limit`` (default: DENSE_MEMORY_SHARE of the physical memory); if not, the contact
+    DOFs are not ordered last and G is formed by blocks of solves."""
+    if limit is None:
+        phys = physical_memory()
+        limit = DENSE_MEMORY_SHARE * phys if phys else float("inf")
+    return dense_memory(0, c)["schur"] <= 0.25 * limit
 
 
 def contact_dofs(B: sp.spmatrix) -> np.ndarray:
@@ -158,7 +218,10 @@ def factorize_checked(system: System, K0, free, backend: str) -> Factor:
     diagnosis naming the free bodies, whether the factorisation met a zero pivot or not)."""
     from stepcontact.solver.regularity import factorize_regular
 
-    return factorize_regular(system, K0, free, backend, last=contact_dofs(system.B[:, free]))
+    check_dense_memory(2 * system.m)
+    last = contact_dofs(system.B[:, free])
+    return factorize_regular(system, K0, free, backend,
+                             last=last if schur_fits(len(last)) else None)
 
 
 def stabilisation(Kff: sp.spmatrix, Bf: sp.spmatrix) -> np.ndarray:
