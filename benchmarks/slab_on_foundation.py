@@ -36,7 +36,12 @@ import numpy as np
 
 import stepcontact as sc
 from stepcontact.fem.assembly import assemble
-from stepcontact.solver.condensation import Condensation, contact_dofs, static_operator
+from stepcontact.solver.condensation import (
+    Condensation,
+    contact_dofs,
+    schur_pays,
+    static_operator,
+)
 from stepcontact.solver.linalg import factorize
 
 
@@ -118,7 +123,9 @@ def run(k: int, backend: str = "auto", save: str | None = None) -> dict:
     K0, Bf, *_ = static_operator(system)
     with PeakMemory() as mem_f:
         t0 = time.perf_counter()
-        F = factorize(K0, backend, last=contact_dofs(Bf))
+        last = contact_dofs(Bf)
+        F = factorize(K0, backend, last=last if schur_pays(K0.shape[0], len(last), Bf.shape[0])
+                      else None)
         t_f = time.perf_counter() - t0
     c = Condensation.build(K0, Bf, backend, factor=F)
     t_g = c.counters["condense_seconds"]

@@ -125,8 +125,9 @@ class Condensation:
               factor: Factor | None = None, memory_limit: float | None = None) -> Condensation:
         """Factorise A (unless ``factor`` is given) with the DOFs that B touches ordered last,
         and read G off the trailing block of the factors (``Factor.condensed``, see
-        :mod:`stepcontact.solver.linalg`) — or, for a backend without it or when that block
-        would not fit (:func:`schur_fits`), form G with blocks of ``block`` right-hand sides.
+        :mod:`stepcontact.solver.linalg`) — or, for a backend without it or when that route
+        costs more or would not fit (:func:`schur_pays`), form G with blocks of ``block``
+        right-hand sides.
         Too many contact unknowns for dense G (:func:`check_dense_memory`, ``memory_limit``
         in bytes) is a :class:`SolverError` raised before any work."""
         t0 = time.perf_counter()
@@ -135,7 +136,8 @@ class Condensation:
         check_dense_memory(B.shape[0], memory_limit)
         if factor is None:
             last = contact_dofs(B)
-            factor = factorize(A, backend, last=last if schur_fits(len(last)) else None)
+            factor = factorize(A, backend, last=last if schur_pays(A.shape[0], len(last),
+                                                                     B.shape[0]) else None)
         t1 = time.perf_counter()
         n2m = B.shape[0]
         can = getattr(factor, "can_condense", None)
@@ -171,12 +173,30 @@ class Condensation:
 
 def schur_fits(c: int, limit: float | None = None) -> bool:
     """Whether the dense trailing block of c contact DOFs (and its copies) fits in a quarter
-    of ``limit`` (default: DENSE_MEMORY_SHARE of the physical memory); if not, the contact
-    DOFs are not ordered last and G is formed by blocks of solves."""
+    of ``limit`` (default: DENSE_MEMORY_SHARE of the physical memory)."""
     if limit is None:
         phys = physical_memory()
         limit = DENSE_MEMORY_SHARE * phys if phys else float("inf")
     return dense_memory(0, c)["schur"] <= 0.25 * limit
+
+
+#: work of one flop of a sparse triangular solve against one of dense BLAS-3 work (measured
+#: on SuperLU: per column a solve runs 5-10× below the dense rate)
+SPARSE_SOLVE_PENALTY = 5.0
+
+
+def schur_pays(n: int, c: int, n2m: int) -> bool:
+    """Whether G is cheaper as the Schur complement on the c contact DOFs ((2/3)c³ for the
+    trailing block and 4c²m for the two triangular solves, dense) than by 2m sparse solves
+    (4·nnz(L) each, nnz(L) ≈ 4.5 n log₂ n on 2D meshes, at the sparse rate) — and fits.
+    A compact joint (c ≪ n) takes the Schur route; a joint as long as the model (c ~ n^½ ... n)
+    the solves."""
+    if c == 0:
+        return False
+    schur = 2.0 / 3.0 * c**3 + 2.0 * c**2 * n2m
+    nnz_l = 4.5 * n * np.log2(max(n, 2))
+    solves = SPARSE_SOLVE_PENALTY * n2m * 4.0 * nnz_l
+    return schur <= solves and schur_fits(c)
 
 
 def contact_dofs(B: sp.spmatrix) -> np.ndarray:
@@ -209,8 +229,12 @@ def condense(model, backend: str = "auto") -> Condensation:
     system = model if isinstance(model, System) else assemble(model)
     K0, Bf, *_ = static_operator(system)
     free = np.flatnonzero(~system.fixed)
+    t0 = time.perf_counter()
     factor = factorize_checked(system, K0, free, backend)
-    return Condensation.build(K0, Bf, backend, factor=factor)
+    t_factor = time.perf_counter() - t0
+    c = Condensation.build(K0, Bf, backend, factor=factor)
+    c.counters["factor_seconds"] = t_factor
+    return c
 
 
 def factorize_checked(system: System, K0, free, backend: str) -> Factor:
@@ -221,7 +245,8 @@ def factorize_checked(system: System, K0, free, backend: str) -> Factor:
     check_dense_memory(2 * system.m)
     last = contact_dofs(system.B[:, free])
     return factorize_regular(system, K0, free, backend,
-                             last=last if schur_fits(len(last)) else None)
+                             last=last if schur_pays(len(free), len(last), 2 * system.m)
+                             else None)
 
 
 def stabilisation(Kff: sp.spmatrix, Bf: sp.spmatrix) -> np.ndarray:
@@ -267,8 +292,7 @@ class Condensed:
         ``condensation`` when it was built for the same K₀ and B (checked)."""
         K0, Bf, d, free, presc, Kff, Kfp, Bp, K = static_operator(system)
         if condensation is None:
-            factor = factorize_checked(system, K0, free, backend)
-            condensation = Condensation.build(K0, Bf, backend, factor=factor)
+            condensation = condense(system, backend)
             reused = 0
         else:
             if condensation.fingerprint != _fingerprint(K0, Bf):
