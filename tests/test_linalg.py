@@ -112,8 +112,13 @@ def test_too_many_contact_unknowns_for_dense_g_is_a_clear_error_before_any_work(
     """The size at which dense G stops being sensible is explicit: an estimate in the message,
     raised before the factorisation (no crash, no swapping)."""
     from stepcontact.fem.assembly import assemble
-    from stepcontact.solver.condensation import (Condensation, check_dense_memory,
-                                                 dense_memory, schur_fits, static_operator)
+    from stepcontact.solver.condensation import (
+        Condensation,
+        check_dense_memory,
+        dense_memory,
+        schur_fits,
+        static_operator,
+    )
 
     K0, Bf, *_ = static_operator(assemble(_block_model()))
     need = sum(dense_memory(Bf.shape[0]).values())

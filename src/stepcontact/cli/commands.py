@@ -566,6 +566,41 @@ def _load_result_file(path: Path) -> StaticResult:
         raise _Failure(f"{path}: {msg}") from None
 
 
+ModelOption = Annotated[
+    Path | None,
+    typer.Option("--model", "-m", metavar="MODEL.toml",
+                 help="Model file of the run: the states whose fields the result file does not "
+                 "store are recomputed exactly from it (one factorisation). Default: "
+                 "RESULT.toml next to the result file, if there is one."),
+]
+
+
+def _attach_model(res: StaticResult, result_file: Path, model_file: Path | None) -> Path | None:
+    """Give a loaded result its model (:meth:`StaticResult.recover_fields`), so that the
+    fields of every state can be recomputed; returns the model file used.
+
+    ``model_file`` (``--model``) must load and match the result (else a failure); without
+    it the model file of the same name next to the result file (what ``run`` writes) is
+    tried, and quietly not used if it does not load or match.  None: no model.
+    """
+    explicit = model_file is not None
+    path = model_file if explicit else result_file.with_suffix(".toml")
+    if not explicit and not path.is_file():
+        return None
+    try:
+        model = _load(path)
+        res.recover_fields(model)
+    except _Failure:
+        if explicit:
+            raise
+        return None
+    except (ValueError, StepContactError) as e:
+        if explicit:
+            raise _Failure(f"--model {path}: {_error_text(e)}") from None
+        return None
+    return path
+
+
 def _parse_node(text: str | None) -> int | tuple[float, float] | None:
     """``--node``: ``X,Y`` (m) or a node index."""
     if text is None:
@@ -642,8 +677,9 @@ def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any])
 
 def _plot_missing_fields(res: StaticResult, kind: str, state: Sequence[int] | None,
                          reaction: str | None = None) -> bool:
-    """True when a loaded result lacks the displacements ``kind`` needs."""
-    if kind not in _NEEDS_FIELDS:
+    """True when a loaded result lacks the displacements ``kind`` needs (neither stored nor
+    recoverable)."""
+    if kind not in _NEEDS_FIELDS or res._recover is not None:
         return False
     if kind == "load-displacement" and reaction is not None:
         return False  # reactions are known at every state
@@ -709,6 +745,7 @@ def plot(
     dpi: Annotated[
         float, typer.Option("--dpi", min=1.0, help="Resolution of PNG figures, dots per inch.")
     ] = 150.0,
+    model: ModelOption = None,
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")
     ] = False,
@@ -731,6 +768,13 @@ def plot(
         stepcontact plot run.nc --kind timeline --dpi 300
 
         stepcontact plot run.nc --kind all -o figures/ --format pdf
+
+        stepcontact plot run.nc --kind load-displacement --model dam.toml
+
+    The deformed shape and the load–displacement curve need displacement fields: those the
+    result file does not store (by default it stores the start, the segment starts and ends
+    and the last state) are recomputed exactly from the model file (--model, or RESULT.toml
+    beside the result file).
     """
     console = Console(highlight=False, soft_wrap=True)
     skipped: list[str] = []
@@ -743,6 +787,9 @@ def plot(
                 "dof": dof, "body": body, "scale": scale, "dpi": dpi, "reaction": reaction}
         targets = _plot_targets(result_file, kinds, output, fmt)
         res = _load_result_file(result_file)
+        used_model = None
+        if any(_plot_missing_fields(res, k, state, reaction) for k in kinds):
+            used_model = _attach_model(res, result_file, model)
         written = []
         for k, path in targets.items():
             if kind == "all" and _plot_missing_fields(res, k, state, reaction):
@@ -755,13 +802,18 @@ def plot(
     except OSError as e:
         raise _fail(_error_text(e), as_json) from None
     if as_json:
-        typer.echo(json.dumps({"status": "ok", "written": written, "skipped": skipped}))
+        typer.echo(json.dumps({"status": "ok", "written": written, "skipped": skipped,
+                               "model_file": None if used_model is None else str(used_model)}))
         return
     if quiet:
         return
+    if used_model is not None:
+        console.print(Text(f"fields not stored in the result file recomputed from {used_model}"))
     if skipped:
-        console.print(Text(f"skipped {', '.join(skipped)}: the displacements are not stored in "
-                           "the result file (run with store_fields='all')", style="yellow"))
+        console.print(Text(f"skipped {', '.join(skipped)}: the displacements of every state are "
+                           "not stored in the result file; give the model file of the run with "
+                           "--model MODEL.toml to recompute them (or solve with "
+                           "store_fields='all')", style="yellow"))
     console.print(Text("written: " + ", ".join(written), style="green"))
 
 
@@ -797,11 +849,28 @@ def result_info(res: StaticResult, path: Path | None = None) -> dict[str, Any]:
         max_residual=_jsonable(float(np.max(res.residual, initial=0.0))),
         max_violation=_jsonable(float(np.max(res.violation, initial=0.0))),
         fields_stored=len(res.fields),
+        field_states=sorted(int(k) for k in res.fields),
         reactions_last_state={lb: _jsonable(float(v)) for lb, v in
                               zip(res.reaction_labels, res.reactions[-1], strict=True)}
         if res.n_states and len(res.reaction_labels) else {},
         units=dict(res.units),
     )
+
+
+def _state_list(states: Sequence[int], limit: int = 8, count: bool = True) -> str:
+    """``[0, 1, 2, 7]`` → ``"4 states: 0–2, 7"`` (``count=False``: ``"0–2, 7"``)."""
+    runs: list[list[int]] = []
+    for v in states:
+        if runs and v == runs[-1][1] + 1:
+            runs[-1][1] = v
+        else:
+            runs.append([v, v])
+    text = ", ".join(f"{a}" if a == b else f"{a}–{b}" for a, b in runs[:limit])
+    more = ", …" if len(runs) > limit else ""
+    if not count:
+        return text + more
+    return f"{len(states)} state{'' if len(states) == 1 else 's'}: {text}{more}" if states \
+        else "no state"
 
 
 def _info_fmt(v: Any) -> str:
@@ -827,7 +896,10 @@ def _info_tables(info: dict[str, Any]) -> list[Table]:
         ("bodies", ", ".join(f"{b['name']} ({b['elements']} {b['element'] or b['kind']})"
                              for b in mdl["bodies"]) or "—"),
         ("load patterns", ", ".join(mdl["patterns"]) or "none"),
-        ("states", f"{info['states']} ({info['fields_stored']} with displacement fields)"),
+        ("states", f"{info['states']} (displacement fields stored at "
+                   f"{_state_list(info['field_states'])}; any other state: export/plot "
+                   "--model MODEL.toml)" if info["fields_stored"] < info["states"] else
+                   f"{info['states']} (all with displacement fields)"),
         ("max residual", _info_sci(info["max_residual"])),
         ("max violation", _info_sci(info["max_violation"])),
         ("units", ", ".join(f"{k} {v}" for k, v in info["units"].items())),
@@ -928,8 +1000,10 @@ def export(
         str,
         typer.Option("--states", help="States to export: all, stored (with displacements), "
                      "events, ends (segment ends) or indices such as 0,5,-1. States without "
-                     "stored displacements are skipped with a note."),
+                     "stored displacements are recomputed from the model file, or skipped "
+                     "with a note when there is none."),
     ] = "all",
+    model: ModelOption = None,
     name: Annotated[
         str | None,
         typer.Option("--name", help="Base name of the VTU files. Default: the result file's "
@@ -951,6 +1025,13 @@ def export(
         stepcontact export run.nc --vtu run-vtu
 
         stepcontact export run.nc --vtu out --xdmf out/run.xdmf --states events
+
+        stepcontact export run.nc --vtu out --model dam.toml
+
+    A result file stores displacement fields and stresses at the start, the segment starts and
+    ends and the last state (every state if solved with store_fields='all'); the other states
+    are recomputed exactly from the model file of the run (--model, or RESULT.toml beside the
+    result file): one factorisation, then one multi-right-hand-side solve.
     """
     from stepcontact.io.export import export_vtu, export_xdmf, select_states
 
@@ -966,9 +1047,15 @@ def export(
             kept, skipped = select_states(res, states)
         except ValueError as e:
             raise _Failure(f"--states: {_error_text(e)}") from None
+        used_model = None
+        if skipped.size:
+            used_model = _attach_model(res, result_file, model)
+            if used_model is not None:
+                kept, skipped = select_states(res, states)
         if kept.size == 0:
             raise _Failure(f"{result_file}: none of the selected states has stored "
-                           "displacements (run with store_fields='all')")
+                           "displacements; give the model file of the run with --model "
+                           "MODEL.toml to recompute them (or solve with store_fields='all')")
         try:
             if vtu is not None:
                 export_vtu(res, vtu, states=kept, name=base)
@@ -985,12 +1072,22 @@ def export(
         typer.echo(json.dumps({
             "status": "ok", "result_file": str(result_file), "frames": int(kept.size),
             "states": kept.tolist(), "skipped": skipped.tolist(), "written": written,
+            "model_file": None if used_model is None else str(used_model),
+            "recomputed": [int(i) for i in kept if int(i) not in res.fields]
+            if used_model is not None else [],
         }, indent=2, ensure_ascii=False))
         return
     if quiet:
         return
+    if used_model is not None:
+        n_rec = sum(int(i) not in res.fields for i in kept)
+        console.print(Text(f"fields of {n_rec} state(s) not stored in the result file "
+                           f"recomputed from {used_model}"))
     if skipped.size:
+        which = _state_list(skipped.tolist(), count=False)
         console.print(Text(f"skipped {skipped.size} state(s) without stored displacements "
-                           "(run with store_fields='all' to export them)", style="yellow"))
+                           f"(states {which}); give the model file of the run with --model "
+                           "MODEL.toml to recompute them exactly (or solve with "
+                           "store_fields='all')", style="yellow"))
     console.print(Text(f"exported {kept.size} frame(s) of {res.n_states} states", style="green"))
     console.print(Text("written: " + ", ".join(written), style="green"))

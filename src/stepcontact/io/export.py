@@ -9,8 +9,8 @@ bodies (``NAME.pvd`` / ``FILE.xdmf``)
     Cells are oriented counter-clockwise (normals +z).  Point data ``displacement`` (3
     components, z = 0, m) and, when the model has frames, ``rotation`` (rad, NaN at nodes
     without a rotational DOF).  Cell data ``sigma_xx``, ``sigma_yy``, ``sigma_xy``,
-    ``sigma_zz``, ``von_mises`` (Pa; NaN on frame cells and at states without stored stresses —
-    the solver stores stresses at segment ends) and ``body`` (index into the model's bodies).
+    ``sigma_zz``, ``von_mises`` (Pa; NaN on frame cells, and at states whose stresses are
+    neither stored nor recoverable — see below) and ``body`` (index into the model's bodies).
 contact elements (``NAME_cfe.pvd`` / ``FILE_cfe.xdmf``)
     One line cell per CFE from its S+ point to its S− point (a degenerate line where they
     coincide).  Cell data ``N``, ``Q`` (N; N < 0 compression), ``sigma_n``, ``tau`` (Pa),
@@ -36,13 +36,23 @@ step.  Each VTU frame carries field data ``TimeValue`` (the frame time), ``load_
 has no per-frame field data that meshio can read back: there the same values are
 ``<Information>`` elements of each time grid.
 
+Fields
+------
+A run stores displacement fields and stresses only at the start, the segment starts and ends
+and its last state (``store_fields="ends"``, the default).  The fields of the other states are
+exact from their contact unknowns: a result in memory (or one given its model with
+``res.recover_fields(model)``) recomputes every missing state of the export, in blocks of
+states, each block with one multi-right-hand-side solve.  A result loaded from a file without
+its model exports the states that have stored fields and logs which states it skipped and how
+to get them (``stepcontact export --model MODEL.toml`` on the command line).
+
 Writes are atomic: everything is written into a hidden temporary directory next to the target
 and then renamed into place, so an interrupted export never leaves a half-written series.
 
 Example
 -------
 >>> import stepcontact as sc
->>> res = sc.solve_static(model, store_fields="all")           # doctest: +SKIP
+>>> res = sc.solve_static(model)                                # doctest: +SKIP
 >>> sc.export_vtu(res, "out/paraview")                          # doctest: +SKIP
 PosixPath('out/paraview/result.pvd')
 >>> sc.export_xdmf(res, "out/result.xdmf", states="ends")      # doctest: +SKIP
@@ -76,6 +86,10 @@ _log = logging.getLogger(__name__)
 
 #: relative separation of frame times that would otherwise coincide (× max(1, t_max))
 TIME_SEPARATION = 1e-9
+
+#: memory of the displacements recomputed at once for an export (bytes): the states of a
+#: block are recovered with one multi-right-hand-side solve
+RECOVERY_BLOCK_BYTES = 256 * 2**20
 
 #: codes of the ``state_kind`` field data
 STATE_KINDS = {"start": 0, "segment_start": 1, "event": 2, "segment_end": 3}
@@ -151,7 +165,7 @@ def _parse_selection(result: StaticResult, states: StateSelection) -> np.ndarray
     n = result.n_states
     kind = np.asarray(result.kind).astype(str)
     if states is None:
-        states = "stored"
+        states = "all"
     if isinstance(states, str):
         key = states.strip().lower()
         if key == "stored":
@@ -190,16 +204,17 @@ def select_states(
     ----------
     result : StaticResult
     states : None, str, int or sequence of int
-        ``None`` or ``"stored"``: every state with a stored displacement field
-        (``result.fields``); ``"all"``: every reported state; ``"events"``: the event states;
-        ``"ends"``: the load-segment ends; state indices (negative count from the end), also
-        as a string ``"0,3,-1"``.  States are exported in increasing order.
+        ``None`` or ``"all"``: every reported state; ``"stored"``: every state with a stored
+        displacement field (``result.fields``); ``"events"``: the event states; ``"ends"``:
+        the load-segment ends; state indices (negative count from the end), also as a string
+        ``"0,3,-1"``.  States are exported in increasing order.
 
     Returns
     -------
     (exported, skipped) : two int arrays
         ``skipped`` are selected states whose displacements were neither stored nor can be
-        recomputed (a result loaded from a file only has its stored fields).
+        recomputed (a result loaded from a file has only its stored fields until
+        ``result.recover_fields(model)``).
     """
     idx = _parse_selection(result, states)
     recover = getattr(result, "_recover", None) is not None
@@ -215,17 +230,27 @@ class _Frames:
     skipped: np.ndarray  #: selected states without displacements
 
 
+#: how to get the states a result loaded from a file does not store
+HOW_TO_RECOVER = (
+    "give the result its model with result.recover_fields(model) (command line: "
+    "stepcontact export --model MODEL.toml) to recompute them exactly, or re-run with "
+    "store_fields='all'"
+)
+
+
 def _frames(result: StaticResult, states: StateSelection) -> _Frames:
     kept, skipped = select_states(result, states)
     if skipped.size:
         _log.warning(
-            "skipped %d selected state(s) without stored displacements (%s); re-run with "
-            "store_fields='all' to export them", skipped.size, _short_list(skipped),
+            "skipped %d selected state(s) without stored displacements (%s): the result "
+            "stores fields only at states %s; %s", skipped.size, _short_list(skipped),
+            _short_list(np.array(sorted(result.fields), dtype=np.int64)) or "none",
+            HOW_TO_RECOVER,
         )
     if kept.size == 0:
         raise ValueError(
-            "no selected state has stored displacements: nothing to export (re-run with "
-            "store_fields='all', or select states with fields)"
+            "no selected state has stored displacements: nothing to export (select states "
+            f"with fields, or {HOW_TO_RECOVER})"
         )
     t = load_path_parameter(result)[kept]
     return _Frames(kept, t, frame_times(t), skipped)
@@ -359,12 +384,12 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
 
 
 def _body_data(
-    result: StaticResult, grid: _BodyGrid, i: int, disp: np.ndarray, rot: np.ndarray
+    grid: _BodyGrid, i: int, disp: np.ndarray, rot: np.ndarray,
+    at_state: dict[str, np.ndarray],
 ) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
     point_data = {"displacement": disp}
     if np.any(grid.dof_of[:, 2:] >= 0):
         point_data["rotation"] = rot
-    at_state = result.stresses.get(i, {})
     cell_data: dict[str, list[np.ndarray]] = {k: [] for k in (*_STRESS_NAMES, "von_mises")}
     cell_data["body"] = []
     for b, ((_, cells), name, cont) in enumerate(
@@ -427,15 +452,36 @@ def _cfe_data(
 _Data = tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]
 
 
+def _state_fields(
+    result: StaticResult, states: list[int], ndof: int
+) -> Iterator[tuple[np.ndarray, dict[str, np.ndarray]]]:
+    """(displacement vector, {body: stresses}) of every state of ``states``, in order: stored,
+    or recomputed in blocks of states (one multi-right-hand-side solve per block).  Stresses
+    that are neither stored nor recoverable are left out (NaN in the files)."""
+    recover = getattr(result, "_recover", None)
+    with_stresses = recover is not None and hasattr(recover, "stresses")
+    block = max(1, RECOVERY_BLOCK_BYTES // (8 * max(ndof, 1)))
+    for a in range(0, len(states), block):
+        part = states[a : a + block]
+        U = result.displacements(part)
+        if with_stresses:
+            stresses = result.stresses_at(part, displacements=U)
+        else:
+            stresses = {i: result.stresses.get(i, {}) for i in part}
+        for i, u in zip(part, U, strict=True):
+            yield np.asarray(u, dtype=float), stresses[i]
+
+
 def _iter_frames(
     result: StaticResult, frames: _Frames, body: _BodyGrid, cfe: _CfeGrid | None
 ) -> Iterator[tuple[int, float, float, _Data, _Data | None]]:
     """Per frame: (state, t, time, body point/cell data, CFE point/cell data or None)."""
     static = _cfe_static(result) if cfe is not None else {}
-    for i, t, time in zip(frames.states.tolist(), frames.t, frames.time, strict=True):
-        u = np.asarray(result.displacement(i), dtype=float)
+    states = frames.states.tolist()
+    fields = _state_fields(result, states, int(body.dof_of.max(initial=-1)) + 1)
+    for i, t, time, (u, at_state) in zip(states, frames.t, frames.time, fields, strict=True):
         disp, rot = _nodal_displacement(body, u)
-        bpd, bcd = _body_data(result, body, i, disp, rot)
+        bpd, bcd = _body_data(body, i, disp, rot, at_state)
         cdata = _cfe_data(result, cfe, static, i, disp) if cfe is not None else None
         yield i, float(t), float(time), (bpd, bcd), cdata
 
@@ -544,10 +590,11 @@ def export_vtu(
         A result with geometry (from :func:`~stepcontact.solve_static` or a result file).
     directory : path
         Output folder (created).
-    states : None, "stored", "all", "events", "ends", int or sequence of int
-        States to write (see :func:`select_states`); default: every state with a stored
-        displacement field.  Selected states without displacements are skipped with a
-        warning on the ``stepcontact.io.export`` logger.
+    states : None, "all", "stored", "events", "ends", int or sequence of int
+        States to write (see :func:`select_states`); default: every state.  States whose
+        fields were not stored are recomputed exactly when the result can (in memory, or after
+        ``result.recover_fields(model)``); otherwise they are skipped with a warning on the
+        ``stepcontact.io.export`` logger that names them.
     name : str
         Base name of the files.
 

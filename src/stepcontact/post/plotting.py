@@ -424,18 +424,34 @@ def _extent(points: np.ndarray) -> float:
     return size if size > 0 and np.isfinite(size) else 1.0
 
 
+def _missing_fields(res: StaticResult, i: int) -> ValueError:
+    """The error for displacements a result neither stores nor can recompute."""
+    stored = sorted(res.fields)
+    have = (f"stored for states {_ranges(stored)}" if stored else "no field is stored")
+    return ValueError(
+        f"the displacements of state {i} are not in this result ({have}); give the result "
+        "its model with res.recover_fields(model) (command line: --model MODEL.toml) to "
+        "recompute any state exactly, or re-run with solve_static(model, "
+        "store_fields='all') (an in-memory result recovers any state)"
+    )
+
+
 def _field(res: StaticResult, i: int) -> np.ndarray:
     """Displacement vector of state ``i``; a ValueError that says how to get it if missing."""
     try:
         return np.asarray(res.displacement(i), dtype=float)
     except KeyError:
-        stored = sorted(res.fields)
-        have = (f"stored for states {_ranges(stored)}" if stored else "no field is stored")
-        raise ValueError(
-            f"the displacements of state {i} are not in this result ({have}); re-run with "
-            "solve_static(model, store_fields='all') (or plot the in-memory result, which "
-            "recovers any state)"
-        ) from None
+        raise _missing_fields(res, i) from None
+
+
+def _all_fields(res: StaticResult) -> np.ndarray:
+    """Displacements (n_states, ndof) of every state: stored, the others recomputed in one
+    solve; a ValueError that says how to get them if the result cannot."""
+    try:
+        return np.asarray(res.displacements(), dtype=float)
+    except KeyError:
+        missing = next(i for i in range(res.n_states) if i not in res.fields)
+        raise _missing_fields(res, missing) from None
 
 
 def _ranges(values: Sequence[int]) -> str:
@@ -759,8 +775,9 @@ def plot_load_displacement(
 
     Between consecutive reported states the working scheme is fixed and the structure linear,
     so the curve through the states is exact.  Each event is marked at its state by its
-    transition.  Needs the displacements of every state (``store_fields='all'``, the default
-    for models up to 20 000 DOFs, or the in-memory result).
+    transition.  Needs the displacements of every state: an in-memory result (or one given its
+    model with ``res.recover_fields(model)``) recomputes those not stored in one solve; a
+    result loaded from a file without its model has them only with ``store_fields='all'``.
 
     Parameters
     ----------
@@ -804,10 +821,7 @@ def plot_load_displacement(
         div, unit = _force_scale(u, comp)
         xlabel = f"reaction of '{reaction}' along {dof} (on the structure), {unit}"
     else:
-        missing = [i for i in range(res.n_states) if i not in res.fields]
-        if missing and res._recover is None:
-            _field(res, missing[0])  # raises with the explanation
-        U = np.stack([_field(res, i) for i in range(res.n_states)])
+        U = _all_fields(res)
         k = _resolve_node(res, node, body, comp, U[-1])
         points, dof_of, bodies = _geometry(res)
         u = U[:, dof_of[k, comp]]

@@ -15,7 +15,10 @@ Dimensions
 ``pattern``, ``interface``, ``segment_index``, ``multiplier``
     Load patterns, interface names, load-program segments, stability multipliers.
 ``field_state``, ``dof``
-    Stored displacement vectors ``u``.
+    Stored displacement vectors ``u``: only the states whose field the run stored (by default
+    the start, segment starts and ends and the last state; the attribute ``field_states``
+    lists them).  Every other state is exact from its contact unknowns:
+    ``StaticResult.recover_fields(model)`` recomputes it.
 ``node``, ``xy``, ``node_dof``, ``element__<body>``, ``cell_node__<body>``
     Geometry for drawing and export (``points``, ``dof_of``, ``cells__<body>``).
 
@@ -415,6 +418,16 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
         "geometry_arrays": _dumps(geo_vars),
         "geometry_extra": _dumps(geo),
         "geometry_keys": _dumps([str(k) for k in res.geometry]),
+        "field_states": _dumps(sorted(int(k) for k in res.fields)),
+        "stress_states": _dumps(sorted(int(k) for k in res.stresses)),
+        "fields_note": (
+            f"displacement fields (u) are stored at {len(res.fields)} of {n} states "
+            "(field_states), stresses at the states listed in stress_states; any other state "
+            "is exact from its contact unknowns: load the result, call "
+            "res.recover_fields(model) with the model of the run, then res.displacement(i), "
+            "res.displacements(states) or res.stress(i) (command line: stepcontact export / "
+            "plot --model MODEL.toml)"
+        ),
     }
     return xr.Dataset(dv, coords=coords, attrs=attrs)
 

@@ -96,15 +96,18 @@ class StaticResult:
     un, ut : (n_states, m) mutual displacements u_n, u_τ, m
     state : (n_states, m) ContactState values (scheme after the state)
     residual : (n_states,) relative equilibrium residual ‖K u + Bᵀs − f‖ / ‖f‖ at states with a
-        stored displacement field; at the other states (large models) the residual of the
-        condensed equations, which are exactly equivalent (see ``Condensed.condensed_residual``)
+        stored displacement field; at the other states the residual of the condensed
+        equations, which are exactly equivalent (see ``Condensed.condensed_residual``)
     violation : (n_states,) largest relative violation of conditions (1)
     events : list of Event
     multipliers : list of Multipliers (one per segment reached)
     status : Status
     message : str
-    fields : dict state index -> displacement vector (ndof,), m (states with stored fields)
-    stresses : dict state index -> {body name: (n_el, 4) σxx, σyy, σxy, σzz, Pa}
+    fields : dict state index -> displacement vector (ndof,), m, of the states with a stored
+        field (by default the start, segment starts and ends and the last state; every state
+        with ``store_fields="all"``).  Any state: :meth:`displacement`, :meth:`displacements`.
+    stresses : dict state index -> {body name: (n_el, 4) σxx, σyy, σxy, σzz, Pa}, stored at the
+        same states as ``fields``.  Any state: :meth:`stress`, :meth:`stresses_at`.
     counters : dict of run statistics (events, rate solves, factorisations, solves, seconds)
     mechanism : description of the mechanism when equilibrium is lost (bodies, mode)
     geometry : "points" (n_nodes, 2), "dof_of" (n_nodes, 3), "bodies" list of
@@ -150,8 +153,10 @@ class StaticResult:
     #: rate problems with several admissible schemes: {"lam", "segment", "pattern", "cfes",
     #: "followed", "alternatives", "why"} (state labels per CFE)
     nonunique: list[dict[str, object]] = field(default_factory=list)
-    #: recomputes the displacement field of a state from its contact unknowns (in memory only:
-    #: it holds the run's factorisation; dropped when pickled or saved)
+    #: recomputes the fields of states from their contact unknowns (in memory only: it holds
+    #: the run's factorisation; dropped when pickled or saved): a
+    #: :class:`~stepcontact.solver.static.FieldRecovery` (``displacements(states)`` in one
+    #: solve, ``stresses(u)``), or any callable state index -> displacement vector
     _recover: Callable[[int], np.ndarray] | None = field(default=None, repr=False)
 
     def __getstate__(self) -> dict:
@@ -161,25 +166,40 @@ class StaticResult:
 
     def recover_fields(self, model) -> None:
         """Attach field recovery to a result loaded from a file or unpickled: ``model`` (the
-        same model, or its assembled system) is condensed once more (one factorisation), and
-        :meth:`displacement` then recomputes any state exactly from its contact unknowns."""
+        model of the run, or its assembled system) is condensed once more (one
+        factorisation); :meth:`displacement`, :meth:`displacements`, :meth:`stress` and
+        :meth:`stresses_at` then recompute any state exactly from its contact unknowns.
+
+        The model is checked against the result: the same CFEs, load patterns and DOFs, and
+        the field recomputed at a stored state equal to the stored one (else ValueError).
+        """
         from stepcontact.fem.assembly import System, assemble
         from stepcontact.solver.condensation import Condensed
+        from stepcontact.solver.static import FieldRecovery
 
         system = model if isinstance(model, System) else assemble(model)
         if system.m != self.m:
             raise ValueError(f"the model has {system.m} CFEs, the result {self.m}")
-        cond = Condensed.from_system(system)
-        names = list(self.pattern_names)
-        m = self.m
-
-        def recover(i: int) -> np.ndarray:
-            s = np.r_[self.Q[i], -self.N[i]]
-            w = np.r_[self.ut[i], self.un[i]]
-            return cond.displacement(dict(zip(names, self.factors[i], strict=True)), s, w)
-
-        self._recover = recover
-        del m
+        if set(system.loads) != set(self.pattern_names):
+            raise ValueError(f"the model's load patterns ({', '.join(system.loads) or 'none'}) "
+                             f"are not the result's ({', '.join(self.pattern_names) or 'none'})")
+        if self.fields:
+            ndof = len(next(iter(self.fields.values())))
+            if system.ndof != ndof:
+                raise ValueError(f"the model has {system.ndof} DOFs, the result's fields {ndof}")
+        recovery = FieldRecovery.of_result(Condensed.from_system(system), self)
+        if self.fields:  # the same structure: a stored field is recomputed exactly
+            i = max(self.fields, key=lambda k: float(np.abs(self.fields[k]).max(initial=0)))
+            ref = np.asarray(self.fields[i], dtype=float)
+            u = recovery(i)
+            scale = max(float(np.abs(ref).max(initial=0)), float(np.abs(u).max(initial=0)))
+            err = float(np.abs(u - ref).max(initial=0)) / scale if scale > 0 else 0.0
+            if err > 1e-6:
+                raise ValueError(
+                    f"the model is not the one of this result: the displacement field "
+                    f"recomputed at state {i} differs from the stored one by {err:.1e} "
+                    "(relative)")
+        self._recover = recovery
 
     # ---- convenience -----------------------------------------------------------------------
     #: the path axis of the states: the load factor of the active segment here; a time (s) or
@@ -243,17 +263,108 @@ class StaticResult:
         raise KeyError(f"no reaction '{support}' along {dof} (reactions: "
                        f"{', '.join(f'{k!r}' for k in known) or 'none'})")
 
+    # ---- fields: stored, or recomputed exactly on request ----------------------------------
+    def _state_indices(self, states) -> np.ndarray:
+        """States (int or sequence; negative from the end; None: all) as indices 0…n−1."""
+        n = self.n_states
+        if states is None:
+            return np.arange(n, dtype=np.int64)
+        idx = np.atleast_1d(np.asarray(states))
+        if idx.size and idx.dtype.kind not in "iu":
+            raise TypeError(f"states: expected integer state indices, got {idx.dtype}")
+        idx = idx.astype(np.int64).reshape(-1)
+        bad = (idx < -n) | (idx >= n)
+        if bad.any():
+            raise IndexError(f"state {int(idx[bad][0])} does not exist (the result has {n} "
+                             f"states, 0…{n - 1})")
+        return np.where(idx < 0, idx + n, idx)
+
+    def _not_stored(self, what: str, states) -> KeyError:
+        """The KeyError for fields that are neither stored nor recoverable."""
+        return KeyError(
+            f"{what} of state{'s' if len(states) > 1 else ''} {_short(states)} were not "
+            f"stored (stored: {_short(sorted(self.fields)) or 'none'}); call "
+            "res.recover_fields(model) with the model of the run to recompute any state exactly, "
+            "or re-run with store_fields='all'"
+        )
+
     def displacement(self, i: int) -> np.ndarray:
-        """Displacement vector (ndof,) at reported state ``i``, m; computed on request when it
-        was not stored (needs the in-memory solver of the run)."""
+        """Displacement vector (ndof,) at reported state ``i``, m: the stored field, or
+        recomputed exactly from the state's contact unknowns (one solve; in memory, or after
+        :meth:`recover_fields`)."""
         if i in self.fields:
             return self.fields[i]
-        if self._recover is None:
-            raise KeyError(
-                f"displacements of state {i} were not stored; call res.recover_fields(model) "
-                "or re-run with store_fields='all'"
-            )
-        return self._recover(i)
+        return self.displacements([i])[0]
+
+    def displacements(self, states=None) -> np.ndarray:
+        """Displacement vectors (k, ndof), m, of ``states`` (indices, negative from the end;
+        default every state), in that order: the stored fields, and all the others
+        recomputed exactly with one multi-right-hand-side solve.
+
+        Raises KeyError (naming :meth:`recover_fields`) when a state is not stored and the
+        result has no field recovery (loaded from a file or unpickled).
+        """
+        idx = self._state_indices(states)
+        missing = [i for i in dict.fromkeys(idx.tolist()) if i not in self.fields]
+        got: dict[int, np.ndarray] = {}
+        if missing:
+            rec = self._recover
+            if rec is None:
+                raise self._not_stored("displacements", missing)
+            if hasattr(rec, "displacements"):
+                U = rec.displacements(np.asarray(missing, dtype=np.int64))
+            else:
+                U = np.stack([np.asarray(rec(i), dtype=float) for i in missing])
+            got = dict(zip(missing, U, strict=True))
+        if idx.size == 0:
+            return np.zeros((0, self._ndof()))
+        return np.stack([self.fields[i] if i in self.fields else got[i] for i in idx.tolist()])
+
+    def stress(self, i: int) -> dict[str, np.ndarray]:
+        """Element stresses at reported state ``i``: {body: (n_el, 4) σxx, σyy, σxy, σzz}, Pa —
+        stored, or recomputed exactly from the displacement field (see :meth:`stresses_at`)."""
+        return self.stresses_at([i])[int(self._state_indices([i])[0])]
+
+    def stresses_at(self, states=None, *, displacements=None) -> dict[int, dict[str, np.ndarray]]:
+        """Element stresses {state: {body: (n_el, 4) σxx, σyy, σxy, σzz}}, Pa, of ``states``
+        (default every state): the stored ones, the others from their displacements (one
+        multi-right-hand-side solve, then one sparse product per body).
+
+        Parameters
+        ----------
+        states : int or sequence of int, optional
+        displacements : (k, ndof) array, optional
+            The displacements of ``states`` (from :meth:`displacements`), to avoid solving
+            again.
+
+        Raises KeyError (naming :meth:`recover_fields`) when a state is not stored and the
+        result has no field recovery.
+        """
+        idx = self._state_indices(states)
+        order = list(dict.fromkeys(idx.tolist()))
+        missing = [i for i in order if i not in self.stresses]
+        got: dict[int, dict[str, np.ndarray]] = {}
+        if missing:
+            rec = self._recover
+            if rec is None or not hasattr(rec, "stresses"):
+                raise self._not_stored("stresses", missing)
+            if displacements is not None:
+                U = np.asarray(displacements, dtype=float).reshape(len(idx), -1)
+                first = {int(i): j for j, i in reversed(list(enumerate(idx.tolist())))}
+                U = U[[first[i] for i in missing]]
+            else:
+                U = self.displacements(missing)
+            per_body = rec.stresses(U)
+            got = {i: {b: a[j] for b, a in per_body.items()} for j, i in enumerate(missing)}
+        return {i: self.stresses[i] if i in self.stresses else got[i] for i in order}
+
+    def _ndof(self) -> int:
+        if self.fields:
+            return len(next(iter(self.fields.values())))
+        if "ndof" in self.counters:
+            return int(self.counters["ndof"])
+        dof_of = np.asarray(self.geometry.get("dof_of", np.zeros((0, 3), int)))
+        return int(dof_of.max()) + 1 if dof_of.size else 0
 
     def summary(self) -> str:
         """A short text summary: status, counts, multipliers, worst residuals."""
@@ -435,6 +546,18 @@ _HISTORY_NAMES = {
     "un": "mutual normal displacement u_n (negative: open gap)",
     "ut": "mutual tangential displacement u_t",
 }
+
+
+def _short(values, limit: int = 12) -> str:
+    """``[0, 1, 2, 5, 7, 8]`` → ``"0–2, 5, 7–8"`` (at most ``limit`` runs, then "…")."""
+    runs: list[list[int]] = []
+    for v in sorted(int(x) for x in values):
+        if runs and v == runs[-1][1] + 1:
+            runs[-1][1] = v
+        else:
+            runs.append([v, v])
+    text = [f"{a}" if a == b else f"{a}–{b}" for a, b in runs[:limit]]
+    return ", ".join(text) + (", …" if len(runs) > limit else "")
 
 
 def transition_counts(events: list[Event]) -> dict[str, int]:

@@ -140,8 +140,8 @@ class Condensation:
                                                                      B.shape[0]) else None)
         t1 = time.perf_counter()
         n2m = B.shape[0]
-        can = getattr(factor, "can_condense", None)
-        if can is not None and can(B):  # Schur complement: no solve per row of B
+        can = getattr(factor, "can_condense", lambda B: True)
+        if hasattr(factor, "condensed") and can(B):  # Schur complement: no solve per row of B
             G = np.asarray(factor.condensed(B), dtype=float)
             solves = 0
         else:
@@ -355,27 +355,53 @@ class Condensed:
         return self.G.shape[0] // 2
 
     # ---- fields ----------------------------------------------------------------------------
-    def displacement(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray) -> np.ndarray:
-        """Full displacement vector (ndof,) of a state: one solve with the K₀ factorisation."""
+    def displacement(self, factors, s: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """Full displacement vector (ndof,) of a state, exact from its contact unknowns: one
+        solve with the K₀ factorisation.  A stack of k states gives (k, ndof) with one
+        multi-right-hand-side solve.
+
+        ``factors``: {pattern: c} (c a number, or a (k,) array for a stack), or an array
+        (k, P) of the factors in the order of ``system.loads``; ``s``, ``w``: (2m,) for one
+        state or (k, 2m) for a stack.
+        """
         sysm = self.system
-        u = np.zeros(sysm.ndof)
-        up = np.zeros(len(self.presc))
-        rhs_load = np.zeros(len(self.free))
-        e = np.zeros(2 * self.m)
-        for name, c in factors.items():
-            if c == 0.0:
+        names = list(sysm.loads)
+        single = np.ndim(s) == 1
+        S = np.atleast_2d(np.asarray(s, dtype=float))
+        W = np.atleast_2d(np.asarray(w, dtype=float))
+        k = S.shape[0]
+        if isinstance(factors, dict):
+            unknown = [str(n) for n in factors if n not in sysm.loads]
+            if unknown:
+                raise KeyError(f"unknown load pattern(s): {', '.join(unknown)}")
+            C = np.zeros((k, len(names)))
+            for j, name in enumerate(names):
+                if name in factors:
+                    C[:, j] = factors[name]
+        else:
+            C = np.asarray(factors, dtype=float).reshape(k, len(names))
+        if k == 0:
+            return np.zeros((0, sysm.ndof))
+        up = np.zeros((len(self.presc), k))
+        rhs = np.zeros((len(self.free), k))
+        e = np.zeros((2 * self.m, k))
+        for j, name in enumerate(names):
+            c = C[:, j]
+            if not c.any():
                 continue
             lv = sysm.loads[name]
-            up += c * lv.u[self.presc]
-            rhs_load += c * lv.f[self.free]
-            e += c * self.e[name]
-        w_hat = w - sysm.w0 - e
-        t = s - self.d * w_hat
-        rhs = rhs_load - self.Kfp @ up - self.Bf.T @ t
-        u[self.free] = self.factor.solve(rhs)
-        u[self.presc] = up
-        self.counters["solves"] = self.counters.get("solves", 0) + 1
-        return u
+            up += np.outer(lv.u[self.presc], c)
+            rhs += np.outer(lv.f[self.free], c)
+            e += np.outer(self.e[name], c)
+        w_hat = W.T - sysm.w0[:, None] - e
+        t = S.T - self.d[:, None] * w_hat
+        rhs = rhs - self.Kfp @ up - self.Bf.T @ t
+        x = np.asarray(self.factor.solve(np.ascontiguousarray(rhs[:, 0]) if k == 1 else rhs))
+        u = np.zeros((k, sysm.ndof))
+        u[:, self.free] = x.reshape(len(self.free), k).T
+        u[:, self.presc] = up.T
+        self.counters["solves"] = self.counters.get("solves", 0) + k
+        return u[0] if single else u
 
     def check(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray, u: np.ndarray,
               w_scale: float = 0.0):

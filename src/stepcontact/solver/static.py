@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -71,28 +71,80 @@ def held_components(system: System) -> tuple[np.ndarray, np.ndarray]:
     return zero[m:], zero[:m]
 
 
-class FieldRecovery:
-    """Displacement fields at any recorded state, exact from its contact unknowns: one solve
-    with the run's factorisation (several states: one multi-right-hand-side solve).  Held by
-    a result in memory; it is not pickled or written (it holds the factorisation)."""
+#: the contact unknowns of recorded states: indices (k,) -> (factors {pattern: (k,)},
+#: s (k, 2m), w (k, 2m))
+Unknowns = Callable[[np.ndarray], tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]]
 
-    def __init__(self, cond: Condensed, names: list[str], rec: Recorder):
+
+class FieldRecovery:
+    """Displacement fields and stresses at any recorded state, exact from its contact
+    unknowns (factors, s, w: between events the structure is linear): one solve with the
+    run's factorisation, several states in one multi-right-hand-side solve; stresses from the
+    displacements with the per-body :class:`~stepcontact.fem.continuum.StressRecovery`
+    operators (one sparse product per body).  Held by a result in memory; it is not pickled
+    or written (it holds the factorisation).
+    """
+
+    def __init__(self, cond: Condensed, unknowns: Unknowns, stress=None):
+        from stepcontact.fem.continuum import StressRecovery
+        from stepcontact.model import Body
+
         self.cond = cond
-        self.names = names
-        self.rec = rec
+        self.unknowns = unknowns
+        sysm = cond.system
+        model = sysm.model
+        self.stress = stress if stress is not None else StressRecovery(model)
+        off = model.node_offsets
+        #: global DOFs (ux, uy per node) of every continuum body with a stress operator
+        self.body_dofs = {
+            b.name: sysm.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
+            for b in model.bodies if isinstance(b, Body) and b.name in self.stress
+        }
+
+    @classmethod
+    def of_recorder(cls, cond: Condensed, rec: Recorder, names: Sequence[str],
+                    stress=None) -> FieldRecovery:
+        """Recovery of the states recorded (so far and later) by ``rec`` of a run."""
+        names = list(names)
+
+        def unknowns(idx):
+            F = rec.factors.view[idx]
+            return ({n: F[:, j] for j, n in enumerate(names)}, rec.s.view[idx],
+                    rec.w.view[idx])
+
+        return cls(cond, unknowns, stress)
+
+    @classmethod
+    def of_result(cls, cond: Condensed, res: StaticResult, stress=None) -> FieldRecovery:
+        """Recovery of the states of a result (loaded from a file or unpickled)."""
+        names = list(res.pattern_names)
+
+        def unknowns(idx):
+            F = np.asarray(res.factors)[idx]
+            s = np.concatenate([res.Q[idx], -res.N[idx]], axis=1)
+            w = np.concatenate([res.ut[idx], res.un[idx]], axis=1)
+            return {n: F[:, j] for j, n in enumerate(names)}, s, w
+
+        return cls(cond, unknowns, stress)
+
+    def displacements(self, states) -> np.ndarray:
+        """Displacements (k, ndof), m, of the states ``states`` (k,): one solve."""
+        idx = np.asarray(states, dtype=np.int64).reshape(-1)
+        factors, s, w = self.unknowns(idx)
+        return self.cond.displacement(factors, np.reshape(s, (len(idx), -1)),
+                                      np.reshape(w, (len(idx), -1)))
 
     def __call__(self, i: int) -> np.ndarray:
-        r = self.rec
-        return self.cond.displacement(dict(zip(self.names, r.factors.view[i], strict=True)),
-                                      r.s.view[i], r.w.view[i])
+        """Displacement vector (ndof,) of state ``i``."""
+        return self.displacements([i])[0]
 
-
-def _stress_recovery(model: Model):
-    from stepcontact.fem import continuum
-
-    if hasattr(continuum, "StressRecovery"):
-        return continuum.StressRecovery(model)
-    return None
+    def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
+        """Element stresses of every continuum body from displacements ``u``: (ndof,) gives
+        {body: (n_el, 4)}, (k, ndof) gives {body: (k, n_el, 4)}; σxx, σyy, σxy, σzz in Pa."""
+        u = np.asarray(u, dtype=float)
+        if u.ndim == 1:
+            return {name: self.stress(name, u[d]) for name, d in self.body_dofs.items()}
+        return {name: self.stress(name, u[:, d].T) for name, d in self.body_dofs.items()}
 
 
 class StaticSolver:
@@ -104,7 +156,7 @@ class StaticSolver:
         *,
         slip: str | SlipTreatment = "exact",
         eps_p: float = 0.01,
-        store_fields: str = "auto",
+        store_fields: str = "ends",
         max_events: int = 100_000,
         hooks: Sequence = (),
         backend: str = "auto",
@@ -122,7 +174,9 @@ class StaticSolver:
             raise ModelError("store_fields", f"must be auto, all or ends, got '{store_fields}'")
         if rate_solver not in ("pivoting", "lemke"):
             raise ModelError("rate_solver", f"must be 'pivoting' or 'lemke', got '{rate_solver}'")
-        self.store_fields = store_fields
+        #: "all": fields at every state; "ends" (and "auto", the same): at the start, every
+        #: segment start and end and the state where the run stops, the others on request
+        self.store_fields = "all" if store_fields == "all" else "ends"
         self.violation_limit = max(VIOLATION_LIMIT, eps_p) if self.article else VIOLATION_LIMIT
         self.max_events = max_events
         self.hooks = tuple(hooks)
@@ -142,7 +196,7 @@ class StaticSolver:
         self.message = "load program completed"
         self.mechanism: dict | None = None
         self.step = 0
-        self.stress = _stress_recovery(system.model)
+        self.fields = FieldRecovery.of_recorder(self.cond, self.rec, list(self.c))
 
     @staticmethod
     def _combine(vectors: dict[str, np.ndarray], rates: dict[str, float]) -> np.ndarray:
@@ -164,20 +218,17 @@ class StaticSolver:
                     f"both ends; the supports carry {effect}"), stacklevel=4)
 
     # ---- recording ---------------------------------------------------------------------------
-    def _store_all_fields(self) -> bool:
-        if self.store_fields == "all":
-            return True
-        if self.store_fields == "ends":
-            return False
-        return self.sys.ndof <= 20_000
-
-    def _record(self, lam: float, seg: int, kind: str) -> int:
+    def _record(self, lam: float, seg: int, kind: str, final: bool = False) -> int:
+        """Record the current state.  Its displacement field and stresses are stored (one
+        solve) at the start, segment starts and ends, the state where the run stops
+        (``final``, or a violation found here) and, with ``store_fields="all"``, every state;
+        the other states' fields are recomputed exactly on request from (factors, s, w)."""
         eng = self.engine
-        store = kind != "event" or self._store_all_fields()
+        store = final or kind != "event" or self.store_fields == "all"
         if store:  # full field: residual of the whole model and kinematics B u + w⁰ = w
             u = self.cond.displacement(self.c, eng.s, eng.w)
             res, kin = self.cond.check(self.c, eng.s, eng.w, u, eng.W_scale)
-        else:  # no solve: the condensed equations (equivalent), field recoverable on request
+        else:  # no solve: the condensed equations (exactly equivalent)
             res, kin = self.cond.condensed_residual(self.c, eng.s, eng.w, eng.W_scale), 0.0
         viol = max(kin, eng.violation())
         i = self.rec.append(
@@ -185,27 +236,31 @@ class StaticSolver:
             w=eng.w, state=eng.states, residual=res, violation=viol,
             reactions=self.cond.reactions(self.c, eng.s, eng.w))
         if store:
-            self.rec.fields[i] = u
-            self.rec.stresses[i] = self._stresses(u)
+            self._keep_field(i, u)
         if viol > self.violation_limit and self.status == Status.COMPLETED:
             self.status = Status.VIOLATION
             self.message = (f"the contact conditions are violated by {viol:.2e} (relative) at "
                             f"λ = {lam:.10g} (segment {seg}); the run stops here")
+            self._store_field(i)  # the run stops here: its field and the full check
         return i
 
-    def _stresses(self, u):
-        from stepcontact.fem import continuum
-        from stepcontact.model import Body
+    def _keep_field(self, i: int, u: np.ndarray) -> None:
+        self.rec.fields[i] = u
+        self.rec.stresses[i] = self.fields.stresses(u)
 
-        out = {}
-        off = self.sys.model.node_offsets
-        for b in self.sys.model.bodies:
-            if isinstance(b, Body):
-                ids = off[b.name] + np.arange(b.n_nodes)
-                ub = u[self.sys.dofs.of[ids][:, :2].ravel()]
-                out[b.name] = (self.stress(b.name, ub) if self.stress is not None else
-                               continuum.stresses(b, ub, self.sys.model.plane))
-        return out
+    def _store_field(self, i: int) -> None:
+        """Store the field and stresses of recorded state ``i`` if it has none (a state where
+        the run stopped), with the full equilibrium and kinematic check of a stored state."""
+        r = self.rec
+        if i in r.fields or not 0 <= i < len(r):
+            return
+        c = dict(zip(self.c, r.factors.view[i], strict=True))
+        s, w = r.s.view[i], r.w.view[i]
+        u = self.cond.displacement(c, s, w)
+        res, kin = self.cond.check(c, s, w, u, self.engine.W_scale)
+        r.residual.view[i] = res
+        r.violation.view[i] = max(float(r.violation.view[i]), kin)
+        self._keep_field(i, u)
 
     def _log_events(self, old, new, lam, seg, pattern, state_index):
         m = self.cfe.m
@@ -348,7 +403,7 @@ class StaticSolver:
             }
             mult["equilibrium_lost"] = lam
             self.step += 1
-            i = self._record(lam, seg, "event")
+            i = self._record(lam, seg, "event", final=True)
             self._log_events(old, eng.states, lam, seg, pattern, i)
             return False, None, None
         except RateProblemFailure as exc:
@@ -357,7 +412,7 @@ class StaticSolver:
                      for k in exc.cfes[:10]]
             self.message = f"{exc} at λ = {lam:.10g}; CFEs involved: {', '.join(names)}"
             self.step += 1
-            self._record(lam, seg, "event")
+            self._record(lam, seg, "event", final=True)
             return False, None, None
         old, new, ds, dw = dec.old, dec.new, dec.ds, dec.dw
         switched = dec.switched
@@ -415,6 +470,8 @@ class StaticSolver:
         })
 
     def result(self, elapsed: float, partial: bool = False) -> StaticResult:
+        if not partial:  # the last state of the run (where it ended or stopped) has its field
+            self._store_field(len(self.rec) - 1)
         r = self.rec.arrays()
         m = self.cfe.m
         S, W = r["s"], r["w"]
@@ -458,7 +515,7 @@ class StaticSolver:
             mechanism=self.mechanism, geometry=geometry, reactions=r["reactions"],
             reaction_labels=tuple(self.sys.reaction_labels),
             nonunique=list(self.rec.nonunique),
-            _recover=FieldRecovery(self.cond, list(self.c), self.rec),
+            _recover=self.fields,
         )
 
 
@@ -467,7 +524,7 @@ def solve_static(
     *,
     slip: str = "exact",
     eps_p: float = 0.01,
-    store_fields: str = "auto",
+    store_fields: str = "ends",
     max_events: int = 100_000,
     hooks: Sequence = (),
     backend: str = "auto",
@@ -487,11 +544,14 @@ def solve_static(
     eps_p : float
         ε_p of eq. (5) (article mode only): the largest relative change of a friction limit in
         one step.
-    store_fields : "auto", "all" or "ends"
-        Which states keep full displacement fields and stresses (the start, segment starts and
-        segment ends always do; ``auto`` stores all states for models up to 20 000 DOFs).  Any
-        other state is recomputed exactly on request with :meth:`StaticResult.displacement`
-        while the result is in memory.
+    store_fields : "ends", "all" or "auto"
+        Which states keep their displacement field and stresses.  ``ends`` (default; ``auto``
+        is the same): the start, every segment start and end, and the last state of the run
+        (where it completed or stopped); ``all``: every state (one extra solve per event).
+        Any other state is exact from its contact unknowns and is recomputed on request:
+        :meth:`StaticResult.displacement`, :meth:`StaticResult.displacements` (several states,
+        one solve), :meth:`StaticResult.stress` — in memory, or after
+        :meth:`StaticResult.recover_fields` for a result loaded from a file.
     max_events : int
         Event-point budget.
     hooks : sequence
