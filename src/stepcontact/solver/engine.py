@@ -58,6 +58,30 @@ class Decision:
         return bool(np.any(self.old != self.new))
 
 
+def norm2(A: np.ndarray, iters: int = 30, rtol: float = 1e-3) -> float:
+    """‖A‖₂ estimated by power iteration on AᵀA from a fixed start, until it changes by less
+    than ``rtol``: a lower bound (‖A x‖ for a unit x), within a few per cent of ‖A‖₂, for
+    O(n²) per step where an SVD of a scheme matrix costs 100× more."""
+    n = A.shape[1]
+    if n == 0 or A.shape[0] == 0:
+        return 0.0
+    x = 1.0 + 0.5 * np.random.default_rng(1).standard_normal(n)
+    x /= np.linalg.norm(x)
+    est = 0.0
+    for _ in range(iters):
+        y = A @ x
+        new = float(np.linalg.norm(y))
+        if new <= est * (1 + rtol):
+            return max(est, new)
+        est = new
+        x = A.T @ y
+        nx = float(np.linalg.norm(x))
+        if not nx > 0:
+            break
+        x /= nx
+    return est
+
+
 def null_modes(A: np.ndarray, lu_, k: int = 3, trans: int = 0) -> np.ndarray:
     """Null vectors (columns) of a singular matrix A (``trans=1``: of Aᵀ, the left null
     vectors) by block inverse iteration on its LU, then the combinations of the block that A
@@ -78,7 +102,7 @@ def null_modes(A: np.ndarray, lu_, k: int = 3, trans: int = 0) -> np.ndarray:
         X = np.linalg.qr(sla.lu_solve(lu_, X, trans=trans, check_finite=False))[0]
     AX = (A.T if trans else A) @ X
     _, sv, Vt = np.linalg.svd(AX, full_matrices=False)
-    keep = sv <= 1e-6 * max(np.linalg.norm(A, 2), 1e-300)
+    keep = sv <= 1e-6 * max(norm2(A), 1e-300)
     if not keep.any():
         keep[np.argmin(sv)] = True
     return X @ Vt[keep].T
@@ -119,6 +143,7 @@ class EventEngine:
         self.F_scale = 1e-300
         self.W_scale = float(np.max(np.abs(w0), initial=0.0)) or 1e-300
         self.counters = {"rate_solves": 0, "pivots": 0, "corrections": 0, "lemke": 0}
+        self._relations: dict[tuple, Relations] = {}
 
     # ---- scales and tolerances ---------------------------------------------------------------
     def update_scales(self, ds=None, dw=None, span: float = 1.0) -> None:
@@ -141,10 +166,19 @@ class EventEngine:
             yield law, c, s[c], s[m + c], w[c], w[m + c]
 
     def relations(self, states: np.ndarray, article: bool | None = None) -> Relations:
-        rel = Relations.empty(self.m)
+        """The relations of the scheme ``states`` (the last few are kept: a point asks for the
+        same scheme's relations in the rate problem and in the correction)."""
         art = self.article if article is None else article
+        key = (states.tobytes(), art)
+        rel = self._relations.get(key)
+        if rel is not None:
+            return rel
+        rel = Relations.empty(self.m)
         for law in self.laws:
             law.relations(states[law.cfes], rel, self.m, art)
+        self._relations[key] = rel
+        if len(self._relations) > 8:
+            del self._relations[next(iter(self._relations))]
         return rel
 
     def factor(self, states: np.ndarray, article: bool | None = None):
@@ -160,7 +194,9 @@ class EventEngine:
         fact = self.factor(states, article)
         self.counters["rate_solves"] += 1
         h, e = forcing
-        return fact.solve(h, e, np.zeros(2 * self.m) if r is None else r)
+        if r is None:
+            return fact.load_rates(h, e)
+        return fact.solve(h, e, r)
 
     def rates_singular(self, states, forcing):
         """Rates of a singular scheme that the load does not drive: the minimum-norm solution
@@ -331,4 +367,4 @@ class EventEngine:
                     for law, c, Q, p, _ut, un in self._parts(self.s, self.w)), default=0.0)
 
 
-__all__ = ["LIMIT_TOL", "Decision", "EventEngine", "null_modes"]
+__all__ = ["LIMIT_TOL", "Decision", "EventEngine", "norm2", "null_modes"]

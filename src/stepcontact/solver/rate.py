@@ -138,7 +138,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     var = _variables(eng, L, normal_lim, two_sided)
     m = eng.m
     h, e = forcing
-    ds0, dw0 = fact.solve(h, e, np.zeros(2 * m))
+    ds0, dw0 = fact.load_rates(h, e)
     nv = len(var.cfe)
     if nv == 0:
         return kept or RateOutcome(base, ds0, dw0, "stuck scheme", L)
@@ -306,6 +306,8 @@ def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:
 def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list[np.ndarray]:
     """Other admissible schemes of a small rate problem with several solutions (none when M is
     positive definite: a P-matrix has exactly one)."""
+    if _bases(var) is None:  # too many CFEs to enumerate: nothing to report
+        return []
     sym = 0.5 * (M + M.T)
     try:
         if np.linalg.eigvalsh(sym).min() > 1e-10 * max(np.abs(M).max(initial=0), 1e-300):
