@@ -240,10 +240,22 @@ def test_superlu_path_equals_dense_lu_path(name, monkeypatch):
     monkeypatch.setattr(regularity, "factorize", lambda K, backend="auto", **kw: _DenseLU(K))
     b = sc.solve_static(model, backend="scipy")
     assert b.status == a.status
-    assert [(e.cfe, e.transition) for e in a.events] == [(e.cfe, e.transition) for e in b.events]
-    assert np.allclose(a.lam, b.lam, rtol=1e-9, atol=1e-9 * np.abs(a.lam).max())
-    assert np.allclose(a.N, b.N, rtol=1e-8, atol=1e-8 * np.abs(a.N).max())
-    assert np.allclose(a.Q, b.Q, rtol=1e-8, atol=1e-8 * np.abs(a.N).max())
+    assert b.message == a.message  # the same load factor and mechanism when equilibrium is lost
+
+    def before_loss(r):
+        """Events before the point where equilibrium is lost: at that point the rate problem
+        has no unique solution, and which CFEs a factorisation's round-off records as stuck
+        on the way to the mechanism is not part of the answer."""
+        lost = r.multipliers[-1].equilibrium_lost if r.multipliers else None
+        return [(e.cfe, e.transition) for e in r.events
+                if lost is None or e.segment != r.multipliers[-1].segment
+                or abs(e.lam - lost) > 1e-9 * abs(lost)]
+
+    assert before_loss(a) == before_loss(b)
+    n = min(len(a.lam), len(b.lam)) - (a.status == sc.Status.EQUILIBRIUM_LOST)
+    assert np.allclose(a.lam[:n], b.lam[:n], rtol=1e-9, atol=1e-9 * np.abs(a.lam).max())
+    assert np.allclose(a.N[:n], b.N[:n], rtol=1e-8, atol=1e-8 * np.abs(a.N).max())
+    assert np.allclose(a.Q[:n], b.Q[:n], rtol=1e-8, atol=1e-8 * np.abs(a.N).max())
 
 
 def test_condensation_takes_g_from_a_backend_that_forms_it():
