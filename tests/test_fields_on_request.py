@@ -34,20 +34,7 @@ runner = CliRunner()
 
 def block_on_base(E: float = 30e9) -> sc.Model:
     """examples/block_on_base.py: self-weight, then a push until the block slides."""
-    concrete = sc.Material(E=E, nu=0.2, density=2400)
-    base = sc.rectangle("base", (0, 0), (4, 1), 16, 4, concrete)
-    block = sc.rectangle("block", (1, 1), (3, 2), 10, 5, concrete)
-    m = sc.Model(bodies=[base, block], plane="strain", thickness=1.0, name="block-on-base")
-    left = m.select("block", x=1)
-    return m.add(
-        sc.Support("bed", m.select("base", y=0), "xy"),
-        sc.Interface("joint", plus=m.select("block", y=1), minus=m.select("base", y=1),
-                     friction=0.5),
-        sc.LoadPattern("weight", [sc.BodyForce(bodies=("block",))]),
-        sc.LoadPattern("push", [sc.NodalLoad(left, fx=1.0 / len(left))]),
-        sc.Segment("weight", 1.0),
-        sc.Segment("push", 1e6),
-    )
+    return vm.pushed_block(E=E)
 
 
 def pulled_block() -> sc.Model:

@@ -33,19 +33,8 @@ NX, NY = 4, 2  # block mesh
 
 def block_model(element: str = "quad4") -> sc.Model:
     """A block on a base: self-weight, then a push at the block's left side until it slides."""
-    base = sc.rectangle("base", (0, 0), (4, 1), 8, 1, CONCRETE, element=element)
-    block = sc.rectangle("block", (1, 1), (3, 2), NX, NY, CONCRETE, element=element)
-    m = sc.Model(bodies=[base, block], plane="strain", thickness=1.0, name="block")
-    left = m.select("block", x=1)
-    return m.add(
-        sc.Support("bed", m.select("base", y=0), "xy"),
-        sc.Interface("joint", plus=m.select("block", y=1), minus=m.select("base", y=1),
-                     friction=0.5),
-        sc.LoadPattern("weight", [sc.BodyForce(bodies=("block",))]),
-        sc.LoadPattern("push", [sc.NodalLoad(left, fx=1.0 / len(left))]),
-        sc.Segment("weight", 1.0),
-        sc.Segment("push", 1e6),
-    )
+    return vm.pushed_block(base_cells=(8, 1), block_cells=(NX, NY), element=element,
+                           name="block")
 
 
 def frame_model() -> sc.Model:

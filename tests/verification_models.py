@@ -193,6 +193,28 @@ def sliding_block(friction: float, h_max: float) -> Model:
     )
 
 
+def pushed_block(E: float = 30e9, base_cells: tuple[int, int] = (16, 4),
+                 block_cells: tuple[int, int] = (10, 5), element: str = "quad4",
+                 name: str = "block-on-base") -> Model:
+    """examples/block_on_base.py: a 2 m × 1 m block (f = 0.5) on a 4 m × 1 m base fixed at
+    its bottom; self-weight, then a push of 1 N per unit λ on the block's left side until it
+    slides at λ = f·W."""
+    concrete = Material(E=E, nu=0.2, density=2400)
+    base = rectangle("base", (0, 0), (4, 1), *base_cells, concrete, element=element)
+    block = rectangle("block", (1, 1), (3, 2), *block_cells, concrete, element=element)
+    m = Model(bodies=[base, block], plane="strain", thickness=1.0, name=name)
+    left = m.select("block", x=1)
+    return m.add(
+        Support("bed", m.select("base", y=0), "xy"),
+        Interface("joint", plus=m.select("block", y=1), minus=m.select("base", y=1),
+                  friction=0.5),
+        LoadPattern("weight", [BodyForce(bodies=("block",))]),
+        LoadPattern("push", [NodalLoad(left, fx=1.0 / len(left))]),
+        Segment("weight", 1.0),
+        Segment("push", 1e6),
+    )
+
+
 def uplift_slab(weight: str, lam_max: float) -> Model:
     """A slab [0, 4] × [0, 0.5] on a rigid (fully fixed) base, frictionless, fixed in x at its
     top centre.  Weight ``"body_force"`` (self-weight) or ``"top_pressure"`` (the same weight
