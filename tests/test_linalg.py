@@ -121,11 +121,17 @@ def test_too_many_contact_unknowns_for_dense_g_is_a_clear_error_before_any_work(
     )
 
     K0, Bf, *_ = static_operator(assemble(_block_model()))
-    need = sum(dense_memory(Bf.shape[0]).values())
+    need = sum(dense_memory(Bf.shape[0]).values())  # float64
     with pytest.raises(SolverError, match=rf"{Bf.shape[0] // 2} CFEs .*need about"):
-        Condensation.build(K0, Bf, "scipy", memory_limit=0.5 * need)
+        Condensation.build(K0, Bf, "scipy", memory_limit=0.4 * need)  # not even in float32
+    with pytest.raises(SolverError, match=rf"{Bf.shape[0] // 2} CFEs .*in float64"):
+        Condensation.build(K0, Bf, "scipy", memory_limit=0.9 * need, precision="float64")
+    c = Condensation.build(K0, Bf, "scipy", memory_limit=0.9 * need)  # auto: float32 fits
+    assert c.precision == "float32"
     check_dense_memory(Bf.shape[0], limit=2 * need)  # fits: no error
     with pytest.raises(SolverError, match=r"20000 CFEs \(2m = 40000 contact unknowns\) need "
-                       r"about 47\.7 GB"):
+                       r"about 19\.4 GB in float32"):
         check_dense_memory(40_000, limit=16 * 2**30)
+    with pytest.raises(SolverError, match=r"need about 38\.7 GB in float64"):
+        check_dense_memory(40_000, limit=16 * 2**30, precision="float64")
     assert schur_fits(1000, limit=1e9) and not schur_fits(20_000, limit=4e9)

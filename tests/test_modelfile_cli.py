@@ -441,9 +441,10 @@ def fake_solver(monkeypatch):
     state = {"n_events": 3, "raise": None}
 
     def solve_static(model, *, slip="exact", eps_p=0.01, store_fields="auto",
-                     max_events=100000, hooks=(), output=None):
+                     max_events=100000, hooks=(), output=None, precision="auto"):
         calls["solve"].append({"model": model, "slip": slip, "eps_p": eps_p,
-                               "max_events": max_events, "hooks": hooks, "output": output})
+                               "max_events": max_events, "hooks": hooks, "output": output,
+                               "precision": precision})
         if state["raise"] is not None:
             raise state["raise"]
         for k, (_, a, b) in enumerate(model.segments_resolved()):
@@ -528,7 +529,7 @@ def test_run_writes_result_and_figure(model_file, fake_solver):
     result = runner.invoke(app, ["run", str(model_file)])
     assert result.exit_code == 0, result.output
     (call,) = fake_solver["solve"]
-    assert call["slip"] == "exact" and call["eps_p"] == 0.01
+    assert call["slip"] == "exact" and call["eps_p"] == 0.01 and call["precision"] == "auto"
     assert call["model"].name == "block-slide"
     assert len(call["hooks"]) == 1 and isinstance(call["hooks"][0], ProgressHook)
     assert call["hooks"][0].done == 2  # after_segment reached for both segments

@@ -24,6 +24,7 @@ import math
 import tomllib
 from collections.abc import Sequence
 from dataclasses import asdict
+from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -138,7 +139,7 @@ class ProgressHook:
 
 def _solve(
     model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool,
-    output: Path | None = None,
+    output: Path | None = None, precision: str = "auto",
 ) -> StaticResult:
     """Run :func:`stepcontact.solver.static.solve_static` with a progress bar on stderr."""
     from stepcontact.solver import static
@@ -156,7 +157,7 @@ def _solve(
         hooks = (ProgressHook(progress, task, segments),) if progress_bar else ()
         return static.solve_static(
             model, slip=slip.value, eps_p=eps_p, max_events=max_events, hooks=hooks,
-            output=output,
+            output=output, precision=precision,
         )
 
 
@@ -273,12 +274,14 @@ def _analyse(
     quiet: bool,
     as_json: bool,
     console: Console,
+    precision: str = "auto",
 ) -> dict[str, Any]:
     """Solve, report, write the result file and the figure; return the JSON summary."""
     _check_plot_path(plot_path)
     result_path.parent.mkdir(parents=True, exist_ok=True)
     res = _solve(model, slip=slip, eps_p=eps_p, max_events=max_events,
-                 progress_bar=not quiet and not as_json, output=result_path)
+                 progress_bar=not quiet and not as_json, output=result_path,
+                 precision=precision)
     if not as_json:
         _report(res, console, title=f"stepcontact: {model.name}", table=not quiet)
     written = [str(result_path)]
@@ -329,6 +332,20 @@ EpsOption = Annotated[
 MaxEventsOption = Annotated[
     int, typer.Option("--max-events", min=1, help="Stop after this many events.")
 ]
+
+
+class Precision(StrEnum):
+    AUTO = "auto"
+    FLOAT64 = "float64"
+    FLOAT32 = "float32"
+
+
+PrecisionOption = Annotated[
+    Precision,
+    typer.Option("--precision", help="Precision of the dense contact matrices: 'auto' "
+                 "(float64 while they fit in half the memory, float32 beyond), 'float64', or "
+                 "'float32' (half the memory; every solve refined to float64 accuracy)."),
+]
 QuietOption = Annotated[
     bool, typer.Option("--quiet", "-q", help="No progress bar and no event table.")
 ]
@@ -360,6 +377,7 @@ def run(
     max_events: MaxEventsOption = 100000,
     quiet: QuietOption = False,
     as_json: JsonOption = False,
+    precision: PrecisionOption = Precision.AUTO,
 ) -> None:
     """Run the load program of a model file.
 
@@ -389,6 +407,7 @@ def run(
             quiet=quiet,
             as_json=as_json,
             console=console,
+            precision=precision.value,
         )
     except _Failure as e:
         raise _fail(str(e), as_json) from None

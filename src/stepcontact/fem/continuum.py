@@ -127,7 +127,9 @@ def stiffness(body, plane: str, thickness: float):
         eu, ev = sym_grad(u), sym_grad(v)
         return thickness * (2 * mu * ddot(eu, ev) + lam * trace(eu) * trace(ev))
 
-    return asm(form, basis_of(body)).tocsr()
+    basis = basis_of(body)
+    _mean_gradients(body, basis)  # kept for the stress operator: no second basis later
+    return asm(form, basis).tocsr()
 
 
 def body_force(body, g, thickness: float) -> np.ndarray:
@@ -196,35 +198,70 @@ def stress_operator(body, plane: str) -> sparse.csr_matrix:
     return per_body[key]
 
 
+#: element means of the basis-function gradients of live bodies: body -> (mesh, element, Ḡ,
+#: vector element DOFs, number of DOFs), see :func:`_mean_gradients`
+_MEAN_GRADIENTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _mean_gradients(body, basis: Basis | None = None) -> tuple[np.ndarray, np.ndarray, int]:
+    """Element means of the gradients of the body's scalar basis functions, once per body.
+
+    Returns ``Gs`` (Nbfun_scalar, 2, nel), 1/m: Gs[j, d, e] = Σ_q ∂φ_j/∂x_d(x_q) dx_q / Σ_q dx_q
+    over the quadrature points of element e; the element DOFs of the vector basis
+    (2·Nbfun_scalar, nel); and its number of DOFs.  Read from ``basis`` (the body's vector
+    basis of :func:`basis_of`, as assembly builds it for the stiffness) or from a new one,
+    then cached while the body lives: the stress operator needs no basis of its own.  Vector
+    basis function i is scalar function i // 2 in component i % 2 (scikit-fem's ElementVector),
+    so its component-(i % 2) gradient is the scalar one.
+    """
+    cached = _MEAN_GRADIENTS.get(body)
+    if cached is not None and cached[0] is body.mesh and cached[1] == body.element:
+        return cached[2:]
+    if basis is None:
+        basis = basis_of(body)
+    dx = basis.dx  # (nel, nqp)
+    w = dx / dx.sum(axis=1, keepdims=True)
+    Gs = np.stack([np.einsum("deq,eq->de", phi[0].grad[0], w) for phi in basis.basis[::2]])
+    out = (Gs, basis.element_dofs, int(basis.N))
+    _MEAN_GRADIENTS[body] = (body.mesh, body.element, *out)
+    return out
+
+
 def _build_stress_operator(body, plane: str) -> sparse.csr_matrix:
     """Assemble the stress operator from the gradients of the basis functions (vectorised).
 
     The element average of a quantity linear in the strain is the same linear map of the
     element-averaged strain, so per local basis function j the averaged displacement gradient
-    Ḡ_j = Σ_q ∇φ_j(x_q) dx_q / Σ_q dx_q (2, 2, nel) is taken through Hooke's law.
+    Ḡ_j = Σ_q ∇φ_j(x_q) dx_q / Σ_q dx_q (2, 2, nel) is taken through Hooke's law.  The means
+    come from :func:`_mean_gradients` (read off the basis assembly built); the CSR arrays are
+    written directly: row 4e + k (element e, stress k) holds the element's DOFs in ascending
+    order, without the entries that vanish.
     """
     if plane not in ("strain", "stress"):
         raise ValueError(f"plane={plane!r}: use 'strain' or 'stress'")
-    basis = basis_of(body)
+    Gs, element_dofs, ndofs = _mean_gradients(body)
     lam, mu = plane_lame(body.material.E, body.material.nu, plane)
-    dx = basis.dx  # (nel, nqp)
-    w = dx / dx.sum(axis=1, keepdims=True)
-    # (Nbfun, 2, 2, nel): element mean of ∂(φ_j)_c/∂x_d
-    G = np.stack([np.einsum("cdeq,eq->cde", phi[0].grad, w) for phi in basis.basis])
-    exx, eyy = G[:, 0, 0], G[:, 1, 1]
-    exy = 0.5 * (G[:, 0, 1] + G[:, 1, 0])
+    nb, nel = element_dofs.shape
+    # per element and vector basis function i: element mean of ∂(φ_i)_c/∂x_d (c, d, nel,
+    # Nbfun), non-zero only for the component c = i % 2
+    G = np.zeros((2, 2, nel, nb))
+    Gt = Gs.transpose(1, 2, 0)  # (2, nel, Nbfun / 2)
+    G[0, :, :, 0::2] = Gt
+    G[1, :, :, 1::2] = Gt
+    exx, eyy = G[0, 0], G[1, 1]
+    exy = 0.5 * (G[0, 1] + G[1, 0])
     tr = exx + eyy
-    sxx = 2 * mu * exx + lam * tr
-    syy = 2 * mu * eyy + lam * tr
-    sxy = 2 * mu * exy
-    szz = body.material.nu * (sxx + syy) if plane == "strain" else np.zeros_like(tr)
-    data = np.stack([sxx, syy, sxy, szz], axis=1)  # (Nbfun, 4, nel)
-    nel = dx.shape[0]
-    rows = np.broadcast_to(4 * np.arange(nel)[None, None, :] + np.arange(4)[None, :, None],
-                           data.shape)
-    cols = np.broadcast_to(basis.element_dofs[:, None, :], data.shape)
-    S = sparse.csr_matrix((data.ravel(), (rows.ravel(), cols.ravel())),
-                          shape=(4 * nel, basis.N))
+    data = np.empty((nel, 4, nb))
+    data[:, 0] = 2 * mu * exx + lam * tr  # σxx
+    data[:, 1] = 2 * mu * eyy + lam * tr  # σyy
+    data[:, 2] = 2 * mu * exy  # σxy
+    data[:, 3] = body.material.nu * (data[:, 0] + data[:, 1]) if plane == "strain" else 0.0
+    # CSR arrays directly: row 4e + k (element e, stress k) holds data[e, k] in the columns of
+    # the element's DOFs (distinct: no duplicates to sum)
+    idx = np.int32 if max(ndofs, data.size) <= np.iinfo(np.int32).max else np.int64
+    indices = np.broadcast_to(element_dofs.T[:, None, :], data.shape).astype(idx).ravel()
+    indptr = np.arange(0, data.size + 1, nb, dtype=idx)
+    S = sparse.csr_matrix((data.ravel(), indices, indptr), shape=(4 * nel, ndofs))
     S.eliminate_zeros()
     S.sort_indices()
     return S

@@ -51,38 +51,66 @@ def physical_memory() -> int | None:
         return None
 
 
-def dense_memory(n2m: int, c: int = 0) -> dict[str, int]:
+def dense_memory(n2m: int, c: int = 0, itemsize: int = 8) -> dict[str, int]:
     """Estimated bytes of the dense work of a run with 2m = ``n2m`` contact unknowns: G, and
-    the scheme solver's matrix, LU and update workspace (three more 2m × 2m arrays); and, for
-    forming G as a Schur complement on ``c`` contact DOFs, the trailing dense block of the
-    sparse factors with its extracted copies (three c × c arrays)."""
-    return {"G": 8 * n2m**2, "schemes": 3 * 8 * n2m**2, "schur": 3 * 8 * c**2}
+    the scheme solver's LU, the LU of a refactorisation in flight (the old base is kept until
+    the new scheme is known to be regular) and the update workspace (up to max(48, 2m/10)
+    columns and rows): 2.25 more 2m × 2m arrays; and, for forming G as a
+    Schur complement on ``c`` contact DOFs, the trailing dense block of the sparse factors
+    with its extracted copies (three c × c float64 arrays).  ``itemsize``: 8 for float64
+    dense matrices, 4 for float32 (``precision="float32"``)."""
+    return {"G": itemsize * n2m**2, "schemes": int(2.25 * itemsize * n2m**2),
+            "schur": 3 * 8 * c**2}
 
 
 def _gb(b: float) -> str:
     return f"{b / 2**30:.1f} GB"
 
 
-def check_dense_memory(n2m: int, limit: float | None = None) -> None:
-    """Raise a :class:`SolverError` with the estimate when the dense contact matrices of
-    2m = ``n2m`` unknowns would take more than ``limit`` bytes (default: DENSE_MEMORY_SHARE of
-    the physical memory): the size at which dense G stops being sensible on this machine."""
+#: precisions of the dense contact matrices, by name
+PRECISIONS = {"float64": np.dtype(np.float64), "float32": np.dtype(np.float32)}
+
+
+def _memory_limit(limit: float | None) -> float | None:
+    if limit is not None:
+        return limit
+    phys = physical_memory()
+    return None if phys is None else DENSE_MEMORY_SHARE * phys
+
+
+def dense_precision(n2m: int, precision: str = "auto", limit: float | None = None) -> np.dtype:
+    """The precision of the dense contact matrices for 2m = ``n2m`` unknowns: ``float64``,
+    ``float32`` (half the memory; every scheme solve refined to float64 accuracy against the
+    sparse factorisation), or ``auto``: float64 while it fits in ``limit`` bytes (default:
+    DENSE_MEMORY_SHARE of the physical memory), float32 beyond.  Raises a
+    :class:`SolverError` with the estimate when the chosen (or every) precision does not fit:
+    the size at which dense condensation stops being sensible on this machine."""
+    if precision not in ("auto", *PRECISIONS):
+        raise ModelError("precision", f"must be auto, float64 or float32, got '{precision}'")
+    limit = _memory_limit(limit)
+    names = ("float64", "float32") if precision == "auto" else (precision,)
     if limit is None:
-        phys = physical_memory()
-        if phys is None:
-            return
-        limit = DENSE_MEMORY_SHARE * phys
-    est = dense_memory(n2m)
+        return PRECISIONS[names[0]]
+    for name in names:
+        est = dense_memory(n2m, itemsize=PRECISIONS[name].itemsize)
+        if est["G"] + est["schemes"] <= limit:
+            return PRECISIONS[name]
+    m = n2m // 2
     need = est["G"] + est["schemes"]
-    if need > limit:
-        m = n2m // 2
-        raise SolverError(
-            f"the contact problem is too large for dense condensation on this machine: "
-            f"{m} CFEs (2m = {n2m} contact unknowns) need about {_gb(need)} for G "
-            f"({_gb(est['G'])}) and the scheme matrix with its LU ({_gb(est['schemes'])}), "
-            f"more than the {_gb(limit)} allowed ({DENSE_MEMORY_SHARE:.0%} of physical "
-            f"memory); coarsen the contact mesh, split the interface, or run on a machine "
-            f"with at least {_gb(need / DENSE_MEMORY_SHARE)}")
+    raise SolverError(
+        f"the contact problem is too large for dense condensation on this machine: "
+        f"{m} CFEs (2m = {n2m} contact unknowns) need about {_gb(need)} in {names[-1]} for G "
+        f"({_gb(est['G'])}) and the scheme LU with its workspace ({_gb(est['schemes'])}), "
+        f"more than the {_gb(limit)} allowed ({DENSE_MEMORY_SHARE:.0%} of physical "
+        f"memory); coarsen the contact mesh, split the interface, or run on a machine "
+        f"with at least {_gb(need / DENSE_MEMORY_SHARE)}")
+
+
+def check_dense_memory(n2m: int, limit: float | None = None, precision: str = "auto") -> None:
+    """Raise a :class:`SolverError` with the estimate when the dense contact matrices of
+    2m = ``n2m`` unknowns would take more than ``limit`` bytes in ``precision`` (see
+    :func:`dense_precision`)."""
+    dense_precision(n2m, precision, limit)
 
 
 def _fingerprint(*mats: sp.spmatrix) -> str:
@@ -101,10 +129,18 @@ class Condensation:
     """A sparse SPD operator A (n × n) condensed onto 2m contact unknowns through B (2m × n).
 
     Holds the one factorisation of A and the dense condensed matrix G = B A⁻¹ Bᵀ (2m × 2m),
-    computed by blocked multi-right-hand-side solves.  Nothing of the contact law, the gaps,
-    the loads or the load program enters it: build it once and pass it to every run that
-    shares the matrix (``solve_static(model, condensation=c)``); ``fingerprint`` identifies
-    (A, B) so that a condensation is never applied to another model.
+    read off the factors or computed by blocked multi-right-hand-side solves, in float64 or,
+    for large interfaces, float32 (``precision``).  In float32 the array ``G`` holds the
+    shifted matrix D G − I (``d``: the row weights D of the static condensation): the free
+    rows of a scheme, e_j − d_j G_j, nearly cancel where d_j G_jj ≈ 1 (a stiff structure), and
+    rounding G itself to float32 would leave them no correct digit; D G − I carries them, and
+    the stuck rows −G_j = −(M_j + e_j)/d_j, to float32 precision.  :meth:`product` gives G t
+    exactly, by one sparse solve, for the refinement of the float32 schemes.
+
+    Nothing of the contact law, the gaps, the loads or the load program enters it: build it
+    once and pass it to every run that shares the matrix
+    (``solve_static(model, condensation=c)``); ``fingerprint`` identifies (A, B) so that a
+    condensation is never applied to another model.
 
     Example
     -------
@@ -119,21 +155,29 @@ class Condensation:
     G: np.ndarray
     fingerprint: str
     counters: dict[str, float] = field(default_factory=dict)
+    #: row weights D of the shifted float32 form (None for float64 G)
+    d: np.ndarray | None = None
 
     @classmethod
     def build(cls, A: sp.spmatrix, B: sp.spmatrix, backend: str = "auto", block: int = 256,
-              factor: Factor | None = None, memory_limit: float | None = None) -> Condensation:
+              factor: Factor | None = None, memory_limit: float | None = None,
+              precision: str = "auto", d: np.ndarray | None = None) -> Condensation:
         """Factorise A (unless ``factor`` is given) with the DOFs that B touches ordered last,
         and read G off the trailing block of the factors (``Factor.condensed``, see
         :mod:`stepcontact.solver.linalg`) — or, for a backend without it or when that route
         costs more or would not fit (:func:`schur_pays`), form G with blocks of ``block``
         right-hand sides.
-        Too many contact unknowns for dense G (:func:`check_dense_memory`, ``memory_limit``
-        in bytes) is a :class:`SolverError` raised before any work."""
+        ``precision`` (:func:`dense_precision`): ``auto`` keeps G in float64 while the dense
+        work fits in ``memory_limit`` bytes (default: half the physical memory), float32
+        beyond; too many contact unknowns for either is a :class:`SolverError` raised before
+        any work.  Float32 holds D G − I (``d``: D's diagonal, default ones)."""
         t0 = time.perf_counter()
         A = sp.csc_matrix(A)
         B = sp.csr_matrix(B)
-        check_dense_memory(B.shape[0], memory_limit)
+        dtype = dense_precision(B.shape[0], precision, memory_limit)
+        shifted = dtype != np.float64
+        if shifted:
+            d = np.ones(B.shape[0]) if d is None else np.asarray(d, dtype=float)
         if factor is None:
             last = contact_dofs(B)
             factor = factorize(A, backend, last=last if schur_pays(A.shape[0], len(last),
@@ -143,24 +187,46 @@ class Condensation:
         can = getattr(factor, "can_condense", lambda B: True)
         if hasattr(factor, "condensed") and can(B):  # Schur complement: no solve per row of B
             G = np.asarray(factor.condensed(B), dtype=float)
+            if shifted:
+                _symmetrise(G)
+                G *= d[:, None]
+                G[np.diag_indices(n2m)] -= 1.0
+                G = G.astype(dtype)
             solves = 0
         else:
-            G = np.zeros((n2m, n2m))
+            G = np.zeros((n2m, n2m), dtype)
             BT = B.T.tocsc()
             for s in range(0, n2m, block):
                 X = factor.solve(BT[:, s : s + block].toarray())
-                G[:, s : s + block] = B @ X.reshape(A.shape[0], -1)
+                Gs = B @ X.reshape(A.shape[0], -1)
+                if shifted:  # D G − I, column block by column block
+                    Gs *= d[:, None]
+                    Gs[np.arange(s, s + Gs.shape[1]), np.arange(Gs.shape[1])] -= 1.0
+                G[:, s : s + block] = Gs
             solves = n2m
-        G = 0.5 * (G + G.T)
+        if not shifted:
+            _symmetrise(G)
         counters = {"factorizations": 1, "solves": solves, "condensed_columns": solves,
                     "factor_seconds": t1 - t0, "condense_seconds": time.perf_counter() - t1}
-        return cls(A, B, factor, G, _fingerprint(A, B), counters)
+        return cls(A, B, factor, G, _fingerprint(A, B), counters, d if shifted else None)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """A⁻¹ b for a vector or a block of right-hand sides."""
         self.counters["solves"] = self.counters.get("solves", 0) + (
             1 if np.ndim(b) == 1 else np.shape(b)[1])
         return self.factor.solve(b)
+
+    def product(self, t: np.ndarray) -> np.ndarray:
+        """G t = B A⁻¹ Bᵀ t in float64 by one sparse solve (a vector or a block): the exact
+        operator that float32 schemes are refined against."""
+        x = np.asarray(self.solve(np.asarray(self.B.T @ t))).reshape(self.A.shape[0], -1)
+        out = self.B @ x
+        return out.ravel() if np.ndim(t) == 1 else out
+
+    @property
+    def precision(self) -> str:
+        """``float64`` or ``float32``: the precision G is held in (float32: as D G − I)."""
+        return str(self.G.dtype)
 
     @property
     def m(self) -> int:
@@ -169,6 +235,16 @@ class Condensation:
     def __getstate__(self):
         raise TypeError("a Condensation holds a sparse factorisation and is not picklable; "
                         "build it where it is used (workers: sc.condense(model))")
+
+
+def _symmetrise(G: np.ndarray, block: int = 1024) -> None:
+    """G ← (G + Gᵀ)/2 in place, by blocks (no 2m × 2m temporaries)."""
+    n = G.shape[0]
+    for i in range(0, n, block):
+        for j in range(i, n, block):
+            S = 0.5 * (G[i : i + block, j : j + block] + G[j : j + block, i : i + block].T)
+            G[i : i + block, j : j + block] = S
+            G[j : j + block, i : i + block] = S.T
 
 
 def schur_fits(c: int, limit: float | None = None) -> bool:
@@ -220,29 +296,37 @@ def static_operator(system: System):
     return K0, Bf, d, free, presc, Kff, Kfp, Bp, K
 
 
-def condense(model, backend: str = "auto") -> Condensation:
+def condense(model, backend: str = "auto", precision: str = "auto") -> Condensation:
     """The reusable condensation of a model (or assembled system) for the static solver:
-    K₀ factorised once and G = B_f K₀⁻¹ B_fᵀ.  Pass it to :func:`solve_static` for every run
-    that differs only in friction, gaps, loads or load program."""
+    K₀ factorised once and G = B_f K₀⁻¹ B_fᵀ (in ``precision``: :func:`dense_precision`).
+    Pass it to :func:`solve_static` for every run that differs only in friction, gaps, loads
+    or load program."""
     from stepcontact.fem.assembly import assemble
 
     system = model if isinstance(model, System) else assemble(model)
-    K0, Bf, *_ = static_operator(system)
+    K0, Bf, d, *_ = static_operator(system)
+    return _condense_operator(system, K0, Bf, d, backend, precision)
+
+
+def _condense_operator(system: System, K0, Bf, d, backend: str,
+                       precision: str) -> Condensation:
+    """:func:`condense` from the pieces of :func:`static_operator` already at hand."""
     free = np.flatnonzero(~system.fixed)
     t0 = time.perf_counter()
-    factor = factorize_checked(system, K0, free, backend)
+    factor = factorize_checked(system, K0, free, backend, precision)
     t_factor = time.perf_counter() - t0
-    c = Condensation.build(K0, Bf, backend, factor=factor)
+    c = Condensation.build(K0, Bf, backend, factor=factor, precision=precision, d=d)
     c.counters["factor_seconds"] = t_factor
     return c
 
 
-def factorize_checked(system: System, K0, free, backend: str) -> Factor:
+def factorize_checked(system: System, K0, free, backend: str,
+                      precision: str = "auto") -> Factor:
     """Factorise K₀ and make sure the structure with every CFE stuck is not a mechanism (one
     diagnosis naming the free bodies, whether the factorisation met a zero pivot or not)."""
     from stepcontact.solver.regularity import factorize_regular
 
-    check_dense_memory(2 * system.m)
+    check_dense_memory(2 * system.m, precision=precision)
     last = contact_dofs(system.B[:, free])
     return factorize_regular(system, K0, free, backend,
                              last=last if schur_pays(len(free), len(last), 2 * system.m)
@@ -271,7 +355,6 @@ class Condensed:
     factor: object
     Bf: sp.csr_matrix
     Bp: sp.csr_matrix
-    Kff: sp.csr_matrix
     Kfp: sp.csr_matrix
     d: np.ndarray
     G: np.ndarray
@@ -287,12 +370,14 @@ class Condensed:
 
     @classmethod
     def from_system(cls, system: System, backend: str = "auto",
-                    condensation: Condensation | None = None) -> Condensed:
-        """Condense ``system`` (one factorisation, 2m block solves), or reuse
-        ``condensation`` when it was built for the same K₀ and B (checked)."""
+                    condensation: Condensation | None = None,
+                    precision: str = "auto") -> Condensed:
+        """Condense ``system`` (one factorisation; G read off it or by 2m block solves), or
+        reuse ``condensation`` when it was built for the same K₀ and B (checked)."""
         K0, Bf, d, free, presc, Kff, Kfp, Bp, K = static_operator(system)
+        del Kff  # K_ff u = K₀ u − B_fᵀ D B_f u: K₀ (held by the condensation) serves
         if condensation is None:
-            condensation = condense(system, backend)
+            condensation = _condense_operator(system, K0, Bf, d, backend, precision)
             reused = 0
         else:
             if condensation.fingerprint != _fingerprint(K0, Bf):
@@ -328,7 +413,7 @@ class Condensed:
                     "solves": nsolve + (0 if reused else c.get("condensed_columns", 0)),
                     "condensed_columns": 0 if reused else c.get("condensed_columns", 0),
                     "condensation_reused": reused}
-        return cls(system, free, presc, factor, Bf, Bp, Kff, Kfp, d, condensation.G, hhat, e, y,
+        return cls(system, free, presc, factor, Bf, Bp, Kfp, d, condensation.G, hhat, e, y,
                    counters, r_load, R_s, R_t, condensation)
 
     def reactions(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -353,6 +438,16 @@ class Condensed:
     @property
     def m(self) -> int:
         return self.G.shape[0] // 2
+
+    def Kff_times(self, uf: np.ndarray) -> np.ndarray:
+        """K_ff u_f = K₀ u_f − B_fᵀ D B_f u_f (K_ff itself is not kept: K₀ is)."""
+        return self.condensation.A @ uf - self.Bf.T @ (self.d * (self.Bf @ uf))
+
+    def product(self, t: np.ndarray) -> np.ndarray:
+        """G t in float64: the dense product, or (float32 G) by one sparse solve."""
+        if self.G.dtype == np.float64:
+            return self.G @ t
+        return self.condensation.product(t)
 
     # ---- fields ----------------------------------------------------------------------------
     def displacement(self, factors, s: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -415,7 +510,7 @@ class Condensed:
         for name, c in factors.items():
             f += c * sysm.loads[name].f
         uf, up = u[self.free], u[self.presc]
-        Ku = self.Kff @ uf + self.Kfp @ up
+        Ku = self.Kff_times(uf) + self.Kfp @ up
         Bs = self.Bf.T @ s
         r = Ku + Bs - f[self.free]
         scale = max(np.abs(Ku).max(initial=0), np.abs(Bs).max(initial=0),
@@ -441,7 +536,7 @@ class Condensed:
                 e += c * self.e[name]
                 h += c * self.hhat[name]
         w_hat = w - self.system.w0 - e
-        r = w_hat + self.G @ (s - self.d * w_hat) - h
+        r = w_hat + self.product(s - self.d * w_hat) - h
         scale = max(np.abs(w_hat).max(initial=0), np.abs(h).max(initial=0), w_scale, 1e-300)
         return float(np.abs(r).max(initial=0) / scale)
 

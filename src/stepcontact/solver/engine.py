@@ -33,6 +33,8 @@ from stepcontact.solver.schemes import (
     MechanismError,
     SchemeSolver,
     lu,
+    norm2,
+    null_modes,
     scheme_rhs,
 )
 
@@ -56,56 +58,6 @@ class Decision:
     @property
     def switched(self) -> bool:
         return bool(np.any(self.old != self.new))
-
-
-def norm2(A: np.ndarray, iters: int = 30, rtol: float = 1e-3) -> float:
-    """‖A‖₂ estimated by power iteration on AᵀA from a fixed start, until it changes by less
-    than ``rtol``: a lower bound (‖A x‖ for a unit x), within a few per cent of ‖A‖₂, for
-    O(n²) per step where an SVD of a scheme matrix costs 100× more."""
-    n = A.shape[1]
-    if n == 0 or A.shape[0] == 0:
-        return 0.0
-    x = 1.0 + 0.5 * np.random.default_rng(1).standard_normal(n)
-    x /= np.linalg.norm(x)
-    est = 0.0
-    for _ in range(iters):
-        y = A @ x
-        new = float(np.linalg.norm(y))
-        if new <= est * (1 + rtol):
-            return max(est, new)
-        est = new
-        x = A.T @ y
-        nx = float(np.linalg.norm(x))
-        if not nx > 0:
-            break
-        x /= nx
-    return est
-
-
-def null_modes(A: np.ndarray, lu_, k: int = 3, trans: int = 0) -> np.ndarray:
-    """Null vectors (columns) of a singular matrix A (``trans=1``: of Aᵀ, the left null
-    vectors) by block inverse iteration on its LU, then the combinations of the block that A
-    maps to (near) zero (σ ≤ 1e-6 ‖A‖)."""
-    lu_m, piv = lu_
-    d = np.abs(np.diag(lu_m))
-    tiny = 1e-14 * max(float(d.max(initial=0.0)), 1e-300)
-    if np.any(d < tiny):  # exactly singular: lift the zero pivots to round-off level
-        lu_m = lu_m.copy()
-        j = np.flatnonzero(d < tiny)
-        lu_m[j, j] = tiny
-        lu_ = (lu_m, piv)
-    import scipy.linalg as sla
-
-    n = A.shape[0]
-    X = np.random.default_rng(0).standard_normal((n, min(k, n)))
-    for _ in range(3):
-        X = np.linalg.qr(sla.lu_solve(lu_, X, trans=trans, check_finite=False))[0]
-    AX = (A.T if trans else A) @ X
-    _, sv, Vt = np.linalg.svd(AX, full_matrices=False)
-    keep = sv <= 1e-6 * max(norm2(A), 1e-300)
-    if not keep.any():
-        keep[np.argmin(sv)] = True
-    return X @ Vt[keep].T
 
 
 class EventEngine:
@@ -208,8 +160,9 @@ class EventEngine:
         A, scale = self.schemes.dense(rel)
         h, e = forcing
         b = scale * scheme_rhs(self.schemes.d, rel, h, e, np.zeros(2 * self.m))
-        t = sla.lstsq(A, b, cond=1e-10, check_finite=False)[0]
-        w_hat = h - self.schemes.G @ t
+        cond = max(1e-10, 100 * np.finfo(A.dtype).eps)
+        t = sla.lstsq(A, b.astype(A.dtype), cond=cond, check_finite=False)[0].astype(float)
+        w_hat = h - self.schemes.product(t)
         return t + self.schemes.d * w_hat, w_hat + e
 
     def drives(self, states, forcing) -> bool:
@@ -219,7 +172,7 @@ class EventEngine:
         rel = self.relations(states, article=False)
         A, scale = self.schemes.dense(rel)
         f = lu(A)
-        Y = null_modes(A, f, trans=1)
+        Y = null_modes(A, f, trans=1, apply=self.schemes.exact_apply(rel, scale, trans=1))
         h, e = forcing
         b = scale * scheme_rhs(self.schemes.d, rel, h, e, np.zeros(2 * self.m))
         bn = np.linalg.norm(b)

@@ -99,26 +99,50 @@ class _Cholmod:
 
 
 class _Pardiso:
-    """MKL PARDISO through the library pypardiso loads (``pip install "stepcontact[fast]"``):
+    """MKL PARDISO from the MKL runtime pypardiso uses (``pip install "stepcontact[fast]"``;
+    located and loaded once per process by :func:`_mkl_pardiso`):
     K is SPD (matrix type 2, upper triangle), factorised with PARDISO's nested dissection.
-    With DOFs ``last``, a second factorisation forms the Schur complement S on them (PARDISO's
-    iparm[35]) and G = B_c S⁻¹ B_cᵀ follows from a dense Cholesky factor of S; that handle is
-    released at once."""
+    With DOFs ``last``, a first factorisation forms the Schur complement S on them (PARDISO's
+    iparm[35]) and is released at once, keeping S's dense Cholesky factor for
+    G = B_c S⁻¹ B_cᵀ (:meth:`condensed`); then K is factorised for solves.  In that order the
+    two factorisations never hold memory together: the peak is the larger of the two, not
+    their sum."""
 
     name = "pypardiso"
 
     def __init__(self, K: sp.spmatrix, last: np.ndarray | None = None):
-        import pypardiso
-
-        self._lib = pypardiso.PyPardisoSolver()._mkl_pardiso  # mkl_rt located by pypardiso
+        self._lib = _mkl_pardiso()  # mkl_rt located once per process (see _mkl_rt)
+        if self._lib is None:
+            raise ImportError("the pypardiso backend needs pypardiso and the MKL runtime mkl_rt "
+                              '(pip install "stepcontact[fast]"); none found')
         self.n = K.shape[0]
         self.U = sp.triu(K, format="csr")
         self.U.sort_indices()
         self._ia = self.U.indptr.astype(np.int32) + 1
         self._ja = self.U.indices.astype(np.int32) + 1
         self.last = None if last is None else np.unique(last)
+        self._schur = None if self.last is None or not len(self.last) else self._schur_factor()
         self.pt, self.iparm = self._handle()
         self._call(self.pt, self.iparm, 12, np.zeros(0, np.int32), np.zeros(1), np.zeros(1), 1)
+
+    def _schur_factor(self):
+        """Cholesky factor of the Schur complement S of K on the DOFs ``last``, from a
+        factorisation of its own that is released before this returns."""
+        c = len(self.last)
+        pt, iparm = self._handle()
+        iparm[35] = 1  # Schur complement on the rows marked in perm, returned dense in x
+        perm = np.zeros(self.n, np.int32)
+        perm[self.last] = 1
+        S = np.zeros((c, c))
+        try:
+            self._call(pt, iparm, 12, perm, np.zeros(self.n), S, 0)
+        finally:
+            self._call(pt, iparm, -1, perm, np.zeros(1), np.zeros(1), 1)  # release it
+        try:
+            return sla.cho_factor(S, lower=True, overwrite_a=True, check_finite=False)
+        except np.linalg.LinAlgError as exc:  # reported like a singular factorisation
+            raise RuntimeError("PARDISO error -4 (matrix not positive definite: singular): "
+                               "its Schur complement on the contact DOFs is not") from exc
 
     @staticmethod
     def _handle() -> tuple[np.ndarray, np.ndarray]:
@@ -162,18 +186,11 @@ class _Pardiso:
         return sp.csc_matrix(B)[:, np.flatnonzero(outside)].nnz == 0
 
     def condensed(self, B: sp.spmatrix) -> np.ndarray:
-        c = len(self.last)
-        pt, iparm = self._handle()
-        iparm[35] = 1  # Schur complement on the rows marked in perm, returned dense in x
-        perm = np.zeros(self.n, np.int32)
-        perm[self.last] = 1
-        S = np.zeros((c, c))
-        try:
-            self._call(pt, iparm, 12, perm, np.zeros(self.n), S, 0)
-        finally:
-            self._call(pt, iparm, -1, perm, np.zeros(1), np.zeros(1), 1)  # release it
+        """G = B_c S⁻¹ B_cᵀ from the Schur factor formed with the factorisation (which is
+        then dropped: G is formed once)."""
+        cf = self._schur if self._schur is not None else self._schur_factor()
+        self._schur = None
         Bc = sp.csr_matrix(B)[:, self.last].toarray()
-        cf = sla.cho_factor(S, lower=True, check_finite=False)
         return Bc @ sla.cho_solve(cf, Bc.T, check_finite=False)
 
     def __del__(self) -> None:
@@ -184,15 +201,90 @@ class _Pardiso:
             pass
 
 
-@functools.cache
-def _pardiso_available() -> bool:
-    try:
-        import pypardiso
+def _mkl_rt_candidates() -> list[str]:
+    """Quick places of the MKL runtime, in pypardiso's order: the ``PYPARDISO_MKL_RT``
+    variable (then the only one), the system's library search (``mkl_rt``, ``mkl_rt.1``),
+    then the files the ``mkl`` wheel installed (shorter paths first).  Only if none of them
+    loads does :func:`_mkl_pardiso` make pypardiso's slow directory walk
+    (:func:`_mkl_rt_search`)."""
+    import os
+    from ctypes.util import find_library
 
-        pypardiso.PyPardisoSolver()  # finds the MKL runtime, or raises ImportError
-        return True
-    except (ImportError, OSError, AttributeError):
-        return False
+    env = os.environ.get("PYPARDISO_MKL_RT")
+    if env is not None:
+        return [env]  # as pypardiso: a given path is the only one tried
+    out = [p for p in (find_library("mkl_rt"), find_library("mkl_rt.1")) if p is not None]
+    try:
+        from importlib.metadata import PackageNotFoundError, files
+
+        try:
+            found = files("mkl") or []
+        except PackageNotFoundError:
+            found = []
+        out += sorted((os.path.normpath(f.locate()) for f in found if "mkl_rt" in f.name),
+                      key=len)
+    except Exception:  # noqa: BLE001 - broken metadata: fall through to the directory search
+        pass
+    return out
+
+
+def _mkl_rt_search() -> list[str]:
+    """pypardiso's fallback: ``*mkl_rt*`` below ``sys.prefix/[Ll]ib*`` (else the user base)."""
+    import glob
+    import site
+    import sys
+
+    hits = (glob.glob(f"{sys.prefix}/[Ll]ib*/**/*mkl_rt*", recursive=True)
+            or glob.glob(f"{site.USER_BASE}/[Ll]ib*/**/*mkl_rt*", recursive=True))
+    return sorted(hits, key=len)
+
+
+@functools.cache
+def _mkl_pardiso():
+    """MKL's ``pardiso`` entry point (a ctypes function with pypardiso's argument types),
+    or None when pypardiso is not installed or no MKL runtime loads.  Looked up once per
+    process: the library is found and loaded with ctypes here, without constructing a
+    ``pypardiso.PyPardisoSolver`` (whose constructor walks the directory tree every time)."""
+    import ctypes
+    import importlib.util
+    import os
+
+    try:
+        if importlib.util.find_spec("pypardiso") is None:
+            return None
+    except (ImportError, ValueError):
+        return None
+    searches = [_mkl_rt_candidates]
+    if os.environ.get("PYPARDISO_MKL_RT") is None:
+        searches.append(_mkl_rt_search)
+    lib = None
+    for search in searches:
+        for path in search():
+            try:
+                lib = ctypes.CDLL(path)
+                break
+            except OSError:
+                pass
+        if lib is not None:
+            break
+    if lib is None:
+        return None
+    try:
+        fn = lib.pardiso
+    except AttributeError:
+        return None
+    i32, vp = ctypes.POINTER(ctypes.c_int32), ctypes.c_void_p
+    fn.argtypes = [ctypes.POINTER(ctypes.c_int64),  # pt
+                   i32, i32, i32, i32, i32,  # maxfct, mnum, mtype, phase, n
+                   vp, i32, i32, i32,  # a, ia, ja, perm
+                   i32, i32, i32,  # nrhs, iparm, msglvl
+                   vp, vp, i32]  # b, x, error
+    fn.restype = None
+    return fn
+
+
+def _pardiso_available() -> bool:
+    return _mkl_pardiso() is not None
 
 
 def available_backends() -> list[str]:

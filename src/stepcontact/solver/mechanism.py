@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from stepcontact.solver.engine import EventEngine, null_modes
-from stepcontact.solver.schemes import lu
+from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.schemes import lu, null_modes
 
 #: a rigid-body fit whose rotation moves the body's extent by less than this fraction of its
 #: translation is a translation (sliding, lift-off); null modes carry round-off of ~1e-8
@@ -58,9 +58,10 @@ def describe_mechanism(engine: EventEngine, cond, system, states: np.ndarray,
     the load on the modes: a slab freed of all contact can translate and rotate; the load lifts
     it)."""
     rel = engine.relations(states, article=False)
-    A, _ = engine.schemes.dense(rel)
+    A, scale = engine.schemes.dense(rel)
     model = system.model
-    T = null_modes(A, lu(A), k=min(3 * max(len(model.bodies), 1), A.shape[0]))
+    T = null_modes(A, lu(A), k=min(3 * max(len(model.bodies), 1), A.shape[0]),
+                   apply=engine.schemes.exact_apply(rel, scale))
     U = np.column_stack([cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
     work = f @ U
     u = U @ np.linalg.lstsq(U.T @ U, work, rcond=None)[0] if np.any(work != 0) else U[:, 0]

@@ -44,6 +44,18 @@ the backend factorised a nearly singular matrix (a non-finite solve counts as si
 Rayleigh quotient is an upper bound of ρ: an unconverged iteration can only err towards
 "regular", and a mechanism (ρ ≈ 0 against a next eigenvalue ≳ 1e-8) converges in one step.
 
+When K₀ is clearly regular the check stops after two of the four steps (two solves fewer).
+After j steps the smallest Ritz value obeys ρ_j ≤ c_j·λ_min·f₀^(−1/(2j)) for any spectrum
+(c₂ = 4/3·3^(1/4) ≈ 1.76), f₀ being the largest share, in the D-norm, that a vector of the
+random start block has in the softest mode (split the spectrum at σ: the modes above σ add at
+most σ^(1−2j) to the numerator moment, those below at most σ times the denominator one, and
+choose σ).  A K₀ with λ_min < RHO_SINGULAR can therefore show ρ₂ ≥ ``RHO_REGULAR`` = 10⁶·
+RHO_SINGULAR only if f₀ < (1.76·10⁻⁶)⁴ ≈ 1e-23, whereas a random start gives f₀ of the order
+of (diagonal stiffness of the mode's DOFs) / (trace of diag(K₀)): still ~1e-15 for 10⁸ DOFs
+and a mode 10⁷ times softer than the average DOF, where f₀ < 1e-23 has a chance of ~1e-8.
+So the early stop reaches the decision of the full iteration.  Below RHO_REGULAR (weak
+springs, very soft structures) all four steps are made as before.
+
 The diagnosis
 -------------
 The null modes are computed from the regularised matrix K₀ + δ·diag(K₀) (δ = 1e-10), which
@@ -68,6 +80,10 @@ from stepcontact.solver.linalg import Factor, factorize
 #: K₀ is singular when its smallest Jacobi-scaled Rayleigh quotient is below this (see the
 #: module docstring: round-off of a mechanism ≲ eps, real stiffness shares ≫ 100·eps)
 RHO_SINGULAR = 100 * np.finfo(float).eps
+
+#: after two inverse-iteration steps an estimate of ρ above this is final: K₀ is regular (a
+#: ρ below RHO_SINGULAR cannot show such a value there, see the module docstring)
+RHO_REGULAR = 1e6 * RHO_SINGULAR
 
 #: relative diagonal shift δ of K₀ + δ·diag(K₀) used to find the null modes of a singular K₀
 REGULARISATION = 1e-10
@@ -101,7 +117,7 @@ def factorize_regular(system: System, K0: sp.spmatrix, free: np.ndarray,
         if backend not in _KNOWN_BACKENDS:  # "unknown backend" is not a singular matrix
             raise
         raise mechanism_error(system, K0, free, backend) from None
-    if K0.shape[0] and relative_stiffness(K0, factor) < RHO_SINGULAR:
+    if K0.shape[0] and relative_stiffness(K0, factor, regular_above=RHO_REGULAR) < RHO_SINGULAR:
         raise mechanism_error(system, K0, free, backend)
     return factor
 
@@ -125,19 +141,28 @@ def _weights(K0: sp.spmatrix) -> np.ndarray:
     return np.where(pos, d, fallback)
 
 
-def _ritz(K0: sp.spmatrix, solve, d: np.ndarray, p: int, iterations: int = 4):
+def _ritz(K0: sp.spmatrix, solve, d: np.ndarray, p: int, iterations: int = 4,
+          stop_above: float = np.inf):
     """Block inverse iteration X ← solve(D X) on the pencil (K₀, D), then Rayleigh–Ritz with
     K₀: Ritz values ρ (ascending) and D-orthonormal Ritz vectors (columns).  None if the
-    solves stop being finite."""
+    solves stop being finite.  With ``stop_above`` finite, the Ritz values are also formed
+    after the second and later steps, and the iteration stops there once the smallest one is
+    at least ``stop_above`` (see :data:`RHO_REGULAR`)."""
     n = K0.shape[0]
     s = np.sqrt(d)
     X = np.random.default_rng(0).standard_normal((n, p))
     with np.errstate(all="ignore"):
-        for _ in range(iterations):
+        for step in range(1, iterations + 1):
             X = np.asarray(solve(d[:, None] * X)).reshape(n, p)
             if not np.all(np.isfinite(X)):
                 return None
             X = np.linalg.qr(s[:, None] * X)[0] / s[:, None]  # XᵀDX = I
+            if 2 <= step < iterations and np.isfinite(stop_above):
+                H = X.T @ (K0 @ X)
+                if np.all(np.isfinite(H)):
+                    rho, V = np.linalg.eigh(0.5 * (H + H.T))
+                    if rho[0] >= stop_above:
+                        return rho, X @ V
         H = X.T @ (K0 @ X)
     if not np.all(np.isfinite(H)):
         return None
@@ -145,17 +170,20 @@ def _ritz(K0: sp.spmatrix, solve, d: np.ndarray, p: int, iterations: int = 4):
     return rho, X @ V
 
 
-def relative_stiffness(K0: sp.spmatrix, factor: Factor, p: int = 2) -> float:
-    """ρ = min xᵀK₀x / xᵀdiag(K₀)x estimated with the factor of K₀ (an upper bound that is
-    sharp after the few inverse-iteration steps done here); 0 when K₀ has a DOF of no
-    stiffness or the solves overflow.  K₀ is singular when ρ < :data:`RHO_SINGULAR`."""
+def relative_stiffness(K0: sp.spmatrix, factor: Factor, p: int = 2,
+                       regular_above: float = np.inf) -> float:
+    """ρ = min xᵀK₀x / xᵀdiag(K₀)x (dimensionless) estimated with the factor of K₀ (an upper
+    bound that is sharp after the four inverse-iteration steps done here); 0 when K₀ has a
+    DOF of no stiffness or the solves overflow.  K₀ is singular when ρ < :data:`RHO_SINGULAR`.
+    ``regular_above`` (e.g. :data:`RHO_REGULAR`): stop after two steps when the estimate is
+    already at least this — then a less sharp upper bound, only good for the decision."""
     K0 = sp.csr_matrix(K0)
     n = K0.shape[0]
     if n == 0:
         return np.inf
     if np.any(K0.diagonal() <= 0):
         return 0.0
-    out = _ritz(K0, factor.solve, _weights(K0), min(p, n))
+    out = _ritz(K0, factor.solve, _weights(K0), min(p, n), stop_above=regular_above)
     return 0.0 if out is None else max(float(out[0][0]), 0.0)
 
 
@@ -299,5 +327,5 @@ def mechanism_error(system: System, K0: sp.spmatrix, free: np.ndarray,
     )
 
 
-__all__ = ["RHO_SINGULAR", "describe_free_bodies", "factorize_regular", "mechanism_error",
-           "null_modes", "relative_stiffness"]
+__all__ = ["RHO_REGULAR", "RHO_SINGULAR", "describe_free_bodies", "factorize_regular",
+           "mechanism_error", "null_modes", "relative_stiffness"]

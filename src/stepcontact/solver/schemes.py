@@ -47,16 +47,40 @@ RCOND_MECHANISM = 1e-10
 #: that the capacitance solve adds to the base solve's by a factor cond(C) < 1e6.
 RCOND_UPDATE = 1e-6
 
-_getrs = sla.lapack.dgetrs
-_gecon = sla.lapack.dgecon
+#: the same two thresholds for a scheme matrix held in float32 (``precision="float32"``): its
+#: entries carry a relative round-off of 6e-8, so a mechanism shows rcond of about 1e-7..1e-6
+#: and the float64 margins scale with the unit round-off (documented limit of that path: a
+#: scheme condition number above about 1e5 counts as a mechanism)
+RCOND_MECHANISM_F32 = 1e-5
+RCOND_UPDATE_F32 = 1e-4
+
+#: iterative refinement of the float32 schemes against the exact float64 operator: at most
+#: this many corrections; converged when the scaled residual is below REFINE_TOL of the
+#: right-hand side's (or the solution's) size; a residual still above REFINE_ACCEPT when the
+#: corrections stop shrinking is an error (the scheme is too ill-conditioned for float32)
+REFINE_MAX = 12
+REFINE_TOL = 4e-15
+REFINE_ACCEPT = 1e-9
+
+_LAPACK: dict[tuple[str, str], object] = {}
+
+
+def _lapack(name: str, a: np.ndarray):
+    """LAPACK routine ``name`` (getrs, gecon) for the dtype of ``a`` (float64 or float32)."""
+    key = (name, a.dtype.char)
+    fn = _LAPACK.get(key)
+    if fn is None:
+        fn = _LAPACK[key] = sla.lapack.get_lapack_funcs(name, (a,))
+    return fn
 
 # the solver that factorised the last singular scheme: ``lu`` of that scheme's (read-only) matrix
 # returns its LU instead of factorising it again (the mechanism's analysis asks for it)
 _last_singular = weakref.ref(OrderedDict())  # a dead reference until a scheme is singular
 
 
-def lu(A: np.ndarray):
-    """Dense LU; a singular matrix is a mechanism the caller detects from rcond, not a warning.
+def lu(A: np.ndarray, overwrite: bool = False):
+    """Dense LU (in A's precision; in place with ``overwrite`` and a Fortran-ordered A); a
+    singular matrix is a mechanism the caller detects from rcond, not a warning.
     The LU of the last singular scheme matrix (a read-only array from
     :meth:`SchemeSolver.dense`) is not computed twice."""
     solver = _last_singular()
@@ -65,27 +89,114 @@ def lu(A: np.ndarray):
         return sing[3]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", sla.LinAlgWarning)
-        return sla.lu_factor(A, check_finite=False)
+        return sla.lu_factor(A, check_finite=False, overwrite_a=overwrite)
 
 
-def rcond(f, A: np.ndarray) -> float:
-    """Reciprocal condition number (1-norm) of A from its LU ``f``: LAPACK gecon, O(n²)."""
+def norm1(A: np.ndarray) -> float:
+    """‖A‖₁ (largest column sum), without a temporary copy of A."""
     if A.shape[0] == 0:
+        return 0.0
+    return float(max((np.abs(A[:, j : j + 512]).sum(axis=0).max()
+                      for j in range(0, A.shape[1], 512)), default=0.0))
+
+
+def rcond(f, A: np.ndarray | None = None, anorm: float | None = None) -> float:
+    """Reciprocal condition number (1-norm) of A from its LU ``f``: LAPACK gecon, O(n²)
+    (``anorm`` = ‖A‖₁ when A itself is no longer at hand)."""
+    if f[0].shape[0] == 0:
         return 1.0
-    anorm = float(np.abs(A).sum(axis=0).max())
+    if anorm is None:
+        anorm = norm1(A)
     if not np.isfinite(anorm):
         return 0.0
-    return float(_gecon(f[0], anorm, norm="1")[0])
+    return float(_lapack("gecon", f[0])(f[0], anorm, norm="1")[0])
 
 
 def lu_solve(f, b: np.ndarray) -> np.ndarray:
-    """x = A⁻¹ b from the LU ``f`` of A (LAPACK getrs; a block of a few right-hand sides is
-    solved column by column, which OpenBLAS does faster than one narrow block)."""
+    """x = A⁻¹ b (float64) from the LU ``f`` of A (LAPACK getrs in the LU's precision; a
+    block of a few right-hand sides is solved column by column, which OpenBLAS does faster
+    than one narrow block)."""
     if b.size == 0:
         return np.zeros(b.shape)
+    lu_m = f[0]
+    getrs = _lapack("getrs", lu_m)
+    if lu_m.dtype != np.float64:
+        b = b.astype(lu_m.dtype)
     if b.ndim == 2 and 1 < b.shape[1] <= 4:
-        return np.column_stack([_getrs(f[0], f[1], b[:, j])[0] for j in range(b.shape[1])])
-    return _getrs(f[0], f[1], b)[0]
+        x = np.column_stack([getrs(lu_m, f[1], b[:, j])[0] for j in range(b.shape[1])])
+    else:
+        x = getrs(lu_m, f[1], b)[0]
+    return x if x.dtype == np.float64 else x.astype(np.float64)
+
+
+def norm2(A: np.ndarray, iters: int = 30, rtol: float = 1e-3) -> float:
+    """‖A‖₂ estimated by power iteration on AᵀA from a fixed start, until it changes by less
+    than ``rtol``: a lower bound (‖A x‖ for a unit x), within a few per cent of ‖A‖₂, for
+    O(n²) per step where an SVD of a scheme matrix costs 100× more."""
+    n = A.shape[1]
+    if n == 0 or A.shape[0] == 0:
+        return 0.0
+    x = 1.0 + 0.5 * np.random.default_rng(1).standard_normal(n)
+    x = (x / np.linalg.norm(x)).astype(A.dtype)  # in A's precision: no upcast copy of A
+    est = 0.0
+    for _ in range(iters):
+        y = A @ x
+        new = float(np.linalg.norm(y))
+        if new <= est * (1 + rtol):
+            return max(est, new)
+        est = new
+        x = A.T @ y
+        nx = float(np.linalg.norm(x))
+        if not nx > 0:
+            break
+        x /= nx
+    return est
+
+
+def null_modes(A: np.ndarray, lu_, k: int = 3, trans: int = 0, apply=None) -> np.ndarray:
+    """Null vectors (columns) of a singular matrix A (``trans=1``: of Aᵀ, the left null
+    vectors) by block inverse iteration on its LU, then the combinations of the block that A
+    maps to (near) zero (σ ≤ 1e-6 ‖A‖).
+
+    ``apply`` (X ↦ A X, or Aᵀ X, of the exact float64 operator) refines the vectors of a
+    float32 A: X ← X − P (A₃₂⁻¹ A X) with P the projector off X, a Newton step for the null
+    space that the float32 LU resolves to 1e-7 only; the kept combinations are then those
+    that the exact operator maps to near zero."""
+    lu_m, piv = lu_
+    d = np.abs(np.diag(lu_m))
+    tiny = max(1e-14, np.finfo(lu_m.dtype).eps) * max(float(d.max(initial=0.0)), 1e-300)
+    if np.any(d < tiny):  # exactly singular: lift the zero pivots to round-off level
+        lu_m = lu_m.copy()
+        j = np.flatnonzero(d < tiny)
+        lu_m[j, j] = tiny
+        lu_ = (lu_m, piv)
+
+    def inv(X):
+        return sla.lu_solve(lu_, X.astype(lu_m.dtype), trans=trans,
+                            check_finite=False).astype(np.float64)
+
+    n = A.shape[0]
+    X = np.random.default_rng(0).standard_normal((n, min(k, n)))
+    for _ in range(3):
+        X = np.linalg.qr(inv(X))[0]
+    AX = (A.T if trans else A) @ X.astype(A.dtype)
+    _, sv, Vt = np.linalg.svd(AX, full_matrices=False)
+    anorm = max(norm2(A), 1e-300)
+    keep = sv <= max(1e-6, 100 * np.finfo(A.dtype).eps) * anorm
+    if not keep.any():
+        keep[np.argmin(sv)] = True
+    X = X @ Vt[keep].T
+    if apply is None:
+        return X
+    X = np.linalg.qr(X)[0]
+    for _ in range(4):
+        D = inv(apply(X))
+        X = np.linalg.qr(X - (D - X @ (X.T @ D)))[0]
+    _, sv, Vt = np.linalg.svd(apply(X), full_matrices=False)
+    keep = sv <= 1e-6 * anorm
+    if not keep.any():
+        keep[np.argmin(sv)] = True
+    return X @ Vt[keep].T
 
 
 class MechanismError(Exception):
@@ -112,22 +223,75 @@ def partner(j: np.ndarray, m: int) -> np.ndarray:
     return np.where(j < m, j + m, j - m)
 
 
-def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray):
+def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
+                shifted: bool = False):
     """Rows ``idx`` of A, each divided by its largest entry (stuck rows scale like 1/d, free
     rows like 1: equilibrated, the condition estimate measures a mechanism, not the units).
-    Returns (rows (k, 2m), row scales (k,))."""
+    Returns (rows (k, 2m) in G's precision, Fortran-ordered so that an LU can overwrite them,
+    row scales (k,)).
+
+    ``shifted``: the array is M = D G − I (the float32 form, see
+    :class:`~stepcontact.solver.condensation.Condensation`); then, with G_j = (M_j + e_j)/d_j,
+
+        A_j = −(rw_j/d_j + rs_j) M_j − (rw_j/d_j) e_j − c_j M_P
+
+    in which no entry is a difference of nearly equal numbers."""
     m = G.shape[0] // 2
+    dt = G.dtype
     rw, rs = _coefficients(rel, idx)
-    rows = -(rw + d[idx] * rs)[:, None] * G[idx]
-    rows[np.arange(len(idx)), idx] += rs
+    if shifted:
+        return _shifted_rows(G, d, rel, idx, rw, rs)
+    coef = (-(rw + d[idx] * rs)).astype(dt)
+    rows = np.empty((len(idx), G.shape[1]), dt, order="F")
+    if len(idx) == G.shape[0] and np.array_equal(idx, np.arange(len(idx))):
+        np.multiply(G, coef[:, None], out=rows)  # every row: no copy of G
+    else:
+        np.multiply(G[idx], coef[:, None], out=rows)
+    rows[np.arange(len(idx)), idx] += rs.astype(dt)
     c = rel.couple[idx]
     cp = np.flatnonzero(c != 0)
     if cp.size:
         P = partner(idx[cp], m)
-        rows[cp, P] += c[cp]
-        rows[cp] -= (d[P] * c[cp])[:, None] * G[P]
-    scale = 1.0 / np.maximum(np.abs(rows).max(axis=1, initial=0.0), 1e-300)
-    return rows * scale[:, None], scale
+        rows[cp, P] += c[cp].astype(dt)
+        rows[cp] -= (d[P] * c[cp]).astype(dt)[:, None] * G[P]
+    big = np.maximum(rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0))
+    scale = 1.0 / np.maximum(big.astype(np.float64), 1e-300)
+    rows *= scale.astype(dt)[:, None]
+    return rows, scale
+
+
+def _shifted_rows(M, d, rel, idx, rw, rs):
+    m = M.shape[0] // 2
+    dt = M.dtype
+    rwd = rw / d[idx]
+    rows = np.empty((len(idx), M.shape[1]), dt, order="F")
+    if len(idx) == M.shape[0] and np.array_equal(idx, np.arange(len(idx))):
+        np.multiply(M, (-(rwd + rs)).astype(dt)[:, None], out=rows)
+    else:
+        np.multiply(M[idx], (-(rwd + rs)).astype(dt)[:, None], out=rows)
+    rows[np.arange(len(idx)), idx] -= rwd.astype(dt)
+    c = rel.couple[idx]
+    cp = np.flatnonzero(c != 0)
+    if cp.size:
+        rows[cp] -= c[cp].astype(dt)[:, None] * M[partner(idx[cp], m)]
+    big = np.maximum(rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0))
+    scale = 1.0 / np.maximum(big.astype(np.float64), 1e-300)
+    rows *= scale.astype(dt)[:, None]
+    return rows, scale
+
+
+def scheme_apply(d: np.ndarray, rel: Relations, scale: np.ndarray, t: np.ndarray,
+                 Gt: np.ndarray) -> np.ndarray:
+    """A t for the scheme ``rel`` with row scales ``scale``, from t and the product G t (of
+    the exact operator): the residual of the float32 schemes' refinement (vectors or
+    (2m, k) blocks)."""
+    m = len(d) // 2
+    rw, rs = _coefficients(rel)
+    c = rel.couple
+    P = partner(np.arange(2 * m), m)
+    if t.ndim == 2:
+        rw, rs, d, c, scale = rw[:, None], rs[:, None], d[:, None], c[:, None], scale[:, None]
+    return scale * (rs * t - (rw + d * rs) * Gt + c * (t[P] - d[P] * Gt[P]))
 
 
 def scheme_rhs(d: np.ndarray, rel: Relations, hhat, e, r):
@@ -151,6 +315,25 @@ def _load_rhs_rows(d: np.ndarray, rel: Relations, idx: np.ndarray, hhat, e) -> n
     return -rw * (hhat[idx] + e[idx]) - rs * d[idx] * hhat[idx] - rel.couple[idx] * d[P] * hhat[P]
 
 
+def scheme_apply_t(d: np.ndarray, rel: Relations, scale: np.ndarray, y: np.ndarray,
+                   product) -> np.ndarray:
+    """Aᵀ y for the scheme ``rel`` with row scales ``scale`` (G symmetric, ``product``:
+    t ↦ G t exact).  With A = S [R + C Π − (diag(a) + C D_Π Π) G] (R = diag(rs),
+    a = rw + d·rs, Π the swap of each CFE's components, D_Π = diag(d_P), C = diag(c)):
+
+        Aᵀ y = R u + Π (c u) − G (a u + Π (c d_P u)),   u = S y."""
+    m = len(d) // 2
+    rw, rs = _coefficients(rel)
+    c = rel.couple
+    P = partner(np.arange(2 * m), m)
+    a = rw + d * rs
+    cdp = c * d[P]
+    if y.ndim == 2:
+        rs, c, a, cdp, scale = rs[:, None], c[:, None], a[:, None], cdp[:, None], scale[:, None]
+    u = scale * y
+    return rs * u + (c * u)[P] - product(a * u + (cdp * u)[P])
+
+
 class _Base:
     """A factorised base scheme and what the row updates of it share.
 
@@ -161,18 +344,20 @@ class _Base:
     O(k n) to set up beyond its new columns (one solve each, reused while the base lives),
     and its load rates O(k n) plus one product with G."""
 
-    def __init__(self, rel: Relations, A: np.ndarray, scale: np.ndarray, f, rc: float):
-        n = A.shape[0]
+    def __init__(self, rel: Relations, n: int, scale: np.ndarray, f, rc: float):
         self.kind = rel.kind.copy()
         self.couple = rel.couple.copy()
         self.rel = Relations(self.kind, rel.stiff, self.couple)
-        self.rows, self.scale, self.lu, self.rcond = A, scale, f, rc
+        # the base matrix itself is not kept (its LU overwrote it): a changed row's difference
+        # from it is formed from G, as it was
+        self.n, self.scale, self.lu, self.rcond = n, scale, f, rc
+        self.dtype = f[0].dtype
         self.slot = np.full(n, -1, np.int64)
         self.k = 0
         cap = min(n, 32)
-        self.Z = np.empty((n, cap), order="F")
-        self.V = np.empty((cap, n))
-        self.VZ = np.empty((cap, cap))
+        self.Z = np.empty((n, cap), self.dtype, order="F")
+        self.V = np.empty((cap, n), self.dtype)
+        self.VZ = np.empty((cap, cap), self.dtype)
         self.vscale = np.empty(cap)
         self.vkind = np.empty(cap, rel.kind.dtype)
         self.vcouple = np.empty(cap)
@@ -182,15 +367,15 @@ class _Base:
         cap = self.Z.shape[1]
         if need <= cap:
             return
-        n = self.rows.shape[0]
+        n = self.n
         new = min(n, max(need, 2 * cap))
         k = self.k
-        Z = np.empty((n, new), order="F")
+        Z = np.empty((n, new), self.dtype, order="F")
         Z[:, :k] = self.Z[:, :k]
         self.Z = Z
-        V = np.empty((new, n))
+        V = np.empty((new, n), self.dtype)
         V[:k] = self.V[:k]
-        VZ = np.empty((new, new))
+        VZ = np.empty((new, new), self.dtype)
         VZ[:k, :k] = self.VZ[:k, :k]
         self.V, self.VZ = V, VZ
         for name in ("vscale", "vkind", "vcouple"):
@@ -206,7 +391,7 @@ class _Base:
         if new_rows.size:
             k1 = k0 + new_rows.size
             self._grow(k1)
-            E = np.zeros((self.rows.shape[0], new_rows.size), order="F")
+            E = np.zeros((self.n, new_rows.size), order="F")
             E[new_rows, np.arange(new_rows.size)] = 1.0
             self.Z[:, k0:k1] = lu_solve(self.lu, E)
             self.slot[new_rows] = np.arange(k0, k1)
@@ -220,8 +405,9 @@ class _Base:
         if new_rows.size and k0:  # new columns of V Z (rows about to change are redone below)
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
         if stale.size:
-            R, sc = scheme_rows(solver.G, solver.d, rel, rows_j)
-            self.V[stale] = R - self.rows[rows_j]
+            R, sc = scheme_rows(solver.G, solver.d, rel, rows_j, solver.shifted)
+            R0, _ = scheme_rows(solver.G, solver.d, self.rel, rows_j, solver.shifted)
+            self.V[stale] = R - R0
             self.vscale[stale] = sc
             self.vkind[stale] = rel.kind[rows_j]
             self.vcouple[stale] = rel.couple[rows_j]
@@ -259,21 +445,58 @@ class SchemeFactor:
     scale: np.ndarray
     rel: Relations
 
+    def _approx(self, bs: np.ndarray) -> np.ndarray:
+        """A⁻¹ bs for a scaled right-hand side: the base LU and the row update."""
+        o = self.owner
+        y = lu_solve(self.base.lu, bs)
+        o.counters["scheme_solves"] += 1 if bs.ndim == 1 else bs.shape[1]
+        if self.V is not None:
+            y = y - self.Z @ lu_solve(self.C_lu, self.V @ y)
+        return y
+
+    def _refine(self, bs: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Iterative refinement of y ≈ A⁻¹ bs (float32 schemes) against the exact operator:
+        r = bs − A y with A y from G y of the float64 sparse factorisation
+        (:func:`scheme_apply`), y += A₃₂⁻¹ r, until r is at round-off.  Returns (y, G y).
+        A residual that stops shrinking above ``REFINE_ACCEPT`` raises a SolverError: the
+        scheme is too ill-conditioned for float32 (never a silently inaccurate rate)."""
+        o = self.owner
+        Gy = o.product(y)
+        size = max(np.abs(bs).max(initial=0.0), 1e-300)
+        prev = np.inf
+        for _ in range(REFINE_MAX):
+            r = bs - scheme_apply(o.d, self.rel, self.scale, y, Gy)
+            rn = np.abs(r).max(initial=0.0)
+            size = max(size, np.abs(y).max(initial=0.0))
+            if rn <= REFINE_TOL * size or rn >= 0.5 * prev:
+                break
+            prev = rn
+            y = y + self._approx(r)
+            Gy = o.product(y)
+            o.counters["refinements"] += 1
+        if rn > REFINE_ACCEPT * size:
+            from stepcontact.errors import SolverError
+
+            raise SolverError(
+                f"the float32 scheme matrix does not refine to float64 accuracy (relative "
+                f"residual {rn / size:.1e} after {REFINE_MAX} corrections at most): the working "
+                f"scheme is too ill-conditioned for precision='float32'; run with "
+                f"precision='float64' (needs twice the memory of the dense contact matrices)")
+        return y, Gy
+
     def solve(self, hhat, e, r):
         """Rates (s', w') of this scheme for load rates (ĥ, e) and relation right-hand sides
         r; each argument a vector (2m,) or a block (2m, k) (zeros broadcast)."""
         o = self.owner
-        G, d = o.G, o.d
+        d = o.d
         b = scheme_rhs(d, self.rel, hhat, e, r)
-        if b.ndim == 1:
-            y = lu_solve(self.base.lu, self.scale * b)
-            o.counters["scheme_solves"] += 1
+        bs = self.scale * b if b.ndim == 1 else self.scale[:, None] * b
+        y = self._approx(bs)
+        if o.refine:
+            y, Gy = self._refine(bs, y)
         else:
-            y = lu_solve(self.base.lu, self.scale[:, None] * b)
-            o.counters["scheme_solves"] += b.shape[1]
-        if self.V is not None:
-            y = y - self.Z @ lu_solve(self.C_lu, self.V @ y)
-        w_hat = hhat - G @ y
+            Gy = o.G @ y
+        w_hat = hhat - Gy
         dd = d if y.ndim == 1 else d[:, None]
         return y + dd * w_hat, w_hat + e
 
@@ -285,11 +508,13 @@ class SchemeFactor:
 
         (δ: the change of the scaled right-hand side in those rows), O(k n); then ŵ = ĥ − G y.
         (G y is formed afresh: updating a cached G y₀ the same way cancels where ŵ ≪ G y₀ and
-        moves events by round-off 10× larger.)"""
+        moves events by round-off 10× larger.)  Float32 schemes solve and refine instead."""
         o = self.owner
         d = o.d
         hhat = np.broadcast_to(np.asarray(hhat, float), d.shape)
         e = np.broadcast_to(np.asarray(e, float), d.shape)
+        if o.refine:
+            return self.solve(hhat, e, 0.0)
         b0, y0 = self.base.load(o, hhat, e)
         if self.V is None:
             y = y0
@@ -324,19 +549,33 @@ class SchemeSolver:
     The factors of the last few schemes are kept, so a scheme met again (the rate problem, then
     the correction at the same point) is not factorised twice; a singular scheme is factorised
     once (its matrix and LU serve the analysis of the mechanism: :meth:`dense`, :func:`lu`).
+
+    A float32 G (the large-interface path, ``precision="float32"``) gives float32 scheme
+    matrices, LUs and updates, half the memory and time of the dense work; every solve is then
+    refined to float64 accuracy against ``product`` (t ↦ G t by the float64 sparse
+    factorisation, one solve per correction): :meth:`SchemeFactor._refine`.
     """
 
     def __init__(self, G: np.ndarray, d: np.ndarray, max_rank: int | None = None,
-                 cache: int = 8):
+                 cache: int = 8, product=None):
         self.G = G
         self.d = d
+        #: t ↦ G t in float64 (the exact operator; for float64 G the dense product)
+        self.product = product if product is not None else (lambda t: G @ t)
+        self.refine = G.dtype != np.float64
+        #: float32 G is the shifted form D G − I (:func:`scheme_rows`)
+        self.shifted = self.refine
+        if self.refine and product is None:
+            raise ValueError("a float32 G needs the exact operator (product) to refine against")
+        self.rcond_mechanism = RCOND_MECHANISM_F32 if self.refine else RCOND_MECHANISM
+        self.rcond_update = RCOND_UPDATE_F32 if self.refine else RCOND_UPDATE
         self.max_rank = max(G.shape[0] // 10, 48) if max_rank is None else max_rank
         self.base: _Base | None = None
         self._cache: OrderedDict[bytes, SchemeFactor] = OrderedDict()
         self._cache_size = cache
         self._singular: tuple | None = None
         self.counters = {"scheme_factorizations": 0, "scheme_updates": 0, "scheme_columns": 0,
-                         "scheme_solves": 0}
+                         "scheme_solves": 0, "refinements": 0}
 
     @property
     def n(self) -> int:
@@ -345,18 +584,58 @@ class SchemeSolver:
     def _refactor(self, rel: Relations) -> None:
         global _last_singular
         key = rel.key()
-        A, scale = scheme_rows(self.G, self.d, rel, np.arange(self.n))
-        f = lu(A)
-        rc = rcond(f, A)
+        A, scale = scheme_rows(self.G, self.d, rel, np.arange(self.n), self.shifted)
+        anorm = norm1(A)
+        f = lu(A, overwrite=True)  # in place: A is gone, its rows are formed again from G
+        del A
+        rc = rcond(f, anorm=anorm)
         self.counters["scheme_factorizations"] += 1
-        if not rc > RCOND_MECHANISM:
+        if not rc > self.rcond_mechanism and not self._regular_after_all(rel, scale, f):
+            A, _ = scheme_rows(self.G, self.d, rel, np.arange(self.n), self.shifted)
             A.flags.writeable = False
             scale.flags.writeable = False
             self._singular = (key, A, scale, f)
             _last_singular = weakref.ref(self)
             raise MechanismError(A, f)
-        self.base = _Base(rel, A, scale, f, rc)
+        self.base = _Base(rel, self.n, scale, f, rc)
         self._cache.clear()
+
+    def exact_apply(self, rel: Relations, scale: np.ndarray, trans: int = 0):
+        """X ↦ A X (``trans=1``: Aᵀ X) of the scheme ``rel`` with row scales ``scale``, by
+        the exact float64 operator (:func:`scheme_apply`, :func:`scheme_apply_t`); None for
+        float64 schemes, whose dense matrix is that operator."""
+        if not self.refine:
+            return None
+        if trans:
+            return lambda Y: scheme_apply_t(self.d, rel, scale, Y, self.product)
+        return lambda X: scheme_apply(self.d, rel, scale, X, self.product(X))
+
+    def _regular_after_all(self, rel: Relations, scale: np.ndarray, f) -> bool:
+        """For a float32 scheme whose rcond is at or below ``RCOND_MECHANISM_F32``: whether
+        the exact operator is regular after all, i.e. its best null-vector candidate, refined
+        against the exact operator, is not mapped to near zero (σ > 1e-6 ‖A‖, the float64
+        criterion of :func:`null_modes`).  Such a scheme is used (its solves refine, or
+        raise a SolverError if they cannot).  Float64 schemes: False (rcond decides)."""
+        if not self.refine:
+            return False
+        A, _ = scheme_rows(self.G, self.d, rel, np.arange(self.n), self.shifted)
+        anorm = max(norm2(A), 1e-300)
+        del A
+        apply = self.exact_apply(rel, scale)
+        # f is the LU of this scheme; one candidate from inverse iteration, refined
+        lu_m, piv = f
+        dpiv = np.abs(np.diag(lu_m))
+        tiny = np.finfo(lu_m.dtype).eps * max(float(dpiv.max(initial=0.0)), 1e-300)
+        if np.any(dpiv < tiny):
+            return False  # a zero pivot: singular beyond doubt
+        x = np.random.default_rng(0).standard_normal((self.n, 1))
+        for _ in range(3):
+            x = np.linalg.qr(lu_solve(f, x))[0]
+        for _ in range(4):
+            dx = lu_solve(f, apply(x))
+            x = np.linalg.qr(x - (dx - x @ (x.T @ dx)))[0]
+        sigma = float(np.linalg.norm(apply(x)))
+        return sigma > 1e-6 * anorm
 
     def factor(self, rel: Relations) -> SchemeFactor:
         """Factor of the scheme ``rel`` (raises :class:`MechanismError` if it is singular)."""
@@ -392,7 +671,7 @@ class SchemeSolver:
         C[np.diag_indices_from(C)] += 1.0
         C_lu = lu(C)
         self.counters["scheme_updates"] += 1
-        if not rcond(C_lu, C) > RCOND_UPDATE:
+        if not rcond(C_lu, C) > self.rcond_update:
             # ill-conditioned update, possibly singular: a full factorisation of this scheme
             self._refactor(rel)
             return self._plain(rel)
@@ -405,8 +684,10 @@ class SchemeSolver:
         those of the last singular scheme are the read-only arrays that were factorised)."""
         if self._singular is not None and self._singular[0] == rel.key():
             return self._singular[1], self._singular[2]
-        return scheme_rows(self.G, self.d, rel, np.arange(self.n))
+        return scheme_rows(self.G, self.d, rel, np.arange(self.n), self.shifted)
 
 
-__all__ = ["RCOND_MECHANISM", "RCOND_UPDATE", "MechanismError", "SchemeFactor", "SchemeSolver",
-           "lu", "lu_solve", "rcond", "scheme_rhs", "scheme_rows"]
+__all__ = ["RCOND_MECHANISM", "RCOND_MECHANISM_F32", "RCOND_UPDATE", "RCOND_UPDATE_F32",
+           "MechanismError", "SchemeFactor", "SchemeSolver", "lu", "lu_solve", "norm1", "norm2",
+           "null_modes", "rcond", "scheme_apply", "scheme_apply_t", "scheme_rhs",
+           "scheme_rows"]

@@ -163,6 +163,7 @@ class StaticSolver:
         rtol: float = 1e-10,
         rate_solver: str = "pivoting",
         condensation: Condensation | None = None,
+        precision: str = "auto",
     ):
         self.sys = system
         self.cfe = system.cfe
@@ -181,13 +182,13 @@ class StaticSolver:
         self.max_events = max_events
         self.hooks = tuple(hooks)
         t0 = time.perf_counter()
-        self.cond = Condensed.from_system(system, backend, condensation)
+        self.cond = Condensed.from_system(system, backend, condensation, precision)
         self.t_setup = time.perf_counter() - t0
         cfe = self.cfe
         held_n, held_t = held_components(system)
         self._warn_held(held_n, held_t)
         self.law = CoulombLaw(np.arange(cfe.m), cfe.friction, cfe.kn, cfe.kt, held_n, held_t)
-        self.schemes = SchemeSolver(self.cond.G, self.cond.d)
+        self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         self.engine = EventEngine(self.schemes, [self.law], system.w0, rtol=rtol,
                                   article=self.article, eps_p=eps_p, rate_solver=rate_solver)
         self.c = {name: 0.0 for name in system.loads}
@@ -496,7 +497,7 @@ class StaticSolver:
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
             "events": len(self.rec.events), "event_points": self.step,
             "setup_seconds": self.t_setup, "run_seconds": elapsed,
-            "ndof": self.sys.ndof, "cfes": m,
+            "ndof": self.sys.ndof, "cfes": m, "precision_bits": 8 * self.cond.G.dtype.itemsize,
         })
         status, message = self.status, self.message
         if partial:
@@ -530,6 +531,7 @@ def solve_static(
     backend: str = "auto",
     rate_solver: str = "pivoting",
     condensation: Condensation | None = None,
+    precision: str = "auto",
     output=None,
 ) -> StaticResult:
     """Trace the exact quasi-static load path of ``model`` through its load program.
@@ -565,6 +567,14 @@ def solve_static(
     condensation : Condensation, optional
         A condensation from :func:`condense` for the same structure (checked): runs that
         differ only in friction, gaps, loads or program then share one factorisation.
+    precision : "auto", "float64" or "float32"
+        Precision of the dense contact matrices (G, the scheme LUs).  ``auto`` (default):
+        float64 while they fit in half the physical memory, float32 beyond — the
+        large-interface path: half the memory and time of the dense work, every scheme solve
+        refined to float64 accuracy against the sparse factorisation (a few extra sparse
+        solves per event; schemes with a condition number above about 1e5 count as
+        mechanisms).  Too large for both is a :class:`~stepcontact.errors.SolverError` with
+        the memory estimate, raised before any work.
     output : path, optional
         Result file written as the run goes (status ``incomplete`` until it ends; an
         interrupted run keeps every state written before), and at the end.
@@ -592,7 +602,8 @@ def solve_static(
         hooks = (*hooks, writer)
     solver = StaticSolver(system, slip=slip, eps_p=eps_p, store_fields=store_fields,
                           max_events=max_events, hooks=hooks, backend=backend,
-                          rate_solver=rate_solver, condensation=condensation)
+                          rate_solver=rate_solver, condensation=condensation,
+                          precision=precision)
     res = solver.run()
     if writer is not None:
         writer.finish(res)
