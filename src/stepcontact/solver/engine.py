@@ -308,7 +308,8 @@ class EventEngine:
             fact = self.factor(self.states)
         except MechanismError:
             return  # a singular scheme with consistent rates: nothing to snap onto uniquely
-        ds, dw = fact.solve(np.zeros(2 * m), np.zeros(2 * m), r)
+        ds, dw = fact.solve(np.zeros(2 * m), np.zeros(2 * m), r,
+                            floor=float(np.abs(self.s).max(initial=0.0)))
         self.s += ds
         self.w += dw
         self.counters["corrections"] += 1

@@ -19,6 +19,11 @@ Row j of A and of b depends on the relation of component j alone, so two schemes
 in the rows of the components whose relation changed.  That is what the event loop exploits
 (:class:`SchemeSolver`): one LU of a base scheme, and every later scheme as a low-rank row
 update of it, with what the updates share cached on the base.
+
+For large interfaces the dense work runs in float32 (G held as D G − I, see
+:func:`scheme_rows`), and every solve is refined to float64 accuracy against the exact operator
+(G t by the float64 sparse factorisation): :meth:`SchemeFactor._refine`; a float32 scheme is a
+mechanism only if the exact operator confirms it (:meth:`SchemeSolver._regular_after_all`).
 """
 
 from __future__ import annotations
@@ -48,11 +53,13 @@ RCOND_MECHANISM = 1e-10
 RCOND_UPDATE = 1e-6
 
 #: the same two thresholds for a scheme matrix held in float32 (``precision="float32"``): its
-#: entries carry a relative round-off of 6e-8, so a mechanism shows rcond of about 1e-7..1e-6
-#: and the float64 margins scale with the unit round-off (documented limit of that path: a
-#: scheme condition number above about 1e5 counts as a mechanism)
+#: entries carry a relative round-off of 6e-8, so a mechanism shows rcond of about 1e-7..1e-6.
+#: A float32 scheme at or below RCOND_MECHANISM_F32 is a mechanism only if the exact operator
+#: confirms it (:meth:`SchemeSolver._regular_after_all`); an update at or below
+#: RCOND_UPDATE_F32 (regular updates stay above 7.5e-5 in every example) is refactorised, whose
+#: rcond then decides.
 RCOND_MECHANISM_F32 = 1e-5
-RCOND_UPDATE_F32 = 1e-4
+RCOND_UPDATE_F32 = 1e-5
 
 #: iterative refinement of the float32 schemes against the exact float64 operator: at most
 #: this many corrections; converged when the scaled residual is below REFINE_TOL of the
@@ -454,15 +461,19 @@ class SchemeFactor:
             y = y - self.Z @ lu_solve(self.C_lu, self.V @ y)
         return y
 
-    def _refine(self, bs: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _refine(self, bs: np.ndarray, y: np.ndarray,
+                floor: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Iterative refinement of y ≈ A⁻¹ bs (float32 schemes) against the exact operator:
         r = bs − A y with A y from G y of the float64 sparse factorisation
-        (:func:`scheme_apply`), y += A₃₂⁻¹ r, until r is at round-off.  Returns (y, G y).
+        (:func:`scheme_apply`), y += A₃₂⁻¹ r, until r is at round-off of the larger of y, bs
+        and ``floor`` (a correction of a state of size ``floor`` needs no digits below the
+        state's round-off: one float32 solve of a round-off drift is already exact to it).
+        Returns (y, G y).
         A residual that stops shrinking above ``REFINE_ACCEPT`` raises a SolverError: the
         scheme is too ill-conditioned for float32 (never a silently inaccurate rate)."""
         o = self.owner
         Gy = o.product(y)
-        size = max(np.abs(bs).max(initial=0.0), 1e-300)
+        size = max(np.abs(bs).max(initial=0.0), floor, 1e-300)
         prev = np.inf
         for _ in range(REFINE_MAX):
             r = bs - scheme_apply(o.d, self.rel, self.scale, y, Gy)
@@ -484,16 +495,18 @@ class SchemeFactor:
                 f"precision='float64' (needs twice the memory of the dense contact matrices)")
         return y, Gy
 
-    def solve(self, hhat, e, r):
+    def solve(self, hhat, e, r, floor: float = 0.0):
         """Rates (s', w') of this scheme for load rates (ĥ, e) and relation right-hand sides
-        r; each argument a vector (2m,) or a block (2m, k) (zeros broadcast)."""
+        r; each argument a vector (2m,) or a block (2m, k) (zeros broadcast).  ``floor``
+        (N): the size of the forces the result is added to, when it is a correction (float32
+        schemes refine it to that size's round-off, see :meth:`_refine`)."""
         o = self.owner
         d = o.d
         b = scheme_rhs(d, self.rel, hhat, e, r)
         bs = self.scale * b if b.ndim == 1 else self.scale[:, None] * b
         y = self._approx(bs)
         if o.refine:
-            y, Gy = self._refine(bs, y)
+            y, Gy = self._refine(bs, y, floor)
         else:
             Gy = o.G @ y
         w_hat = hhat - Gy

@@ -147,6 +147,12 @@ class FieldRecovery:
         return {name: self.stress(name, u[:, d].T) for name, d in self.body_dofs.items()}
 
 
+#: size 2m of the scheme matrices up to which the event loop holds BLAS to one thread (an LU
+#: of 2m = 2000 takes about 0.1 s on one core; beyond, the dense work is large enough for
+#: threads to pay)
+SMALL_DENSE = 2000
+
+
 class StaticSolver:
     """Event-driven static analysis of one model.  Use :func:`solve_static`."""
 
@@ -278,13 +284,19 @@ class StaticSolver:
 
     # ---- main loop ---------------------------------------------------------------------------
     def run(self) -> StaticResult:
-        """Run the load program.  BLAS is held to one thread meanwhile: the event loop's dense
-        work is small (2m × 2m), where a second thread only costs synchronisation."""
+        """Run the load program.  BLAS is held to one thread meanwhile when the event loop's
+        dense work is small (2m ≤ ``SMALL_DENSE``), where a second thread only costs
+        synchronisation; large interfaces (refactorisations of thousands of unknowns) keep
+        every thread."""
+        import contextlib
+
         from threadpoolctl import threadpool_limits
 
         t0 = time.perf_counter()
+        small = self.schemes.n <= SMALL_DENSE
         try:
-            with threadpool_limits(limits=1, user_api="blas"):
+            with (threadpool_limits(limits=1, user_api="blas") if small
+                  else contextlib.nullcontext()):
                 return self._run(t0)
         except KeyboardInterrupt:
             self.status = Status.INCOMPLETE
