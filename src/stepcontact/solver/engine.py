@@ -146,9 +146,11 @@ class EventEngine:
         fact = self.factor(states, article)
         self.counters["rate_solves"] += 1
         h, e = forcing
-        if r is None:
-            return fact.load_rates(h, e)
-        return fact.solve(h, e, r)
+        try:  # (a float32 update that does not refine is refactorised: maybe singular)
+            return fact.load_rates(h, e) if r is None else fact.solve(h, e, r)
+        except MechanismError as exc:
+            exc.states = states.copy()
+            raise
 
     def rates_singular(self, states, forcing):
         """Rates of a singular scheme that the load does not drive: the minimum-norm solution
@@ -308,8 +310,11 @@ class EventEngine:
             fact = self.factor(self.states)
         except MechanismError:
             return  # a singular scheme with consistent rates: nothing to snap onto uniquely
-        ds, dw = fact.solve(np.zeros(2 * m), np.zeros(2 * m), r,
-                            floor=float(np.abs(self.s).max(initial=0.0)))
+        try:
+            ds, dw = fact.solve(np.zeros(2 * m), np.zeros(2 * m), r,
+                                floor=float(np.abs(self.s).max(initial=0.0)))
+        except MechanismError:
+            return
         self.s += ds
         self.w += dw
         self.counters["corrections"] += 1

@@ -125,8 +125,11 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     for law in eng.laws:
         inl = np.isin(law.cfes, L)
         base[law.cfes[inl]] = law.closed_state()[inl]
+    h, e = forcing
     try:
         fact = eng.factor(base, article=False)
+        ds0, dw0 = fact.load_rates(h, e)  # (a float32 update that does not refine is
+        # refactorised here, which may find the scheme singular)
     except MechanismError as exc:
         # the stiffest scheme of the point is singular: so is every other one
         if kept is not None:
@@ -137,14 +140,16 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         return _singular_point(eng, L, guess, forcing, normal_lim, two_sided)
     var = _variables(eng, L, normal_lim, two_sided)
     m = eng.m
-    h, e = forcing
-    ds0, dw0 = fact.load_rates(h, e)
     nv = len(var.cfe)
     if nv == 0:
         return kept or RateOutcome(base, ds0, dw0, "stuck scheme", L)
     R = np.zeros((2 * m, nv))
     R[var.cfe + m * var.row, np.arange(nv)] = var.value
-    dS, dW = fact.solve(np.zeros((2 * m, 1)), np.zeros((2 * m, 1)), R)
+    try:
+        dS, dW = fact.solve(np.zeros((2 * m, 1)), np.zeros((2 * m, 1)), R)
+    except MechanismError as exc:
+        exc.states = base
+        raise
     eng.counters["rate_solves"] += 1 + nv
     cp, cq = var.cp[:, None], var.cq[:, None]
     Wm = cp * np.c_[ds0, dS][m + var.cfe] + cq * np.c_[ds0, dS][var.cfe]

@@ -55,11 +55,12 @@ RCOND_UPDATE = 1e-6
 #: the same two thresholds for a scheme matrix held in float32 (``precision="float32"``): its
 #: entries carry a relative round-off of 6e-8, so a mechanism shows rcond of about 1e-7..1e-6.
 #: A float32 scheme at or below RCOND_MECHANISM_F32 is a mechanism only if the exact operator
-#: confirms it (:meth:`SchemeSolver._regular_after_all`); an update at or below
-#: RCOND_UPDATE_F32 (regular updates stay above 7.5e-5 in every example) is refactorised, whose
-#: rcond then decides.
+#: confirms it (:meth:`SchemeSolver._regular_after_all`); an update is refactorised (whose
+#: rcond then decides) at or below RCOND_UPDATE_F32, or when its solves do not refine (updates
+#: of regular schemes reach rcond 1e-6 on the 5 001-CFE benchmark: a higher threshold would
+#: refactorise at nearly every event).
 RCOND_MECHANISM_F32 = 1e-5
-RCOND_UPDATE_F32 = 1e-5
+RCOND_UPDATE_F32 = 1e-7
 
 #: iterative refinement of the float32 schemes against the exact float64 operator: at most
 #: this many corrections; converged when the scaled residual is below REFINE_TOL of the
@@ -204,6 +205,10 @@ def null_modes(A: np.ndarray, lu_, k: int = 3, trans: int = 0, apply=None) -> np
     if not keep.any():
         keep[np.argmin(sv)] = True
     return X @ Vt[keep].T
+
+
+class _NotRefined(Exception):
+    """A float32 update's solve did not refine: the scheme is refactorised instead."""
 
 
 class MechanismError(Exception):
@@ -486,6 +491,8 @@ class SchemeFactor:
             Gy = o.product(y)
             o.counters["refinements"] += 1
         if rn > REFINE_ACCEPT * size:
+            if self.V is not None:  # an update too ill-conditioned to refine: refactorise
+                raise _NotRefined
             from stepcontact.errors import SolverError
 
             raise SolverError(
@@ -506,7 +513,10 @@ class SchemeFactor:
         bs = self.scale * b if b.ndim == 1 else self.scale[:, None] * b
         y = self._approx(bs)
         if o.refine:
-            y, Gy = self._refine(bs, y, floor)
+            try:
+                y, Gy = self._refine(bs, y, floor)
+            except _NotRefined:
+                return o.refactored(self).solve(hhat, e, r, floor)
         else:
             Gy = o.G @ y
         w_hat = hhat - Gy
@@ -521,13 +531,11 @@ class SchemeFactor:
 
         (δ: the change of the scaled right-hand side in those rows), O(k n); then ŵ = ĥ − G y.
         (G y is formed afresh: updating a cached G y₀ the same way cancels where ŵ ≪ G y₀ and
-        moves events by round-off 10× larger.)  Float32 schemes solve and refine instead."""
+        moves events by round-off 10× larger.)  Float32 schemes refine that solution."""
         o = self.owner
         d = o.d
         hhat = np.broadcast_to(np.asarray(hhat, float), d.shape)
         e = np.broadcast_to(np.asarray(e, float), d.shape)
-        if o.refine:
-            return self.solve(hhat, e, 0.0)
         b0, y0 = self.base.load(o, hhat, e)
         if self.V is None:
             y = y0
@@ -536,7 +544,14 @@ class SchemeFactor:
             delta = self.scale[idx] * _load_rhs_rows(d, self.rel, idx, hhat, e) - b0[idx]
             g = lu_solve(self.C_lu, delta - self.V @ y0)
             y = y0 + self.Z @ g
-        w_hat = hhat - o.G @ y
+        if o.refine:  # the cached float32 solution is the start of the refinement
+            try:
+                y, Gy = self._refine(self.scale * scheme_rhs(d, self.rel, hhat, e, 0.0), y)
+            except _NotRefined:
+                return o.refactored(self).load_rates(hhat, e)
+        else:
+            Gy = o.G @ y
+        w_hat = hhat - Gy
         return y + d * w_hat, w_hat + e
 
 
@@ -691,6 +706,18 @@ class SchemeSolver:
         scale = b.scale.copy()
         scale[idx] = b.vscale[slots]
         return SchemeFactor(self, b, idx, b.V[slots], b.Z[:, slots], C_lu, scale, rel)
+
+    def refactored(self, fac: SchemeFactor) -> SchemeFactor:
+        """A full factorisation of the scheme of ``fac`` (an update whose float32 solves did
+        not refine), which replaces it in the cache (raises :class:`MechanismError` if the
+        scheme is singular)."""
+        hit = self._cache.get(fac.rel.key())
+        if hit is not None and hit is not fac and hit.V is None and hit.base is self.base:
+            return hit
+        self._refactor(fac.rel)
+        plain = self._plain(fac.rel)
+        self._cache[fac.rel.key()] = plain
+        return plain
 
     def dense(self, rel: Relations) -> tuple[np.ndarray, np.ndarray]:
         """The full equilibrated scheme matrix and its row scales (for tests and mechanisms;
