@@ -274,3 +274,36 @@ def test_float32_mechanism_decided_by_the_exact_operator(smallest):
     w_hat = h - G @ t
     assert np.abs(ds - (t + d * w_hat)).max() <= 1e-9 * np.abs(t).max()
     assert np.abs(dw - (w_hat + e)).max() <= 1e-9 * np.abs(w_hat + e).max()
+
+
+def test_update_that_does_not_refine_is_refactorised(monkeypatch):
+    """A float32 low-rank update whose solve does not refine is replaced by a full
+    factorisation of its scheme (in the cache too), with the same rates as float64."""
+    from stepcontact.solver import schemes as sch
+
+    (e64, e32), c64, _ = _engines(MODELS["stack"]())
+    m = e64.m
+    name = next(iter(c64.hhat))
+    forcing = (c64.hhat[name], c64.e[name])
+    base = np.full(m, STICK)
+    e32.rates(base, forcing)  # the base scheme
+    states = base.copy()
+    states[0] = OPEN
+    original = sch.SchemeFactor._refine
+    failed = []
+
+    def refine_once(self, bs, y, floor=0.0):
+        if self.V is not None and not failed:
+            failed.append(True)
+            raise sch._NotRefined
+        return original(self, bs, y, floor)
+
+    monkeypatch.setattr(sch.SchemeFactor, "_refine", refine_once)
+    before = e32.schemes.counters["scheme_factorizations"]
+    ds, dw = e32.rates(states, forcing)
+    assert failed and e32.schemes.counters["scheme_factorizations"] == before + 1
+    fac = e32.schemes.factor(e32.relations(states, article=False))
+    assert fac.V is None  # the cache holds the full factorisation now
+    ds64, dw64 = e64.rates(states, forcing)
+    assert np.abs(ds - ds64).max() <= 1e-10 * np.abs(ds64).max()
+    assert np.abs(dw - dw64).max() <= 1e-10 * np.abs(dw64).max()
