@@ -25,7 +25,7 @@ import pytest
 import stepcontact as sc
 import test_event_sequences as seq
 import verification_models as vm
-from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
+from stepcontact.contact.laws import OPEN, STICK, CoulombLaw
 from stepcontact.errors import ModelError, SolverError
 from stepcontact.fem.assembly import assemble
 from stepcontact.solver.condensation import Condensed, dense_memory, dense_precision
@@ -70,10 +70,6 @@ def _engines(model):
     return out, c64, c32
 
 
-def _random_states(rng, m):
-    return rng.choice([OPEN, STICK, SLIP_POS, SLIP_NEG], size=m, p=[0.2, 0.5, 0.15, 0.15])
-
-
 @pytest.mark.parametrize("model", sorted(MODELS))
 def test_exact_operator_and_shifted_rows(model):
     """A t and Aᵀ y from G t equal the dense scheme matrix's products, and the rows of the
@@ -84,7 +80,7 @@ def test_exact_operator_and_shifted_rows(model):
     M = d[:, None] * G - np.eye(n)
     rng = np.random.default_rng(7)
     for _ in range(10):
-        rel = eng.relations(_random_states(rng, n // 2), article=False)
+        rel = eng.relations(vm.random_states(rng, n // 2), article=False)
         A, scale = scheme_rows(G, d, rel, np.arange(n))
         As, scale_s = scheme_rows(M, d, rel, np.arange(n), shifted=True)
         assert np.allclose(As, A, rtol=0, atol=1e-12)
@@ -109,12 +105,9 @@ def test_refined_float32_rates_equal_float64(model):
     assert c32.G.dtype == np.float32 and c64.G.dtype == np.float64
     m = e64.m
     rng = np.random.default_rng(11)
-    name = next(iter(c64.hhat))
-    h, e = c64.hhat[name], c64.e[name]
+    h, e = vm.first_forcing(c64)
     checked = singular = 0
-    for _ in range(40):
-        states = _random_states(rng, m)
-        r = rng.standard_normal(2 * m) * 1e-6
+    for states, r in vm.random_scheme_cases(rng, m):
         out = []
         for eng in (e64, e32):
             try:

@@ -60,12 +60,9 @@ def test_woodbury_updates_equal_dense_solves(model, max_rank):
     eng, cond = _engine(mdl, max_rank)
     m = eng.m
     rng = np.random.default_rng(3)
-    name = next(iter(cond.hhat))
-    h, e = cond.hhat[name], cond.e[name]
+    h, e = vm.first_forcing(cond)
     n_dense_singular = n_checked = 0
-    for _ in range(40):
-        states = rng.choice([OPEN, STICK, SLIP_POS, SLIP_NEG], size=m, p=[0.2, 0.5, 0.15, 0.15])
-        r = rng.standard_normal(2 * m) * 1e-6
+    for states, r in vm.random_scheme_cases(rng, m):
         rel = eng.relations(states, article=False)
         A, scale = scheme_rows(cond.G, cond.d, rel, np.arange(2 * m))
         b = scale * scheme_rhs(cond.d, rel, h, e, r)
@@ -177,7 +174,7 @@ def test_condition_estimate_from_the_lu_tells_mechanisms_like_the_svd(model):
     m = eng.m
     rng = np.random.default_rng(5)
     kinds = set()
-    samples = [rng.choice([OPEN, STICK, SLIP_POS, SLIP_NEG], size=m, p=[0.2, 0.5, 0.15, 0.15])
+    samples = [vm.random_states(rng, m)
                for _ in range(30)]
     for states in [*samples, np.full(m, OPEN), np.full(m, SLIP_POS), np.full(m, STICK)]:
         A, _ = scheme_rows(cond.G, cond.d, eng.relations(states, article=False),

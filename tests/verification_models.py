@@ -27,6 +27,7 @@ from stepcontact import (
     Support,
     rectangle,
 )
+from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK
 
 G = 9.81
 CONCRETE = Material(30e9, 0.2, 2400.0)
@@ -451,3 +452,22 @@ def beam_on_supports(xs: tuple[float, ...] = (0.0, 2.0, 4.0, 6.0, 8.0)) -> Model
         Segment("weight", 1.0),
         Segment("lift", 1e6),
     )
+
+
+def random_states(rng: np.random.Generator, m: int) -> np.ndarray:
+    """Random working-scheme states of m CFEs (open 20 %, stuck 50 %, slipping ±15 % each):
+    the schemes the scheme-solver tests draw."""
+    return rng.choice([OPEN, STICK, SLIP_POS, SLIP_NEG], size=m, p=[0.2, 0.5, 0.15, 0.15])
+
+
+def random_scheme_cases(rng: np.random.Generator, m: int, n: int = 40):
+    """n random schemes of m CFEs (:func:`random_states`), each with a random relation
+    right-hand side r (2m,) of size 1e-6: (states, r) pairs."""
+    for _ in range(n):
+        yield random_states(rng, m), rng.standard_normal(2 * m) * 1e-6
+
+
+def first_forcing(cond) -> tuple[np.ndarray, np.ndarray]:
+    """The load rates (ĥ, e) on the contact unknowns of a condensed system's first pattern."""
+    name = next(iter(cond.hhat))
+    return cond.hhat[name], cond.e[name]
