@@ -1,7 +1,7 @@
 """The built-in demo (``stepcontact demo``) through the Python API, with figures and files.
 
 A concrete block (2 m × 1 m, 2400 kg/m³) on an elastic rock foundation, joined by a rigid joint
-with friction f = 0.6 whose two faces are meshed differently (node-to-segment CFEs):
+with friction f = 0.6 whose two faces are meshed differently (mortar CFEs):
 
 1. ``demo_model()``: self-weight W, then a pressure on the block's left face.  The joint
    carries at most f·W, so the block slides as a whole at H = f·W.

@@ -24,11 +24,12 @@ TOL = 1e-9
 
 def pressed_plate(f: float, ratio: float, preload: float = 0.0, nx: int = 6) -> sc.Model:
     """A plate on a fixed base, zero gaps, pressed by a normal pressure (1 Pa per unit λ) and
-    sheared by a lateral traction ``ratio`` Pa per unit λ on its top, proportionally from zero
-    (``preload``: a first segment of the normal pressure alone)."""
+    sheared by a lateral traction ``ratio`` Pa per unit λ along −x on its top, proportionally
+    from zero (``preload``: a first segment of the normal pressure alone)."""
     m = vm.block_on_base(friction=f, nx=nx, ny=2, w=2.0, h=0.5)
     top = m.select("block", y=0.5)
-    pats = [sc.LoadPattern("press", [sc.EdgeLoad(top, normal=1.0, tangential=ratio)])]
+    # the edge tangent of a top face is +x (t = (n_y, −n_x)): −ratio pushes along −x
+    pats = [sc.LoadPattern("press", [sc.EdgeLoad(top, normal=1.0, tangential=-ratio)])]
     segs = [sc.Segment("press", 1e6)]
     if preload:
         pats.insert(0, sc.LoadPattern("pre", [sc.EdgeLoad(top, normal=1.0)]))
@@ -75,8 +76,10 @@ def test_plate_sheared_beyond_friction_slides_at_zero():
 def test_contact_node_on_a_roller_is_carried_by_the_supports():
     """A contact node fixed in y on a base node fixed in y: the CFE's normal row is zero.  A
     named warning says so, the supports carry its normal force (the CFE carries none), and the
-    run goes on to the sliding load of the rest of the joint (no false mechanism at λ = 0)."""
-    m = vm.block_on_base(friction=0.5, nx=6, ny=2)
+    run goes on to the sliding load of the rest of the joint (no false mechanism at λ = 0).
+    The meshes match (node-to-node CFEs): a mortar CFE would also tie the base nodes next to
+    the corner, which are free."""
+    m = vm.block_on_base(friction=0.5, nx=4, ny=2, base_nx=6)
     m = m.add(
         sc.Support("roller", m.select("block", x=0.0, y=0.0, boundary=False), "y"),
         sc.Support("base_corner", m.select("base", x=0.0, y=0.0, boundary=False), "xy"),
@@ -145,7 +148,7 @@ def test_huge_friction_never_slides(f):
 
 def test_body_lifted_straight_off_is_lift_off():
     """Gravity reversed on a block resting on a base: a translation, not an overturning."""
-    m = vm.block_on_base(friction=0.5, nx=6, ny=2)
+    m = vm.block_on_base(friction=0.5, nx=6, ny=2, cfe="node-to-segment")
     m = m.add(sc.LoadPattern("up", [sc.BodyForce(bodies=("block",), g=(0.0, 9.81))]),
               sc.Segment("up", 1.0))
     res = sc.solve_static(m)

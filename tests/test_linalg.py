@@ -100,10 +100,10 @@ def test_fill_reducing_order_puts_the_given_dofs_last_and_groups_nodes():
     assert np.array_equal(np.sort(fill_reducing_order(K0, last, node_of)),
                           np.arange(K0.shape[0]))
     # without the node map, DOFs of equal two-step pattern are grouped: the two DOFs of a node
-    # share a group almost everywhere (a split or merged group costs ordering time only)
+    # share a group in most places (a split or merged group costs ordering time only)
     groups = node_groups(K0)
     same = groups[::2] == groups[1::2] if np.array_equal(node_of[::2], node_of[1::2]) else None
-    assert same is not None and same.mean() > 0.9
+    assert same is not None and same.mean() > 0.8  # 0.86 with mortar CFEs (wider B rows)
     order = fill_reducing_order(K0, last)
     assert set(order[-len(last):]) == set(last)
 

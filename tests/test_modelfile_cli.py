@@ -138,7 +138,7 @@ loads = [{ type = "gravity", bodies = ["plate", "beam"] }]
 
 [patterns.side]
 loads = [
-    { type = "pressure", nodes = "plate_left", normal = [1e4, 2e4], tangential = 5e3 },
+    { type = "pressure", nodes = "plate_left", normal = [1e4, 2e4], tangential = -5e3 },
     { type = "nodal", nodes = "beam_start", fx = 1e3, mz = 10.0 },
     { type = "displacement", nodes = "beam_start", dof = "rz", value = 1e-4 },
 ]
@@ -184,7 +184,8 @@ def test_demo_file_round_trips_to_a_model():
 
 
 def test_full_file_covers_every_section():
-    model = model_from_dict(tomllib.loads(FULL))
+    with pytest.warns(FutureWarning, match="a pair \\[start, end\\] varies along the node set"):
+        model = model_from_dict(tomllib.loads(FULL))  # the pair [1e4, 2e4] is deprecated
     assert (model.name, model.plane, model.thickness) == ("full", "stress", 0.5)
     base, plate, beam = model.bodies
     assert base.element == "tri3" and base.material.E == 1e9 and base.material.density == 0.0
@@ -202,7 +203,7 @@ def test_full_file_covers_every_section():
     assert model.springs[0].b is None and model.springs[0].kx == 1e6
     press, nodal, disp = model.pattern("side").loads
     assert isinstance(press, EdgeLoad) and press.normal == (1e4, 2e4)
-    assert press.tangential == 5e3
+    assert press.tangential == -5e3
     assert isinstance(nodal, NodalLoad) and (nodal.fx, nodal.fy, nodal.mz) == (1e3, 0.0, 10.0)
     assert isinstance(disp, PrescribedDisplacement) and (disp.dof, disp.value) == ("rz", 1e-4)
     assert model.pattern("weight").loads[0].g == (0.0, -9.81)

@@ -54,6 +54,24 @@ def test_rates_equal_two_single_pattern_runs_when_one_rate_is_zero():
     assert np.allclose([e.lam * 1e4 for e in a.events], [e.lam for e in b.events], rtol=1e-9)
 
 
+def test_single_pattern_segment_chains_after_a_segment_with_rates():
+    """A segment with rates moves its patterns; a single-pattern segment after it starts where
+    the pattern stands (it used to start from 0 and, ending at 0, silently did nothing): push
+    to 0.9 f W with a rates segment, then back to 0 and on to 2 f W alone: the block slides at
+    f W on the last segment (1e-9) and the program's starts chain."""
+    W = vm.SOFT.density * vm.G * 1.0
+    m = push_and_lift({"push": 0.9 * 0.5 * W})
+    m = m.add(sc.Segment("push", 0.0), sc.Segment("push", W))
+    segs = m.segments_resolved()
+    assert segs[2] == ("push", pytest.approx(0.45 * W, rel=1e-12), 0.0)
+    with pytest.raises(sc.ModelError, match="does not chain"):
+        m.add(sc.Segment("push", 1.0, start=0.0)).segments_resolved()
+    res = sc.solve_static(m)
+    assert res.status == sc.Status.EQUILIBRIUM_LOST
+    assert res.multipliers[-1].segment == 3
+    assert res.multipliers[-1].equilibrium_lost == pytest.approx(0.5 * W, rel=1e-9)
+
+
 def test_bad_rates_name_the_item():
     with pytest.raises(sc.ModelError, match=r"rates.*nope|nope"):
         sc.solve_static(push_and_lift({"nope": 1.0}))

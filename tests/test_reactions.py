@@ -96,7 +96,7 @@ def test_plot_json_and_quiet(tmp_path):
     import json
 
     info = json.loads(out.stdout)
-    assert info["status"] == "ok" and len(info["written"]) == 4 and info["skipped"] == []
+    assert info["status"] == "ok" and len(info["written"]) == 5 and info["skipped"] == []
     assert all((tmp_path / p).stat().st_size > 1000 for p in info["written"])
     out = CliRunner().invoke(app, ["plot", str(path), "-q", "-o", str(tmp_path / "q.png")])
     assert out.exit_code == 0 and out.stdout == "" and (tmp_path / "q.png").exists()

@@ -52,11 +52,14 @@ def block_on_base(
     material: Material = SOFT,
     gap=None,
     x_support: bool = False,
+    cfe: str = "auto",
 ) -> Model:
     """A block [0, w] × [0, h] on a base [-w/4, 5w/4] × [-h, 0] fixed at its bottom.
 
-    Interface 'contact': S+ = block bottom, S− = base top (normal +y).  With ``x_support`` the
-    top-centre node of the block is fixed in x (needs ``nx`` even).  No loads, no program.
+    Interface 'contact': S+ = block bottom, S− = base top (normal +y), CFEs of kind ``cfe``
+    (mortar by default: the meshes do not match unless ``base_nx`` = 1.5 nx).  With
+    ``x_support`` the top-centre node of the block is fixed in x (needs ``nx`` even).  No
+    loads, no program.
     """
     base_nx = 2 * nx if base_nx is None else base_nx
     base = rectangle("base", (-w / 4, -h), (1.25 * w, 0.0), base_nx, max(ny, 1), material)
@@ -65,7 +68,7 @@ def block_on_base(
     m = m.add(
         Support("base_bottom", m.select("base", y=-h)),
         Interface("contact", m.select("block", y=0.0), m.select("base", y=0.0),
-                  friction=friction, gap=gap),
+                  friction=friction, gap=gap, cfe=cfe),
     )
     if x_support:
         m = m.add(Support("block_x", _node(m, "block", w / 2, h), "x"))
@@ -116,7 +119,8 @@ def frictionless_block(seed: int) -> Model:
 
 
 def frictionless_two_blocks() -> Model:
-    """Base, block A on the base, block B on A with non-matching meshes (node-to-segment).
+    """Base, block A on the base, block B on A with non-matching meshes (node-to-segment CFEs,
+    given explicitly: the article's CFE; B's end nodes overhang the part of A given as S−).
 
     Both interfaces frictionless; A and B are each fixed in x at one node.  B is loaded
     eccentrically so part of the B/A interface opens; then A gets a side push.
@@ -132,7 +136,8 @@ def frictionless_two_blocks() -> Model:
         Support("B_x", _node(m, "B", 1.0, 1.0), "x"),
         Interface("A_on_base", m.select("A", y=0.0), m.select("base", y=0.0)),
         Interface("B_on_A", m.select("B", y=0.5),
-                  m.select("A", y=0.5, where=lambda x, y: (x > 0.2) & (x < 1.8))),
+                  m.select("A", y=0.5, where=lambda x, y: (x > 0.2) & (x < 1.8)),
+                  cfe="node-to-segment"),
     )
     W = mat.density * G * 0.75
     return m.add(
@@ -319,7 +324,8 @@ def quarter_disc_mesh(R: float, h0: float, uniform: float) -> MeshQuad:
     return MeshQuad(pts.reshape(2, -1), t)
 
 
-def hertz_model(h0: float) -> Model:
+def hertz_model(h0: float, *, block_ratio: float = 1.0, cfe: str = "auto",
+                cylinder_plus: bool = True) -> Model:
     """NAFEMS-style cylinder on a block, half model (x ≥ 0), frictionless, quad4.
 
     Quarter of the cylinder (R = 50 mm, E = 210 GPa, ν = 0.3) on a block [0, 2R] × [−2R, 0]
@@ -327,11 +333,14 @@ def hertz_model(h0: float) -> Model:
     half load P/2 is a uniform pressure on the cut y = R; x = 0 is a symmetry line (fixed in
     x); the block's bottom is fixed.  CFEs: S+ = the cylinder's arc nodes with x ≤ 0.3 R,
     S− = the block's top with x ≤ 0.4 R; gaps geometric (≈ x²/2R).
+
+    ``block_ratio`` scales the block's spacing (≠ 1: meshes that clearly do not match),
+    ``cfe`` is the interface's CFE kind, ``cylinder_plus`` False swaps S+ and S−.
     """
     R = HERTZ_R
     a, _ = hertz_solution()
     cyl = Body.from_mesh("cylinder", quarter_disc_mesh(R, h0, 1.6 * a), "quad4", HERTZ_CYL)
-    ax = graded_axis(2 * R, h0, 1.6 * a)
+    ax = graded_axis(2 * R, h0 * block_ratio, 1.6 * a)
     block = rectangle("block", (0.0, -2 * R), (2 * R, 0.0), 1, 1, HERTZ_BLOCK,
                       xs=ax, ys=-ax[::-1])
     m = Model().add(cyl, block)
@@ -339,12 +348,16 @@ def hertz_model(h0: float) -> Model:
     def on_arc(x, y):
         return (np.abs(np.hypot(x, y - R) - R) <= 1e-9 * R) & (x <= 0.3 * R)
 
-    return m.add(
+    m = m.add(
         Support("cyl_sym", m.select("cylinder", x=0.0), "x"),
         Support("block_sym", m.select("block", x=0.0), "x"),
         Support("block_bottom", m.select("block", y=-2 * R)),
-        Interface("hertz", m.select("cylinder", where=on_arc),
-                  m.select("block", y=0.0, where=lambda x, y: x <= 0.4 * R), friction=0.0),
+    )
+    arc = m.select("cylinder", where=on_arc)
+    top = m.select("block", y=0.0, where=lambda x, y: x <= 0.4 * R)
+    plus, minus = (arc, top) if cylinder_plus else (top, arc)
+    return m.add(
+        Interface("hertz", plus, minus, friction=0.0, cfe=cfe),
         LoadPattern("P", [EdgeLoad(m.select("cylinder", y=R), normal=HERTZ_P / 2 / R)]),
         Segment("P", 1.0),
     )

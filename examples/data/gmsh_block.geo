@@ -2,7 +2,7 @@
 //
 // The block's bottom (curve 5) and the foundation's top (curve 3) are different curves with
 // different mesh sizes, so the two meshes do not match along the joint: the contact finite
-// elements are node-to-segment.  Mesh it (gmsh Python package) with
+// elements are mortar (segment-to-segment).  Mesh it (gmsh Python package) with
 //
 //   python -c "from stepcontact.meshfile import mesh_geo; mesh_geo('gmsh_block.geo')"
 //

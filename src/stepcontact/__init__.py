@@ -2,7 +2,13 @@
 
 from stepcontact.demo import demo_model
 from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
-from stepcontact.errors import ContactHeldWarning, ModelError, SolverError, StepContactError
+from stepcontact.errors import (
+    ContactHeldWarning,
+    ContactMeshWarning,
+    ModelError,
+    SolverError,
+    StepContactError,
+)
 from stepcontact.fem.assembly import System, assemble
 from stepcontact.io.export import export_vtu, export_xdmf
 from stepcontact.io.meshfile import MeshFile, read_msh
@@ -11,6 +17,7 @@ from stepcontact.model import (
     Body,
     BodyForce,
     ContactLayer,
+    EdgeForce,
     EdgeLoad,
     Frame,
     Interface,
@@ -25,14 +32,15 @@ from stepcontact.model import (
     Support,
     Tie,
 )
-from stepcontact.model.mesh import rectangle
+from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
+from stepcontact.model.water import LinearProfile, Uplift, WaterLoad
 from stepcontact.results.file import load_result
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, condense
 from stepcontact.solver.static import StepInfo, solve_static
 
 _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",
-          "plot_event_timeline")
+          "plot_event_timeline", "plot_safety")
 
 
 def __getattr__(name: str):
@@ -59,7 +67,9 @@ __all__ = [
     "BodyForce",
     "ContactLayer",
     "ContactHeldWarning",
+    "ContactMeshWarning",
     "ContactState",
+    "EdgeForce",
     "EdgeLoad",
     "Frame",
     "Interface",
@@ -80,6 +90,13 @@ __all__ = [
     "Tie",
     "Transition",
     "rectangle",
+    "quad_region",
+    "half_disc",
+    "rotate",
+    "translate",
+    "LinearProfile",
+    "Uplift",
+    "WaterLoad",
     "assemble",
     "solve_static",
     "condense",

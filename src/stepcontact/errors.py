@@ -33,3 +33,9 @@ class SolverError(StepContactError, RuntimeError):
 class ContactHeldWarning(UserWarning):
     """A CFE component whose relative motion is held by supports on both sides: the supports
     carry that component and the CFE does not (its row of the contact operator is zero)."""
+
+
+class ContactMeshWarning(UserWarning):
+    """The meshes of an interface give a correct but less accurate contact pressure than they
+    could (e.g. mortar CFEs on the finer of the two sides: the pressure oscillates about the
+    right mean); the message says what to change."""

@@ -38,6 +38,7 @@ from rich.text import Text
 from stepcontact import __version__
 from stepcontact.enums import SlipTreatment, Status
 from stepcontact.errors import StepContactError
+from stepcontact.fem.level import is_virtual
 
 if TYPE_CHECKING:
     from stepcontact.model import Model
@@ -245,8 +246,25 @@ def result_summary(res: StaticResult, **extra: Any) -> dict[str, Any]:
             {k: _jsonable(v) for k, v in asdict(mu).items()} for mu in res.multipliers
         ],
         "counters": {k: _jsonable(v) for k, v in res.counters.items()},
+        "load_resultants": _load_resultants(res),
         **extra,
     }
+
+
+def _load_resultants(res: StaticResult) -> dict[str, dict[str, Any]]:
+    """{pattern: {"Fx": N, "Fy": N, "Mz": N·m about the origin}} per unit λ."""
+    out = {}
+    levels = res.level_patterns
+    for name in res.pattern_names:
+        if is_virtual(name):
+            continue
+        if name in levels:  # the factor is a water level: the load at the last state
+            fx, fy, mz = (_jsonable(float(v)) for v in res.load_resultant(name, -1))
+            out[name] = {"Fx": fx, "Fy": fy, "Mz": mz, "at": "last state (water level)"}
+            continue
+        fx, fy, mz = (_jsonable(float(v)) for v in res.load_resultant(name))
+        out[name] = {"Fx": fx, "Fy": fy, "Mz": mz}
+    return out
 
 
 def _report(
@@ -276,14 +294,26 @@ def _analyse(
     console: Console,
     precision: str = "auto",
 ) -> dict[str, Any]:
-    """Solve, report, write the result file and the figure; return the JSON summary."""
+    """Solve, report, write the result file and the figure; return the JSON summary.
+
+    The arguments are checked before solving; warnings (an empty or zero load pattern,
+    displacements larger than the model) go to stderr, one line each."""
+    from stepcontact.fem.loadcheck import zero_patterns
+    from stepcontact.results.checks import displacement_warnings
+
     _check_plot_path(plot_path)
+    _check_lams(model, lams)
+    warnings = [text for _, text in zero_patterns(model)]
+    _warn(warnings)
     result_path.parent.mkdir(parents=True, exist_ok=True)
     res = _solve(model, slip=slip, eps_p=eps_p, max_events=max_events,
                  progress_bar=not quiet and not as_json, output=result_path,
                  precision=precision)
     if not as_json:
         _report(res, console, title=f"stepcontact: {model.name}", table=not quiet)
+    late = displacement_warnings(res)
+    _warn(late)
+    warnings += late
     written = [str(result_path)]
     if plot_path is not None:
         plot_path.parent.mkdir(parents=True, exist_ok=True)
@@ -296,7 +326,33 @@ def _analyse(
         model=model.name,
         result_file=str(result_path),
         plot=None if plot_path is None else str(plot_path),
+        warnings=warnings,
     )
+
+
+def _warn(texts: Sequence[str]) -> None:
+    """Each warning as one yellow line ``warning: ...`` on stderr (also with --json, whose
+    summary lists them under "warnings")."""
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    for text in texts:
+        err.print(Text(f"warning: {' '.join(text.split())}", style="yellow"))
+
+
+def _check_lams(model: Model, lams: Sequence[float] | None) -> None:
+    """``run --lam``: finite load factors inside the last segment of the program (the one a
+    complete run ends in), checked before solving."""
+    if not lams:
+        return
+    segments = model.segments_resolved()
+    for v in lams:
+        if not math.isfinite(v):
+            raise _Failure(f"--lam {v}: give a finite load factor λ of the last segment")
+        if segments:
+            name, a, b = segments[-1]
+            if not min(a, b) <= v <= max(a, b):
+                raise _Failure(f"--lam {v:g}: outside the last segment of the program "
+                               f"('{name}', λ from {a:g} to {b:g}); --lam draws load factors "
+                               "of the last segment reached")
 
 
 # --------------------------------------------------------------------------------------------
@@ -489,7 +545,9 @@ def validate(
 
     Checks the schema, names, mesh groups, materials and element quality.
 
-    Finds orphan nodes and bodies that overlap without an interface; assembles the model.
+    Finds orphan nodes and bodies that overlap without an interface; assembles the model and
+    checks, without solving, that it is no mechanism with every CFE stuck (names the bodies
+    that can move); warns about empty or zero load patterns.
 
     Exit code 2 when there are errors (warnings alone exit with 0).
 
@@ -518,7 +576,8 @@ def validate(
                                      f"{len(warnings)} warnings"))
     if errors:
         first = errors[0]
-        msg = f"{first.item}: {first.message}"
+        # a problem of the file itself (not found, not TOML) is already named by the file
+        msg = first.message if first.item == str(model_file) else f"{first.item}: {first.message}"
         if len(errors) > 1:
             msg = f"{len(errors)} errors, the first: {msg}"
         Console(stderr=True, soft_wrap=True, highlight=False).print(
@@ -566,7 +625,7 @@ __all__ = ["ProgressHook", "app", "events_table", "result_summary"]
 # --------------------------------------------------------------------------------------------
 # plot and info: figures and a summary of a result file
 # --------------------------------------------------------------------------------------------
-PLOT_KINDS = ("deformed", "stresses", "load-displacement", "timeline")
+PLOT_KINDS = ("deformed", "stresses", "load-displacement", "timeline", "safety")
 _NEEDS_FIELDS = ("deformed", "load-displacement")
 
 
@@ -580,7 +639,7 @@ def _load_result_file(path: Path) -> StaticResult:
         return load_result(path)
     except (OSError, ValueError, KeyError, TypeError) as e:
         msg = _error_text(e)
-        if not msg.startswith("not a stepcontact"):
+        if not msg.startswith(("not a stepcontact", "inconsistent result file")):
             msg = f"not a stepcontact result file ({msg})"
         raise _Failure(f"{path}: {msg}") from None
 
@@ -688,6 +747,8 @@ def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any])
             plotting.plot_load_displacement(res, node=opts["node"], dof=opts["dof"],
                                             body=opts["body"], path=path, dpi=opts["dpi"],
                                             reaction=opts["reaction"])
+        elif kind == "safety":
+            plotting.plot_safety(res, path=path, dpi=opts["dpi"])
         else:
             plotting.plot_event_timeline(res, path=path, dpi=opts["dpi"])
     except ValueError as e:
@@ -714,8 +775,9 @@ def plot(
     ],
     kind: Annotated[
         str,
-        typer.Option("--kind", "-k", help="deformed, stresses, load-displacement, timeline or "
-                     "all (one file per kind)."),
+        typer.Option("--kind", "-k", help="deformed, stresses, load-displacement, timeline, "
+                     "safety (eccentricity, sliding factor and open length of the joints "
+                     "against λ) or all (one file per kind)."),
     ] = "stresses",
     lam: Annotated[
         list[float] | None,
@@ -786,6 +848,8 @@ def plot(
 
         stepcontact plot run.nc --kind timeline --dpi 300
 
+        stepcontact plot run.nc --kind safety
+
         stepcontact plot run.nc --kind all -o figures/ --format pdf
 
         stepcontact plot run.nc --kind load-displacement --model dam.toml
@@ -836,7 +900,8 @@ def plot(
     console.print(Text("written: " + ", ".join(written), style="green"))
 
 
-def result_info(res: StaticResult, path: Path | None = None) -> dict[str, Any]:
+def result_info(res: StaticResult, path: Path | None = None,
+                design: float | None = None) -> dict[str, Any]:
     """What ``stepcontact info --json`` prints: :func:`result_summary` plus the model size,
     the segments with their λ ranges and multipliers, residuals and units."""
     import numpy as np
@@ -873,7 +938,23 @@ def result_info(res: StaticResult, path: Path | None = None) -> dict[str, Any]:
                               zip(res.reaction_labels, res.reactions[-1], strict=True)}
         if res.n_states and len(res.reaction_labels) else {},
         units=dict(res.units),
+        interface_safety=_interface_safety(res, design),
     )
+
+
+def _interface_safety(res: StaticResult, design: float | None = None) -> list[dict[str, Any]]:
+    """Safety of every interface at the last state (:meth:`StaticResult.interface_safety`;
+    factors of safety λ_limit / ``design`` when the design load factor is given)."""
+    if not res.n_states:
+        return []
+    out = []
+    for name in res.interface_names:
+        try:
+            sf = res.interface_safety(name, design).at(-1)
+            out.append({k: _jsonable(v) for k, v in sf.items()})
+        except ValueError:  # an interface without CFEs
+            continue
+    return out
 
 
 def _state_list(states: Sequence[int], limit: int = 8, count: bool = True) -> str:
@@ -945,6 +1026,30 @@ def _info_tables(info: dict[str, Any]) -> list[Table]:
         if n:
             trans.add_row(t, str(n))
     tables = [size, segs, mult, trans]
+    for sf in info.get("interface_safety", []):
+        tab = Table(title=f"interface '{sf['interface']}' at the last state (λ = "
+                    f"{sf['lam']:.6g}, segment {sf['segment']})", show_header=False, **opts)
+        tab.add_column(justify="left")
+        tab.add_column(justify="right")
+        ecc = sf["eccentricity"]
+        for label, value in (
+            ("ΣN, ΣQ (N)", f"{_info_fmt(sf['normal_force'])}, {_info_fmt(sf['shear_force'])}"),
+            ("normal resultant from the heel (m)", _info_fmt(sf["position"])),
+            ("eccentricity e (m), joint length B", f"{_info_fmt(ecc)} (e/B = "
+             f"{_info_fmt(None if ecc is None else ecc / sf['length'] if sf['length'] else None)}"
+             f"), B = {_info_fmt(sf['length'])}"),
+            ("in the kern (|e| ≤ B/6)", "yes" if sf["in_kern"] else "no"),
+            ("σn heel, toe (Pa)", f"{_info_fmt(sf['sigma_heel'])}, {_info_fmt(sf['sigma_toe'])}"),
+            ("sliding factor f·|ΣN|/|ΣQ|", _info_fmt(sf["sliding_factor"])),
+            ("open length (m)", _info_fmt(sf["open_length"])),
+            ("λ sliding, λ overturning", f"{_info_fmt(sf['lam_sliding'])}, "
+             f"{_info_fmt(sf['lam_overturning'])}"),
+            *([(f"FS sliding, overturning (λ_d = {sf['design']:.6g})",
+                f"{_info_fmt(sf['fs_sliding'])}, {_info_fmt(sf['fs_overturning'])}")]
+              if sf.get("design") is not None else []),
+        ):
+            tab.add_row(label, value)
+        tables.append(tab)
     if info.get("reactions_last_state"):
         reac = Table(title="support reactions on the structure at the last state (N; N·m for rz)",
                      **opts)
@@ -962,12 +1067,20 @@ def info(
         Path, typer.Argument(metavar="RESULT.nc", help="Result file written by 'run'.")
     ],
     as_json: JsonOption = False,
+    design: Annotated[
+        float | None,
+        typer.Option("--design", help="Design load factor λ_d: the joints' factors of safety "
+                     "against sliding and overturning are λ_limit / λ_d."),
+    ] = None,
 ) -> None:
-    """Summarise a result file: status, model size, segments, events, multipliers.
+    """Summarise a result file: status, model size, segments, events, multipliers, and the
+    safety of every joint at the last state.
 
     Examples:
 
         stepcontact info run.nc
+
+        stepcontact info run.nc --design 1.0
 
         stepcontact info run.nc --json | jq .multipliers
     """
@@ -975,7 +1088,9 @@ def info(
         res = _load_result_file(result_file)
     except _Failure as e:
         raise _fail(str(e), as_json) from None
-    summary = result_info(res, result_file)
+    if design is not None and not (math.isfinite(design) and design != 0):
+        raise _fail(f"--design {design}: give a finite, non-zero design load factor", as_json)
+    summary = result_info(res, result_file, design)
     if as_json:
         typer.echo(json.dumps(summary, indent=2, ensure_ascii=False))
         return

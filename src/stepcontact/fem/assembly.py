@@ -11,7 +11,7 @@ w = B u + w⁰ with rows 0..m-1 = u_τ and rows m..2m-1 = u_n
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -19,9 +19,11 @@ import scipy.sparse as sp
 from stepcontact.contact.geometry import ContactElements, build_contact, chain_order
 from stepcontact.errors import ModelError
 from stepcontact.fem import continuum as _fem
+from stepcontact.fem.level import is_level_pattern, level_basis
 from stepcontact.model import (
     Body,
     BodyForce,
+    EdgeForce,
     EdgeLoad,
     Frame,
     Model,
@@ -83,6 +85,9 @@ class System:
         load pattern prescribes): R = reaction_rows · (K u + Bᵀ s − f).
     reaction_labels : tuple of str
         ``"support:x"``, ``"support:y"``, ``"support:rz"``, ``"pattern (prescribed):x"`` …
+    levels : dict[str, LevelBasis]
+        Patterns whose factor is a water level, with their virtual patterns (which ``loads``
+        also holds, see :mod:`stepcontact.fem.level`).
     """
 
     model: Model
@@ -95,6 +100,7 @@ class System:
     w0: np.ndarray
     reaction_rows: sp.csr_matrix | None = None
     reaction_labels: tuple[str, ...] = ()
+    levels: dict = field(default_factory=dict)
 
     @property
     def ndof(self) -> int:
@@ -206,19 +212,20 @@ def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
                 raise ModelError(f"spring '{s.name}'", "node sets a and b differ in size")
         else:
             bb = None
-        for comp, k in ((0, s.kx), (1, s.ky)):
-            if k == 0:
-                continue
-            da = dofs.of[a, comp]
+        # k = kx ex⊗ex + ky ey⊗ey + k d⊗d on the translations: [[k, -k], [-k, k]] per pair
+        ks = s.stiffness_matrix()
+        for c, e in zip(*np.nonzero(ks), strict=True):
+            da, ea = dofs.of[a, c], dofs.of[a, e]
+            kce = ks[c, e]
             if bb is None:
                 rows.append(da)
-                cols.append(da)
-                vals.append(np.full(len(da), k))
+                cols.append(ea)
+                vals.append(np.full(len(da), kce))
             else:
-                db = dofs.of[bb, comp]
+                db, eb = dofs.of[bb, c], dofs.of[bb, e]
                 rows.append(np.r_[da, db, da, db])
-                cols.append(np.r_[da, db, db, da])
-                vals.append(np.r_[np.full(2 * len(da), k), np.full(2 * len(da), -k)])
+                cols.append(np.r_[ea, eb, eb, ea])
+                vals.append(np.r_[np.full(2 * len(da), kce), np.full(2 * len(da), -kce)])
     if not rows:
         return sp.csr_matrix((dofs.ndof, dofs.ndof))
     return scatter(np.concatenate(rows), np.concatenate(cols), np.concatenate(vals),
@@ -278,7 +285,7 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                 if np.any(d < 0):
                     raise ModelError(item, "moment on a node without rotation (not a frame node)")
                 np.add.at(f, d, v)
-        elif isinstance(ld, EdgeLoad):
+        elif isinstance(ld, EdgeLoad | EdgeForce):
             b = model.body(ld.nodes.body)
             if not isinstance(b, Body):
                 raise ModelError(item, f"edge loads need a continuum body, '{b.name}' is a frame")
@@ -290,13 +297,31 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             from stepcontact.contact.geometry import _edge_to_facet
 
             facets = _edge_to_facet(b, edges)
-            pn = _pressure_function(ld.normal, b, ld.nodes, item)
-            pt = _pressure_function(ld.tangential, b, ld.nodes, item)
-            fb = _fem.edge_load(b, facets, pn, pt, model.thickness)
+            if isinstance(ld, EdgeForce):
+                # the total force as a uniform traction F / (L · thickness) over the edges
+                if not (np.isfinite(ld.fx) and np.isfinite(ld.fy)):
+                    raise ModelError(item, f"edge force ({ld.fx}, {ld.fy}) is NaN or inf")
+                area = _fem.edge_length(b, facets) * model.thickness
+                pn = pt = None
+                trac = tuple(_pressure_function(v / area, b, ld.nodes, item)
+                             for v in (ld.fx, ld.fy))
+            else:
+                pn = _pressure_function(ld.normal, b, ld.nodes, item)
+                pt = _pressure_function(ld.tangential, b, ld.nodes, item)
+                trac = None if ld.traction is None else tuple(
+                    _pressure_function(v, b, ld.nodes, f"{item}.traction[{c}]")
+                    for c, v in enumerate(ld.traction))
+            fb = _fem.edge_load(b, facets, pn, pt, model.thickness, trac)
             if not np.all(np.isfinite(fb)):
                 raise ModelError(item, "pressure function gives NaN or inf")
             ids = off[b.name] + np.arange(b.n_nodes)
             np.add.at(f, dofs.of[ids][:, :2].ravel(), fb)
+        elif getattr(ld, "follows_level", False):
+            continue  # a water load whose level is the factor: stepcontact.fem.level
+        elif hasattr(ld, "edge_loads"):  # WaterLoad, Uplift (stepcontact.model.water)
+            from stepcontact.fem._edge_kinks import water_forces
+
+            f += water_forces(model, dofs, ld, item)
         elif isinstance(ld, BodyForce):
             names = ld.bodies or tuple(b.name for b in model.bodies)
             if not np.all(np.isfinite(ld.g)):
@@ -337,6 +362,40 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
     return LoadVectors(f, u, pd)
 
 
+def load_resultant(model: Model, dofs: DofMap, f: np.ndarray) -> np.ndarray:
+    """Resultant of a nodal force vector ``f`` (ndof,): [F_x, F_y, M_z].
+
+    F_x = Σ f_x, F_y = Σ f_y in N; M_z = Σ (x f_y − y f_x) + Σ m_z in N·m, about the origin,
+    with (x, y) the coordinates of the node of each DOF and m_z the nodal moments of frames.
+    Prescribed displacements are not forces and do not count.
+
+    Example
+    -------
+    >>> sysm = assemble(model)                                           # doctest: +SKIP
+    >>> load_resultant(sysm.model, sysm.dofs, sysm.loads["push"].f)      # doctest: +SKIP
+    array([10000., 0., -15000.])
+    """
+    f = np.asarray(f, dtype=float)
+    has = dofs.of >= 0
+    node, comp = np.nonzero(has)
+    d = dofs.of[has]
+    d, first = np.unique(d, return_index=True)  # tied nodes share a DOF: count it once
+    node, comp = node[first], comp[first]
+    xy = model.points[node]
+    fd = f[d]
+    fx = float(np.sum(fd[comp == 0]))
+    fy = float(np.sum(fd[comp == 1]))
+    mz = float(np.sum(xy[comp == 1, 0] * fd[comp == 1]) - np.sum(xy[comp == 0, 1] * fd[comp == 0])
+               + np.sum(fd[comp == 2]))
+    return np.array([fx, fy, mz])
+
+
+def load_resultants(system: System) -> dict[str, np.ndarray]:
+    """{pattern: [F_x, F_y, M_z]} of every load pattern per unit λ (see :func:`load_resultant`)."""
+    return {name: load_resultant(system.model, system.dofs, lv.f)
+            for name, lv in system.loads.items()}
+
+
 def contact_operator(cfe: ContactElements, dofs: DofMap) -> tuple[sp.csr_matrix, np.ndarray]:
     """B (2m × ndof) with rows [u_τ; u_n] and w0 = [0; −g⁰] (see the geometry module)."""
     m = cfe.m
@@ -374,7 +433,17 @@ def assemble(model: Model) -> System:
                 raise ModelError(f"support '{s.name}'", "fixes rz of a node without rotation")
             groups.append((f"{s.name}:{dname}", d))
             fixed[d] = True
-    loads = {p.name: load_vectors(model, dofs, p.name) for p in model.patterns}
+    loads, levels = {}, {}
+    for p in model.patterns:
+        if is_level_pattern(p):  # the factor is a water level: virtual patterns (fem.level)
+            basis = level_basis(model, dofs, p)
+            levels[p.name] = basis
+            # its other loads act per metre of water: the pattern's own vector (factor h)
+            loads[p.name] = load_vectors(model, dofs, p.name)
+            for name, v in zip(basis.names, basis.vectors, strict=True):
+                loads[name] = LoadVectors(v, np.zeros(dofs.ndof), np.zeros(0, dtype=np.int64))
+        else:
+            loads[p.name] = load_vectors(model, dofs, p.name)
     comp_of = np.full(dofs.ndof, -1)
     has = dofs.of >= 0
     comp_of[dofs.of[has]] = np.nonzero(has)[1]
@@ -391,7 +460,7 @@ def assemble(model: Model) -> System:
         raise ModelError("model", "has no supports and no contact: it is free to move")
     _check_restrained(model, dofs, K, B, fixed)
     rows, labels = _reaction_rows(groups, dofs.ndof)
-    return System(model, dofs, K, fixed, loads, cfe, B, w0, rows, labels)
+    return System(model, dofs, K, fixed, loads, cfe, B, w0, rows, labels, levels)
 
 
 def _reaction_rows(groups: list[tuple[str, np.ndarray]], ndof: int):
@@ -420,14 +489,24 @@ def _check_restrained(model: Model, dofs: DofMap, K, B, fixed) -> None:
     ncomp, lab = sp.csgraph.connected_components(A, directed=False)
     grounded = np.zeros(ncomp, dtype=bool)
     grounded[lab[fixed]] = True
-    for s in model.springs:  # springs to the ground restrain their component
-        if s.b is None:
+    for s in model.springs:  # springs to the ground restrain their components
+        if s.b is None and s.stiffness_matrix().any():
             ids = model.global_nodes(s.a)
-            grounded[lab[dofs.of[ids, 0]]] = True
+            grounded[lab[dofs.of[ids, :2]]] = True
     off = model.node_offsets
     for b in model.bodies:
         d = dofs.of[off[b.name] : off[b.name] + b.n_nodes, 0]
-        if not grounded[lab[d]].all():
+        loose = ~grounded[lab[d]]
+        if loose.any() and not loose.all():  # the mesh falls apart (e.g. duplicate nodes)
+            k = int(np.flatnonzero(loose)[0])
+            x, y = np.asarray(b.points)[k]
+            raise ModelError(
+                f"body '{b.name}'",
+                f"part of it is not restrained: {int(loose.sum())} of its {b.n_nodes} nodes "
+                f"(e.g. node {k} at ({x:.6g}, {y:.6g})) are connected to no support; its mesh "
+                "falls apart into pieces (duplicate nodes along a line?)",
+            )
+        if loose.any():
             raise ModelError(
                 f"body '{b.name}'",
                 "is not restrained: no support, spring or contact connects it to a support",

@@ -144,28 +144,40 @@ def body_force(body, g, thickness: float) -> np.ndarray:
     return asm(form, basis_of(body))
 
 
-def edge_load(body, facets: np.ndarray, pn, pt, thickness: float) -> np.ndarray:
-    """Consistent nodal forces of edge pressures on the given boundary facets, N.
+def edge_load(body, facets: np.ndarray, pn, pt, thickness: float, traction=None) -> np.ndarray:
+    """Consistent nodal forces of edge tractions on the given boundary facets, N.
 
+    The traction is q = −p_n n + p_t t + (q_x, q_y) with n the outward unit normal and
+    t = (n_y, −n_x) the outward normal turned clockwise (the CFE tangent convention).
     ``pn(x, y)`` is the normal pressure (Pa, positive into the body), ``pt(x, y)`` the
-    tangential traction (Pa) along t = (-n_y, n_x), n the outward normal.  Both are callables
-    evaluated at the quadrature points, or None.
+    tangential traction along t (Pa), ``traction`` a pair (q_x(x, y), q_y(x, y)) of global
+    components (Pa).  All are callables evaluated at the quadrature points, or None.
     """
     fb = FacetBasis(body.mesh, ElementVector(scalar_element(body.element)), facets=facets)
 
     @LinearForm
     def form(v, w):
         n = w.n
-        t = np.array([-n[1], n[0]])
+        t = np.array([n[1], -n[0]])
         x, y = w.x[0], w.x[1]
         trac = 0.0 * n
         if pn is not None:
             trac = trac - pn(x, y) * n
         if pt is not None:
             trac = trac + pt(x, y) * t
+        if traction is not None:
+            for c, q in enumerate(traction):
+                if q is not None:
+                    trac[c] = trac[c] + q(x, y)
         return thickness * dot(trac, v)
 
     return asm(form, fb)
+
+
+def edge_length(body, facets: np.ndarray) -> float:
+    """Total length of the given boundary facets, m (exact for curved quadratic edges)."""
+    fb = FacetBasis(body.mesh, scalar_element(body.element), facets=facets)
+    return float(np.sum(fb.dx))
 
 
 def stresses(body, u_body: np.ndarray, plane: str) -> np.ndarray:

@@ -347,10 +347,15 @@ def _cfe_grid(result: StaticResult, xy: np.ndarray) -> _CfeGrid:
     m = result.m
     plus = np.asarray(cfe["x"], dtype=float).reshape(m, 2)
     if all(k in cfe for k in _CFE_END_KEYS):
-        nodes = np.concatenate([np.asarray(cfe["plus_nodes"]), np.asarray(cfe["minus_nodes"])])
-        nodes = nodes.astype(np.int64).reshape(2 * m, -1)
-        w = np.concatenate([np.asarray(cfe["plus_w"]), np.asarray(cfe["minus_w"])])
-        w = np.where(nodes >= 0, w.astype(float).reshape(2 * m, -1), 0.0)
+        # the two ends may have different widths (a mortar CFE's S− end has more nodes)
+        ends_n = [np.asarray(cfe[k]).astype(np.int64).reshape(m, -1)
+                  for k in ("plus_nodes", "minus_nodes")]
+        ends_w = [np.asarray(cfe[k]).astype(float).reshape(m, -1) for k in ("plus_w", "minus_w")]
+        width = max(a.shape[1] for a in ends_n)
+        nodes = np.concatenate([np.pad(a, ((0, 0), (0, width - a.shape[1])), constant_values=-1)
+                                for a in ends_n])
+        w = np.concatenate([np.pad(a, ((0, 0), (0, width - a.shape[1]))) for a in ends_w])
+        w = np.where(nodes >= 0, w, 0.0)
         ends = np.einsum("pj,pjc->pc", w, xy[np.maximum(nodes, 0)])
         ends[:m] = plus
     else:

@@ -412,8 +412,15 @@ def read_msh(path: str | os.PathLike) -> MeshFile:
 
     path = Path(path)
     item = f"mesh '{path}'"
+    if path.is_dir():
+        raise ModelError(item, "is a directory, not a mesh file")
     if not path.is_file():
         raise ModelError(item, "file not found")
+    try:
+        with open(path, "rb") as fh:
+            fh.read(1)
+    except OSError as e:
+        raise ModelError(item, f"cannot be read: {e.strerror or e}") from None
     try:
         m = meshio.gmsh.read(str(path))
     except Exception as e:  # meshio raises many types for bad files

@@ -52,17 +52,28 @@ surface>"``, ``material = ...``; physical curves and points are node sets, named
 (``nodes = "base"``) or through ``[node_sets.NAME] group = "..."`` (see :mod:`.meshfile`).
 :func:`validate_model_file` reports every problem of a file at once.
 
-Load types: ``gravity`` (g, bodies), ``nodal`` (nodes, fx, fy in N, mz in N·m), ``pressure``
-(nodes, normal and/or tangential in Pa: a number or a pair [start, end] varying linearly
-along the node set), ``displacement`` (nodes, dof = "x" | "y" | "rz", value in m or rad).
+Load types: ``gravity`` (g, bodies), ``nodal`` (nodes, fx, fy in N, mz in N·m on every node
+of the set), ``edge_force`` (nodes, fx, fy in N: a total force spread uniformly along the
+set's edges), ``pressure`` (nodes, normal and/or tangential and/or traction = [tx, ty] in Pa,
+each a pressure as below; tangential along t = (n_y, −n_x), the outward normal turned
+clockwise, +x on a top face, like the CFE tangent), ``displacement``
+(nodes, dof = "x" | "y" | "rz", value in m or rad).
+Varying pressures are given by coordinates, ``{from = [x0, y0, p0], to = [x1, y1, p1]}``
+(linear along the line through the two points); the older pair ``[start, end]`` follows the
+node set's order (a reversed curve flips it) and is deprecated (a warning).  ``water``
+(nodes, level in m, unit_weight in N/m³): hydrostatic pressure γ_w·max(level − y, 0);
+``uplift`` (interface, head in m or pressure in Pa: a number, ``{from, to}`` or points
+``[[x, y, v], …]``): the pressure pushes both sides of the joint apart.
 :func:`schema` gives the complete JSON schema.
 """
 
 from __future__ import annotations
 
 import math
+import os
 import re
 import tomllib
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -87,9 +98,11 @@ from stepcontact.errors import ModelError, StepContactError
 from stepcontact.io.meshfile import GROUP_KINDS, MeshFile, read_mesh
 from stepcontact.model import meshcheck
 from stepcontact.model.items import (
+    E_RANGE,
     Body,
     BodyForce,
     ContactLayer,
+    EdgeForce,
     EdgeLoad,
     Frame,
     Interface,
@@ -107,6 +120,8 @@ from stepcontact.model.items import (
     select_nodes,
 )
 from stepcontact.model.mesh import rectangle
+from stepcontact.model.size import check_size
+from stepcontact.model.water import LinearProfile, Uplift, WaterLoad
 
 # tags of the discriminated unions; they appear in pydantic's error locations and are removed
 # from the field paths shown to the user
@@ -116,6 +131,9 @@ _TAGS = {
     "type=gravity",
     "type=nodal",
     "type=pressure",
+    "type=edge_force",
+    "type=water",
+    "type=uplift",
     "type=displacement",
     "material=name",
     "material=table",
@@ -149,6 +167,16 @@ class MaterialSpec(_Spec):
     E: float = Field(gt=0, description="Young's modulus, Pa")
     nu: float = Field(gt=-1.0, lt=0.5, description="Poisson's ratio")
     density: float = Field(0.0, ge=0, description="mass density, kg/m³")
+
+    @field_validator("E")
+    @classmethod
+    def _plausible_E(cls, v: float) -> float:
+        lo, hi = E_RANGE
+        if v > 0 and not lo <= v <= hi:
+            raise ValueError(f"Young's modulus E = {v:g} is outside {lo:g} … {hi:g} (Pa): no "
+                             "material is that soft or stiff, and the stiffness matrix would "
+                             "under- or overflow; check the value")
+        return v
 
     def build(self) -> Material:
         return Material(self.E, self.nu, self.density)
@@ -376,13 +404,21 @@ class TieSpec(_Spec):
 
 
 class SpringSpec(_Spec):
-    """``[[springs]]``: springs between node sets ``a`` and ``b`` (``b`` absent: ground)."""
+    """``[[springs]]``: springs between node sets ``a`` and ``b`` (``b`` absent: ground), with
+    stiffnesses ``kx``, ``ky`` along the axes and/or ``k`` along ``direction``."""
 
     name: str | None = None
     a: str
     b: str | None = None
-    kx: float = Field(0.0, ge=0, description="N/m")
-    ky: float = Field(0.0, ge=0, description="N/m")
+    kx: float = Field(0.0, ge=0, description="stiffness along x, N/m")
+    ky: float = Field(0.0, ge=0, description="stiffness along y, N/m")
+    k: float = Field(0.0, ge=0, description="stiffness along `direction`, N/m")
+    direction: Point | None = Field(
+        None, description="axis (dx, dy) of `k` (any non-zero vector; normalised)"
+    )
+    damping: float = Field(
+        0.0, ge=0, description="dashpot coefficient, N·s/m (dynamics; not used by statics)"
+    )
 
 
 class LayerSpec(_Spec):
@@ -426,6 +462,9 @@ class InterfaceSpec(_Spec):
                         "node sets' order, instead of projecting S+ on S−")
     area: float | None = Field(None, gt=0, description="contact area of every CFE, m² "
                                "(default: tributary length × thickness)")
+    cfe: Literal["auto", "mortar", "node-to-segment", "node-to-node"] = Field(
+        "auto", description="how CFEs join S+ to S−: node-to-node where the meshes match and "
+        "mortar (segment-to-segment) otherwise (auto); node-to-segment is the article's CFE")
 
     @field_validator("normal")
     @classmethod
@@ -438,16 +477,42 @@ class InterfaceSpec(_Spec):
 # --------------------------------------------------------------------------------------------
 # loads, patterns, program
 # --------------------------------------------------------------------------------------------
-def _pressure_value(v: Any) -> float | tuple[float, float]:
-    """A pressure: a finite number, or a pair [start, end] of finite numbers (Pa)."""
+def _profile(v: Any, what: str) -> LinearProfile:
+    """{from = [x0, y0, v0], to = [x1, y1, v1]} or [[x, y, v], …] as a LinearProfile."""
+    if isinstance(v, dict):
+        if set(v) != {"from", "to"}:
+            raise ValueError(f"a {what} by coordinates is a table {{from = [x0, y0, v0], "
+                             "to = [x1, y1, v1]}")
+        v = [v["from"], v["to"]]
+    pts = []
+    for q in v:
+        if not isinstance(q, list | tuple) or len(q) != 3 or any(
+                isinstance(c, bool) or not isinstance(c, int | float) or not math.isfinite(c)
+                for c in q):
+            raise ValueError(f"each point of a {what} by coordinates is [x, y, value] "
+                             "(finite numbers)")
+        pts.append(tuple(float(c) for c in q))
+    try:
+        return LinearProfile(tuple(pts))
+    except ModelError as e:
+        raise ValueError(e.problem) from None
+
+
+def _pressure_value(v: Any) -> float | tuple[float, float] | LinearProfile:
+    """A pressure (Pa): a finite number; {from = [x0, y0, p0], to = [x1, y1, p1]} (linear by
+    coordinates); or a pair [start, end] of finite numbers (along the node set's order,
+    deprecated)."""
 
     def num(x: Any) -> float:
         if isinstance(x, bool) or not isinstance(x, int | float):
-            raise ValueError("must be a number (Pa) or a pair [start, end] of numbers (Pa)")
+            raise ValueError("must be a number (Pa) or a pair [start, end] of numbers (Pa), "
+                             "or by coordinates {from = [x0, y0, p0], to = [x1, y1, p1]}")
         if not math.isfinite(x):
             raise ValueError("must be a finite number (NaN and inf are not allowed)")
         return float(x)
 
+    if isinstance(v, dict):
+        return _profile(v, "pressure")
     if isinstance(v, list | tuple):
         if len(v) != 2:
             raise ValueError("a varying pressure is a pair [start, end] (Pa)")
@@ -455,16 +520,54 @@ def _pressure_value(v: Any) -> float | tuple[float, float]:
     return num(v)
 
 
+_POINT_SCHEMA = {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3}
+_FROM_TO_SCHEMA = {"type": "object", "properties": {"from": _POINT_SCHEMA, "to": _POINT_SCHEMA},
+                   "required": ["from", "to"], "additionalProperties": False}
+
 Pressure = Annotated[
-    float | tuple[float, float],
+    float | tuple[float, float] | LinearProfile,
     PlainValidator(_pressure_value),
     WithJsonSchema(
         {
             "anyOf": [
                 {"type": "number"},
+                _FROM_TO_SCHEMA,
                 {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2},
             ],
-            "description": "Pa: a constant, or [start, end] varying linearly along the node set",
+            "description": "Pa: a constant; {from = [x0, y0, p0], to = [x1, y1, p1]} linear in "
+            "the coordinate along the line through the two points; or (deprecated) [start, end] "
+            "along the node set's order",
+        }
+    ),
+]
+
+
+def _profile_value(v: Any) -> float | LinearProfile:
+    """A head (m) or pressure (Pa) of an uplift: a number, {from, to} or [[x, y, v], …]."""
+    if isinstance(v, dict):
+        return _profile(v, "profile")
+    if isinstance(v, list | tuple):
+        if len(v) < 2:
+            raise ValueError("give at least two points [x, y, value]")
+        return _profile(v, "profile")
+    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+        raise ValueError("must be a finite number, {from = [x0, y0, v0], to = [x1, y1, v1]} or "
+                         "points [[x, y, value], …]")
+    return float(v)
+
+
+Profile = Annotated[
+    float | LinearProfile,
+    PlainValidator(_profile_value),
+    WithJsonSchema(
+        {
+            "anyOf": [
+                {"type": "number"},
+                _FROM_TO_SCHEMA,
+                {"type": "array", "items": _POINT_SCHEMA, "minItems": 2},
+            ],
+            "description": "a constant; {from = [x0, y0, v0], to = [x1, y1, v1]}; or points "
+            "[[x, y, v], …] (piecewise linear along the line from the first to the last point)",
         }
     ),
 ]
@@ -479,7 +582,8 @@ class GravityLoad(_Spec):
 
 
 class NodalLoadSpec(_Spec):
-    """Forces on every node of a node set: fx, fy in N, mz in N·m."""
+    """The same force on every node of a node set: fx, fy in N, mz in N·m (n nodes: n times
+    the force in all; for a total force along an edge use ``edge_force``)."""
 
     type: Literal["nodal"] = "nodal"
     nodes: str
@@ -489,17 +593,65 @@ class NodalLoadSpec(_Spec):
 
 
 class PressureLoad(_Spec):
-    """Pressure on the body edges in a node set (normal > 0 pushes into the body), Pa."""
+    """Tractions on the body edges in a node set, Pa: ``normal`` > 0 pushes into the body,
+    ``tangential`` acts along t = (n_y, −n_x) (the outward normal turned clockwise: +x on a
+    top face, as the CFE tangent), ``traction`` = [tx, ty] in global x, y."""
 
     type: Literal["pressure"] = "pressure"
     nodes: str
     normal: Pressure | None = None
-    tangential: Pressure | None = None
+    tangential: Pressure | None = Field(
+        None, description="Pa along t = (n_y, -n_x), the outward normal n turned clockwise "
+        "(+x on a top face, as the CFE tangent): a constant or {from = [x0, y0, p0], to = "
+        "[x1, y1, p1]}")
+    traction: tuple[Pressure, Pressure] | None = Field(
+        None, description="[tx, ty]: traction in global x, y components, Pa (each a constant "
+        "or {from = [x0, y0, p0], to = [x1, y1, p1]})")
 
     @model_validator(mode="after")
     def _something(self) -> PressureLoad:
-        if self.normal is None and self.tangential is None:
-            raise ValueError("give normal and/or tangential pressure")
+        if self.normal is None and self.tangential is None and self.traction is None:
+            raise ValueError("give normal, tangential and/or traction")
+        return self
+
+
+class EdgeForceLoad(_Spec):
+    """A total force (fx, fy in N) spread as a uniform traction along the body edges in a node
+    set (consistent nodal forces: they sum to exactly (fx, fy))."""
+
+    type: Literal["edge_force"] = "edge_force"
+    nodes: str
+    fx: float = 0.0
+    fy: float = 0.0
+
+
+class WaterLoadSpec(_Spec):
+    """Hydrostatic pressure p = unit_weight · max(level − y, 0) (Pa) on the body edges in a
+    node set, pushing into the body; exact where the level cuts an edge."""
+
+    type: Literal["water"] = "water"
+    nodes: str
+    level: float | None = Field(None, description="elevation of the free surface, m (y is "
+                                "up); omitted: the pattern's factor is the level, m, and its "
+                                "program segments raise or lower the water (exact events in "
+                                "the level); such a pattern holds only water loads without "
+                                "a level")
+    unit_weight: float = Field(9810.0, gt=0, description="unit weight of water γ_w, N/m³")
+
+
+class UpliftLoadSpec(_Spec):
+    """Uplift in a joint: the pressure pushes the S+ and S− bodies of ``interface`` apart."""
+
+    type: Literal["uplift"] = "uplift"
+    interface: str
+    head: Profile | None = Field(None, description="pressure head, m of water")
+    pressure: Profile | None = Field(None, description="pressure, Pa")
+    unit_weight: float = Field(9810.0, gt=0, description="unit weight of water γ_w, N/m³")
+
+    @model_validator(mode="after")
+    def _one(self) -> UpliftLoadSpec:
+        if (self.head is None) == (self.pressure is None):
+            raise ValueError("give either head (m of water) or pressure (Pa)")
         return self
 
 
@@ -514,13 +666,19 @@ class DisplacementLoad(_Spec):
 
 def _load_tag(v: Any) -> str | None:
     t = v.get("type") if isinstance(v, dict) else getattr(v, "type", None)
-    return f"type={t}" if t in ("gravity", "nodal", "pressure", "displacement") else None
+    return (f"type={t}" if t in ("gravity", "nodal", "edge_force", "pressure", "displacement",
+                                 "water", "uplift")
+            else None)
 
 
 LoadSpec = _tagged_union(
-    _load_tag, "load_type", "type must be 'gravity', 'nodal', 'pressure' or 'displacement'",
+    _load_tag, "load_type",
+    "type must be 'gravity', 'nodal', 'edge_force', 'pressure', 'water', 'uplift' or "
+    "'displacement'",
     **{"type=gravity": GravityLoad, "type=nodal": NodalLoadSpec,
-       "type=pressure": PressureLoad, "type=displacement": DisplacementLoad},
+       "type=edge_force": EdgeForceLoad, "type=pressure": PressureLoad,
+       "type=displacement": DisplacementLoad,
+       "type=water": WaterLoadSpec, "type=uplift": UpliftLoadSpec},
 )
 
 
@@ -662,6 +820,18 @@ def _validate(d: dict[str, Any]) -> ModelFile:
 # --------------------------------------------------------------------------------------------
 # building the Model
 # --------------------------------------------------------------------------------------------
+def _deprecated_pairs(p: _Problems, path: str, ld: PressureLoad) -> None:
+    """Warn about pressures given as [start, end]: they follow the node set's order."""
+    given = {"normal": ld.normal, "tangential": ld.tangential}
+    if ld.traction is not None:
+        given |= {f"traction[{c}]": v for c, v in enumerate(ld.traction)}
+    for key, v in given.items():
+        if isinstance(v, tuple):
+            p.warn(f"{path}.{key}", "a pair [start, end] varies along the node set's order, "
+                   "which a reversed curve flips (deprecated): give the pressure by coordinates, "
+                   "{from = [x0, y0, p0], to = [x1, y1, p1]}, or use type = \"water\"")
+
+
 def _known(names) -> str:
     names = list(names)
     return ", ".join(repr(n) for n in names) if names else "none defined"
@@ -732,12 +902,17 @@ class _Builder:
                                "file = \"NAME.msh\" (relative to the model file)")
             return
         path = Path(ms.file).expanduser()
-        path = path if path.is_absolute() else self.base / path
+        path = Path(os.path.normpath(path if path.is_absolute() else self.base / path))
         try:
             self.mesh = read_mesh(path, ms.order or 1, ms.element or "tri", ms.size)
         except ModelError as e:
             self.mesh_failed = True
-            self.p.add("mesh.file", f"{path}: {e.problem}")
+            where = str(path)
+            base = self.base.resolve()
+            full = path.resolve()
+            if not full.is_relative_to(base):  # say which file, wherever it is
+                where = f"'{ms.file}' ({full}, outside the model file's folder {base})"
+            self.p.add("mesh.file", f"{where}: {e.problem}")
 
     def _group_problem(self, name: str, dims: tuple[int, ...]) -> str | None:
         """Why ``name`` is not a usable physical group of these dimensions (None if it is)."""
@@ -854,8 +1029,14 @@ class _Builder:
                         if b not in bodies:
                             p.add(f"{path}.bodies",
                                   f"unknown body '{b}' (known: {_known(bodies)})")
+                elif isinstance(ld, UpliftLoadSpec):
+                    if ld.interface not in names:
+                        p.add(f"{path}.interface", f"unknown interface '{ld.interface}' "
+                              f"(known: {_known(names)})")
                 else:
                     node_set(f"{path}.nodes", ld.nodes)
+                    if isinstance(ld, PressureLoad):
+                        _deprecated_pairs(p, path, ld)
         current: dict[str, float] = {}
         for i, seg in enumerate(spec.program):
             if seg.rates is not None:
@@ -927,6 +1108,18 @@ class _Builder:
                 self.failed.add(f.name)
                 self.p.add(f"frames[{i}]", e.problem)
 
+    def check_size(self) -> None:
+        """The whole model fits in this machine's memory (each rectangle was checked before
+        it was meshed; mesh bodies and the sum of all are checked here, before assembly)."""
+        if len(self.bodies) < 2 and self.mesh is None:
+            return
+        ndof = sum((3 if isinstance(b, Frame) else 2) * b.n_nodes for b in self.bodies.values())
+        nodes = sum(b.n_nodes for b in self.bodies.values())
+        try:
+            check_size(ndof, "model", f"the model ({len(self.bodies)} bodies, {nodes} nodes)")
+        except ModelError as e:
+            self.p.add(e.item, e.problem)
+
     def _group_set(self, group: str, body: str | None, name: str, path: str, hint: str) -> None:
         """Node set ``name`` of a physical group; problems are reported at ``path``."""
         assert self.mesh is not None
@@ -970,6 +1163,7 @@ class _Builder:
         self.read_mesh()
         self.check_references()
         self.build_bodies()
+        self.check_size()
         self.build_node_sets()
         spec, sets, p = self.spec, self.sets, self.p
 
@@ -993,11 +1187,18 @@ class _Builder:
                 )
                 continue
             ties.append(Tie(t.name or f"{t.a}-{t.b}", sets[t.a], sets[t.b]))
-        springs = [
-            Spring(s.name or s.a, sets[s.a], None if s.b is None else sets[s.b], s.kx, s.ky)
-            for s in spec.springs
-            if have(s.a, s.b)
-        ]
+        springs = []
+        for i, s in enumerate(spec.springs):
+            if not have(s.a, s.b):
+                continue
+            try:
+                springs.append(Spring(
+                    s.name or s.a, sets[s.a], None if s.b is None else sets[s.b], s.kx, s.ky,
+                    k=s.k, direction=s.direction, damping=s.damping,
+                ))
+            except ModelError as e:  # e.g. a zero direction
+                field = e.item.rpartition("'.")[2] if "'." in e.item else ""
+                p.add(f"springs[{i}].{field}" if field else f"springs[{i}]", e.problem)
         interfaces = []
         for i, itf in enumerate(spec.interfaces):
             if not have(itf.plus, itf.minus):
@@ -1013,6 +1214,7 @@ class _Builder:
                     layer=None if itf.layer is None else itf.layer.build(),
                     pairs=itf.pairs,
                     area=itf.area,
+                    cfe=itf.cfe,
                 ))
             except ModelError as e:
                 p.add(f"interfaces[{i}]", e.problem)
@@ -1022,12 +1224,21 @@ class _Builder:
             for ld in pat.loads:
                 if isinstance(ld, GravityLoad):
                     loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
+                elif isinstance(ld, UpliftLoadSpec):
+                    found = [i for i in interfaces if i.name == ld.interface]
+                    if found:
+                        loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
                 elif not have(ld.nodes):
                     continue
+                elif isinstance(ld, WaterLoadSpec):
+                    loads.append(WaterLoad(sets[ld.nodes], ld.level, ld.unit_weight))
                 elif isinstance(ld, NodalLoadSpec):
                     loads.append(NodalLoad(sets[ld.nodes], ld.fx, ld.fy, ld.mz))
                 elif isinstance(ld, PressureLoad):
-                    loads.append(EdgeLoad(sets[ld.nodes], ld.normal, ld.tangential))
+                    loads.append(EdgeLoad(sets[ld.nodes], ld.normal, ld.tangential,
+                                          None if ld.traction is None else tuple(ld.traction)))
+                elif isinstance(ld, EdgeForceLoad):
+                    loads.append(EdgeForce(sets[ld.nodes], ld.fx, ld.fy))
                 else:
                     loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
             patterns.append(LoadPattern(pname, tuple(loads)))
@@ -1083,6 +1294,22 @@ class _Builder:
                        f"{q.aspect[j]:.3g}, quality {q.quality[j]:.3g}, centroid "
                        f"({c[0]:.6g}, {c[1]:.6g}); {n} element{'s' * (n > 1)} above "
                        f"{meshcheck.ASPECT_WARN:g}")
+        cracked = {i.plus.body for i in model.interfaces if i.plus.body == i.minus.body}
+        for b in continua:
+            if b.name in cracked:
+                continue  # self-contact: coincident nodes are the two faces of a crack
+            pts = np.asarray(b.points, dtype=float)
+            tol = 1e-9 * max(float(np.ptp(pts, axis=0).max()), 1e-300)
+            _, first, counts = np.unique(np.round(pts / tol), axis=0, return_index=True,
+                                         return_counts=True)
+            if np.any(counts > 1):
+                k = int(first[np.argmax(counts > 1)])
+                twins = np.flatnonzero(np.all(np.abs(pts - pts[k]) <= tol, axis=1))
+                n = int(np.sum(counts[counts > 1] - 1))
+                p.warn(self.paths.get(b.name, f"body '{b.name}'"),
+                       f"{self._where(b.name)} has {n} duplicate node{'s' * (n > 1)} (e.g. nodes "
+                       f"{', '.join(map(str, twins[:4]))} at ({pts[k, 0]:.6g}, {pts[k, 1]:.6g})): "
+                       "elements that should share them are not connected")
         if self.mesh is not None:
             orphans = self.mesh.orphan_nodes()
             if orphans.size:
@@ -1160,15 +1387,38 @@ def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Mo
     model = _Builder(spec, base, problems).model()
     problems.raise_if_any()
     assert model is not None
+    for path, message in problems.warnings:  # deprecations (validate lists them too)
+        warnings.warn(f"{path}: {message}", FutureWarning, stacklevel=2)
     return model
 
 
 def _read_toml(path: Path) -> dict[str, Any]:
-    with open(path, "rb") as fh:
-        try:
-            return tomllib.load(fh)
-        except tomllib.TOMLDecodeError as e:
-            raise ModelError(str(path), f"not a valid TOML file: {e}") from None
+    """The parsed TOML file; a missing file raises FileNotFoundError, anything else that is not
+    a readable UTF-8 TOML file (a directory, a binary or UTF-16 file, bad syntax) a ModelError
+    whose item is the file name."""
+    if path.is_dir():
+        raise ModelError(str(path), "is a directory, not a model file")
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise
+    except OSError as e:
+        raise ModelError(str(path), f"cannot be read: {e.strerror or e}") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+            raise ModelError(str(path), "is UTF-16 text: save it as UTF-8 (a model file is "
+                             "TOML text in UTF-8)") from None
+        raise ModelError(str(path), f"is not a UTF-8 text file (byte 0x{data[e.start]:02x} at "
+                         f"offset {e.start}): a model file is TOML text in UTF-8") from None
+    if "\x00" in text:
+        raise ModelError(str(path), "not a text file (it contains NUL bytes): a model file is "
+                         "TOML text in UTF-8")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ModelError(str(path), f"not a valid TOML file: {e}") from None
 
 
 def load_model(path: str | Path) -> Model:
@@ -1277,10 +1527,27 @@ def validation_report(path: str | Path) -> Validation:
             system = assemble(model)
             model.segments_resolved()
             out.ndof, out.n_cfes = int(system.dofs.ndof), int(system.cfe.m)
+            from stepcontact.fem.loadcheck import zero_patterns
+
+            for name, text in zero_patterns(model, system.loads):
+                problems.warn(f"patterns.{name}", text)
+            _check_mechanism(system)
         except StepContactError as e:
             problems.add(getattr(e, "item", "model"), getattr(e, "problem", str(e)))
     out.problems = problems.problems()
     return out
+
+
+def _check_mechanism(system: Any) -> None:
+    """What ``run`` checks first, without solving the contact problem: K₀ (the stiffness with
+    the supports and every CFE stuck) is regular; else a ModelError naming the bodies that can
+    move and how (:func:`stepcontact.solver.regularity.factorize_regular`)."""
+    from stepcontact.solver.condensation import check_dense_memory, static_operator
+    from stepcontact.solver.regularity import factorize_regular
+
+    check_dense_memory(2 * system.m)  # the dense contact matrices fit (SolverError if not)
+    K0, _, _, free, *_ = static_operator(system)
+    factorize_regular(system, K0, free)
 
 
 def validate_model_file(path: str | Path) -> list[Problem]:
@@ -1290,8 +1557,12 @@ def validate_model_file(path: str | Path) -> list[Problem]:
     physical groups, patterns), that every physical surface of the mesh is a body with a
     material, element quality (inverted elements are errors; nearly degenerate or elongated
     ones warnings, with the worst element's index, quality and aspect ratio), mesh nodes that
-    belong to no element (warning), bodies that overlap without an interface between them,
-    and finally that the model assembles.  An empty list means the model is OK.
+    belong to no element (warning), duplicate nodes of a body (warning), bodies that overlap
+    without an interface between them, that the model assembles, that no load pattern is
+    empty or zero (warning), and, without solving, what ``run`` checks first: that the dense
+    contact matrices fit in memory and that the structure with every CFE stuck is not a
+    mechanism (the error names the bodies that can move).  An empty list means the model is
+    OK.
 
     Example
     -------

@@ -5,6 +5,7 @@ from stepcontact.model.items import (
     Body,
     BodyForce,
     ContactLayer,
+    EdgeForce,
     EdgeLoad,
     Frame,
     Interface,
@@ -21,10 +22,16 @@ from stepcontact.model.items import (
     iter_loads,
     select_nodes,
 )
-from stepcontact.model.mesh import rectangle
+from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
 
 __all__ = [
-    "Body", "BodyForce", "ContactLayer", "EdgeLoad", "Frame", "Interface", "LoadPattern",
-    "Material", "Model", "NodalLoad", "NodeSet", "PrescribedDisplacement", "Segment", "Spring",
-    "Support", "Tie", "iter_loads", "rectangle", "select_nodes",
+    "Body", "BodyForce", "ContactLayer", "EdgeForce", "EdgeLoad", "Frame", "Interface",
+    "LoadPattern", "Material", "Model", "NodalLoad", "NodeSet", "PrescribedDisplacement",
+    "Segment", "Spring", "Support", "Tie", "half_disc", "iter_loads", "quad_region",
+    "rectangle", "rotate", "select_nodes", "translate",
 ]
+
+# water loads (hydrostatic pressure, uplift) and pressures given by coordinates
+from stepcontact.model.water import LinearProfile, Uplift, WaterLoad  # noqa: E402
+
+__all__ += ["LinearProfile", "Uplift", "WaterLoad"]

@@ -29,6 +29,14 @@ ELEMENT_KINDS: tuple[str, ...] = ("tri3", "tri6", "quad4", "quad8", "quad9")
 DOF_NAMES: tuple[str, ...] = ("x", "y", "rz")
 
 
+#: accepted range of Young's modulus (Pa): far beyond any material (foams ~1e3 Pa, diamond
+#: ~1e12 Pa) in any unit system, and safely away from under- and overflow of the stiffness
+E_RANGE: tuple[float, float] = (1e-10, 1e20)
+#: two bodies whose Young's moduli are further apart than this cannot be solved together: the
+#: softer stiffness is below the round-off of the stiffer one (double precision, eps ≈ 2e-16)
+E_RATIO_MIN = 1e-15
+
+
 # --------------------------------------------------------------------------------------------
 # materials and bodies
 # --------------------------------------------------------------------------------------------
@@ -53,6 +61,11 @@ class Material:
     def check(self, item: str) -> None:
         if not np.isfinite(self.E) or self.E <= 0:
             raise ModelError(item, f"Young's modulus E must be positive and finite, got {self.E}")
+        lo, hi = E_RANGE
+        if not lo <= self.E <= hi:
+            raise ModelError(item, f"Young's modulus E = {self.E:g} is outside {lo:g} … {hi:g} "
+                             "(Pa): no material is that soft or stiff in any unit system, and "
+                             "the stiffness matrix would under- or overflow; check the value")
         if not np.isfinite(self.nu) or not -1.0 < self.nu < 0.5:
             raise ModelError(item, f"Poisson's ratio nu must lie in (-1, 0.5), got {self.nu}")
         if not np.isfinite(self.density) or self.density < 0:
@@ -152,6 +165,9 @@ class Frame:
             v = getattr(self, key)
             if not np.isfinite(v) or v <= 0:
                 raise ModelError(f"{item}.{key}", f"must be positive and finite, got {v}")
+        if not E_RANGE[0] <= self.E <= E_RANGE[1]:
+            raise ModelError(f"{item}.E", f"Young's modulus E = {self.E:g} is outside "
+                             f"{E_RANGE[0]:g} … {E_RANGE[1]:g} (Pa); check the value")
         if not np.all(np.isfinite(pts)):
             raise ModelError(f"{item}.points", "contains NaN or inf")
         if cells.size and (cells.min() < 0 or cells.max() >= len(pts)):
@@ -261,9 +277,32 @@ class Tie:
 
 @dataclass(frozen=True, eq=False)
 class Spring:
-    """Linear springs between pairs of nodes (``b`` None: to the ground).
+    r"""Linear springs between pairs of nodes ``a[i]``–``b[i]`` (``b`` None: to the ground).
 
-    ``kx``, ``ky`` are the stiffnesses along x and y, N/m (per spring, for the whole thickness).
+    Each spring acts on the translations of its nodes with the 2 × 2 stiffness (N/m, per
+    spring, for the whole thickness)
+
+    .. math::  \mathbf{k} = k_x\,\mathbf{e}_x \otimes \mathbf{e}_x
+               + k_y\,\mathbf{e}_y \otimes \mathbf{e}_y + k\,\mathbf{d} \otimes \mathbf{d},
+
+    i.e. the force on node ``a[i]`` is −k (u_a − u_b) (u_b = 0 for the ground).  ``kx``, ``ky``
+    are springs along the axes; ``k`` is a spring along ``direction`` d (any non-zero vector,
+    stored normalised), e.g. a strut along a slope.  Both kinds may be given together.
+
+    ``damping`` is a dashpot coefficient c, N·s/m, acting along ``direction`` (along x and y
+    alike when no direction is given).  It is stored for dynamic analyses; static analyses
+    (:func:`stepcontact.solve_static`) do not use it.
+
+    Example
+    -------
+    >>> import numpy as np
+    >>> from stepcontact import NodeSet, Spring
+    >>> s = Spring("strut", NodeSet("block", [0]), k=2e6, direction=(np.sqrt(3), 1.0))
+    >>> s.direction  # doctest: +ELLIPSIS
+    (0.866..., 0.5...)
+    >>> s.stiffness_matrix().round()
+    array([[1500000.,  866025.],
+           [ 866025.,  500000.]])
     """
 
     name: str
@@ -271,12 +310,36 @@ class Spring:
     b: NodeSet | None = None
     kx: float = 0.0
     ky: float = 0.0
+    k: float = 0.0
+    direction: tuple[float, float] | None = None
+    damping: float = 0.0
 
     def __post_init__(self):
-        for key in ("kx", "ky"):
+        item = f"spring '{self.name}'"
+        for key in ("kx", "ky", "k", "damping"):
             v = getattr(self, key)
             if not np.isfinite(v) or v < 0:
-                raise ModelError(f"spring '{self.name}'.{key}", f"must be >= 0, got {v}")
+                raise ModelError(f"{item}.{key}", f"must be >= 0, got {v}")
+        if self.direction is not None:
+            d = np.asarray(self.direction, dtype=float)
+            if d.shape != (2,) or not np.all(np.isfinite(d)):
+                raise ModelError(f"{item}.direction",
+                                 f"must be a finite vector (dx, dy), got {self.direction}")
+            norm = float(np.hypot(d[0], d[1]))
+            if norm == 0.0:
+                raise ModelError(f"{item}.direction", "is zero: give the spring's axis (dx, dy)")
+            object.__setattr__(self, "direction", (float(d[0] / norm), float(d[1] / norm)))
+        elif self.k > 0:
+            raise ModelError(f"{item}.direction",
+                             f"is needed with k = {self.k:g} N/m (the axis of the spring)")
+
+    def stiffness_matrix(self) -> np.ndarray:
+        """The 2 × 2 stiffness k_x e_x⊗e_x + k_y e_y⊗e_y + k d⊗d of each spring, N/m."""
+        K = np.diag([float(self.kx), float(self.ky)])
+        if self.direction is not None and self.k:
+            d = np.asarray(self.direction)
+            K += self.k * np.outer(d, d)
+        return K
 
 
 # --------------------------------------------------------------------------------------------
@@ -287,7 +350,11 @@ PressureSpec = float | tuple[float, float] | Callable[[np.ndarray, np.ndarray], 
 
 @dataclass(frozen=True, eq=False)
 class NodalLoad:
-    """Forces on each node of a node set: fx, fy in N, mz in N·m (frames only)."""
+    """The same force on **every** node of a node set: fx, fy in N, mz in N·m (frames only).
+
+    A set of n nodes receives n × (fx, fy) in total.  For a *total* force spread along the
+    edges of a set (consistent nodal forces of a uniform traction) use :class:`EdgeForce`.
+    """
 
     nodes: NodeSet
     fx: float = 0.0
@@ -297,18 +364,64 @@ class NodalLoad:
 
 @dataclass(frozen=True, eq=False)
 class EdgeLoad:
-    """Pressure on the boundary edges of a body whose nodes all lie in ``nodes``.
+    """Tractions on the boundary edges of a body whose nodes all lie in ``nodes``, Pa.
 
-    ``normal`` is the pressure in Pa, positive pushing *into* the body (against the outward
-    normal); ``tangential`` is the traction in Pa along the tangent t = (-n_y, n_x) of the
-    outward normal n.  Each can be a constant, a pair ``(p_start, p_end)`` varying linearly
-    along the node set (from its first to its last node, by arc length), or a function
-    ``p(x, y)`` of position (vectorised, arrays in m, returns Pa).
+    The traction on an edge with outward unit normal n is
+
+        q = −p_n n + p_t t + (q_x, q_y),        t = (n_y, −n_x),
+
+    integrated over the thickness into consistent nodal forces.
+
+    * ``normal`` p_n: pressure, positive pushing *into* the body (against n).
+    * ``tangential`` p_t: shear along the edge tangent t = (n_y, −n_x), the outward normal
+      turned **clockwise** — the same rule as the CFE tangent (n from S− to S+, see
+      :mod:`stepcontact.contact.geometry`).  On a top face (n = +y) t = +x, on a bottom face
+      (n = −y) t = −x, on a right face (n = +x) t = −y, on a left face (n = −x) t = +y.
+      For a joint, the tangent of the top edge of S− is the CFE tangent.
+    * ``traction`` (q_x, q_y): a traction given in global x, y components, whatever the edge's
+      orientation.
+
+    ``normal``, ``tangential`` and each component of ``traction`` can be a constant, a pair
+    ``(p_start, p_end)`` varying linearly along the node set (from its first to its last node,
+    by arc length), or a function ``p(x, y)`` of position (vectorised, arrays in m, returns
+    Pa).
+
+    Example
+    -------
+    >>> top = m.select("block", y=2.0)                         # doctest: +SKIP
+    >>> EdgeLoad(top, tangential=1e3)          # 1 kPa along +x on a top face  # doctest: +SKIP
+    >>> EdgeLoad(top, traction=(1e3, 0.0))     # the same load                 # doctest: +SKIP
     """
 
     nodes: NodeSet
     normal: PressureSpec = None
     tangential: PressureSpec = None
+    traction: tuple[PressureSpec, PressureSpec] | None = None
+
+    def __post_init__(self):
+        if self.traction is not None:
+            if not isinstance(self.traction, tuple | list | np.ndarray) or len(self.traction) != 2:
+                raise ModelError("edge load.traction",
+                                 "give the two components (tx, ty), Pa (numbers, [start, end] "
+                                 "pairs or functions of (x, y))")
+            object.__setattr__(self, "traction", tuple(self.traction))
+
+
+@dataclass(frozen=True, eq=False)
+class EdgeForce:
+    """A **total** force (fx, fy) in N spread along the boundary edges of a body whose nodes
+    all lie in ``nodes``: the uniform traction (fx, fy) / (L · thickness) over the edges'
+    total length L, turned into consistent nodal forces.  The nodal forces sum exactly to
+    (fx, fy) whatever the mesh; compare :class:`NodalLoad`, which puts its value on every node.
+
+    Example
+    -------
+    >>> EdgeForce(m.select("block", x=0.0), fx=1e4)   # 10 kN in all: left face  # doctest: +SKIP
+    """
+
+    nodes: NodeSet
+    fx: float = 0.0
+    fy: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -323,7 +436,11 @@ class BodyForce:
 class PrescribedDisplacement:
     """Prescribed displacement ``value`` (m, or rad for rz) of ``dof`` of each node of a set.
 
-    Scaled by the load factor of its pattern, like any load.
+    Scaled by the load factor λ_P of its pattern, like any load: the DOFs are at
+    u = λ_P · ``value``.  They are fixed **from the start of the program**, not only from the
+    first segment of their pattern: before it (λ_P = 0) they are held at zero and act as a
+    support (their reaction is ``res.reaction(pattern, dof)``).  To leave a DOF free until
+    later, give it no prescribed displacement and load it by forces instead.
     """
 
     nodes: NodeSet
@@ -331,7 +448,7 @@ class PrescribedDisplacement:
     value: float
 
 
-Load = NodalLoad | EdgeLoad | BodyForce | PrescribedDisplacement
+Load = NodalLoad | EdgeLoad | EdgeForce | BodyForce | PrescribedDisplacement
 
 
 @dataclass(frozen=True, eq=False)
@@ -410,13 +527,24 @@ class ContactLayer:
         return float(kn), float(kt)
 
 
+#: How the CFEs of an interface join S+ to S−: see :class:`Interface`.
+CFE_KINDS: tuple[str, ...] = ("auto", "mortar", "node-to-segment", "node-to-node")
+
+
 @dataclass(frozen=True, eq=False)
 class Interface:
     """A pair of boundary curves joined by frame-type contact finite elements (CFEs).
 
-    One CFE is made at every node of ``plus`` (S+); its other end is the closest point of
-    ``minus`` (S−): a node (node-to-node) or a point inside a boundary edge, tied to that
-    edge's nodes by interpolation (node-to-segment), so the meshes need not match.
+    One CFE is made at every node of ``plus`` (S+).  How it joins S− (``cfe``):
+
+    * ``"node-to-node"``: to the S− node at the same place (matching meshes);
+    * ``"mortar"`` (segment-to-segment): its mutual displacements are the gap and slip
+      weighted by the S+ shape function of its node and integrated over the overlap of the S+
+      and S− edges; its forces act on both sides through the same weights.  A uniform contact
+      pressure is reproduced exactly on meshes that do not match (the contact patch test);
+    * ``"node-to-segment"`` (the article's CFE): to the closest point of S−, interpolated from
+      that edge's nodes; on meshes that do not match the pressure errs by a few per cent;
+    * ``"auto"`` (default): node-to-node where the meshes match, mortar otherwise.
 
     Parameters
     ----------
@@ -439,8 +567,10 @@ class Interface:
         The normal is then ``normal`` or, when not given, the direction from the S− node to the
         S+ node (an error if they coincide).
     area : float or None
-        Contact area of every CFE, m² (default: tributary length along S+ × thickness; for a
-        single isolated node, 1 m × thickness).
+        Contact area of every CFE, m² (default: tributary length along S+ × thickness, the
+        part of it facing S− for mortar CFEs; for a single isolated node, 1 m × thickness).
+    cfe : str
+        ``"auto"``, ``"mortar"``, ``"node-to-segment"`` or ``"node-to-node"`` (see above).
     """
 
     name: str
@@ -452,13 +582,30 @@ class Interface:
     layer: ContactLayer | None = None
     pairs: bool = False
     area: float | None = None
+    cfe: str = "auto"
 
     def __post_init__(self):
         item = f"interface '{self.name}'"
+        if self.cfe not in CFE_KINDS:
+            raise ModelError(f"{item}.cfe", f"unknown CFE kind '{self.cfe}', use one of "
+                                            + ", ".join(repr(k) for k in CFE_KINDS))
+        if self.pairs and self.cfe not in ("auto", "node-to-node"):
+            raise ModelError(f"{item}.cfe", f"'{self.cfe}' does not apply to node pairs "
+                                            "(pairs = true joins nodes node to node)")
         if not np.isfinite(self.friction) or self.friction < 0:
             raise ModelError(f"{item}.friction", f"must be >= 0, got {self.friction}")
-        if self.plus.body == self.minus.body:
-            pass  # self-contact of one body is allowed (a crack), but the sets must differ
+        if self.plus.body == self.minus.body:  # self-contact (a crack): the sets must differ
+            shared = np.intersect1d(self.plus.index, self.minus.index)
+            if shared.size:
+                same = (shared.size == len(self.plus) == len(self.minus))
+                sets = (self.plus.label if self.plus.label == self.minus.label else
+                        f"{self.plus.label} and {self.minus.label}")
+                sides = (f"plus and minus of {item} are the same nodes ({sets} of body "
+                         f"'{self.plus.body}')" if same else
+                         f"{shared.size} node(s) of body '{self.plus.body}' are on both sides "
+                         f"of {item} (e.g. node {int(shared[0])})")
+                raise ModelError(item, f"{sides}: a CFE would join a node to itself; give "
+                                 "the two faces of the joint as two different node sets")
         if isinstance(self.gap, int | float) and (not np.isfinite(self.gap) or self.gap < 0):
             raise ModelError(f"{item}.gap", f"must be >= 0, got {self.gap}")
         if self.normal is not None:
@@ -478,6 +625,27 @@ class Interface:
 # --------------------------------------------------------------------------------------------
 # the model
 # --------------------------------------------------------------------------------------------
+def _check_stiffness_ratio(bodies: Sequence) -> None:
+    """Young's moduli of the bodies and frames at most 1/:data:`E_RATIO_MIN` apart."""
+    moduli = []  # (item, label, E)
+    for b in bodies:
+        if isinstance(b, Frame):
+            moduli.append((f"frame '{b.name}'.E", f"frame '{b.name}'", float(b.E)))
+        elif isinstance(b, Body):
+            moduli.append((f"body '{b.name}'.material", f"body '{b.name}'", float(b.material.E)))
+    if len(moduli) < 2:
+        return
+    soft = min(moduli, key=lambda t: t[2])
+    stiff = max(moduli, key=lambda t: t[2])
+    if soft[2] < E_RATIO_MIN * stiff[2]:
+        raise ModelError(
+            soft[0],
+            f"Young's modulus E = {soft[2]:g} is {soft[2] / stiff[2]:.1e} times that of "
+            f"{stiff[1]} (E = {stiff[2]:g}): moduli more than {1 / E_RATIO_MIN:g} apart cannot "
+            "be solved together in double precision; check the values and their units (Pa)",
+        )
+
+
 @dataclass(frozen=True, eq=False)
 class Model:
     """A 2D structural model.
@@ -514,6 +682,7 @@ class Model:
             if b.name in seen:
                 raise ModelError(f"body '{b.name}'", "duplicate body name")
             seen.add(b.name)
+        _check_stiffness_ratio(self.bodies)
         for kind, items in (("pattern", self.patterns), ("interface", self.interfaces)):
             names = [it.name for it in items]
             dup = {n for n in names if names.count(n) > 1}
@@ -620,7 +789,8 @@ class Model:
 
     def segments_resolved(self) -> list[tuple[str, float, float]]:
         """The load program as (pattern or segment name, start, end), with starts filled in and
-        chaining checked: ``start`` must equal the factor the pattern has reached."""
+        chaining checked: ``start`` must equal the factor the pattern has reached (a segment
+        with rates moves each of its patterns by rate × its span)."""
         current: dict[str, float] = {}
         out = []
         for i, seg in enumerate(self.program):
@@ -649,6 +819,8 @@ class Model:
                 )
             out.append((seg.pattern, start, float(seg.end)))
             current[seg.pattern] = float(seg.end)
+            for name, rate in seg.rates or ():  # the patterns a segment with rates moved
+                current[name] = current.get(name, 0.0) + rate * (float(seg.end) - start)
         return out
 
     def segment_rates(self) -> list[dict[str, float]]:

@@ -1,12 +1,35 @@
-"""Mesh generators for simple bodies (rectangles, graded blocks) built on scikit-fem meshes."""
+"""Mesh generators and rigid motions of bodies, built on scikit-fem meshes.
+
+* :func:`rectangle` — a rectangle, uniform or graded;
+* :func:`quad_region` — a mapped (bilinear) mesh of any convex four-sided region, graded
+  towards an edge or a corner;
+* :func:`half_disc` — a half disc (flat face on top) refined towards the lowest point of its
+  arc, for Hertz-type contact;
+* :func:`rotate`, :func:`translate` — a body, a frame or a whole model moved rigidly.
+
+Any other scikit-fem ``MeshTri``/``MeshQuad`` (or a meshio mesh converted with
+``skfem.io.meshio.from_meshio``) becomes a body with :meth:`~stepcontact.model.Body.from_mesh`.
+"""
 
 from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
 
 import numpy as np
 from skfem import MeshQuad, MeshTri
 
 from stepcontact.errors import ModelError
-from stepcontact.model.items import Body, Material
+from stepcontact.model.items import (
+    ELEMENT_KINDS,
+    Body,
+    BodyForce,
+    Frame,
+    Material,
+    Model,
+    PrescribedDisplacement,
+    Spring,
+)
 
 #: local node permutation reversing a cell's orientation (corners, then mid-edge nodes, then the
 #: centre).  Gmsh, VTK and scikit-fem (P2 / serendipity / Q2) share this node order.
@@ -72,6 +95,14 @@ def rectangle(
         raise ModelError(f"body '{name}'", f"empty rectangle {corner0} - {corner1}")
     if nx < 1 or ny < 1:
         raise ModelError(f"body '{name}'", "nx and ny must be >= 1")
+    from stepcontact.model.size import check_size, rectangle_size
+
+    # refuse a mesh too large for this machine before making it
+    cx = nx if xs is None else max(len(xs) - 1, 1)
+    cy = ny if ys is None else max(len(ys) - 1, 1)
+    nodes, cells = rectangle_size(cx, cy, element)
+    check_size(2 * nodes, f"body '{name}'",
+               f"the {cx} × {cy} {element} mesh of body '{name}' ({cells:.3g} cells)")
     xs = _axis(x0, x1, nx, grading[0]) if xs is None else _grid(name, "xs", xs, x0, x1)
     ys = _axis(y0, y1, ny, grading[1]) if ys is None else _grid(name, "ys", ys, y0, y1)
     if element.startswith("tri"):
@@ -83,4 +114,429 @@ def rectangle(
     return Body.from_mesh(name, mesh, element, material)
 
 
-__all__ = ["rectangle"]
+# --------------------------------------------------------------------------------------------
+# mapped quadrilateral regions
+# --------------------------------------------------------------------------------------------
+#: edges of a four-sided region by the corners they join (counter-clockwise from corner 0)
+QUAD_EDGES: dict[str, tuple[int, int]] = {"bottom": (0, 1), "right": (1, 2), "top": (2, 3),
+                                          "left": (3, 0)}
+
+
+def _counter_clockwise(mesh):
+    """The linear mesh with every cell numbered counter-clockwise (positive area).
+
+    scikit-fem accepts either orientation (``init_tensor`` numbers its cells clockwise and
+    ``MeshTri`` sorts the nodes of each cell); the generators of this module give positive
+    areas, so the signed area is the cell's size.
+    """
+    x, y = mesh.p[:, mesh.t]
+    area2 = np.sum(x * np.roll(y, -1, axis=0) - np.roll(x, -1, axis=0) * y, axis=0)
+    kind = "triangle" if mesh.t.shape[0] == 3 else "quad"
+    t = np.where(area2 < 0, mesh.t[REVERSED_NODE_ORDER[kind]], mesh.t)
+    return MeshTri(mesh.p, t, sort_t=False) if kind == "triangle" else MeshQuad(mesh.p, t)
+
+
+def _check_element(name: str, element: str) -> None:
+    if element not in ELEMENT_KINDS:
+        raise ModelError(f"body '{name}'.element",
+                         f"unknown element '{element}', use {', '.join(ELEMENT_KINDS)}")
+
+
+def _check_count(name: str, field: str, n, minimum: int = 1) -> int:
+    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < minimum:
+        raise ModelError(f"body '{name}'.{field}", f"must be an integer >= {minimum}, got {n!r}")
+    return int(n)
+
+
+def _towards(n: int, start: float = 1.0, end: float = 1.0) -> np.ndarray:
+    """n intervals of [0, 1] shrinking geometrically towards 0 (largest / smallest = ``start``)
+    and/or towards 1 (``end``); with both, each half of the intervals grades towards its end."""
+    if start == 1.0 and end == 1.0:
+        return np.linspace(0.0, 1.0, n + 1)
+    if end == 1.0:
+        return _axis(0.0, 1.0, n, start)
+    if start == 1.0:
+        return 1.0 - _axis(0.0, 1.0, n, end)[::-1]
+    n0 = n // 2
+    if n0 == 0:
+        return np.array([0.0, 1.0])
+    mid = n0 / n
+    first = mid * _axis(0.0, 1.0, n0, start)
+    second = mid + (1.0 - mid) * (1.0 - _axis(0.0, 1.0, n - n0, end)[::-1])
+    second[-1] = 1.0
+    return np.r_[first, second[1:]]
+
+
+def _parameters(name: str, grading, nx: int, ny: int) -> tuple[np.ndarray, np.ndarray]:
+    """Grid lines s (corner 0 -> 1) and t (corner 0 -> 3) on [0, 1] of a ``grading`` spec."""
+    item = f"body '{name}'.grading"
+    if isinstance(grading, Mapping):
+        bad = sorted(set(grading) - set(QUAD_EDGES))
+        if bad:
+            raise ModelError(item, f"unknown edge '{bad[0]}', use {', '.join(QUAD_EDGES)}")
+        r = {}
+        for edge in QUAD_EDGES:
+            v = grading.get(edge, 1.0)
+            if isinstance(v, bool) or not isinstance(v, int | float | np.floating | np.integer) \
+                    or not np.isfinite(v) or v < 1.0:
+                raise ModelError(f"{item}['{edge}']",
+                                 f"must be a size ratio >= 1 (largest / smallest cell), got {v!r}")
+            r[edge] = float(v)
+        return (_towards(nx, r["left"], r["right"]), _towards(ny, r["bottom"], r["top"]))
+    try:
+        g = np.asarray(grading, dtype=float) if not isinstance(grading, str) else np.zeros(0)
+    except (TypeError, ValueError):
+        g = np.zeros(0)
+    if g.shape != (2,) or not np.all(np.isfinite(g)) or np.any(g <= 0):
+        raise ModelError(item, "must be (gx, gy) with factors > 0, or {edge: ratio} with edges "
+                               f"{', '.join(QUAD_EDGES)}; got {grading!r}")
+    return _axis(0.0, 1.0, nx, float(g[0])), _axis(0.0, 1.0, ny, float(g[1]))
+
+
+def _corners(name: str, corners) -> np.ndarray:
+    """Four finite corners of a strictly convex quadrilateral, counter-clockwise."""
+    item = f"body '{name}'.corners"
+    try:
+        P = np.asarray(corners, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(item, "must be four points (x, y), m") from None
+    if P.shape != (4, 2) or not np.all(np.isfinite(P)):
+        raise ModelError(item, f"must be four finite points (x, y), m; got shape {P.shape}")
+    a = P - np.roll(P, 1, axis=0)  # edge into each corner
+    b = np.roll(P, -1, axis=0) - P  # edge out of it
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    tol = 1e-12 * float(np.ptp(P, axis=0).max()) ** 2
+    if np.all(cross < -tol):
+        raise ModelError(item, "are clockwise: list them counter-clockwise")
+    bad = np.flatnonzero(cross <= tol)
+    if bad.size:
+        raise ModelError(item, f"do not form a convex quadrilateral (the angle at corner "
+                               f"{int(bad[0])} is not below 180°)")
+    return P
+
+
+def quad_region(
+    name: str,
+    corners,
+    nx: int,
+    ny: int,
+    material: Material,
+    element: str = "quad4",
+    *,
+    grading: tuple[float, float] | Mapping[str, float] = (1.0, 1.0),
+) -> Body:
+    r"""A body filling the convex quadrilateral ``corners`` (four points, counter-clockwise, m),
+    meshed with ``nx`` cells along edge 0→1 (and 3→2) and ``ny`` along edge 0→3 (and 1→2).
+
+    The mesh is the image of a structured grid (s, t) on the unit square under the bilinear
+    (transfinite) map
+
+    .. math::  \mathbf{x}(s, t) = (1-s)(1-t)\,\mathbf{P}_0 + s(1-t)\,\mathbf{P}_1
+               + s t\,\mathbf{P}_2 + (1-s)t\,\mathbf{P}_3,
+
+    so straight grid lines join points at equal fractions of opposite edges and the corners are
+    nodes exactly.  ``element`` is ``tri3``, ``tri6``, ``quad4``, ``quad8`` or ``quad9`` (as for
+    :func:`rectangle`: a scikit-fem ``MeshTri``/``MeshQuad`` made with ``init_tensor`` and
+    mapped; quadratic elements add their nodes through :meth:`Body.from_mesh`).
+
+    ``grading`` is either
+
+    * ``(gx, gy)``: size of the last cell / size of the first, along s and along t (as for
+      :func:`rectangle`); or
+    * ``{edge: ratio}`` with edges ``"bottom"`` (corners 0→1), ``"right"`` (1→2), ``"top"``
+      (2→3), ``"left"`` (3→0): the cells shrink geometrically towards that edge, ``ratio``
+      (>= 1) being largest / smallest cell across it.  Two adjacent edges refine towards their
+      common corner, e.g. ``{"bottom": 4, "left": 4}`` towards corner 0; two opposite edges
+      refine towards both (each half of the cells grading towards its edge).
+
+    Example
+    -------
+    >>> from stepcontact import Material
+    >>> from stepcontact.model.mesh import quad_region
+    >>> wedge = quad_region("wedge", [(0, 0), (4, 0), (4, 1), (0, 3)], 8, 4,
+    ...                     Material(30e9, 0.2, 2400), grading={"bottom": 5.0})
+    >>> wedge.n_nodes
+    45
+    """
+    _check_element(name, element)
+    nx = _check_count(name, "nx", nx)
+    ny = _check_count(name, "ny", ny)
+    P = _corners(name, corners)
+    s, t = _parameters(name, grading, nx, ny)
+    unit = (MeshTri if element.startswith("tri") else MeshQuad).init_tensor(s, t)
+    S, T = unit.doflocs
+    X = (np.outer(P[0], (1 - S) * (1 - T)) + np.outer(P[1], S * (1 - T))
+         + np.outer(P[2], S * T) + np.outer(P[3], (1 - S) * T))
+    mesh = _counter_clockwise(dataclasses.replace(unit, doflocs=X))
+    return Body.from_mesh(name, mesh, element, material)
+
+
+# --------------------------------------------------------------------------------------------
+# half disc refined towards its contact point
+# --------------------------------------------------------------------------------------------
+def half_disc(
+    name: str,
+    center: tuple[float, float],
+    radius: float,
+    n_radial: int,
+    n_around: int,
+    material: Material,
+    element: str = "quad4",
+    *,
+    refine_toward: str | None = "bottom",
+    ratio: float = 8.0,
+) -> Body:
+    """The lower half of the disc of ``radius`` (m) about ``center``: flat face on top (y = y_c),
+    arc below, its lowest point (x_c, y_c − R) a node, for Hertz-type contact on that point.
+
+    The mesh (all cells convex and counter-clockwise) has two parts: a core, the square
+    [x_c − R/2, x_c + R/2] × [y_c − R/2, y_c] under the flat face, meshed as a tensor grid; and
+    a band of ``n_radial`` rings between the core and the arc, along ``n_around`` + 1 straight
+    spokes that are rays from the centre (x_c, y_c) through the nodes of the arc.  ``n_around``
+    (even, >= 4) counts the cells along the arc: uniform steps on the side quarters (|ψ| from 90°
+    to 45°, ψ the angle from the downward vertical) and the rest on the bottom quarters.
+
+    With ``refine_toward="bottom"`` the cells shrink geometrically towards the contact point:
+    on the bottom quarters the largest / smallest angular step is ``ratio`` (smallest at the
+    contact point, the core's grid lines following the spokes); along each spoke the innermost
+    / outermost radial step is ratio^cos²ψ, i.e. ``ratio`` below the contact point, falling to
+    uniform at the ends of the flat face.  ``refine_toward=None`` gives uniform steps.
+
+    The arc is polygonal (straight element edges; quadratic elements put their mid-side nodes
+    on the chords).  ``element``: ``tri3``, ``tri6``, ``quad4``, ``quad8`` or ``quad9``.
+
+    Example
+    -------
+    >>> from stepcontact import Material
+    >>> from stepcontact.model.mesh import half_disc
+    >>> roller = half_disc("roller", (0.0, 0.5), 0.5, 8, 16, Material(210e9, 0.3, 7850))
+    >>> bool((abs(roller.points - (0.0, 0.0)).sum(axis=1) == 0).any())  # the contact point
+    True
+    """
+    item = f"body '{name}'"
+    _check_element(name, element)
+    M = _check_count(name, "n_radial", n_radial)
+    N = _check_count(name, "n_around", n_around, 4)
+    if N % 2:
+        raise ModelError(f"{item}.n_around",
+                         f"must be even (a node at the contact point), got {N}")
+    c = _vector(f"{item}.center", center, "point")
+    if not isinstance(radius, int | float | np.floating | np.integer) or not np.isfinite(radius) \
+            or radius <= 0:
+        raise ModelError(f"{item}.radius", f"must be positive and finite, got {radius!r}")
+    if refine_toward not in ("bottom", None):
+        raise ModelError(f"{item}.refine_toward",
+                         f"must be 'bottom' (the contact point) or None, got {refine_toward!r}")
+    if not isinstance(ratio, int | float | np.floating | np.integer) or not np.isfinite(ratio) \
+            or ratio < 1:
+        raise ModelError(f"{item}.ratio", f"must be a size ratio >= 1, got {ratio!r}")
+    r = float(ratio) if refine_toward == "bottom" else 1.0
+    R = float(radius)
+    # spoke angles ψ from the downward vertical: n1 uniform steps on each side quarter
+    # (|ψ| from 90° to 45°), n2 steps on the bottom quarters graded towards ψ = 0
+    n1, n2 = _arc_split(N, r)
+    g = _axis(0.0, 1.0, n2 // 2, r)  # from ψ = 0 to 45°, growing
+    side = np.linspace(0.25, 0.5, n1 + 1)[1:]
+    bottom = 0.25 * np.r_[-g[:0:-1], g]  # ψ / π on the bottom quarters, -1/4 … 1/4
+    frac = np.r_[-side[::-1], bottom, side]  # ψ / π of spokes 0 … N
+    psi = np.pi * frac
+    arc = np.stack([R * np.sin(psi), -R * np.cos(psi)])
+    arc[:, [0, N]] = [[-R, R], [0.0, 0.0]]  # the ends of the flat face, exactly
+    # core: the square [-a, a] × [-a, 0] under the flat face, its grid lines where the spokes
+    # (rays from the centre) cross its sides, so the band of rings around it is radial
+    a = 0.5 * R
+    xs = a * np.tan(np.pi * bottom)  # x of the bottom side's nodes
+    xs[[0, -1]] = -a, a
+    ys = -a / np.tan(np.pi * np.r_[0.25, side])  # y of the left side's nodes, -a … 0
+    ys[[0, -1]] = -a, 0.0
+    inner = np.hstack([
+        np.stack([np.full(n1, -a), ys[::-1][:-1]]),  # left side, top to bottom (corner excl.)
+        np.stack([xs, np.full(n2 + 1, -a)]),  # bottom side
+        np.stack([np.full(n1, a), ys[1:]]),  # right side, bottom to top
+    ])
+    # ring j of spoke k at ρ_jk along it; steps shrink towards the arc by ratio^cos²ψ
+    rho = np.stack([_axis(0.0, 1.0, M, 1.0 / rk) for rk in r ** np.cos(psi) ** 2], axis=1)
+    band = inner[:, None, :] + rho[None] * (arc - inner)[:, None, :]  # (2, M+1, N+1)
+    # topology by scikit-fem: the core's tensor grid and the band's (ring, spoke) grid, joined
+    # where the band's first ring is the core's boundary
+    core = MeshQuad.init_tensor(xs, ys)
+    grid = MeshQuad.init_tensor(np.arange(M + 1.0), np.arange(N + 1.0))
+    j, k = np.rint(grid.doflocs).astype(np.int64)
+    points = np.hstack([core.doflocs, band[:, j, k]]) + c[:, None] + 0.0  # no -0.0
+    cells = np.hstack([core.t, grid.t + core.nvertices])
+    # merge the nodes the band and the core share (the same floats: one formula for both)
+    unique, index = np.unique(points.T, axis=0, return_inverse=True)
+    mesh = MeshQuad(np.ascontiguousarray(unique.T), index.ravel()[cells])
+    if element.startswith("tri"):
+        mesh = mesh.to_meshtri()
+    return Body.from_mesh(name, _counter_clockwise(mesh), element, material)
+
+
+def _arc_split(N: int, r: float) -> tuple[int, int]:
+    """Cells (n1, n2) on each side quarter and on the two bottom quarters of the arc
+    (N = 2 n1 + n2, n2 even): the side steps match the largest bottom step best."""
+    best = None
+    for n2 in range(2, N - 1, 2):
+        n1 = (N - n2) // 2
+        # largest bottom step / side step, both as fractions of 45°
+        score = abs(np.log(np.diff(_axis(0.0, 1.0, n2 // 2, r))[-1] * n1))
+        if best is None or score < best[0] - 1e-12:
+            best = (score, n1, n2)
+    return best[1], best[2]
+
+
+# --------------------------------------------------------------------------------------------
+# rigid motions
+# --------------------------------------------------------------------------------------------
+def _vector(item: str, v, what: str) -> np.ndarray:
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        a = np.zeros(0)
+    if a.shape != (2,) or not np.all(np.isfinite(a)):
+        raise ModelError(item, f"must be a finite {what} (x, y), m; got {v!r}")
+    return a
+
+
+def _moved(b, f):
+    """A body or frame with its points mapped by ``f`` ((2, n) -> (2, n)); node numbering,
+    node sets and element data are unchanged."""
+    if isinstance(b, Body):
+        mesh = dataclasses.replace(b.mesh, doflocs=f(b.mesh.doflocs))
+        return dataclasses.replace(b, mesh=mesh, points=np.ascontiguousarray(f(b.points.T).T))
+    if isinstance(b, Frame):
+        return dataclasses.replace(b, points=f(b.points.T).T)
+    raise ModelError("rotate/translate", f"expects a Body, Frame or Model, got {type(b).__name__}")
+
+
+def _rotated_spring(s: Spring, Q: np.ndarray) -> Spring:
+    """A spring whose stiffness is Q k Qᵀ (its axes turned by the rotation Q)."""
+    d = None if s.direction is None else tuple(float(v) for v in Q @ s.direction)
+    if s.kx == s.ky:  # the axis part is isotropic
+        return dataclasses.replace(s, direction=d)
+    if s.direction is None and s.damping == 0:
+        # kx ex⊗ex + ky ey⊗ey = min I + |kx - ky| e⊗e (e the stiffer axis), e turned by Q
+        e = Q[:, 0] if s.kx > s.ky else Q[:, 1]
+        kmin = min(s.kx, s.ky)
+        return dataclasses.replace(s, kx=kmin, ky=kmin, k=abs(s.kx - s.ky),
+                                   direction=(float(e[0]), float(e[1])))
+    raise ModelError(f"spring '{s.name}'",
+                     "has kx != ky and a direction or damping: it cannot be turned as one spring; "
+                     "give its parts as separate springs along their directions (k, direction)")
+
+
+def _rotated_component_pair(spec_x, spec_y, Q: np.ndarray, item: str):
+    """Rotate a traction given by two component specs (numbers or [start, end] pairs)."""
+    if callable(spec_x) or callable(spec_y):
+        raise ModelError(item, "a traction given by functions of (x, y) cannot be rotated: "
+                               "rotate the model with rotate_loads=False and give it rotated")
+    a = np.broadcast_arrays(np.asarray(spec_x, float), np.asarray(spec_y, float))
+    v = Q @ np.stack([a[0].ravel(), a[1].ravel()])
+    if a[0].ndim == 0:
+        return (float(v[0, 0]), float(v[1, 0]))
+    return (tuple(float(t) for t in v[0]), tuple(float(t) for t in v[1]))
+
+
+def _rotated_load(ld, Q: np.ndarray, item: str):
+    """A load with its vectors turned by Q (global-axis components only)."""
+    if isinstance(ld, BodyForce):
+        return dataclasses.replace(ld, g=tuple(float(v) for v in Q @ np.asarray(ld.g, float)))
+    if isinstance(ld, PrescribedDisplacement):
+        if ld.dof in ("x", "y") and ld.value != 0:
+            raise ModelError(item, f"a prescribed {ld.dof} displacement cannot be rotated (it "
+                                   "acts along a global axis)")
+        return ld
+    changes = {}
+    if hasattr(ld, "fx") and hasattr(ld, "fy"):  # nodal and total edge forces
+        f = Q @ np.array([ld.fx, ld.fy], dtype=float)
+        changes.update(fx=float(f[0]), fy=float(f[1]))
+    if getattr(ld, "traction", None) is not None:  # edge tractions in global components
+        changes["traction"] = _rotated_component_pair(*ld.traction, Q, f"{item}.traction")
+    return dataclasses.replace(ld, **changes) if changes else ld
+
+
+def rotate(item, angle: float, about: tuple[float, float] = (0.0, 0.0), *,
+           rotate_loads: bool = False):
+    """A copy of a body, a frame or a whole model turned by ``angle`` (radians,
+    counter-clockwise) about the point ``about`` (m).
+
+    What turns with a model: the nodes of every body and frame; the given ``normal`` of each
+    interface; the ``direction`` of each spring (and the axes of a spring with ``kx != ky``,
+    which becomes ``min(kx, ky)`` on both axes plus ``|kx − ky|`` along its turned stiffer
+    axis).  Node sets are local node indices, so they, the supports, ties, interfaces and loads
+    keep referring to the same nodes.  Edge pressures (``normal``, ``tangential``) follow the
+    turned edges by construction.
+
+    What does **not** turn (it lives in the global axes): gravity ``BodyForce.g``, nodal and
+    edge forces given by (fx, fy), edge tractions given by global components, supports (a
+    support of ``x`` alone still fixes the global x: use a spring along a direction for an
+    inclined roller) and prescribed displacements.  With ``rotate_loads=True`` the force vectors
+    (gravity, (fx, fy), global tractions) turn too, so the whole problem is turned rigidly and
+    the results are the turned ones; a non-zero prescribed x or y displacement is then an
+    error.  Functions of position (pressures p(x, y), gaps g(x, y)) are evaluated at the new
+    coordinates, not mapped back.
+
+    Example
+    -------
+    >>> import numpy as np
+    >>> from stepcontact import Material, rectangle
+    >>> from stepcontact.model.mesh import rotate
+    >>> b = rotate(rectangle("b", (0, 0), (2, 1), 2, 1, Material(1e9, 0.3)), np.pi / 2)
+    >>> b.points[-1].round(12) + 0.0   # the corner (2, 1) turned by 90°
+    array([-1.,  2.])
+    """
+    a = float(angle)
+    if not np.isfinite(a):
+        raise ModelError("rotate.angle", f"must be finite (radians), got {angle!r}")
+    c0 = _vector("rotate.about", about, "point")[:, None]
+    cs, sn = np.cos(a), np.sin(a)
+    Q = np.array([[cs, -sn], [sn, cs]])
+
+    def f(p):
+        return Q @ (p - c0) + c0
+
+    if not isinstance(item, Model):
+        return _moved(item, f)
+    patterns = item.patterns
+    if rotate_loads:
+        patterns = tuple(
+            dataclasses.replace(pat, loads=tuple(
+                _rotated_load(ld, Q, f"load pattern '{pat.name}' load {i}")
+                for i, ld in enumerate(pat.loads)))
+            for pat in item.patterns)
+    return item.replace(
+        bodies=tuple(_moved(b, f) for b in item.bodies),
+        interfaces=tuple(
+            i if i.normal is None else dataclasses.replace(
+                i, normal=tuple(float(v) for v in Q @ np.asarray(i.normal, float)))
+            for i in item.interfaces),
+        springs=tuple(_rotated_spring(s, Q) for s in item.springs),
+        patterns=patterns,
+    )
+
+
+def translate(item, offset: tuple[float, float]):
+    """A copy of a body, a frame or a whole model moved by ``offset`` = (dx, dy), m.
+
+    Only node coordinates change (node sets are local indices and stay valid; directions,
+    normals and loads are unchanged).  Functions of position (pressures p(x, y), gaps g(x, y))
+    are evaluated at the new coordinates.
+
+    Example
+    -------
+    >>> from stepcontact import Material, rectangle
+    >>> from stepcontact.model.mesh import translate
+    >>> translate(rectangle("b", (0, 0), (2, 1), 2, 1, Material(1e9, 0.3)), (1, -1)).points[0]
+    array([ 1., -1.])
+    """
+    d = _vector("translate.offset", offset, "vector")[:, None]
+
+    def f(p):
+        return p + d
+
+    if not isinstance(item, Model):
+        return _moved(item, f)
+    return item.replace(bodies=tuple(_moved(b, f) for b in item.bodies))
+
+
+__all__ = ["QUAD_EDGES", "half_disc", "quad_region", "rectangle", "rotate", "translate"]

@@ -20,7 +20,9 @@ Example
 
 from __future__ import annotations
 
+import math
 import os
+import uuid
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -55,6 +57,8 @@ TRANSITION_MARKERS: dict[Transition, tuple[str, str]] = {
 
 _SUFFIXES = (".png", ".pdf", ".svg")
 DPI = 150  #: default resolution of saved raster figures, dots per inch
+MAX_PIXELS = 2e8  #: largest raster of a figure, pixels (about 800 MB of RGBA)
+MAX_SIDE = 2**16  #: the Agg renderer's limit on each side, pixels
 
 
 def _new_figure(**kw) -> Figure:
@@ -79,10 +83,34 @@ def _check_path(path: str | os.PathLike[str] | None, dpi: float = DPI) -> Path |
     return p
 
 
+def _check_pixels(fig: Figure, dpi: float) -> None:
+    """Refuse a figure whose raster at ``dpi`` would be absurdly large (the Agg renderer
+    allocates it whole, whatever the file type: constrained layout draws with it)."""
+    wi, hi = (float(v) for v in fig.get_size_inches())
+    w, h = wi * dpi, hi * dpi
+    if w * h > MAX_PIXELS or max(w, h) >= MAX_SIDE:
+        top = min(math.sqrt(MAX_PIXELS / (wi * hi)), (MAX_SIDE - 1) / max(wi, hi))
+        raise ValueError(
+            f"dpi={dpi:g}: a {w:.0f} × {h:.0f} pixel figure ({w * h:.2g} pixels) is too large, "
+            f"at most {MAX_PIXELS:.0e} pixels and {MAX_SIDE - 1} per side; lower the dpi "
+            f"(at most {math.floor(top)} for this figure)"
+        )
+
+
 def _save(fig: Figure, path: Path | None, dpi: float = DPI) -> None:
-    if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=dpi)
+    """Write the figure atomically: to a temporary file beside ``path``, renamed into place;
+    a failed write leaves no partial figure (and an existing file untouched)."""
+    if path is None:
+        return
+    _check_pixels(fig, dpi)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+    try:
+        fig.savefig(tmp, dpi=dpi, format=path.suffix.lower().lstrip("."))
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def _stress_scale(values: np.ndarray) -> tuple[float, str]:
@@ -955,6 +983,95 @@ def plot_event_timeline(
     return fig
 
 
+# --------------------------------------------------------------------------------------------
+# safety of the joints
+# --------------------------------------------------------------------------------------------
+def plot_safety(
+    res: StaticResult,
+    interfaces: Sequence[str] | None = None,
+    path: str | os.PathLike[str] | None = None,
+    *,
+    segment: int | None = None,
+    design: float | None = None,
+    dpi: float = DPI,
+) -> Figure:
+    """Safety of the joints against λ: eccentricity of the normal resultant (over the joint's
+    length B, with the kern |e| ≤ B/6 shaded), sliding factor f·|ΣN|/|ΣQ| (1: the joint
+    slides) and open length (m), for the states of one segment (default the last reached).
+
+    See :meth:`~stepcontact.results.result.StaticResult.interface_safety`.
+
+    Parameters
+    ----------
+    res : StaticResult
+    interfaces : names, optional
+        Default every interface.
+    path : str or PathLike, optional
+        Save the figure there (``.png``, ``.pdf`` or ``.svg``).
+    segment : int, optional
+        The segment whose λ is the x axis (default the last one reached).
+    design : float, optional
+        Design load factor λ_d, drawn as a vertical line (FS = λ_limit / λ_d in the legend).
+    dpi : float
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    out = _check_path(path, dpi)
+    names = list(res.interface_names if interfaces is None else interfaces)
+    for name in names:
+        if name not in res.interface_names:
+            raise ValueError(f"no interface '{name}' (interfaces: "
+                             f"{', '.join(map(repr, res.interface_names)) or 'none'})")
+    segs = _segments_reached(res)
+    seg = segs[-1] if segment is None and segs else segment
+    fig = _new_figure(figsize=(7.5, 7.5))
+    axes = fig.subplots(3, 1, sharex=True)
+    if not names or seg is None or seg not in segs:
+        for ax in axes:
+            ax.set_axis_off()
+        axes[0].text(0.5, 0.5, "no contact interfaces" if not names else
+                     f"segment {seg} was not reached", ha="center", va="center")
+        _save(fig, out, dpi)
+        return fig
+    idx, lam = _segment_chain(res, seg)
+    peak = 1.0
+    for c, name in enumerate(names):
+        sf = res.interface_safety(name, design)
+        color = f"C{c % 10}"
+        limits = [f"{what} at λ = {v:.4g}" + ("" if fs is None else f" (FS {fs:.3g})")
+                  for what, v, fs in (("slides", sf.lam_sliding, sf.fs_sliding),
+                                      ("overturns", sf.lam_overturning, sf.fs_overturning))
+                  if v is not None]
+        label = f"'{name}'" + (": " + ", ".join(limits) if limits else "")
+        B = sf.length if sf.length > 0 else 1.0
+        axes[0].plot(lam, sf.eccentricity[idx] / B, color=color, marker=".", ms=4, label=label)
+        sliding = np.where(np.isfinite(sf.sliding_factor[idx]), sf.sliding_factor[idx], np.nan)
+        axes[1].plot(lam, sliding, color=color, marker=".", ms=4)
+        peak = max(peak, float(np.nanmax(sliding, initial=1.0)))
+        axes[2].plot(lam, sf.open_length[idx], color=color, marker=".", ms=4,
+                     drawstyle="steps-post")  # the open set holds until the next state
+    axes[0].axhspan(-1 / 6, 1 / 6, color="0.9", zorder=0, label="kern |e| ≤ B/6")
+    axes[0].axhline(0.0, color="k", lw=0.5)
+    axes[0].set_ylabel("eccentricity e / B")
+    axes[1].axhline(1.0, color="k", lw=0.8, ls="--")
+    axes[1].set_ylabel("sliding factor f·|ΣN|/|ΣQ|")
+    axes[1].set_ylim(0.0, min(max(2.0, 1.1 * peak), 10.0))
+    axes[2].set_ylabel("open length, m")
+    axes[2].set_xlabel(f"λ of '{_pattern_of(res, seg)}'")
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+        if design is not None:
+            ax.axvline(design, color="0.4", lw=0.8, ls=":")
+    if 0 <= seg < len(res.segments) and res.segments[seg][2] < res.segments[seg][1]:
+        axes[-1].invert_xaxis()
+    axes[0].legend(fontsize=8, loc="best")
+    fig.suptitle(f"Joint safety — segment {seg} '{_pattern_of(res, seg)}', {res.status.value}")
+    _save(fig, out, dpi)
+    return fig
+
+
 __all__ = [
     "DPI",
     "STATE_COLORS",
@@ -964,4 +1081,5 @@ __all__ = [
     "plot_interfaces",
     "plot_load_displacement",
     "plot_load_path",
+    "plot_safety",
 ]

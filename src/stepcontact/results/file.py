@@ -21,6 +21,8 @@ Dimensions
     ``StaticResult.recover_fields(model)`` recomputes it.
 ``node``, ``xy``, ``node_dof``, ``element__<body>``, ``cell_node__<body>``
     Geometry for drawing and export (``points``, ``dof_of``, ``cells__<body>``).
+``resultant_component``
+    ``load_resultant`` (pattern × Fx, Fy, Mz): each pattern's force resultant per unit λ.
 
 Enumerations are stored so they round-trip: contact states as integers with CF
 ``flag_values`` / ``flag_meanings`` attributes, transitions and the run status as their string
@@ -62,6 +64,7 @@ FORMAT_VERSION = 1
 _XY = np.array(["x", "y"])
 _NODE_DOF = np.array(["ux", "uy", "rz"])
 _STRESS_COMPONENTS = np.array(["xx", "yy", "xy", "zz"])
+_RESULTANT = np.array(["Fx", "Fy", "Mz"])
 
 # field name -> (python kind, units, long name)
 _SEGMENT_SPEC: dict[str, tuple[str, str, str]] = {
@@ -101,7 +104,7 @@ _CFE_SPEC: dict[str, tuple[str, str, str | None]] = {
     "minus_nodes": ("1", "global nodes of the S- end (-1 padding)", "end_node"),
     "minus_w": ("1", "interpolation weights of the S- end", "end_node"),
     "normal": ("1", "unit normal from S- to S+", "xy"),
-    "tangent": ("1", "unit tangent t = (-n_y, n_x)", "xy"),
+    "tangent": ("1", "unit tangent t = (n_y, -n_x): the normal turned clockwise", "xy"),
     "x": ("m", "coordinates of the S+ end", "xy"),
     "s": ("m", "arc length along the interface", None),
     "area": ("m2", "contact area A_k", None),
@@ -269,6 +272,16 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
         dv["reactions"] = _var(
             ("state", "reaction"), np.asarray(res.reactions, float), "N",
             "resultant reaction of the support on the structure (N·m for rz components)",
+        )
+
+    R = np.asarray(res.load_resultants, float)
+    if len(res.pattern_names) and R.shape == (len(res.pattern_names), 3):
+        coords["resultant_component"] = _var(("resultant_component",), _RESULTANT, "1",
+                                             "component of a load resultant")
+        dv["load_resultant"] = _var(
+            ("pattern", "resultant_component"), R, "N",
+            "resultant of the pattern's forces per unit load factor: Fx, Fy in N, Mz about "
+            "the origin in N m",
         )
 
     # ---- CFE geometry --------------------------------------------------------------------------
@@ -447,8 +460,104 @@ def _py(kind: str, v: Any) -> Any:
     return str(v)
 
 
+_REQUIRED = ("lam", "segment", "factors", "kind", "N", "Q", "un", "ut", "contact_state",
+             "residual", "violation", "segment_pattern", "segment_lam_start",
+             "segment_lam_end", "pattern", "interface", "cfe", "event")
+
+
+def _inconsistent(text: str) -> ValueError:
+    return ValueError(f"inconsistent result file: {text}")
+
+
+def check_dataset(ds: xr.Dataset) -> None:
+    """Raise a ValueError naming the variable when the arrays of a result dataset do not fit
+    together (a damaged or hand-edited file): every per-state array has one row per state of
+    ``lam``, every per-CFE array one column per CFE, the event, multiplier and segment columns
+    have one length each, the displacement fields match the DOF map, and the indices stored
+    (segments, states, CFEs, nodes) point inside their arrays."""
+    for name in _REQUIRED:
+        if name not in ds.variables:
+            raise _inconsistent(f"variable '{name}' is missing")
+
+    def shape(name: str) -> tuple[int, ...]:
+        return tuple(int(k) for k in ds[name].shape)
+
+    def expect(name: str, want: tuple[int | None, ...], what: str) -> None:
+        got = shape(name)
+        if len(got) != len(want) or any(w is not None and g != w
+                                        for g, w in zip(got, want, strict=False)):
+            text = ", ".join("…" if w is None else str(w) for w in want)
+            raise _inconsistent(f"variable '{name}' has shape {got}, expected ({text}) "
+                                f"({what})")
+
+    def within(name: str, size: int, what: str) -> None:
+        v = np.asarray(ds[name].values)
+        if v.size and v.dtype.kind in "iu" and (v.min() < -1 or v.max() >= size):
+            raise _inconsistent(f"variable '{name}' refers to {what} {int(v.max())}, but "
+                                f"there are {size}")
+
+    n = shape("lam")[0] if len(shape("lam")) == 1 else -1
+    if n < 0:
+        raise _inconsistent(f"variable 'lam' has shape {shape('lam')}, expected (states,)")
+    n_pat, m, n_ev = shape("pattern")[0], shape("cfe")[0], shape("event")[0]
+    states = f"{n} states of 'lam'"
+    for name in ("segment", "kind", "residual", "violation"):
+        expect(name, (n,), states)
+    expect("factors", (n, n_pat), f"{states} × {n_pat} load patterns")
+    for name in ("N", "Q", "un", "ut", "contact_state"):
+        expect(name, (n, m), f"{states} × {m} CFEs")
+    if "reactions" in ds:
+        expect("reactions", (n, None), states)
+    for name in ds.data_vars:
+        if str(name).startswith("cfe_"):
+            got = shape(str(name))
+            if not got or got[0] != m:
+                raise _inconsistent(f"variable '{name}' has shape {got}, expected ({m}, …) "
+                                    f"({m} CFEs)")
+        if str(name).startswith("event_"):
+            expect(str(name), (n_ev,), f"{n_ev} events")
+    n_seg = shape("segment_pattern")[0] if shape("segment_pattern") else 0
+    for name in ("segment_lam_start", "segment_lam_end"):
+        expect(name, (n_seg,), f"{n_seg} segments of 'segment_pattern'")
+    mult = [str(v) for v in ds.data_vars if str(v).startswith("multiplier_")]
+    for name in mult:
+        expect(name, (shape(mult[0])[0],), f"as '{mult[0]}'")
+    within("segment", n_seg, "segment")
+    if "event_state" in ds:
+        within("event_state", n, "state")
+    if "event_cfe" in ds:
+        within("event_cfe", m, "CFE")
+    n_nodes = shape("points")[0] if "points" in ds else None
+    if "dof_of" in ds and n_nodes is not None:
+        expect("dof_of", (n_nodes, None), f"{n_nodes} nodes of 'points'")
+    if n_nodes is not None:
+        for name in ds.data_vars:
+            if str(name).startswith("cells__"):
+                within(str(name), n_nodes, "node")
+        for key in ("cfe_plus_nodes", "cfe_minus_nodes"):
+            if key in ds:
+                within(key, n_nodes, "node")
+    if "u" in ds:
+        n_f = shape("field_state")[0] if "field_state" in ds.variables else -1
+        ndof = int(np.max(ds["dof_of"].values, initial=-1)) + 1 if "dof_of" in ds else None
+        expect("u", (n_f, ndof), f"{n_f} stored fields × {ndof} DOFs of 'dof_of'"
+               if ndof is not None else f"{n_f} stored fields")
+        within("field_state", n, "state")
+    for name in ds.data_vars:
+        if str(name).startswith("stress__"):
+            t = str(name)[len("stress__"):]
+            k = f"stress_state__{t}"
+            n_s = shape(k)[0] if k in ds.variables else -1
+            cells = f"cells__{t}"
+            n_el = shape(cells)[0] if cells in ds.variables else None
+            expect(str(name), (n_s, n_el, 4), f"{n_s} states of '{k}' × elements × 4")
+            within(k, n, "state")
+
+
 def dataset_to_result(ds: xr.Dataset) -> StaticResult:
-    """Inverse of :func:`result_to_dataset` (``ds`` must be loaded in memory)."""
+    """Inverse of :func:`result_to_dataset` (``ds`` must be loaded in memory).  A dataset
+    whose arrays do not fit together raises a ValueError naming the variable
+    (:func:`check_dataset`)."""
     if ds.attrs.get("format") != FORMAT:
         raise ValueError("not a stepcontact static result (attribute 'format' missing)")
     if int(ds.attrs["format_version"]) > FORMAT_VERSION:
@@ -456,6 +565,7 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
             f"result file format version {ds.attrs['format_version']} is newer than this "
             f"stepcontact supports ({FORMAT_VERSION})"
         )
+    check_dataset(ds)
 
     def arr(name: str) -> np.ndarray:
         return ds[name].values
@@ -549,6 +659,8 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
         reactions=(arr("reactions") if "reactions" in ds
                    else np.zeros((ds.sizes["state"], 0))),
         reaction_labels=tuple(strs("reaction")) if "reaction" in ds.coords else (),
+        load_resultants=(arr("load_resultant") if "load_resultant" in ds
+                         else np.zeros((0, 3))),
     )
 
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.fem.level import VIRTUAL, is_virtual
 
 
 @dataclass(frozen=True)
@@ -116,6 +117,15 @@ class StaticResult:
         (N·m for rz), at every state: one column per ``reaction_labels`` entry
         (``"support:x"``, ``"support:y"``, ``"support:rz"``; DOFs prescribed by a load pattern:
         ``"pattern (prescribed):x"``)
+    load_resultants : (n_patterns, 3) resultant of every load pattern's forces per unit λ, in
+        the order of ``pattern_names``: F_x, F_y in N and M_z = Σ (x f_y − y f_x) (+ nodal
+        moments) about the origin in N·m (:meth:`load_resultant`; prescribed displacements
+        are not forces and do not count)
+
+    Node results along the path: :meth:`node_history` (ux, uy, rz of a node, a node set or
+    the node nearest a point; velocities — None in statics), :meth:`reaction_history` (the
+    reaction summed over a support or a node set) and :meth:`history` (any of these, or a CFE
+    quantity, by name).
     """
 
     pattern_names: tuple[str, ...]
@@ -144,6 +154,7 @@ class StaticResult:
     geometry: dict[str, object] = field(default_factory=dict)
     reactions: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     reaction_labels: tuple[str, ...] = ()
+    load_resultants: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     units: dict[str, str] = field(
         default_factory=lambda: {
             "lam": "1", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
@@ -233,8 +244,22 @@ class StaticResult:
         return [ContactState(int(v)) for v in self.state[i]]
 
     def interpolate(self, lam: float, segment: int | None = None) -> dict[str, np.ndarray]:
-        """CFE quantities at any λ of a segment (exact: the path is linear between events)."""
+        """CFE quantities at any λ of a segment (exact: the path is linear between events).
+
+        Not for a segment that moves a water level (its path is a polynomial in the level
+        between events): end a segment at the level you need instead."""
         seg = self.segment[-1] if segment is None else segment
+        pattern = self.segments[int(seg)][0] if int(seg) < len(self.segments) else None
+        if pattern in self.level_patterns:
+            idx = np.flatnonzero(self.segment == seg)
+            at = idx[np.abs(self.lam[idx] - lam) <= 1e-12 * max(1.0, abs(lam))]
+            if at.size:  # a recorded state: exact
+                i = at[-1]
+                return ({k: getattr(self, k)[i] for k in ("N", "Q", "un", "ut")}
+                        | {"state": self.state[i]})
+            raise ValueError(f"segment {seg} moves the water level of '{pattern}': its states "
+                             "are not linear in the level between events; end a segment at "
+                             f"λ = {lam} to have the state there")
         idx = np.flatnonzero(self.segment == seg)
         lams = self.lam[idx]
         lo, hi = min(lams), max(lams)
@@ -262,6 +287,269 @@ class StaticResult:
         known = sorted({lb.rsplit(":", 1)[0] for lb in self.reaction_labels})
         raise KeyError(f"no reaction '{support}' along {dof} (reactions: "
                        f"{', '.join(f'{k!r}' for k in known) or 'none'})")
+
+    def load_resultant(self, pattern: str, state: int | None = None) -> np.ndarray:
+        """Resultant [F_x, F_y, M_z] of the forces of load pattern ``pattern``: N, N and N·m
+        (M_z about the origin); per unit λ, or with ``state`` the load applied at that state
+        (factor × the per-unit resultant).  A pattern whose factor is a water level has no
+        per-unit resultant: give ``state``."""
+        if pattern not in self.pattern_names:
+            raise KeyError(f"no load pattern '{pattern}' (patterns: "
+                           f"{', '.join(map(repr, self.pattern_names)) or 'none'})")
+        R = np.asarray(self.load_resultants, dtype=float)
+        if R.shape != (len(self.pattern_names), 3):
+            return np.full(3, np.nan)  # a result written before the resultants were stored
+        if state is None:
+            return R[self.pattern_names.index(pattern)]
+        names = self.level_patterns.get(pattern, (pattern,))
+        idx = [self.pattern_names.index(n) for n in names]
+        return np.asarray(self.factors)[state, idx] @ R[idx]
+
+    @property
+    def level_patterns(self) -> dict[str, tuple[str, ...]]:
+        """Patterns whose factor is a water level, with the virtual patterns that carry their
+        loads (:mod:`stepcontact.fem.level`)."""
+        out: dict[str, list[str]] = {}
+        for name in self.pattern_names:
+            if is_virtual(name):
+                out.setdefault(name.split(VIRTUAL)[0], []).append(name)
+        return {k: tuple(v) for k, v in out.items()}
+
+    # ---- results per node along the path ---------------------------------------------------
+    def _bodies(self) -> list[dict]:
+        return list(self.geometry.get("bodies", []) or [])
+
+    @property
+    def node_sets(self) -> dict[str, np.ndarray]:
+        """{name: global node ids} of the named node sets the model's supports, ties,
+        springs, interfaces and loads use (from ``geometry``: ``node_set_names``,
+        ``node_set_offsets``, ``node_set_nodes``)."""
+        geo = self.geometry
+        names = [str(n) for n in np.asarray(geo.get("node_set_names", []))]
+        off = np.asarray(geo.get("node_set_offsets", [0]), dtype=np.int64)
+        nodes = np.asarray(geo.get("node_set_nodes", []), dtype=np.int64)
+        return {n: nodes[off[j]:off[j + 1]] for j, n in enumerate(names)}
+
+    def node_ids(self, nodes=None, *, point=None, body: str | None = None) -> np.ndarray:
+        """Global node indices (k,) of ``nodes``, or of the node nearest ``point``.
+
+        ``nodes``: a :class:`~stepcontact.model.NodeSet` (body and local indices), the name of
+        a named node set of the model (those its supports, loads, springs, ties and
+        interfaces use), a global node index or a sequence of them; a pair of floats is read
+        as a point.  ``point``: coordinates (x, y) in m, giving the nearest node (``body``
+        chooses among coincident nodes of different bodies, which is otherwise an error).
+        ``body`` alone: every node of that body.
+        """
+        points = np.asarray(self.geometry.get("points", np.zeros((0, 2))), dtype=float)
+        n = len(points)
+        bodies = self._bodies()
+        names = [str(b["name"]) for b in bodies]
+        if body is not None and body not in names:
+            raise KeyError(f"no body '{body}' (bodies: {', '.join(map(repr, names)) or 'none'})")
+        if nodes is not None and point is not None:
+            raise TypeError("give nodes or point, not both")
+        if (point is None and nodes is not None and not isinstance(nodes, str)
+                and not hasattr(nodes, "body") and np.ndim(nodes) == 1
+                and np.asarray(nodes).dtype.kind == "f"):
+            nodes, point = None, nodes  # (x, y) in floats: a point
+        if point is not None:
+            return np.array([self._nearest_node(point, body, points, bodies)], dtype=np.int64)
+        if nodes is None:
+            if body is None:
+                raise TypeError("give nodes, point or body")
+            return self._body_range(bodies[names.index(body)])
+        if isinstance(nodes, str):
+            sets = self.node_sets
+            if nodes not in sets:
+                raise KeyError(f"no node set '{nodes}' in the result (named node sets: "
+                               f"{', '.join(map(repr, sets)) or 'none'})")
+            ids = np.asarray(sets[nodes], dtype=np.int64).reshape(-1)
+        elif hasattr(nodes, "body") and hasattr(nodes, "index"):  # a NodeSet
+            if nodes.body not in names:
+                raise KeyError(f"node set on body '{nodes.body}': no such body in the result "
+                               f"(bodies: {', '.join(map(repr, names)) or 'none'})")
+            rng = self._body_range(bodies[names.index(nodes.body)])
+            idx = np.asarray(nodes.index, dtype=np.int64)
+            if idx.size and (idx.min() < 0 or idx.max() >= len(rng)):
+                raise IndexError(f"node set on body '{nodes.body}' refers to nodes the body "
+                                 f"does not have (it has {len(rng)})")
+            ids = rng[idx]
+        else:
+            arr = np.asarray(nodes)
+            if arr.size and arr.dtype.kind not in "iu":
+                raise TypeError(f"nodes: expected node indices, a NodeSet or a node-set name, "
+                                f"got {arr.dtype}")
+            ids = arr.astype(np.int64).reshape(-1)
+        bad = (ids < 0) | (ids >= n)
+        if bad.any():
+            raise IndexError(f"node {int(ids[bad][0])} does not exist (nodes 0…{n - 1})")
+        return ids
+
+    @staticmethod
+    def _body_range(b: dict) -> np.ndarray:
+        """Global node indices of one body of ``geometry["bodies"]`` (its nodes are numbered
+        consecutively from its offset; results written before ``offset`` was stored read it
+        off the cells, which use every node)."""
+        cells = np.asarray(b["cells"], dtype=np.int64)
+        lo = int(b.get("offset", cells.min() if cells.size else 0))
+        count = int(b.get("n_nodes", cells.max() + 1 - lo if cells.size else 0))
+        return np.arange(lo, lo + count, dtype=np.int64)
+
+    def _nearest_node(self, point, body, points, bodies) -> int:
+        try:
+            xy = np.asarray(point, dtype=float).reshape(2)
+        except (TypeError, ValueError):
+            raise TypeError(f"point={point!r}: give the coordinates (x, y) in m") from None
+        names = [str(b["name"]) for b in bodies]
+        owner = np.full(len(points), -1)
+        for j, b in enumerate(bodies):
+            owner[self._body_range(b)] = j
+        cand = (np.flatnonzero(owner == names.index(body)) if body is not None
+                else np.arange(len(points)))
+        if not cand.size:
+            raise ValueError("the result has no nodes (no geometry)")
+        d = np.linalg.norm(points[cand] - xy, axis=1)
+        size = float(np.ptp(points, axis=0).max()) if len(points) else 1.0
+        if d.min() > 0.05 * size:
+            k = int(cand[np.argmin(d)])
+            raise ValueError(f"no node near ({xy[0]:g}, {xy[1]:g}): the nearest, node {k} at "
+                             f"({points[k, 0]:g}, {points[k, 1]:g}), is {d.min():.3g} m away")
+        near = cand[d <= d.min() + 1e-9 * max(size, 1e-300)]
+        shared = sorted({names[owner[k]] for k in near if owner[k] >= 0})
+        if len(shared) > 1:
+            raise ValueError(f"the node at ({xy[0]:g}, {xy[1]:g}) is shared by bodies "
+                             f"{', '.join(map(repr, shared))}: choose one with body=...")
+        return int(near[0])
+
+    def velocities(self, states=None) -> np.ndarray | None:
+        """Velocity vectors (k, ndof), m/s (rad/s for rz), of ``states``: None for a static
+        run, which has none (a dynamic result, on a time path axis, returns them)."""
+        return None
+
+    def node_history(self, nodes=None, quantity: str = "ux", *, point=None,
+                     body: str | None = None) -> np.ndarray | None:
+        """A nodal quantity at every reported state, along the path (:attr:`path`).
+
+        Parameters
+        ----------
+        nodes : NodeSet, str, int or sequence of int, optional
+            The nodes (see :meth:`node_ids`): a node set, a named node set of the model, global
+            node indices; a pair of floats is a point.
+        quantity : str
+            ``"ux"``, ``"uy"`` (m), ``"rz"`` (rad, frame nodes): displacements;
+            ``"vx"``, ``"vy"`` (m/s), ``"vrz"`` (rad/s): velocities.
+        point : (x, y), optional
+            The node nearest this point, m.
+        body : str, optional
+            Body of the node nearest ``point`` (coincident nodes of two bodies), or every
+            node of the body when neither ``nodes`` nor ``point`` is given.
+
+        Returns
+        -------
+        (n_states,) for a single node (an index or a point), (n_states, k) for a set or a
+        sequence of k nodes; None for velocities of a static run (it has none).
+
+        Needs the displacements of every state: an in-memory result (or one given its model
+        with :meth:`recover_fields`) recomputes those not stored in one solve.
+
+        Example
+        -------
+        >>> res.node_history(point=(2.0, 2.0), quantity="ux")        # doctest: +SKIP
+        >>> res.node_history(top, "uy").mean(axis=1)                 # doctest: +SKIP
+        """
+        if quantity not in _NODE_QUANTITIES:
+            raise ValueError(f"quantity={quantity!r}: use one of "
+                             f"{', '.join(map(repr, _NODE_QUANTITIES))}")
+        kind, comp = _NODE_QUANTITIES[quantity]
+        single = point is not None or (
+            nodes is not None and not isinstance(nodes, str) and not hasattr(nodes, "body")
+            and np.ndim(nodes) in (0, 1) and (np.ndim(nodes) == 0
+                                              or np.asarray(nodes).dtype.kind == "f"))
+        ids = self.node_ids(nodes, point=point, body=body)
+        dof_of = np.asarray(self.geometry["dof_of"], dtype=np.int64)
+        d = dof_of[ids, comp]
+        if np.any(d < 0):
+            k = int(ids[d < 0][0])
+            raise ValueError(f"node {k} has no DOF {('ux', 'uy', 'rz')[comp]} (rotations exist "
+                             "only at frame nodes)")
+        if kind == "v":
+            V = self.velocities()
+            if V is None:
+                return None
+            out = np.asarray(V)[:, d]
+        else:
+            out = self.displacements()[:, d]
+        return out[:, 0] if single else out
+
+    def reaction_history(self, nodes, dof: str = "y", *, point=None,
+                         body: str | None = None) -> np.ndarray:
+        """The reaction on the structure along ``dof`` summed over ``nodes``, at every state:
+        (n_states,), N ("x", "y") or N·m ("rz", the nodal moments only).
+
+        ``nodes`` is a support's name (or a load pattern's, for the DOFs it prescribes): its
+        stored resultant, :meth:`reaction`, no solve.  Otherwise a node set, a named node set,
+        node indices or a point as in :meth:`node_ids`: the reaction r = K u + Bᵀ s − f of
+        their DOFs (zero at free DOFs, so a set may be larger than the supported nodes; DOFs
+        shared by tied nodes count once).  That needs the run's stiffness: an in-memory
+        result, or one given its model with :meth:`recover_fields`.
+        """
+        if dof not in ("x", "y", "rz"):
+            raise ValueError(f"dof={dof!r}: use 'x', 'y' or 'rz'")
+        if isinstance(nodes, str) and point is None:
+            try:
+                return self.reaction(nodes, dof)
+            except KeyError:
+                if nodes not in self.node_sets:
+                    raise
+        ids = self.node_ids(nodes, point=point, body=body)
+        dof_of = np.asarray(self.geometry["dof_of"], dtype=np.int64)
+        d = np.unique(dof_of[ids, ("x", "y", "rz").index(dof)])
+        d = d[d >= 0]
+        system = getattr(getattr(self._recover, "cond", None), "system", None)
+        if system is None:
+            raise KeyError("the reaction at given nodes needs the run's stiffness: call "
+                           "res.recover_fields(model) with the model of the run (the stored "
+                           "support resultants are res.reaction(support, dof))")
+        U = self.displacements()
+        S = np.concatenate([np.asarray(self.Q), -np.asarray(self.N)], axis=1)
+        F = np.asarray(self.factors, dtype=float).reshape(self.n_states, -1)
+        f = np.stack([system.loads[name].f for name in self.pattern_names], axis=1) \
+            if self.pattern_names else np.zeros((system.ndof, 0))
+        K_d = system.K[d]  # the rows of those DOFs only (K symmetric)
+        B_d = system.B[:, d].T.tocsr()
+        R = np.asarray(K_d @ U.T).T + np.asarray(B_d @ S.T).T - F @ f[d].T
+        return R.sum(axis=1)
+
+    def history(self, quantity: str, nodes=None, *, point=None, body: str | None = None,
+                dof: str | None = None) -> np.ndarray | None:
+        """Any quantity at every reported state, as an array along the path (:attr:`path`).
+
+        * ``"lam"``, ``"path"``: (n_states,); ``"factors"``: (n_states, n_patterns).
+        * CFE quantities ``"N"``, ``"Q"`` (N), ``"sigma_n"``, ``"tau"`` (Pa), ``"un"``,
+          ``"ut"`` (m): (n_states, m) — every CFE (:meth:`cfe_history` for labelled data).
+        * nodal quantities ``"ux"``, ``"uy"``, ``"rz"``, ``"vx"``, ``"vy"``, ``"vrz"`` of
+          ``nodes`` / ``point`` / ``body``: :meth:`node_history`.
+        * ``"reaction"`` along ``dof`` (default "y") of a support or of nodes:
+          :meth:`reaction_history`.
+
+        Example
+        -------
+        >>> res.history("uy", point=(2.0, 2.0))                # doctest: +SKIP
+        >>> res.history("reaction", "bed", dof="x")            # doctest: +SKIP
+        """
+        if quantity in ("lam", "path"):
+            return np.asarray(getattr(self, quantity))
+        if quantity == "factors":
+            return np.asarray(self.factors)
+        if quantity in ("N", "Q", "un", "ut", "sigma_n", "tau"):
+            return np.asarray(getattr(self, quantity))
+        if quantity in _NODE_QUANTITIES:
+            return self.node_history(nodes, quantity, point=point, body=body)
+        if quantity == "reaction":
+            return self.reaction_history(nodes, dof or "y", point=point, body=body)
+        raise ValueError(f"quantity={quantity!r}: use 'lam', 'path', 'factors', a CFE quantity "
+                         "(N, Q, sigma_n, tau, un, ut), a nodal one (ux, uy, rz, vx, vy, vrz) "
+                         "or 'reaction'")
 
     # ---- fields: stored, or recomputed exactly on request ----------------------------------
     def _state_indices(self, states) -> np.ndarray:
@@ -383,6 +671,25 @@ class StaticResult:
                 f"first opening λ={fmt(mu.first_opening)}, "
                 f"equilibrium lost λ={fmt(mu.equilibrium_lost)}"
             )
+        R = np.asarray(self.load_resultants, dtype=float)
+        if len(self.pattern_names) and R.shape == (len(self.pattern_names), 3):
+            lines.append("load resultants per unit λ (Fx, Fy in N; Mz about the origin in N·m):")
+
+            def fmt3(r):
+                big = float(np.max(np.abs(r), initial=0.0))
+                fx, fy, mz = np.where(np.abs(r) <= 1e-12 * big, 0.0, r) + 0.0  # no "-0"
+                return f"Fx = {fx:.6g}, Fy = {fy:.6g}, Mz = {mz:.6g}"
+
+            levels = self.level_patterns
+            for name, r in zip(self.pattern_names, R, strict=True):
+                if is_virtual(name):
+                    continue
+                if name in levels:
+                    h = float(self.factors[-1, self.pattern_names.index(name)])
+                    lines.append(f"  '{name}' (its factor is the water level, m): at the last "
+                                 f"state, h = {h:.6g} m: {fmt3(self.load_resultant(name, -1))}")
+                else:
+                    lines.append(f"  '{name}': {fmt3(r)}")
         return "\n".join(lines)
 
     def segments_summary(self) -> list[dict[str, object]]:
@@ -444,6 +751,20 @@ class StaticResult:
             f"{self.m} CFEs, {len(self.interface_names)} interface(s), fields at "
             f"{len(self.fields)} states<table><tr>{head}</tr>{body}</table></div>"
         )
+
+    # ---- safety of a joint (implemented in stepcontact.results.safety) ---------------------
+    def interface_safety(self, interface: str, design: float | None = None, *, heel=None):
+        """Safety of ``interface`` along the path: ΣN, ΣQ, the normal resultant's position,
+        eccentricity and kern check, the stresses at heel and toe, the sliding factor
+        f·|ΣN|/|ΣQ|, the open length, and the factors of safety against sliding and
+        overturning λ_limit / ``design`` (see :mod:`stepcontact.results.safety`).
+
+        Returns an :class:`~stepcontact.results.safety.InterfaceSafety` (plain arrays along
+        the path).  ``heel``: a point (x, y) near the heel (default: the first CFE).
+        """
+        from stepcontact.results.safety import interface_safety
+
+        return interface_safety(self, interface, design, heel=heel)
 
     # ---- I/O (implemented in stepcontact.results.file) ------------------------------------
     def to_dataset(self):
@@ -535,6 +856,10 @@ class StaticResult:
         return pd.DataFrame(rows, columns=cols)
 
 
+#: nodal quantities of :meth:`StaticResult.node_history`: (displacement "u" or velocity "v",
+#: component)
+_NODE_QUANTITIES = {"ux": ("u", 0), "uy": ("u", 1), "rz": ("u", 2),
+                    "vx": ("v", 0), "vy": ("v", 1), "vrz": ("v", 2)}
 _MULTIPLIER_KEYS = ("first_slip", "first_opening", "first_closing", "equilibrium_lost")
 _REPR_SEGMENTS = 8  #: segments listed by ``repr`` (the rest are counted)
 _HISTORY_UNITS = {"N": "N", "Q": "N", "sigma_n": "Pa", "tau": "Pa", "un": "m", "ut": "m"}

@@ -218,6 +218,74 @@ class EventEngine:
         fired = np.any(steps <= dmu + group, axis=1) & (dmu_ev <= dmu + group)
         return dmu, dmu_ev, fired
 
+    def next_event_poly(self, dss, dws, remaining: float, group: float
+                        ) -> tuple[float, float, np.ndarray]:
+        """Earliest root of all event functions along a polynomial path (a load that is a
+        polynomial in the segment's parameter, e.g. water loads with the level as parameter):
+        s(μ) = s + Σ_j μ^j ds_j, w(μ) = w + Σ_j μ^j dw_j (j = 1 … J, Taylor coefficients of the
+        current scheme's response at the current point).
+
+        The event functions are affine in (s, w), so each is a polynomial in μ; its smallest
+        positive real root is found from the eigenvalues of its companion matrix and polished
+        by Newton steps (exact, not a linearised path).  One coefficient (J = 1) is
+        :meth:`next_event` itself.  Returns as :meth:`next_event`."""
+        if len(dss) == 1:
+            return self.next_event(dss[0], dws[0], remaining, group)
+        phi = self.event_values(self.states, self.s, self.w)
+        ncol = phi.shape[1]
+        if ncol == 0:
+            return remaining, _INF, np.zeros(self.m, bool)
+        fin = np.isfinite(phi)
+        coef = np.stack([np.where(fin, self.event_values(self.states, ds, dw, affine=False), 0.0)
+                         for ds, dw in zip(dss, dws, strict=True)], axis=-1)  # (m, ncol, J)
+        J = coef.shape[-1]
+        scale_s = max((np.abs(ds).max(initial=0) for ds in dss), default=0.0)
+        scale_w = max((np.abs(dw).max(initial=0) for dw in dws), default=0.0)
+        rate_tol = 1e3 * self.rtol * np.r_[[max(scale_s, 1e-300)] * (ncol - 1),
+                                           max(scale_w, 1e-300)]
+        R = max(remaining, 1e-300)
+        powers = R ** np.arange(1, J + 1)
+        # a coefficient below the rate tolerance (over the whole step) is round-off
+        coef = np.where(np.abs(coef) * powers[None, None, :] < rate_tol[None, :, None] * R,
+                        0.0, coef)
+        p0 = np.where(fin, np.maximum(phi, 0.0), 0.0)
+        reach = np.abs(coef) @ powers
+        cand = np.argwhere(fin & (reach >= p0) & np.any(coef != 0, axis=-1))
+        steps = np.full(phi.shape, _INF)
+        tiny = 1e-14 * max(R, 1.0)
+        for k, c in cand:
+            cs = coef[k, c]
+            if p0[k, c] == 0.0:
+                lead = cs[np.flatnonzero(cs)[0]]
+                if lead < 0:  # at its limit and moving past it: an event here
+                    steps[k, c] = 0.0
+                    continue
+            poly = np.r_[p0[k, c], cs]
+            roots = np.polynomial.polynomial.polyroots(np.trim_zeros(poly, "b"))
+            real = roots.real[np.abs(roots.imag) <= 1e-7 * np.maximum(np.abs(roots.real), tiny)]
+            real = np.sort(real[real > tiny])
+            for r in real:
+                for _ in range(3):  # Newton polish on the exact polynomial
+                    val = np.polynomial.polynomial.polyval(r, poly)
+                    der = np.polynomial.polynomial.polyval(
+                        r, np.polynomial.polynomial.polyder(poly))
+                    if der == 0:
+                        break
+                    r = r - val / der
+                if r > tiny:
+                    steps[k, c] = r
+                    break
+        dmu_ev = float(steps.min(initial=_INF))
+        dmu = min(dmu_ev, remaining)
+        fired = np.any(steps <= dmu + group, axis=1) & (dmu_ev <= dmu + group)
+        return dmu, dmu_ev, fired
+
+    def advance_poly(self, dmu: float, dss, dws) -> None:
+        """Move along a polynomial path (see :meth:`next_event_poly`) by Δμ."""
+        for j, (ds, dw) in enumerate(zip(dss, dws, strict=True), start=1):
+            self.s += dmu**j * ds
+            self.w += dmu**j * dw
+
     def article_step(self, ds) -> float:
         """Step limit of the article's slip treatment, eq. (5): |ΔQ_p / Q_p| ≤ ε_p."""
         lim = _INF

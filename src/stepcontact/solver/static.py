@@ -27,12 +27,13 @@ import numpy as np
 from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
 from stepcontact.errors import ContactHeldWarning, ModelError
-from stepcontact.fem.assembly import System, assemble
+from stepcontact.fem.assembly import System, assemble, load_resultants
 from stepcontact.model import Model
 from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, Condensed
 from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.levelpath import LevelPath
 from stepcontact.solver.mechanism import describe_mechanism
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
@@ -153,6 +154,29 @@ class FieldRecovery:
 SMALL_DENSE = 2000
 
 
+def _named_node_sets(model: Model) -> dict[str, np.ndarray]:
+    """The named node sets the model's supports, ties, springs, interfaces and loads use (the
+    first of a name wins), for results per node, as plain arrays: ``node_set_names`` (k,),
+    ``node_set_offsets`` (k + 1,) and ``node_set_nodes`` (global node ids of set j at
+    offsets[j]:offsets[j + 1])."""
+    sets = [s.nodes for s in model.supports]
+    sets += [ns for t in model.ties for ns in (t.a, t.b)]
+    sets += [ns for sp in model.springs for ns in (sp.a, sp.b) if ns is not None]
+    sets += [ns for i in model.interfaces for ns in (i.plus, i.minus)]
+    sets += [ld.nodes for p in model.patterns for ld in p.loads if hasattr(ld, "nodes")]
+    named: dict[str, np.ndarray] = {}
+    for ns in sets:
+        if ns.name and ns.name not in named:
+            named[ns.name] = model.global_nodes(ns)
+    sizes = [len(v) for v in named.values()]
+    return {
+        "node_set_names": np.array(list(named), dtype=str) if named else np.zeros(0, "<U1"),
+        "node_set_offsets": np.r_[0, np.cumsum(sizes, dtype=np.int64)].astype(np.int64),
+        "node_set_nodes": (np.concatenate(list(named.values())).astype(np.int64) if named
+                           else np.zeros(0, np.int64)),
+    }
+
+
 class StaticSolver:
     """Event-driven static analysis of one model.  Use :func:`solve_static`."""
 
@@ -204,6 +228,48 @@ class StaticSolver:
         self.mechanism: dict | None = None
         self.step = 0
         self.fields = FieldRecovery.of_recorder(self.cond, self.rec, list(self.c))
+
+    def _level_path(self, seg: int, pattern: str, rates: dict[str, float], lam0: float,
+                    lam1: float) -> LevelPath | None:
+        """The polynomial path of a segment that moves a water level (None for the others)."""
+        levels = self.sys.levels
+        moved = [name for name in rates if name in levels]
+        if not moved:
+            return None
+        item = f"program segment {seg} ('{pattern}')"
+        if len(rates) > 1:
+            raise ModelError(item, f"pattern '{moved[0]}' has the water level as its factor: "
+                             "move it by a segment of its own, not with rates")
+        if self.article:
+            raise ModelError(item, "the article's slip treatment works on proportional "
+                             "segments; a segment that moves a water level needs slip='exact'")
+        path = LevelPath(levels[pattern], self.cond, lam0, lam1)
+        now = np.array([self.c[n] for n in path.basis.names])
+        start = path.basis.factors(lam0)
+        if np.abs(start - now).max(initial=0) > 1e-12 * max(np.abs(start).max(initial=0), 1.0):
+            low = float(path.basis.y.min())
+            raise ModelError(item, f"the water level starts at {lam0:g} m, where it already "
+                             f"loads the structure (its wetted faces reach down to y = {low:g} "
+                             "m): start the level at or below that, or let an earlier segment "
+                             "raise it")
+        self.c.update(path.factors(0.0))
+        return path
+
+    def _level_rates(self, forcings, coefs, lead: int, ds, dw):
+        """Rates of the current scheme under every Taylor coefficient of a level path (the
+        decision's own for the leading one)."""
+        eng = self.engine
+        dss, dws = [], []
+        for j, fj in enumerate(forcings):
+            if j == lead:
+                a, b = ds, dw
+            elif not (np.any(fj[0]) or np.any(fj[1])):
+                a, b = np.zeros_like(ds), np.zeros_like(dw)
+            else:
+                a, b = eng.rates(eng.states, fj)
+            dss.append(a)
+            dws.append(b)
+        return dss, dws
 
     @staticmethod
     def _combine(vectors: dict[str, np.ndarray], rates: dict[str, float]) -> np.ndarray:
@@ -320,13 +386,17 @@ class StaticSolver:
             direction = 1.0 if lam1 >= lam0 else -1.0
             span = abs(lam1 - lam0)
             big = max(abs(lam0), abs(lam1))
-            y_max = float(np.abs(self._combine(self.cond.y, rates)).max(initial=0))
-            self._f = self._combine({k: v.f for k, v in self.sys.loads.items()}, rates)
-            f_max = float(np.abs(self._f).max(initial=0))
-            eng.W_scale = max(eng.W_scale, y_max * big)
-            eng.F_scale = max(eng.F_scale, f_max * big)
-            forcing = (direction * self._combine(self.cond.hhat, rates),
-                       direction * self._combine(self.cond.e, rates))
+            path = self._level_path(seg, pattern, rates, lam0, lam1)
+            if path is None:
+                y_max = float(np.abs(self._combine(self.cond.y, rates)).max(initial=0)) * big
+                self._f = self._combine({k: v.f for k, v in self.sys.loads.items()}, rates)
+                f_max = float(np.abs(self._f).max(initial=0)) * big
+                forcing = (direction * self._combine(self.cond.hhat, rates),
+                           direction * self._combine(self.cond.e, rates))
+            else:  # the load is a polynomial in the level: its forcings at every point
+                y_max, f_max = path.scales()
+            eng.W_scale = max(eng.W_scale, y_max)
+            eng.F_scale = max(eng.F_scale, f_max)
             c0 = dict(self.c)
             mu = 0.0
             stop = False
@@ -335,6 +405,11 @@ class StaticSolver:
             seg_start = True
             while True:
                 lam = lam0 + direction * mu
+                if path is not None:
+                    forcings, coefs = path.forcings(mu)
+                    lead = path.leading(forcings, coefs)
+                    forcing = forcings[lead]
+                    self._f = path.load(coefs[lead], lead)
                 ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult, first,
                                                span, seg_start)
                 first = seg_start = False
@@ -343,9 +418,14 @@ class StaticSolver:
                     break
                 if mu >= span:
                     break
-                remaining = span - mu
+                end = span if path is None else path.piece_end(mu)
+                remaining = end - mu
                 grp = 1e-10 * max(abs(lam), span, 1.0)
-                dmu, dmu_ev, fired = eng.next_event(ds, dw, remaining, grp)
+                if path is None:
+                    dmu, dmu_ev, fired = eng.next_event(ds, dw, remaining, grp)
+                else:
+                    dss, dws = self._level_rates(forcings, coefs, lead, ds, dw)
+                    dmu, dmu_ev, fired = eng.next_event_poly(dss, dws, remaining, grp)
                 if self.article:
                     dmu_p = eng.article_step(ds)
                     if dmu_p < dmu:
@@ -359,18 +439,30 @@ class StaticSolver:
                         break
                 else:
                     small_steps = 0
-                eng.advance(dmu, ds, dw)
+                if path is None:
+                    eng.advance(dmu, ds, dw)
+                else:
+                    eng.advance_poly(dmu, dss, dws)
                 mu = mu + dmu
                 for name, rate in rates.items():
                     self.c[name] = c0[name] + rate * direction * mu
-                if dmu == remaining or mu >= span * (1 - 1e-15):
-                    mu = span
+                if dmu == remaining or mu >= end * (1 - 1e-15):
+                    mu = end
                     for name, rate in rates.items():
-                        self.c[name] = c0[name] + rate * (lam1 - lam0)
-                    if not fired.any():
+                        self.c[name] = c0[name] + rate * direction * end
+                    if path is not None:
+                        self.c.update(path.factors(mu))
+                    if mu >= span and not fired.any():
+                        mu = span
+                        for name, rate in rates.items():
+                            self.c[name] = c0[name] + rate * (lam1 - lam0)
+                        if path is not None:
+                            self.c.update(path.factors(span))
                         if self.article:
                             eng.snap()
                         break
+                elif path is not None:
+                    self.c.update(path.factors(mu))
                 if self.step >= self.max_events:
                     self.status = Status.MAX_EVENTS
                     self.message = f"event budget of {self.max_events} exhausted at λ = {lam:.6g}"
@@ -482,6 +574,14 @@ class StaticSolver:
             "why": out.method,
         })
 
+    def _resultants(self) -> np.ndarray:
+        """(n_patterns, 3) resultant F_x, F_y (N), M_z about the origin (N·m) of every
+        pattern's forces per unit λ, computed once."""
+        if getattr(self, "_load_resultants", None) is None:
+            r = load_resultants(self.sys)
+            self._load_resultants = np.array([r[n] for n in self.c]).reshape(len(self.c), 3)
+        return self._load_resultants
+
     def result(self, elapsed: float, partial: bool = False) -> StaticResult:
         if not partial:  # the last state of the run (where it ended or stopped) has its field
             self._store_field(len(self.rec) - 1)
@@ -502,9 +602,11 @@ class StaticSolver:
             "dof_of": self.sys.dofs.of,
             "bodies": [
                 {"name": b.name, "kind": b.kind, "element": getattr(b, "element", "frame2"),
-                 "cells": b.cells + model.node_offsets[b.name]}
+                 "cells": b.cells + model.node_offsets[b.name],
+                 "offset": int(model.node_offsets[b.name]), "n_nodes": int(b.n_nodes)}
                 for b in model.bodies
             ],
+            **_named_node_sets(model),
         }
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
             "events": len(self.rec.events), "event_points": self.step,
@@ -527,6 +629,7 @@ class StaticSolver:
             fields=dict(self.rec.fields), stresses=dict(self.rec.stresses), counters=counters,
             mechanism=self.mechanism, geometry=geometry, reactions=r["reactions"],
             reaction_labels=tuple(self.sys.reaction_labels),
+            load_resultants=self._resultants(),
             nonunique=list(self.rec.nonunique),
             _recover=self.fields,
         )

@@ -1,0 +1,331 @@
+"""Water loads: hydrostatic pressure on a face, uplift in a joint, pressures given by coordinates.
+
+All three follow the geometry (the coordinates of the points), never the order of the nodes in
+a node set, so reversing a gmsh curve changes nothing.
+
+* :class:`WaterLoad` — hydrostatic pressure p = γ_w · max(h_w − y, 0) (Pa) on the boundary
+  edges of a node set, pushing into the body, with the free surface at y = h_w (``level``, m)
+  and γ_w the unit weight of water (N/m³).
+* :class:`Uplift` — a pore pressure in a joint: the same pressure pushes the S+ body and the
+  S− body apart (equal and opposite resultants when the two faces coincide).  Given as a
+  pressure head (m of water) or a pressure (Pa): a constant, a :class:`LinearProfile` by
+  coordinates (e.g. from the heel head to the toe head, or through a drainage line) or a
+  function of (x, y).
+* :class:`LinearProfile` — a value varying linearly between points given by coordinates, for
+  :class:`~stepcontact.model.EdgeLoad` pressures too (``EdgeLoad(nodes, normal=profile)``).
+
+The edge integration is that of :class:`~stepcontact.model.EdgeLoad` (consistent nodal
+forces); where the pressure has a kink inside an element edge (the water level, a point of a
+profile) the edge is split there, so the nodal forces are exact for straight edges:
+resultant γ_w d²/2 and line of action at d/3 above the bottom of a vertical face of depth d.
+
+Example
+-------
+>>> import stepcontact as sc
+>>> rock = sc.Material(E=10e9, nu=0.25, density=2600)
+>>> dam = sc.rectangle("dam", (0, 0), (8, 10), 4, 5, rock)
+>>> m = sc.Model(bodies=[dam])
+>>> face = m.select("dam", x=0.0)
+>>> water = sc.WaterLoad(face, level=9.0)            # γ_w = 9810 N/m³
+>>> float(water.pressure(0.0, 0.0))                 # Pa at the heel
+88290.0
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from stepcontact.errors import ModelError
+from stepcontact.model.items import EdgeLoad, Interface, Model, NodeSet
+
+#: unit weight of fresh water γ_w = ρ_w g, N/m³
+UNIT_WEIGHT_WATER = 9810.0
+
+
+def _finite(v: float, item: str, *, positive: bool = False) -> float:
+    v = float(v)
+    if not np.isfinite(v) or (positive and v <= 0):
+        raise ModelError(item, f"must be {'positive and ' if positive else ''}finite, got {v}")
+    return v
+
+
+@dataclass(frozen=True, eq=False)
+class LinearProfile:
+    """A value (a pressure in Pa, or a head in m) linear between points given by coordinates.
+
+    ``points`` are ``(x, y, value)`` triples, at least two.  A point (x, y) is placed by its
+    coordinate ξ along the chord from the first point to the last (its projection on that
+    line); the value is linear in ξ between consecutive points (piecewise linear through
+    interior points, e.g. a drainage line) and continued linearly beyond the first and the last
+    point.  The result is multiplied by ``scale`` (γ_w to turn a head into a pressure).
+
+    The order of the nodes of a node set plays no part: reversing a curve changes nothing.
+
+    Example
+    -------
+    >>> p = LinearProfile([(0.0, 10.0, 0.0), (0.0, 0.0, 98100.0)])  # hydrostatic, 10 m deep
+    >>> p(np.array([0.0, 0.0]), np.array([0.0, 5.0])).tolist()
+    [98100.0, 49050.0]
+    """
+
+    points: tuple[tuple[float, float, float], ...]
+    scale: float = 1.0
+
+    def __post_init__(self):
+        pts = np.asarray(self.points, dtype=float)
+        if pts.ndim != 2 or pts.shape[1] != 3 or len(pts) < 2:
+            raise ModelError("linear profile", "give at least two points (x, y, value)")
+        if not np.all(np.isfinite(pts)):
+            raise ModelError("linear profile", "points contain NaN or inf")
+        d = pts[-1, :2] - pts[0, :2]
+        if np.hypot(*d) == 0:
+            raise ModelError("linear profile", "the first and the last point coincide")
+        xi = self._xi_of(pts[:, 0], pts[:, 1], pts)
+        if np.any(np.diff(xi) <= 0):
+            raise ModelError("linear profile", "the points must follow each other along the "
+                             "line from the first to the last point")
+        _finite(self.scale, "linear profile.scale")
+        object.__setattr__(self, "points", tuple(tuple(map(float, p)) for p in pts))
+
+    @staticmethod
+    def _xi_of(x, y, pts: np.ndarray) -> np.ndarray:
+        a, d = pts[0, :2], pts[-1, :2] - pts[0, :2]
+        return ((np.asarray(x, float) - a[0]) * d[0] + (np.asarray(y, float) - a[1]) * d[1]) / (
+            d @ d)
+
+    def __call__(self, x, y) -> np.ndarray:
+        pts = np.asarray(self.points)
+        xi = self._xi_of(x, y, pts)
+        xs = self._xi_of(pts[:, 0], pts[:, 1], pts)
+        j = np.clip(np.searchsorted(xs, xi, side="right") - 1, 0, len(xs) - 2)
+        t = (xi - xs[j]) / (xs[j + 1] - xs[j])
+        return self.scale * (pts[j, 2] + t * (pts[j + 1, 2] - pts[j, 2]))
+
+    def breaks(self, a: np.ndarray, b: np.ndarray) -> list[np.ndarray]:
+        """Kinks strictly inside each straight segment a[i] → b[i]: fractions t ∈ (0, 1)."""
+        pts = np.asarray(self.points)
+        xs = self._xi_of(pts[1:-1, 0], pts[1:-1, 1], pts)
+        xa, xb = self._xi_of(a[:, 0], a[:, 1], pts), self._xi_of(b[:, 0], b[:, 1], pts)
+        out = []
+        for u, v in zip(xa, xb, strict=True):
+            t = (xs - u) / (v - u) if v != u else np.zeros(0)
+            out.append(np.sort(t[(t > 1e-12) & (t < 1 - 1e-12)]))
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class HydrostaticPressure:
+    """p(x, y) = γ_w · max(level − y, 0), Pa: water with its free surface at y = ``level``."""
+
+    level: float
+    unit_weight: float = UNIT_WEIGHT_WATER
+
+    def __call__(self, x, y) -> np.ndarray:
+        return self.unit_weight * np.maximum(self.level - np.asarray(y, float), 0.0) + 0.0 * x
+
+    def breaks(self, a: np.ndarray, b: np.ndarray) -> list[np.ndarray]:
+        """Where each straight segment a[i] → b[i] crosses the level (t ∈ (0, 1))."""
+        ya, yb = a[:, 1], b[:, 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (self.level - ya) / (yb - ya)
+        cut = (yb != ya) & (t > 1e-12) & (t < 1 - 1e-12)
+        return [np.array([ti]) if c else np.zeros(0) for ti, c in zip(t, cut, strict=True)]
+
+
+@dataclass(frozen=True, eq=False)
+class _Scaled:
+    """``factor`` × a pressure function (keeps its kinks)."""
+
+    f: Callable
+    factor: float
+
+    def __call__(self, x, y) -> np.ndarray:
+        return self.factor * np.asarray(self.f(x, y), dtype=float)
+
+    def breaks(self, a, b):
+        inner = getattr(self.f, "breaks", None)
+        return inner(a, b) if inner is not None else [np.zeros(0)] * len(a)
+
+
+@dataclass(frozen=True, eq=False)
+class _Window:
+    """``f`` where a point's coordinate ξ along ``direction`` lies in [lo, hi], 0 elsewhere:
+    the uplift acts on the part of S− that faces S+ (the joint), not on the rest of S−."""
+
+    f: Callable
+    origin: np.ndarray
+    direction: np.ndarray
+    lo: float
+    hi: float
+
+    def _xi(self, x, y) -> np.ndarray:
+        return ((np.asarray(x, float) - self.origin[0]) * self.direction[0]
+                + (np.asarray(y, float) - self.origin[1]) * self.direction[1])
+
+    def __call__(self, x, y) -> np.ndarray:
+        xi = self._xi(x, y)
+        tol = 1e-12 * max(1.0, self.hi - self.lo)
+        inside = (xi >= self.lo - tol) & (xi <= self.hi + tol)
+        return np.where(inside, np.asarray(self.f(x, y), dtype=float), 0.0)
+
+    def breaks(self, a: np.ndarray, b: np.ndarray) -> list[np.ndarray]:
+        inner = getattr(self.f, "breaks", None)
+        own = inner(a, b) if inner is not None else [np.zeros(0)] * len(a)
+        xa, xb = self._xi(a[:, 0], a[:, 1]), self._xi(b[:, 0], b[:, 1])
+        out = []
+        for t0, u, v in zip(own, xa, xb, strict=True):
+            t = np.array([(e - u) / (v - u) for e in (self.lo, self.hi)]) if v != u else []
+            t = np.asarray(t, dtype=float)
+            t = t[(t > 1e-12) & (t < 1 - 1e-12)]
+            out.append(np.unique(np.r_[np.asarray(t0, float), t]))
+        return out
+
+    @classmethod
+    def along(cls, f: Callable, points: np.ndarray) -> _Window:
+        """The window spanned by ``points`` (S+) along their principal direction."""
+        c = points.mean(axis=0)
+        if len(points) < 2:
+            return cls(f, c, np.array([1.0, 0.0]), -np.inf, np.inf)
+        d = np.linalg.svd(points - c, full_matrices=False)[2][0]
+        xi = (points - c) @ d
+        return cls(f, c, d, float(xi.min()), float(xi.max()))
+
+
+def _as_function(spec, item: str, scale: float) -> Callable:
+    """A constant, a LinearProfile, a sequence of (x, y, value) points or a function of
+    (x, y) as a pressure function (× ``scale``)."""
+    if callable(spec):
+        if isinstance(spec, LinearProfile):
+            return LinearProfile(spec.points, spec.scale * scale)
+        return _Scaled(spec, scale)
+    if np.ndim(spec) == 0:
+        v = _finite(spec, item) * scale
+        return lambda x, y: v + 0.0 * np.asarray(x, float)
+    try:
+        return LinearProfile(tuple(tuple(p) for p in spec), scale)
+    except (TypeError, ValueError) as e:
+        raise ModelError(item, f"give a number, points [(x, y, value), …] or a function of "
+                         f"(x, y): {e}") from None
+    except ModelError as e:
+        raise ModelError(item, e.problem) from None
+
+
+@dataclass(frozen=True, eq=False)
+class WaterLoad:
+    """Hydrostatic pressure on the boundary edges of a body whose nodes all lie in ``nodes``.
+
+    .. math::  p(x, y) = \\gamma_w \\, \\max(h_w - y, 0)
+
+    normal to the edges and pushing into the body (like a positive
+    :class:`~stepcontact.model.EdgeLoad` ``normal``), with ``level`` = h_w the elevation of the
+    free surface (m, y is up) and ``unit_weight`` = γ_w in N/m³.  Edges above the level carry
+    nothing; an edge the level cuts is integrated exactly (split at the level).  On a vertical
+    face of depth d = h_w − y_bottom the resultant is γ_w d²/2 (per metre of thickness) at d/3
+    above the bottom; on an inclined face it is normal to the face, γ_w d² / (2 sin α).
+
+    Per unit λ of its load pattern: λ = 1 is the given level (scaling λ scales the pressure,
+    not the level).
+
+    **The level as the load parameter**: with ``level=None`` the factor of the load pattern
+    *is* the water level h_w (m): a program segment of that pattern moves the free surface from
+    its ``start`` to its ``end`` (a reservoir filling or drawn down), and the load follows the
+    level exactly — it is not proportional to it.  The load is a piecewise polynomial in the
+    level (cubic on linear edges, quartic on quadratic ones, between the levels of the nodes),
+    so every event is located exactly in the level.  Such a pattern holds only water loads
+    with ``level=None`` and is moved by segments of its own (not by a segment with rates).
+    """
+
+    nodes: NodeSet
+    level: float | None
+    unit_weight: float = UNIT_WEIGHT_WATER
+
+    def __post_init__(self):
+        if self.level is not None:
+            _finite(self.level, "water load.level")
+        _finite(self.unit_weight, "water load.unit_weight", positive=True)
+
+    @property
+    def follows_level(self) -> bool:
+        """True when the level is the factor of the load pattern (``level=None``)."""
+        return self.level is None
+
+    @property
+    def pressure(self) -> HydrostaticPressure:
+        if self.level is None:
+            raise ModelError("water load.level", "follows the load factor (level=None): its "
+                             "pressure exists only at a given level")
+        return HydrostaticPressure(float(self.level), float(self.unit_weight))
+
+    def edge_loads(self, model: Model | None = None) -> tuple[EdgeLoad, ...]:
+        """The load as edge pressures (what the assembly integrates)."""
+        return (EdgeLoad(self.nodes, normal=self.pressure),)
+
+
+@dataclass(frozen=True, eq=False)
+class Uplift:
+    """Uplift (pore) pressure in a joint: it pushes the S+ body and the S− body apart.
+
+    The pressure acts normal to the faces of both sides of ``interface`` (its ``plus`` and
+    ``minus`` node sets), pushing into each body: the two resultants are equal and opposite
+    when the faces coincide.  Give exactly one of
+
+    * ``head`` — pressure head in m of water (p = γ_w · head), or
+    * ``pressure`` — in Pa,
+
+    each a constant, a :class:`LinearProfile` or a list of ``(x, y, value)`` points (linear by
+    coordinates, e.g. ``[(x_heel, 0, h_heel), (x_toe, 0, h_toe)]``, through a drainage line
+    with more points), or a function ``v(x, y)``.  Per unit λ of its load pattern.
+
+    On S− the pressure acts only on the part facing S+ (between the ends of S+ along the
+    joint), so a foundation face longer than the dam's base is loaded only under the base.
+    ``interface`` is an :class:`~stepcontact.model.Interface` or its name.  The uplift is a
+    given load: it does not follow the opening of the joint.
+    """
+
+    interface: Interface | str
+    head: object = None
+    pressure: object = None
+    unit_weight: float = UNIT_WEIGHT_WATER
+
+    def __post_init__(self):
+        name = self.interface if isinstance(self.interface, str) else self.interface.name
+        item = f"uplift on interface '{name}'"
+        if (self.head is None) == (self.pressure is None):
+            raise ModelError(item, "give either head (m of water) or pressure (Pa)")
+        _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
+        self.function()  # checks the spec
+
+    @property
+    def name(self) -> str:
+        return self.interface if isinstance(self.interface, str) else self.interface.name
+
+    def function(self) -> Callable:
+        """The uplift pressure p(x, y), Pa."""
+        item = f"uplift on interface '{self.name}'"
+        if self.head is not None:
+            return _as_function(self.head, f"{item}.head", float(self.unit_weight))
+        return _as_function(self.pressure, f"{item}.pressure", 1.0)
+
+    def edge_loads(self, model: Model | None = None) -> tuple[EdgeLoad, ...]:
+        """The load as edge pressures on the S+ and S− faces (what the assembly integrates)."""
+        itf = self.interface
+        if isinstance(itf, str):
+            if model is None:
+                raise ModelError(f"uplift on interface '{itf}'", "needs the model to find the "
+                                 "interface by name")
+            found = [i for i in model.interfaces if i.name == itf]
+            if not found:
+                known = ", ".join(repr(i.name) for i in model.interfaces) or "none"
+                raise ModelError(f"uplift on interface '{itf}'",
+                                 f"no such interface (known: {known})")
+            itf = found[0]
+        p = self.function()
+        plus = model.body(itf.plus.body).points[itf.plus.index] if model is not None else None
+        pm = p if plus is None else _Window.along(p, plus)
+        return (EdgeLoad(itf.plus, normal=p), EdgeLoad(itf.minus, normal=pm))
+
+
+__all__ = ["UNIT_WEIGHT_WATER", "HydrostaticPressure", "LinearProfile", "Uplift", "WaterLoad"]

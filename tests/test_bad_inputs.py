@@ -1,0 +1,498 @@
+"""Every bad input gets a clean error, and nothing is silently wrong.
+
+Each case goes through the command line: a one-line ``error: ...`` on stderr with exit code 2
+and no traceback (:func:`cli_checks.assert_one_line_error`), or a ``warning: ...`` line when
+the answer is probably not what the user meant.  The solver is not run where the case must be
+refused before solving (it is replaced by a function that fails the test).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import stepcontact as sc
+from cli_checks import assert_one_line_error
+from stepcontact.cli import app
+from stepcontact.io.modelfile import load_model
+from stepcontact.results.file import result_to_dataset
+
+runner = CliRunner()
+ROOT = Path(__file__).resolve().parents[1]
+
+#: a block (1 m, one quad4) on a base (2 m, two quad4): S+ and S- edges of equal length
+TINY = """
+[model]
+name = "tiny"
+
+[materials.concrete]
+E = 30e9
+nu = 0.2
+density = 2400
+
+[[bodies]]
+name = "base"
+corner0 = [-0.5, -1.0]
+corner1 = [1.5, 0.0]
+nx = 2
+ny = 1
+material = "concrete"
+
+[[bodies]]
+name = "block"
+corner0 = [0.0, 0.0]
+corner1 = [1.0, 1.0]
+nx = 1
+ny = 1
+material = "concrete"
+
+[node_sets.base_bottom]
+body = "base"
+y = -1.0
+
+[node_sets.base_top]
+body = "base"
+y = 0.0
+
+[node_sets.block_bottom]
+body = "block"
+y = 0.0
+
+[node_sets.block_left]
+body = "block"
+x = 0.0
+
+[node_sets.corner]
+body = "block"
+index = [0]
+
+[[supports]]
+nodes = "base_bottom"
+
+[[interfaces]]
+name = "joint"
+plus = "block_bottom"
+minus = "base_top"
+friction = 0.6
+
+[patterns.weight]
+loads = [{ type = "gravity", g = [0.0, -9.81], bodies = ["block"] }]
+
+[patterns.push]
+loads = [{ type = "nodal", nodes = "block_left", fx = 1e3 }]
+
+[[program]]
+pattern = "weight"
+end = 1.0
+
+[[program]]
+pattern = "push"
+end = 5.0
+"""
+
+
+def write(tmp_path: Path, text: str, name: str = "m.toml", **replace: str) -> Path:
+    for old, new in replace.items():
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def tiny(tmp_path: Path, *pairs: tuple[str, str], name: str = "m.toml") -> Path:
+    text = TINY
+    for old, new in pairs:
+        assert old in text, old
+        text = text.replace(old, new)
+    return write(tmp_path, text, name)
+
+
+@pytest.fixture
+def no_solver(monkeypatch):
+    """The run must stop before solving."""
+    def solve_static(*args, **kwargs):
+        raise AssertionError("the solver was called")
+
+    monkeypatch.setattr("stepcontact.solver.static.solve_static", solve_static)
+
+
+@pytest.fixture
+def solver_without_files(monkeypatch):
+    """The real solver, without the (slow) result file: ``run`` stays end to end."""
+    from stepcontact.solver import static
+
+    real = static.solve_static
+
+    def solve_static(model, *, output=None, **kwargs):
+        return real(model, **kwargs)
+
+    monkeypatch.setattr(static, "solve_static", solve_static)
+
+
+@pytest.fixture(scope="module")
+def tiny_result(tmp_path_factory):
+    """The tiny model solved in memory."""
+    folder = tmp_path_factory.mktemp("result")
+    return sc.solve_static(load_model(write(folder, TINY, "tiny.toml")))
+
+
+# --------------------------------------------------------------------------------------------
+# files that are not model files
+# --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("command", ["run", "validate"])
+def test_binary_and_utf16_model_files(tmp_path, command, no_solver):
+    utf16 = tmp_path / "utf16.toml"
+    utf16.write_bytes(TINY.encode("utf-16"))
+    result = runner.invoke(app, [command, str(utf16)])
+    assert_one_line_error(result, f"{utf16}: is UTF-16 text: save it as UTF-8")
+    binary = tmp_path / "binary.toml"
+    binary.write_bytes(bytes(range(256)))
+    result = runner.invoke(app, [command, str(binary)])
+    assert_one_line_error(result, f"{binary}: is not a UTF-8 text file (byte 0x80 at offset 128)")
+    nul = tmp_path / "nul.toml"
+    nul.write_bytes(b"a = 1\n\x00\x00")
+    result = runner.invoke(app, [command, str(nul)])
+    assert_one_line_error(result, "not a text file (it contains NUL bytes)")
+
+
+@pytest.mark.parametrize("command", ["run", "validate"])
+def test_directory_as_model_file(tmp_path, command, no_solver):
+    folder = tmp_path / "model.toml"
+    folder.mkdir()
+    result = runner.invoke(app, [command, str(folder)])
+    assert_one_line_error(result, f"{folder}: is a directory, not a model file")
+    assert "not found" not in result.stderr
+
+
+@pytest.mark.parametrize("command", ["run", "validate"])
+def test_missing_file_is_named_once(tmp_path, monkeypatch, command, no_solver):
+    monkeypatch.chdir(tmp_path)
+    result = runner.invoke(app, [command, "nope.toml"])
+    assert_one_line_error(result, "nope.toml")
+    assert result.stderr.count("nope.toml") == 1, result.stderr
+    assert "not found" in result.stderr
+
+
+# --------------------------------------------------------------------------------------------
+# materials and mesh sizes
+# --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("command", ["run", "validate"])
+def test_absurd_young_modulus(tmp_path, command, no_solver):
+    path = tiny(tmp_path, ("E = 30e9", "E = 1e-300"))
+    result = runner.invoke(app, [command, str(path)])
+    assert_one_line_error(result, "materials.concrete.E: Young's modulus E = 1e-300 is outside")
+    inline = tiny(tmp_path, ('ny = 1\nmaterial = "concrete"',
+                             'ny = 1\nmaterial = { E = 1e-300, nu = 0.2 }'), name="inline.toml")
+    result = runner.invoke(app, [command, str(inline)])
+    assert_one_line_error(result, "bodies[0].material.E: Young's modulus E = 1e-300")
+
+
+def test_young_modulus_through_the_api():
+    mat = sc.Material(30e9, 0.2)
+    with pytest.raises(sc.ModelError) as info:
+        sc.rectangle("blk", (0, 0), (1, 1), 1, 1, sc.Material(1e-300, 0.2))
+    assert info.value.item == "body 'blk'.material"
+    assert "outside 1e-10" in info.value.problem
+    base = sc.rectangle("base", (0, -1), (1, 0), 1, 1, mat)
+    soft = sc.rectangle("blk", (0, 0), (1, 1), 1, 1, sc.Material(1e-6, 0.2))
+    with pytest.raises(sc.ModelError) as info:
+        sc.Model(bodies=[base, soft])
+    assert info.value.item == "body 'blk'.material"
+    assert "3.3e-17 times that of body 'base'" in info.value.problem
+    with pytest.raises(sc.ModelError, match=r"frame 'f'.E: Young's modulus E = 1e\+30"):
+        sc.Frame.line("f", (0, 0), (1, 0), 2, E=1e30, A=1.0, I=1.0)
+
+
+@pytest.mark.parametrize("command", ["run", "validate"])
+def test_mesh_of_1e9_cells_is_refused_before_allocation(tmp_path, command, no_solver):
+    path = tiny(tmp_path, ("nx = 1\nny = 1", "nx = 31623\nny = 31623"))
+    result = runner.invoke(app, [command, str(path)])
+    assert_one_line_error(result, "bodies[1]: too large: the 31623 × 31623 quad4 mesh of body "
+                          "'block' (1e+09 cells) has 2e+09 DOFs and needs about 7.45 TB")
+
+
+def test_mesh_of_2e6_cells_against_the_physical_memory(tmp_path, monkeypatch, no_solver):
+    monkeypatch.setattr("stepcontact.model.size.physical_memory", lambda: 16 * 2**30)
+    path = tiny(tmp_path, ("nx = 1\nny = 1", "nx = 2000\nny = 1000"))
+    result = runner.invoke(app, ["run", str(path)])
+    assert_one_line_error(result, "bodies[1]: too large: the 2000 × 1000 quad4 mesh of body "
+                          "'block' (2e+06 cells) has 4.01e+06 DOFs and needs about 15.3 GB of "
+                          "memory (~4 kB per DOF for assembly and factorisation), more than 50% "
+                          "of this machine's 16 GB of physical memory (8 GB)")
+    with pytest.raises(sc.ModelError, match="body 'b'.*tri6 mesh of body 'b'"):
+        sc.rectangle("b", (0, 0), (1, 1), 1000, 1000, sc.Material(1e9, 0.2), "tri6")
+    # the whole model: two bodies that fit one by one, not together
+    monkeypatch.setattr("stepcontact.model.size.physical_memory", lambda: 40 * 2**20)
+    both = tiny(tmp_path, ("nx = 1\nny = 1", "nx = 40\nny = 40"),
+                ("nx = 2\nny = 1", "nx = 40\nny = 40"), name="both.toml")
+    result = runner.invoke(app, ["validate", str(both)])
+    assert_one_line_error(result, "model: too large: the model (2 bodies, 3362 nodes) has "
+                          "6.72e+03 DOFs and needs about 26.3 MB")
+
+
+# --------------------------------------------------------------------------------------------
+# validate finds what run rejects, without solving
+# --------------------------------------------------------------------------------------------
+HINGE_MSH = """$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+1 1 "base"
+2 2 "block"
+$EndPhysicalNames
+$Nodes
+7
+1 0 0 0
+2 1 0 0
+3 1 1 0
+4 0 1 0
+5 1 0 0
+6 2 0 0
+7 2 1 0
+$EndNodes
+$Elements
+3
+1 1 2 1 1 1 2
+2 3 2 2 2 1 2 3 4
+3 3 2 2 2 5 6 7 3
+$EndElements
+"""
+
+MESH_MODEL = """
+[mesh]
+file = "hinge.msh"
+
+[materials.c]
+E = 30e9
+nu = 0.2
+density = 2400
+
+[[bodies]]
+kind = "mesh"
+group = "block"
+material = "c"
+
+[[supports]]
+nodes = "base"
+
+[patterns.w]
+loads = [{ type = "gravity", g = [0.0, -9.81] }]
+
+[[program]]
+pattern = "w"
+end = 1.0
+"""
+
+
+def test_validate_finds_mechanisms(tmp_path, no_solver):
+    held_x = tiny(tmp_path, ('nodes = "base_bottom"', 'nodes = "base_bottom"\ndofs = "x"'))
+    result = runner.invoke(app, ["validate", str(held_x)])
+    assert_one_line_error(result, "model: the structure is a mechanism even with every CFE "
+                          "stuck: body 'base' can move freely (translation along y and rotation "
+                          "about (0.5, -1))")
+    one_cfe = tiny(tmp_path, ('plus = "block_bottom"', 'plus = "corner"'), name="one.toml")
+    result = runner.invoke(app, ["validate", str(one_cfe)])
+    assert_one_line_error(result, "body 'block' can move freely (rotation about (0, 0))")
+    (tmp_path / "hinge.msh").write_text(HINGE_MSH, encoding="utf-8")
+    hinge = write(tmp_path, MESH_MODEL, "hinge.toml")
+    result = runner.invoke(app, ["validate", str(hinge)])
+    assert_one_line_error(result, "body 'block' can move freely (internal mechanism)")
+    assert re.search(r"duplicate\s+node", result.stdout), result.stdout  # the warning
+    result = runner.invoke(app, ["validate", str(tiny(tmp_path, name="ok.toml"))])
+    assert result.exit_code == 0, result.output
+    assert "model OK" in result.stdout
+
+
+def test_mesh_that_falls_apart_is_named(tmp_path, no_solver):
+    (tmp_path / "hinge.msh").write_text(HINGE_MSH.replace("5 6 7 3", "5 6 7 8").replace(
+        "7\n1 0 0 0", "8\n1 0 0 0").replace("7 2 1 0\n", "7 2 1 0\n8 1 1 0\n"),
+        encoding="utf-8")
+    path = write(tmp_path, MESH_MODEL, "apart.toml")
+    result = runner.invoke(app, ["validate", str(path)])
+    assert_one_line_error(result, "body 'block': part of it is not restrained: 4 of its 8 "
+                          "nodes (e.g. node 4 at (1, 0)) are connected to no support")
+
+
+def test_interface_with_the_same_node_set_on_both_sides(tmp_path, no_solver):
+    path = tiny(tmp_path, ('minus = "base_top"', 'minus = "block_bottom"'))
+    for command in ("validate", "run"):
+        result = runner.invoke(app, [command, str(path)])
+        assert_one_line_error(result, "interfaces[0]: plus and minus of interface 'joint' are "
+                              "the same nodes (node set 'block_bottom' of body 'block')")
+        assert "not restrained" not in result.stderr
+
+
+# --------------------------------------------------------------------------------------------
+# warnings: probably not what the user meant
+# --------------------------------------------------------------------------------------------
+def test_empty_and_zero_load_patterns_warn(tmp_path, solver_without_files):
+    empty = tiny(tmp_path, ('loads = [{ type = "nodal", nodes = "block_left", fx = 1e3 }]',
+                            "loads = []"))
+    result = runner.invoke(app, ["validate", str(empty)])
+    assert result.exit_code == 0, result.output
+    assert "model OK" in result.stdout and "(1 warnings)" in result.stdout
+    zero = tiny(tmp_path, ("fx = 1e3", "fx = 0.0"), name="zero.toml")
+    result = runner.invoke(app, ["run", str(zero), "-q", "--no-plot"])
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.strip().splitlines()
+    assert lines == ["warning: load pattern 'push' is zero: its 1 load(s) add up to no force "
+                     "and no displacement (zero values, or gravity on bodies without density): "
+                     "the segment that applies it (program[1]) changes nothing"], result.stderr
+    result = runner.invoke(app, ["run", str(empty), "--no-plot", "--json"])
+    assert "has no loads" in result.stderr
+    assert any("has no loads" in w for w in json.loads(result.stdout)["warnings"])
+
+
+def test_displacements_larger_than_the_model_warn(tmp_path, solver_without_files):
+    gpa = tiny(tmp_path, ("E = 30e9", "E = 30"))  # meant: 30 GPa
+    result = runner.invoke(app, ["run", str(gpa), "-q", "--no-plot"])
+    assert "Traceback" not in result.output
+    warn = [ln for ln in result.stderr.splitlines() if ln.startswith("warning: ")]
+    assert len(warn) == 1, result.stderr
+    assert "is larger than the model itself (2 m across)" in warn[0]
+    assert "check the units (E in Pa, e.g. 30e9 for 30 GPa" in warn[0]
+    result = runner.invoke(app, ["run", str(tiny(tmp_path, name="ok.toml")), "-q", "--no-plot"])
+    assert result.exit_code == 0 and "warning" not in result.stderr, result.stderr
+
+
+# --------------------------------------------------------------------------------------------
+# arguments checked before solving; figures
+# --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize(("value", "fragment"), [
+    ("nan", "--lam nan: give a finite load factor"),
+    ("1e9", "--lam 1e+09: outside the last segment of the program ('push', λ from 0 to 5)"),
+])
+def test_run_lam_is_checked_before_solving(tmp_path, no_solver, value, fragment):
+    path = tiny(tmp_path)
+    result = runner.invoke(app, ["run", str(path), "--lam", value])
+    assert_one_line_error(result, fragment)
+    assert not path.with_suffix(".nc").exists()
+    assert not path.with_suffix(".png").exists()
+
+
+def test_plot_refuses_an_absurd_dpi(tiny_result, tmp_path, monkeypatch):
+    nc = tmp_path / "run.nc"  # the result as loaded from it (reading files is tested elsewhere)
+    nc.write_bytes(b"")
+    monkeypatch.setattr("stepcontact.results.file.load_result", lambda path: tiny_result)
+    out = tmp_path / "big.png"
+    result = runner.invoke(app, ["plot", str(nc), "--dpi", "100000", "-o", str(out)])
+    assert_one_line_error(result, "plot stresses: dpi=100000: a 850000 × 750000 pixel figure "
+                          "(6.4e+11 pixels) is too large")
+    assert "lower the dpi (at most" in result.stderr
+    assert list(tmp_path.iterdir()) == [nc]
+
+
+def test_failed_plot_leaves_no_partial_figure(tiny_result, tmp_path, monkeypatch):
+    from matplotlib.figure import Figure
+
+    from stepcontact.post import plotting
+
+    res = tiny_result
+    out = tmp_path / "s.png"
+
+    def broken_savefig(self, fname, **kwargs):
+        Path(fname).write_bytes(b"\x89PNG half")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(Figure, "savefig", broken_savefig)
+    with pytest.raises(OSError, match="No space left"):
+        plotting.plot_interfaces(res, path=out)
+    assert list(tmp_path.iterdir()) == []
+    out.write_bytes(b"old figure")
+    with pytest.raises(OSError):
+        plotting.plot_event_timeline(res, path=out)
+    assert out.read_bytes() == b"old figure"
+    assert list(tmp_path.iterdir()) == [out]
+
+
+# --------------------------------------------------------------------------------------------
+# result files whose arrays disagree
+# --------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def inconsistent_file(tiny_result, tmp_path_factory):
+    ds = result_to_dataset(tiny_result)
+    n = ds.sizes["state"]
+    short = ds["N"].isel(state=slice(0, n - 2)).rename(state="state_short")
+    path = tmp_path_factory.mktemp("bad") / "bad.nc"
+    ds.drop_vars("N").assign(N=short).to_netcdf(path, engine="h5netcdf")
+    return path, n
+
+
+@pytest.mark.parametrize("command", [["info"], ["plot", "--kind", "stresses"]])
+def test_result_file_with_arrays_of_different_shapes(inconsistent_file, command, tmp_path):
+    path, n = inconsistent_file
+    out = ["-o", str(tmp_path / "f.png")] if command[0] == "plot" else []
+    result = runner.invoke(app, [*command, str(path), *out])
+    assert_one_line_error(result, f"{path}: inconsistent result file: variable 'N' has shape "
+                          f"({n - 2}, 2), expected ({n}, 2) ({n} states of 'lam' × 2 CFEs)")
+
+
+def test_result_checks_name_the_variable(tiny_result):
+    from stepcontact.results.file import check_dataset
+
+    ds = result_to_dataset(tiny_result)
+    check_dataset(ds)
+    bad = ds.assign(event_cfe=ds["event_cfe"] + 10)
+    with pytest.raises(ValueError, match="variable 'event_cfe' refers to CFE 10, but there are 2"):
+        check_dataset(bad)
+    u = ds["u"].isel(dof=slice(0, 5)).rename(dof="dof_short")
+    with pytest.raises(ValueError, match=r"variable 'u' has shape \(4, 5\), expected \(4, 20\)"):
+        check_dataset(ds.drop_vars("u").assign(u=u))
+    with pytest.raises(ValueError, match="variable 'Q' is missing"):
+        check_dataset(ds.drop_vars("Q"))
+    cells = ds["cells__block"].copy(data=ds["cells__block"].values + 100)
+    with pytest.raises(ValueError, match="variable 'cells__block' refers to node 10"):
+        check_dataset(ds.assign(cells__block=cells))
+
+
+# --------------------------------------------------------------------------------------------
+# mesh files outside the model's folder
+# --------------------------------------------------------------------------------------------
+def test_unreadable_mesh_outside_the_model_folder(tmp_path, no_solver):
+    model_dir, mesh_dir = tmp_path / "model", tmp_path / "meshes"
+    model_dir.mkdir()
+    mesh_dir.mkdir()
+    path = write(model_dir, MESH_MODEL, "m.toml", **{"hinge.msh": "../meshes/block.msh"})
+    where = (f"mesh.file: '../meshes/block.msh' ({mesh_dir.resolve() / 'block.msh'}, outside "
+             f"the model file's folder {model_dir.resolve()})")
+    result = runner.invoke(app, ["run", str(path)])
+    assert_one_line_error(result, f"{where}: file not found")
+    (mesh_dir / "block.msh").mkdir()
+    result = runner.invoke(app, ["validate", str(path)])
+    assert_one_line_error(result, f"{where}: is a directory, not a mesh file")
+    (mesh_dir / "block.msh").rmdir()
+    (mesh_dir / "block.msh").write_text(HINGE_MSH[:150], encoding="utf-8")  # truncated
+    result = runner.invoke(app, ["run", str(path)])
+    assert_one_line_error(result, f"{where}: cannot read the mesh")
+    inside = write(model_dir, MESH_MODEL, "in.toml", **{"hinge.msh": "sub/../none.msh"})
+    result = runner.invoke(app, ["run", str(inside)])
+    assert_one_line_error(result, f"mesh.file: {model_dir / 'none.msh'}: file not found")
+
+
+# --------------------------------------------------------------------------------------------
+# the documentation says what the code does
+# --------------------------------------------------------------------------------------------
+def test_paraview_doc_names_the_frames_as_export_writes_them(tiny_result, tmp_path):
+    sc.export_vtu(tiny_result, tmp_path, name="run")
+    frames = sorted(p.name for p in (tmp_path / "run").iterdir())
+    assert frames[:2] == ["run_0000.vtu", "run_0001.vtu"], frames
+    assert "run_cfe_0000.vtu" in frames
+    doc = (ROOT / "docs" / "paraview.md").read_text(encoding="utf-8")
+    assert "`DIR/NAME/NAME_0007.vtu`" in doc and "zero-padded to four digits" in doc
+
+
+def test_user_guide_names_the_gmsh_extra():
+    guide = (ROOT / "docs" / "user-guide.md").read_text(encoding="utf-8")
+    workflow = guide[guide.index("## Workflow"):]
+    step1 = workflow[:workflow.index("**2. Model file")]
+    assert 'pip install "stepcontact[gmsh]"' in step1
+    trouble = guide[guide.index("## Troubleshooting"):]
+    assert "**Checks of bad input.**" in trouble
+    assert np.all([k in trouble for k in ("--lam", "--dpi", "inconsistent", "too large")])
