@@ -14,6 +14,7 @@ from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.post.plotting import (
     STATE_COLORS,
     TRANSITION_MARKERS,
+    _lam_text,
     plot_interfaces,
     plot_load_path,
 )
@@ -388,7 +389,7 @@ def check_interfaces_figure(fig, res: StaticResult, snaps: list[dict]) -> None:
         for code in np.unique(want):
             assert strip.cmap(strip.norm(code)) == rgba(STATE_COLORS[ContactState(int(code))])
         assert [t.get_text() for t in ax_s.get_yticklabels()] == [
-            f"λ={sn['lam']:.3g}" for sn in snaps]
+            f"{res.segments[sn['segment']][0]} λ={_lam_text(sn['lam'])}" for sn in snaps]
     legend = fig.legends[0]
     labels = [t.get_text() for t in legend.get_texts()]
     assert labels[:len(snaps)] == [

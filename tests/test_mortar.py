@@ -236,3 +236,26 @@ def test_hertz_on_non_matching_meshes_converges_like_matching():
         assert widths[-1] <= 0.05, (name, widths)
         tol = 1e-9 if name in ("matching", "block coarser") else 5e-3
         assert np.all(np.abs(forces) <= tol), (name, forces)
+
+
+def test_closest_segment_search_equals_brute_force():
+    """The k-d tree search of the closest segment (used by every CFE kind) gives the same
+    segment, ξ and distance as checking every segment, on a wiggly polyline with segments of
+    very different lengths and points near and far (ties to the lowest index)."""
+    from stepcontact.contact.geometry import _project
+
+    rng = np.random.default_rng(3)
+    s = np.cumsum(rng.uniform(0.01, 1.0, 60))
+    pts = np.column_stack([s, 0.3 * np.sin(s)])
+    a, b = pts[:-1], pts[1:]
+    x = np.vstack([rng.uniform([-1, -2], [s[-1] + 1, 2], (300, 2)), pts[5:9]])
+    seg, xi, dist = _project(x, a, b)
+    ab = b - a
+    t = np.clip(np.einsum("pjk,jk->pj", x[:, None] - a[None], ab) / (ab**2).sum(1), 0, 1)
+    d = np.linalg.norm(x[:, None] - (a[None] + t[..., None] * ab[None]), axis=2)
+    j = np.argmin(d, axis=1)
+    assert np.allclose(dist, d[np.arange(len(x)), j], rtol=0, atol=1e-14)
+    same = seg == j
+    # a different segment only at an exact tie of distances
+    assert np.all(same | (np.abs(d[np.arange(len(x)), seg] - d[np.arange(len(x)), j]) < 1e-14))
+    assert np.allclose(xi[same], t[np.arange(len(x)), j][same], atol=1e-14)

@@ -77,6 +77,8 @@ def figure_content(fig) -> dict:
             out["face"] = c.get_facecolor()
         if hasattr(c, "get_coordinates"):  # QuadMesh: the cells and their values
             out |= {"coordinates": c.get_coordinates(), "array": c.get_array()}
+        elif type(c).__name__ == "Quiver":  # arrows: their paths are made when drawn
+            out |= {"uv": np.c_[c.U, c.V], "offsets": c.get_offsets(), "scale": c.scale}
         else:
             out |= {"paths": [p.vertices for p in c.get_paths()], "offsets": c.get_offsets()}
         return out
@@ -147,6 +149,14 @@ def drawn(monkeypatch):
                  "plot_event_timeline"):
         monkeypatch.setattr(plotting, name, recording(name, getattr(plotting, name)))
     return figures
+
+
+def without_model(res):
+    """The run in memory as the CLI has it from its file: without the model (so the deformed
+    shape draws each load pattern as its resultant, not the assembled nodal forces)."""
+    import dataclasses
+
+    return dataclasses.replace(res, _recover=None)
 
 
 def nodal_u(res, i):
@@ -278,10 +288,11 @@ def test_plot_load_displacement(runs, tmp_path):
     assert len(fig2.axes) == 1
     y = np.concatenate([ln.get_ydata() for ln in fig2.axes[0].get_lines()])
     assert y.min() == 0.0 and y.max() == pytest.approx(2.0)
-    # default node: the one that moves most in y at the end
-    fig3 = plot_load_displacement(res)
-    k3 = int(np.argmax(np.abs(nodal_u(res, res.n_states - 1)[:, 1])))
-    assert f"node {k3} " in fig3.axes[-1].get_xlabel()
+    # default node in y: the one that moves most in y over the path
+    fig3 = plot_load_displacement(res, dof="y")
+    peak = np.max([np.abs(nodal_u(res, i)) for i in range(res.n_states)], axis=0)
+    k3 = int(np.argmax(peak[:, 1]))
+    assert f"$u_y$ of node {k3} " in fig3.axes[-1].get_xlabel()
     # frame rotation
     fig4 = plot_load_displacement(runs["frame"], node=(8.0, 0.5), body="beam", dof="rz")
     assert "rad" in fig4.axes[-1].get_xlabel()
@@ -367,7 +378,7 @@ def test_cli_plot_each_kind(runs, tmp_path, kind, drawn):
     # one figure, written to -o at --dpi, drawing what the API draws from the run in memory
     ((_, fig),) = drawn
     check_png(out, fig)
-    assert_same_figure(fig, API[kind](runs["block"]))
+    assert_same_figure(fig, API[kind](without_model(runs["block"])))
 
 
 def test_cli_plot_all_and_formats(runs, tmp_path, drawn):
@@ -378,14 +389,16 @@ def test_cli_plot_all_and_formats(runs, tmp_path, drawn):
     assert result.exit_code == 0, result.output
     for kind in API:
         assert (tmp_path / "f" / f"block-{kind}.pdf").read_bytes()[:4] == b"%PDF"
-    # every kind with its defaults (load-displacement: the node that moves most in y)
+    # every kind with its defaults (load-displacement: the node and direction that move most;
+    # deformed: the file has no model, so the loads are drawn as their resultants)
     defaults = {"deformed": plot_deformed, "stresses": plot_interfaces,
                 "load-displacement": plot_load_displacement, "timeline": plot_event_timeline}
     assert [name for name, _ in drawn] == [f.__name__ for f in defaults.values()]
     for (_, fig), draw in zip(drawn, defaults.values(), strict=True):
-        assert_same_figure(fig, draw(res))
-    k = int(np.argmax(np.abs(nodal_u(res, res.n_states - 1)[:, 1])))
-    assert f"$u_y$ of node {k} " in drawn[2][1].axes[-1].get_xlabel()
+        assert_same_figure(fig, draw(without_model(res)))
+    peak = np.max([np.abs(nodal_u(res, i)) for i in range(res.n_states)], axis=0)
+    k, c = np.unravel_index(np.argmax(peak), peak.shape)
+    assert f"{('$u_x$', '$u_y$')[c]} of node {k} " in drawn[2][1].axes[-1].get_xlabel()
     drawn.clear()
     result = runner.invoke(app, ["plot", str(nc), "-k", "deformed", "--state", "2",
                                  "--scale", "500", "-o", str(tmp_path / "d.svg")])
@@ -395,7 +408,7 @@ def test_cli_plot_all_and_formats(runs, tmp_path, drawn):
     ((_, fig),) = drawn
     assert fig.get_suptitle().startswith("Deformed shape at state 2 (")
     assert "displacements × 500," in fig.get_suptitle()
-    assert_same_figure(fig, plot_deformed(res, state=2, scale=500.0))
+    assert_same_figure(fig, plot_deformed(without_model(res), state=2, scale=500.0))
     drawn.clear()
     result = runner.invoke(app, ["plot", str(nc), "--lam", "1e4", "--lam", "2e4",
                                  "-o", str(tmp_path / "s.png"), "--dpi", str(DPI)])
@@ -439,7 +452,7 @@ def test_cli_plot_default_output_and_skips(runs, tmp_path, drawn):
     check_png(tmp_path / "ends-timeline.png", timeline)
     assert not (tmp_path / "ends-load-displacement.png").exists()
     assert deformed.get_suptitle().startswith("Deformed shape at state 1 (")
-    assert_same_figure(deformed, plot_deformed(ends, state=1))
+    assert_same_figure(deformed, plot_deformed(without_model(ends), state=1))
     assert_same_figure(stresses, plot_interfaces(ends, states=[1]))
     assert_same_figure(timeline, plot_event_timeline(ends))
     result = runner.invoke(app, ["plot", str(nc), "--kind", "load-displacement"])

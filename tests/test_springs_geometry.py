@@ -509,3 +509,34 @@ def test_inclined_block_slides_at_the_hand_statics(example, degrees, friction):
         du = u[sys_.dofs.of[b, :2]] - u[sys_.dofs.of[a, :2]]
         force = rope.k * float(np.dot(rope.direction, du))
         assert force == pytest.approx(res.factors[i, iw], rel=1e-7, abs=1e-6 * W)
+
+
+def test_model_file_quad_and_half_disc_bodies_match_the_api():
+    """``kind = "quad"`` and ``kind = "half_disc"`` in a model file make the same meshes as
+    :func:`quad_region` and :func:`half_disc`; a clockwise quad is an error naming the body."""
+    from stepcontact.io.modelfile import model_from_dict
+
+    mat = {"E": 30e9, "nu": 0.2, "density": 2400}
+    corners = [[0, 0], [8, 0], [2, 12], [0, 12]]
+    d = {
+        "materials": {"c": mat},
+        "bodies": [
+            {"name": "dam", "kind": "quad", "corners": corners, "nx": 4, "ny": 6,
+             "grading": {"bottom": 3.0}, "material": "c"},
+            {"name": "roller", "kind": "half_disc", "center": [20.0, 1.0], "radius": 1.0,
+             "n_radial": 3, "n_around": 8, "element": "quad8", "ratio": 4.0, "material": "c"},
+        ],
+        "supports": [{"nodes": "base"}, {"nodes": "flat"}],
+        "node_sets": {"base": {"body": "dam", "y": 0.0}, "flat": {"body": "roller", "y": 1.0}},
+        "patterns": {"w": {"loads": [{"type": "gravity"}]}},
+        "program": [{"pattern": "w", "end": 1.0}],
+    }
+    m = model_from_dict(d)
+    material = sc.Material(**mat)
+    ref_q = sc.quad_region("dam", corners, 4, 6, material, grading={"bottom": 3.0})
+    ref_d = sc.half_disc("roller", (20.0, 1.0), 1.0, 3, 8, material, "quad8", ratio=4.0)
+    np.testing.assert_allclose(m.body("dam").points, ref_q.points, atol=1e-12)
+    np.testing.assert_allclose(m.body("roller").points, ref_d.points, atol=1e-12)
+    d["bodies"][0]["corners"] = corners[::-1]
+    with pytest.raises(sc.ModelError, match=r"bodies\[0\]"):
+        model_from_dict(d)

@@ -17,6 +17,7 @@ from stepcontact.model import (
     Body,
     BodyForce,
     ContactLayer,
+    DiscreteModel,
     EdgeForce,
     EdgeLoad,
     Frame,
@@ -33,6 +34,7 @@ from stepcontact.model import (
     Tie,
 )
 from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.water import LinearProfile, Uplift, WaterLoad
 from stepcontact.results.file import load_result
 from stepcontact.results.result import Event, Multipliers, StaticResult
@@ -69,6 +71,7 @@ __all__ = [
     "ContactHeldWarning",
     "ContactMeshWarning",
     "ContactState",
+    "DiscreteModel",
     "EdgeForce",
     "EdgeLoad",
     "Frame",
@@ -79,7 +82,9 @@ __all__ = [
     "ModelError",
     "NodalLoad",
     "NodeSet",
+    "ObstacleMotion",
     "PrescribedDisplacement",
+    "RigidObstacle",
     "Segment",
     "SlipTreatment",
     "SolverError",

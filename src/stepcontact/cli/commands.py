@@ -718,13 +718,15 @@ def _plot_targets(result_file: Path, kinds: Sequence[str], output: Path | None,
 
 def _check_plot_options(kinds: Sequence[str], lam: Sequence[float] | None,
                         state: Sequence[int] | None, node: str | None,
-                        reaction: str | None = None) -> None:
+                        reaction: str | None = None, stress: str | None = None) -> None:
     if lam and "stresses" not in kinds:
         raise _Failure("--lam applies to --kind stresses (use --state for the deformed shape)")
     if node is not None and "load-displacement" not in kinds:
         raise _Failure("--node applies to --kind load-displacement")
     if reaction is not None and "load-displacement" not in kinds:
         raise _Failure("--reaction applies to --kind load-displacement")
+    if stress is not None and "deformed" not in kinds:
+        raise _Failure("--stress applies to --kind deformed")
     if reaction is not None and node is not None:
         raise _Failure("give either --node (a displacement) or --reaction (a support), not both")
     if state and len(state) > 1 and kinds == ["deformed"]:
@@ -739,7 +741,8 @@ def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any])
     try:
         if kind == "deformed":
             plotting.plot_deformed(res, state=states[-1] if states else None,
-                                   scale=opts["scale"], path=path, dpi=opts["dpi"])
+                                   scale=opts["scale"], path=path, dpi=opts["dpi"],
+                                   stress=opts.get("stress"))
         elif kind == "stresses":
             plotting.plot_interfaces(res, lams=opts["lam"] or None, segment=opts["segment"],
                                      states=states, path=path, dpi=opts["dpi"])
@@ -798,8 +801,10 @@ def plot(
                      "its index, e.g. --node 3,2. Default: the node that moves most."),
     ] = None,
     dof: Annotated[
-        str, typer.Option("--dof", help="load-displacement: x, y or rz.")
-    ] = "y",
+        str | None,
+        typer.Option("--dof", help="load-displacement: x, y or rz. Default: the direction "
+                     "(x or y) that moves most over the path (y for --reaction)."),
+    ] = None,
     body: Annotated[
         str | None,
         typer.Option("--body", help="load-displacement: body of --node when bodies share "
@@ -814,6 +819,11 @@ def plot(
         float | None,
         typer.Option("--scale", help="deformed: displacement magnification (default "
                      "automatic)."),
+    ] = None,
+    stress: Annotated[
+        str | None,
+        typer.Option("--stress", help="deformed: colour the cells by a stress component, "
+                     "Pa: sxx, syy, sxy, szz or mises (von Mises)."),
     ] = None,
     output: Annotated[
         Path | None,
@@ -842,6 +852,8 @@ def plot(
 
         stepcontact plot run.nc --kind deformed --state -1 --scale 500 -o d.svg
 
+        stepcontact plot run.nc --kind deformed --stress mises
+
         stepcontact plot run.nc --kind load-displacement --node 3,2 --dof x
 
         stepcontact plot run.nc --kind load-displacement --reaction bed --dof x
@@ -865,9 +877,10 @@ def plot(
         if kind != "all" and kind not in PLOT_KINDS:
             raise _Failure(f"unknown --kind '{kind}': use {', '.join(PLOT_KINDS)} or all")
         kinds = list(PLOT_KINDS) if kind == "all" else [kind]
-        _check_plot_options(kinds, lam, state, node, reaction)
+        _check_plot_options(kinds, lam, state, node, reaction, stress)
         opts = {"lam": lam, "segment": segment, "state": state, "node": _parse_node(node),
-                "dof": dof, "body": body, "scale": scale, "dpi": dpi, "reaction": reaction}
+                "dof": dof, "body": body, "scale": scale, "dpi": dpi, "reaction": reaction,
+                "stress": stress}
         targets = _plot_targets(result_file, kinds, output, fmt)
         res = _load_result_file(result_file)
         used_model = None

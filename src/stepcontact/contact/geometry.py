@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.errors import ContactMeshWarning, ModelError
-from stepcontact.model import Body, Frame, Interface, Model, NodeSet
+from stepcontact.model import Body, Frame, Interface, Model, NodeSet, RigidObstacle
 
 MAX_END_NODES = 3
 
@@ -211,24 +211,45 @@ def _edge_to_facet(body: Body, edges: np.ndarray) -> np.ndarray:
     return body.boundary_facets[pos]
 
 
-def _project(x: np.ndarray, a: np.ndarray, b: np.ndarray, chunk: int = 2048):
-    """Closest point of each x on the segments [a_j, b_j]: (segment index, ξ in [0,1], dist)."""
-    seg = np.empty(len(x), dtype=np.int64)
-    xi = np.empty(len(x))
-    dist = np.empty(len(x))
-    ab = b - a
-    L2 = np.einsum("ij,ij->i", ab, ab)
-    for s in range(0, len(x), chunk):
-        xs = x[s : s + chunk]
-        t = np.einsum("pjk,jk->pj", xs[:, None, :] - a[None], ab) / L2[None]
-        t = np.clip(t, 0.0, 1.0)
-        c = a[None] + t[..., None] * ab[None]
-        d = np.linalg.norm(xs[:, None, :] - c, axis=2)
-        j = np.argmin(d, axis=1)
-        seg[s : s + chunk] = j
-        xi[s : s + chunk] = t[np.arange(len(xs)), j]
-        dist[s : s + chunk] = d[np.arange(len(xs)), j]
-    return seg, xi, dist
+def _to_segments(x: np.ndarray, a: np.ndarray, b: np.ndarray, j: np.ndarray):
+    """Closest points of x[i] on the segments [a_j, b_j], j = j[i]: (ξ in [0, 1], distance)."""
+    ab = b[j] - a[j]
+    t = np.clip(np.einsum("ij,ij->i", x - a[j], ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+    return t, np.linalg.norm(x - (a[j] + t[:, None] * ab), axis=1)
+
+
+def _near(tree, x: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (i, j): the points of ``tree`` within ``radius[i]`` of x[i], grouped by i."""
+    lists = tree.query_ball_point(x, radius)
+    counts = np.fromiter((len(v) for v in lists), dtype=np.int64, count=len(lists))
+    rows = np.repeat(np.arange(len(x)), counts)
+    cols = np.fromiter((c for v in lists for c in v), dtype=np.int64, count=int(counts.sum()))
+    return rows, cols
+
+
+def _project(x: np.ndarray, a: np.ndarray, b: np.ndarray):
+    """Closest point of each x on the segments [a_j, b_j]: (segment index, ξ in [0,1], dist).
+
+    Exact and O(n log n): the segments' midpoints in a k-d tree give a first candidate at
+    distance d; any closer segment has its midpoint within d + (longest segment)/2.  Ties go
+    to the lowest segment index."""
+    from scipy.spatial import cKDTree
+
+    x = np.asarray(x, dtype=float).reshape(-1, 2)
+    mid = 0.5 * (a + b)
+    half = 0.5 * float(np.linalg.norm(b - a, axis=1).max(initial=0.0))
+    tree = cKDTree(mid)
+    k = min(4, len(a))
+    _, cand = tree.query(x, k=k)
+    cand = np.asarray(cand).reshape(len(x), -1)
+    _, d = _to_segments(np.repeat(x, cand.shape[1], axis=0), a, b, cand.ravel())
+    best = d.reshape(len(x), -1).min(axis=1)
+    rows, cols = _near(tree, x, best + half + 1e-12 * (best + half + 1.0))
+    t, d = _to_segments(x[rows], a, b, cols)
+    order = np.lexsort((cols, d, rows))  # by point, then distance, then segment index
+    first = np.searchsorted(rows[order], np.arange(len(x)))
+    pick = order[first]
+    return cols[pick], t[pick], d[pick]
 
 
 def _shape(xi: np.ndarray, quadratic: bool) -> np.ndarray:
@@ -242,9 +263,11 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
     """Arrays of the CFEs of one interface (see :class:`ContactElements`)."""
     item = f"interface '{itf.name}'"
     bp = model.body(itf.plus.body)
-    bm = model.body(itf.minus.body)
+    obstacle = isinstance(itf.minus, RigidObstacle)
+    bm = None if obstacle else model.body(itf.minus.body)
     model.global_nodes(itf.plus)
-    model.global_nodes(itf.minus)
+    if not obstacle:
+        model.global_nodes(itf.minus)
     off = model.node_offsets
     scale = max(1.0, float(np.ptp(model.points, axis=0).max()))
     tol = 1e-9 * scale
@@ -262,6 +285,8 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
     m = len(order)
     if itf.pairs:
         return _pair_elements(model, itf, order, xp, s, trib, tol, scale)
+    if obstacle:
+        return _obstacle_elements(model, itf, order, xp, s, trib, tol, scale)
 
     medges = curve_edges(bm, itf.minus)
     if len(medges) == 0:
@@ -370,8 +395,6 @@ def _gauss01(n: int) -> tuple[np.ndarray, np.ndarray]:
 #: Gauss points on each S+/S− overlap: exact for polynomials up to degree 7, i.e. for the
 #: products φ_i ψ_l of quadratic edges (degree 4) and their gap integrand (degree 3).
 MORTAR_GAUSS = 4
-#: S+ edges processed together when searching for S− edges that face them (bounds memory).
-MORTAR_CHUNK = 256
 
 
 def _edge_normals(model: Model, itf: Interface, pedges, medges, pair_e, pair_f, h):
@@ -403,36 +426,37 @@ def _mortar_pairs(pa, pb, ma, mb, tol):
     normal: (e, f, ξ_lo, ξ_hi, ξ of S− ends, signed normal distance at mid-overlap).
 
     Where S− edges at different distances overlap one S+ edge (the far side of a curved
-    body), only those within one edge length of the nearest are kept.
+    body), only those within one edge length of the nearest are kept.  The candidates of an S+
+    edge are the S− edges whose midpoints lie within d + 2.5 (L + L_max) of its midpoint (d its
+    distance to S−, L its length, L_max the longest S− edge): a k-d tree, not all pairs.
     """
+    from scipy.spatial import cKDTree
+
     L = np.linalg.norm(pb - pa, axis=1)
     e1 = (pb - pa) / L[:, None]
     nv = np.column_stack([-e1[:, 1], e1[:, 0]])
     Lm = np.linalg.norm(mb - ma, axis=1)
-    out = []
-    for s0 in range(0, len(pa), MORTAR_CHUNK):
-        sl = slice(s0, s0 + MORTAR_CHUNK)
-        xa = np.einsum("efk,ek->ef", ma[None] - pa[sl, None], e1[sl]) / L[sl, None]
-        xb = np.einsum("efk,ek->ef", mb[None] - pa[sl, None], e1[sl]) / L[sl, None]
-        lo = np.clip(np.minimum(xa, xb), 0.0, 1.0)
-        hi = np.clip(np.maximum(xa, xb), 0.0, 1.0)
-        e, f = np.nonzero((hi - lo) * L[sl, None] > tol)
-        if e.size == 0:
-            continue
-        xa, xb, lo, hi = xa[e, f], xb[e, f], lo[e, f], hi[e, f]
-        eg = e + s0
-        mid = 0.5 * (lo + hi)
-        eta = (mid - xa) / (xb - xa)
-        xm = ma[f] + eta[:, None] * (mb[f] - ma[f])
-        xpl = pa[eg] + mid[:, None] * (pb[eg] - pa[eg])
-        h = np.einsum("ij,ij->i", xm - xpl, nv[eg])
-        hmin = np.full(len(pa), np.inf)
-        np.minimum.at(hmin, eg, np.abs(h))
-        keep = np.abs(h) <= hmin[eg] + np.maximum(L[eg], Lm[f]) + tol
-        out.append(np.column_stack([eg, f, lo, hi, xa, xb, h])[keep])
-    if not out:
+    cp = 0.5 * (pa + pb)
+    _, _, d = _project(cp, ma, mb)
+    e, f = _near(cKDTree(0.5 * (ma + mb)), cp, d + 2.5 * (L + Lm.max(initial=0.0)) + tol)
+    xa = np.einsum("ik,ik->i", ma[f] - pa[e], e1[e]) / L[e]
+    xb = np.einsum("ik,ik->i", mb[f] - pa[e], e1[e]) / L[e]
+    lo = np.clip(np.minimum(xa, xb), 0.0, 1.0)
+    hi = np.clip(np.maximum(xa, xb), 0.0, 1.0)
+    ok = (hi - lo) * L[e] > tol
+    if not np.any(ok):
         return None
-    return np.concatenate(out)
+    e, f, xa, xb, lo, hi = e[ok], f[ok], xa[ok], xb[ok], lo[ok], hi[ok]
+    mid = 0.5 * (lo + hi)
+    eta = (mid - xa) / (xb - xa)
+    xm = ma[f] + eta[:, None] * (mb[f] - ma[f])
+    xpl = pa[e] + mid[:, None] * (pb[e] - pa[e])
+    h = np.einsum("ij,ij->i", xm - xpl, nv[e])
+    hmin = np.full(len(pa), np.inf)
+    np.minimum.at(hmin, e, np.abs(h))
+    keep = np.abs(h) <= hmin[e] + np.maximum(L[e], Lm[f]) + tol
+    out = np.column_stack([e, f, lo, hi, xa, xb, h])[keep]
+    return out[np.lexsort((out[:, 1], out[:, 0]))]  # by S+ edge, then S− edge
 
 
 def _mortar_elements(model: Model, itf: Interface, order, xp, s, trib, medges, tol, scale):
@@ -578,6 +602,62 @@ def _widen(a: np.ndarray, width: int, fill: float = -1) -> np.ndarray:
     return np.concatenate([a, pad], axis=1)
 
 
+def _obstacle_elements(model: Model, itf: Interface, order, xp, s, trib, tol, scale):
+    """CFEs of S+ against a rigid obstacle (``itf.minus``), one per S+ node.
+
+    The S− end of CFE k is the node's closest point x⁻ on the polyline and n_k the normal of
+    its segment (towards the bodies), so that g_k⁰ = (x⁺ − x⁻)·n_k is the distance.  Where the
+    closest point is a vertex between two segments, n_k is the direction from the vertex to the
+    node (a node in front of a ridge), or, where they coincide or the node lies behind the
+    vertex, the mean of the two segment normals.  S+ nodes whose projection falls beyond an end
+    of the polyline get no CFE.  A fixed obstacle has no nodes (``minus_nodes`` −1); the end of
+    a moving one is interpolated from its segment's vertex nodes (weights 1 − ξ, ξ).
+    """
+    obs = itf.minus
+    item = f"interface '{itf.name}'"
+    P = obs.points
+    a, b = P[:-1], P[1:]
+    nseg = obs.normals
+    nv = len(P)
+    seg, xi, dist = _project(xp, a, b)
+    ab = (b - a)[seg]
+    L = np.linalg.norm(ab, axis=1)
+    t_raw = np.einsum("ij,ij->i", xp - a[seg], ab) / L**2
+    beyond = ((seg == 0) & (t_raw * L < -tol)) | ((seg == nv - 2) & ((t_raw - 1) * L > tol))
+    keep = np.flatnonzero(~beyond)
+    if keep.size == 0:
+        raise ModelError(item, f"no node of {itf.plus.label} lies opposite obstacle "
+                         f"'{obs.name}' (every one projects beyond its ends): extend the "
+                         "obstacle's points or check the node set")
+    xp, order, s, trib = xp[keep], order[keep], s[keep], trib[keep]
+    seg, xi, dist = seg[keep], xi[keep], dist[keep]
+    m = len(order)
+    xm = a[seg] + xi[:, None] * (b - a)[seg]
+    if itf.normal is not None:
+        nrm = np.tile(np.asarray(itf.normal, float) / np.linalg.norm(itf.normal), (m, 1))
+    else:
+        nrm = nseg[seg].copy()
+        # closest point at a vertex between two segments
+        Ls = np.linalg.norm(b - a, axis=1)[seg]
+        vtx = np.where(xi * Ls <= tol, seg, np.where((1.0 - xi) * Ls <= tol, seg + 1, -1))
+        inner = np.flatnonzero((vtx > 0) & (vtx < nv - 1))
+        if inner.size:
+            v = vtx[inner]
+            mean = nseg[v - 1] + nseg[v]
+            mean /= np.linalg.norm(mean, axis=1)[:, None]
+            d = xp[inner] - P[v]
+            front = (dist[inner] > tol) & (np.einsum("ij,ij->i", d, mean) > 0)
+            nrm[inner] = np.where(front[:, None], d / np.maximum(dist[inner], tol)[:, None],
+                                  mean)
+    n_m = np.full((m, MAX_END_NODES), -1, dtype=np.int64)
+    wm = np.zeros((m, MAX_END_NODES))
+    off = model.obstacle_offsets.get(obs.name)
+    if off is not None:  # a moving obstacle: its vertices are nodes
+        n_m[:, 0], n_m[:, 1] = off + seg, off + seg + 1
+        wm[:, 0], wm[:, 1] = 1.0 - xi, xi
+    return _finish(model, itf, order, xp, xm, nrm, s, trib, n_m, wm, tol, scale)
+
+
 def _pair_elements(model: Model, itf: Interface, order, xp, s, trib, tol, scale):
     """CFEs of explicit node pairs plus[i] – minus[i] (``Interface.pairs``)."""
     item = f"interface '{itf.name}'"
@@ -625,7 +705,10 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
             k = int(bad[0])
             raise ModelError(
                 f"{item} CFE {k} at ({xp[k, 0]:.6g}, {xp[k, 1]:.6g})",
-                f"S+ penetrates S- by {-gap[k]:.3g} m; give a gap or fix the geometry",
+                f"S+ penetrates {minus_label(itf)} by {-gap[k]:.3g} m; give a gap or fix the "
+                "geometry" + (" (or the obstacle's side: the bodies lie on its left, walking "
+                              "along its points, unless side='right')"
+                              if isinstance(itf.minus, RigidObstacle) else ""),
             )
         gap = np.maximum(gap, 0.0)
         gap[np.abs(gap) <= tol] = 0.0
@@ -673,6 +756,11 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
     )
 
 
+
+
+def minus_label(itf: Interface) -> str:
+    """``S-`` or ``obstacle 'NAME'`` (the S− side of an interface, for messages)."""
+    return f"obstacle '{itf.minus.name}'" if isinstance(itf.minus, RigidObstacle) else "S-"
 
 
 def build_contact(model: Model) -> ContactElements:

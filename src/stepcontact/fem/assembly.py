@@ -23,11 +23,13 @@ from stepcontact.fem.level import is_level_pattern, level_basis
 from stepcontact.model import (
     Body,
     BodyForce,
+    DiscreteModel,
     EdgeForce,
     EdgeLoad,
     Frame,
     Model,
     NodalLoad,
+    ObstacleMotion,
     PrescribedDisplacement,
 )
 
@@ -88,6 +90,10 @@ class System:
     levels : dict[str, LevelBasis]
         Patterns whose factor is a water level, with their virtual patterns (which ``loads``
         also holds, see :mod:`stepcontact.fem.level`).
+    discrete : DiscreteModel or None
+        The discrete model a system was built from (:mod:`stepcontact.fem.discrete`): then
+        ``model`` has no bodies (only its load patterns and program), the DOFs belong to no
+        node and the CFEs have no geometry.
     """
 
     model: Model
@@ -101,6 +107,7 @@ class System:
     reaction_rows: sp.csr_matrix | None = None
     reaction_labels: tuple[str, ...] = ()
     levels: dict = field(default_factory=dict)
+    discrete: object | None = None
 
     @property
     def ndof(self) -> int:
@@ -119,8 +126,9 @@ def scatter(rows: np.ndarray, cols: np.ndarray, vals: np.ndarray, shape) -> sp.c
 
 
 def dof_map(model: Model) -> DofMap:
-    """Number the DOFs; ties merge translations (union-find over node pairs)."""
-    n = sum(b.n_nodes for b in model.bodies)
+    """Number the DOFs; ties merge translations (union-find over node pairs).  The vertex
+    nodes of moving obstacles (after the bodies' nodes) have x, y DOFs, all prescribed."""
+    n = model.n_nodes
     parent = np.arange(n)
 
     def find(i: int) -> int:
@@ -356,6 +364,15 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                 raise ModelError(item, "rotation prescribed on a node without rotation")
             u[d] = ld.value
             pdofs.append(d)
+        elif isinstance(ld, ObstacleMotion):
+            # the rigid motion of the obstacle's vertex nodes (stepcontact.model.obstacle)
+            obs = model.obstacle(ld.name)
+            ids = model.obstacle_offsets[obs.name] + np.arange(obs.n_nodes)
+            disp = ld.displacements(obs)
+            for c in (0, 1):
+                d = dofs.of[ids, c]
+                u[d] += disp[:, c]
+                pdofs.append(d)
         else:
             raise ModelError(item, f"unknown load type {type(ld).__name__}")
     pd = np.unique(np.concatenate(pdofs)) if pdofs else np.zeros(0, dtype=np.int64)
@@ -417,8 +434,14 @@ def contact_operator(cfe: ContactElements, dofs: DofMap) -> tuple[sp.csr_matrix,
     return B, w0
 
 
-def assemble(model: Model) -> System:
-    """Assemble the whole model (stiffness, supports, loads, CFEs)."""
+def assemble(model: Model | DiscreteModel) -> System:
+    """Assemble the whole model (stiffness, supports, loads, CFEs); a
+    :class:`~stepcontact.model.DiscreteModel` is taken as it is
+    (:func:`stepcontact.fem.discrete.assemble_discrete`)."""
+    if isinstance(model, DiscreteModel):
+        from stepcontact.fem.discrete import assemble_discrete
+
+        return assemble_discrete(model)
     if not model.bodies:
         raise ModelError("model", "has no body")
     dofs = dof_map(model)
@@ -432,6 +455,12 @@ def assemble(model: Model) -> System:
             if np.any(d < 0):
                 raise ModelError(f"support '{s.name}'", "fixes rz of a node without rotation")
             groups.append((f"{s.name}:{dname}", d))
+            fixed[d] = True
+    for obs in model.moving_obstacles:  # vertex nodes, prescribed: the obstacle's reaction
+        ids = model.obstacle_offsets[obs.name] + np.arange(obs.n_nodes)
+        for c, dname in enumerate(("x", "y")):
+            d = dofs.of[ids, c]
+            groups.append((f"{obs.name}:{dname}", d))
             fixed[d] = True
     loads, levels = {}, {}
     for p in model.patterns:
@@ -458,7 +487,7 @@ def assemble(model: Model) -> System:
     B, w0 = contact_operator(cfe, dofs)
     if not fixed.any() and cfe.m == 0:
         raise ModelError("model", "has no supports and no contact: it is free to move")
-    _check_restrained(model, dofs, K, B, fixed)
+    _check_restrained(model, dofs, K, B, fixed, cfe)
     rows, labels = _reaction_rows(groups, dofs.ndof)
     return System(model, dofs, K, fixed, loads, cfe, B, w0, rows, labels, levels)
 
@@ -482,13 +511,20 @@ def _reaction_rows(groups: list[tuple[str, np.ndarray]], ndof: int):
     return rows, tuple(labels)
 
 
-def _check_restrained(model: Model, dofs: DofMap, K, B, fixed) -> None:
-    """Every body must be connected (elements, ties, springs, CFEs) to a support."""
+def _check_restrained(model: Model, dofs: DofMap, K, B, fixed,
+                      cfe: ContactElements | None = None) -> None:
+    """Every body must be connected (elements, ties, springs, CFEs) to a support (or by CFEs
+    to a fixed obstacle)."""
     A = (abs(K) + abs(B.T @ B)).tocsr()
     A = A + sp.diags(np.ones(dofs.ndof))
     ncomp, lab = sp.csgraph.connected_components(A, directed=False)
     grounded = np.zeros(ncomp, dtype=bool)
     grounded[lab[fixed]] = True
+    if cfe is not None and cfe.m:  # CFEs against a fixed obstacle: their S− end is the ground
+        ground = np.all(cfe.minus_nodes < 0, axis=1)
+        nodes = cfe.plus_nodes[ground]
+        d = dofs.of[nodes[nodes >= 0], :2]
+        grounded[lab[d.ravel()]] = True
     for s in model.springs:  # springs to the ground restrain their components
         if s.b is None and s.stiffness_matrix().any():
             ids = model.global_nodes(s.a)

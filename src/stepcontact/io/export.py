@@ -19,8 +19,8 @@ contact elements (``NAME_cfe.pvd`` / ``FILE_cfe.xdmf``)
     interface names), ``cfe`` (global index), ``local``, ``s`` (m), ``normal`` (S− → S+),
     ``area`` (m²), ``friction``, ``gap`` (m).  Point data ``displacement`` (m) only when the
     result knows the interpolation of the CFE ends (``cfe`` arrays ``plus_nodes``,
-    ``plus_w``, ``minus_nodes``, ``minus_w``); without them the S− point is placed at
-    x − g⁰ n.
+    ``plus_w``, ``minus_nodes``, ``minus_w``); without them, and for the CFEs on a fixed
+    rigid obstacle (no S− nodes), the S− point is placed at x − g⁰ n.
 
 Time
 ----
@@ -358,6 +358,11 @@ def _cfe_grid(result: StaticResult, xy: np.ndarray) -> _CfeGrid:
         w = np.where(nodes >= 0, w, 0.0)
         ends = np.einsum("pj,pjc->pc", w, xy[np.maximum(nodes, 0)])
         ends[:m] = plus
+        ground = ~np.any(nodes[m:] >= 0, axis=1)  # S− end on a fixed rigid obstacle: no nodes
+        if ground.any():
+            gap = np.asarray(cfe.get("gap", np.zeros(m)), dtype=float).reshape(m)
+            normal = np.asarray(cfe["normal"], dtype=float).reshape(m, 2)
+            ends[m:][ground] = plus[ground] - gap[ground, None] * normal[ground]
     else:
         nodes = w = None
         gap = np.asarray(cfe.get("gap", np.zeros(m)), dtype=float).reshape(m)

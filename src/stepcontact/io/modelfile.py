@@ -63,7 +63,13 @@ Varying pressures are given by coordinates, ``{from = [x0, y0, p0], to = [x1, y1
 node set's order (a reversed curve flips it) and is deprecated (a warning).  ``water``
 (nodes, level in m, unit_weight in N/m³): hydrostatic pressure γ_w·max(level − y, 0);
 ``uplift`` (interface, head in m or pressure in Pa: a number, ``{from, to}`` or points
-``[[x, y, v], …]``): the pressure pushes both sides of the joint apart.
+``[[x, y, v], …]``): the pressure pushes both sides of the joint apart; ``obstacle_motion``
+(obstacle, dx, dy in m, rotation in rad, about = [x, y]): a rigid motion of an obstacle.
+
+Rigid obstacles (not meshed): ``[[obstacles]] name = "ground"``, ``points = [[x0, y0], [x1,
+y1], …]`` (m), ``side = "left"`` (the side the bodies lie on walking along the points; a line
+drawn from left to right carries bodies above it) or ``"right"``; an interface against it gives
+``obstacle = "ground"`` instead of ``minus``.
 :func:`schema` gives the complete JSON schema.
 """
 
@@ -119,7 +125,8 @@ from stepcontact.model.items import (
     _parse_dofs,
     select_nodes,
 )
-from stepcontact.model.mesh import rectangle
+from stepcontact.model.mesh import half_disc, quad_region, rectangle
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.size import check_size
 from stepcontact.model.water import LinearProfile, Uplift, WaterLoad
 
@@ -135,6 +142,7 @@ _TAGS = {
     "type=water",
     "type=uplift",
     "type=displacement",
+    "type=obstacle_motion",
     "material=name",
     "material=table",
 }
@@ -235,6 +243,43 @@ class RectangleSpec(_Spec):
         return self
 
 
+class QuadRegionSpec(_Spec):
+    """``[[bodies]]`` with ``kind = "quad"``: a convex four-sided region (corners
+    counter-clockwise) meshed nx × ny by a bilinear map (:func:`stepcontact.quad_region`)."""
+
+    name: str = Field(description="unique body name")
+    kind: Literal["quad"]
+    corners: tuple[Point, Point, Point, Point] = Field(
+        description="the four corners, counter-clockwise, m; nx cells along corner 0→1")
+    nx: int = Field(ge=1, description="cells along the edges 0→1 and 3→2")
+    ny: int = Field(ge=1, description="cells along the edges 0→3 and 1→2")
+    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] = Field(
+        "quad4", description="element kind (linear or quadratic triangles and quads)")
+    grading: tuple[float, float] | dict[str, float] = Field(
+        (1.0, 1.0), description="(gx, gy): last / first cell size along each direction; or "
+        "{bottom|right|top|left = ratio}: cells shrinking towards those edges")
+    material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
+                                  "an inline table `{E, nu, density}`")
+
+
+class HalfDiscSpec(_Spec):
+    """``[[bodies]]`` with ``kind = "half_disc"``: the lower half of a disc (flat face on top),
+    refined towards its lowest point, for cylinder contact (:func:`stepcontact.half_disc`)."""
+
+    name: str = Field(description="unique body name")
+    kind: Literal["half_disc"]
+    center: Point = Field(description="centre of the disc (the middle of the flat face), m")
+    radius: float = Field(gt=0, description="radius, m")
+    n_radial: int = Field(ge=1, description="rings of cells between the core and the arc")
+    n_around: int = Field(ge=4, description="cells along the arc (even)")
+    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] = Field(
+        "quad4", description="element kind (linear or quadratic triangles and quads)")
+    refine: bool = Field(True, description="cells shrinking towards the lowest point")
+    ratio: float = Field(8.0, ge=1, description="largest / smallest cell when refined")
+    material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
+                                  "an inline table `{E, nu, density}`")
+
+
 class MeshBodySpec(_Spec):
     """``[[bodies]]`` with ``kind = "mesh"``: the cells of one physical surface of ``[mesh]``.
 
@@ -281,19 +326,21 @@ def _body_tag(v: Any) -> str | None:
         kind = v.get("kind")
         if kind is None or "mesh" in v:
             kind = "mesh" if ("group" in v or "mesh" in v) else "rectangle"
-        return f"kind={kind}" if kind in ("rectangle", "mesh") else None
-    if isinstance(v, RectangleSpec | MeshBodySpec):
+        return (f"kind={kind}" if kind in ("rectangle", "mesh", "quad", "half_disc")
+                else None)
+    if isinstance(v, RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec):
         return f"kind={v.kind}"
     return None
 
 
 BodySpec = _tagged_union(
-    _body_tag, "body_kind", "kind must be 'rectangle' or 'mesh'",
-    **{"kind=rectangle": RectangleSpec, "kind=mesh": MeshBodySpec},
+    _body_tag, "body_kind", "kind must be 'rectangle', 'quad', 'half_disc' or 'mesh'",
+    **{"kind=rectangle": RectangleSpec, "kind=quad": QuadRegionSpec,
+       "kind=half_disc": HalfDiscSpec, "kind=mesh": MeshBodySpec},
 )
 
 
-def _body_name(b: RectangleSpec | MeshBodySpec) -> str:
+def _body_name(b: RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec) -> str:
     return b.body_name if isinstance(b, MeshBodySpec) else b.name
 
 
@@ -448,12 +495,26 @@ class LayerSpec(_Spec):
         return ContactLayer(thickness=self.thickness, E=self.E, nu=self.nu or 0.0)
 
 
+class ObstacleSpec(_Spec):
+    """``[[obstacles]]``: a rigid line or polyline (not meshed) that bodies may touch; an
+    interface uses it with ``obstacle = "NAME"`` instead of ``minus``."""
+
+    name: str
+    points: list[Point] = Field(min_length=2, description="vertices [[x0, y0], [x1, y1], …], m")
+    side: Literal["left", "right"] = Field(
+        "left", description="side the bodies lie on, walking from the first point to the last "
+        "(left: a line drawn from left to right carries bodies above it)")
+
+
 class InterfaceSpec(_Spec):
-    """``[[interfaces]]``: CFEs from every node of ``plus`` (S+) to ``minus`` (S−)."""
+    """``[[interfaces]]``: CFEs from every node of ``plus`` (S+) to ``minus`` (S−), or to a
+    rigid ``obstacle`` of ``[[obstacles]]``."""
 
     name: str
     plus: str
-    minus: str
+    minus: str | None = Field(None, description="node set of S- (or give obstacle)")
+    obstacle: str | None = Field(None, description="a rigid obstacle of [[obstacles]] as S- "
+                                 "(instead of minus)")
     friction: float = Field(0.0, ge=0, description="Coulomb friction coefficient")
     gap: float | None = Field(None, ge=0, description="initial gap, m (default: geometric)")
     normal: Point | None = Field(None, description="unit normal from S− to S+")
@@ -472,6 +533,12 @@ class InterfaceSpec(_Spec):
         if v is not None and math.hypot(*v) == 0:
             raise ValueError("normal must be a non-zero vector")
         return v
+
+    @model_validator(mode="after")
+    def _one_minus(self) -> InterfaceSpec:
+        if (self.minus is None) == (self.obstacle is None):
+            raise ValueError("give either minus (a node set) or obstacle (a rigid obstacle)")
+        return self
 
 
 # --------------------------------------------------------------------------------------------
@@ -664,21 +731,35 @@ class DisplacementLoad(_Spec):
     value: float
 
 
+class ObstacleMotionLoad(_Spec):
+    """Rigid motion of an obstacle per unit λ: translation (dx, dy) in m and a small rotation
+    (rad, counter-clockwise) about ``about`` (default: the obstacle's first point)."""
+
+    type: Literal["obstacle_motion"] = "obstacle_motion"
+    obstacle: str
+    dx: float = 0.0
+    dy: float = 0.0
+    rotation: float = Field(0.0, description="small rotation, rad, counter-clockwise")
+    about: Point | None = Field(None, description="centre of the rotation, m (default: the "
+                                "obstacle's first point)")
+
+
 def _load_tag(v: Any) -> str | None:
     t = v.get("type") if isinstance(v, dict) else getattr(v, "type", None)
     return (f"type={t}" if t in ("gravity", "nodal", "edge_force", "pressure", "displacement",
-                                 "water", "uplift")
+                                 "water", "uplift", "obstacle_motion")
             else None)
 
 
 LoadSpec = _tagged_union(
     _load_tag, "load_type",
-    "type must be 'gravity', 'nodal', 'edge_force', 'pressure', 'water', 'uplift' or "
-    "'displacement'",
+    "type must be 'gravity', 'nodal', 'edge_force', 'pressure', 'water', 'uplift', "
+    "'displacement' or 'obstacle_motion'",
     **{"type=gravity": GravityLoad, "type=nodal": NodalLoadSpec,
        "type=edge_force": EdgeForceLoad, "type=pressure": PressureLoad,
        "type=displacement": DisplacementLoad,
-       "type=water": WaterLoadSpec, "type=uplift": UpliftLoadSpec},
+       "type=water": WaterLoadSpec, "type=uplift": UpliftLoadSpec,
+       "type=obstacle_motion": ObstacleMotionLoad},
 )
 
 
@@ -713,6 +794,7 @@ class ModelFile(_Spec):
     supports: list[SupportSpec] = []
     ties: list[TieSpec] = []
     springs: list[SpringSpec] = []
+    obstacles: list[ObstacleSpec] = []
     interfaces: list[InterfaceSpec] = []
     patterns: dict[str, PatternSpec] = {}
     program: list[SegmentSpec] = Field(min_length=1)
@@ -1014,10 +1096,21 @@ class _Builder:
         for i, s in enumerate(spec.springs):
             node_set(f"springs[{i}].a", s.a)
             node_set(f"springs[{i}].b", s.b)
+        obstacles: set[str] = set()
+        for i, ob in enumerate(spec.obstacles):
+            if ob.name in obstacles:
+                p.add(f"obstacles[{i}].name", f"duplicate obstacle name '{ob.name}'")
+            obstacles.add(ob.name)
+        used: set[str] = set()
         names: set[str] = set()
         for i, itf in enumerate(spec.interfaces):
             node_set(f"interfaces[{i}].plus", itf.plus)
             node_set(f"interfaces[{i}].minus", itf.minus)
+            if itf.obstacle is not None:
+                used.add(itf.obstacle)
+                if itf.obstacle not in obstacles:
+                    p.add(f"interfaces[{i}].obstacle", f"unknown obstacle '{itf.obstacle}' "
+                          f"(known: {_known(obstacles)})")
             if itf.name in names:
                 p.add(f"interfaces[{i}].name", f"duplicate interface name '{itf.name}'")
             names.add(itf.name)
@@ -1033,6 +1126,13 @@ class _Builder:
                     if ld.interface not in names:
                         p.add(f"{path}.interface", f"unknown interface '{ld.interface}' "
                               f"(known: {_known(names)})")
+                elif isinstance(ld, ObstacleMotionLoad):
+                    if ld.obstacle not in obstacles:
+                        p.add(f"{path}.obstacle", f"unknown obstacle '{ld.obstacle}' "
+                              f"(known: {_known(obstacles)})")
+                    elif ld.obstacle not in used:
+                        p.add(f"{path}.obstacle", f"obstacle '{ld.obstacle}' is used by no "
+                              "interface (an interface names it with obstacle = \"NAME\")")
                 else:
                     node_set(f"{path}.nodes", ld.nodes)
                     if isinstance(ld, PressureLoad):
@@ -1087,6 +1187,15 @@ class _Builder:
                         b.name, b.corner0, b.corner1, b.nx, b.ny, mat, b.element,
                         grading=b.grading,
                     )
+                    continue
+                if isinstance(b, QuadRegionSpec):
+                    self.bodies[name] = quad_region(b.name, b.corners, b.nx, b.ny, mat,
+                                                    b.element, grading=b.grading)
+                    continue
+                if isinstance(b, HalfDiscSpec):
+                    self.bodies[name] = half_disc(
+                        b.name, b.center, b.radius, b.n_radial, b.n_around, mat, b.element,
+                        refine_toward="bottom" if b.refine else None, ratio=b.ratio)
                     continue
                 if self.mesh is None or self._group_problem(b.surface, (2,)) is not None:
                     self.failed.add(name)
@@ -1199,15 +1308,24 @@ class _Builder:
             except ModelError as e:  # e.g. a zero direction
                 field = e.item.rpartition("'.")[2] if "'." in e.item else ""
                 p.add(f"springs[{i}].{field}" if field else f"springs[{i}]", e.problem)
+        obstacles: dict[str, RigidObstacle] = {}
+        for i, ob in enumerate(spec.obstacles):
+            try:
+                obstacles[ob.name] = RigidObstacle(ob.name, ob.points, ob.side)
+            except ModelError as e:
+                field = e.item.rpartition("'.")[2] if "'." in e.item else ""
+                p.add(f"obstacles[{i}].{field}" if field else f"obstacles[{i}]", e.problem)
         interfaces = []
         for i, itf in enumerate(spec.interfaces):
             if not have(itf.plus, itf.minus):
+                continue
+            if itf.obstacle is not None and itf.obstacle not in obstacles:
                 continue
             try:
                 interfaces.append(Interface(
                     itf.name,
                     sets[itf.plus],
-                    sets[itf.minus],
+                    sets[itf.minus] if itf.obstacle is None else obstacles[itf.obstacle],
                     friction=itf.friction,
                     gap=itf.gap,
                     normal=itf.normal,
@@ -1228,6 +1346,10 @@ class _Builder:
                     found = [i for i in interfaces if i.name == ld.interface]
                     if found:
                         loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
+                elif isinstance(ld, ObstacleMotionLoad):
+                    if ld.obstacle in obstacles:
+                        loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,
+                                                    ld.rotation, ld.about))
                 elif not have(ld.nodes):
                     continue
                 elif isinstance(ld, WaterLoadSpec):
@@ -1294,7 +1416,8 @@ class _Builder:
                        f"{q.aspect[j]:.3g}, quality {q.quality[j]:.3g}, centroid "
                        f"({c[0]:.6g}, {c[1]:.6g}); {n} element{'s' * (n > 1)} above "
                        f"{meshcheck.ASPECT_WARN:g}")
-        cracked = {i.plus.body for i in model.interfaces if i.plus.body == i.minus.body}
+        cracked = {i.plus.body for i in model.interfaces
+                   if i.plus.body == getattr(i.minus, "body", None)}
         for b in continua:
             if b.name in cracked:
                 continue  # self-contact: coincident nodes are the two faces of a crack
@@ -1317,7 +1440,8 @@ class _Builder:
                 p.warn("mesh", f"{orphans.size} node{'s' * (orphans.size > 1)} of "
                        f"{self.mesh.path.name} belong to no element of a physical surface and "
                        f"are ignored (e.g. node {int(orphans[0])} at ({x:.6g}, {y:.6g}))")
-        joined = {frozenset((i.plus.body, i.minus.body)) for i in model.interfaces}
+        joined = {frozenset((i.plus.body, i.minus.body)) for i in model.interfaces
+                  if isinstance(i.minus, NodeSet)}
         for ia, a in enumerate(continua):
             for b in continua[ia + 1:]:
                 if frozenset((a.name, b.name)) in joined:

@@ -35,3 +35,13 @@ __all__ = [
 from stepcontact.model.water import LinearProfile, Uplift, WaterLoad  # noqa: E402
 
 __all__ += ["LinearProfile", "Uplift", "WaterLoad"]
+
+# rigid obstacles (fixed or moving lines and polylines, not meshed)
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle  # noqa: E402
+
+__all__ += ["ObstacleMotion", "RigidObstacle"]
+
+# a structure given by its matrices (stiffness, contact rows, loads)
+from stepcontact.model.discrete import DiscreteModel  # noqa: E402
+
+__all__ += ["DiscreteModel"]

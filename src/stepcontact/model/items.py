@@ -22,6 +22,7 @@ from typing import Literal
 import numpy as np
 
 from stepcontact.errors import ModelError
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 
 PlaneKind = Literal["strain", "stress"]
 ElementKind = Literal["tri3", "tri6", "quad4", "quad8", "quad9"]
@@ -448,7 +449,7 @@ class PrescribedDisplacement:
     value: float
 
 
-Load = NodalLoad | EdgeLoad | EdgeForce | BodyForce | PrescribedDisplacement
+Load = NodalLoad | EdgeLoad | EdgeForce | BodyForce | PrescribedDisplacement | ObstacleMotion
 
 
 @dataclass(frozen=True, eq=False)
@@ -551,6 +552,11 @@ class Interface:
     name : str
     plus, minus : NodeSet
         Nodes on S+ and S− (any order; the curve order is rebuilt from the mesh edges).
+        ``minus`` may be a :class:`~stepcontact.model.obstacle.RigidObstacle`: contact
+        against a fixed (or rigidly moving) line or polyline, no body meshed for it.  Every
+        S+ node then gets one CFE to its closest point on the obstacle, with the normal of
+        that segment (at a vertex between two segments where the ends coincide: the mean of
+        their normals); S+ nodes beyond the ends of the polyline get none.
     friction : float
         Coulomb friction coefficient f_k >= 0.
     gap : float or callable
@@ -575,7 +581,7 @@ class Interface:
 
     name: str
     plus: NodeSet
-    minus: NodeSet
+    minus: NodeSet | RigidObstacle
     friction: float = 0.0
     gap: float | Callable | None = None
     normal: tuple[float, float] | None = None
@@ -594,7 +600,18 @@ class Interface:
                                             "(pairs = true joins nodes node to node)")
         if not np.isfinite(self.friction) or self.friction < 0:
             raise ModelError(f"{item}.friction", f"must be >= 0, got {self.friction}")
-        if self.plus.body == self.minus.body:  # self-contact (a crack): the sets must differ
+        if isinstance(self.plus, RigidObstacle):
+            raise ModelError(f"{item}.plus", f"is obstacle '{self.plus.name}': an obstacle is "
+                             "the minus side (S−) of an interface, the body's nodes are plus")
+        if isinstance(self.minus, RigidObstacle):
+            if self.pairs:
+                raise ModelError(f"{item}.pairs", f"does not apply to obstacle "
+                                 f"'{self.minus.name}' (it has no nodes to pair)")
+            if self.cfe not in ("auto", "node-to-segment"):
+                raise ModelError(f"{item}.cfe", f"'{self.cfe}' does not apply to obstacle "
+                                 f"'{self.minus.name}': its CFEs join each S+ node to its "
+                                 "closest point (use 'auto' or 'node-to-segment')")
+        elif self.plus.body == self.minus.body:  # self-contact (a crack): the sets must differ
             shared = np.intersect1d(self.plus.index, self.minus.index)
             if shared.size:
                 same = (shared.size == len(self.plus) == len(self.minus))
@@ -614,7 +631,7 @@ class Interface:
                 raise ModelError(f"{item}.normal", "must be a non-zero 2-vector")
         if self.area is not None and not (np.isfinite(self.area) and self.area > 0):
             raise ModelError(f"{item}.area", f"must be > 0 m², got {self.area}")
-        if self.pairs and len(self.plus) != len(self.minus):
+        if self.pairs and len(self.plus) != len(self.minus):  # (never an obstacle here)
             raise ModelError(
                 f"{item}.pairs",
                 f"plus has {len(self.plus)} nodes and minus {len(self.minus)}: node pairs need "
@@ -688,6 +705,14 @@ class Model:
             dup = {n for n in names if names.count(n) > 1}
             if dup:
                 raise ModelError(f"{kind} '{sorted(dup)[0]}'", f"duplicate {kind} name")
+        obstacles: dict[str, RigidObstacle] = {}
+        for itf in self.interfaces:
+            obs = itf.minus
+            if isinstance(obs, RigidObstacle):
+                if obs.name in obstacles and not obstacles[obs.name].same_as(obs):
+                    raise ModelError(f"obstacle '{obs.name}'", "two different obstacles have "
+                                     f"this name (interface '{itf.name}' and an earlier one)")
+                obstacles.setdefault(obs.name, obs)
 
     # ---- construction -----------------------------------------------------------------------
     def add(self, *items) -> Model:
@@ -709,6 +734,10 @@ class Model:
         }
         for it in items:
             key = kinds.get(type(it))
+            if isinstance(it, RigidObstacle | ObstacleMotion):
+                raise ModelError("model.add", f"obstacle '{it.name}' enters a model as the minus "
+                                 "side of an Interface (and its motion as a load of a "
+                                 "LoadPattern), not by itself")
             if key is None:
                 raise ModelError("model.add", f"cannot add an object of type {type(it).__name__}")
             groups[key].append(it)
@@ -754,12 +783,55 @@ class Model:
             k += b.n_nodes
         return out
 
+    # ---- rigid obstacles ----------------------------------------------------------------------
+    @property
+    def obstacles(self) -> tuple[RigidObstacle, ...]:
+        """The rigid obstacles of the interfaces (``Interface.minus``), in order of first use."""
+        out: dict[str, RigidObstacle] = {}
+        for itf in self.interfaces:
+            if isinstance(itf.minus, RigidObstacle):
+                out.setdefault(itf.minus.name, itf.minus)
+        return tuple(out.values())
+
+    def obstacle(self, name: str) -> RigidObstacle:
+        for o in self.obstacles:
+            if o.name == name:
+                return o
+        known = ", ".join(repr(o.name) for o in self.obstacles) or "none"
+        raise ModelError(f"obstacle '{name}'", "no interface of the model has it as its minus "
+                         f"side (obstacles: {known})")
+
+    @property
+    def moving_obstacles(self) -> tuple[RigidObstacle, ...]:
+        """The obstacles some load pattern moves (:class:`ObstacleMotion`): they have nodes."""
+        moved = {ld.name for p in self.patterns for ld in p.loads
+                 if isinstance(ld, ObstacleMotion)}
+        return tuple(o for o in self.obstacles if o.name in moved)
+
+    @property
+    def obstacle_offsets(self) -> dict[str, int]:
+        """Global index of the first vertex node of every moving obstacle (after all the
+        bodies' nodes; a fixed obstacle has no nodes)."""
+        out, k = {}, sum(b.n_nodes for b in self.bodies)
+        for o in self.moving_obstacles:
+            out[o.name] = k
+            k += o.n_nodes
+        return out
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of nodes: those of the bodies and the vertices of moving obstacles."""
+        return (sum(b.n_nodes for b in self.bodies)
+                + sum(o.n_nodes for o in self.moving_obstacles))
+
     @property
     def points(self) -> np.ndarray:
-        """Coordinates of all nodes, (n_nodes, 2), m, in global numbering."""
-        if not self.bodies:
+        """Coordinates of all nodes, (n_nodes, 2), m, in global numbering (the bodies' nodes,
+        then the vertices of the moving obstacles)."""
+        parts = [b.points for b in self.bodies] + [o.points for o in self.moving_obstacles]
+        if not parts:
             return np.zeros((0, 2))
-        return np.vstack([b.points for b in self.bodies])
+        return np.vstack(parts)
 
     def global_nodes(self, ns: NodeSet) -> np.ndarray:
         """Global node indices of a node set (checks that the set is valid)."""

@@ -30,6 +30,7 @@ from stepcontact.model.items import (
     PrescribedDisplacement,
     Spring,
 )
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 
 #: local node permutation reversing a cell's orientation (corners, then mid-edge nodes, then the
 #: centre).  Gmsh, VTK and scikit-fem (P2 / serendipity / Q2) share this node order.
@@ -409,6 +410,15 @@ def _moved(b, f):
     raise ModelError("rotate/translate", f"expects a Body, Frame or Model, got {type(b).__name__}")
 
 
+def _moved_obstacle(itf, f):
+    """An interface whose rigid obstacle (``minus``) has its points mapped by ``f``."""
+    if not isinstance(itf.minus, RigidObstacle):
+        return itf
+    obs = itf.minus
+    return dataclasses.replace(itf, minus=dataclasses.replace(
+        obs, points=np.ascontiguousarray(f(np.array(obs.points).T).T)))
+
+
 def _rotated_spring(s: Spring, Q: np.ndarray) -> Spring:
     """A spring whose stiffness is Q k Qᵀ (its axes turned by the rotation Q)."""
     d = None if s.direction is None else tuple(float(v) for v in Q @ s.direction)
@@ -446,6 +456,11 @@ def _rotated_load(ld, Q: np.ndarray, item: str):
             raise ModelError(item, f"a prescribed {ld.dof} displacement cannot be rotated (it "
                                    "acts along a global axis)")
         return ld
+    if isinstance(ld, ObstacleMotion):
+        if ld.dx != 0 or ld.dy != 0:
+            raise ModelError(item, f"the motion of obstacle '{ld.name}' cannot be rotated (its "
+                                   "translation acts along the global axes)")
+        return ld
     changes = {}
     if hasattr(ld, "fx") and hasattr(ld, "fy"):  # nodal and total edge forces
         f = Q @ np.array([ld.fx, ld.fy], dtype=float)
@@ -460,12 +475,12 @@ def rotate(item, angle: float, about: tuple[float, float] = (0.0, 0.0), *,
     """A copy of a body, a frame or a whole model turned by ``angle`` (radians,
     counter-clockwise) about the point ``about`` (m).
 
-    What turns with a model: the nodes of every body and frame; the given ``normal`` of each
-    interface; the ``direction`` of each spring (and the axes of a spring with ``kx != ky``,
-    which becomes ``min(kx, ky)`` on both axes plus ``|kx − ky|`` along its turned stiffer
-    axis).  Node sets are local node indices, so they, the supports, ties, interfaces and loads
-    keep referring to the same nodes.  Edge pressures (``normal``, ``tangential``) follow the
-    turned edges by construction.
+    What turns with a model: the nodes of every body and frame; the points of rigid obstacles;
+    the given ``normal`` of each interface; the ``direction`` of each spring (and the axes of
+    a spring with ``kx != ky``, which becomes ``min(kx, ky)`` on both axes plus ``|kx − ky|``
+    along its turned stiffer axis).  Node sets are local node indices, so they, the supports,
+    ties, interfaces and loads keep referring to the same nodes.  Edge pressures (``normal``,
+    ``tangential``) follow the turned edges by construction.
 
     What does **not** turn (it lives in the global axes): gravity ``BodyForce.g``, nodal and
     edge forces given by (fx, fy), edge tractions given by global components, supports (a
@@ -507,8 +522,8 @@ def rotate(item, angle: float, about: tuple[float, float] = (0.0, 0.0), *,
     return item.replace(
         bodies=tuple(_moved(b, f) for b in item.bodies),
         interfaces=tuple(
-            i if i.normal is None else dataclasses.replace(
-                i, normal=tuple(float(v) for v in Q @ np.asarray(i.normal, float)))
+            _moved_obstacle(i if i.normal is None else dataclasses.replace(
+                i, normal=tuple(float(v) for v in Q @ np.asarray(i.normal, float))), f)
             for i in item.interfaces),
         springs=tuple(_rotated_spring(s, Q) for s in item.springs),
         patterns=patterns,
@@ -518,9 +533,9 @@ def rotate(item, angle: float, about: tuple[float, float] = (0.0, 0.0), *,
 def translate(item, offset: tuple[float, float]):
     """A copy of a body, a frame or a whole model moved by ``offset`` = (dx, dy), m.
 
-    Only node coordinates change (node sets are local indices and stay valid; directions,
-    normals and loads are unchanged).  Functions of position (pressures p(x, y), gaps g(x, y))
-    are evaluated at the new coordinates.
+    Only node coordinates (and the points of rigid obstacles) change (node sets are local
+    indices and stay valid; directions, normals and loads are unchanged).  Functions of
+    position (pressures p(x, y), gaps g(x, y)) are evaluated at the new coordinates.
 
     Example
     -------
@@ -536,7 +551,8 @@ def translate(item, offset: tuple[float, float]):
 
     if not isinstance(item, Model):
         return _moved(item, f)
-    return item.replace(bodies=tuple(_moved(b, f) for b in item.bodies))
+    return item.replace(bodies=tuple(_moved(b, f) for b in item.bodies),
+                        interfaces=tuple(_moved_obstacle(i, f) for i in item.interfaces))
 
 
 __all__ = ["QUAD_EDGES", "half_disc", "quad_region", "rectangle", "rotate", "translate"]

@@ -325,6 +325,8 @@ class Uplift:
         p = self.function()
         plus = model.body(itf.plus.body).points[itf.plus.index] if model is not None else None
         pm = p if plus is None else _Window.along(p, plus)
+        if not isinstance(itf.minus, NodeSet):  # a rigid obstacle takes its part itself
+            return (EdgeLoad(itf.plus, normal=p),)
         return (EdgeLoad(itf.plus, normal=p), EdgeLoad(itf.minus, normal=pm))
 
 

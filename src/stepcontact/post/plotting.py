@@ -170,6 +170,95 @@ def _pattern_of(res: StaticResult, seg: int) -> str:
     return "?"
 
 
+def _lam_text(v: float) -> str:
+    """A load factor as a label reads it: 5 significant digits, thousands grouped by spaces
+    from 10 000 on (``23544.0`` → ``"23 544"``, ``1.0`` → ``"1"``, ``0.25`` → ``"0.25"``)."""
+    v = float(v)
+    if not np.isfinite(v) or v == 0 or not 1e4 <= abs(v) < 1e9:
+        return f"{v:.5g}"
+    decimals = max(0, 5 - len(str(int(abs(v)))))
+    text = f"{v:,.{decimals}f}".replace(",", " ")
+    return text.rstrip("0").rstrip(".") if "." in text else text
+
+
+#: the corner peak of a contact-stress diagram: the end CFE of an interface at a body corner
+#: carrying more than this times the mean |σ_n| of its next two CFEs
+CORNER_RATIO = 2.0
+CORNER_NOTE = "corner singularity: refines with the mesh, not a physical value"
+
+
+def _body_corners(res: StaticResult) -> np.ndarray:
+    """(k, 2) corners of the outlines of the continuum bodies, m: boundary nodes where the
+    outline turns (by more than 10°); empty without geometry."""
+    geo = res.geometry or {}
+    if "points" not in geo or "bodies" not in geo:
+        return np.zeros((0, 2))
+    points = np.asarray(geo["points"], dtype=float)
+    out = []
+    for b in geo["bodies"]:
+        cells = np.asarray(b["cells"], dtype=np.int64)
+        if str(b.get("kind")) == "frame" or cells.ndim != 2 or cells.shape[1] < 3:
+            continue
+        ends = _boundary_edges(_cell_edges(cells, str(b.get("element", ""))))[:, [0, -1]]
+        if not len(ends):
+            continue
+        nodes, inv = np.unique(ends.ravel(), return_inverse=True)
+        inv = inv.reshape(-1, 2)
+        # unit directions of the two outline edges at each node (a node on more than two
+        # outline edges, or on one, is a corner)
+        d = points[ends[:, 1]] - points[ends[:, 0]]
+        d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+        count = np.bincount(inv.ravel(), minlength=len(nodes))
+        first = np.full((len(nodes), 2), np.nan)
+        turn = np.zeros(len(nodes))
+        for e, (a, c) in enumerate(inv):
+            for n in (a, c):
+                if np.isnan(first[n, 0]):
+                    first[n] = d[e]
+                else:
+                    turn[n] = abs(first[n, 0] * d[e, 1] - first[n, 1] * d[e, 0])
+        corner = (count != 2) | (turn > math.sin(math.radians(10.0)))
+        out.append(points[nodes[corner]])
+    return np.concatenate(out) if out else np.zeros((0, 2))
+
+
+def _corner_peaks(sig: np.ndarray, xc: np.ndarray, corners: np.ndarray) -> list[int]:
+    """Positions (0 or −1) in ``sig`` (σ_n of one interface's CFEs, ordered along s) of the
+    end CFEs at a body corner (within 3/4 of the spacing to the next CFE) whose |σ_n| is more
+    than :data:`CORNER_RATIO` times the mean |σ_n| of the next two CFEs."""
+    if sig.size < 3 or not len(corners):
+        return []
+    out = []
+    peak = float(np.max(np.abs(sig)))
+    for end, nxt in ((0, [1, 2]), (-1, [-2, -3])):
+        here = abs(float(sig[end]))
+        if here <= 1e-9 * peak or here <= CORNER_RATIO * float(np.mean(np.abs(sig[nxt]))):
+            continue
+        spacing = float(np.linalg.norm(xc[end] - xc[nxt[0]]))
+        if float(np.min(np.linalg.norm(corners - xc[end], axis=1))) <= 0.75 * spacing:
+            out.append(end)
+    return out
+
+
+def _note_corner_peaks(ax, sigmas: list[np.ndarray], s: np.ndarray, xc: np.ndarray,
+                       corners: np.ndarray, scale: float) -> None:
+    """Annotate each end of a σ_n diagram (``sigmas``: one array per drawn λ, Pa, CFEs in the
+    order of ``s``) that peaks at a body corner in any of the drawn λ (:func:`_corner_peaks`),
+    at its largest value."""
+    ends: dict[int, float] = {}
+    for sig in sigmas:
+        for end in _corner_peaks(sig, xc, corners):
+            if abs(sig[end]) > abs(ends.get(end, 0.0)):
+                ends[end] = float(sig[end])
+    for j, end in enumerate(e for e in (0, -1) if e in ends):
+        ax.annotate(  # one text, an arrow to each end
+            "" if j else CORNER_NOTE, (s[end], ends[end] / scale), xytext=(0.5, 0.96),
+            textcoords="axes fraction", ha="center", va="top", fontsize=7, color="0.25",
+            arrowprops={"arrowstyle": "->", "color": "0.4", "lw": 0.7},
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.7", "alpha": 0.85},
+        )
+
+
 def plot_interfaces(
     res: StaticResult,
     lams: Sequence[float] | float | None = None,
@@ -186,7 +275,14 @@ def plot_interfaces(
 
     * the normal contact stress σ_n = N/A (negative in compression), the diagram shaded,
     * the tangential stress τ = Q/A with the friction limits ±f|σ_n| dashed (eq. (1)),
-    * a strip with the state of each CFE (open / stick / slip+ / slip−) for each λ.
+    * a strip with the state of each CFE (open / stick / slip+ / slip−) for each λ, its rows
+      named by the pattern and λ (e.g. ``push λ=23 544``).
+
+    Where a σ_n diagram peaks at a corner of a body (the end CFE of an interface at a body
+    corner carries more than :data:`CORNER_RATIO` times the mean |σ_n| of the next two CFEs,
+    as under a rigid or stiff block), the peak is annotated "corner singularity: refines
+    with the mesh, not a physical value": the elastic corner stress is singular, the value
+    drawn is the mean over the end CFE and grows as the mesh is refined.
 
     Stresses are shown in MPa, kPa or Pa (whichever reads best; the unit is in the axis label).
     The values at any λ come from :meth:`StaticResult.interpolate` (exact: the path is linear
@@ -250,6 +346,8 @@ def plot_interfaces(
     fric = np.asarray(res.cfe["friction"], dtype=float)
     pos = np.asarray(res.cfe["s"], dtype=float)
     iface = np.asarray(res.cfe["interface"])
+    xc = np.asarray(res.cfe["x"], dtype=float).reshape(res.m, 2)
+    corners = _body_corners(res)
     all_sig = np.concatenate(
         [np.r_[snap["N"] / area, snap["Q"] / area] for _, _, snap in snaps]
     )
@@ -286,6 +384,8 @@ def plot_interfaces(
         for ax in (ax_n, ax_t):
             ax.axhline(0.0, color="k", lw=0.6)
             ax.grid(True, alpha=0.3)
+        _note_corner_peaks(ax_n, [snap["N"][k] / area[k] for _, _, snap in snaps], s,
+                           xc[k], corners, scale)
         ax_n.set_ylabel(rf"$\sigma_n$ = N/A, {unit} (compression < 0)")
         ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed")
 
@@ -302,7 +402,9 @@ def plot_interfaces(
             edges, np.arange(len(snaps) + 1) - 0.5, grid, cmap=cmap, norm=norm,
             edgecolors="white", linewidth=0.3,
         )
-        ax_s.set_yticks(np.arange(len(snaps)), [f"λ={v:.3g}" for _, v, _ in snaps], fontsize=7)
+        ax_s.set_yticks(np.arange(len(snaps)),
+                        [f"{_pattern_of(res, sg)} λ={_lam_text(v)}" for sg, v, _ in snaps],
+                        fontsize=7)
         ax_s.set_ylim(len(snaps) - 0.5, -0.5)
         ax_s.set_xlabel("position s along the interface, m")
         if c == 0:
@@ -648,6 +750,189 @@ def _segments_reached(res: StaticResult) -> list[int]:
 # --------------------------------------------------------------------------------------------
 # deformed shape
 # --------------------------------------------------------------------------------------------
+#: stress components of :func:`plot_deformed`: column of the (n_el, 4) element stresses
+#: σxx, σyy, σxy, σzz (−1: von Mises) and label
+_STRESS: dict[str, tuple[int, str]] = {
+    "sxx": (0, r"$\sigma_{xx}$"),
+    "syy": (1, r"$\sigma_{yy}$"),
+    "sxy": (2, r"$\sigma_{xy}$"),
+    "szz": (3, r"$\sigma_{zz}$"),
+    "mises": (-1, r"von Mises stress $\sigma_{vM}$"),
+}
+_STRESS_ALIASES = {"von_mises": "mises", "vm": "mises", "von mises": "mises", "svm": "mises"}
+#: the (at most) five load patterns' arrow colours
+_LOAD_COLORS = ("#e6194b", "#f58231", "#911eb4", "#000075", "#808000")
+
+
+def _stress_component(name: str) -> tuple[int, str]:
+    """(column, label) of a stress component name, or a ValueError listing the names."""
+    key = str(name).strip().lower()
+    key = _STRESS_ALIASES.get(key, key).replace("σ", "s").replace("sigma", "s")
+    key = key.replace("_", "").replace(" ", "")
+    if key in ("xx", "yy", "xy", "zz"):
+        key = "s" + key
+    if key not in _STRESS:
+        raise ValueError(f"stress={name!r}: use one of {', '.join(_STRESS)} (Pa)")
+    return _STRESS[key]
+
+
+def _cell_stress(bodies: list[dict], per_body: dict[str, np.ndarray], xy: np.ndarray,
+                 column: int) -> tuple[list[np.ndarray], np.ndarray]:
+    """(cell polygons at ``xy``, value of each cell, Pa) of the continuum bodies that have
+    element stresses: component ``column`` of σxx, σyy, σxy, σzz, or von Mises (−1)."""
+    polys: list[np.ndarray] = []
+    values = []
+    for b in bodies:
+        cells = np.asarray(b["cells"], dtype=np.int64)
+        sig = per_body.get(str(b["name"]))
+        if (sig is None or str(b.get("kind")) == "frame" or cells.ndim != 2
+                or cells.shape[1] < 3 or len(sig) != len(cells)):
+            continue
+        sig = np.asarray(sig, dtype=float)
+        if column >= 0:
+            v = sig[:, column]
+        else:
+            sx, sy, txy, sz = sig.T
+            v = np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2)
+                        + 3.0 * txy**2)
+        ring, _ = _ring(str(b.get("element", "")), cells.shape[1])
+        polys.extend(xy[cells[:, ring]])
+        values.append(v)
+    if not polys:
+        raise ValueError("no continuum body with element stresses to colour")
+    return polys, np.concatenate(values)
+
+
+def _draw_stress(fig: Figure, ax, polys: list[np.ndarray], values: np.ndarray,
+                 component: tuple[int, str]) -> None:
+    """Cells filled by ``values`` (Pa, one per cell) with a colour bar in MPa, kPa or Pa:
+    a diverging map symmetric about 0 for a component, a sequential one for von Mises."""
+    from matplotlib.collections import PolyCollection
+
+    div, unit = _stress_scale(values)
+    v = values / div
+    column, label = component
+    peak = float(np.max(np.abs(v), initial=0.0)) or 1.0
+    lim = (0.0, peak) if column < 0 else (-peak, peak)
+    pc = PolyCollection(polys, array=v, cmap="viridis" if column < 0 else "RdBu_r",
+                        edgecolors="none", zorder=1.5)
+    pc.set_clim(*lim)
+    ax.add_collection(pc)
+    fig.colorbar(pc, ax=ax, label=f"{label}, {unit}", shrink=0.9)
+
+
+def _label_bodies(ax, bodies: list[dict], xy: np.ndarray) -> None:
+    """Each body's name at its centroid (area-weighted over the cells; frames: the mean of
+    the element mid-points weighted by length), positions ``xy`` (m)."""
+    for j, b in enumerate(bodies):
+        cells = np.asarray(b["cells"], dtype=np.int64)
+        if not cells.size:
+            continue
+        if str(b.get("kind")) == "frame" or cells.shape[1] == 2:
+            ends = xy[cells[:, :2]]
+            w = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+            mid = ends.mean(axis=1)
+        else:
+            ring, _ = _ring(str(b.get("element", "")), cells.shape[1])
+            poly = xy[cells[:, ring]]
+            nxt = np.roll(poly, -1, axis=1)
+            cross = poly[..., 0] * nxt[..., 1] - nxt[..., 0] * poly[..., 1]
+            w = 0.5 * cross.sum(axis=1)  # signed areas of the cells
+            with np.errstate(invalid="ignore", divide="ignore"):
+                mid = np.einsum("cr,crk->ck", cross, poly + nxt) / (6.0 * w[:, None])
+        ok = np.isfinite(mid).all(axis=1) & (np.abs(w) > 0)
+        c = (np.average(mid[ok], axis=0, weights=np.abs(w[ok])) if ok.any()
+             else xy[np.unique(cells)].mean(axis=0))
+        ax.text(c[0], c[1], str(b["name"]), ha="center", va="center", fontsize=9,
+                fontweight="bold", color=f"C{j % 10}", zorder=6, gid="body_label",
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.75})
+
+
+def _nodal_forces(f: np.ndarray, dof_of: np.ndarray) -> np.ndarray:
+    """Nodal forces (n_nodes, 2), N, of a load vector ``f``: a DOF shared by tied nodes
+    counts once (at its first node)."""
+    out = np.zeros((len(dof_of), 2))
+    for c in (0, 1):
+        d = dof_of[:, c]
+        nodes = np.flatnonzero(d >= 0)
+        _, first = np.unique(d[nodes], return_index=True)
+        nodes = nodes[first]
+        out[nodes, c] = f[d[nodes]]
+    return out
+
+
+def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
+                 size: float) -> list[dict]:
+    """Arrows of the load patterns at state ``i`` (factor ≠ 0): for each, ``name``, ``lam``
+    (its factor; None for a water level), ``at`` (k, 2) arrow tips and ``vec`` (k, 2) arrow
+    vectors (m, scaled for visibility), ``F`` (F_x, F_y), N, and ``nodal`` (from the
+    assembled load vectors, else one arrow on the line of action of the resultant)."""
+    names = list(res.pattern_names)
+    factors = np.asarray(res.factors, dtype=float).reshape(res.n_states, -1)[i]
+    groups: dict[str, list[int]] = {}
+    virtual = {v: p for p, vs in res.level_patterns.items() for v in vs}
+    for j, name in enumerate(names):
+        groups.setdefault(virtual.get(name, name), []).append(j)
+    system = getattr(getattr(res._recover, "cond", None), "system", None)
+    loads = getattr(system, "loads", None)
+    nodal = isinstance(loads, dict) and all(n in loads for n in names)
+    R = np.asarray(res.load_resultants, dtype=float)
+    centre = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+    out = []
+    for name, idx in groups.items():
+        if not np.any(factors[idx] != 0):
+            continue
+        lam = None if name in res.level_patterns else float(factors[idx[0]])
+        if nodal:
+            F = sum(factors[j] * _nodal_forces(np.asarray(loads[names[j]].f, float), dof_of)
+                    for j in idx)
+            mag = np.linalg.norm(F, axis=1)
+            big = float(mag.max(initial=0.0))
+            keep = np.flatnonzero(mag > 1e-9 * big) if big > 0 else np.zeros(0, int)
+            if not keep.size:
+                continue
+            out.append({"name": name, "lam": lam, "at": xy[keep],
+                        "vec": F[keep] * (0.1 * size / big), "F": F.sum(axis=0),
+                        "nodal": True})
+            continue
+        if R.shape != (len(names), 3):
+            continue  # a result written before the resultants were stored
+        Fx, Fy, Mz = factors[idx] @ R[idx]
+        F2 = Fx * Fx + Fy * Fy
+        if not (np.isfinite(F2) and F2 > 0):
+            continue
+        # the point of the line of action x F_y − y F_x = M_z nearest the model's centre
+        s = (Mz - (centre[0] * Fy - centre[1] * Fx)) / F2
+        at = centre + s * np.array([Fy, -Fx])
+        if not np.all(np.isfinite(at)) or np.linalg.norm(at - centre) > size:
+            at = centre
+        vec = np.array([Fx, Fy]) * (0.15 * size / math.sqrt(F2))
+        out.append({"name": name, "lam": lam, "at": at[None, :], "vec": vec[None, :],
+                    "F": np.array([Fx, Fy]), "nodal": False})
+    return out
+
+
+def _draw_load_arrows(ax, arrows: list[dict]) -> list:
+    """The arrows of :func:`_load_arrows` (tips at the points of application) and their
+    legend handles: pattern, λ and the resultant (F_x, F_y)."""
+    from matplotlib.lines import Line2D
+
+    handles = []
+    for j, a in enumerate(arrows):
+        color = _LOAD_COLORS[j % len(_LOAD_COLORS)]
+        ax.quiver(a["at"][:, 0], a["at"][:, 1], a["vec"][:, 0], a["vec"][:, 1],
+                  angles="xy", scale_units="xy", scale=1.0, pivot="tip", color=color,
+                  width=0.004 if a["nodal"] else 0.007, zorder=5, gid=f"load:{a['name']}")
+        div, unit = _force_scale(np.asarray(a["F"]), 0)
+        at = "" if a["lam"] is None else f" at λ = {_lam_text(a['lam'])}"
+        where = "" if a["nodal"] else " (its line of action)"
+        handles.append(Line2D(
+            [], [], color=color, lw=2.0, marker=">", ms=6,
+            label=f"'{a['name']}'{at}: resultant F = ({a['F'][0] / div:.4g}, "
+                  f"{a['F'][1] / div:.4g}) {unit}{where}"))
+    return handles
+
+
 def plot_deformed(
     res: StaticResult,
     state: int | None = None,
@@ -655,6 +940,9 @@ def plot_deformed(
     path: str | os.PathLike[str] | None = None,
     *,
     dpi: float = DPI,
+    stress: str | None = None,
+    labels: bool = True,
+    loads: bool = True,
 ) -> Figure:
     """The deformed mesh of every body with the CFEs coloured by their contact state.
 
@@ -662,6 +950,15 @@ def plot_deformed(
     frames as lines between their displaced nodes.  The undeformed outlines are dashed grey.
     Each CFE is a dot at its displaced position (mean of its S+ and S− nodes), coloured by
     its state in the working scheme after the state (open / stick / slip+ / slip− / bonded).
+
+    Optionally the cells are coloured by a stress component of the state (``stress``: the
+    element stresses of :meth:`StaticResult.stress`, with a colour bar in MPa, kPa or Pa).
+    Each body is named at its centroid.  The loads of the patterns at the state (factor ≠ 0)
+    are drawn as arrows, one colour per pattern, each pattern scaled for visibility (its
+    longest arrow 10 % of the model size), its resultant (F_x, F_y) in the legend below: the
+    nodal forces of the assembled load vectors when the model is available (an in-memory
+    result, or after ``res.recover_fields(model)``), else one arrow per pattern on the line
+    of action of its stored resultant (:meth:`StaticResult.load_resultant`).
 
     Parameters
     ----------
@@ -678,15 +975,28 @@ def plot_deformed(
         Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
     dpi : float
         Resolution of a saved raster figure, dots per inch.
+    stress : str, optional
+        Colour the cells of the continuum bodies by this stress component (Pa): ``"sxx"``,
+        ``"syy"``, ``"sxy"``, ``"szz"`` (also ``"xx"``, ``"σyy"``, …) or ``"mises"`` (von
+        Mises equivalent stress, also ``"von_mises"``, ``"vm"``).
+    labels : bool
+        Name each body at its (deformed) centroid.
+    loads : bool
+        Draw the load arrows of the patterns at the state.
 
     Returns
     -------
     matplotlib.figure.Figure
+
+    Example
+    -------
+    >>> fig = plot_deformed(res, stress="mises", path="out/mises.png")  # doctest: +SKIP
     """
     out = _check_path(path, dpi)
     i = _state_index(res, res.n_states - 1 if state is None else state)
     if scale is not None and not (np.isfinite(scale) and scale > 0):
         raise ValueError(f"scale={scale}: the magnification must be a positive number")
+    component = None if stress is None else _stress_component(stress)
     points, dof_of, bodies = _geometry(res)
     un = _node_u(dof_of, _field(res, i))
     size = _extent(points)
@@ -694,13 +1004,28 @@ def plot_deformed(
     if scale is None:
         scale = _nice_floor(0.1 * size / umax) if umax > 0 else 1.0
     xy = points + scale * un
+    cells_stress = None
+    if component is not None:
+        try:
+            per_body = res.stress(i)
+        except KeyError as e:
+            raise ValueError(str(e.args[0])) from None
+        cells_stress = _cell_stress(bodies, per_body, xy, component[0])
+    arrows = _load_arrows(res, i, xy, dof_of, size) if loads else []
 
-    lo, hi = np.minimum(points.min(0), xy.min(0)), np.maximum(points.max(0), xy.max(0))
+    tips = [xy] + [np.r_[a["at"], a["at"] - a["vec"]] for a in arrows]
+    lo = np.minimum(points.min(0), np.min([v.min(0) for v in tips], axis=0))
+    hi = np.maximum(points.max(0), np.max([v.max(0) for v in tips], axis=0))
     w, h = np.maximum(hi - lo, 1e-3 * size)
     fig = _new_figure(figsize=(9.0, round(float(np.clip(9.0 * h / w + 1.2, 3.0, 9.0)), 1)))
     ax = fig.add_subplot()
     _draw_bodies(ax, bodies, points, reference=True)
     _draw_bodies(ax, bodies, xy)
+    if cells_stress is not None and component is not None:
+        _draw_stress(fig, ax, *cells_stress, component)
+    if labels:
+        _label_bodies(ax, bodies, xy)
+    load_handles = _draw_load_arrows(ax, arrows)
     handles = []
     if res.m:
         codes = np.asarray(res.state)[i]
@@ -718,6 +1043,10 @@ def plot_deformed(
     ax.grid(True, alpha=0.2)
     if handles:
         ax.legend(handles=handles, title="CFE state", fontsize=8, title_fontsize=8, loc="best")
+    if load_handles:
+        fig.legend(handles=load_handles, loc="outside lower center", fontsize=8,
+                   title="loads (arrows scaled for visibility)", title_fontsize=8,
+                   frameon=False, ncol=1 if len(load_handles) > 2 else len(load_handles))
     seg = int(res.segment[i])
     fig.suptitle(
         f"Deformed shape at state {i} ({res.kind[i]}, '{_pattern_of(res, seg)}' "
@@ -738,7 +1067,8 @@ def _resolve_node(
     comp: int,
     u_last: np.ndarray,
 ) -> int:
-    """Global node index from an index, coordinates (m) or None (largest |u| at the end)."""
+    """Global node index from an index, coordinates (m) or None (the largest value of
+    ``u_last`` — a displacement vector, or |u| of each DOF over the path — in ``comp``)."""
     points, dof_of, bodies = _geometry(res)
     names = [str(b["name"]) for b in bodies]
     owner = np.full(len(points), -1)
@@ -780,6 +1110,40 @@ def _resolve_node(
     return int(near[0])
 
 
+def _most_moving(res: StaticResult, node: int | Sequence[float] | None, body: str | None,
+                 comp: int, peak: np.ndarray) -> tuple[int, int]:
+    """(node, component) of the load–displacement curve: ``node`` (or the node with the
+    largest ``peak`` — |u| of each DOF over the path — in ``comp``) and ``comp`` (or, when
+    −1, the one of u_x, u_y in which it moves most)."""
+    if comp >= 0:
+        return _resolve_node(res, node, body, comp, peak), comp
+    _, dof_of, _ = _geometry(res)
+    best: tuple[float, int, int] | None = None
+    for c in (0, 1):
+        try:
+            k = _resolve_node(res, node, body, c, peak)
+        except ValueError:
+            if c == 0:
+                continue
+            if best is None:
+                raise
+            break
+        if best is None or peak[dof_of[k, c]] > best[0]:
+            best = (float(peak[dof_of[k, c]]), k, c)
+    assert best is not None
+    return best[1], best[2]
+
+
+def _mark_equilibrium_lost(ax, x: float, y: float, lam: float) -> None:
+    """The star and text "equilibrium lost, λ = …" at (x, y) of a λ–u curve."""
+    ax.plot([x], [y], ls="none", marker="*", ms=15, mfc="gold", mec="k", mew=0.6, zorder=5,
+            gid="equilibrium_lost")
+    ax.annotate(f"equilibrium lost, λ = {_lam_text(lam)}", (x, y), xytext=(0.98, 0.04),
+                textcoords="axes fraction", ha="right", va="bottom", fontsize=8,
+                arrowprops={"arrowstyle": "->", "color": "0.4", "lw": 0.7},
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.6", "alpha": 0.9})
+
+
 def _force_scale(values: np.ndarray, comp: int) -> tuple[float, str]:
     """Divisor and unit for forces (N, kN, MN) or moments (N·m, kN·m, MN·m)."""
     big = float(np.max(np.abs(values), initial=0.0))
@@ -790,7 +1154,7 @@ def _force_scale(values: np.ndarray, comp: int) -> tuple[float, str]:
 def plot_load_displacement(
     res: StaticResult,
     node: int | Sequence[float] | None = None,
-    dof: str = "y",
+    dof: str | None = None,
     path: str | os.PathLike[str] | None = None,
     *,
     body: str | None = None,
@@ -807,15 +1171,22 @@ def plot_load_displacement(
     model with ``res.recover_fields(model)``) recomputes those not stored in one solve; a
     result loaded from a file without its model has them only with ``store_fields='all'``.
 
+    By default the curve is that of the node and direction (u_x or u_y) that moves most over
+    the whole path (the largest |u| at any reported state), stated in the axis label.  Where a
+    segment lost equilibrium (``res.multipliers[s].equilibrium_lost``) its last state is marked
+    by a star and the text "equilibrium lost, λ = …".
+
     Parameters
     ----------
     res : StaticResult
     node : int or (x, y), optional
         Global node index, or coordinates in m (the nearest node; ``body`` chooses between
         coincident nodes of different bodies).  Default: the node with the largest |u| in
-        ``dof`` at the last state.
-    dof : "x", "y" or "rz"
+        ``dof`` over the path (at any reported state).
+    dof : "x", "y" or "rz", optional
         Displacement component u_x, u_y (m) or the rotation φ_z of a frame node (rad).
+        Default: the one of u_x, u_y that moves most over the path (of ``node``, or of the
+        node that moves most); for ``reaction``, "y".
     path : str or PathLike, optional
         Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
     body : str, optional
@@ -836,11 +1207,13 @@ def plot_load_displacement(
     matplotlib.figure.Figure
     """
     out = _check_path(path, dpi)
-    if dof not in _DOFS:
+    if dof is not None and dof not in _DOFS:
         raise ValueError(f"dof={dof!r}: use 'x', 'y' or 'rz'")
     if axis not in ("lam", "path"):
         raise ValueError(f"axis={axis!r}: use 'lam' or 'path'")
-    comp = _DOFS[dof]
+    if reaction is not None and dof is None:
+        dof = "y"
+    comp = -1 if dof is None else _DOFS[dof]
     if reaction is not None:
         try:
             u = res.reaction(reaction, dof)
@@ -850,14 +1223,17 @@ def plot_load_displacement(
         xlabel = f"reaction of '{reaction}' along {dof} (on the structure), {unit}"
     else:
         U = _all_fields(res)
-        k = _resolve_node(res, node, body, comp, U[-1])
         points, dof_of, bodies = _geometry(res)
+        peak = np.abs(U).max(axis=0, initial=0.0)  # |u| of every DOF over the path
+        k, comp = _most_moving(res, node, body, comp, peak)
         u = U[:, dof_of[k, comp]]
         div, unit = (1.0, "rad") if comp == 2 else _length_scale(u)
         owner = next((str(b["name"]) for b in bodies if np.any(np.asarray(b["cells"]) == k)),
                      "?")
+        why = ("; moves most over the path" if node is None and dof is None else
+               "; largest |u| over the path" if node is None else "")
         xlabel = (f"{_DOF_LABEL[comp]} of node {k} ('{owner}', x = {points[k, 0]:.4g} m, "
-                  f"y = {points[k, 1]:.4g} m), {unit}")
+                  f"y = {points[k, 1]:.4g} m{why}), {unit}")
 
     segs = _segments_reached(res)
     panels = len(segs) if axis == "lam" else 1
@@ -880,6 +1256,11 @@ def plot_load_displacement(
             seen.append(tr)
         if axis == "lam":
             ax.set_ylabel(f"λ of '{_pattern_of(res, s)}'")
+        lost = next((mu.equilibrium_lost for mu in res.multipliers
+                     if mu.segment == s and mu.equilibrium_lost is not None), None)
+        if lost is not None and idx.size:
+            _mark_equilibrium_lost(ax, u[idx[-1]] / div, lost if axis == "lam" else lam[-1],
+                                   lost)
     for ax in axes:
         ax.grid(True, alpha=0.3)
         ax.axvline(0.0, color="k", lw=0.5)
@@ -905,7 +1286,8 @@ def plot_event_timeline(
     """Which CFE changed to which state at which λ.
 
     One row of panels per interface (y: position s along it, m) and one column per segment
-    reached (x: λ of its pattern).  Every CFE is a horizontal bar coloured by its state between
+    reached (x: λ of its pattern; titled with the pattern and the λ range it covered, e.g.
+    ``segment 1: push λ=0 → 23 544``).  Every CFE is a horizontal bar coloured by its state between
     consecutive reported states; each event is a marker at (λ, s) shaped and coloured by its
     transition.
 
@@ -969,8 +1351,9 @@ def plot_event_timeline(
             if 0 <= s < len(res.segments) and res.segments[s][2] < res.segments[s][1]:
                 ax.invert_xaxis()  # unloading: λ decreases along the path
             ax.grid(True, alpha=0.3)
-            if r == 0:
-                ax.set_title(f"segment {s}: '{_pattern_of(res, s)}'", fontsize=9)
+            if r == 0 and lam.size:
+                ax.set_title(f"segment {s}: {_pattern_of(res, s)} λ={_lam_text(lam[0])} → "
+                             f"{_lam_text(lam[-1])}", fontsize=9)
             if r == nrow - 1:
                 ax.set_xlabel(f"λ of '{_pattern_of(res, s)}'")
             if c == 0:

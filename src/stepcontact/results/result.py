@@ -340,6 +340,10 @@ class StaticResult:
         chooses among coincident nodes of different bodies, which is otherwise an error).
         ``body`` alone: every node of that body.
         """
+        if "points" not in self.geometry and "dof_names" in self.geometry:
+            raise ValueError("the result of a discrete model has no nodes: its DOFs are the "
+                             "columns of res.displacements(), named by "
+                             "res.geometry['dof_names']")
         points = np.asarray(self.geometry.get("points", np.zeros((0, 2))), dtype=float)
         n = len(points)
         bodies = self._bodies()

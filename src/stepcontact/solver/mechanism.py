@@ -51,6 +51,23 @@ def classify(points: np.ndarray, u: np.ndarray) -> dict:
             "centre": None if centre is None else [float(c) for c in centre]}
 
 
+def dof_mode(discrete, u: np.ndarray, limit: int = 8) -> dict:
+    """The mechanism of a discrete model: ``{"body": its name, "mode": "moves along …",
+    "dofs": {DOF name: component}}``, the mode scaled to a largest component of 1 (its sign
+    chosen positive) and the components below 1e-3 left out."""
+    u = np.asarray(u, dtype=float)
+    big = int(np.argmax(np.abs(u))) if u.size else 0
+    scale = u[big] if u.size and u[big] != 0 else 1.0
+    v = u / scale
+    keep = np.flatnonzero(np.abs(v) >= 1e-3)
+    keep = keep[np.argsort(-np.abs(v[keep]), kind="stable")]
+    names = discrete.dof_names
+    parts = [f"{names[d]} {v[d]:.4g}" for d in keep[:limit]]
+    more = f" and {keep.size - limit} more" if keep.size > limit else ""
+    return {"body": discrete.name, "mode": f"moves along ({', '.join(parts)}{more})",
+            "dofs": {names[d]: float(v[d]) for d in keep}}
+
+
 def describe_mechanism(engine: EventEngine, cond, system, states: np.ndarray,
                        f: np.ndarray) -> list[dict]:
     """Bodies that move in the mechanism of scheme ``states`` and their modes: among the null
@@ -65,6 +82,8 @@ def describe_mechanism(engine: EventEngine, cond, system, states: np.ndarray,
     U = np.column_stack([cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
     work = f @ U
     u = U @ np.linalg.lstsq(U.T @ U, work, rcond=None)[0] if np.any(work != 0) else U[:, 0]
+    if system.discrete is not None:  # DOFs without nodes: the mode shape by DOF
+        return [dof_mode(system.discrete, u)]
     off = model.node_offsets
     umax = np.abs(u).max() or 1.0
     bodies = []

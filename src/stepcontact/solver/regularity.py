@@ -288,6 +288,12 @@ def describe_free_bodies(system: System, Z: np.ndarray, free: np.ndarray,
     Y = np.zeros((system.ndof, Z.shape[1]))
     Y[free] = w[free, None] * Z  # orthonormal: the null modes in D^{1/2}-scaled DOFs
     out = []
+    if system.discrete is not None and Y.shape[1]:  # DOFs without nodes: name the DOFs
+        moving = np.flatnonzero(np.linalg.norm(Y, axis=1) > MOVE_TOL)
+        names = [system.discrete.dof_names[d] for d in moving[:12]]
+        more = f" and {moving.size - 12} more" if moving.size > 12 else ""
+        out.append(f"DOFs {', '.join(names)}{more} can move freely ({Y.shape[1]} "
+                   f"mode{'s' if Y.shape[1] > 1 else ''})")
     for body in system.model.bodies:
         dofs, R, xbar, L = _rigid_basis(system, body)
         if Y.shape[1] == 0 or dofs.size == 0:

@@ -28,7 +28,7 @@ from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
 from stepcontact.errors import ContactHeldWarning, ModelError
 from stepcontact.fem.assembly import System, assemble, load_resultants
-from stepcontact.model import Model
+from stepcontact.model import DiscreteModel, Model
 from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, Condensed
@@ -159,10 +159,13 @@ def _named_node_sets(model: Model) -> dict[str, np.ndarray]:
     first of a name wins), for results per node, as plain arrays: ``node_set_names`` (k,),
     ``node_set_offsets`` (k + 1,) and ``node_set_nodes`` (global node ids of set j at
     offsets[j]:offsets[j + 1])."""
+    from stepcontact.model import NodeSet
+
     sets = [s.nodes for s in model.supports]
     sets += [ns for t in model.ties for ns in (t.a, t.b)]
     sets += [ns for sp in model.springs for ns in (sp.a, sp.b) if ns is not None]
-    sets += [ns for i in model.interfaces for ns in (i.plus, i.minus)]
+    sets += [ns for i in model.interfaces for ns in (i.plus, i.minus)
+             if isinstance(ns, NodeSet)]  # (not a rigid obstacle)
     sets += [ld.nodes for p in model.patterns for ld in p.loads if hasattr(ld, "nodes")]
     named: dict[str, np.ndarray] = {}
     for ns in sets:
@@ -578,6 +581,9 @@ class StaticSolver:
         """(n_patterns, 3) resultant F_x, F_y (N), M_z about the origin (N·m) of every
         pattern's forces per unit λ, computed once."""
         if getattr(self, "_load_resultants", None) is None:
+            if self.sys.discrete is not None:  # DOFs without coordinates: no resultants
+                self._load_resultants = np.zeros((0, 3))
+                return self._load_resultants
             r = load_resultants(self.sys)
             self._load_resultants = np.array([r[n] for n in self.c]).reshape(len(self.c), 3)
         return self._load_resultants
@@ -598,6 +604,8 @@ class StaticSolver:
         }
         model = self.sys.model
         geometry = {
+            "dof_names": np.array(self.sys.discrete.dof_names, dtype=str),
+        } if self.sys.discrete is not None else {
             "points": model.points,
             "dof_of": self.sys.dofs.of,
             "bodies": [
@@ -636,7 +644,7 @@ class StaticSolver:
 
 
 def solve_static(
-    model: Model | System,
+    model: Model | DiscreteModel | System,
     *,
     slip: str = "exact",
     eps_p: float = 0.01,
@@ -653,8 +661,10 @@ def solve_static(
 
     Parameters
     ----------
-    model : Model or System
-        The model (assembled here) or an already assembled :class:`~stepcontact.fem.System`.
+    model : Model, DiscreteModel or System
+        The model (assembled here), a structure given by its matrices
+        (:class:`~stepcontact.model.DiscreteModel`) or an already assembled
+        :class:`~stepcontact.fem.System`.
     slip : "exact" or "article"
         Slip treatment: ``exact`` writes Q = σ f (−N) into the working scheme (all events exact);
         ``article`` uses the article's ε_p step limit and compensating forces, eqs. (4)–(6).

@@ -1,0 +1,338 @@
+"""Discrete models: a structure given by its matrices (stiffness, contact rows, loads).
+
+For researchers and textbook systems: the same event-driven solver, results and reports as a
+finite-element :class:`~stepcontact.model.Model`, without a mesh.  The degrees of freedom are
+numbered 0 … n−1 (optionally named); CFE k is given by two rows over them:
+
+.. math::
+
+    u_{nk} = -\\,a_k \\cdot u - g_k^0, \\qquad u_{\\tau k} = t_k \\cdot u
+
+``a_k`` (``normal_rows[k]``) gives the *opening* of the contact, the growth of the distance
+between its two sides (n·(u⁺ − u⁻) in the notation of :mod:`stepcontact.contact.geometry`), and
+``t_k`` (``tangent_rows[k]``) the slip of the S+ side relative to S− along the CFE tangent.  So
+the gap is g_k⁰ + a_k · u ≥ 0 (u_n ≤ 0: no interpenetration), N_k ≤ 0 is compression and
+|Q_k| ≤ −f_k N_k.  The contact forces act on the structure as K u = f + a_k (−N_k) − t_k Q_k:
+a compressed contact pushes its S+ side open, friction opposes the slip.
+
+Example: a point on a rough floor (DOFs u_x, u_y; u_y > 0 lifts it), pressed down, then pushed
+along x:
+
+>>> import stepcontact as sc                                           # doctest: +SKIP
+>>> dm = sc.DiscreteModel(
+...     K=[[2e3, -1e3], [-1e3, 2e3]], normal_rows=[[0, 1]], tangent_rows=[[1, 0]],
+...     loads={"press": {"uy": -1.0}, "push": {"ux": 1.0}}, friction=0.5,
+...     dof_names=("ux", "uy"),
+...     program=[sc.Segment("press", 100.0), sc.Segment("push", 300.0)])
+>>> round(sc.solve_static(dm).multipliers[1].first_slip, 9)           # doctest: +SKIP
+50.0
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from stepcontact.errors import ModelError
+from stepcontact.model.items import LoadPattern, Model, Segment
+
+#: relative asymmetry of K accepted as round-off
+SYMMETRY_RTOL = 1e-10
+#: DOF count up to which K is checked to be positive semi-definite by its eigenvalues
+PSD_CHECK_MAX = 400
+
+
+def _matrix(value, item: str, shape: tuple[int | None, int | None]) -> sp.csr_matrix:
+    """A finite real sparse matrix of ``shape`` (None: any size) from dense or sparse input."""
+    if sp.issparse(value):
+        A = sp.csr_matrix(value, dtype=float)
+    else:
+        try:
+            a = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError(item, "must be a matrix of numbers") from None
+        if a.ndim == 1 and shape[0] is not None and shape[0] <= 1:
+            a = a[None, :]
+        if a.ndim != 2:
+            raise ModelError(item, f"must be a 2D matrix, got an array of shape {a.shape}")
+        A = sp.csr_matrix(a)
+    for j, want in enumerate(shape):
+        if want is not None and A.shape[j] != want:
+            raise ModelError(item, f"has shape {A.shape}, expected "
+                             f"{tuple('any' if w is None else w for w in shape)}")
+    if not np.all(np.isfinite(A.data)):
+        raise ModelError(item, "contains NaN or inf")
+    A.eliminate_zeros()
+    return A
+
+
+def _per_cfe(value, m: int, item: str, *, low: float = 0.0, inf_ok: bool = False,
+             strict: bool = False) -> np.ndarray:
+    """A value per CFE (a scalar for all of them, or m values) checked to be ≥ ``low``
+    (> with ``strict``), finite unless ``inf_ok``."""
+    a = np.asarray(value, dtype=float)
+    if a.ndim == 0:
+        a = np.full(m, float(a))
+    if a.shape != (m,):
+        raise ModelError(item, f"give one value or {m} (one per CFE), got shape {a.shape}")
+    bad = np.isnan(a) | (~np.isfinite(a) & ~inf_ok) | (a <= low if strict else a < low)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        cmp = ">" if strict else "≥"
+        raise ModelError(f"{item}[{k}]", f"must be {cmp} {low:g}"
+                         f"{'' if inf_ok else ' and finite'}, got {a[k]}")
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class DiscreteModel:
+    """A structure given by matrices: stiffness, contact rows, loads, supports.
+
+    Parameters
+    ----------
+    K : (n, n) array or sparse matrix
+        Symmetric stiffness of the structure without its contacts, N/m (N·m/rad for
+        rotations).  Springs to the ground are part of K.
+    normal_rows : (m, n)
+        Row k gives the opening a_k · u of CFE k: u_n = −a_k · u − g_k⁰ (module docstring).
+    tangent_rows : (m, n)
+        Row k gives the slip u_τ = t_k · u of CFE k.
+    loads : {pattern: force vector}
+        Forces per unit load factor, N: an (n,) vector, or {dof: value} (a DOF by index or
+        by name).
+    program : sequence of Segment
+        The load program, as for a :class:`~stepcontact.model.Model`.
+    fixed : sequence of DOFs, or (n,) bool
+        DOFs held at zero (their reactions are ``res.reaction("fixed", dof_name)``).
+    prescribed : {pattern: {dof: value}}
+        Displacements per unit load factor of ``pattern`` (m or rad); those DOFs are held
+        from the start of the program (reactions ``res.reaction(pattern, dof_name)``).
+    gaps : float or (m,)
+        Initial gaps g⁰ ≥ 0, m.
+    friction : float or (m,)
+        Friction coefficients f ≥ 0.
+    kn, kt : float or (m,)
+        Contact-layer stiffnesses C_n, C_τ > 0 of eq. (11), N/m (``inf``: rigid contact).
+    names : str or sequence of m str
+        CFE names: CFEs of one name form an interface of the result (``res.interface_names``;
+        ``local`` numbers them in order).  One string names them all.
+    dof_names : sequence of n str, optional
+        Names of the DOFs (default ``u0``, ``u1``, …), for loads, supports and reactions.
+    name : str
+
+    The CFEs carry no geometry: in the result their coordinates and normals are NaN, their
+    position along the interface is their number within their name and their area is 1 (so
+    σ_n and τ equal N and Q in value).  Plots and exports of the deformed mesh and results
+    per node are not available (a ValueError says so); everything else (events,
+    multipliers, N, Q, states, reactions, summaries, result files, the interface diagrams)
+    is the same as for a finite-element model.
+
+    Example
+    -------
+    >>> dm = DiscreteModel([[1e3]], [[1.0]], [[0.0]], loads={"P": [-1.0]},
+    ...                    program=[Segment("P", 10.0)])                   # doctest: +SKIP
+    """
+
+    K: object
+    normal_rows: object
+    tangent_rows: object
+    loads: Mapping = field(default_factory=dict)
+    program: Sequence[Segment] = ()
+    fixed: object = ()
+    prescribed: Mapping = field(default_factory=dict)
+    gaps: object = 0.0
+    friction: object = 0.0
+    kn: object = np.inf
+    kt: object = np.inf
+    names: object = "contact"
+    dof_names: Sequence[str] | None = None
+    name: str = "discrete"
+
+    def __post_init__(self):
+        put = object.__setattr__
+        K = _matrix(self.K, "K", (None, None))
+        n = K.shape[0]
+        if K.shape != (n, n) or n == 0:
+            raise ModelError("K", f"must be a square, non-empty matrix, got shape {K.shape}")
+        asym = abs(K - K.T)
+        scale = float(abs(K).max()) if K.nnz else 0.0
+        if asym.nnz and float(asym.max()) > SYMMETRY_RTOL * scale:
+            r, c = (int(v[0]) for v in asym.nonzero())
+            raise ModelError("K", f"is not symmetric: K[{r}, {c}] = {K[r, c]:g} but "
+                             f"K[{c}, {r}] = {K[c, r]:g}")
+        diag = K.diagonal()
+        if np.any(diag < 0):
+            d = int(np.flatnonzero(diag < 0)[0])
+            raise ModelError("K", f"has a negative diagonal entry K[{d}, {d}] = {diag[d]:g}: "
+                             "a stiffness must be positive semi-definite")
+        if n <= PSD_CHECK_MAX and scale > 0:
+            low = float(np.linalg.eigvalsh(K.toarray())[0])
+            if low < -1e-10 * scale * n:
+                raise ModelError("K", f"is not positive semi-definite (an eigenvalue is "
+                                 f"{low:.3g}): a stiffness must be")
+        put(self, "K", K)
+
+        names = self.dof_names
+        if names is None:
+            names = tuple(f"u{i}" for i in range(n))
+        else:
+            names = tuple(str(v) for v in names)
+            if len(names) != n:
+                raise ModelError("dof_names", f"give {n} names (one per DOF), got {len(names)}")
+            dup = sorted({v for v in names if names.count(v) > 1})
+            if dup:
+                raise ModelError("dof_names", f"duplicate name '{dup[0]}'")
+        put(self, "dof_names", names)
+
+        An = _matrix(self.normal_rows, "normal_rows", (None, n))
+        m = An.shape[0]
+        At = _matrix(self.tangent_rows, "tangent_rows", (m, n))
+        for item, A in (("normal_rows", An), ("tangent_rows", At)):
+            empty = np.flatnonzero(A.getnnz(axis=1) == 0)
+            if empty.size and item == "normal_rows":
+                raise ModelError(f"normal_rows[{int(empty[0])}]", "is all zero: the CFE "
+                                 "would not connect anything")
+        put(self, "normal_rows", An)
+        put(self, "tangent_rows", At)
+        put(self, "gaps", _per_cfe(self.gaps, m, "gaps"))
+        put(self, "friction", _per_cfe(self.friction, m, "friction"))
+        put(self, "kn", _per_cfe(self.kn, m, "kn", inf_ok=True, strict=True))
+        put(self, "kt", _per_cfe(self.kt, m, "kt", inf_ok=True, strict=True))
+        frictional = self.friction > 0
+        no_t = At.getnnz(axis=1) == 0
+        if np.any(frictional & no_t):
+            k = int(np.flatnonzero(frictional & no_t)[0])
+            raise ModelError(f"tangent_rows[{k}]", f"is all zero but the CFE has friction "
+                             f"{self.friction[k]:g}: give its slip row or friction 0")
+        cfe_names = self.names
+        if isinstance(cfe_names, str):
+            cfe_names = (cfe_names,) * m
+        else:
+            cfe_names = tuple(str(v) for v in cfe_names)
+            if len(cfe_names) != m:
+                raise ModelError("names", f"give one name or {m} (one per CFE), got "
+                                 f"{len(cfe_names)}")
+        put(self, "names", cfe_names)
+
+        fixed = self._dof_mask(self.fixed, "fixed")
+        put(self, "fixed", fixed)
+        if not isinstance(self.loads, Mapping):
+            raise ModelError("loads", "must be a mapping {pattern: force vector}")
+        if not isinstance(self.prescribed, Mapping):
+            raise ModelError("prescribed", "must be a mapping {pattern: {dof: value}}")
+        loads = {str(p): self._vector(v, f"loads['{p}']") for p, v in self.loads.items()}
+        prescribed = {}
+        for p, spec in self.prescribed.items():
+            item = f"prescribed['{p}']"
+            if not isinstance(spec, Mapping):
+                raise ModelError(item, "must be a mapping {dof: value}")
+            u = self._vector(spec, item)
+            mask = self._dof_mask(list(spec), item)
+            both = mask & fixed
+            if both.any():
+                raise ModelError(item, f"DOF '{names[int(np.flatnonzero(both)[0])]}' is also "
+                                 "in 'fixed'")
+            prescribed[str(p)] = {names[d]: float(u[d]) for d in np.flatnonzero(mask)}
+        put(self, "loads", loads)
+        put(self, "prescribed", prescribed)
+        put(self, "program", tuple(self.program))
+        for i, seg in enumerate(self.program):
+            if not isinstance(seg, Segment):
+                raise ModelError(f"program[{i}]", f"must be a Segment, got {type(seg).__name__}")
+        self.as_model().segments_resolved()  # names the segment that does not chain
+
+    # ---- input helpers --------------------------------------------------------------------
+    @property
+    def ndof(self) -> int:
+        return self.K.shape[0]
+
+    @property
+    def m(self) -> int:
+        return self.normal_rows.shape[0]
+
+    def dof(self, key, item: str = "dof") -> int:
+        """Index of a DOF given by index or by name."""
+        n = self.K.shape[0]
+        if isinstance(key, str):
+            if key not in self.dof_names:
+                raise ModelError(item, f"no DOF named '{key}' (DOFs: "
+                                 f"{', '.join(self.dof_names[:12])}{' …' if n > 12 else ''})")
+            return self.dof_names.index(key)
+        if isinstance(key, bool) or not isinstance(key, int | np.integer):
+            raise ModelError(item, f"a DOF is an index or a name, got {key!r}")
+        if not 0 <= int(key) < n:
+            raise ModelError(item, f"DOF {key} does not exist (DOFs 0…{n - 1})")
+        return int(key)
+
+    def _dof_mask(self, spec, item: str) -> np.ndarray:
+        n = self.K.shape[0]
+        a = np.asarray(spec) if not isinstance(spec, str) else np.asarray([spec])
+        if a.dtype == bool:
+            if a.shape != (n,):
+                raise ModelError(item, f"a mask must have {n} entries, got shape {a.shape}")
+            return a.copy()
+        mask = np.zeros(n, dtype=bool)
+        for j, key in enumerate(a.reshape(-1).tolist()):
+            mask[self.dof(key, f"{item}[{j}]")] = True
+        return mask
+
+    def _vector(self, spec, item: str) -> np.ndarray:
+        n = self.K.shape[0]
+        if isinstance(spec, Mapping):
+            v = np.zeros(n)
+            for key, val in spec.items():
+                try:
+                    val = float(val)
+                except (TypeError, ValueError):
+                    raise ModelError(f"{item}[{key!r}]", f"must be a number, got {val!r}") from None
+                v[self.dof(key, f"{item}[{key!r}]")] += val
+        else:
+            try:
+                v = np.asarray(spec.toarray() if sp.issparse(spec) else spec, dtype=float)
+            except (TypeError, ValueError):
+                raise ModelError(item, "must be a vector of numbers or {dof: value}") from None
+            v = v.reshape(-1) if v.size == n else v
+            if v.shape != (n,):
+                raise ModelError(item, f"must have {n} entries (one per DOF), got shape "
+                                 f"{v.shape}")
+        if not np.all(np.isfinite(v)):
+            raise ModelError(item, "contains NaN or inf")
+        return v
+
+    # ---- what the solver and the results need ---------------------------------------------
+    @property
+    def pattern_names(self) -> tuple[str, ...]:
+        return tuple(dict.fromkeys([*self.loads, *self.prescribed]))
+
+    def as_model(self) -> Model:
+        """The load program as a :class:`~stepcontact.model.Model` without bodies (patterns by
+        name only): what the solver reads of a model besides the matrices."""
+        return Model(patterns=tuple(LoadPattern(p) for p in self.pattern_names),
+                     program=self.program, name=self.name)
+
+    def prescribed_vectors(self, pattern: str) -> tuple[np.ndarray, np.ndarray]:
+        """(u (n,) per unit factor, prescribed DOFs) of ``pattern``."""
+        u = np.zeros(self.ndof)
+        spec = self.prescribed.get(pattern, {})
+        dofs = np.array(sorted(self.dof(k) for k in spec), dtype=np.int64)
+        for k, v in spec.items():
+            u[self.dof(k)] = v
+        return u, dofs
+
+    def segments_resolved(self) -> list[tuple[str, float, float]]:
+        return self.as_model().segments_resolved()
+
+    def replace(self, **changes) -> DiscreteModel:
+        """A copy with fields replaced (checked again)."""
+        return dataclasses.replace(self, **changes)
+
+    def add(self, *segments: Segment) -> DiscreteModel:
+        """A copy with ``segments`` appended to the load program."""
+        return self.replace(program=(*self.program, *segments))
+
+
+__all__ = ["DiscreteModel"]
