@@ -146,9 +146,12 @@ def test_huge_friction_never_slides(f):
                    for e in res.events)
 
 
-def test_body_lifted_straight_off_is_lift_off():
-    """Gravity reversed on a block resting on a base: a translation, not an overturning."""
-    m = vm.block_on_base(friction=0.5, nx=6, ny=2, cfe="node-to-segment")
+@pytest.mark.parametrize("cfe", ["mortar", "node-to-segment"])
+def test_body_lifted_straight_off_is_lift_off(cfe):
+    """Gravity reversed on a block resting on a base: a translation, not an overturning (with
+    mortar CFEs the rate problem at this degenerate point may keep a force-free CFE closed;
+    the mechanism reported is then the scheme with it opened, whose motion opens it)."""
+    m = vm.block_on_base(friction=0.5, nx=6, ny=2, cfe=cfe)
     m = m.add(sc.LoadPattern("up", [sc.BodyForce(bodies=("block",), g=(0.0, 9.81))]),
               sc.Segment("up", 1.0))
     res = sc.solve_static(m)

@@ -68,20 +68,51 @@ def dof_mode(discrete, u: np.ndarray, limit: int = 8) -> dict:
             "dofs": {names[d]: float(v[d]) for d in keep}}
 
 
+def _mode(engine: EventEngine, cond, system, states: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Displacement (ndof,) of the mechanism of scheme ``states`` along the load rate ``f``."""
+    rel = engine.relations(states, article=False)
+    A, scale = engine.schemes.dense(rel)
+    k = min(3 * max(len(system.model.bodies), 1), A.shape[0])
+    T = null_modes(A, lu(A), k=k, apply=engine.schemes.exact_apply(rel, scale))
+    U = np.column_stack([cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
+    work = f @ U
+    return U @ np.linalg.lstsq(U.T @ U, work, rcond=None)[0] if np.any(work != 0) else U[:, 0]
+
+
+def free_to_open(engine: EventEngine, cond, system, states: np.ndarray, f: np.ndarray,
+                 N: np.ndarray, tol: float) -> np.ndarray:
+    """The scheme whose mechanism to report: ``states``, or the same with its closed CFEs that
+    carry no force (|N| ≤ ``tol``) opened, when that scheme is a mechanism too and its motion
+    along the load opens every one of them.  At a degenerate point (a body resting on zero
+    forces, pulled off) several schemes are mechanisms; the one that keeps a force-free CFE
+    closed names a rotation about it, where the body in fact lifts off."""
+    from stepcontact.contact.laws import OPEN
+
+    idle = (states != OPEN) & (np.abs(N) <= tol)
+    if not idle.any():
+        return states
+    alt = states.copy()
+    alt[idle] = OPEN
+    try:
+        u = _mode(engine, cond, system, alt, f)
+    except Exception:  # noqa: BLE001 - the alternative is not a mechanism: keep the scheme
+        return states
+    m = len(states)
+    un = (system.B @ u)[m:]  # normal relative displacement rates of the mode (w⁰ does not move)
+    size = np.abs(un).max(initial=0.0)
+    if size > 0 and np.all(un[idle] <= 1e-9 * size):
+        return alt
+    return states
+
+
 def describe_mechanism(engine: EventEngine, cond, system, states: np.ndarray,
                        f: np.ndarray) -> list[dict]:
     """Bodies that move in the mechanism of scheme ``states`` and their modes: among the null
     modes of the scheme, the combination along the load rate ``f`` (ndof,) (the projection of
     the load on the modes: a slab freed of all contact can translate and rotate; the load lifts
     it)."""
-    rel = engine.relations(states, article=False)
-    A, scale = engine.schemes.dense(rel)
     model = system.model
-    T = null_modes(A, lu(A), k=min(3 * max(len(model.bodies), 1), A.shape[0]),
-                   apply=engine.schemes.exact_apply(rel, scale))
-    U = np.column_stack([cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
-    work = f @ U
-    u = U @ np.linalg.lstsq(U.T @ U, work, rcond=None)[0] if np.any(work != 0) else U[:, 0]
+    u = _mode(engine, cond, system, states, f)
     if system.discrete is not None:  # DOFs without nodes: the mode shape by DOF
         return [dof_mode(system.discrete, u)]
     off = model.node_offsets

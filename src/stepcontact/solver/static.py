@@ -34,7 +34,7 @@ from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, Condensed
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.levelpath import LevelPath
-from stepcontact.solver.mechanism import describe_mechanism
+from stepcontact.solver.mechanism import describe_mechanism, free_to_open
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
 
@@ -497,6 +497,9 @@ class StaticSolver:
         except MechanismError as exc:
             old = eng.states.copy()
             states = exc.states if exc.states is not None else eng.states
+            tf, _ = eng.tolerances()
+            states = free_to_open(eng, self.cond, self.sys, states, self._f,
+                                  eng.s[self.cfe.m:], tf)
             self.status = Status.EQUILIBRIUM_LOST
             bodies = describe_mechanism(eng, self.cond, self.sys, states, self._f)
             modes = ", ".join(f"'{b['body']}' {b['mode']}" for b in bodies) or "mechanism"
