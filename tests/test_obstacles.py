@@ -379,3 +379,34 @@ def test_a_very_stiff_meshed_foundation_approaches_the_rigid_line():
     assert_allclose(meshed.N[j], rigid.N[i], rtol=0, atol=1e-3 * W)
     assert_allclose(meshed.multipliers[-1].first_slip, rigid.multipliers[-1].first_slip,
                     rtol=1e-2)
+
+
+def _walled_block(layer: sc.ContactLayer | None) -> sc.Model:
+    """A block on a fixed line, squeezed by a wall moving 1 mm left per unit λ from 1 mm away;
+    the wall interface includes the block's bottom corner, which the base also holds."""
+    m = sc.Model(bodies=[sc.rectangle("block", (1, 0), (3, 1), 8, 4, CONCRETE)])
+    ground = sc.RigidObstacle("ground", [(-5, 0), (5, 0)])
+    wall = sc.RigidObstacle("wall", [(3.001, 0), (3.001, 2)])
+    return m.add(
+        sc.Interface("base", plus=m.select("block", y=0), minus=ground, friction=0.5),
+        sc.Interface("side", plus=m.select("block", x=3), minus=wall, layer=layer),
+        sc.LoadPattern("weight", [sc.BodyForce()]),
+        sc.LoadPattern("squeeze", [sc.ObstacleMotion(wall, dx=-1e-3)]),
+        sc.Segment("weight", 1.0),
+        sc.Segment("squeeze", 2.0),
+    )
+
+
+def test_rigid_constraints_in_conflict_are_named_not_a_mechanism():
+    """The corner is held in x by its stuck base CFE and pushed in x by the wall: two rigid
+    constraints on one motion that the load drives apart.  Not a loss of equilibrium: a
+    rate-problem stop that names both CFEs and says what to change; with a compliant layer
+    on the wall the run completes, the base sliding under the wall's push f·W."""
+    res = sc.solve_static(_walled_block(None))
+    assert res.status == Status.RATE_PROBLEM
+    assert "rigid contacts conflict" in res.message
+    assert "base[8]" in res.message and "side[0]" in res.message
+    soft = sc.solve_static(_walled_block(sc.ContactLayer(kn=1e12, kt=1e12)))
+    assert soft.status == Status.COMPLETED, soft.message
+    W = RHO * 9.81 * 2.0
+    assert -soft.reaction("wall", "x")[-1] == pytest.approx(0.5 * W, rel=1e-6)

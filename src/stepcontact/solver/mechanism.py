@@ -79,6 +79,28 @@ def _mode(engine: EventEngine, cond, system, states: np.ndarray, f: np.ndarray) 
     return U @ np.linalg.lstsq(U.T @ U, work, rcond=None)[0] if np.any(work != 0) else U[:, 0]
 
 
+def constraint_conflict(engine: EventEngine, cond, states: np.ndarray) -> np.ndarray | None:
+    """CFEs whose rigid relations in scheme ``states`` constrain one motion twice (their rows
+    of the contact operator are dependent: e.g. a node held in x by a stuck CFE on a fixed
+    base and pushed in x by a closed CFE against a moving wall), or None.
+
+    Such a scheme is singular, but not a mechanism: its null space holds a self-equilibrated
+    set of contact forces (Bᵀ t = 0), not a motion; when the load drives it, the two
+    constraints contradict each other (the forces would have to jump), which rigid contact
+    cannot resolve."""
+    rel = engine.relations(states, article=False)
+    A, scale = engine.schemes.dense(rel)
+    T = null_modes(A, lu(A), k=min(3, A.shape[0]), apply=engine.schemes.exact_apply(rel, scale))
+    m = len(states)
+    for j in range(T.shape[1]):
+        t = T[:, j]
+        size = np.linalg.norm(t)
+        if size > 0 and np.linalg.norm(cond.Bf.T @ t) <= 1e-9 * size:
+            big = np.flatnonzero(np.abs(t) > 1e-6 * np.abs(t).max())
+            return np.unique(big % m)
+    return None
+
+
 def free_to_open(engine: EventEngine, cond, system, states: np.ndarray, f: np.ndarray,
                  N: np.ndarray, tol: float) -> np.ndarray:
     """The scheme whose mechanism to report: ``states``, or the same with its closed CFEs that

@@ -34,7 +34,11 @@ from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, Condensed
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.levelpath import LevelPath
-from stepcontact.solver.mechanism import describe_mechanism, free_to_open
+from stepcontact.solver.mechanism import (
+    constraint_conflict,
+    describe_mechanism,
+    free_to_open,
+)
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
 
@@ -497,6 +501,19 @@ class StaticSolver:
         except MechanismError as exc:
             old = eng.states.copy()
             states = exc.states if exc.states is not None else eng.states
+            clash = constraint_conflict(eng, self.cond, states)
+            if clash is not None:
+                names = [f"{self.cfe.names[self.cfe.interface[k]]}[{self.cfe.local[k]}]"
+                         for k in clash[:10]]
+                self.status = Status.RATE_PROBLEM
+                self.message = (
+                    f"rigid contacts conflict at λ = {lam:.10g}: CFEs {', '.join(names)} "
+                    "constrain the same motion and the load drives them apart (their forces "
+                    "would jump); give one of the interfaces a compliant layer (ContactLayer) "
+                    "or leave the shared node out of one of them")
+                self.step += 1
+                self._record(lam, seg, "event", final=True)
+                return False, None, None
             tf, _ = eng.tolerances()
             states = free_to_open(eng, self.cond, self.sys, states, self._f,
                                   eng.s[self.cfe.m:], tf)
