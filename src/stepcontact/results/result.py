@@ -679,8 +679,10 @@ class StaticResult:
         if len(self.pattern_names) and R.shape == (len(self.pattern_names), 3):
             lines.append("load resultants per unit λ (Fx, Fy in N; Mz about the origin in N·m):")
 
+            every = float(np.nanmax(np.abs(R), initial=0.0))  # round-off: of all patterns
+
             def fmt3(r):
-                big = float(np.max(np.abs(r), initial=0.0))
+                big = max(float(np.max(np.abs(r), initial=0.0)), every)
                 fx, fy, mz = np.where(np.abs(r) <= 1e-12 * big, 0.0, r) + 0.0  # no "-0"
                 return f"Fx = {fx:.6g}, Fy = {fy:.6g}, Mz = {mz:.6g}"
 
