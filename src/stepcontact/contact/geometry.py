@@ -112,6 +112,19 @@ def curve_edges(body: Body | Frame, ns: NodeSet) -> np.ndarray:
     return edges[np.all(inset[edges], axis=1)]
 
 
+def continuum_edges(model: Model, ns: NodeSet, item: str, what: str) -> tuple[Body, np.ndarray]:
+    """The continuum body of node set ``ns`` and its boundary edges in the set (see
+    :func:`curve_edges`), for loads that act on edges (``what``: "edge loads", "water
+    loads", …); a frame or a set with no edge is a ModelError naming ``item``."""
+    b = model.body(ns.body)
+    if not isinstance(b, Body):
+        raise ModelError(item, f"{what} need a continuum body, '{b.name}' is a frame")
+    edges = curve_edges(b, ns)
+    if len(edges) == 0:
+        raise ModelError(f"{item} ({ns.label})", "contains no boundary edge")
+    return b, edges
+
+
 def chain_order(body: Body | Frame, ns: NodeSet) -> tuple[np.ndarray, np.ndarray]:
     """Nodes of ``ns`` ordered along the curve they form, and their arc length from the start.
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from stepcontact.contact.geometry import _edge_to_facet, curve_edges
+from stepcontact.contact.geometry import _edge_to_facet, continuum_edges
 from stepcontact.errors import ModelError
 from stepcontact.fem import continuum as _fem
 from stepcontact.model import Body, EdgeLoad, Model
@@ -61,12 +61,7 @@ def _projected(p, a: np.ndarray, b: np.ndarray, breaks: list[np.ndarray], k: int
 def edge_pressure_forces(model: Model, el: EdgeLoad, item: str) -> tuple[Body, np.ndarray]:
     """Consistent nodal forces (body-local vector DOFs, N) of the normal pressure of ``el``,
     exact on edges where the pressure has kinks it declares (``el.normal.breaks``)."""
-    b = model.body(el.nodes.body)
-    if not isinstance(b, Body):
-        raise ModelError(item, f"water loads need a continuum body, '{b.name}' is a frame")
-    edges = curve_edges(b, el.nodes)
-    if len(edges) == 0:
-        raise ModelError(f"{item} ({el.nodes.label})", "contains no boundary edge")
+    b, edges = continuum_edges(model, el.nodes, item, "water loads")
     facets = _edge_to_facet(b, edges)
     p = el.normal
     a, c = b.points[edges[:, 0]], b.points[edges[:, 1]]

@@ -294,16 +294,9 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                     raise ModelError(item, "moment on a node without rotation (not a frame node)")
                 np.add.at(f, d, v)
         elif isinstance(ld, EdgeLoad | EdgeForce):
-            b = model.body(ld.nodes.body)
-            if not isinstance(b, Body):
-                raise ModelError(item, f"edge loads need a continuum body, '{b.name}' is a frame")
-            from stepcontact.contact.geometry import curve_edges
+            from stepcontact.contact.geometry import _edge_to_facet, continuum_edges
 
-            edges = curve_edges(b, ld.nodes)
-            if len(edges) == 0:
-                raise ModelError(f"{item} ({ld.nodes.label})", "contains no boundary edge")
-            from stepcontact.contact.geometry import _edge_to_facet
-
+            b, edges = continuum_edges(model, ld.nodes, item, "edge loads")
             facets = _edge_to_facet(b, edges)
             if isinstance(ld, EdgeForce):
                 # the total force as a uniform traction F / (L · thickness) over the edges

@@ -28,9 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.contact.geometry import _outward_normals, _shape, curve_edges
-from stepcontact.errors import ModelError
-from stepcontact.model import Body, LoadPattern, Model
+from stepcontact.contact.geometry import _outward_normals, _shape, continuum_edges
+from stepcontact.model import LoadPattern, Model
 
 #: Gauss–Legendre points on the wetted part of an edge: the integrand φ_i (h − y) has degree
 #: ≤ 3 along a straight edge, integrated exactly by 3 points (degree 5).
@@ -148,12 +147,7 @@ def level_basis(model: Model, dofs, pattern: LoadPattern) -> LevelBasis:
     for ld in pattern.loads:
         if not getattr(ld, "follows_level", False):
             continue  # proportional to the level: the pattern's own load vector
-        b = model.body(ld.nodes.body)
-        if not isinstance(b, Body):
-            raise ModelError(item, f"water loads need a continuum body, '{b.name}' is a frame")
-        edges = curve_edges(b, ld.nodes)
-        if len(edges) == 0:
-            raise ModelError(f"{item} ({ld.nodes.label})", "contains no boundary edge")
+        b, edges = continuum_edges(model, ld.nodes, item, "water loads")
         nout = _outward_normals(b, edges)
         pts = b.points
         L = np.linalg.norm(pts[edges[:, 1]] - pts[edges[:, 0]], axis=1)

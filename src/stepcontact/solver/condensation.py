@@ -28,7 +28,6 @@ Friction, gaps, loads and the load program do not enter it, so runs that differ 
 from __future__ import annotations
 
 import hashlib
-import os
 import time
 from dataclasses import dataclass, field
 
@@ -37,18 +36,11 @@ import scipy.sparse as sp
 
 from stepcontact.errors import ModelError, SolverError
 from stepcontact.fem.assembly import System
+from stepcontact.model import size as _size
 from stepcontact.solver.linalg import Factor, factorize
 
 #: share of the machine's physical memory that the dense contact matrices may take
 DENSE_MEMORY_SHARE = 0.5
-
-
-def physical_memory() -> int | None:
-    """Physical memory of this machine, bytes (None where the OS does not say)."""
-    try:
-        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):
-        return None
 
 
 def dense_memory(n2m: int, c: int = 0, itemsize: int = 8) -> dict[str, int]:
@@ -74,7 +66,7 @@ PRECISIONS = {"float64": np.dtype(np.float64), "float32": np.dtype(np.float32)}
 def _memory_limit(limit: float | None) -> float | None:
     if limit is not None:
         return limit
-    phys = physical_memory()
+    phys = _size.physical_memory()
     return None if phys is None else DENSE_MEMORY_SHARE * phys
 
 
@@ -251,7 +243,7 @@ def schur_fits(c: int, limit: float | None = None) -> bool:
     """Whether the dense trailing block of c contact DOFs (and its copies) fits in a quarter
     of ``limit`` (default: DENSE_MEMORY_SHARE of the physical memory)."""
     if limit is None:
-        phys = physical_memory()
+        phys = _size.physical_memory()
         limit = DENSE_MEMORY_SHARE * phys if phys else float("inf")
     return dense_memory(0, c)["schur"] <= 0.25 * limit
 
