@@ -311,7 +311,10 @@ def test_dam_overturns_when_the_resultant_reaches_the_toe():
     assert_allclose(s.lam_overturning, lam_o, rtol=1e-7)
     assert_allclose(s.fs_overturning, lam_o, rtol=1e-7)
     assert_allclose(s.eccentricity[-1], B / 2, rtol=1e-9)
-    assert_allclose(s.open_length[-1], B - 0.5 * 3, atol=1e-12)  # only the toe CFE: 0.5 m
+    # the mechanism: the dam rotates about the toe, where only the toe CFE (0.5 m) is closed
+    assert res.status == sc.Status.EQUILIBRIUM_LOST and "overturning" in res.message
+    assert_allclose(res.multipliers[-1].equilibrium_lost, lam_o, rtol=1e-7)
+    assert_allclose(s.open_length[-1], B - 0.5, atol=1e-12)
 
 
 def test_safety_round_trips_through_the_result_file(sliding_run, tmp_path):

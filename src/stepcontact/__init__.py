@@ -35,7 +35,7 @@ from stepcontact.model import (
 )
 from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
-from stepcontact.model.water import LinearProfile, Uplift, WaterLoad
+from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 from stepcontact.results.file import load_result
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, condense
@@ -99,6 +99,7 @@ __all__ = [
     "half_disc",
     "rotate",
     "translate",
+    "CrackWater",
     "LinearProfile",
     "Uplift",
     "WaterLoad",

@@ -94,6 +94,8 @@ class System:
         The discrete model a system was built from (:mod:`stepcontact.fem.discrete`): then
         ``model`` has no bodies (only its load patterns and program), the DOFs belong to no
         node and the CFEs have no geometry.
+    crack : CrackWaterData or None
+        Water in the opened parts of joints (:mod:`stepcontact.fem.crack`), None without.
     """
 
     model: Model
@@ -108,6 +110,7 @@ class System:
     reaction_labels: tuple[str, ...] = ()
     levels: dict = field(default_factory=dict)
     discrete: object | None = None
+    crack: object | None = None
 
     @property
     def ndof(self) -> int:
@@ -319,6 +322,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             np.add.at(f, dofs.of[ids][:, :2].ravel(), fb)
         elif getattr(ld, "follows_level", False):
             continue  # a water load whose level is the factor: stepcontact.fem.level
+        elif getattr(ld, "in_crack", False):
+            continue  # water in opened joints: a load of the contact state (fem.crack)
         elif hasattr(ld, "edge_loads"):  # WaterLoad, Uplift (stepcontact.model.water)
             from stepcontact.fem._edge_kinks import water_forces
 
@@ -482,7 +487,10 @@ def assemble(model: Model | DiscreteModel) -> System:
         raise ModelError("model", "has no supports and no contact: it is free to move")
     _check_restrained(model, dofs, K, B, fixed, cfe)
     rows, labels = _reaction_rows(groups, dofs.ndof)
-    return System(model, dofs, K, fixed, loads, cfe, B, w0, rows, labels, levels)
+    from stepcontact.fem.crack import crack_water
+
+    crack = crack_water(model, cfe, levels)
+    return System(model, dofs, K, fixed, loads, cfe, B, w0, rows, labels, levels, crack=crack)
 
 
 def _reaction_rows(groups: list[tuple[str, np.ndarray]], ndof: int):

@@ -128,7 +128,7 @@ from stepcontact.model.items import (
 from stepcontact.model.mesh import half_disc, quad_region, rectangle
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.size import check_size
-from stepcontact.model.water import LinearProfile, Uplift, WaterLoad
+from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 
 # tags of the discriminated unions; they appear in pydantic's error locations and are removed
 # from the field paths shown to the user
@@ -722,6 +722,21 @@ class UpliftLoadSpec(_Spec):
         return self
 
 
+class CrackWaterSpec(_Spec):
+    """Water in the opened parts of joint ``interface``: where a CFE is open, the pressure
+    γ_w (level − y) acts on both faces (replacing the joint's uplift there)."""
+
+    type: Literal["crack_water"] = "crack_water"
+    interface: str
+    level: float | None = Field(None, description="elevation of the water surface, m; "
+                                "omitted: the pattern's factor is the level (a pattern with a "
+                                "water load without a level)")
+    unit_weight: float = Field(9810.0, gt=0, description="unit weight of water γ_w, N/m³")
+    entry: Point | None = Field(None, description="where the water reaches the joint (the "
+                                "heel), m: only open CFEs joined to it by open CFEs are wet; "
+                                "omitted: every open CFE")
+
+
 class DisplacementLoad(_Spec):
     """Prescribed displacement ``value`` (m, or rad for rz) of ``dof`` of a node set."""
 
@@ -747,19 +762,19 @@ class ObstacleMotionLoad(_Spec):
 def _load_tag(v: Any) -> str | None:
     t = v.get("type") if isinstance(v, dict) else getattr(v, "type", None)
     return (f"type={t}" if t in ("gravity", "nodal", "edge_force", "pressure", "displacement",
-                                 "water", "uplift", "obstacle_motion")
+                                 "water", "uplift", "crack_water", "obstacle_motion")
             else None)
 
 
 LoadSpec = _tagged_union(
     _load_tag, "load_type",
     "type must be 'gravity', 'nodal', 'edge_force', 'pressure', 'water', 'uplift', "
-    "'displacement' or 'obstacle_motion'",
+    "'crack_water', 'displacement' or 'obstacle_motion'",
     **{"type=gravity": GravityLoad, "type=nodal": NodalLoadSpec,
        "type=edge_force": EdgeForceLoad, "type=pressure": PressureLoad,
        "type=displacement": DisplacementLoad,
        "type=water": WaterLoadSpec, "type=uplift": UpliftLoadSpec,
-       "type=obstacle_motion": ObstacleMotionLoad},
+       "type=crack_water": CrackWaterSpec, "type=obstacle_motion": ObstacleMotionLoad},
 )
 
 
@@ -1122,7 +1137,7 @@ class _Builder:
                         if b not in bodies:
                             p.add(f"{path}.bodies",
                                   f"unknown body '{b}' (known: {_known(bodies)})")
-                elif isinstance(ld, UpliftLoadSpec):
+                elif isinstance(ld, UpliftLoadSpec | CrackWaterSpec):
                     if ld.interface not in names:
                         p.add(f"{path}.interface", f"unknown interface '{ld.interface}' "
                               f"(known: {_known(names)})")
@@ -1346,6 +1361,11 @@ class _Builder:
                     found = [i for i in interfaces if i.name == ld.interface]
                     if found:
                         loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
+                elif isinstance(ld, CrackWaterSpec):
+                    found = [i for i in interfaces if i.name == ld.interface]
+                    if found:
+                        loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
+                                                None if ld.entry is None else tuple(ld.entry)))
                 elif isinstance(ld, ObstacleMotionLoad):
                     if ld.obstacle in obstacles:
                         loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,

@@ -32,9 +32,9 @@ __all__ = [
 ]
 
 # water loads (hydrostatic pressure, uplift) and pressures given by coordinates
-from stepcontact.model.water import LinearProfile, Uplift, WaterLoad  # noqa: E402
+from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad  # noqa: E402
 
-__all__ += ["LinearProfile", "Uplift", "WaterLoad"]
+__all__ += ["CrackWater", "LinearProfile", "Uplift", "WaterLoad"]
 
 # rigid obstacles (fixed or moving lines and polylines, not meshed)
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle  # noqa: E402

@@ -330,4 +330,62 @@ class Uplift:
         return (EdgeLoad(itf.plus, normal=p), EdgeLoad(itf.minus, normal=pm))
 
 
-__all__ = ["UNIT_WEIGHT_WATER", "HydrostaticPressure", "LinearProfile", "Uplift", "WaterLoad"]
+@dataclass(frozen=True, eq=False)
+class CrackWater:
+    """Water in the opened parts of a joint: where a CFE of ``interface`` is open, the pressure
+
+    .. math::  p_c(x, y) = \\gamma_w \\, \\max(h_w - y, 0)
+
+    (Pa; ``level`` = h_w, m, y up) acts on both faces of the gap, pushing the bodies apart — the
+    cracked-base analysis of dam codes (full reservoir or tailwater pressure in the crack).
+    Where the joint is closed, nothing changes (the :class:`Uplift` given for it, if any, acts
+    there); where it is open, the crack pressure *replaces* that uplift: the load on the CFE is
+    (p_c − p_uplift) · A_k, applied through the CFE's own force distribution (it acts like a
+    compressive normal force the water carries across the gap).
+
+    The load jumps when a CFE opens (and drops when it closes, the contact taking the water's
+    force over): the solver applies the jump at the same load factor, and a CFE that opens under
+    it is loaded in turn — a crack that runs along the joint at one λ shows as a sequence of
+    events with equal λ, in their order (``res.water`` holds the crack force of every CFE at
+    every state, N).
+
+    Per unit λ of its load pattern, like :class:`WaterLoad`: λ = 1 is the given level, and
+    with ``level=None`` the pattern's factor is the level itself (a pattern that moves a
+    water level, :class:`WaterLoad` with ``level=None``).
+
+    ``entry`` (x, y), optional: the point where water reaches the joint (the heel of a dam's
+    base).  Only open CFEs joined to the CFE nearest that point by a run of open CFEs along the
+    joint are wet; without it every open CFE of the joint is wet.
+    """
+
+    interface: Interface | str
+    level: float | None = None
+    unit_weight: float = UNIT_WEIGHT_WATER
+    entry: tuple[float, float] | None = None
+
+    def __post_init__(self):
+        item = f"crack water in interface '{self.name}'"
+        if self.level is not None:
+            _finite(self.level, f"{item}.level")
+        _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
+        if self.entry is not None:
+            e = np.asarray(self.entry, dtype=float)
+            if e.shape != (2,) or not np.all(np.isfinite(e)):
+                raise ModelError(f"{item}.entry", f"must be a point (x, y), got {self.entry!r}")
+            object.__setattr__(self, "entry", (float(e[0]), float(e[1])))
+
+    #: a load of the contact state, not of the nodes (the assembly skips it: fem.crack)
+    in_crack = True
+
+    @property
+    def name(self) -> str:
+        return self.interface if isinstance(self.interface, str) else self.interface.name
+
+    def pressure(self, y: np.ndarray, level: float | None = None) -> np.ndarray:
+        """p_c (Pa) at heights ``y`` for the water level ``level`` (default: the given one)."""
+        h = self.level if level is None else level
+        return self.unit_weight * np.maximum(h - np.asarray(y, dtype=float), 0.0)
+
+
+__all__ = ["UNIT_WEIGHT_WATER", "CrackWater", "HydrostaticPressure", "LinearProfile", "Uplift",
+           "WaterLoad"]

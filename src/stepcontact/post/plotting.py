@@ -160,7 +160,7 @@ def _state_index(res: StaticResult, state: int) -> int:
 
 def _state_snapshot(res: StaticResult, i: int) -> tuple[int, float, dict[str, np.ndarray]]:
     """(segment, λ, CFE quantities) of reported state ``i`` (the scheme after the state)."""
-    snap = {k: np.asarray(getattr(res, k))[i] for k in ("N", "Q", "un", "ut", "state")}
+    snap = {k: np.asarray(getattr(res, k))[i] for k in (*res._cfe_keys(), "state")}
     return int(res.segment[i]), float(res.lam[i]), snap
 
 
@@ -371,6 +371,7 @@ def plot_interfaces(
         k = k[np.argsort(pos[k], kind="stable")]
         s = pos[k]
         mk = "o" if k.size <= 40 else None
+        wet = False
         for j, (_, _, snap) in enumerate(snaps):
             sig = snap["N"][k] / area[k] / scale
             tau = snap["Q"][k] / area[k] / scale
@@ -381,12 +382,18 @@ def plot_interfaces(
             ax_t.fill_between(s, tau, color=colors[j], alpha=shade, lw=0)
             ax_t.plot(s, lim, color=colors[j], ls="--", lw=0.9)
             ax_t.plot(s, -lim, color=colors[j], ls="--", lw=0.9)
+            cp = snap.get("crack_pressure")
+            if cp is not None and np.any(cp[k] > 0):  # water in the opened joint
+                wet = True
+                ax_n.plot(s, np.where(cp[k] > 0, -cp[k], np.nan) / scale, color=colors[j],
+                          ls=":", lw=1.6)
         for ax in (ax_n, ax_t):
             ax.axhline(0.0, color="k", lw=0.6)
             ax.grid(True, alpha=0.3)
         _note_corner_peaks(ax_n, [snap["N"][k] / area[k] for _, _, snap in snaps], s,
                            xc[k], corners, scale)
-        ax_n.set_ylabel(rf"$\sigma_n$ = N/A, {unit} (compression < 0)")
+        ax_n.set_ylabel(rf"$\sigma_n$ = N/A, {unit} (compression < 0)"
+                        + (";\nwater in the crack −p dotted" if wet else ""))
         ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed")
 
         # state strip: one row per λ, one cell per CFE between mid-points

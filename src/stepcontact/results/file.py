@@ -266,6 +266,16 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
         ("state",), np.asarray(res.violation), "1",
         "largest relative violation of the contact conditions",
     )
+    if res.water is not None:
+        dv["water"] = _var(
+            ("state", "cfe"), np.asarray(res.water, float), "N",
+            "force of the water in the opened joint on the CFE (crack pressure less uplift, "
+            "times the CFE's area)",
+        )
+        dv["crack_pressure"] = _var(
+            ("state", "cfe"), np.asarray(res.crack_pressure, float), "Pa",
+            "water pressure in the opened joint",
+        )
     if len(res.reaction_labels):
         coords["reaction"] = _var(("reaction",), _str_array(list(res.reaction_labels)), "1",
                                   "support:component of each reaction resultant")
@@ -508,6 +518,9 @@ def check_dataset(ds: xr.Dataset) -> None:
         expect(name, (n, m), f"{states} × {m} CFEs")
     if "reactions" in ds:
         expect("reactions", (n, None), states)
+    for name in ("water", "crack_pressure"):
+        if name in ds:
+            expect(name, (n, m), f"{states} × {m} CFEs")
     for name in ds.data_vars:
         if str(name).startswith("cfe_"):
             got = shape(str(name))
@@ -661,6 +674,8 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
         reaction_labels=tuple(strs("reaction")) if "reaction" in ds.coords else (),
         load_resultants=(arr("load_resultant") if "load_resultant" in ds
                          else np.zeros((0, 3))),
+        water=arr("water") if "water" in ds else None,
+        crack_pressure=arr("crack_pressure") if "crack_pressure" in ds else None,
     )
 
 

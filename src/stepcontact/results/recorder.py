@@ -30,7 +30,7 @@ class Recorder:
     """The reported states of a run (one row each) and the logs that go with them."""
 
     COLUMNS = ("lam", "segment", "kind", "factors", "s", "w", "state", "residual", "violation",
-               "reactions")
+               "reactions", "water", "pressure")
 
     def __init__(self, m: int, n_patterns: int, n_reactions: int):
         self.lam = GrowingArray(())
@@ -43,6 +43,8 @@ class Recorder:
         self.residual = GrowingArray(())
         self.violation = GrowingArray(())
         self.reactions = GrowingArray((n_reactions,))
+        self.water = GrowingArray((m,))  # crack-water forces W (fem.crack), N
+        self.pressure = GrowingArray((m,))  # water pressure in opened joints, Pa
         self.fields: dict[int, np.ndarray] = {}
         self.stresses: dict[int, dict[str, np.ndarray]] = {}
         self.events: list = []

@@ -117,6 +117,14 @@ class StaticResult:
         (N·m for rz), at every state: one column per ``reaction_labels`` entry
         (``"support:x"``, ``"support:y"``, ``"support:rz"``; DOFs prescribed by a load pattern:
         ``"pattern (prescribed):x"``)
+    water : (n_states, m) or None
+        Force of the water in the opened parts of joints on each CFE beyond the joint's uplift,
+        N (:class:`~stepcontact.model.CrackWater`): A_k (p_crack − p_uplift) where the water
+        acts, 0 elsewhere; it acts like a compressive normal force across the gap.  None for a
+        model without crack water.
+    crack_pressure : (n_states, m) or None
+        Water pressure in the opened parts of joints, Pa (≥ 0): γ_w (h_w − y) where the water
+        has entered, 0 where the joint is closed or dry.  None without crack water.
     load_resultants : (n_patterns, 3) resultant of every load pattern's forces per unit λ, in
         the order of ``pattern_names``: F_x, F_y in N and M_z = Σ (x f_y − y f_x) (+ nodal
         moments) about the origin in N·m (:meth:`load_resultant`; prescribed displacements
@@ -161,6 +169,8 @@ class StaticResult:
             "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2",
         }
     )
+    water: np.ndarray | None = None
+    crack_pressure: np.ndarray | None = None
     #: rate problems with several admissible schemes: {"lam", "segment", "pattern", "cfes",
     #: "followed", "alternatives", "why"} (state labels per CFE)
     nonunique: list[dict[str, object]] = field(default_factory=list)
@@ -243,6 +253,11 @@ class StaticResult:
     def states_of(self, i: int) -> list[ContactState]:
         return [ContactState(int(v)) for v in self.state[i]]
 
+    def _cfe_keys(self) -> tuple[str, ...]:
+        """The CFE quantities of a state: N, Q, u_n, u_τ (and the crack pressure)."""
+        return ("N", "Q", "un", "ut") + (("crack_pressure",) if self.crack_pressure is not None
+                                         else ())
+
     def interpolate(self, lam: float, segment: int | None = None) -> dict[str, np.ndarray]:
         """CFE quantities at any λ of a segment (exact: the path is linear between events).
 
@@ -255,7 +270,7 @@ class StaticResult:
             at = idx[np.abs(self.lam[idx] - lam) <= 1e-12 * max(1.0, abs(lam))]
             if at.size:  # a recorded state: exact
                 i = at[-1]
-                return ({k: getattr(self, k)[i] for k in ("N", "Q", "un", "ut")}
+                return ({k: getattr(self, k)[i] for k in self._cfe_keys()}
                         | {"state": self.state[i]})
             raise ValueError(f"segment {seg} moves the water level of '{pattern}': its states "
                              "are not linear in the level between events; end a segment at "
@@ -272,10 +287,10 @@ class StaticResult:
                 t = 0.0 if lb == la else (lam - la) / (lb - la)
                 return {
                     k: (1 - t) * getattr(self, k)[a] + t * getattr(self, k)[b]
-                    for k in ("N", "Q", "un", "ut")
+                    for k in self._cfe_keys()
                 } | {"state": self.state[a]}
         i = idx[-1]
-        return {k: getattr(self, k)[i] for k in ("N", "Q", "un", "ut")} | {"state": self.state[i]}
+        return {k: getattr(self, k)[i] for k in self._cfe_keys()} | {"state": self.state[i]}
 
     def reaction(self, support: str, dof: str = "y") -> np.ndarray:
         """History (n_states,) of the resultant reaction of ``support`` on the structure along

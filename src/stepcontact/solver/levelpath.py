@@ -37,6 +37,15 @@ class LevelPath:
         self.own = (cond.hhat[own], cond.e[own], cond.y[own], cond.system.loads[own].f)
         self.stops = np.r_[basis.breaks(h0, h1), self.h1]
 
+    def add_stops(self, levels: np.ndarray) -> None:
+        """More piece ends (m) inside the segment: levels where another load has a kink."""
+        lo, hi = sorted((self.h0, self.h1))
+        inner = np.asarray(levels, float)
+        inner = inner[(inner > lo) & (inner < hi)]
+        if inner.size:
+            st = np.unique(np.r_[self.stops, inner])
+            self.stops = st[np.argsort((st - self.h0) * self.direction, kind="stable")]
+
     def level(self, mu: float) -> float:
         return self.h0 + self.direction * mu
 

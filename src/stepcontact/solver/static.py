@@ -114,8 +114,9 @@ class FieldRecovery:
 
         def unknowns(idx):
             F = rec.factors.view[idx]
-            return ({n: F[:, j] for j, n in enumerate(names)}, rec.s.view[idx],
-                    rec.w.view[idx])
+            s = rec.s.view[idx].copy()
+            s[:, s.shape[1] // 2:] += rec.water.view[idx]  # crack water acts as s does
+            return {n: F[:, j] for j, n in enumerate(names)}, s, rec.w.view[idx]
 
         return cls(cond, unknowns, stress)
 
@@ -126,7 +127,8 @@ class FieldRecovery:
 
         def unknowns(idx):
             F = np.asarray(res.factors)[idx]
-            s = np.concatenate([res.Q[idx], -res.N[idx]], axis=1)
+            p = -res.N[idx] if res.water is None else np.asarray(res.water)[idx] - res.N[idx]
+            s = np.concatenate([res.Q[idx], p], axis=1)
             w = np.concatenate([res.ut[idx], res.un[idx]], axis=1)
             return {n: F[:, j] for j, n in enumerate(names)}, s, w
 
@@ -235,6 +237,9 @@ class StaticSolver:
         self.mechanism: dict | None = None
         self.step = 0
         self.fields = FieldRecovery.of_recorder(self.cond, self.rec, list(self.c))
+        #: water in opened joints (fem.crack) and the force W (m,) it applies now, N
+        self.crack = system.crack
+        self.sw = np.zeros(cfe.m)
 
     def _level_path(self, seg: int, pattern: str, rates: dict[str, float], lam0: float,
                     lam1: float) -> LevelPath | None:
@@ -283,6 +288,129 @@ class StaticSolver:
         """Σ rate_P · vector_P over the patterns a segment moves."""
         return sum(rate * vectors[name] for name, rate in rates.items())
 
+    # ---- water in opened joints (fem.crack) -------------------------------------------------
+    @staticmethod
+    def _s_total(s: np.ndarray, water: np.ndarray) -> np.ndarray:
+        """The forces the structure feels across its CFEs: contact forces s = [Q; p] and the
+        crack water's W, which acts as a compressive normal force p does."""
+        if not np.any(water):
+            return s
+        out = np.array(s, dtype=float)
+        out[len(out) // 2:] += water
+        return out
+
+    def _water_forcing(self, dW: np.ndarray):
+        """Forcing (ĥ, e) of crack-water forces dW (m,): ĥ = −G [0; dW] (fem.crack)."""
+        m = self.cfe.m
+        z = np.zeros(2 * m)
+        z[m:] = dW
+        return -self.cond.product(z), np.zeros(2 * m)
+
+    def _water_load(self, dW: np.ndarray) -> np.ndarray:
+        """Nodal load (ndof,) of crack-water forces dW (m,): −Bᵀ [0; dW]."""
+        m = self.cfe.m
+        z = np.zeros(2 * m)
+        z[m:] = dW
+        return -(self.sys.B.T @ z)
+
+    def _water_jump(self, lam: float, seg: int, pattern: str, mult: dict) -> bool | None:
+        """Apply the change of the crack-water forces that the current scheme calls for (water
+        enters a CFE that opened, or leaves one that closed) at the fixed load factor λ.
+
+        The jump ΔW is a load of its own: the engine follows it along a parameter τ ∈ [0, 1]
+        (W = W₀ + τ ΔW) from event to event, exactly as a load segment; a CFE that opens (or
+        closes) under it changes the wet set, and the rest of the jump is recomputed for the new
+        set — a crack that runs along a joint at one λ, event by event, in its order.  Returns
+        True if anything moved, False if nothing had to, None if the run stopped (equilibrium
+        lost under the water, no progress)."""
+        crack, eng, m = self.crack, self.engine, self.cfe.m
+        moved = False
+        saved_f = self._f
+        try:
+            while True:
+                target = crack.force(eng.states, self.c)
+                delta = target - self.sw
+                size = max(float(np.abs(target).max(initial=0)),
+                           float(np.abs(self.sw).max(initial=0)))
+                if float(np.abs(delta).max(initial=0)) <= 1e-12 * max(size, eng.F_scale):
+                    self.sw = target
+                    return moved
+                moved = True
+                wet = crack.wet(eng.states)
+                forcing = self._water_forcing(delta)
+                self._f = self._water_load(delta)
+                eng.F_scale = max(eng.F_scale, float(np.abs(delta).max()))
+                start = self.sw.copy()
+                tau, fired, small = 0.0, np.zeros(m, bool), 0
+                while True:
+                    ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult,
+                                                   False, 1.0, False)
+                    if not ok or self.status != Status.COMPLETED:
+                        return None
+                    if not np.array_equal(crack.wet(eng.states), wet):
+                        break  # the wet set changed: the rest of the jump is recomputed
+                    dtau, _, fired = eng.next_event(ds, dw, 1.0 - tau, 1e-10)
+                    small = small + 1 if dtau <= 1e-12 else 0
+                    if small > 100 or self.step >= self.max_events:
+                        self.status = (Status.CYCLING if small > 100 else Status.MAX_EVENTS)
+                        self.message = (f"no progress at λ = {lam:.10g} while water enters "
+                                        "the opened joint: events repeat" if small > 100 else
+                                        f"event budget of {self.max_events} exhausted at "
+                                        f"λ = {lam:.6g}")
+                        return None
+                    eng.advance(dtau, ds, dw)
+                    tau += dtau
+                    self.sw = start + tau * delta
+                    if tau >= 1.0 - 1e-15 and not fired.any():
+                        self.sw = start + delta
+                        break
+        finally:
+            self._f = saved_f
+
+    def _with_water(self, states, dc, base, base_f, path, forcings, coefs, base_lead):
+        """The crack-water rate dW/dμ (m,) of the scheme ``states`` and the forcing with it
+        (for a level path the first Taylor coefficient carries it, and leads when it moves);
+        sets the load rate ``self._f`` to match."""
+        wr = self.crack.rate(states, self.c, dc)
+        self._wr = wr
+        if not wr.any():
+            if path is not None:
+                forcings[0] = base
+                self._f = path.load(coefs[base_lead], base_lead)
+                return wr, forcings[base_lead]
+            self._f = base_f
+            return wr, base
+        hw, ew = self._water_forcing(wr)
+        forcing = (base[0] + hw, base[1] + ew)
+        self._f = base_f + self._water_load(wr)
+        if path is not None:
+            forcings[0] = forcing
+        return wr, forcing
+
+    def _settle_water(self, lam, seg, pattern, mult, span, wr, ds, dw, forcing, dc, base,
+                      base_f, path, forcings, coefs, base_lead):
+        """After the scheme is decided at a point: let the water into the CFEs that opened
+        (out of those that closed) at the same λ (:meth:`_water_jump`), and decide the scheme
+        again with the crack-water rates of the new wet set, until both agree."""
+        m = self.cfe.m
+        for _ in range(50):
+            moved = self._water_jump(lam, seg, pattern, mult)
+            if moved is None:
+                return False, None, None, forcing
+            wr_new, forcing = self._with_water(self.engine.states, dc, base, base_f, path,
+                                               forcings, coefs, base_lead)
+            if not moved and np.array_equal(wr_new, wr):
+                break
+            wr = wr_new
+            n1 = len(self.rec)
+            ok, ds, dw = self._event_point(np.zeros(m, bool), forcing, lam, seg, pattern, mult,
+                                           False, span, False)
+            if not ok or self.status != Status.COMPLETED:
+                return False, None, None, forcing
+            if moved and len(self.rec) == n1:
+                self._record(lam, seg, "event")  # the state after the water entered
+        return True, ds, dw, forcing
+
     def _warn_held(self, held_n, held_t) -> None:
         cfe = self.cfe
         for mask, what, effect in ((held_n, "normal", "its normal force (the CFE carries "
@@ -305,16 +433,19 @@ class StaticSolver:
         the other states' fields are recomputed exactly on request from (factors, s, w)."""
         eng = self.engine
         store = final or kind != "event" or self.store_fields == "all"
+        st = self._s_total(eng.s, self.sw)
         if store:  # full field: residual of the whole model and kinematics B u + w⁰ = w
-            u = self.cond.displacement(self.c, eng.s, eng.w)
-            res, kin = self.cond.check(self.c, eng.s, eng.w, u, eng.W_scale)
+            u = self.cond.displacement(self.c, st, eng.w)
+            res, kin = self.cond.check(self.c, st, eng.w, u, eng.W_scale)
         else:  # no solve: the condensed equations (exactly equivalent)
-            res, kin = self.cond.condensed_residual(self.c, eng.s, eng.w, eng.W_scale), 0.0
+            res, kin = self.cond.condensed_residual(self.c, st, eng.w, eng.W_scale), 0.0
         viol = max(kin, eng.violation())
         i = self.rec.append(
             lam=lam, segment=seg, kind=kind, factors=[self.c[n] for n in self.c], s=eng.s,
             w=eng.w, state=eng.states, residual=res, violation=viol,
-            reactions=self.cond.reactions(self.c, eng.s, eng.w))
+            reactions=self.cond.reactions(self.c, st, eng.w), water=self.sw,
+            pressure=(0.0 if self.crack is None else
+                      self.crack.pressure(eng.states, self.c, self.sw)))
         if store:
             self._keep_field(i, u)
         if viol > self.violation_limit and self.status == Status.COMPLETED:
@@ -335,7 +466,7 @@ class StaticSolver:
         if i in r.fields or not 0 <= i < len(r):
             return
         c = dict(zip(self.c, r.factors.view[i], strict=True))
-        s, w = r.s.view[i], r.w.view[i]
+        s, w = self._s_total(r.s.view[i], r.water.view[i]), r.w.view[i]
         u = self.cond.displacement(c, s, w)
         res, kin = self.cond.check(c, s, w, u, self.engine.W_scale)
         r.residual.view[i] = res
@@ -402,6 +533,13 @@ class StaticSolver:
                            direction * self._combine(self.cond.e, rates))
             else:  # the load is a polynomial in the level: its forcings at every point
                 y_max, f_max = path.scales()
+                if self.crack is not None:  # crack water kinks where the level passes a CFE
+                    path.add_stops(self.crack.kinks(pattern))
+            # the factors' rates along μ (crack water follows them)
+            dc = ({name: rate * direction for name, rate in rates.items()} if path is None
+                  else {pattern: path.direction})
+            base = forcing if path is None else None
+            base_f = self._f if path is None else None
             eng.W_scale = max(eng.W_scale, y_max)
             eng.F_scale = max(eng.F_scale, f_max)
             c0 = dict(self.c)
@@ -417,9 +555,24 @@ class StaticSolver:
                     lead = path.leading(forcings, coefs)
                     forcing = forcings[lead]
                     self._f = path.load(coefs[lead], lead)
+                    base, base_f, base_lead = forcings[0], path.load(coefs[0], 0), lead
+                wr = None
+                if self.crack is not None:  # the crack water of the current scheme moves too
+                    wr, forcing = self._with_water(eng.states, dc, base, base_f, path,
+                                                   forcings if path else None, coefs if path
+                                                   else None, base_lead if path else 0)
+                    if path is not None:
+                        lead = 0 if wr.any() else base_lead
                 ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult, first,
                                                span, seg_start)
                 first = seg_start = False
+                if ok and self.status == Status.COMPLETED and self.crack is not None:
+                    ok, ds, dw, forcing = self._settle_water(
+                        lam, seg, pattern, mult, span, wr, ds, dw, forcing, dc, base, base_f,
+                        path, forcings if path else None, coefs if path else None,
+                        base_lead if path else 0)
+                    if path is not None:
+                        lead = 0 if np.any(self._wr) else base_lead
                 if not ok or self.status != Status.COMPLETED:
                     stop = True
                     break
@@ -450,6 +603,8 @@ class StaticSolver:
                     eng.advance(dmu, ds, dw)
                 else:
                     eng.advance_poly(dmu, dss, dws)
+                if self.crack is not None:  # the crack water moved with the path (linear)
+                    self.sw = self.sw + dmu * self._wr
                 mu = mu + dmu
                 for name, rate in rates.items():
                     self.c[name] = c0[name] + rate * direction * mu
@@ -497,7 +652,13 @@ class StaticSolver:
             _, tw = eng.tolerances()
             self._touching = (-eng.w[self.cfe.m:] <= tw) & ~self.law.inert
         try:
-            dec = eng.decide(fired, forcing, natural=first)
+            try:
+                dec = eng.decide(fired, forcing, natural=first)
+            except RateProblemFailure as exc:
+                trial = self._opening_mechanism(exc.cfes, forcing)
+                if trial is None:
+                    raise
+                raise MechanismError(None, None, trial) from exc
         except MechanismError as exc:
             old = eng.states.copy()
             states = exc.states if exc.states is not None else eng.states
@@ -575,6 +736,26 @@ class StaticSolver:
                 if hasattr(hk, "after_event"):
                     hk.after_event(info)
         return True, ds, dw
+
+    def _opening_mechanism(self, cfes: np.ndarray, forcing) -> np.ndarray | None:
+        """When the rate problem has no solution at CFEs that sit at their normal limit
+        (N = 0): the scheme with them open, if it is a mechanism that the load drives (a block
+        tipping over its last contact point: an overturning, not a failure of the rate
+        problem), else None."""
+        eng = self.engine
+        m = self.cfe.m
+        tf, _ = eng.tolerances()
+        cfes = np.asarray(cfes, dtype=np.int64)
+        at = cfes[(eng.s[m + cfes] <= tf) & (eng.states[cfes] != OPEN)]
+        if at.size == 0:
+            return None
+        trial = eng.states.copy()
+        trial[at] = OPEN
+        try:
+            eng.rates(trial, forcing, article=False)
+            return None  # a regular scheme: not a mechanism
+        except MechanismError:
+            return trial if eng.drives(trial, forcing) else None
 
     def _first_multipliers(self, mult, lam, n_before: int):
         for ev in self.rec.events[n_before:]:
@@ -659,6 +840,8 @@ class StaticSolver:
             reaction_labels=tuple(self.sys.reaction_labels),
             load_resultants=self._resultants(),
             nonunique=list(self.rec.nonunique),
+            water=None if self.crack is None else r["water"],
+            crack_pressure=None if self.crack is None else r["pressure"],
             _recover=self.fields,
         )
 
