@@ -1,0 +1,99 @@
+"""Mass matrices and Rayleigh damping (method.md §4, the dynamics of article eqs. (7)–(10)).
+
+* continua: the consistent mass M = ∫ ρ t N_iᵀ N_j dA (scikit-fem), or lumped by the HRZ rule
+  (Hinton, Rock & Zienkiewicz 1976): in every element the diagonal of the consistent matrix is
+  scaled so that it sums to the element's mass — positive for quadratic elements too, where
+  row-sum lumping gives zero or negative corner masses (tri6);
+* frames: lumped, ρ A L / 2 on the translations of each end;
+* :func:`rayleigh_coefficients`: C = a₀ M + a₁ K from two modal damping ratios.
+
+Units: kg (per metre of thickness in plane strain, times the thickness in plane stress), and
+for C N·s/m.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import BilinearForm, asm
+
+from stepcontact.errors import ModelError
+from stepcontact.fem.continuum import basis_of
+
+
+def continuum_mass(body, thickness: float, lumped: bool = False) -> sp.csr_matrix:
+    """Mass matrix (CSR, body-local vector DOFs 2i + c) of a continuum body, kg.
+
+    ``lumped``: the HRZ diagonal (element-wise scaled diagonal of the consistent matrix)."""
+    rho = float(body.material.density)
+    basis = basis_of(body, vector=False)
+    n = body.n_nodes
+    if not lumped:
+
+        @BilinearForm
+        def form(u, v, w):
+            return thickness * rho * u * v
+
+        Ms = asm(form, basis).tocsr()  # scalar: the same for x and y
+        return sp.kron(Ms, sp.identity(2, format="csr"), format="csr")
+    dx = basis.dx  # (n_el, n_qp) weights × |J|
+    diag = np.array([((basis.basis[i][0].value ** 2) * dx).sum(axis=1)
+                     for i in range(basis.Nbfun)])  # (Nbfun, n_el)
+    m_el = dx.sum(axis=1)
+    scale = m_el / diag.sum(axis=0)
+    nodal = np.bincount(basis.element_dofs.ravel(), (diag * scale).ravel(), minlength=n)
+    return sp.diags(np.repeat(thickness * rho * nodal, 2), format="csr")
+
+
+def rayleigh_coefficients(zeta1: float, f1: float, zeta2: float, f2: float
+                          ) -> tuple[float, float]:
+    """(a₀, a₁) of Rayleigh damping C = a₀ M + a₁ K with the damping ratios ζ₁ at the
+    frequency f₁ and ζ₂ at f₂ (Hz): ζ(ω) = a₀ / (2ω) + a₁ ω / 2, so
+
+        a₀ = 2 ω₁ ω₂ (ζ₁ ω₂ − ζ₂ ω₁) / (ω₂² − ω₁²),   a₁ = 2 (ζ₂ ω₂ − ζ₁ ω₁) / (ω₂² − ω₁²)
+
+    (a₀ in 1/s, a₁ in s).  Equal ratios give ζ ≤ ζ₁ between the two frequencies."""
+    vals = {"zeta1": zeta1, "f1": f1, "zeta2": zeta2, "f2": f2}
+    for key, v in vals.items():
+        if not np.isfinite(v) or v < 0 or (key.startswith("f") and v == 0):
+            what = "positive" if key[0] == "f" else "non-negative"
+            raise ModelError(f"rayleigh damping.{key}", f"must be {what} and finite, got {v}")
+    if f1 == f2:
+        raise ModelError("rayleigh damping", f"the two frequencies must differ (both {f1} Hz)")
+    w1, w2 = 2 * np.pi * f1, 2 * np.pi * f2
+    d = w2**2 - w1**2
+    a0 = 2 * w1 * w2 * (zeta1 * w2 - zeta2 * w1) / d
+    return float(a0), float(2 * (zeta2 * w2 - zeta1 * w1) / d)
+
+
+def mass(model, dofs, lumped: bool = False) -> sp.csr_matrix:
+    """Global mass matrix of the model's bodies (continua: consistent or HRZ-lumped; frames:
+    lumped translations), kg, on the DOFs of ``dofs``."""
+    from stepcontact.model import Body
+
+    rows, cols, vals = [], [], []
+    off = model.node_offsets
+    for b in model.bodies:
+        ids = off[b.name] + np.arange(b.n_nodes)
+        if isinstance(b, Body):
+            Mb = continuum_mass(b, model.thickness, lumped).tocoo()
+            gd = dofs.of[ids][:, :2].ravel()
+            rows.append(gd[Mb.row])
+            cols.append(gd[Mb.col])
+            vals.append(Mb.data)
+        else:  # frame: ρ A L / 2 at each end, on ux and uy
+            c = b.cells
+            L = np.linalg.norm(b.points[c[:, 1]] - b.points[c[:, 0]], axis=1)
+            half = b.density * b.A * L / 2
+            for end in (0, 1):
+                for comp in (0, 1):
+                    d = dofs.of[ids[c[:, end]], comp]
+                    rows.append(d)
+                    cols.append(d)
+                    vals.append(half)
+    r, c, v = (np.concatenate(a) if a else np.zeros(0) for a in (rows, cols, vals))
+    return sp.coo_matrix((v, (r.astype(np.int64), c.astype(np.int64))),
+                         shape=(dofs.ndof, dofs.ndof)).tocsr()
+
+
+__all__ = ["continuum_mass", "mass", "rayleigh_coefficients"]
