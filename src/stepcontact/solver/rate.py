@@ -121,6 +121,8 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         pass
     if kept is not None and not (len(L) <= ENUMERATE_CFES and _frictional(eng, L)):
         return kept
+    if kept is not None and _slipping_only(eng, L, normal_lim, two_sided):
+        return kept  # CFEs in mid-slip, none at a limit: nothing else to choose from
     base = guess.copy()
     for law in eng.laws:
         inl = np.isin(law.cfes, L)
@@ -207,6 +209,14 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         f" (certificate: {sol.message}, along which {ray_text}; that scheme "
         f"{'is singular but the load does no work on it' if singular else 'is regular'})",
         certificate=trial[L])
+
+
+def _slipping_only(eng, L: np.ndarray, normal_lim, two_sided) -> bool:
+    """Are all CFEs of L slipping and none at a normal or two-sided limit?  (Then a consistent
+    current scheme is the only one: a slip that goes on is not a degenerate point.)"""
+    st = eng.states[L]
+    slipping = (st == SLIP_POS) | (st == SLIP_NEG)
+    return bool(np.all(slipping) and not np.any(normal_lim[L] | two_sided[L]))
 
 
 def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcome:

@@ -1,0 +1,550 @@
+"""The dynamic driver (method.md §4, article eqs. (7)–(10)): Newmark's average acceleration
+between events, on the event engine.
+
+Equation of motion (7) with the contact forces s = [Q; p] of the CFEs:
+
+    M ü + C u̇ + K u + Bᵀ s = F(t)
+
+Newmark (β = 1/4, γ = 1/2): over a step Δt, u_{n+1} = u_n + Δt u̇_n + Δt²/4 (ü_n + ü_{n+1}),
+u̇_{n+1} = u̇_n + Δt/2 (ü_n + ü_{n+1}), so the end of the step solves the *static* problem
+
+    K̂ u_{n+1} + Bᵀ s_{n+1} = F̂,   K̂ = K + 4M/Δt² + 2C/Δt,
+    F̂ = F(t_{n+1}) + M (4u_n/Δt² + 4u̇_n/Δt + ü_n) + C (2u_n/Δt + u̇_n).
+
+K̂ is factorised and condensed to the 2m contact unknowns once (the static condensation with
+K̂ for K₀: Ĝ = B K̂⁻¹ Bᵀ); every step costs one solve for F̂ and the contact problem at the
+step's end.  That contact problem is solved *exactly* by the event engine along the step: the
+contact unknowns move from the start of the step (μ = 0) to its end (μ = 1) under the step's
+increment of the free response, with the working scheme switched at every event met on the
+way — the linear interpolation of eq. (10) between the step's ends, so each event's time is
+t̂ = t_n + μ̂ Δt (the article's interpolation, second order in Δt).
+
+Contact conditions in velocities (eq. (9)): a stuck CFE has no slip *velocity* at the end of
+the step, u̇_τ,n+1 = 2 Δu_τ / Δt − u̇_τ,n = 0, i.e. Δu_τ = Δt u̇_τ,n / 2.  The engine works with
+the slip beyond that drift, ũ_τ = u_τ − μ Δt u̇_τ,n / 2, so that stick is ũ_τ' = 0 as in
+statics, and the sign of ũ_τ' is the sign of the slip velocity at the end of the step: the
+engine's consistency check (slip in the direction of the friction force, slip → stick when it
+would reverse) is then Coulomb's law in velocities.  Closed rigid contact holds u_n = 0 at the
+end of the step; a CFE that closes during a step is an impact with restitution 0 (the
+integrator's implicit constraint).
+
+Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
+½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
+by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ and in the normal contact Σ −p̄ Δu_n (impacts);
+the balance error is what is left.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, CoulombLaw
+from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.errors import ModelError
+from stepcontact.fem.assembly import System, assemble
+from stepcontact.results.recorder import GrowingArray, Recorder
+from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.solver.condensation import Condensed
+from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.rate import RateProblemFailure
+from stepcontact.solver.schemes import MechanismError, SchemeSolver
+
+#: the energy ledger's columns (J per metre of thickness in plane strain)
+ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "error")
+
+
+@dataclass
+class DynamicResult(StaticResult):
+    """A dynamic run: a :class:`StaticResult` whose path axis ``lam`` is the time t (s).
+
+    Extra attributes: ``u``, ``v``, ``a`` (n_states, ndof) displacements, velocities and
+    accelerations at every reported state (m, m/s, m/s²); ``energy`` {term: (n_states,)} the
+    energy ledger (J; :data:`ENERGY_TERMS`); ``dt`` the time step (s)."""
+
+    u: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    v: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    a: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    energy: dict[str, np.ndarray] = field(default_factory=dict)
+    dt: float = 0.0
+
+    @property
+    def time(self) -> np.ndarray:
+        """Time of every state, s."""
+        return self.lam
+
+    def velocities(self, states=None) -> np.ndarray:
+        idx = np.arange(self.n_states) if states is None else np.asarray(states)
+        return self.v[idx]
+
+    def displacement(self, i: int) -> np.ndarray:
+        return self.u[i]
+
+    def displacements(self, states=None) -> np.ndarray:
+        idx = np.arange(self.n_states) if states is None else np.asarray(states)
+        return self.u[idx]
+
+
+def _initial(system: System, cond: Condensed, initial, u0, v0):
+    """(u, v, s, w, states, static factors) at t = 0."""
+    ndof, m = system.ndof, system.m
+    u = np.zeros(ndof)
+    s = np.zeros(2 * m)
+    w = system.w0.copy()
+    states = np.full(m, OPEN, np.int64)
+    static: dict[str, float] = {}
+    if initial is not None:
+        i = len(initial.lam) - 1
+        u = np.asarray(initial.displacement(i), float).copy()
+        s = np.concatenate([initial.Q[i], -initial.N[i]])
+        w = np.concatenate([initial.ut[i], initial.un[i]])
+        states = np.asarray(initial.state[i], np.int64).copy()
+        static = {n: float(c) for n, c in zip(initial.pattern_names, initial.factors[i],
+                                               strict=True) if c != 0.0}
+    if u0 is not None:
+        u = np.asarray(u0, float).copy()
+        w = system.B @ u + system.w0
+    v = np.zeros(ndof) if v0 is None else np.asarray(v0, float).copy()
+    if v.shape != (ndof,) or u.shape != (ndof,):
+        raise ModelError("initial state", f"u0 and v0 must have {ndof} entries (the DOFs)")
+    v[system.fixed] = 0.0
+    return u, v, s, w, states, static
+
+
+def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt) -> dict:
+    """Times of the slip → stick transitions decided at μ of a step (eq. (10), second row):
+    where the slip velocity, linear in time over the step, would cross zero under the old
+    (slipping) scheme — u̇_τ at the step's end is 2 Δũ_τ / Δt (module docstring)."""
+    m = eng.m
+    slipping = (old == SLIP_POS) | (old == SLIP_NEG)
+    ks = changed[slipping[changed] & (new[changed] != OPEN)]
+    if ks.size == 0:
+        return {}
+    try:
+        _ds, dw_o = eng.rates(old, forcing, article=False)
+    except MechanismError:
+        return {}
+    v_end = 2.0 * (eng.w[ks] - w_start[ks] + (1.0 - mu) * dw_o[ks]) / dt
+    v0 = wdot[ks]
+    den = v0 - v_end
+    with np.errstate(divide="ignore", invalid="ignore"):
+        frac = np.where(np.abs(den) > 0, v0 / den, mu)
+    frac = np.clip(np.nan_to_num(frac, nan=mu), mu, 1.0)
+    del m
+    return {int(k): t + float(f) * dt for k, f in zip(ks, frac, strict=True)}
+
+
+def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
+            e: float) -> np.ndarray:
+    """Velocities after an impact (frictionless, Newton's law): impulses P ≥ 0 on the normal
+    rows of the CFEs ``cand`` (closing and already closed) such that each active one leaves
+    with the normal velocity −e u̇_n⁻ (closing) or 0 (closed): M Δv = −B_nᵀ P, by an active set
+    (an impulse that would pull is dropped)."""
+    m = system.m
+    free = cond.free
+    Bn = cond.Bf[m + cand]  # normal rows on the free DOFs
+    if Bn.shape[0] == 0:
+        return v
+    vf = v[free]
+    wd = Bn @ vf  # normal relative velocities (positive: approaching)
+    target = np.where(np.isin(cand, closing), -e * wd, 0.0)
+    X = np.column_stack([M_lu.solve(np.ascontiguousarray(Bn[j].toarray().ravel()))
+                         for j in range(Bn.shape[0])])
+    W = np.asarray(Bn @ X)  # B M⁻¹ Bᵀ
+    active = wd > 0  # approaching (or closed and pushed on)
+    P = np.zeros(len(cand))
+    for _ in range(2 * len(cand) + 1):
+        P[:] = 0.0
+        idx = np.flatnonzero(active)
+        if idx.size:
+            P[idx] = np.linalg.lstsq(W[np.ix_(idx, idx)], wd[idx] - target[idx], rcond=None)[0]
+        after = wd - W @ P
+        neg = active & (P < 0)
+        pen = ~active & (after > 1e-12 * max(np.abs(wd).max(initial=0.0), 1e-300))
+        if not (neg.any() or pen.any()):
+            break
+        active = (active & ~neg) | pen
+    out = v.copy()
+    out[free] = vf - X @ P
+    return out
+
+
+def solve_dynamic(
+    model,
+    *,
+    dt: float,
+    duration: float,
+    loads: Mapping[str, object] | None = None,
+    mass: str | sp.spmatrix = "consistent",
+    damping: tuple[float, float] = (0.0, 0.0),
+    initial: StaticResult | None = None,
+    u0: np.ndarray | None = None,
+    v0: np.ndarray | None = None,
+    ground_acceleration: tuple[object, tuple[float, float]] | None = None,
+    restitution: float = 0.0,
+    record_every: int = 1,
+    max_events: int = 1_000_000,
+    rtol: float = 1e-10,
+    hooks: Sequence = (),
+) -> DynamicResult:
+    """Newmark time integration with the contact state followed exactly at every step
+    (module docstring).
+
+    Parameters
+    ----------
+    model : Model, DiscreteModel or System
+    dt, duration : float
+        Time step and length of the analysis, s.
+    loads : {pattern: time function}
+        The load patterns applied in time, each times its function g(t)
+        (:mod:`stepcontact.model.timefunction`); patterns held by ``initial`` stay at their
+        factors.
+    mass : "consistent", "lumped" or a matrix
+        Continua: consistent or HRZ-lumped mass (frames lumped); a (ndof, ndof) matrix for a
+        discrete model.
+    damping : (a₀, a₁)
+        Rayleigh damping C = a₀ M + a₁ K (:func:`stepcontact.fem.mass.rayleigh_coefficients`).
+    initial : StaticResult, optional
+        Start from the last state of a static run of the same model (displacements, contact
+        forces and states; its pattern factors are held).
+    u0, v0 : (ndof,) arrays, optional
+        Initial displacements and velocities (m, m/s).
+    ground_acceleration : (time function, (dx, dy)), optional
+        Ground acceleration a_g(t) (m/s²) along the unit direction (dx, dy): the effective
+        load −M r a_g(t), r the rigid translation along it; displacements are relative to the
+        ground.
+    restitution : float
+        Newton's coefficient e ∈ [0, 1] of the impacts of rigid contacts: the step is cut
+        where a CFE closes, the normal velocities of the closing (and closed) CFEs jump to
+        −e times their approach velocities by impulses (frictionless), and the integration
+        restarts there.  Compliant contact closes smoothly without it.
+    record_every : int
+        Record every k-th step (events and the last step always).
+    """
+    from stepcontact.fem.mass import mass as mass_matrix
+
+    for key, v in (("dt", dt), ("duration", duration)):
+        if not np.isfinite(v) or v <= 0:
+            raise ModelError(key, f"must be positive and finite, got {v}")
+    system = model if isinstance(model, System) else assemble(model)
+    loads = dict(loads or {})
+    for name, g in loads.items():
+        if name not in system.loads:
+            raise ModelError(f"loads['{name}']", f"no such load pattern (known: "
+                             f"{', '.join(map(repr, system.loads)) or 'none'})")
+        if not callable(g):
+            raise ModelError(f"loads['{name}']", "must be a time function g(t)")
+    ndof, m = system.ndof, system.m
+    if isinstance(mass, str):
+        if mass not in ("consistent", "lumped"):
+            raise ModelError("mass", f"must be 'consistent', 'lumped' or a matrix, got '{mass}'")
+        if system.discrete is not None:
+            raise ModelError("mass", "a discrete model has no geometry: give its mass matrix")
+        M = mass_matrix(system.model, system.dofs, lumped=mass == "lumped")
+    else:
+        M = sp.csr_matrix(mass, dtype=float)
+        if M.shape != (ndof, ndof):
+            raise ModelError("mass", f"has shape {M.shape}, expected ({ndof}, {ndof})")
+    a0, a1 = (float(x) for x in damping)
+    K = system.K.tocsr()
+    C = (a0 * M + a1 * K).tocsr()
+    Khat = (K + (4.0 / dt**2) * M + (2.0 / dt) * C).tocsr()
+    t0 = time.perf_counter()
+    cond = Condensed.from_system(dataclasses.replace(system, K=Khat))
+    t_setup = time.perf_counter() - t0
+    cfe = system.cfe
+    law = CoulombLaw(np.arange(m), cfe.friction, cfe.kn, cfe.kt)
+    schemes = SchemeSolver(cond.G, cond.d, product=cond.product)
+    eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
+    u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
+    eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
+    free = cond.free
+    names = list(system.loads)
+    f_of = {n: system.loads[n].f for n in names}
+    r_ground = None
+    if ground_acceleration is not None:
+        g_fun, direction = ground_acceleration
+        d = np.asarray(direction, float)
+        d = d / np.linalg.norm(d)
+        r_ground = np.zeros(ndof)
+        has = system.dofs.of >= 0
+        for c in (0, 1):
+            r_ground[system.dofs.of[has[:, c], c]] = d[c]
+        r_ground = -(M @ r_ground)
+
+    def factors_at(t: float) -> dict[str, float]:
+        c = dict(static)
+        for name, g in loads.items():
+            c[name] = c.get(name, 0.0) + float(g(t))
+        return c
+
+    def force_at(t: float) -> np.ndarray:
+        F = np.zeros(ndof)
+        for name, c in factors_at(t).items():
+            if c:
+                F += c * f_of[name]
+        if r_ground is not None:
+            F += float(ground_acceleration[0](t)) * r_ground
+        return F
+
+    # initial acceleration from the equation of motion with the initial contact forces
+    F = force_at(0.0)
+    Bf = cond.Bf
+    BfT = Bf.T.tocsr()
+    rhs = F[free] - (K @ u)[free] - (C @ v)[free] - BfT @ s
+    Mff = M[free][:, free].tocsc()
+    from scipy.sparse.linalg import splu
+
+    try:
+        M_lu = splu(Mff)
+        a = np.zeros(ndof)
+        a[free] = M_lu.solve(rhs)
+    except RuntimeError as exc:
+        raise ModelError("mass", f"the mass matrix is singular on the free DOFs ({exc}): "
+                         "every free DOF needs mass") from None
+    if not (0.0 <= restitution <= 1.0):
+        raise ModelError("restitution", f"must lie in [0, 1], got {restitution}")
+    rec = Recorder(m, len(names), 0)
+    extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
+             "a": GrowingArray((ndof,))}
+    energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
+    ledger = dict.fromkeys(ENERGY_TERMS, 0.0)
+    w_scale = [float(np.abs(w).max(initial=0.0))]
+
+    stiff = np.r_[cfe.kt, cfe.kn]
+    soft = np.isfinite(stiff) & (stiff > 0)
+
+    def layer_energy(s_):
+        """½ s²/C of every component of a compliant layer (m,), J."""
+        return np.where(soft, 0.5 * s_**2 / np.where(soft, stiff, 1.0), 0.0)
+
+    def strain_energy(u_, s_):
+        return float(0.5 * u_ @ (K @ u_) + layer_energy(s_).sum())
+
+    e0 = 0.5 * v @ (M @ v) + strain_energy(u, s)
+
+    def record(t: float, kind: str, residual: float) -> int:
+        ledger["kinetic"] = float(0.5 * v @ (M @ v))
+        ledger["strain"] = strain_energy(u, eng.s)
+        total = ledger["kinetic"] + ledger["strain"]
+        ledger["error"] = (total - e0 - ledger["external"] + ledger["damping"]
+                           + ledger["friction"] + ledger["impact"])
+        c = factors_at(t)
+        i = rec.append(lam=t, segment=0, kind=kind, factors=[c.get(n, 0.0) for n in names],
+                       s=eng.s, w=eng.w, state=eng.states, residual=residual,
+                       violation=eng.violation(), reactions=np.zeros(0),
+                       water=np.zeros(m), pressure=np.zeros(m))
+        for k, arr in (("u", u), ("v", v), ("a", a)):
+            extra[k].append(arr)
+        for k in ENERGY_TERMS:
+            energy[k].append(ledger[k])
+        return i
+
+    mult = {"first_slip": None, "first_opening": None, "first_closing": None,
+            "equilibrium_lost": None}
+
+    def log_event(step: int, k, was, now, t_ev: float) -> None:
+        tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
+        rec.events.append(Event(
+            step=step, state=len(rec), segment=0, pattern="dynamic", lam=t_ev, cfe=int(k),
+            interface=cfe.names[cfe.interface[k]] if cfe.names else "",
+            local=int(cfe.local[k]), position=float(cfe.s[k]),
+            x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
+            y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
+            transition=tr, N=float(-eng.s[m + k]), Q=float(eng.s[k])))
+        key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
+               Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
+        if key and mult[key] is None:
+            mult[key] = t_ev
+
+    status, message = Status.COMPLETED, "time interval completed"
+    record(0.0, "start", 0.0)
+    first = True
+    c4, c2 = 4.0 / dt**2, 2.0 / dt
+    rigid_n = ~np.isfinite(cfe.kn)
+    t_run = time.perf_counter()
+    t = 0.0
+    n = 0
+    n_impacts = 0
+    end_time = float(duration)
+    while t < end_time * (1 - 1e-12):
+        n += 1
+        t1 = t + dt
+        F1 = force_at(t1)
+        Fhat = F1 + M @ (c4 * u + (2 * c2) * v + a) + C @ (c2 * u + v)
+        y = cond.factor.solve(np.ascontiguousarray(Fhat[free]))
+        h_end = Bf @ y
+        # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
+        w_hat = eng.w - system.w0
+        h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
+        wdot = system.B @ v
+        drift = np.zeros(2 * m)
+        drift[:m] = np.where(np.isfinite(cfe.kt), 0.0, 0.5 * dt * wdot[:m])
+        forcing = (h_end - h0, -drift)
+        eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)))
+        eng.W_scale = max(eng.W_scale, w_scale[0], float(np.abs(h_end - h0).max(initial=0.0)))
+        s_start, w_start = eng.s.copy(), eng.w.copy()
+        mu = 0.0
+        fired = np.zeros(m, bool)
+        small = 0
+        stop = False
+        impact = None
+        step_events = 0
+        ds = dw = None
+        while True:
+            old = eng.states.copy()
+            try:
+                dec = eng.decide(fired, forcing, natural=first)
+            except (MechanismError, RateProblemFailure) as exc:
+                status = (Status.EQUILIBRIUM_LOST if isinstance(exc, MechanismError)
+                          else exc.status)
+                message = (f"the contact problem of the step at t = {t + mu * dt:.6g} s has no "
+                           f"solution ({type(exc).__name__}: {exc})")
+                stop = True
+                break
+            if first:
+                # contact at rest is the initial scheme, not an event
+                touching = (-eng.w[m:] <= 1e-12 * max(w_scale[0], 1e-300)) & (old == OPEN)
+                old = np.where(touching, dec.new, old)
+            closing = np.flatnonzero((old == OPEN) & (dec.new != OPEN) & rigid_n)
+            if closing.size and not first and ds is not None:
+                # an impact: cut the step here (eq. (10)), undo the decision
+                impact = (mu, closing, ds, dw, old)
+                eng.states = old
+                break
+            first = False
+            if dec.switched or fired.any():
+                eng.snap()
+            changed = np.flatnonzero(old != dec.new)
+            times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, mu, t, dt)
+            for k in changed:
+                t_ev = times.get(int(k), t + mu * dt)
+                log_event(n, k, old[k], dec.new[k], t_ev)
+                step_events += 1
+            ds, dw = dec.ds, dec.dw
+            if mu >= 1.0:
+                break
+            dmu, _, fired = eng.next_event(ds, dw, 1.0 - mu, 1e-10)
+            small = small + 1 if dmu <= 1e-12 else 0
+            if small > 100 or len(rec.events) > max_events:
+                status = Status.CYCLING if small > 100 else Status.MAX_EVENTS
+                message = f"no progress in the step at t = {t:.6g} s: events repeat"
+                stop = True
+                break
+            eng.advance(dmu, ds, dw)
+            mu += dmu
+            if mu >= 1.0 - 1e-15 and not fired.any():
+                break
+        if stop:
+            break
+        if impact is not None:
+            mu_i, closing, ds_o, dw_o, old = impact
+            # the step's end under the scheme before the impact, then the state at the impact
+            # by eq. (8): ü linear in time over the step
+            s_end = eng.s + (1.0 - mu_i) * ds_o
+            w_end = eng.w + (1.0 - mu_i) * dw_o
+            w_end[:m] += drift[:m]
+            tv = s_end - cond.d * (w_end - system.w0)
+            u_end = np.zeros(ndof)
+            u_end[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tv))
+            a_end = c4 * (u_end - u) - (2 * c2) * v - a
+            tau = mu_i * dt
+            a_i = a + mu_i * (a_end - a)
+            v_i = v + 0.5 * tau * (a + a_i)
+            u_i = u + tau * v + 0.25 * tau * tau * (a + a_i)
+            s_i = eng.s.copy()
+            s_i[m + closing] = 0.0
+            # the works of the part step (trapezoidal), as for a whole step
+            F_i = force_at(t + tau)
+            du = u_i - u
+            ledger["external"] += float(du @ (0.5 * (F + F_i)))
+            ledger["damping"] += float(du @ (C @ (0.5 * (v + v_i))))
+            w_i = system.B @ u_i + system.w0
+            diss = 0.5 * (s_start + s_i) * (w_i - w_start) - (layer_energy(s_i)
+                                                                - layer_energy(s_start))
+            ledger["friction"] += float(diss[:m].sum())
+            ledger["impact"] += float(diss[m:].sum())
+            # the impact: normal velocity jumps by impulses on the closing and closed CFEs
+            closed_now = np.flatnonzero((old != OPEN) & rigid_n)
+            v_new = _impact(system, cond, M_lu, v_i, np.union1d(closing, closed_now),
+                            closing, restitution)
+            kin = 0.5 * v_i @ (M @ v_i) - 0.5 * v_new @ (M @ v_new)
+            ledger["impact"] += float(kin)
+            eng.states = old.copy()
+            new_states = old.copy()
+            new_states[closing] = law.closed_state()[closing]
+            for k in closing:
+                log_event(n, k, old[k], new_states[k], t + tau)
+            eng.states = new_states
+            w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
+            eng.s, eng.w = s_i, w_i
+            u, v = u_i, v_new
+            a = np.zeros(ndof)
+            a[free] = M_lu.solve(F_i[free] - (K @ u)[free] - (C @ v)[free] - BfT @ eng.s)
+            F = F_i
+            t = t + tau
+            n_impacts += 1
+            record(t, "event", 0.0)
+            continue
+        # the end of the step: real mutual displacements, the fields, the ledger
+        eng.w[:m] += drift[:m]
+        w_hat = eng.w - system.w0
+        tvec = eng.s - cond.d * w_hat
+        u_new = np.zeros(ndof)
+        u_new[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tvec))
+        a_new = c4 * (u_new - u) - (2 * c2) * v - a
+        v_new = v + 0.5 * dt * (a + a_new)
+        du = u_new - u
+        ledger["external"] += float(du @ (0.5 * (F + F1)))
+        F = F1
+        vbar = 0.5 * (v + v_new)
+        ledger["damping"] += float(du @ (C @ vbar))
+        # contact work −s̄·Δw on the structure; what the layers store is not dissipated
+        sbar = 0.5 * (s_start + eng.s)
+        diss = sbar * (eng.w - w_start) - (layer_energy(eng.s) - layer_energy(s_start))
+        ledger["friction"] += float(diss[:m].sum())
+        ledger["impact"] += float(diss[m:].sum())
+        u, v, a = u_new, v_new, a_new
+        t = t1
+        w_scale[0] = max(w_scale[0], float(np.abs(eng.w).max(initial=0.0)))
+        last = t >= end_time * (1 - 1e-12)
+        if record_every <= 1 or n % record_every == 0 or step_events or last:
+            r = h_end - (w_hat + cond.product(tvec))
+            res_rel = float(np.abs(r).max(initial=0.0) / max(np.abs(h_end).max(initial=0.0),
+                                                              w_scale[0], 1e-300))
+            record(t, "event" if step_events else "step", res_rel)
+        for hk in hooks:
+            if hasattr(hk, "after_step"):
+                hk.after_step(n, t, end_time)
+    n_steps = n
+    if status != Status.COMPLETED:
+        mult["equilibrium_lost"] = t if status == Status.EQUILIBRIUM_LOST else None
+    rec.multipliers.append(Multipliers(0, "dynamic", **mult))
+    arr = rec.arrays()
+    S, W = arr["s"], arr["w"]
+    counters = dict(cond.counters) | schemes.counters | eng.counters | {
+        "events": len(rec.events), "steps": n_steps, "impacts": n_impacts, "setup_seconds": t_setup,
+        "run_seconds": time.perf_counter() - t_run, "ndof": ndof, "cfes": m}
+    cfe_arrays = {"interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
+                  "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction,
+                  "gap": cfe.gap, "kn": cfe.kn, "kt": cfe.kt, "tangent": cfe.tangent}
+    return DynamicResult(
+        pattern_names=tuple(names), segments=[("dynamic", 0.0, float(t))],
+        cfe=cfe_arrays, interface_names=cfe.names, lam=arr["lam"], segment=arr["segment"],
+        factors=arr["factors"], kind=arr["kind"], N=-S[:, m:], Q=S[:, :m], un=W[:, m:],
+        ut=W[:, :m], state=arr["state"], residual=arr["residual"],
+        violation=arr["violation"], events=list(rec.events), multipliers=list(rec.multipliers),
+        status=status, message=message, counters=counters,
+        units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
+               "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
+        u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
+        energy={k: g.view.copy() for k, g in energy.items()}, dt=float(dt),
+    )
+
+
+__all__ = ["ENERGY_TERMS", "DynamicResult", "solve_dynamic"]

@@ -1,0 +1,153 @@
+"""Dynamics (Newmark between events, events located in time, impacts, the energy ledger)
+against closed forms.
+
+* a rigid block on a rough floor under a rectangular pulse: slip distance and stop time of a
+  rigid body (½ a₁ t_p² + (a₁ t_p)² / (2 f g), a₁ = (P − f W)/m);
+* an elastic bar striking a rigid wall (plane strain, ν = 0, L = 0.2 m, E = 2e11 Pa,
+  ρ = 8000 kg/m³, gap 2 mm, v₀ = 100 m/s): contact at 2e-5 s for 2L/c = 8e-5 s, stress ρ c v₀,
+  rebound at −v₀;
+* event times that converge as Δt is halved;
+* a static load applied slowly through the dynamic solver: the static event load factor;
+* the energy ledger balances to round-off.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import stepcontact as sc
+from stepcontact.enums import Status, Transition
+from stepcontact.errors import ModelError
+from stepcontact.model.timefunction import Harmonic, Pulse, Tabulated
+from stepcontact.solver.dynamic import solve_dynamic
+
+G = 9.81
+
+
+def floor_block(mass=1000.0, f=0.3, k=0.0):
+    """A rigid body (DOFs ux, uy) on a rough floor, optionally held by a spring k in x."""
+    W = mass * G
+    dm = sc.DiscreteModel(K=[[k, 0.0], [0.0, 0.0]], normal_rows=[[0, 1]],
+                          tangent_rows=[[1, 0]],
+                          loads={"weight": {"uy": -W}, "push": {"ux": 1.0}}, friction=f,
+                          dof_names=("ux", "uy"), program=[sc.Segment("weight", 1.0)])
+    return dm, sc.solve_static(dm), np.diag([mass, mass])
+
+
+def test_rigid_block_under_a_pulse_slides_the_closed_form_distance():
+    m_, f, tp = 1000.0, 0.3, 0.2
+    dm, st, M = floor_block(m_, f)
+    W = m_ * G
+    P = 2 * f * W
+    dt = 1e-3
+    res = solve_dynamic(dm, dt=dt, duration=0.6, loads={"push": Pulse(P, 0.0, tp,
+                                                                        "rectangular")},
+                        mass=M, initial=st)
+    assert res.status == Status.COMPLETED
+    a1 = (P - f * W) / m_
+    v1 = a1 * tp
+    slip = 0.5 * a1 * tp**2 + v1**2 / (2 * f * G)
+    # Newmark's trapezoidal rule ends a rectangular pulse half a step early: O(Δt / t_p)
+    assert res.u[-1][0] == pytest.approx(slip, rel=1e-3)
+    ev = [(e.lam, e.transition) for e in res.events]
+    assert ev[0][1] == Transition.SLIP_POS and ev[0][0] < dt
+    assert ev[-1][1] == Transition.STUCK
+    assert abs(ev[-1][0] - (tp + v1 / (f * G))) <= dt
+    # at rest afterwards, friction below its limit
+    assert abs(res.v[-1][0]) < 1e-9 and abs(res.Q[-1][0]) <= f * W * (1 + 1e-12)
+    # energy: the work of the pulse went into friction
+    e = res.energy
+    assert e["friction"][-1] == pytest.approx(e["external"][-1], rel=1e-9)
+    assert abs(e["error"]).max() < 1e-9 * e["external"][-1]
+
+
+@pytest.fixture(scope="module")
+def bar():
+    L, E, rho, v0, gap = 0.2, 2e11, 8000.0, 100.0, 2e-3
+    ne = 40
+    body = sc.rectangle("bar", (0, 0), (L, 0.005), ne, 1, sc.Material(E=E, nu=0.0,
+                                                                     density=rho))
+    m = sc.Model(bodies=[body])
+    wall = sc.RigidObstacle("wall", [(L + gap, -1.0), (L + gap, 1.0)])
+    m = m.add(sc.Interface("end", plus=m.select("bar", x=L), minus=wall, friction=0.0))
+    sysm = sc.assemble(m)
+    v = np.zeros(sysm.ndof)
+    v[sysm.dofs.of[: body.n_nodes, 0]] = v0
+    c = np.sqrt(E / rho)
+    return sysm, v, dict(L=L, rho=rho, v0=v0, gap=gap, c=c, dt=L / ne / c, A=0.005,
+                         xdofs=sysm.dofs.of[: body.n_nodes, 0])
+
+
+@pytest.mark.parametrize("mass", ["consistent", "lumped"])
+def test_bar_striking_a_rigid_wall(bar, mass):
+    sysm, v, p = bar
+    res = solve_dynamic(sysm, dt=p["dt"], duration=2e-4, v0=v, mass=mass)
+    assert res.status == Status.COMPLETED
+    closed = [e.lam for e in res.events if e.transition == Transition.CLOSED]
+    opened = [e.lam for e in res.events if e.transition == Transition.OPENED]
+    t_hit = p["gap"] / p["v0"]
+    assert closed[0] == pytest.approx(t_hit, rel=1e-9)
+    duration = 2 * p["L"] / p["c"]
+    assert opened[0] - closed[0] == pytest.approx(duration, rel=0.02)
+    assert len(closed) == 2 and len(opened) == 2  # both end nodes, once each: no chatter
+    # contact stress ρ c v₀ (median over the contact: Newmark's force oscillates about it)
+    sig = -res.N.sum(axis=1) / p["A"]
+    during = (res.time > closed[0] + 0.05 * duration) & (res.time < opened[0] - 0.05 * duration)
+    assert np.median(sig[during]) == pytest.approx(p["rho"] * p["c"] * p["v0"], rel=0.02)
+    # rebound: the mean velocity −v₀ within 4 %
+    assert res.v[-1][p["xdofs"]].mean() == pytest.approx(-p["v0"], rel=0.04)
+    e = res.energy
+    e0 = e["kinetic"][0]
+    assert abs(e["error"]).max() < 1e-9 * e0
+    assert 0 <= e["impact"][-1] < 0.02 * e0  # what the impact and the constraint dissipate
+
+
+def test_event_times_converge_as_the_step_is_halved(bar):
+    sysm, v, p = bar
+    t_open = []
+    for k in (1, 2, 4):
+        res = solve_dynamic(sysm, dt=p["dt"] / k, duration=1.2e-4, v0=v, mass="lumped")
+        t_open.append([e.lam for e in res.events if e.transition == Transition.OPENED][0])
+    d1, d2 = abs(t_open[0] - t_open[1]), abs(t_open[1] - t_open[2])
+    assert d1 < 0.5 * p["dt"]  # far less than the step
+    assert d2 < 0.6 * d1  # and converging (order ≥ ~0.7 here; the wave front is sharp)
+
+
+def test_slow_loading_through_the_dynamic_solver_gives_the_static_event():
+    """A spring-held block on a rough floor, pushed by a force growing slowly (a ramp over
+    many natural periods, with damping): it starts to slip at the static load factor."""
+    k, m_, f = 1e5, 10.0, 0.4
+    dm = sc.DiscreteModel(K=[[k, 0.0], [0.0, 1e5]], normal_rows=[[0, 1]],
+                          tangent_rows=[[1, 0]],
+                          loads={"weight": {"uy": -m_ * G}, "push": {"ux": 1.0},
+                                 "lift": {"uy": 1.0}},
+                          friction=f, dof_names=("ux", "uy"),
+                          program=[sc.Segment("weight", 1.0), sc.Segment("lift", 200.0)])
+    st = sc.solve_static(dm)
+    lam_open = st.multipliers[1].first_opening
+    assert lam_open == pytest.approx(m_ * G, rel=1e-12)
+    st0 = sc.solve_static(dm.replace(program=(sc.Segment("weight", 1.0),)))
+    T = 2 * np.pi * np.sqrt(m_ / 1e5)
+    ramp = Tabulated((0.0, 100 * T), (0.0, 200.0))
+    res = solve_dynamic(dm, dt=T / 50, duration=100 * T, loads={"lift": ramp},
+                        mass=np.diag([m_, m_]), initial=st0,
+                        damping=(2 * 0.2 * 2 * np.pi / T, 0.0))
+    t_open = [e.lam for e in res.events if e.transition == Transition.OPENED][0]
+    assert ramp(t_open) == pytest.approx(lam_open, rel=2e-3)
+
+
+def test_bad_dynamic_inputs():
+    dm, st, M = floor_block()
+    with pytest.raises(ModelError, match="dt"):
+        solve_dynamic(dm, dt=0.0, duration=1.0, mass=M)
+    with pytest.raises(ModelError, match="nope"):
+        solve_dynamic(dm, dt=0.1, duration=1.0, mass=M, loads={"nope": Harmonic()})
+    with pytest.raises(ModelError, match="mass matrix"):
+        solve_dynamic(dm, dt=0.1, duration=1.0)
+    with pytest.raises(ModelError, match="restitution"):
+        solve_dynamic(dm, dt=0.1, duration=1.0, mass=M, restitution=2.0)
+    with pytest.raises(ModelError, match="pulse.shape"):
+        Pulse(1.0, 0.0, 1.0, "square")
+    with pytest.raises(ModelError, match="increase"):
+        Tabulated((0.0, 1.0, 0.5), (0.0, 1.0, 2.0))
