@@ -28,10 +28,18 @@ would reverse) is then Coulomb's law in velocities.  Closed rigid contact holds 
 end of the step; a CFE that closes during a step is an impact with restitution 0 (the
 integrator's implicit constraint).
 
+Events inside a step (eq. (10)): the step is cut at the event time, the state there taken by
+the interpolation (8) (ü linear in time over the step), the scheme switched (an impact's
+velocities jump), and the integration restarts there with the same K̂ — no refactorisation.
+Steps land on the breaks of the time functions (a pulse's start and end) and on the end of the
+interval: those few shorter steps have their own K̂.
+
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
-by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ and in the normal contact Σ −p̄ Δu_n (impacts);
-the balance error is what is left.
+by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
+impacts' velocity jumps, and by the integrator itself ("numerical": what the interpolation (8)
+of cut steps adds or removes; Newmark's whole steps conserve energy); the balance error is
+what is left (round-off).
 """
 
 from __future__ import annotations
@@ -56,7 +64,8 @@ from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
 
 #: the energy ledger's columns (J per metre of thickness in plane strain)
-ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "error")
+ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "numerical",
+                "error")
 
 
 @dataclass
@@ -253,13 +262,29 @@ def solve_dynamic(
     a0, a1 = (float(x) for x in damping)
     K = system.K.tocsr()
     C = (a0 * M + a1 * K).tocsr()
-    Khat = (K + (4.0 / dt**2) * M + (2.0 / dt) * C).tocsr()
+    dt0 = float(dt)
+    ops: dict[float, tuple] = {}
+    n_ops = [0]
+
+    def operator(h: float):
+        """(Condensed, SchemeSolver) of K̂ = K + 4M/h² + 2C/h: the step Δt's, built once, and
+        those of the few shorter steps that land on a break of a time function or the end."""
+        key = round(h / dt0, 12)
+        if key not in ops:
+            Kh = (K + (4.0 / h**2) * M + (2.0 / h) * C).tocsr()
+            c = Condensed.from_system(dataclasses.replace(system, K=Kh))
+            ops[key] = (c, SchemeSolver(c.G, c.d, product=c.product))
+            n_ops[0] += 1
+            while len(ops) > 3:  # keep Δt's and the two latest short ones
+                drop = next(k for k in ops if k != 1.0)
+                del ops[drop]
+        return ops[key]
+
     t0 = time.perf_counter()
-    cond = Condensed.from_system(dataclasses.replace(system, K=Khat))
+    cond, schemes = operator(dt0)
     t_setup = time.perf_counter() - t0
     cfe = system.cfe
     law = CoulombLaw(np.arange(m), cfe.friction, cfe.kn, cfe.kt)
-    schemes = SchemeSolver(cond.G, cond.d, product=cond.product)
     eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
     u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
     eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
@@ -292,11 +317,16 @@ def solve_dynamic(
             F += float(ground_acceleration[0](t)) * r_ground
         return F
 
-    # initial acceleration from the equation of motion with the initial contact forces
+    # initial acceleration from the equation of motion with the initial contact forces and
+    # the loads held (a static state is at rest); the time functions' values at t = 0 are a
+    # jump of the load, followed in accelerations below
     F = force_at(0.0)
+    F_held = np.zeros(ndof)
+    for name, c in static.items():
+        F_held += c * f_of[name]
     Bf = cond.Bf
     BfT = Bf.T.tocsr()
-    rhs = F[free] - (K @ u)[free] - (C @ v)[free] - BfT @ s
+    rhs = F_held[free] - (K @ u)[free] - (C @ v)[free] - BfT @ s
     Mff = M[free][:, free].tocsc()
     from scipy.sparse.linalg import splu
 
@@ -309,6 +339,87 @@ def solve_dynamic(
                          "every free DOF needs mass") from None
     if not (0.0 <= restitution <= 1.0):
         raise ModelError("restitution", f"must lie in [0, 1], got {restitution}")
+    accel: dict[str, object] = {}
+
+    def accel_engine() -> EventEngine:
+        """The event engine of the contact problem in accelerations: M ü + Bᵀ s = f with
+        the contact conditions on (s, B ü), condensed to B M⁻¹ Bᵀ (built on first use)."""
+        if "eng" not in accel:
+            X = M_lu.solve(np.ascontiguousarray(BfT.toarray()))
+            GM = np.asarray(Bf @ X)
+            GM = 0.5 * (GM + GM.T)
+            accel["eng"] = EventEngine(SchemeSolver(GM, np.zeros(2 * m)), [law],
+                                       np.zeros(2 * m), rtol=rtol)
+        return accel["eng"]
+
+    def accel_forces(t_now: float) -> np.ndarray:
+        """Contact forces and accelerations of the current scheme at (u, v): the scheme's
+        relations in accelerations (stuck: B_τ ü = 0, closed: B_n ü = 0, slipping:
+        Q = σ f p, open: s = 0) with M ü + Bᵀ s = F − K u − C v — where a switch makes the
+        forces jump (a slip that stops, an impact).  Sets them; returns ü."""
+        Fn = force_at(t_now)
+        f_rest = Fn[free] - (K @ u)[free] - (C @ v)[free]
+        out = np.zeros(ndof)
+        if m:
+            ea = accel_engine()
+            ea.states = eng.states.copy()
+            hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest))
+            try:
+                s_new, _ = ea.rates(eng.states, (hM, np.zeros(2 * m)), article=False)
+                eng.s = s_new
+            except MechanismError:
+                pass  # a free mode in accelerations: keep the interpolated forces
+        out[free] = M_lu.solve(np.ascontiguousarray(f_rest - BfT @ eng.s))
+        return out
+
+    def load_jump(dF: np.ndarray, t_now: float, step: int) -> np.ndarray:
+        """A load that jumps by dF at t_now (the start, a pulse's edge): the contact forces
+        jump with it.  Followed in accelerations at fixed time (the engine along the jump,
+        events located in it and logged at t_now); returns the accelerations after it and
+        sets the contact forces and states."""
+        ea = accel_engine()
+        ea.states = eng.states.copy()
+        ea.s = eng.s.copy()
+        wa = system.B @ a
+        _, tw = eng.tolerances()
+        wd = system.B @ v
+        apart = (eng.states == OPEN) & ((-eng.w[m:] > tw) | (wd[m:] < 0))
+        wa[m:] = np.where(apart, -1e30, wa[m:])  # open with a gap: cannot close now
+        ea.w = wa
+        ea.F_scale = max(eng.F_scale, float(np.abs(dF).max(initial=0.0)))
+        ea.W_scale = float(np.abs(wa[np.abs(wa) < 1e29]).max(initial=0.0)) or 1e-300
+        dh = Bf @ M_lu.solve(np.ascontiguousarray(dF[free]))
+        # a CFE that slips with a velocity keeps slipping whatever its acceleration: its
+        # slip rate is pinned to the direction of the slip
+        st = eng.states
+        sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
+        moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
+                                                            1e-300))
+        e = np.zeros(2 * m)
+        e[:m] = np.where(moving, sig * 1e6 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
+                         0.0)
+        forcing = (dh, e)
+        mu, fired = 0.0, np.zeros(m, bool)
+        for _ in range(10 * m + 10):
+            old = ea.states.copy()
+            dec = ea.decide(fired, forcing)
+            if dec.switched or fired.any():
+                ea.snap()
+            for k in np.flatnonzero(old != dec.new):
+                log_event(step, k, old[k], dec.new[k], t_now)
+            if mu >= 1.0:
+                break
+            dmu, _, fired = ea.next_event(dec.ds, dec.dw, 1.0 - mu, 1e-10)
+            ea.advance(dmu, dec.ds, dec.dw)
+            mu += dmu
+            if mu >= 1.0 - 1e-15 and not fired.any():
+                break
+        eng.states = ea.states.copy()
+        eng.s = ea.s.copy()
+        out = np.zeros(ndof)
+        Fn = force_at(t_now)
+        out[free] = M_lu.solve(Fn[free] - (K @ u)[free] - (C @ v)[free] - BfT @ eng.s)
+        return out
     rec = Recorder(m, len(names), 0)
     extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
              "a": GrowingArray((ndof,))}
@@ -333,7 +444,7 @@ def solve_dynamic(
         ledger["strain"] = strain_energy(u, eng.s)
         total = ledger["kinetic"] + ledger["strain"]
         ledger["error"] = (total - e0 - ledger["external"] + ledger["damping"]
-                           + ledger["friction"] + ledger["impact"])
+                           + ledger["friction"] + ledger["impact"] + ledger["numerical"])
         c = factors_at(t)
         i = rec.append(lam=t, segment=0, kind=kind, factors=[c.get(n, 0.0) for n in names],
                        s=eng.s, w=eng.w, state=eng.states, residual=residual,
@@ -363,8 +474,14 @@ def solve_dynamic(
             mult[key] = t_ev
 
     status, message = Status.COMPLETED, "time interval completed"
-    record(0.0, "start", 0.0)
     first = True
+    if m and initial is not None:
+        a = load_jump(F - F_held, 0.0, 0)
+        first = False
+    else:
+        a = np.zeros(ndof)
+        a[free] = M_lu.solve(F[free] - (K @ u)[free] - (C @ v)[free] - BfT @ s)
+    record(0.0, "start", 0.0)
     c4, c2 = 4.0 / dt**2, 2.0 / dt
     rigid_n = ~np.isfinite(cfe.kn)
     t_run = time.perf_counter()
@@ -372,10 +489,63 @@ def solve_dynamic(
     n = 0
     n_impacts = 0
     end_time = float(duration)
-    while t < end_time * (1 - 1e-12):
+    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, w_start):
+        """The state at t + frac·Δt of the step under the scheme before an event (eq. (8):
+        ü linear in time over the step, with the step's end under that scheme), the works of
+        the part step in the ledger.  Returns (u, v, s, w, F) there."""
+        s_end = eng.s + (1.0 - mu) * ds_o
+        w_end = eng.w + (1.0 - mu) * dw_o
+        w_end[:m] += drift[:m]
+        tv = s_end - cond.d * (w_end - system.w0)
+        u_end = np.zeros(ndof)
+        u_end[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tv))
+        a_end = c4 * (u_end - u) - (2 * c2) * v - a
+        tau = frac * dt
+        a_i = a + frac * (a_end - a)
+        v_i = v + 0.5 * tau * (a + a_i)
+        u_i = u + tau * v + 0.25 * tau * tau * (a + a_i)
+        s_i = eng.s + (frac - mu) * ds_o
+        F_i = force_at(t + tau)
+        du = u_i - u
+        w_i = system.B @ u_i + system.w0
+        diss = 0.5 * (s_start + s_i) * (w_i - w_start) - (layer_energy(s_i)
+                                                            - layer_energy(s_start))
+        works = {"external": float(du @ (0.5 * (F + F_i))),
+                 "damping": float(du @ (C @ (0.5 * (v + v_i)))),
+                 "friction": float(diss[:m].sum()), "impact": float(diss[m:].sum())}
+        for key, val in works.items():
+            ledger[key] += val
+        # the interpolation (8) is not a Newmark step: what it adds or removes is the
+        # integrator's (numerical) share of the part step
+        d_energy = (0.5 * v_i @ (M @ v_i) + strain_energy(u_i, s_i)
+                    - 0.5 * v @ (M @ v) - strain_energy(u, s_start))
+        ledger["numerical"] += (works["external"] - works["damping"] - works["friction"]
+                                - works["impact"] - d_energy)
+        return u_i, v_i, s_i, w_i, F_i
+
+    breaks = np.unique(np.concatenate(
+        [np.asarray(g.breaks(), float) for g in loads.values() if hasattr(g, "breaks")]
+        + ([np.asarray(ground_acceleration[0].breaks(), float)]
+           if ground_acceleration is not None and hasattr(ground_acceleration[0], "breaks")
+           else []) + [np.zeros(0)]))
+    breaks = breaks[(breaks > 0) & (breaks < end_time)]
+    while t < end_time - 1e-6 * dt0:
         n += 1
+        # the step: Δt, or shorter to land on a break of a load (a pulse's end) or the end
+        dt = dt0
+        ahead = breaks[breaks > t + 1e-9 * dt0]
+        stop_at = min(float(ahead[0]) if ahead.size else np.inf, end_time)
+        if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
+            dt = stop_at - t
+        cond, schemes = operator(dt)
+        eng.schemes = schemes
+        c4, c2 = 4.0 / dt**2, 2.0 / dt
         t1 = t + dt
-        F1 = force_at(t1)
+        at_break = bool(ahead.size) and t1 >= float(ahead[0]) - 1e-6 * dt0
+        if at_break:
+            t1 = float(ahead[0])
+        # a step that ends on a break takes the load's left limit there
+        F1 = force_at(t1 - 1e-9 * dt0) if at_break else force_at(t1)
         Fhat = F1 + M @ (c4 * u + (2 * c2) * v + a) + C @ (c2 * u + v)
         y = cond.factor.solve(np.ascontiguousarray(Fhat[free]))
         h_end = Bf @ y
@@ -393,7 +563,7 @@ def solve_dynamic(
         fired = np.zeros(m, bool)
         small = 0
         stop = False
-        impact = None
+        restart = None
         step_events = 0
         ds = dw = None
         while True:
@@ -411,20 +581,35 @@ def solve_dynamic(
                 # contact at rest is the initial scheme, not an event
                 touching = (-eng.w[m:] <= 1e-12 * max(w_scale[0], 1e-300)) & (old == OPEN)
                 old = np.where(touching, dec.new, old)
-            closing = np.flatnonzero((old == OPEN) & (dec.new != OPEN) & rigid_n)
-            if closing.size and not first and ds is not None:
-                # an impact: cut the step here (eq. (10)), undo the decision
-                impact = (mu, closing, ds, dw, old)
-                eng.states = old
+                first = False
+            changed = np.flatnonzero(old != dec.new)
+            if changed.size and ds is not None and mu > 1e-9:
+                # an event inside the step: cut the step here (eq. (10)) and restart
+                restart = (mu, mu, ds, dw, old, dec.new, {})
                 break
-            first = False
+            if changed.size and ds is None:
+                # decided at the step's start: a slip that stops inside the step is cut where
+                # its velocity vanishes; the other changes happen at t
+                times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, 0.0,
+                                     t, dt)
+                if times and min(times.values()) > t + 1e-9 * dt:
+                    try:
+                        ds_o, dw_o = eng.rates(old, forcing, article=False)
+                    except MechanismError:
+                        ds_o = None
+                    if ds_o is not None:
+                        t_cut = min(times.values())
+                        frac = min((t_cut - t) / dt, 1.0)
+                        keep = old.copy()
+                        for k, tk in times.items():
+                            if tk <= t_cut * (1 + 1e-12):
+                                keep[k] = dec.new[k]
+                        restart = (frac, 0.0, ds_o, dw_o, old, keep, times)
+                        break
             if dec.switched or fired.any():
                 eng.snap()
-            changed = np.flatnonzero(old != dec.new)
-            times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, mu, t, dt)
             for k in changed:
-                t_ev = times.get(int(k), t + mu * dt)
-                log_event(n, k, old[k], dec.new[k], t_ev)
+                log_event(n, k, old[k], dec.new[k], t + mu * dt)
                 step_events += 1
             ds, dw = dec.ds, dec.dw
             if mu >= 1.0:
@@ -442,53 +627,35 @@ def solve_dynamic(
                 break
         if stop:
             break
-        if impact is not None:
-            mu_i, closing, ds_o, dw_o, old = impact
-            # the step's end under the scheme before the impact, then the state at the impact
-            # by eq. (8): ü linear in time over the step
-            s_end = eng.s + (1.0 - mu_i) * ds_o
-            w_end = eng.w + (1.0 - mu_i) * dw_o
-            w_end[:m] += drift[:m]
-            tv = s_end - cond.d * (w_end - system.w0)
-            u_end = np.zeros(ndof)
-            u_end[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tv))
-            a_end = c4 * (u_end - u) - (2 * c2) * v - a
-            tau = mu_i * dt
-            a_i = a + mu_i * (a_end - a)
-            v_i = v + 0.5 * tau * (a + a_i)
-            u_i = u + tau * v + 0.25 * tau * tau * (a + a_i)
-            s_i = eng.s.copy()
+        if restart is not None:
+            frac, mu_r, ds_o, dw_o, old, new_states, times = restart
+            u_i, v_i, s_i, w_i, F_i = cut(frac, mu_r, ds_o, dw_o, drift, Fhat, s_start,
+                                          w_start)
+            t_i = t + frac * dt
+            closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & rigid_n)
             s_i[m + closing] = 0.0
-            # the works of the part step (trapezoidal), as for a whole step
-            F_i = force_at(t + tau)
-            du = u_i - u
-            ledger["external"] += float(du @ (0.5 * (F + F_i)))
-            ledger["damping"] += float(du @ (C @ (0.5 * (v + v_i))))
-            w_i = system.B @ u_i + system.w0
-            diss = 0.5 * (s_start + s_i) * (w_i - w_start) - (layer_energy(s_i)
-                                                                - layer_energy(s_start))
-            ledger["friction"] += float(diss[:m].sum())
-            ledger["impact"] += float(diss[m:].sum())
-            # the impact: normal velocity jumps by impulses on the closing and closed CFEs
-            closed_now = np.flatnonzero((old != OPEN) & rigid_n)
-            v_new = _impact(system, cond, M_lu, v_i, np.union1d(closing, closed_now),
-                            closing, restitution)
-            kin = 0.5 * v_i @ (M @ v_i) - 0.5 * v_new @ (M @ v_new)
-            ledger["impact"] += float(kin)
-            eng.states = old.copy()
-            new_states = old.copy()
-            new_states[closing] = law.closed_state()[closing]
-            for k in closing:
-                log_event(n, k, old[k], new_states[k], t + tau)
-            eng.states = new_states
             w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
+            if closing.size:  # an impact: normal velocities jump (Newton's law)
+                closed_now = np.flatnonzero((old != OPEN) & rigid_n)
+                v_new = _impact(system, cond, M_lu, v_i, np.union1d(closing, closed_now),
+                                closing, restitution)
+                ledger["impact"] += float(0.5 * v_i @ (M @ v_i) - 0.5 * v_new @ (M @ v_new))
+                v_i = v_new
+                n_impacts += 1
+            for k in np.flatnonzero(old != new_states):
+                log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
+            eng.states = new_states.copy()
             eng.s, eng.w = s_i, w_i
-            u, v = u_i, v_new
-            a = np.zeros(ndof)
-            a[free] = M_lu.solve(F_i[free] - (K @ u)[free] - (C @ v)[free] - BfT @ eng.s)
+            eng.snap()
+            u, v = u_i, v_i
             F = F_i
-            t = t + tau
-            n_impacts += 1
+            if closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
+                                      & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
+                a = accel_forces(t_i)  # the forces jump: an impact, a slip that stops
+            else:
+                a = np.zeros(ndof)
+                a[free] = M_lu.solve(F_i[free] - (K @ u)[free] - (C @ v)[free] - BfT @ eng.s)
+            t = t_i
             record(t, "event", 0.0)
             continue
         # the end of the step: real mutual displacements, the fields, the ledger
@@ -511,8 +678,16 @@ def solve_dynamic(
         ledger["impact"] += float(diss[m:].sum())
         u, v, a = u_new, v_new, a_new
         t = t1
+        if at_break:  # the load jumps here: the contact forces and accelerations with it
+            F_left = F
+            F = force_at(t)
+            if m:
+                a = load_jump(F - F_left, t, n)
+            else:
+                a = np.zeros(ndof)
+                a[free] = M_lu.solve(F[free] - (K @ u)[free] - (C @ v)[free])
         w_scale[0] = max(w_scale[0], float(np.abs(eng.w).max(initial=0.0)))
-        last = t >= end_time * (1 - 1e-12)
+        last = t >= end_time - 1e-6 * dt0
         if record_every <= 1 or n % record_every == 0 or step_events or last:
             r = h_end - (w_hat + cond.product(tvec))
             res_rel = float(np.abs(r).max(initial=0.0) / max(np.abs(h_end).max(initial=0.0),
@@ -528,7 +703,8 @@ def solve_dynamic(
     arr = rec.arrays()
     S, W = arr["s"], arr["w"]
     counters = dict(cond.counters) | schemes.counters | eng.counters | {
-        "events": len(rec.events), "steps": n_steps, "impacts": n_impacts, "setup_seconds": t_setup,
+        "events": len(rec.events), "steps": n_steps, "impacts": n_impacts,
+        "step_lengths": n_ops[0], "setup_seconds": t_setup,
         "run_seconds": time.perf_counter() - t_run, "ndof": ndof, "cfes": m}
     cfe_arrays = {"interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
                   "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction,
@@ -543,7 +719,7 @@ def solve_dynamic(
         units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
-        energy={k: g.view.copy() for k, g in energy.items()}, dt=float(dt),
+        energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
     )
 
 
