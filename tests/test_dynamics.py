@@ -151,3 +151,33 @@ def test_bad_dynamic_inputs():
         Pulse(1.0, 0.0, 1.0, "square")
     with pytest.raises(ModelError, match="increase"):
         Tabulated((0.0, 1.0, 0.5), (0.0, 1.0, 2.0))
+
+
+@pytest.mark.parametrize("r", [1.5, 2.0, 3.0])
+def test_forced_stick_slip_amplitude_of_den_hartog(r):
+    """Den Hartog (1931): m ẍ + k x ± μN = F₀ cos ωt without stops has the steady amplitude
+    X/(F₀/k) = sqrt(1/(1 − r²)² − (μN/F₀ · U)²), U = sin(π/r) / (r (1 + cos(π/r)))."""
+    k, m_, N, F0, mu = 1e4, 1.0, 100.0, 100.0, 0.3
+    dm = sc.DiscreteModel(K=[[k, 0.0], [0.0, 0.0]], normal_rows=[[0, 1]],
+                          tangent_rows=[[1, 0]], loads={"weight": {"uy": -N},
+                                                        "force": {"ux": 1.0}},
+                          friction=mu, dof_names=("ux", "uy"),
+                          program=[sc.Segment("weight", 1.0)])
+    st = sc.solve_static(dm)
+    w = r * np.sqrt(k / m_)
+    T = 2 * np.pi / w
+    res = solve_dynamic(dm, dt=T / 100, duration=30 * T, mass=np.diag([m_, m_]), initial=st,
+                        loads={"force": Harmonic(F0, w / (2 * np.pi), np.pi / 2)})
+    assert res.status == Status.COMPLETED
+    late = res.time > 20 * T
+    x = res.u[late, 0]
+    amp = 0.5 * (x.max() - x.min()) / (F0 / k)
+    U = np.sin(np.pi / r) / (r * (1 + np.cos(np.pi / r)))
+    ref = np.sqrt(1 / (1 - r**2) ** 2 - (mu * N / F0 * U) ** 2)
+    assert amp == pytest.approx(ref, rel=0.01)
+    # no stops: every reversal is a stick and a slip the other way at the same time
+    ev = [e for e in res.events if e.lam > 20 * T]
+    stuck = [e.lam for e in ev if e.transition == Transition.STUCK]
+    slips = [e.lam for e in ev if e.transition in (Transition.SLIP_POS, Transition.SLIP_NEG)]
+    assert len(stuck) >= 18 and np.allclose(stuck, slips[: len(stuck)], rtol=0, atol=1e-12)
+    assert abs(res.energy["error"]).max() < 1e-9 * res.energy["external"][-1]

@@ -52,7 +52,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, CoulombLaw
+from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble
@@ -146,6 +146,34 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt) -> d
     frac = np.clip(np.nan_to_num(frac, nan=mu), mu, 1.0)
     del m
     return {int(k): t + float(f) * dt for k, f in zip(ks, frac, strict=True)}
+
+
+def _project(system, cond, M_lu, u, v, states, law, rigid_n):
+    """The state after a cut onto the constraints of its scheme (in the metric of M): the
+    closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
+    velocity to zero — so that no round-off of the interpolation (8) seeds the alternating
+    velocities of Newmark's constrained DOFs."""
+    m = system.m
+    closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
+    stuck = np.flatnonzero((states == STICK) & law.frictional & law.rigid_t)
+    rows_v = np.r_[m + closed, stuck].astype(np.int64)
+    if rows_v.size == 0:
+        return u, v
+    free = cond.free
+    Bc = cond.Bf[rows_v]
+    X = np.column_stack([M_lu.solve(np.ascontiguousarray(Bc[j].toarray().ravel()))
+                         for j in range(Bc.shape[0])])
+    W = np.asarray(Bc @ X)
+    u, v = u.copy(), v.copy()
+    lam = np.linalg.lstsq(W, Bc @ v[free], rcond=None)[0]
+    v[free] -= X @ lam
+    nr = len(closed)
+    if nr:
+        Wn = W[:nr, :nr]
+        gap = cond.Bf[m + closed] @ u[free] + system.w0[m + closed]
+        mu_ = np.linalg.lstsq(Wn, gap, rcond=None)[0]
+        u[free] -= X[:, :nr] @ mu_
+    return u, v
 
 
 def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
@@ -362,13 +390,30 @@ def solve_dynamic(
         out = np.zeros(ndof)
         if m:
             ea = accel_engine()
-            ea.states = eng.states.copy()
             hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest))
-            try:
-                s_new, _ = ea.rates(eng.states, (hM, np.zeros(2 * m)), article=False)
-                eng.s = s_new
-            except MechanismError:
-                pass  # a free mode in accelerations: keep the interpolated forces
+            states = eng.states.copy()
+            for _ in range(2 * m + 2):  # active set: a stuck CFE beyond its cone slips
+                try:
+                    s_new, _ = ea.rates(states, (hM, np.zeros(2 * m)), article=False)
+                except MechanismError:
+                    break  # a free mode in accelerations: keep the interpolated forces
+                Q, p = s_new[:m], s_new[m:]
+                fp = law.f * p
+                tol = 1e-9 * max(float(np.abs(s_new).max(initial=0.0)), eng.F_scale, 1e-300)
+                stuck = (states == STICK) & law.frictional
+                up = stuck & (Q > fp + tol)
+                down = stuck & (Q < -fp - tol)
+                # (a CFE in tension opens in the step that follows: the step's contact
+                # problem decides it, with the gap and velocity it needs)
+                if not (up.any() or down.any()):
+                    eng.s = s_new
+                    break
+                new = states.copy()
+                new[up], new[down] = SLIP_POS, SLIP_NEG
+                for k in np.flatnonzero(new != states):
+                    log_event(n, k, states[k], new[k], t_now)
+                states = new
+            eng.states = states
         out[free] = M_lu.solve(np.ascontiguousarray(f_rest - BfT @ eng.s))
         return out
 
@@ -645,6 +690,14 @@ def solve_dynamic(
             for k in np.flatnonzero(old != new_states):
                 log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
             eng.states = new_states.copy()
+            e_before = 0.5 * v_i @ (M @ v_i) + 0.5 * u_i @ (K @ u_i)
+            u_i, v_i = _project(system, cond, M_lu, u_i, v_i, new_states, law, rigid_n)
+            # the projection onto the new scheme's constraints: the integrator's share
+            ledger["numerical"] += float(e_before - 0.5 * v_i @ (M @ v_i)
+                                         - 0.5 * u_i @ (K @ u_i))
+            w_i = system.B @ u_i + system.w0
+            on = (new_states != OPEN) & rigid_n
+            w_i[m:][on] = 0.0  # on the obstacle (round-off of the projection)
             eng.s, eng.w = s_i, w_i
             eng.snap()
             u, v = u_i, v_i
