@@ -35,10 +35,13 @@ from stepcontact.model import (
 )
 from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.fem.mass import rayleigh_coefficients
+from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 from stepcontact.results.file import load_result
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, condense
+from stepcontact.solver.dynamic import DynamicResult, solve_dynamic
 from stepcontact.solver.static import StepInfo, solve_static
 
 _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",
@@ -105,6 +108,13 @@ __all__ = [
     "WaterLoad",
     "assemble",
     "solve_static",
+    "solve_dynamic",
+    "DynamicResult",
+    "rayleigh_coefficients",
+    "Constant",
+    "Harmonic",
+    "Pulse",
+    "Tabulated",
     "condense",
     "Condensation",
     "export_vtu",

@@ -28,9 +28,13 @@ would reverse) is then Coulomb's law in velocities.  Closed rigid contact holds 
 end of the step; a CFE that closes during a step is an impact with restitution 0 (the
 integrator's implicit constraint).
 
-Events inside a step (eq. (10)): the step is cut at the event time, the state there taken by
-the interpolation (8) (ü linear in time over the step), the scheme switched (an impact's
-velocities jump), and the integration restarts there with the same K̂ — no refactorisation.
+Events inside a step (eq. (10)): the step is cut at the event time, the state there
+interpolated linearly between the step's start and its end under the old scheme (the
+expansion (8) in powers of the part step amplifies the stiff modes of a continuum at every
+cut; the linear interpolation, a convex combination of two Newmark states, does not), the
+scheme switched (an impact's velocities jump, forces that jump are resolved in
+accelerations, the state is projected onto the new scheme's constraints), and the
+integration restarts there with the same K̂ — no refactorisation.
 Steps land on the breaks of the time functions (a pulse's start and end) and on the end of the
 interval: those few shorter steps have their own K̂.
 
@@ -441,7 +445,7 @@ def solve_dynamic(
         moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
                                                             1e-300))
         e = np.zeros(2 * m)
-        e[:m] = np.where(moving, sig * 1e6 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
+        e[:m] = np.where(moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
                          0.0)
         forcing = (dh, e)
         mu, fired = 0.0, np.zeros(m, bool)
@@ -545,10 +549,12 @@ def solve_dynamic(
         u_end = np.zeros(ndof)
         u_end[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tv))
         a_end = c4 * (u_end - u) - (2 * c2) * v - a
+        v_end = v + 0.5 * dt * (a + a_end)
         tau = frac * dt
-        a_i = a + frac * (a_end - a)
-        v_i = v + 0.5 * tau * (a + a_i)
-        u_i = u + tau * v + 0.25 * tau * tau * (a + a_i)
+        # linear between the step's ends (a convex combination of two Newmark states: stable
+        # for the stiff modes, where the expansion (8) in powers of τ is not)
+        u_i = u + frac * (u_end - u)
+        v_i = v + frac * (v_end - v)
         s_i = eng.s + (frac - mu) * ds_o
         F_i = force_at(t + tau)
         du = u_i - u
