@@ -181,3 +181,109 @@ def test_forced_stick_slip_amplitude_of_den_hartog(r):
     slips = [e.lam for e in ev if e.transition in (Transition.SLIP_POS, Transition.SLIP_NEG)]
     assert len(stuck) >= 18 and np.allclose(stuck, slips[: len(stuck)], rtol=0, atol=1e-12)
     assert abs(res.energy["error"]).max() < 1e-9 * res.energy["external"][-1]
+
+
+def test_a_dynamic_result_round_trips_through_the_result_file(tmp_path):
+    dm, st, M = floor_block()
+    res = solve_dynamic(dm, dt=1e-2, duration=0.3, mass=M, initial=st,
+                        loads={"push": Pulse(2 * 0.3 * 1000 * G, 0.0, 0.1, "rectangular")})
+    res.save(tmp_path / "dyn.nc")
+    back = sc.load_result(tmp_path / "dyn.nc")
+    assert isinstance(back, sc.DynamicResult) and back.dt == res.dt
+    np.testing.assert_array_equal(back.time, res.time)
+    for key in ("u", "v", "a"):
+        np.testing.assert_array_equal(getattr(back, key), getattr(res, key))
+    for key, vals in res.energy.items():
+        np.testing.assert_array_equal(back.energy[key], vals)
+    assert [e.transition for e in back.events] == [e.transition for e in res.events]
+
+
+DYN_FILE = """
+[model]
+name = "dyn-block"
+
+[materials.c]
+E = 30e9
+nu = 0.2
+density = 2400
+
+[[bodies]]
+name = "block"
+kind = "rectangle"
+corner0 = [0.0, 0.0]
+corner1 = [1.0, 0.5]
+nx = 2
+ny = 1
+material = "c"
+
+[node_sets.bottom]
+body = "block"
+y = 0.0
+
+[node_sets.top]
+body = "block"
+y = 0.5
+
+[[obstacles]]
+name = "floor"
+points = [[-5.0, 0.0], [5.0, 0.0]]
+
+[[interfaces]]
+name = "base"
+plus = "bottom"
+obstacle = "floor"
+friction = 0.5
+layer = { kn = 1e10, kt = 1e10 }
+
+[patterns.weight]
+loads = [{ type = "gravity" }]
+
+[patterns.push]
+loads = [{ type = "edge_force", nodes = "top", fx = 2e4 }]
+
+[[program]]
+pattern = "weight"
+end = 1.0
+
+[dynamics]
+dt = 1e-3
+duration = 0.1
+mass = "lumped"
+damping = { ratios = [0.05, 0.05], frequencies = [10.0, 200.0] }
+
+[[dynamics.loads]]
+pattern = "push"
+type = "pulse"
+amplitude = 1.0
+duration = 0.05
+shape = "half_sine"
+"""
+
+
+def test_model_file_dynamic_interval_runs_from_the_command_line(tmp_path):
+    from typer.testing import CliRunner
+
+    from stepcontact.cli.commands import app
+    from stepcontact.io.modelfile import load_model
+
+    f = tmp_path / "dyn.toml"
+    f.write_text(DYN_FILE)
+    m = load_model(f)
+    assert m.dynamics is not None and m.dynamics.mass == "lumped"
+    a0, a1 = m.dynamics.damping
+    for zeta, fr in ((0.05, 10.0), (0.05, 200.0)):
+        w = 2 * np.pi * fr
+        assert a0 / (2 * w) + a1 * w / 2 == pytest.approx(zeta, rel=1e-12)
+    out = CliRunner().invoke(app, ["run", str(f), "--no-plot", "--quiet"])
+    assert out.exit_code == 0, out.output
+    assert "dynamics:" in out.output
+    back = sc.load_result(tmp_path / "dyn-dynamic.nc")
+    assert isinstance(back, sc.DynamicResult)
+    assert back.time[-1] == pytest.approx(0.1, rel=1e-9)
+    assert abs(back.energy["error"]).max() < 1e-6 * back.energy["external"].max()
+    # a bad entry names its item
+    bad = DYN_FILE.replace('pattern = "push"\ntype', 'pattern = "nope"\ntype')
+    f.write_text(bad)
+    out = CliRunner().invoke(app, ["run", str(f), "--no-plot", "--quiet"])
+    assert out.exit_code == 2
+    assert "dynamics.loads[0].pattern" in out.output and "nope" in out.output

@@ -10,6 +10,7 @@ from stepcontact.errors import (
     StepContactError,
 )
 from stepcontact.fem.assembly import System, assemble
+from stepcontact.fem.mass import rayleigh_coefficients
 from stepcontact.io.export import export_vtu, export_xdmf
 from stepcontact.io.meshfile import MeshFile, read_msh
 from stepcontact.io.modelfile import load_model, model_from_dict, validate_model_file
@@ -18,6 +19,7 @@ from stepcontact.model import (
     BodyForce,
     ContactLayer,
     DiscreteModel,
+    DynamicInterval,
     EdgeForce,
     EdgeLoad,
     Frame,
@@ -35,7 +37,6 @@ from stepcontact.model import (
 )
 from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
-from stepcontact.fem.mass import rayleigh_coefficients
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 from stepcontact.results.file import load_result
@@ -45,7 +46,7 @@ from stepcontact.solver.dynamic import DynamicResult, solve_dynamic
 from stepcontact.solver.static import StepInfo, solve_static
 
 _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",
-          "plot_event_timeline", "plot_safety")
+          "plot_event_timeline", "plot_safety", "plot_time_history", "plot_energy")
 
 
 def __getattr__(name: str):
@@ -109,6 +110,7 @@ __all__ = [
     "assemble",
     "solve_static",
     "solve_dynamic",
+    "DynamicInterval",
     "DynamicResult",
     "rayleigh_coefficients",
     "Constant",

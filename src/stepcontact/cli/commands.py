@@ -162,6 +162,59 @@ def _solve(
         )
 
 
+class _TimeProgress:
+    """Progress of a dynamic interval in simulated time."""
+
+    def __init__(self, progress: Progress, task) -> None:
+        self.progress, self.task = progress, task
+
+    def after_step(self, step: int, t: float, end: float) -> None:
+        self.progress.update(self.task, completed=min(t, end),
+                             description=f"dynamics t = {t:.4g} s")
+
+
+def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
+              plot_path: Path | None, progress_bar: bool, console: Console,
+              as_json: bool) -> dict[str, Any]:
+    """The model's dynamic interval from the static state: run it with a progress bar in
+    simulated time, write MODEL-dynamic.nc (and the energy ledger's figure), report."""
+    from stepcontact.solver.dynamic import solve_dynamic
+
+    spec = model.dynamics
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+                  console=Console(stderr=True), transient=True,
+                  disable=not progress_bar) as progress:
+        task = progress.add_task("dynamics", total=spec.duration)
+        hooks = (_TimeProgress(progress, task),) if progress_bar else ()
+        dres = solve_dynamic(model, initial=static_res if model.program else None,
+                             hooks=hooks)
+    path = result_path.with_name(result_path.stem + "-dynamic.nc")
+    dres.save(path)
+    written = [str(path)]
+    if plot_path is not None:
+        from stepcontact.post.plotting import plot_energy
+
+        fig_path = plot_path.with_name(plot_path.stem + "-energy" + plot_path.suffix)
+        plot_energy(dres, fig_path)
+        written.append(str(fig_path))
+    e = dres.energy
+    summary = {
+        "status": dres.status.value, "message": dres.message, "time_s": float(dres.time[-1]),
+        "events": len(dres.events), "impacts": int(dres.counters.get("impacts", 0)),
+        "steps": int(dres.counters.get("steps", 0)),
+        "energy_J": {k: float(v[-1]) for k, v in e.items()}, "result_file": str(path),
+    }
+    if not as_json:
+        console.print(Text(
+            f"dynamics: {dres.message} at t = {dres.time[-1]:.6g} s; {len(dres.events)} "
+            f"events ({summary['impacts']} impacts) in {summary['steps']} steps of "
+            f"{spec.dt:g} s; energy (J): loads {e['external'][-1]:.6g}, friction "
+            f"{e['friction'][-1]:.6g}, impacts {e['impact'][-1]:.6g}, numerical "
+            f"{e['numerical'][-1]:.3g}, balance error {e['error'][-1]:.1e}"), soft_wrap=True)
+        console.print(Text("written: " + ", ".join(written), style="green"), soft_wrap=True)
+    return summary
+
+
 def events_table(res: StaticResult, max_rows: int = TABLE_ROWS) -> Table:
     """The event log as a rich table (forces in kN); the first and last events when long."""
     events = list(res.events)
@@ -321,13 +374,19 @@ def _analyse(
         written.append(str(plot_path))
     if not as_json:
         console.print(Text("written: " + ", ".join(written), style="green"), soft_wrap=True)
-    return result_summary(
+    summary = result_summary(
         res,
         model=model.name,
         result_file=str(result_path),
         plot=None if plot_path is None else str(plot_path),
         warnings=warnings,
     )
+    if model.dynamics is not None and res.status == Status.COMPLETED:
+        summary["dynamics"] = _dynamics(model, res, result_path=result_path,
+                                        plot_path=plot_path,
+                                        progress_bar=not quiet and not as_json,
+                                        console=console, as_json=as_json)
+    return summary
 
 
 def _warn(texts: Sequence[str]) -> None:

@@ -797,6 +797,58 @@ class SegmentSpec(_Spec):
         "of the segment's parameter (which goes from start to end)")
 
 
+class TimeFunctionSpec(_Spec):
+    """How a load pattern varies in time in the dynamic interval: ``type`` pulse (amplitude,
+    start, duration, shape), harmonic (amplitude, frequency, phase, start), table (times,
+    values, or csv = a two-column file) or constant (amplitude)."""
+
+    pattern: str = Field(description="the load pattern it multiplies")
+    type: Literal["pulse", "harmonic", "table", "constant"] = "pulse"
+    amplitude: float = 1.0
+    start: float = Field(0.0, description="s")
+    duration: float | None = Field(None, gt=0, description="pulse duration, s")
+    shape: Literal["rectangular", "triangular", "half_sine"] = "half_sine"
+    frequency: float | None = Field(None, gt=0, description="harmonic frequency, Hz")
+    phase: float = Field(0.0, description="harmonic phase, rad")
+    times: list[float] | None = Field(None, description="table: times, s (increasing)")
+    values: list[float] | None = Field(None, description="table: values at the times")
+    csv: str | None = Field(None, description="table from a CSV file (time, value), relative "
+                            "to the model file")
+
+    @model_validator(mode="after")
+    def _complete(self) -> TimeFunctionSpec:
+        if self.type == "pulse" and self.duration is None:
+            raise ValueError("a pulse needs its duration (s)")
+        if self.type == "harmonic" and self.frequency is None:
+            raise ValueError("a harmonic needs its frequency (Hz)")
+        if self.type == "table" and (self.csv is None) == (self.times is None):
+            raise ValueError("a table needs times and values, or csv")
+        return self
+
+
+class DampingSpec(_Spec):
+    """Rayleigh damping: ``a0`` (1/s) and ``a1`` (s), or two damping ratios at two
+    frequencies (Hz)."""
+
+    a0: float = Field(0.0, ge=0)
+    a1: float = Field(0.0, ge=0)
+    ratios: tuple[float, float] | None = None
+    frequencies: tuple[float, float] | None = None
+
+
+class DynamicsSpec(_Spec):
+    """``[dynamics]``: a dynamic interval after the load program (Newmark, events located in
+    time), starting from the program's last state."""
+
+    dt: float = Field(gt=0, description="time step, s")
+    duration: float = Field(gt=0, description="length of the interval, s")
+    mass: Literal["consistent", "lumped"] = "consistent"
+    damping: DampingSpec = DampingSpec()
+    restitution: float = Field(0.0, ge=0, le=1, description="Newton's coefficient of impacts")
+    record_every: int = Field(1, ge=1)
+    loads: list[TimeFunctionSpec] = []
+
+
 class ModelFile(_Spec):
     """The whole model file."""
 
@@ -813,6 +865,7 @@ class ModelFile(_Spec):
     interfaces: list[InterfaceSpec] = []
     patterns: dict[str, PatternSpec] = {}
     program: list[SegmentSpec] = Field(min_length=1)
+    dynamics: DynamicsSpec | None = None
 
 
 # --------------------------------------------------------------------------------------------
@@ -1385,6 +1438,7 @@ class _Builder:
                     loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
             patterns.append(LoadPattern(pname, tuple(loads)))
         program = [Segment(s.pattern, s.end, s.start, s.rates) for s in spec.program]
+        dynamics = self._dynamics(spec.dynamics, {pt.name for pt in patterns}, p)
         try:
             return Model(
                 bodies=tuple(self.bodies.values()),
@@ -1397,7 +1451,55 @@ class _Builder:
                 patterns=tuple(patterns),
                 program=tuple(program),
                 name=spec.model.name or "model",
+                dynamics=dynamics,
             )
+        except ModelError as e:
+            p.add(e.item, e.problem)
+            return None
+
+    def _dynamics(self, spec, pattern_names: set[str], p):
+        """The dynamic interval of the file (None without one)."""
+        if spec is None:
+            return None
+        from stepcontact.fem.mass import rayleigh_coefficients
+        from stepcontact.model import DynamicInterval
+        from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
+
+        loads = []
+        for j, tf in enumerate(spec.loads):
+            item = f"dynamics.loads[{j}]"
+            if tf.pattern not in pattern_names:
+                p.add(f"{item}.pattern", f"unknown load pattern '{tf.pattern}' (known: "
+                      f"{_known(pattern_names)})")
+                continue
+            try:
+                if tf.type == "pulse":
+                    g = Pulse(tf.amplitude, tf.start, tf.duration, tf.shape)
+                elif tf.type == "harmonic":
+                    g = Harmonic(tf.amplitude, tf.frequency, tf.phase, tf.start)
+                elif tf.type == "constant":
+                    g = Constant(tf.amplitude)
+                elif tf.csv is not None:
+                    path = Path(tf.csv)
+                    if not path.is_absolute():
+                        path = self.base / path
+                    g = Tabulated.from_csv(path)
+                else:
+                    g = Tabulated(tuple(tf.times), tuple(tf.values or ()))
+            except (ModelError, OSError) as e:
+                p.add(item, getattr(e, "problem", str(e)))
+                continue
+            loads.append((tf.pattern, g))
+        d = spec.damping
+        try:
+            damping = ((d.a0, d.a1) if d.ratios is None else rayleigh_coefficients(
+                d.ratios[0], d.frequencies[0], d.ratios[1], d.frequencies[1])
+                if d.frequencies is not None else None)
+            if damping is None:
+                p.add("dynamics.damping", "ratios need their two frequencies (Hz)")
+                return None
+            return DynamicInterval(spec.dt, spec.duration, tuple(loads), spec.mass, damping,
+                                   spec.restitution, spec.record_every)
         except ModelError as e:
             p.add(e.item, e.problem)
             return None

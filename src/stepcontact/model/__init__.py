@@ -5,6 +5,7 @@ from stepcontact.model.items import (
     Body,
     BodyForce,
     ContactLayer,
+    DynamicInterval,
     EdgeForce,
     EdgeLoad,
     Frame,
@@ -25,10 +26,10 @@ from stepcontact.model.items import (
 from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
 
 __all__ = [
-    "Body", "BodyForce", "ContactLayer", "EdgeForce", "EdgeLoad", "Frame", "Interface",
-    "LoadPattern", "Material", "Model", "NodalLoad", "NodeSet", "PrescribedDisplacement",
-    "Segment", "Spring", "Support", "Tie", "half_disc", "iter_loads", "quad_region",
-    "rectangle", "rotate", "select_nodes", "translate",
+    "Body", "BodyForce", "ContactLayer", "DynamicInterval", "EdgeForce", "EdgeLoad", "Frame",
+    "Interface", "LoadPattern", "Material", "Model", "NodalLoad", "NodeSet",
+    "PrescribedDisplacement", "Segment", "Spring", "Support", "Tie", "half_disc", "iter_loads",
+    "quad_region", "rectangle", "rotate", "select_nodes", "translate",
 ]
 
 # water loads (hydrostatic pressure, uplift) and pressures given by coordinates

@@ -664,6 +664,45 @@ def _check_stiffness_ratio(bodies: Sequence) -> None:
 
 
 @dataclass(frozen=True, eq=False)
+class DynamicInterval:
+    """A dynamic interval after the load program (method.md §4): Newmark time integration
+    from the program's last state (:func:`stepcontact.solve_dynamic`).
+
+    ``loads``: (pattern name, time function) pairs (:mod:`stepcontact.model.timefunction`);
+    ``dt``, ``duration`` in s; ``mass`` "consistent" or "lumped"; ``damping`` the Rayleigh
+    coefficients (a₀ in 1/s, a₁ in s); ``restitution`` e of the impacts; ``record_every`` k:
+    every k-th step is recorded (events and the end always)."""
+
+    dt: float
+    duration: float
+    loads: tuple = ()
+    mass: str = "consistent"
+    damping: tuple[float, float] = (0.0, 0.0)
+    restitution: float = 0.0
+    record_every: int = 1
+
+    def __post_init__(self):
+        for key in ("dt", "duration"):
+            v = float(getattr(self, key))
+            if not np.isfinite(v) or v <= 0:
+                raise ModelError(f"dynamics.{key}", f"must be positive and finite, got {v}")
+        if self.mass not in ("consistent", "lumped"):
+            raise ModelError("dynamics.mass", f"must be 'consistent' or 'lumped', got "
+                             f"'{self.mass}'")
+        if len(tuple(self.damping)) != 2 or not all(np.isfinite(x) and x >= 0
+                                                    for x in self.damping):
+            raise ModelError("dynamics.damping", f"must be two non-negative Rayleigh "
+                             f"coefficients (a0, a1), got {self.damping!r}")
+        if not 0.0 <= float(self.restitution) <= 1.0:
+            raise ModelError("dynamics.restitution", f"must lie in [0, 1], got "
+                             f"{self.restitution}")
+        if int(self.record_every) < 1:
+            raise ModelError("dynamics.record_every", "must be at least 1")
+        object.__setattr__(self, "loads", tuple((str(n), g) for n, g in self.loads))
+        object.__setattr__(self, "damping", tuple(float(x) for x in self.damping))
+
+
+@dataclass(frozen=True, eq=False)
 class Model:
     """A 2D structural model.
 
@@ -686,6 +725,8 @@ class Model:
     patterns: tuple[LoadPattern, ...] = ()
     program: tuple[Segment, ...] = ()
     name: str = "model"
+    #: a dynamic interval after the program (:class:`DynamicInterval`), or None
+    dynamics: DynamicInterval | None = None
 
     def __post_init__(self):
         for key in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program"):

@@ -1462,6 +1462,91 @@ def plot_safety(
     return fig
 
 
+# --------------------------------------------------------------------------------------------
+# dynamics: time histories and the energy ledger
+# --------------------------------------------------------------------------------------------
+def _dof_index(res, dof) -> tuple[int, str]:
+    """A DOF of a dynamic result: a discrete model's DOF name or a global DOF index."""
+    names = list(np.asarray(res.geometry.get("dof_names", []), dtype=str))
+    if isinstance(dof, str):
+        if dof not in names:
+            raise ValueError(f"unknown DOF '{dof}' (known: {', '.join(names) or 'none'}; "
+                             "give a global DOF index for a finite-element model)")
+        return names.index(dof), dof
+    i = int(dof)
+    if not 0 <= i < res.u.shape[1]:
+        raise ValueError(f"DOF {i} does not exist: the result has DOFs 0..{res.u.shape[1] - 1}")
+    return i, (names[i] if i < len(names) else f"DOF {i}")
+
+
+def _mark_events(ax, res) -> list:
+    """Event times as thin vertical lines in the transition's colour; legend handles."""
+    seen = []
+    for ev in res.events:
+        color = TRANSITION_MARKERS.get(ev.transition, ("|", "0.5"))[1]
+        ax.axvline(ev.lam, color=color, lw=0.8, alpha=0.7)
+        if ev.transition not in seen:
+            seen.append(ev.transition)
+    return seen
+
+
+def plot_time_history(res, dofs: Sequence, path: str | os.PathLike[str] | None = None, *,
+                      dpi: float = DPI) -> Figure:
+    """Displacements (top) and velocities (bottom) of chosen DOFs against time, with every
+    contact event marked by a vertical line in its transition's colour (a dynamic result,
+    :func:`~stepcontact.solve_dynamic`).  ``dofs``: a discrete model's DOF names or global
+    DOF indices.  Units: m, m/s, s."""
+    out = _check_path(path, dpi)
+    if not hasattr(res, "v"):
+        raise ValueError("plot_time_history needs a dynamic result (sc.solve_dynamic)")
+    picked = [_dof_index(res, d) for d in ([dofs] if isinstance(dofs, str | int) else dofs)]
+    fig = _new_figure(figsize=(8.5, 6.0))
+    ax_u, ax_v = fig.subplots(2, 1, sharex=True)
+    t = np.asarray(res.time)
+    for i, name in picked:
+        ax_u.plot(t, res.u[:, i], lw=1.3, label=name)
+        ax_v.plot(t, res.v[:, i], lw=1.3, label=name)
+    seen = []
+    for ax in (ax_u, ax_v):
+        seen = _mark_events(ax, res)
+        ax.grid(True, alpha=0.3)
+    ax_u.set_ylabel("displacement, m")
+    ax_v.set_ylabel("velocity, m/s")
+    ax_v.set_xlabel("time t, s")
+    ax_u.legend(handles=ax_u.get_lines()[: len(picked)] + _transition_handles(seen, "event: "),
+                fontsize=8, loc="best")
+    fig.suptitle(f"Time history ({len(res.events)} contact events, Δt = {res.dt:g} s)")
+    _save(fig, out, dpi)
+    return fig
+
+
+def plot_energy(res, path: str | os.PathLike[str] | None = None, *, dpi: float = DPI
+                ) -> Figure:
+    """The energy ledger of a dynamic result against time: kinetic, strain, the work of the
+    loads and what damping, friction, the impacts and the integrator dissipated (J), and the
+    balance error."""
+    out = _check_path(path, dpi)
+    if not getattr(res, "energy", None):
+        raise ValueError("plot_energy needs a dynamic result (sc.solve_dynamic)")
+    fig = _new_figure(figsize=(8.5, 5.5))
+    ax = fig.subplots()
+    t = np.asarray(res.time)
+    for key in ("kinetic", "strain", "external", "damping", "friction", "impact",
+                "numerical"):
+        vals = np.asarray(res.energy[key])
+        if np.any(vals != 0):
+            ax.plot(t, vals, lw=1.4, label=key)
+    err = float(np.abs(res.energy["error"]).max(initial=0.0))
+    _mark_events(ax, res)
+    ax.grid(True, alpha=0.3)
+    ax.set_xlabel("time t, s")
+    ax.set_ylabel("energy, J (per metre of thickness in plane strain)")
+    ax.legend(fontsize=8, loc="best")
+    fig.suptitle(f"Energy ledger (largest balance error {err:.1e} J)")
+    _save(fig, out, dpi)
+    return fig
+
+
 __all__ = [
     "DPI",
     "STATE_COLORS",
@@ -1472,4 +1557,6 @@ __all__ = [
     "plot_load_displacement",
     "plot_load_path",
     "plot_safety",
+    "plot_time_history",
+    "plot_energy",
 ]

@@ -452,6 +452,15 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
             "plot --model MODEL.toml)"
         ),
     }
+    if getattr(res, "energy", None):  # a dynamic result: the fields in time and the ledger
+        for key, long in (("u", "displacement, m"), ("v", "velocity, m/s"),
+                          ("a", "acceleration, m/s2")):
+            dv[f"dyn_{key}"] = _var(("state", "dyn_dof"), np.asarray(getattr(res, key), float),
+                                    long.split(", ")[1], long.split(",")[0] + " of every DOF")
+        for key, vals in res.energy.items():
+            dv[f"energy_{key}"] = _var(("state",), np.asarray(vals, float), "J",
+                                       f"energy ledger: {key}")
+        attrs["dynamic_dt"] = float(res.dt)
     return xr.Dataset(dv, coords=coords, attrs=attrs)
 
 
@@ -567,6 +576,20 @@ def check_dataset(ds: xr.Dataset) -> None:
             within(k, n, "state")
 
 
+def _dynamic_parts(ds: xr.Dataset) -> dict[str, Any]:
+    """The extra arguments of a dynamic result (none for a static one)."""
+    if "dyn_u" not in ds:
+        return {}
+    n = ds.sizes["state"]
+    for key in ("dyn_u", "dyn_v", "dyn_a"):
+        if key not in ds or ds[key].shape[0] != n:
+            raise _inconsistent(f"variable '{key}' is missing or has not {n} states")
+    energy = {str(k)[len("energy_"):]: ds[k].values for k in ds.data_vars
+              if str(k).startswith("energy_")}
+    return {"u": ds["dyn_u"].values, "v": ds["dyn_v"].values, "a": ds["dyn_a"].values,
+            "energy": energy, "dt": float(ds.attrs.get("dynamic_dt", 0.0))}
+
+
 def dataset_to_result(ds: xr.Dataset) -> StaticResult:
     """Inverse of :func:`result_to_dataset` (``ds`` must be loaded in memory).  A dataset
     whose arrays do not fit together raises a ValueError naming the variable
@@ -642,7 +665,14 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
         else:
             geometry[key] = geo_extra[key]
 
-    return StaticResult(
+    dyn = _dynamic_parts(ds)
+    if dyn:
+        from stepcontact.solver.dynamic import DynamicResult
+
+        cls = DynamicResult
+    else:
+        cls = StaticResult
+    return cls(
         pattern_names=tuple(strs("pattern")),
         segments=segments,
         cfe=cfe,
@@ -675,6 +705,7 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
         load_resultants=(arr("load_resultant") if "load_resultant" in ds
                          else np.zeros((0, 3))),
         water=arr("water") if "water" in ds else None,
+        **dyn,
         crack_pressure=arr("crack_pressure") if "crack_pressure" in ds else None,
     )
 

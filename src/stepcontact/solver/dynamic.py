@@ -66,6 +66,7 @@ from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
+from stepcontact.solver.static import result_geometry
 
 #: the energy ledger's columns (J per metre of thickness in plane strain)
 ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "numerical",
@@ -218,8 +219,8 @@ def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.nda
 def solve_dynamic(
     model,
     *,
-    dt: float,
-    duration: float,
+    dt: float | None = None,
+    duration: float | None = None,
     loads: Mapping[str, object] | None = None,
     mass: str | sp.spmatrix = "consistent",
     damping: tuple[float, float] = (0.0, 0.0),
@@ -240,7 +241,9 @@ def solve_dynamic(
     ----------
     model : Model, DiscreteModel or System
     dt, duration : float
-        Time step and length of the analysis, s.
+        Time step and length of the analysis, s.  Omitted (both): the model's dynamic
+        interval (:class:`~stepcontact.model.DynamicInterval`, ``model.dynamics``) gives them
+        and the loads, mass, damping, restitution and recording.
     loads : {pattern: time function}
         The load patterns applied in time, each times its function g(t)
         (:mod:`stepcontact.model.timefunction`); patterns held by ``initial`` stay at their
@@ -269,6 +272,15 @@ def solve_dynamic(
     """
     from stepcontact.fem.mass import mass as mass_matrix
 
+    spec = getattr(model if not isinstance(model, System) else model.model, "dynamics", None)
+    if spec is not None and dt is None and duration is None:  # the model's dynamic interval
+        dt, duration = spec.dt, spec.duration
+        loads = dict(spec.loads) if loads is None else loads
+        mass, damping = spec.mass, spec.damping
+        restitution, record_every = spec.restitution, spec.record_every
+    if dt is None or duration is None:
+        raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
+                         "interval (model.dynamics)")
     for key, v in (("dt", dt), ("duration", duration)):
         if not np.isfinite(v) or v <= 0:
             raise ModelError(key, f"must be positive and finite, got {v}")
@@ -392,7 +404,7 @@ def solve_dynamic(
         Fn = force_at(t_now)
         f_rest = Fn[free] - (K @ u)[free] - (C @ v)[free]
         out = np.zeros(ndof)
-        if m:
+        if m and all_rigid:  # (a compliant layer's force is its spring's: it does not jump)
             ea = accel_engine()
             hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest))
             states = eng.states.copy()
@@ -421,11 +433,18 @@ def solve_dynamic(
         out[free] = M_lu.solve(np.ascontiguousarray(f_rest - BfT @ eng.s))
         return out
 
+    all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
+
     def load_jump(dF: np.ndarray, t_now: float, step: int) -> np.ndarray:
         """A load that jumps by dF at t_now (the start, a pulse's edge): the contact forces
         jump with it.  Followed in accelerations at fixed time (the engine along the jump,
         events located in it and logged at t_now); returns the accelerations after it and
         sets the contact forces and states."""
+        if not all_rigid:  # compliant layers: the forces follow the displacements
+            Fn = force_at(t_now)
+            out = np.zeros(ndof)
+            out[free] = M_lu.solve(Fn[free] - (K @ u)[free] - (C @ v)[free] - BfT @ eng.s)
+            return out
         ea = accel_engine()
         ea.states = eng.states.copy()
         ea.s = eng.s.copy()
@@ -559,7 +578,7 @@ def solve_dynamic(
         F_i = force_at(t + tau)
         du = u_i - u
         w_i = system.B @ u_i + system.w0
-        diss = 0.5 * (s_start + s_i) * (w_i - w_start) - (layer_energy(s_i)
+        diss = 0.5 * (s_start + s_i) * (system.B @ du) - (layer_energy(s_i)
                                                             - layer_energy(s_start))
         works = {"external": float(du @ (0.5 * (F + F_i))),
                  "damping": float(du @ (C @ (0.5 * (v + v_i)))),
@@ -732,7 +751,8 @@ def solve_dynamic(
         ledger["damping"] += float(du @ (C @ vbar))
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
-        diss = sbar * (eng.w - w_start) - (layer_energy(eng.s) - layer_energy(s_start))
+        # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
+        diss = sbar * (system.B @ du) - (layer_energy(eng.s) - layer_energy(s_start))
         ledger["friction"] += float(diss[:m].sum())
         ledger["impact"] += float(diss[m:].sum())
         u, v, a = u_new, v_new, a_new
@@ -775,6 +795,7 @@ def solve_dynamic(
         ut=W[:, :m], state=arr["state"], residual=arr["residual"],
         violation=arr["violation"], events=list(rec.events), multipliers=list(rec.multipliers),
         status=status, message=message, counters=counters,
+        geometry=result_geometry(system),
         units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),

@@ -186,6 +186,25 @@ def _named_node_sets(model: Model) -> dict[str, np.ndarray]:
     }
 
 
+def result_geometry(system: System) -> dict:
+    """What a result keeps of the model to draw and export its fields: points, DOF map,
+    bodies and named node sets (a discrete model: its DOF names)."""
+    model = system.model
+    if system.discrete is not None:
+        return {"dof_names": np.array(system.discrete.dof_names, dtype=str)}
+    return {
+        "points": model.points,
+        "dof_of": system.dofs.of,
+        "bodies": [
+            {"name": b.name, "kind": b.kind, "element": getattr(b, "element", "frame2"),
+             "cells": b.cells + model.node_offsets[b.name],
+             "offset": int(model.node_offsets[b.name]), "n_nodes": int(b.n_nodes)}
+            for b in model.bodies
+        ],
+        **_named_node_sets(model),
+    }
+
+
 class StaticSolver:
     """Event-driven static analysis of one model.  Use :func:`solve_static`."""
 
@@ -803,20 +822,7 @@ class StaticSolver:
             "plus_nodes": cfe.plus_nodes, "plus_w": cfe.plus_w,
             "minus_nodes": cfe.minus_nodes, "minus_w": cfe.minus_w,
         }
-        model = self.sys.model
-        geometry = {
-            "dof_names": np.array(self.sys.discrete.dof_names, dtype=str),
-        } if self.sys.discrete is not None else {
-            "points": model.points,
-            "dof_of": self.sys.dofs.of,
-            "bodies": [
-                {"name": b.name, "kind": b.kind, "element": getattr(b, "element", "frame2"),
-                 "cells": b.cells + model.node_offsets[b.name],
-                 "offset": int(model.node_offsets[b.name]), "n_nodes": int(b.n_nodes)}
-                for b in model.bodies
-            ],
-            **_named_node_sets(model),
-        }
+        geometry = result_geometry(self.sys)
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
             "events": len(self.rec.events), "event_points": self.step,
             "setup_seconds": self.t_setup, "run_seconds": elapsed,
