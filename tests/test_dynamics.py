@@ -287,3 +287,20 @@ def test_model_file_dynamic_interval_runs_from_the_command_line(tmp_path):
     out = CliRunner().invoke(app, ["run", str(f), "--no-plot", "--quiet"])
     assert out.exit_code == 2
     assert "dynamics.loads[0].pattern" in out.output and "nope" in out.output
+
+
+def test_dynamic_results_export_to_paraview_with_their_time(bar, tmp_path):
+    sysm, v, p = bar
+    res = solve_dynamic(sysm, dt=2 * p["dt"], duration=1.2e-4, v0=v, mass="lumped")
+    sc.export_vtu(res, tmp_path / "bar")
+    pvd = (tmp_path / "bar" / "result.pvd").read_text()
+    assert "time of the dynamic analysis" in pvd
+    steps = [float(x) for x in __import__("re").findall(r'timestep="([^"]+)"', pvd)]
+    np.testing.assert_allclose(steps, res.time, rtol=0, atol=1e-15)
+    # a loaded dynamic result recovers its stresses from the stored displacements
+    res.save(tmp_path / "bar.nc")
+    back = sc.load_result(tmp_path / "bar.nc")
+    back.recover_fields(sysm)
+    i = int(np.argmax(-res.N.sum(axis=1)))
+    np.testing.assert_allclose(back.stresses_at([i])[i]["bar"], res.stresses_at([i])[i]["bar"],
+                               rtol=1e-12)

@@ -552,8 +552,11 @@ def _write_pvd(path: Path, entries: list[tuple[float, str]], notes: list[str]) -
 
 def _notes(result: StaticResult, body: _BodyGrid) -> list[str]:
     codes = ", ".join(f"{int(s)} {s.label}" for s in ContactState)
+    timing = ("time = the time of the dynamic analysis, s (lam holds it too)"
+              if getattr(result, "path_axis", "lam") == "time"
+              else "time = load-path parameter t = sum |dlambda|")
     return [
-        "stepcontact export; units SI: m, N, Pa; time = load-path parameter t = sum |dlambda|",
+        f"stepcontact export; units SI: m, N, Pa; {timing}",
         "body ids: " + ", ".join(f"{k} {n}" for k, n in enumerate(body.names)),
         "interface ids: " + ", ".join(f"{k} {n}" for k, n in enumerate(result.interface_names)),
         f"CFE state codes: {codes}",

@@ -87,10 +87,24 @@ class DynamicResult(StaticResult):
     energy: dict[str, np.ndarray] = field(default_factory=dict)
     dt: float = 0.0
 
+    #: the path axis of the states is the time (s)
+    path_axis = "time"
+
     @property
     def time(self) -> np.ndarray:
         """Time of every state, s."""
         return self.lam
+
+    def recover_fields(self, model) -> None:
+        """Attach the stress recovery to a dynamic result loaded from a file (its
+        displacements are stored at every state): :meth:`stress`, :meth:`stresses_at` and the
+        ParaView export then work."""
+        from stepcontact.fem.assembly import System, assemble
+
+        system = model if isinstance(model, System) else assemble(model)
+        if system.ndof != self.u.shape[1]:
+            raise ValueError(f"the model has {system.ndof} DOFs, the result {self.u.shape[1]}")
+        self._recover = _Stresses(system)
 
     def velocities(self, states=None) -> np.ndarray:
         idx = np.arange(self.n_states) if states is None else np.asarray(states)
@@ -102,6 +116,31 @@ class DynamicResult(StaticResult):
     def displacements(self, states=None) -> np.ndarray:
         idx = np.arange(self.n_states) if states is None else np.asarray(states)
         return self.u[idx]
+
+
+class _Stresses:
+    """Stresses of the continuum bodies from displacements (the dynamic result stores every
+    state's displacements; only the stresses are recovered)."""
+
+    def __init__(self, system: System):
+        from stepcontact.fem.continuum import StressRecovery
+        from stepcontact.model import Body
+
+        model = system.model
+        self.stress = StressRecovery(model)
+        off = model.node_offsets
+        self.body_dofs = {
+            b.name: system.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
+            for b in model.bodies if isinstance(b, Body) and b.name in self.stress}
+
+    def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
+        u = np.asarray(u, dtype=float)
+        if u.ndim == 1:
+            return {n: self.stress(n, u[d]) for n, d in self.body_dofs.items()}
+        return {n: self.stress(n, u[:, d].T) for n, d in self.body_dofs.items()}
+
+    def __call__(self, i):  # (not used: the displacements are stored)
+        raise KeyError(i)
 
 
 def _initial(system: System, cond: Condensed, initial, u0, v0):
@@ -800,6 +839,7 @@ def solve_dynamic(
                "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
         energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
+        _recover=None if system.discrete is not None else _Stresses(system),
     )
 
 
