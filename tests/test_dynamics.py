@@ -304,3 +304,41 @@ def test_dynamic_results_export_to_paraview_with_their_time(bar, tmp_path):
     i = int(np.argmax(-res.N.sum(axis=1)))
     np.testing.assert_allclose(back.stresses_at([i])[i]["bar"], res.stresses_at([i])[i]["bar"],
                                rtol=1e-12)
+
+
+@pytest.mark.parametrize("alpha", [0.0, 0.1, 0.3])
+def test_hht_alpha_matches_its_recurrence_and_damps_the_high_modes(alpha):
+    """A spring-mass sliding freely (frictionless contact) with ω Δt = 10: the displacements
+    equal the HHT-α recurrence written out here, and over 200 steps the amplitude decays at
+    the spectral radius of its amplification matrix ((1 − α)/(1 + α) as ω Δt → ∞)."""
+    k, m_ = 1e6, 1.0
+    dm = sc.DiscreteModel(K=[[k, 0.0], [0.0, 0.0]], normal_rows=[[0, 1]],
+                          tangent_rows=[[1, 0]], loads={"weight": {"uy": -10.0}},
+                          friction=0.0, dof_names=("ux", "uy"),
+                          program=[sc.Segment("weight", 1.0)])
+    st = sc.solve_static(dm)
+    dt = 10.0 / np.sqrt(k / m_)
+    res = solve_dynamic(dm, dt=dt, duration=200 * dt, mass=np.diag([m_, m_]), initial=st,
+                        u0=np.array([1e-3, 0.0]), alpha=alpha)
+    b, g = (1 + alpha) ** 2 / 4, 0.5 + alpha
+    u, v, a = 1e-3, 0.0, -k * 1e-3 / m_
+    ref = [u]
+    A = np.zeros((3, 3))  # amplification matrix of (u, v, a)
+    for j in range(3):
+        x = np.eye(3)[j]
+        a1 = (-(1 - alpha) * k * (x[0] + dt * x[1] + dt * dt * (0.5 - b) * x[2])
+              - alpha * k * x[0]) / (m_ + (1 - alpha) * k * b * dt * dt)
+        A[:, j] = [x[0] + dt * x[1] + dt * dt * ((0.5 - b) * x[2] + b * a1),
+                   x[1] + dt * ((1 - g) * x[2] + g * a1), a1]
+    state = np.array([u, v, a])
+    for _ in range(200):
+        state = A @ state
+        ref.append(state[0])
+    np.testing.assert_allclose(res.u[:, 0], ref, rtol=1e-9, atol=1e-12 * 1e-3)
+    rho = max(abs(np.linalg.eigvals(A)))
+    early, late = np.abs(res.u[1:21, 0]).max(), np.abs(res.u[181:201, 0]).max()
+    assert late / early == pytest.approx(rho**180, rel=0.05)
+    if alpha == 0:
+        assert rho == pytest.approx(1.0, abs=1e-12)
+    else:
+        assert rho < 1.0

@@ -845,6 +845,8 @@ class DynamicsSpec(_Spec):
     mass: Literal["consistent", "lumped"] = "consistent"
     damping: DampingSpec = DampingSpec()
     restitution: float = Field(0.0, ge=0, le=1, description="Newton's coefficient of impacts")
+    alpha: float = Field(0.0, ge=0, le=1 / 3, description="HHT-α numerical damping (0: "
+                         "Newmark's average acceleration)")
     record_every: int = Field(1, ge=1)
     loads: list[TimeFunctionSpec] = []
 
@@ -1499,7 +1501,7 @@ class _Builder:
                 p.add("dynamics.damping", "ratios need their two frequencies (Hz)")
                 return None
             return DynamicInterval(spec.dt, spec.duration, tuple(loads), spec.mass, damping,
-                                   spec.restitution, spec.record_every)
+                                   spec.restitution, spec.record_every, spec.alpha)
         except ModelError as e:
             p.add(e.item, e.problem)
             return None

@@ -671,7 +671,8 @@ class DynamicInterval:
     ``loads``: (pattern name, time function) pairs (:mod:`stepcontact.model.timefunction`);
     ``dt``, ``duration`` in s; ``mass`` "consistent" or "lumped"; ``damping`` the Rayleigh
     coefficients (a₀ in 1/s, a₁ in s); ``restitution`` e of the impacts; ``record_every`` k:
-    every k-th step is recorded (events and the end always)."""
+    every k-th step is recorded (events and the end always); ``alpha`` the HHT-α numerical
+    damping (0: Newmark's average acceleration)."""
 
     dt: float
     duration: float
@@ -680,6 +681,7 @@ class DynamicInterval:
     damping: tuple[float, float] = (0.0, 0.0)
     restitution: float = 0.0
     record_every: int = 1
+    alpha: float = 0.0
 
     def __post_init__(self):
         for key in ("dt", "duration"):
