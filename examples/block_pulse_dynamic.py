@@ -10,8 +10,9 @@ body:
   the horizontal push exceeds f W);
 * flight: y(t) from the pulse and gravity, landing where y = 0 again (found by root finding
   on the exact integral of the half-sine);
-* landing is an impact (restitution 0): the vertical velocity vanishes, the horizontal one
-  stays (a frictionless impact), and the block slides to rest, decelerating at f g.
+* landing is an impact (restitution 0): the vertical velocity vanishes, friction's impulse
+  (at most f times the normal one) takes f |v_y| off the horizontal velocity, and the block
+  slides to rest, decelerating at f g.
 
 Printed last: the event times against the closed forms (relative differences) and the energy
 ledger.  Figures: `block_pulse_dynamic.png` (displacements and velocities against time with the
@@ -56,13 +57,16 @@ def y_of(t: float, t1: float) -> float:
 t_lift = tp / np.pi * np.arcsin(0.5)
 t_land = brentq(lambda t: y_of(t, t_lift), t_lift + 1e-6, 2.0)
 # horizontal: stuck until 1.5 W sin(w t) = f N with N = W − 2 W sin(w t), then sliding with
-# ẍ = g (2.3 sin(w t) − 0.4) until lift-off, free (ẍ = 1.5 g sin(w t)) in the flight; the
-# landing keeps v_x (a frictionless impact), then the block decelerates at f g
+# ẍ = g (2.3 sin(w t) − 0.4) until lift-off, free (ẍ = 1.5 g sin(w t)) in the flight
 t_slip = np.arcsin(f / (1.5 + 2 * f)) / w
 vx_lift = g * ((1.5 + 2 * f) * (np.cos(w * t_slip) - np.cos(w * t_lift)) / w
                - f * (t_lift - t_slip))
 vx_land = vx_lift + 1.5 * g * (np.cos(w * t_lift) - np.cos(w * min(t_land, tp))) / w
-t_stop = t_land + vx_land / (f * g)
+# the landing: the vertical impulse m |v_y| stops the fall (restitution 0) and friction's
+# impulse, at most f m |v_y|, takes that much off the horizontal velocity
+vy_land = 2 * g * (np.cos(w * t_lift) - np.cos(w * tp)) / w - g * (t_land - t_lift)
+vx_after = vx_land - f * abs(vy_land)
+t_stop = t_land + vx_after / (f * g)
 
 ev = res.events
 got = {

@@ -342,3 +342,24 @@ def test_hht_alpha_matches_its_recurrence_and_damps_the_high_modes(alpha):
         assert rho == pytest.approx(1.0, abs=1e-12)
     else:
         assert rho < 1.0
+
+
+@pytest.mark.parametrize("vx", [0.5, 0.1])
+def test_an_impact_with_friction_takes_at_most_f_times_the_normal_impulse(vx):
+    """A point falling at 1 m/s onto a floor (f = 0.3) while moving at v_x: the landing
+    stops the fall; friction's impulse takes min(v_x, f·1 m/s) off v_x — it slides on at
+    v_x − 0.3 (v_x = 0.5) or sticks (v_x = 0.1)."""
+    m_, f = 2.0, 0.3
+    dm = sc.DiscreteModel(K=[[0.0, 0.0], [0.0, 0.0]], normal_rows=[[0, 1]],
+                          tangent_rows=[[1, 0]], loads={"push": {"ux": 1.0}}, friction=f,
+                          gaps=0.01, dof_names=("ux", "uy"), program=[])
+    dt = 1e-4
+    res = solve_dynamic(dm, dt=dt, duration=0.0125, mass=np.diag([m_, m_]),
+                        v0=np.array([vx, -1.0]))
+    closed = [e for e in res.events if e.transition != Transition.OPENED]
+    assert closed[0].lam == pytest.approx(0.01, rel=1e-9)  # no gravity: the gap / 1 m/s
+    i = int(np.searchsorted(res.time, closed[0].lam))
+    after = res.v[i]
+    assert after[1] == pytest.approx(0.0, abs=1e-12)
+    assert after[0] == pytest.approx(max(vx - f * 1.0, 0.0), abs=1e-9)
+    assert closed[0].transition == (Transition.SLIP_POS if vx > f else Transition.CLOSED)

@@ -287,16 +287,18 @@ def _project(system, cond, M_lu, u, v, states, law, rigid_n):
 
 
 def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
-            e: float) -> np.ndarray:
-    """Velocities after an impact (frictionless, Newton's law): impulses P ≥ 0 on the normal
-    rows of the CFEs ``cand`` (closing and already closed) such that each active one leaves
-    with the normal velocity −e u̇_n⁻ (closing) or 0 (closed): M Δv = −B_nᵀ P, by an active set
-    (an impulse that would pull is dropped)."""
+            e: float, friction: np.ndarray):
+    """Velocities after an impact (Newton's law): impulses P ≥ 0 on the normal rows of the
+    CFEs ``cand`` (closing and already closed) such that each active one leaves with the
+    normal velocity −e u̇_n⁻ (closing) or 0 (closed): M Δv = −B_nᵀ P, by an active set (an
+    impulse that would pull is dropped); then the tangential impulses of Coulomb's law
+    (:func:`_friction_impulse`).  Returns (velocities, slip direction per CFE of ``cand``
+    after the impact, 0 where it sticks)."""
     m = system.m
     free = cond.free
     Bn = cond.Bf[m + cand]  # normal rows on the free DOFs
     if Bn.shape[0] == 0:
-        return v
+        return v, np.zeros(len(cand))
     vf = v[free]
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
     target = np.where(np.isin(cand, closing), -e * wd, 0.0)
@@ -318,7 +320,43 @@ def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.nda
         active = (active & ~neg) | pen
     out = v.copy()
     out[free] = vf - X @ P
-    return out
+    return out, _friction_impulse(system, cond, M_lu, out, cand, P, friction)
+
+
+def _friction_impulse(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, P: np.ndarray,
+                      friction: np.ndarray) -> np.ndarray:
+    """Tangential impulses of an impact, consistent with Coulomb's law (|T| ≤ f P): each
+    CFE with a normal impulse P > 0 and rigid friction stops sliding if the impulse that
+    stops it is within f P, else slides on with T = f P against its slip.  Changes ``v`` in
+    place; returns per CFE of ``cand`` the slip direction after the impact (0: stuck)."""
+    free = cond.free
+    sig = np.zeros(len(cand))
+    k = np.flatnonzero((P > 0) & (friction[cand] > 0))
+    if k.size == 0:
+        return sig
+    rows = cand[k]
+    Bt = cond.Bf[rows]  # tangential rows
+    X = np.column_stack([M_lu.solve(np.ascontiguousarray(Bt[j].toarray().ravel()))
+                         for j in range(Bt.shape[0])])
+    W = np.asarray(Bt @ X)
+    wt = Bt @ v[free]
+    limit = friction[rows] * P[k]
+    T = np.zeros(len(k))
+    sliding = np.zeros(len(k), bool)
+    for _ in range(2 * len(k) + 1):
+        stick = np.flatnonzero(~sliding)
+        T[sliding] = np.sign(T[sliding]) * limit[sliding]
+        if stick.size:
+            rhs = wt[stick] - W[np.ix_(stick, np.flatnonzero(sliding))] @ T[sliding]
+            T[stick] = np.linalg.lstsq(W[np.ix_(stick, stick)], rhs, rcond=None)[0]
+        over = ~sliding & (np.abs(T) > limit * (1 + 1e-12))
+        if not over.any():
+            break
+        sliding |= over
+    v[free] -= X @ T
+    after = Bt @ v[free]
+    sig[k] = np.where(sliding, np.sign(after), 0.0)
+    return sig
 
 
 def solve_dynamic(
@@ -371,8 +409,8 @@ def solve_dynamic(
     restitution : float
         Newton's coefficient e ∈ [0, 1] of the impacts of rigid contacts: the step is cut
         where a CFE closes, the normal velocities of the closing (and closed) CFEs jump to
-        −e times their approach velocities by impulses (frictionless), and the integration
-        restarts there.  Compliant contact closes smoothly without it.
+        −e times their approach velocities by impulses (with friction's impulses by
+        Coulomb's law), and the integration restarts there.  Compliant contact closes smoothly without it.
     alpha : float
         HHT-α numerical damping, α ∈ [0, 1/3] (0: Newmark's average acceleration, no
         numerical dissipation; 0.05–0.1 damps the high, spurious modes of a mesh — its share is
@@ -820,10 +858,15 @@ def solve_dynamic(
             w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
             if closing.size:  # an impact: normal velocities jump (Newton's law)
                 closed_now = np.flatnonzero((old != OPEN) & rigid_n)
-                v_new = _impact(system, cond, M_lu, v_i, np.union1d(closing, closed_now),
-                                closing, restitution)
+                cand = np.union1d(closing, closed_now)
+                v_new, sig = _impact(system, cond, M_lu, v_i, cand, closing, restitution,
+                                     law.f)
                 ledger["impact"] += float(0.5 * v_i @ (M @ v_i) - 0.5 * v_new @ (M @ v_new))
                 v_i = v_new
+                # a CFE still sliding after its impact slips on (with its velocity)
+                for k_, sg in zip(cand, sig, strict=True):
+                    if sg != 0 and k_ in closing:
+                        new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
                 n_impacts += 1
             for k in np.flatnonzero(old != new_states):
                 log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
