@@ -410,7 +410,8 @@ def solve_dynamic(
         Newton's coefficient e ∈ [0, 1] of the impacts of rigid contacts: the step is cut
         where a CFE closes, the normal velocities of the closing (and closed) CFEs jump to
         −e times their approach velocities by impulses (with friction's impulses by
-        Coulomb's law), and the integration restarts there.  Compliant contact closes smoothly without it.
+        Coulomb's law), and the integration restarts there.  Compliant contact closes
+        smoothly without it.
     alpha : float
         HHT-α numerical damping, α ∈ [0, 1/3] (0: Newmark's average acceleration, no
         numerical dissipation; 0.05–0.1 damps the high, spurious modes of a mesh — its share is
