@@ -258,6 +258,13 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     return {int(k): t + float(f) * dt for k, f in zip(ks, frac, strict=True)}
 
 
+def _minv_columns(M_lu, rows) -> np.ndarray:
+    """M⁻¹ Rᵀ (free DOFs × rows) for a few sparse rows R of the contact operator."""
+    R = rows.toarray()
+    return np.column_stack([M_lu.solve(np.ascontiguousarray(r)) for r in R]) if len(R) else \
+        np.zeros((rows.shape[1], 0))
+
+
 def _project(system, cond, M_lu, u, v, states, law, rigid_n):
     """The state after a cut onto the constraints of its scheme (in the metric of M): the
     closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
@@ -271,8 +278,7 @@ def _project(system, cond, M_lu, u, v, states, law, rigid_n):
         return u, v
     free = cond.free
     Bc = cond.Bf[rows_v]
-    X = np.column_stack([M_lu.solve(np.ascontiguousarray(Bc[j].toarray().ravel()))
-                         for j in range(Bc.shape[0])])
+    X = _minv_columns(M_lu, Bc)
     W = np.asarray(Bc @ X)
     u, v = u.copy(), v.copy()
     lam = np.linalg.lstsq(W, Bc @ v[free], rcond=None)[0]
@@ -302,8 +308,7 @@ def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.nda
     vf = v[free]
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
     target = np.where(np.isin(cand, closing), -e * wd, 0.0)
-    X = np.column_stack([M_lu.solve(np.ascontiguousarray(Bn[j].toarray().ravel()))
-                         for j in range(Bn.shape[0])])
+    X = _minv_columns(M_lu, Bn)
     W = np.asarray(Bn @ X)  # B M⁻¹ Bᵀ
     active = wd > 0  # approaching (or closed and pushed on)
     P = np.zeros(len(cand))
@@ -336,8 +341,7 @@ def _friction_impulse(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, P: np
         return sig
     rows = cand[k]
     Bt = cond.Bf[rows]  # tangential rows
-    X = np.column_stack([M_lu.solve(np.ascontiguousarray(Bt[j].toarray().ravel()))
-                         for j in range(Bt.shape[0])])
+    X = _minv_columns(M_lu, Bt)
     W = np.asarray(Bt @ X)
     wt = Bt @ v[free]
     limit = friction[rows] * P[k]
