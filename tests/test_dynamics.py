@@ -363,3 +363,27 @@ def test_an_impact_with_friction_takes_at_most_f_times_the_normal_impulse(vx):
     assert after[1] == pytest.approx(0.0, abs=1e-12)
     assert after[0] == pytest.approx(max(vx - f * 1.0, 0.0), abs=1e-9)
     assert closed[0].transition == (Transition.SLIP_POS if vx > f else Transition.CLOSED)
+
+
+def test_slow_push_on_an_elastic_block_slips_at_the_static_load_factor():
+    """An elastic block on an elastic base (mortar CFEs, rigid contact, f = 0.5), its weight,
+    then a push on its top ramped over 1 s (slow against its periods, light damping): the
+    dynamic run's first slip happens at the static run's load factor (1e-6)."""
+    from verification_models import block_on_base
+
+    m = block_on_base(friction=0.5, nx=4, ny=2)
+    W = m.bodies[1].material.density * G * 2.0 * 0.5
+    m = m.add(sc.LoadPattern("weight", [sc.BodyForce(bodies=("block",))]),
+              sc.LoadPattern("push", [sc.EdgeForce(m.select("block", y=0.5), fx=1.0)]),
+              sc.Segment("weight", 1.0), sc.Segment("push", 0.8 * W))
+    lam_slip = sc.solve_static(m).multipliers[1].first_slip
+    rest = sc.solve_static(m.replace(program=(sc.Segment("weight", 1.0),)))
+    ramp = Tabulated((0.0, 1.0), (0.0, 0.8 * W))
+    res = solve_dynamic(m, dt=1 / 400, duration=1.0, initial=rest, mass="lumped",
+                        damping=(0.0, 2 * 0.05 / (2 * np.pi * 50)), loads={"push": ramp})
+    t_slip = next(e.lam for e in res.events
+                  if e.transition in (Transition.SLIP_POS, Transition.SLIP_NEG))
+    assert ramp(t_slip) == pytest.approx(lam_slip, rel=1e-6)
+    e = res.energy
+    assert abs(e["error"]).max() < 1e-9 * e["external"].max()
+    assert abs(e["numerical"][-1]) < 1e-6 * e["external"].max()
