@@ -258,14 +258,7 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     return {int(k): t + float(f) * dt for k, f in zip(ks, frac, strict=True)}
 
 
-def _minv_columns(M_lu, rows) -> np.ndarray:
-    """M⁻¹ Rᵀ (free DOFs × rows) for a few sparse rows R of the contact operator."""
-    R = rows.toarray()
-    return np.column_stack([M_lu.solve(np.ascontiguousarray(r)) for r in R]) if len(R) else \
-        np.zeros((rows.shape[1], 0))
-
-
-def _project(system, cond, M_lu, u, v, states, law, rigid_n):
+def _project(system, cond, minv, u, v, states, law, rigid_n):
     """The state after a cut onto the constraints of its scheme (in the metric of M): the
     closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
     velocity to zero — so that no round-off of the interpolation (8) seeds the alternating
@@ -278,8 +271,7 @@ def _project(system, cond, M_lu, u, v, states, law, rigid_n):
         return u, v
     free = cond.free
     Bc = cond.Bf[rows_v]
-    X = _minv_columns(M_lu, Bc)
-    W = np.asarray(Bc @ X)
+    X, W = minv(rows_v)
     u, v = u.copy(), v.copy()
     lam = np.linalg.lstsq(W, Bc @ v[free], rcond=None)[0]
     v[free] -= X @ lam
@@ -292,7 +284,7 @@ def _project(system, cond, M_lu, u, v, states, law, rigid_n):
     return u, v
 
 
-def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
+def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
             e: float, friction: np.ndarray):
     """Velocities after an impact (Newton's law): impulses P ≥ 0 on the normal rows of the
     CFEs ``cand`` (closing and already closed) such that each active one leaves with the
@@ -308,8 +300,7 @@ def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.nda
     vf = v[free]
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
     target = np.where(np.isin(cand, closing), -e * wd, 0.0)
-    X = _minv_columns(M_lu, Bn)
-    W = np.asarray(Bn @ X)  # B M⁻¹ Bᵀ
+    X, W = minv(m + cand)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
     active = wd > 0  # approaching (or closed and pushed on)
     P = np.zeros(len(cand))
     for _ in range(2 * len(cand) + 1):
@@ -325,10 +316,10 @@ def _impact(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, closing: np.nda
         active = (active & ~neg) | pen
     out = v.copy()
     out[free] = vf - X @ P
-    return out, _friction_impulse(system, cond, M_lu, out, cand, P, friction)
+    return out, _friction_impulse(system, cond, minv, out, cand, P, friction)
 
 
-def _friction_impulse(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, P: np.ndarray,
+def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np.ndarray,
                       friction: np.ndarray) -> np.ndarray:
     """Tangential impulses of an impact, consistent with Coulomb's law (|T| ≤ f P): each
     CFE with a normal impulse P > 0 and rigid friction stops sliding if the impulse that
@@ -341,8 +332,7 @@ def _friction_impulse(system, cond, M_lu, v: np.ndarray, cand: np.ndarray, P: np
         return sig
     rows = cand[k]
     Bt = cond.Bf[rows]  # tangential rows
-    X = _minv_columns(M_lu, Bt)
-    W = np.asarray(Bt @ X)
+    X, W = minv(rows)
     wt = Bt @ v[free]
     limit = friction[rows] * P[k]
     T = np.zeros(len(k))
@@ -542,14 +532,24 @@ def solve_dynamic(
 
     accel: dict[str, object] = {}
 
+    def minv(rows: np.ndarray):
+        """(M⁻¹ B_rᵀ, B_r M⁻¹ B_rᵀ) for contact rows r: columns of M⁻¹ Bᵀ formed once (2m
+        solves with the mass matrix) and kept for every impact, projection and force jump."""
+        if "X" not in accel:
+            X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if m else np.zeros(
+                (len(free), 0))
+            X = X.reshape(len(free), 2 * m)
+            GM = np.asarray(Bf @ X)
+            accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
+        rows = np.asarray(rows, dtype=np.int64)
+        return accel["X"][:, rows], accel["GM"][np.ix_(rows, rows)]
+
     def accel_engine() -> EventEngine:
         """The event engine of the contact problem in accelerations: M ü + Bᵀ s = f with
         the contact conditions on (s, B ü), condensed to B M⁻¹ Bᵀ (built on first use)."""
         if "eng" not in accel:
-            X = M_lu.solve(np.ascontiguousarray(BfT.toarray()))
-            GM = np.asarray(Bf @ X)
-            GM = 0.5 * (GM + GM.T)
-            accel["eng"] = EventEngine(SchemeSolver(GM, np.zeros(2 * m)), [law],
+            minv(np.zeros(0, np.int64))
+            accel["eng"] = EventEngine(SchemeSolver(accel["GM"], np.zeros(2 * m)), [law],
                                        np.zeros(2 * m), rtol=rtol)
         return accel["eng"]
 
@@ -864,7 +864,7 @@ def solve_dynamic(
             if closing.size:  # an impact: normal velocities jump (Newton's law)
                 closed_now = np.flatnonzero((old != OPEN) & rigid_n)
                 cand = np.union1d(closing, closed_now)
-                v_new, sig = _impact(system, cond, M_lu, v_i, cand, closing, restitution,
+                v_new, sig = _impact(system, cond, minv, v_i, cand, closing, restitution,
                                      law.f)
                 ledger["impact"] += float(0.5 * v_i @ (M @ v_i) - 0.5 * v_new @ (M @ v_new))
                 v_i = v_new
@@ -877,7 +877,7 @@ def solve_dynamic(
                 log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
             eng.states = new_states.copy()
             e_before = 0.5 * v_i @ (M @ v_i) + 0.5 * u_i @ (K @ u_i)
-            u_i, v_i = _project(system, cond, M_lu, u_i, v_i, new_states, law, rigid_n)
+            u_i, v_i = _project(system, cond, minv, u_i, v_i, new_states, law, rigid_n)
             # the projection onto the new scheme's constraints: the integrator's share
             ledger["numerical"] += float(e_before - 0.5 * v_i @ (M @ v_i)
                                          - 0.5 * u_i @ (K @ u_i))
