@@ -274,13 +274,13 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     X, W = minv(rows_v)
     u, v = u.copy(), v.copy()
     lam = np.linalg.lstsq(W, Bc @ v[free], rcond=None)[0]
-    v[free] -= X @ lam
+    v[free] -= X(lam)
     nr = len(closed)
     if nr:
         Wn = W[:nr, :nr]
         gap = cond.Bf[m + closed] @ u[free] + system.w0[m + closed]
         mu_ = np.linalg.lstsq(Wn, gap, rcond=None)[0]
-        u[free] -= X[:, :nr] @ mu_
+        u[free] -= X(np.r_[mu_, np.zeros(len(rows_v) - nr)])
     return u, v
 
 
@@ -315,7 +315,7 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
             break
         active = (active & ~neg) | pen
     out = v.copy()
-    out[free] = vf - X @ P
+    out[free] = vf - X(P)
     return out, _friction_impulse(system, cond, minv, out, cand, P, friction)
 
 
@@ -347,7 +347,7 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np
         if not over.any():
             break
         sliding |= over
-    v[free] -= X @ T
+    v[free] -= X(T)
     after = Bt @ v[free]
     sig[k] = np.where(sliding, np.sign(after), 0.0)
     return sig
@@ -533,7 +533,7 @@ def solve_dynamic(
     accel: dict[str, object] = {}
 
     def minv(rows: np.ndarray):
-        """(M⁻¹ B_rᵀ, B_r M⁻¹ B_rᵀ) for contact rows r: columns of M⁻¹ Bᵀ formed once (2m
+        """(z ↦ M⁻¹ B_rᵀ z, B_r M⁻¹ B_rᵀ) for contact rows r: columns of M⁻¹ Bᵀ formed once (2m
         solves with the mass matrix) and kept for every impact, projection and force jump."""
         if "X" not in accel:
             X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if m else np.zeros(
@@ -542,7 +542,14 @@ def solve_dynamic(
             GM = np.asarray(Bf @ X)
             accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
         rows = np.asarray(rows, dtype=np.int64)
-        return accel["X"][:, rows], accel["GM"][np.ix_(rows, rows)]
+        X = accel["X"]
+
+        def apply(z: np.ndarray) -> np.ndarray:  # M⁻¹ B_rᵀ z without copying columns
+            full = np.zeros(2 * m)
+            full[rows] = z
+            return X @ full
+
+        return apply, accel["GM"][np.ix_(rows, rows)]
 
     def accel_engine() -> EventEngine:
         """The event engine of the contact problem in accelerations: M ü + Bᵀ s = f with
