@@ -389,3 +389,38 @@ def test_slow_push_on_an_elastic_block_slips_at_the_static_load_factor():
     # Newmark's whole steps conserve energy; the short last step (events shifted the grid),
     # made with Δt's K̂, is first-order and dissipative: measured 7e-6 of the work
     assert abs(e["numerical"][-1]) < 2e-5 * e["external"].max()
+
+
+@pytest.mark.parametrize("direction", [None, (1.0, 1.0)])
+def test_spring_dashpots_damp_free_vibration_by_the_closed_form(direction):
+    """A very stiff 1 m × 1 m block (2400 kg) on springs to the ground at its four corners,
+    each k and a dashpot c, moving off at v₀ along x: u(t) = v₀/ω_d e^(−ζω t) sin ω_d t with
+    ω² = 4k/m, ζ = 4c/(2 m ω) — the dashpots are in the damping matrix (1e-3 of the peak;
+    with an inclined axis d = (1, 1)/√2 the x motion sees k/2, c/2 per corner and couples
+    with y: started along d instead, it stays along d)."""
+    mat = sc.Material(E=1e13, nu=0.0, density=2400.0)
+    m = sc.Model(bodies=[sc.rectangle("b", (0, 0), (1, 1), 1, 1, mat)], plane="stress",
+                 thickness=1.0)
+    k, c = 1e6, 4e3
+    corners = m.select("b")
+    m = m.add(sc.Spring("s", corners, kx=0.0 if direction else k, ky=0.0 if direction else k,
+                        k=k if direction else 0.0, direction=direction, damping=c))
+    mass = 2400.0
+    omega = np.sqrt(4 * k / mass)
+    zeta = 4 * c / (2 * mass * omega)
+    wd = omega * np.sqrt(1 - zeta**2)
+    d = np.array([1.0, 0.0]) if direction is None else np.array([1.0, 1.0]) / np.sqrt(2)
+    v0 = np.tile(d, 4) * 0.1
+    dt = 2 * np.pi / omega / 400
+    res = solve_dynamic(m, dt=dt, duration=2 * np.pi / omega * 1.5, mass="lumped", v0=v0)
+    t = res.time
+    exact = 0.1 / wd * np.exp(-zeta * omega * t) * np.sin(wd * t)
+    along = res.u[:, 0::2].mean(axis=1) * d[0] + res.u[:, 1::2].mean(axis=1) * d[1]
+    peak = 0.1 / omega
+    assert np.abs(along - exact).max() < 1e-3 * peak
+    assert zeta > 0.05  # the damping is felt: an undamped oscillation differs by far more
+    across = res.u[:, 0::2].mean(axis=1) * d[1] - res.u[:, 1::2].mean(axis=1) * d[0]
+    assert np.abs(across).max() < 1e-9 * peak
+    e = res.energy
+    assert e["damping"][-1] == pytest.approx(0.5 * 4 * mass / 4 * 0.01 - e["kinetic"][-1]
+                                             - e["strain"][-1], rel=1e-6)

@@ -215,6 +215,19 @@ def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
             rows.append(r.ravel())
             cols.append(c.ravel())
             vals.append(v.ravel())
+    for r, c, v in _spring_triplets(model, dofs, lambda s: s.stiffness_matrix()):
+        rows.append(r)
+        cols.append(c)
+        vals.append(v)
+    if not rows:
+        return sp.csr_matrix((dofs.ndof, dofs.ndof))
+    return scatter(np.concatenate(rows), np.concatenate(cols), np.concatenate(vals),
+                   (dofs.ndof, dofs.ndof))
+
+
+def _spring_triplets(model: Model, dofs: DofMap, matrix_of):
+    """(rows, cols, values) of every spring's 2 × 2 matrix ``matrix_of(spring)`` (N/m or
+    N·s/m) on its nodes' translations: [[k, −k], [−k, k]] per pair, k alone to the ground."""
     for s in model.springs:
         a = model.global_nodes(s.a)
         if s.b is not None:
@@ -223,24 +236,25 @@ def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
                 raise ModelError(f"spring '{s.name}'", "node sets a and b differ in size")
         else:
             bb = None
-        # k = kx ex⊗ex + ky ey⊗ey + k d⊗d on the translations: [[k, -k], [-k, k]] per pair
-        ks = s.stiffness_matrix()
+        ks = matrix_of(s)
         for c, e in zip(*np.nonzero(ks), strict=True):
             da, ea = dofs.of[a, c], dofs.of[a, e]
             kce = ks[c, e]
             if bb is None:
-                rows.append(da)
-                cols.append(ea)
-                vals.append(np.full(len(da), kce))
+                yield da, ea, np.full(len(da), kce)
             else:
                 db, eb = dofs.of[bb, c], dofs.of[bb, e]
-                rows.append(np.r_[da, db, da, db])
-                cols.append(np.r_[ea, eb, eb, ea])
-                vals.append(np.r_[np.full(2 * len(da), kce), np.full(2 * len(da), -kce)])
-    if not rows:
+                yield (np.r_[da, db, da, db], np.r_[ea, eb, eb, ea],
+                       np.r_[np.full(2 * len(da), kce), np.full(2 * len(da), -kce)])
+
+
+def dashpots(model: Model, dofs: DofMap) -> sp.csr_matrix:
+    """Global damping matrix of the springs' dashpots (``Spring.damping``), N·s/m."""
+    trip = list(_spring_triplets(model, dofs, lambda s: s.damping_matrix()))
+    if not trip:
         return sp.csr_matrix((dofs.ndof, dofs.ndof))
-    return scatter(np.concatenate(rows), np.concatenate(cols), np.concatenate(vals),
-                   (dofs.ndof, dofs.ndof))
+    r, c, v = (np.concatenate(x) for x in zip(*trip, strict=True))
+    return scatter(r, c, v, (dofs.ndof, dofs.ndof))
 
 
 def _pressure_function(spec, body, ns, item: str):
@@ -483,7 +497,7 @@ def assemble(model: Model | DiscreteModel) -> System:
                     groups.append((f"{name} (prescribed):{dname}", lv.dofs[comp == c]))
     cfe = build_contact(model)
     B, w0 = contact_operator(cfe, dofs)
-    if not fixed.any() and cfe.m == 0:
+    if not fixed.any() and cfe.m == 0 and not any(sp_.b is None for sp_ in model.springs):
         raise ModelError("model", "has no supports and no contact: it is free to move")
     _check_restrained(model, dofs, K, B, fixed, cfe)
     rows, labels = _reaction_rows(groups, dofs.ndof)

@@ -464,7 +464,9 @@ class SpringSpec(_Spec):
         None, description="axis (dx, dy) of `k` (any non-zero vector; normalised)"
     )
     damping: float = Field(
-        0.0, ge=0, description="dashpot coefficient, N·s/m (dynamics; not used by statics)"
+        0.0, ge=0,
+        description="dashpot coefficient, N·s/m, in parallel with the spring (dynamics; "
+                    "statics ignores it)",
     )
 
 

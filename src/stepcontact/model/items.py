@@ -291,8 +291,9 @@ class Spring:
     stored normalised), e.g. a strut along a slope.  Both kinds may be given together.
 
     ``damping`` is a dashpot coefficient c, N·s/m, acting along ``direction`` (along x and y
-    alike when no direction is given).  It is stored for dynamic analyses; static analyses
-    (:func:`stepcontact.solve_static`) do not use it.
+    alike when no direction is given), in parallel with the spring: dynamic analyses
+    (:func:`stepcontact.solve_dynamic`) add it to the damping matrix; static analyses do not
+    use it.
 
     Example
     -------
@@ -341,6 +342,13 @@ class Spring:
             d = np.asarray(self.direction)
             K += self.k * np.outer(d, d)
         return K
+
+    def damping_matrix(self) -> np.ndarray:
+        """The 2 × 2 dashpot matrix of each spring, N·s/m: c d⊗d along ``direction``, c I
+        (x and y alike) without one."""
+        if self.direction is None:
+            return float(self.damping) * np.eye(2)
+        return float(self.damping) * np.outer(self.direction, self.direction)
 
 
 # --------------------------------------------------------------------------------------------

@@ -63,7 +63,7 @@ import scipy.sparse as sp
 from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
-from stepcontact.fem.assembly import System, assemble
+from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.results.recorder import GrowingArray, Recorder
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensed
@@ -416,7 +416,8 @@ def solve_dynamic(
         Continua: consistent or HRZ-lumped mass (frames lumped); a (ndof, ndof) matrix for a
         discrete model.
     damping : (a₀, a₁)
-        Rayleigh damping C = a₀ M + a₁ K (:func:`stepcontact.fem.mass.rayleigh_coefficients`).
+        Rayleigh damping C = a₀ M + a₁ K (:func:`stepcontact.fem.mass.rayleigh_coefficients`);
+        the dashpots of the model's springs (``Spring.damping``, N·s/m) are added to it.
     initial : StaticResult, optional
         Start from the last state of a static run of the same model (displacements, contact
         forces and states; its pattern factors are held).
@@ -478,6 +479,8 @@ def solve_dynamic(
     a0, a1 = (float(x) for x in damping)
     K = system.K.tocsr()
     C = (a0 * M + a1 * K).tocsr() if a0 or a1 else sp.csr_matrix((ndof, ndof))
+    if system.discrete is None and any(sp_.damping for sp_ in system.model.springs):
+        C = (C + dashpots(system.model, system.dofs)).tocsr()  # the springs' dashpots
     dt0 = float(dt)
     # K̂ = K + 4M/Δt² + 2C/Δt, factorised and condensed once: the steps shorter than Δt (to
     # land on a load's break or the end, or to go on after an event) use it too (_Newmark)
