@@ -424,3 +424,42 @@ def test_spring_dashpots_damp_free_vibration_by_the_closed_form(direction):
     e = res.energy
     assert e["damping"][-1] == pytest.approx(0.5 * 4 * mass / 4 * 0.01 - e["kinetic"][-1]
                                              - e["strain"][-1], rel=1e-6)
+
+
+def test_contact_stresses_of_a_dynamic_result_at_chosen_times(bar, tmp_path):
+    """The contact stress diagrams at chosen instants (Python and ``stepcontact plot
+    --time``): during the bar's contact the drawn σ_n is the wall's −ρ c v₀ (median within
+    2 %), between two recorded steps it is their linear interpolation in time; --lam on a
+    result in time, and --time on a static one, are refused with a message."""
+    from typer.testing import CliRunner
+
+    from stepcontact.cli.commands import app
+
+    sysm, v, p = bar
+    res = solve_dynamic(sysm, dt=p["dt"], duration=1.2e-4, v0=v, mass="lumped")
+    t_mid = 2e-5 + 0.5 * 2 * p["L"] / p["c"]  # half-way through the contact
+    fig = sc.plot_interfaces(res, [t_mid], path=tmp_path / "s.png")
+    assert "t = " in fig._suptitle.get_text() and "λ" not in fig._suptitle.get_text()
+    line = fig.axes[0].get_lines()[0]
+    sigma = np.asarray(line.get_ydata(), float)  # in the axis' unit: GPa, MPa, kPa or Pa
+    unit = fig.axes[0].get_ylabel().split(",")[-1].split("(")[0].strip()
+    scale = {"GPa": 1e9, "MPa": 1e6, "kPa": 1e3, "Pa": 1.0}[unit]
+    assert np.median(sigma) * scale == pytest.approx(-p["rho"] * p["c"] * p["v0"], rel=0.02)
+    i = int(np.searchsorted(res.time, t_mid))
+    w = (t_mid - res.time[i - 1]) / (res.time[i] - res.time[i - 1])
+    N = (1 - w) * res.N[i - 1] + w * res.N[i]
+    np.testing.assert_allclose(sigma * scale, N / res.cfe["area"], rtol=1e-9)  # N < 0: press
+    res.save(tmp_path / "bar.nc")
+    run = CliRunner().invoke
+    out = run(app, ["plot", str(tmp_path / "bar.nc"), "--time", "3e-5", "--time", "6e-5",
+                    "-o", str(tmp_path / "t.png")])
+    assert out.exit_code == 0 and (tmp_path / "t.png").stat().st_size > 0, out.output
+    out = run(app, ["plot", str(tmp_path / "bar.nc"), "--kind", "energy",
+                    "-o", str(tmp_path / "e.png")])
+    assert out.exit_code == 0 and (tmp_path / "e.png").stat().st_size > 0, out.output
+    out = run(app, ["plot", str(tmp_path / "bar.nc"), "--lam", "1"])
+    assert out.exit_code != 0 and "--time" in out.output
+    dm, st, _ = floor_block()
+    st.save(tmp_path / "static.nc")
+    out = run(app, ["plot", str(tmp_path / "static.nc"), "--time", "1"])
+    assert out.exit_code != 0 and "--lam" in out.output

@@ -471,7 +471,7 @@ def test_cli_plot_default_output_and_skips(runs, tmp_path, drawn):
         (["RES", "-k", "load-displacement", "--node", "a"], "--node 'a'"),
         (["RES", "-k", "load-displacement", "--node", "2,1"], "shared by bodies"),
         (["RES", "-k", "load-displacement", "--dof", "q"], "dof='q'"),
-        (["RES", "-k", "deformed", "--lam", "1"], "--lam applies to --kind stresses"),
+        (["RES", "-k", "deformed", "--lam", "1"], "--lam and --time apply to --kind stresses"),
         (["RES", "-k", "timeline", "--node", "1,1"], "--node applies"),
         (["RES", "-k", "deformed", "--state", "99"], "state 99 does not exist"),
         (["RES", "--lam", "5e6"], "outside segment"),

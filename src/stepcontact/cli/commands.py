@@ -684,7 +684,7 @@ __all__ = ["ProgressHook", "app", "events_table", "result_summary"]
 # --------------------------------------------------------------------------------------------
 # plot and info: figures and a summary of a result file
 # --------------------------------------------------------------------------------------------
-PLOT_KINDS = ("deformed", "stresses", "load-displacement", "timeline", "safety")
+PLOT_KINDS = ("deformed", "stresses", "load-displacement", "timeline", "safety", "energy")
 _NEEDS_FIELDS = ("deformed", "load-displacement")
 
 
@@ -779,7 +779,8 @@ def _check_plot_options(kinds: Sequence[str], lam: Sequence[float] | None,
                         state: Sequence[int] | None, node: str | None,
                         reaction: str | None = None, stress: str | None = None) -> None:
     if lam and "stresses" not in kinds:
-        raise _Failure("--lam applies to --kind stresses (use --state for the deformed shape)")
+        raise _Failure("--lam and --time apply to --kind stresses (use --state for the "
+                       "deformed shape)")
     if node is not None and "load-displacement" not in kinds:
         raise _Failure("--node applies to --kind load-displacement")
     if reaction is not None and "load-displacement" not in kinds:
@@ -811,6 +812,8 @@ def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any])
                                             reaction=opts["reaction"])
         elif kind == "safety":
             plotting.plot_safety(res, path=path, dpi=opts["dpi"])
+        elif kind == "energy":
+            plotting.plot_energy(res, path=path, dpi=opts["dpi"])
         else:
             plotting.plot_event_timeline(res, path=path, dpi=opts["dpi"])
     except ValueError as e:
@@ -823,6 +826,8 @@ def _plot_missing_fields(res: StaticResult, kind: str, state: Sequence[int] | No
     recoverable)."""
     if kind not in _NEEDS_FIELDS or res._recover is not None:
         return False
+    if getattr(res, "u", None) is not None and len(res.u) == res.n_states:
+        return False  # a dynamic result stores the displacements of every state
     if kind == "load-displacement" and reaction is not None:
         return False  # reactions are known at every state
     wanted = range(res.n_states) if kind == "load-displacement" else [
@@ -839,7 +844,8 @@ def plot(
         str,
         typer.Option("--kind", "-k", help="deformed, stresses, load-displacement, timeline, "
                      "safety (eccentricity, sliding factor and open length of the joints "
-                     "against λ) or all (one file per kind)."),
+                     "against λ), energy (the energy ledger of a dynamic result) or all "
+                     "(one file per kind)."),
     ] = "stresses",
     lam: Annotated[
         list[float] | None,
@@ -848,6 +854,11 @@ def plot(
     ] = None,
     segment: Annotated[
         int | None, typer.Option("--segment", help="stresses: the segment --lam refers to.")
+    ] = None,
+    at_time: Annotated[
+        list[float] | None,
+        typer.Option("--time", help="stresses of a dynamic result (MODEL-dynamic.nc): time t "
+                     "in s to draw (repeat for several), e.g. --time 0.02 --time 0.05."),
     ] = None,
     state: Annotated[
         list[int] | None,
@@ -921,6 +932,10 @@ def plot(
 
         stepcontact plot run.nc --kind safety
 
+        stepcontact plot run-dynamic.nc --kind stresses --time 0.02 --time 0.05
+
+        stepcontact plot run-dynamic.nc --kind energy
+
         stepcontact plot run.nc --kind all -o figures/ --format pdf
 
         stepcontact plot run.nc --kind load-displacement --model dam.toml
@@ -936,12 +951,26 @@ def plot(
         if kind != "all" and kind not in PLOT_KINDS:
             raise _Failure(f"unknown --kind '{kind}': use {', '.join(PLOT_KINDS)} or all")
         kinds = list(PLOT_KINDS) if kind == "all" else [kind]
-        _check_plot_options(kinds, lam, state, node, reaction, stress)
+        if at_time and lam:
+            raise _Failure("give either --lam (a static result) or --time (a dynamic one)")
+        _check_plot_options(kinds, lam or at_time, state, node, reaction, stress)
         opts = {"lam": lam, "segment": segment, "state": state, "node": _parse_node(node),
                 "dof": dof, "body": body, "scale": scale, "dpi": dpi, "reaction": reaction,
                 "stress": stress}
         targets = _plot_targets(result_file, kinds, output, fmt)
         res = _load_result_file(result_file)
+        dynamic = getattr(res, "path_axis", "lam") == "time"
+        if at_time and not dynamic:
+            raise _Failure("--time applies to a dynamic result (MODEL-dynamic.nc); this one "
+                           "is static: use --lam")
+        if lam and dynamic:
+            raise _Failure("this result is in time: give --time t (s), not --lam")
+        if at_time:
+            opts["lam"] = at_time
+        if kind == "energy" and not dynamic:
+            raise _Failure("--kind energy needs a dynamic result (MODEL-dynamic.nc)")
+        if kind == "all" and not dynamic:
+            targets.pop("energy", None)
         used_model = None
         if any(_plot_missing_fields(res, k, state, reaction) for k in kinds):
             used_model = _attach_model(res, result_file, model)

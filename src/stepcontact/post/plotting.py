@@ -170,6 +170,23 @@ def _pattern_of(res: StaticResult, seg: int) -> str:
     return "?"
 
 
+def _at_text(res: StaticResult, seg: int, v: float, short: bool = False) -> str:
+    """Where on the path a value is: ``'push' λ = 23 544`` (``push λ=23 544`` short), or
+    ``t = 0.035 s`` for a result in time (a dynamic run)."""
+    if getattr(res, "path_axis", "lam") == "time":
+        return f"t={v:.6g} s" if short else f"t = {v:.6g} s"
+    if short:
+        return f"{_pattern_of(res, seg)} λ={_lam_text(v)}"
+    return f"'{_pattern_of(res, seg)}' λ = {v:.4g}"
+
+
+def _axis_text(res: StaticResult, seg: int) -> str:
+    """The label of a path axis: ``λ of 'push'``, or ``time t, s`` for a dynamic result."""
+    if getattr(res, "path_axis", "lam") == "time":
+        return "time t, s"
+    return f"λ of '{_pattern_of(res, seg)}'"
+
+
 def _lam_text(v: float) -> str:
     """A load factor as a label reads it: 5 significant digits, thousands grouped by spaces
     from 10 000 on (``23544.0`` → ``"23 544"``, ``1.0`` → ``"1"``, ``0.25`` → ``"0.25"``)."""
@@ -294,7 +311,9 @@ def plot_interfaces(
     res : StaticResult
     lams : float or sequence of float, optional
         Load factors of the active pattern of ``segment``.  Default: the end of every segment
-        (or of ``segment`` when given).
+        (or of ``segment`` when given).  For a dynamic result (:func:`~stepcontact.
+        solve_dynamic`) the times t, s: the diagrams at chosen instants, the forces between
+        two recorded steps interpolated linearly in time (as Newmark's step does).
     path : str or PathLike, optional
         Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
     segment : int, optional
@@ -358,7 +377,7 @@ def plot_interfaces(
     norm = BoundaryNorm(np.r_[np.array(codes) - 0.5, codes[-1] + 0.5], cmap.N)
     colors = [f"C{j % 10}" for j in range(len(snaps))]
     shade = 0.15 if len(snaps) == 1 else 0.06  # the diagrams' fill, lighter when they overlap
-    labels = [f"'{_pattern_of(res, s)}' λ = {v:.4g}" for s, v, _ in snaps]
+    labels = [_at_text(res, s, v) for s, v, _ in snaps]
 
     axes = fig.subplots(3, ncol, squeeze=False, sharex="col", height_ratios=[3, 3, 1.2])
     for c, name in enumerate(names):
@@ -410,7 +429,7 @@ def plot_interfaces(
             edgecolors="white", linewidth=0.3,
         )
         ax_s.set_yticks(np.arange(len(snaps)),
-                        [f"{_pattern_of(res, sg)} λ={_lam_text(v)}" for sg, v, _ in snaps],
+                        [_at_text(res, sg, v, short=True) for sg, v, _ in snaps],
                         fontsize=7)
         ax_s.set_ylim(len(snaps) - 0.5, -0.5)
         ax_s.set_xlabel("position s along the interface, m")
@@ -429,10 +448,14 @@ def plot_interfaces(
     by_pattern: dict[str, list[str]] = {}
     for sg, v, _ in snaps:
         by_pattern.setdefault(_pattern_of(res, sg), []).append(f"{v:.4g}")
-    fig.suptitle(
-        "Contact stresses at "
-        + ";\n".join(f"pattern '{p}' λ = {', '.join(v)}" for p, v in by_pattern.items())
-    )
+    if getattr(res, "path_axis", "lam") == "time":
+        fig.suptitle("Contact stresses at t = "
+                     + ", ".join(f"{v:.4g}" for _, v, _ in snaps) + " s")
+    else:
+        fig.suptitle(
+            "Contact stresses at "
+            + ";\n".join(f"pattern '{p}' λ = {', '.join(v)}" for p, v in by_pattern.items())
+        )
     _save(fig, out, dpi)
     return fig
 
@@ -1056,8 +1079,8 @@ def plot_deformed(
                    frameon=False, ncol=1 if len(load_handles) > 2 else len(load_handles))
     seg = int(res.segment[i])
     fig.suptitle(
-        f"Deformed shape at state {i} ({res.kind[i]}, '{_pattern_of(res, seg)}' "
-        f"λ = {float(res.lam[i]):.6g}) — displacements × {scale:g}, "
+        f"Deformed shape at state {i} ({res.kind[i]}, {_at_text(res, seg, float(res.lam[i]))}"
+        f") — displacements × {scale:g}, "
         f"max |u| = {umax:.3g} m"
     )
     _save(fig, out, dpi)
@@ -1262,7 +1285,7 @@ def plot_load_displacement(
                     marker=marker, color=color, ms=8, mec="k", mew=0.4, zorder=4)
             seen.append(tr)
         if axis == "lam":
-            ax.set_ylabel(f"λ of '{_pattern_of(res, s)}'")
+            ax.set_ylabel(_axis_text(res, s))
         lost = next((mu.equilibrium_lost for mu in res.multipliers
                      if mu.segment == s and mu.equilibrium_lost is not None), None)
         if lost is not None and idx.size:
@@ -1359,10 +1382,13 @@ def plot_event_timeline(
                 ax.invert_xaxis()  # unloading: λ decreases along the path
             ax.grid(True, alpha=0.3)
             if r == 0 and lam.size:
-                ax.set_title(f"segment {s}: {_pattern_of(res, s)} λ={_lam_text(lam[0])} → "
-                             f"{_lam_text(lam[-1])}", fontsize=9)
+                span = (f"t = {lam[0]:.6g} → {lam[-1]:.6g} s"
+                        if getattr(res, "path_axis", "lam") == "time" else
+                        f"segment {s}: {_pattern_of(res, s)} λ={_lam_text(lam[0])} → "
+                        f"{_lam_text(lam[-1])}")
+                ax.set_title(span, fontsize=9)
             if r == nrow - 1:
-                ax.set_xlabel(f"λ of '{_pattern_of(res, s)}'")
+                ax.set_xlabel(_axis_text(res, s))
             if c == 0:
                 ax.set_ylabel(f"s along '{name}', m")
     handles = _state_handles(st.ravel(), bars=True) + _transition_handles(
@@ -1449,7 +1475,7 @@ def plot_safety(
     axes[1].set_ylabel("sliding factor f·|ΣN|/|ΣQ|")
     axes[1].set_ylim(0.0, min(max(2.0, 1.1 * peak), 10.0))
     axes[2].set_ylabel("open length, m")
-    axes[2].set_xlabel(f"λ of '{_pattern_of(res, seg)}'")
+    axes[2].set_xlabel(_axis_text(res, seg))
     for ax in axes:
         ax.grid(True, alpha=0.3)
         if design is not None:
