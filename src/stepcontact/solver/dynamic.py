@@ -678,6 +678,7 @@ def solve_dynamic(
              "a": GrowingArray((ndof,))}
     energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
     ledger = dict.fromkeys(ENERGY_TERMS, 0.0)
+    parts = dict.fromkeys(("cut", "projection", "hht", "short_steps"), 0.0)  # of numerical
     w_scale = [float(np.abs(w).max(initial=0.0))]
 
     stiff = np.r_[cfe.kt, cfe.kn]
@@ -772,8 +773,10 @@ def solve_dynamic(
         # integrator's (numerical) share of the part step
         d_energy = (0.5 * v_i @ (M @ v_i) + strain_energy(u_i, s_i)
                     - 0.5 * v @ (M @ v) - strain_energy(u, s_start))
-        ledger["numerical"] += (works["external"] - works["damping"] - works["friction"]
-                                - works["impact"] - d_energy)
+        d_num = (works["external"] - works["damping"] - works["friction"] - works["impact"]
+                 - d_energy)
+        ledger["numerical"] += d_num
+        parts["cut"] += d_num
         return u_i, v_i, s_i, w_i, F_i
 
     breaks = np.unique(np.concatenate(
@@ -905,8 +908,9 @@ def solve_dynamic(
             e_before = 0.5 * v_i @ (M @ v_i) + 0.5 * u_i @ (K @ u_i)
             u_i, v_i = _project(system, cond, minv, u_i, v_i, new_states, law, rigid_n)
             # the projection onto the new scheme's constraints: the integrator's share
-            ledger["numerical"] += float(e_before - 0.5 * v_i @ (M @ v_i)
-                                         - 0.5 * u_i @ (K @ u_i))
+            d_num = float(e_before - 0.5 * v_i @ (M @ v_i) - 0.5 * u_i @ (K @ u_i))
+            ledger["numerical"] += d_num
+            parts["projection"] += d_num
             w_i = system.B @ u_i + system.w0
             on = (new_states != OPEN) & rigid_n
             w_i[m:][on] = 0.0  # on the obstacle (round-off of the projection)
@@ -945,8 +949,10 @@ def solve_dynamic(
         if alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what the
             # works leave
             e_step1 = 0.5 * v_new @ (M @ v_new) + strain_energy(u_new, eng.s)
-            ledger["numerical"] += (float(du @ (0.5 * (F_prev + F1))) - float(du @ (C @ vbar))
-                                    - float(diss.sum()) - (e_step1 - e_step0))
+            d_num = (float(du @ (0.5 * (F_prev + F1))) - float(du @ (C @ vbar))
+                     - float(diss.sum()) - (e_step1 - e_step0))
+            ledger["numerical"] += d_num
+            parts["hht" if dt == dt0 else "short_steps"] += d_num
         u, v, a = u_new, v_new, a_new
         t = t1
         if at_break:  # the load jumps here: the contact forces and accelerations with it
@@ -975,7 +981,7 @@ def solve_dynamic(
     S, W = arr["s"], arr["w"]
     counters = dict(cond.counters) | schemes.counters | eng.counters | {
         "events": len(rec.events), "steps": n_steps, "impacts": n_impacts,
-        "setup_seconds": t_setup,
+        "setup_seconds": t_setup, **{f"numerical_{k}": v for k, v in parts.items()},
         "run_seconds": time.perf_counter() - t_run, "ndof": ndof, "cfes": m}
     cfe_arrays = {"interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
                   "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction,
