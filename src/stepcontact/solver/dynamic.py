@@ -242,6 +242,45 @@ class _Newmark:
         return -(self.cv * wdot + self.ca * wacc) / self.c1
 
 
+def _spd_solve(W: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x with W x = b for a small symmetric positive semi-definite W (B_r M⁻¹ B_rᵀ):
+    Cholesky, or the least-squares (minimum-norm) solution where W is singular (rows that
+    depend on each other, e.g. at a corner; a pivot below 1e-12 of the largest diagonal)."""
+    import scipy.linalg as sla
+
+    if W.size == 0:
+        return np.zeros(0)
+    try:
+        c = sla.cho_factor(W, check_finite=False)
+        if np.diag(c[0]).min() ** 2 > 1e-12 * np.diag(W).max():  # not nearly singular
+            return sla.cho_solve(c, b, check_finite=False)
+    except np.linalg.LinAlgError:
+        pass
+    return np.linalg.lstsq(W, b, rcond=None)[0]
+
+
+class _Memo:
+    """A sparse matrix whose products with the last few vectors are kept (looked up by the
+    arrays' identity: the driver never changes a state vector in place once formed), so that
+    K u and M v are formed once per state for the step, the ledger and the records."""
+
+    def __init__(self, A, keep: int = 6):
+        self.A, self.keep = A, keep
+        self._last: list[tuple[np.ndarray, np.ndarray]] = []
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        for xx, y in self._last:
+            if xx is x:
+                return y
+        y = self.A @ x
+        self._last.append((x, y))
+        if len(self._last) > self.keep:
+            self._last.pop(0)
+        return y
+
+    __matmul__ = __call__
+
+
 def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=None) -> dict:
     """Times of the slip → stick transitions decided at μ of a step (eq. (10), second row):
     where the slip velocity, linear in time over the step, would cross zero under the old
@@ -281,13 +320,13 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     Bc = cond.Bf[rows_v]
     X, W = minv(rows_v)
     u, v = u.copy(), v.copy()
-    lam = np.linalg.lstsq(W, Bc @ v[free], rcond=None)[0]
+    lam = _spd_solve(W, Bc @ v[free])
     v[free] -= X(lam)
     nr = len(closed)
     if nr:
         Wn = W[:nr, :nr]
         gap = cond.Bf[m + closed] @ u[free] + system.w0[m + closed]
-        mu_ = np.linalg.lstsq(Wn, gap, rcond=None)[0]
+        mu_ = _spd_solve(Wn, gap)
         u[free] -= X(np.r_[mu_, np.zeros(len(rows_v) - nr)])
     return u, v
 
@@ -315,7 +354,7 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
         P[:] = 0.0
         idx = np.flatnonzero(active)
         if idx.size:
-            P[idx] = np.linalg.lstsq(W[np.ix_(idx, idx)], wd[idx] - target[idx], rcond=None)[0]
+            P[idx] = _spd_solve(W[np.ix_(idx, idx)], wd[idx] - target[idx])
         after = wd - W @ P
         neg = active & (P < 0)
         pen = ~active & (after > 1e-12 * max(np.abs(wd).max(initial=0.0), 1e-300))
@@ -350,7 +389,7 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np
         T[sliding] = np.sign(T[sliding]) * limit[sliding]
         if stick.size:
             rhs = wt[stick] - W[np.ix_(stick, np.flatnonzero(sliding))] @ T[sliding]
-            T[stick] = np.linalg.lstsq(W[np.ix_(stick, stick)], rhs, rcond=None)[0]
+            T[stick] = _spd_solve(W[np.ix_(stick, stick)], rhs)
         over = ~sliding & (np.abs(T) > limit * (1 + 1e-12))
         if not over.any():
             break
@@ -482,6 +521,7 @@ def solve_dynamic(
     if system.discrete is None and any(sp_.damping for sp_ in system.model.springs):
         C = (C + dashpots(system.model, system.dofs)).tocsr()  # the springs' dashpots
     dt0 = float(dt)
+    Kx, Mx, Cx = _Memo(K), _Memo(M), _Memo(C)  # products with the current u, v kept
     # K̂ = K + 4M/Δt² + 2C/Δt, factorised and condensed once: the steps shorter than Δt (to
     # land on a load's break or the end, or to go on after an event) use it too (_Newmark)
     t0 = time.perf_counter()
@@ -532,7 +572,7 @@ def solve_dynamic(
         F_held += c * f_of[name]
     Bf = cond.Bf
     BfT = Bf.T.tocsr()
-    rhs = F_held[free] - (K @ u)[free] - (C @ v)[free] - BfT @ s
+    rhs = F_held[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s
     Mff = M[free][:, free].tocsc()
     from scipy.sparse.linalg import splu
 
@@ -587,7 +627,7 @@ def solve_dynamic(
         Q = σ f p, open: s = 0) with M ü + Bᵀ s = F − K u − C v — where a switch makes the
         forces jump (a slip that stops, an impact).  Sets them; returns ü."""
         Fn = force_at(t_now)
-        f_rest = Fn[free] - (K @ u)[free] - (C @ v)[free]
+        f_rest = Fn[free] - (Kx(u))[free] - (Cx(v))[free]
         out = np.zeros(ndof)
         if m and all_rigid:  # (a compliant layer's force is its spring's: it does not jump)
             ea = accel_engine()
@@ -628,7 +668,7 @@ def solve_dynamic(
         if not all_rigid:  # compliant layers: the forces follow the displacements
             Fn = force_at(t_now)
             out = np.zeros(ndof)
-            out[free] = M_lu.solve(Fn[free] - (K @ u)[free] - (C @ v)[free] - BfT @ eng.s)
+            out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
             return out
         ea = accel_engine()
         ea.states = eng.states.copy()
@@ -671,7 +711,7 @@ def solve_dynamic(
         eng.s = ea.s.copy()
         out = np.zeros(ndof)
         Fn = force_at(t_now)
-        out[free] = M_lu.solve(Fn[free] - (K @ u)[free] - (C @ v)[free] - BfT @ eng.s)
+        out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
         return out
     rec = Recorder(m, len(names), 0)
     extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
@@ -689,12 +729,12 @@ def solve_dynamic(
         return np.where(soft, 0.5 * s_**2 / np.where(soft, stiff, 1.0), 0.0)
 
     def strain_energy(u_, s_):
-        return float(0.5 * u_ @ (K @ u_) + layer_energy(s_).sum())
+        return float(0.5 * u_ @ (Kx(u_)) + layer_energy(s_).sum())
 
-    e0 = 0.5 * v @ (M @ v) + strain_energy(u, s)
+    e0 = 0.5 * v @ (Mx(v)) + strain_energy(u, s)
 
     def record(t: float, kind: str, residual: float) -> int:
-        ledger["kinetic"] = float(0.5 * v @ (M @ v))
+        ledger["kinetic"] = float(0.5 * v @ (Mx(v)))
         ledger["strain"] = strain_energy(u, eng.s)
         total = ledger["kinetic"] + ledger["strain"]
         ledger["error"] = (total - e0 - ledger["external"] + ledger["damping"]
@@ -734,7 +774,7 @@ def solve_dynamic(
         first = False
     else:
         a = np.zeros(ndof)
-        a[free] = M_lu.solve(F[free] - (K @ u)[free] - (C @ v)[free] - BfT @ s)
+        a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
     record(0.0, "start", 0.0)
     rigid_n = ~np.isfinite(cfe.kn)
     t_run = time.perf_counter()
@@ -771,8 +811,8 @@ def solve_dynamic(
             ledger[key] += val
         # the interpolation (8) is not a Newmark step: what it adds or removes is the
         # integrator's (numerical) share of the part step
-        d_energy = (0.5 * v_i @ (M @ v_i) + strain_energy(u_i, s_i)
-                    - 0.5 * v @ (M @ v) - strain_energy(u, s_start))
+        d_energy = (0.5 * v_i @ (Mx(v_i)) + strain_energy(u_i, s_i)
+                    - 0.5 * v @ (Mx(v)) - strain_energy(u, s_start))
         d_num = (works["external"] - works["damping"] - works["friction"] - works["impact"]
                  - d_energy)
         ledger["numerical"] += d_num
@@ -800,7 +840,7 @@ def solve_dynamic(
             t1 = float(ahead[0])
         # a step that ends on a break takes the load's left limit there
         F1 = force_at(t1 - 1e-9 * dt0) if at_break else force_at(t1)
-        Fhat = nm.rhs(K, M, C, F1, F, u, v, a)
+        Fhat = nm.rhs(Kx, Mx, Cx, F1, F, u, v, a)
         y = cond.factor.solve(np.ascontiguousarray(Fhat[free]))
         h_end = Bf @ y
         # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
@@ -895,7 +935,7 @@ def solve_dynamic(
                 cand = np.union1d(closing, closed_now)
                 v_new, sig = _impact(system, cond, minv, v_i, cand, closing, restitution,
                                      law.f)
-                ledger["impact"] += float(0.5 * v_i @ (M @ v_i) - 0.5 * v_new @ (M @ v_new))
+                ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
                 v_i = v_new
                 # a CFE still sliding after its impact slips on (with its velocity)
                 for k_, sg in zip(cand, sig, strict=True):
@@ -905,10 +945,10 @@ def solve_dynamic(
             for k in np.flatnonzero(old != new_states):
                 log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
             eng.states = new_states.copy()
-            e_before = 0.5 * v_i @ (M @ v_i) + 0.5 * u_i @ (K @ u_i)
+            e_before = 0.5 * v_i @ (Mx(v_i)) + 0.5 * u_i @ (Kx(u_i))
             u_i, v_i = _project(system, cond, minv, u_i, v_i, new_states, law, rigid_n)
             # the projection onto the new scheme's constraints: the integrator's share
-            d_num = float(e_before - 0.5 * v_i @ (M @ v_i) - 0.5 * u_i @ (K @ u_i))
+            d_num = float(e_before - 0.5 * v_i @ (Mx(v_i)) - 0.5 * u_i @ (Kx(u_i)))
             ledger["numerical"] += d_num
             parts["projection"] += d_num
             w_i = system.B @ u_i + system.w0
@@ -923,7 +963,7 @@ def solve_dynamic(
                 a = accel_forces(t_i)  # the forces jump: an impact, a slip that stops
             else:
                 a = np.zeros(ndof)
-                a[free] = M_lu.solve(F_i[free] - (K @ u)[free] - (C @ v)[free] - BfT @ eng.s)
+                a[free] = M_lu.solve(F_i[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
             t = t_i
             record(t, "event", 0.0)
             continue
@@ -935,11 +975,11 @@ def solve_dynamic(
         u_new[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tvec))
         a_new, v_new = nm.end(u_new, u, v, a)
         du = u_new - u
-        e_step0 = 0.5 * v @ (M @ v) + strain_energy(u, s_start)
+        e_step0 = 0.5 * v @ (Mx(v)) + strain_energy(u, s_start)
         ledger["external"] += float(du @ (0.5 * (F + F1)))
         F_prev, F = F, F1
         vbar = 0.5 * (v + v_new)
-        ledger["damping"] += float(du @ (C @ vbar))
+        ledger["damping"] += float(du @ (Cx(vbar)))
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
         # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
@@ -948,8 +988,8 @@ def solve_dynamic(
         ledger["impact"] += float(diss[m:].sum())
         if alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what the
             # works leave
-            e_step1 = 0.5 * v_new @ (M @ v_new) + strain_energy(u_new, eng.s)
-            d_num = (float(du @ (0.5 * (F_prev + F1))) - float(du @ (C @ vbar))
+            e_step1 = 0.5 * v_new @ (Mx(v_new)) + strain_energy(u_new, eng.s)
+            d_num = (float(du @ (0.5 * (F_prev + F1))) - float(du @ (Cx(vbar)))
                      - float(diss.sum()) - (e_step1 - e_step0))
             ledger["numerical"] += d_num
             parts["hht" if dt == dt0 else "short_steps"] += d_num
@@ -962,7 +1002,7 @@ def solve_dynamic(
                 a = load_jump(F - F_left, t, n)
             else:
                 a = np.zeros(ndof)
-                a[free] = M_lu.solve(F[free] - (K @ u)[free] - (C @ v)[free])
+                a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free])
         w_scale[0] = max(w_scale[0], float(np.abs(eng.w).max(initial=0.0)))
         last = t >= end_time - 1e-6 * dt0
         if record_every <= 1 or n % record_every == 0 or step_events or last:
