@@ -242,6 +242,24 @@ class _Newmark:
         return -(self.cv * wdot + self.ca * wacc) / self.c1
 
 
+class _Diagonal:
+    """M⁻¹ of a lumped (diagonal) mass matrix: a division, not a sparse LU's solve."""
+
+    def __init__(self, M):
+        d = M.diagonal()
+        if np.any(d <= 0):
+            raise RuntimeError("a zero or negative diagonal entry")
+        self.inv = 1.0 / d
+
+    @staticmethod
+    def fits(M) -> bool:
+        return M.nnz == np.count_nonzero(M.diagonal())
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        b = np.asarray(b)
+        return b * (self.inv if b.ndim == 1 else self.inv[:, None])
+
+
 def _spd_solve(W: np.ndarray, b: np.ndarray) -> np.ndarray:
     """x with W x = b for a small symmetric positive semi-definite W (B_r M⁻¹ B_rᵀ):
     Cholesky, or the least-squares (minimum-norm) solution where W is singular (rows that
@@ -577,7 +595,7 @@ def solve_dynamic(
     from scipy.sparse.linalg import splu
 
     try:
-        M_lu = splu(Mff)
+        M_lu = _Diagonal(Mff) if _Diagonal.fits(Mff) else splu(Mff)
         a = np.zeros(ndof)
         a[free] = M_lu.solve(rhs)
     except RuntimeError as exc:
@@ -592,9 +610,8 @@ def solve_dynamic(
         """(z ↦ M⁻¹ B_rᵀ z, B_r M⁻¹ B_rᵀ) for contact rows r: columns of M⁻¹ Bᵀ formed once (2m
         solves with the mass matrix) and kept for every impact, projection and force jump."""
         if "X" not in accel:
-            diag = Mff.diagonal()
-            if Mff.nnz == np.count_nonzero(diag):  # lumped: M⁻¹ Bᵀ is as sparse as Bᵀ
-                X = (sp.diags(1.0 / diag) @ BfT).tocsr()
+            if isinstance(M_lu, _Diagonal):  # lumped: M⁻¹ Bᵀ is as sparse as Bᵀ
+                X = (sp.diags(M_lu.inv) @ BfT).tocsr()
                 GM = (Bf @ X).toarray()
             else:
                 X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if m else np.zeros(
