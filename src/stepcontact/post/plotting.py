@@ -1507,12 +1507,19 @@ def _dof_index(res, dof) -> tuple[int, str]:
 
 def _mark_events(ax, res) -> list:
     """Event times as thin vertical lines in the transition's colour; legend handles."""
-    seen = []
+    from matplotlib.transforms import blended_transform_factory
+
+    seen: list = []
+    by: dict = {}
     for ev in res.events:
-        color = TRANSITION_MARKERS.get(ev.transition, ("|", "0.5"))[1]
-        ax.axvline(ev.lam, color=color, lw=0.8, alpha=0.7)
+        by.setdefault(ev.transition, []).append(ev.lam)
         if ev.transition not in seen:
             seen.append(ev.transition)
+    # one collection per transition (hundreds of events draw as fast as one line)
+    trans = blended_transform_factory(ax.transData, ax.transAxes)
+    for tr, times in by.items():
+        color = TRANSITION_MARKERS.get(tr, ("|", "0.5"))[1]
+        ax.vlines(times, 0.0, 1.0, transform=trans, colors=color, lw=0.8, alpha=0.7)
     return seen
 
 

@@ -327,7 +327,7 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     """The state after a cut onto the constraints of its scheme (in the metric of M): the
     closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
     velocity to zero — so that no round-off of the interpolation (8) seeds the alternating
-    velocities of Newmark's constrained DOFs."""
+    velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating."""
     m = system.m
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
     stuck = np.flatnonzero((states == STICK) & law.frictional & law.rigid_t)
@@ -340,12 +340,25 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     u, v = u.copy(), v.copy()
     lam = _spd_solve(W, Bc @ v[free])
     v[free] -= X(lam)
-    nr = len(closed)
-    if nr:
-        Wn = W[:nr, :nr]
-        gap = cond.Bf[m + closed] @ u[free] + system.w0[m + closed]
-        mu_ = _spd_solve(Wn, gap)
-        u[free] -= X(np.r_[mu_, np.zeros(len(rows_v) - nr)])
+    # positions: closed rigid CFEs onto their obstacles, and an open one that the cut's
+    # interpolation (or a neighbour's correction on shared nodes of mortar CFEs) left
+    # penetrating onto its obstacle too (an active set: no open CFE ends inside)
+    rig = np.flatnonzero(~law.inert & rigid_n)
+    act = states[rig] != OPEN
+    uf = u[free]
+    w_all = cond.Bf[m + rig] @ uf + system.w0[m + rig]
+    tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
+    u_try = uf
+    for _ in range(len(rig) + 1):
+        rows = (m + rig[act]).astype(np.int64)
+        if rows.size:
+            Xa, Wa = minv(rows)
+            u_try = uf - Xa(_spd_solve(Wa, w_all[act]))
+        pen = ~act & (cond.Bf[m + rig] @ u_try + system.w0[m + rig] > tol)
+        if not pen.any():
+            break
+        act |= pen
+    u[free] = u_try
     return u, v
 
 
@@ -650,24 +663,30 @@ def solve_dynamic(
             ea = accel_engine()
             hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest))
             states = eng.states.copy()
+            free_now = np.zeros(m, bool)  # closed CFEs without force at this instant
             for _ in range(2 * m + 2):  # active set: a stuck CFE beyond its cone slips
+                trial = np.where(free_now, OPEN, states)
                 try:
-                    s_new, _ = ea.rates(states, (hM, np.zeros(2 * m)), article=False)
+                    s_new, _ = ea.rates(trial, (hM, np.zeros(2 * m)), article=False)
                 except MechanismError:
                     break  # a free mode in accelerations: keep the interpolated forces
                 Q, p = s_new[:m], s_new[m:]
                 fp = law.f * p
                 tol = 1e-9 * max(float(np.abs(s_new).max(initial=0.0)), eng.F_scale, 1e-300)
-                stuck = (states == STICK) & law.frictional
+                stuck = (states == STICK) & law.frictional & ~free_now
                 up = stuck & (Q > fp + tol)
                 down = stuck & (Q < -fp - tol)
-                # (a CFE in tension opens in the step that follows: the step's contact
-                # problem decides it, with the gap and velocity it needs)
-                if not (up.any() or down.any()):
+                # a closed CFE that the accelerations would pull on carries no force at this
+                # instant (N = Q = 0, admissible closed); whether it separates, the step's
+                # contact problem decides with its gap and velocity (with a consistent mass
+                # the acceleration level alone may pull where the step does not)
+                pulled = (trial != OPEN) & ~law.inert & rigid_n & (p < -tol)
+                if not (up.any() or down.any() or pulled.any()):
                     eng.s = s_new
                     break
                 new = states.copy()
                 new[up], new[down] = SLIP_POS, SLIP_NEG
+                free_now |= pulled
                 for k in np.flatnonzero(new != states):
                     log_event(n, k, states[k], new[k], t_now)
                 states = new
@@ -735,8 +754,11 @@ def solve_dynamic(
              "a": GrowingArray((ndof,))}
     energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
     ledger = dict.fromkeys(ENERGY_TERMS, 0.0)
+    # the scale of mutual displacements: at rest on closed rigid contact they are round-off,
+    # so the fields' displacements set it (the contact conditions are judged against it)
+    w_scale = [max(float(np.abs(w).max(initial=0.0)), float(np.abs(u).max(initial=0.0)))]
+    eng.W_scale = max(eng.W_scale, w_scale[0])
     parts = dict.fromkeys(("cut", "projection", "hht", "short_steps"), 0.0)  # of numerical
-    w_scale = [float(np.abs(w).max(initial=0.0))]
 
     stiff = np.r_[cfe.kt, cfe.kn]
     soft = np.isfinite(stiff) & (stiff > 0)
@@ -912,6 +934,17 @@ def solve_dynamic(
                     if ds_o is not None:
                         t_cut = min(times.values())
                         frac = min((t_cut - t) / dt, 1.0)
+                        # another CFE's event under the slipping scheme before the slip
+                        # stops: the step is cut there first, the schemes unchanged (the
+                        # next step decides at that point)
+                        eng.states, new_now = old, eng.states
+                        try:
+                            _d, mu_ev, _f = eng.next_event(ds_o, dw_o, frac, 1e-10)
+                        finally:
+                            eng.states = new_now
+                        if 1e-9 < mu_ev < frac * (1 - 1e-9):
+                            restart = (mu_ev, 0.0, ds_o, dw_o, old, old.copy(), {})
+                            break
                         keep = old.copy()
                         for k, tk in times.items():
                             if tk <= t_cut * (1 + 1e-12):
@@ -1020,7 +1053,8 @@ def solve_dynamic(
             else:
                 a = np.zeros(ndof)
                 a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free])
-        w_scale[0] = max(w_scale[0], float(np.abs(eng.w).max(initial=0.0)))
+        w_scale[0] = max(w_scale[0], float(np.abs(eng.w).max(initial=0.0)),
+                         float(np.abs(u).max(initial=0.0)))
         last = t >= end_time - 1e-6 * dt0
         if record_every <= 1 or n % record_every == 0 or step_events or last:
             r = h_end - (w_hat + cond.product(tvec))
