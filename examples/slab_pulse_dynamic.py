@@ -20,6 +20,7 @@ energy ledger (`slab_pulse_energy.png`).
 Run:  python examples/slab_pulse_dynamic.py
 """
 
+import runpy
 from pathlib import Path
 
 import numpy as np
@@ -27,21 +28,10 @@ import numpy as np
 import stepcontact as sc
 from stepcontact.enums import Transition
 
-concrete = sc.Material(E=30e9, nu=0.2, density=2400)
-rock = sc.Material(E=5e9, nu=0.25, density=2200)
-slab = sc.rectangle("slab", (2, 0), (12, 1), 40, 4, concrete)
-found = sc.rectangle("foundation", (0, -6), (14, 0), 28, 12, rock)  # non-matching joint meshes
-m = sc.Model(bodies=[found, slab], name="slab-pulse")
-joint = m.select("slab", y=0)
-m = m.add(
-    sc.Support("bed", m.select("foundation", y=-6), "xy"),
-    sc.Interface("joint", plus=joint,
-                 minus=m.select("foundation", where=lambda x, y: abs(y) < 1e-9), friction=0.7),
-    sc.LoadPattern("weight", [sc.BodyForce(bodies=("slab",))]),
-    sc.LoadPattern("uplift", [sc.EdgeLoad(joint, normal=(1.0, 0.0))]),  # Pa per unit factor
-    sc.Segment("weight", 1.0),
-    sc.Segment("uplift", 1e6),
-)
+# the model of slab_uplift.py (its function, without running that script)
+slab_model = runpy.run_path(str(Path(__file__).with_name("slab_uplift.py")),
+                            run_name="slab_uplift")["slab_model"]
+m = slab_model()
 static = sc.solve_static(m)
 p_open = static.multipliers[-1].first_opening  # upstream uplift (Pa) that opens the joint
 rest = sc.solve_static(m.replace(program=(sc.Segment("weight", 1.0),)))

@@ -45,6 +45,7 @@ def test_rigid_block_under_a_pulse_slides_the_closed_form_distance():
                                                                         "rectangular")},
                         mass=M, initial=st)
     assert res.status == Status.COMPLETED
+    assert res.violation.max() < 1e-9  # the contact conditions at every reported state
     a1 = (P - f * W) / m_
     v1 = a1 * tp
     slip = 0.5 * a1 * tp**2 + v1**2 / (2 * f * G)
@@ -84,6 +85,7 @@ def test_bar_striking_a_rigid_wall(bar, mass):
     sysm, v, p = bar
     res = solve_dynamic(sysm, dt=p["dt"], duration=2e-4, v0=v, mass=mass)
     assert res.status == Status.COMPLETED
+    assert res.violation.max() < 1e-9  # the contact conditions at every reported state
     closed = [e.lam for e in res.events if e.transition == Transition.CLOSED]
     opened = [e.lam for e in res.events if e.transition == Transition.OPENED]
     t_hit = p["gap"] / p["v0"]
@@ -169,6 +171,7 @@ def test_forced_stick_slip_amplitude_of_den_hartog(r):
     res = solve_dynamic(dm, dt=T / 100, duration=30 * T, mass=np.diag([m_, m_]), initial=st,
                         loads={"force": Harmonic(F0, w / (2 * np.pi), np.pi / 2)})
     assert res.status == Status.COMPLETED
+    assert res.violation.max() < 1e-9  # the contact conditions at every reported state
     late = res.time > 20 * T
     x = res.u[late, 0]
     amp = 0.5 * (x.max() - x.min()) / (F0 / k)
@@ -381,6 +384,7 @@ def test_slow_push_on_an_elastic_block_slips_at_the_static_load_factor():
     ramp = Tabulated((0.0, 1.0), (0.0, 0.8 * W))
     res = solve_dynamic(m, dt=1 / 400, duration=1.0, initial=rest, mass="lumped",
                         damping=(0.0, 2 * 0.05 / (2 * np.pi * 50)), loads={"push": ramp})
+    assert res.violation.max() < 1e-9
     t_slip = next(e.lam for e in res.events
                   if e.transition in (Transition.SLIP_POS, Transition.SLIP_NEG))
     assert ramp(t_slip) == pytest.approx(lam_slip, rel=1e-6)

@@ -890,7 +890,11 @@ def solve_dynamic(
         drift[:m] = np.where(np.isfinite(cfe.kt), 0.0,
                              nm.drift(wdot[:m], (system.B @ a)[:m]))
         forcing = (h_end - h0, -drift)
-        eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)))
+        # the scale of forces: the contact forces, the loads, and the force that would stop
+        # the motion within a step (|M u̇| / Δt: before any contact force, an impact's scale)
+        eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),
+                          float(np.abs(F).max(initial=0.0)),
+                          float(np.abs(Mx(v)).max(initial=0.0)) / dt0)
         eng.W_scale = max(eng.W_scale, w_scale[0], float(np.abs(h_end - h0).max(initial=0.0)))
         s_start, w_start = eng.s.copy(), eng.w.copy()
         mu = 0.0
@@ -1019,6 +1023,9 @@ def solve_dynamic(
             continue
         # the end of the step: real mutual displacements, the fields, the ledger
         eng.w[:m] += drift[:m]
+        gone = eng.states == OPEN
+        eng.s[:m][gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
+        eng.s[m:][gone] = 0.0
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
         u_new = np.zeros(ndof)
