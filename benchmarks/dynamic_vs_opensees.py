@@ -102,8 +102,9 @@ _HERE = Path(__file__).parent
 slab_model = runpy.run_path(str(_HERE / "slab_on_foundation.py"),
                             run_name="slab_on_foundation")["slab_model"]
 _VS = runpy.run_path(str(_HERE / "vs_opensees.py"), run_name="vs_opensees")
-load_opensees, quiet_stderr, counter_clockwise = (
-    _VS["load_opensees"], _VS["quiet_stderr"], _VS["counter_clockwise"])
+load_opensees, quiet_stderr, counter_clockwise, analysis_base, add_opensees_options = (
+    _VS["load_opensees"], _VS["quiet_stderr"], _VS["counter_clockwise"], _VS["analysis_base"],
+    _VS["add_opensees_options"])
 
 ALPHA = 0.05  # HHT-α (stepcontact's convention; OpenSees's is 1 − α)
 PULSE = sc.Pulse(1.5e5, 0.01, 0.05, "half_sine")  # factor of the "uplift" pattern, Pa
@@ -256,10 +257,7 @@ def build_opensees(ops: ModuleType, mesh: Mesh, u: float, implex: bool = False) 
 
 
 def analysis_options(ops: ModuleType, mesh: Mesh, setup: Setup) -> None:
-    ops.wipeAnalysis()
-    ops.constraints("Plain")
-    ops.numberer("RCM")
-    ops.system(setup.solver)
+    analysis_base(ops, setup.solver)
     ops.test("NormUnbalance", setup.rel_tol * mesh.slab_weight, setup.max_iter)
 
 
@@ -444,19 +442,13 @@ def main() -> None:
     ap.add_argument("--contact", choices=("implicit", "implex"), nargs="+",
                     default=["implicit", "implex"],
                     help="OpenSees contact integrations to run (default both, in turn)")
-    ap.add_argument("--penalty", type=float, default=100.0,
-                    help="α in the OpenSees penalty K_n = K_t = α·E·t·L/h (default 100)")
     ap.add_argument("--penalty-side", choices=("slab", "foundation"), default="slab",
                     help="E and h of the penalty: the slab's concrete (default) or the rock")
     ap.add_argument("--algorithm", default="Newton", help="OpenSees algorithm (default Newton)")
     ap.add_argument("--max-iter", type=int, default=50, help="OpenSees iterations per step")
     ap.add_argument("--halvings", type=int, default=4,
                     help="OpenSees: a failed step is retried in 2, 4, … 2^halvings sub-steps")
-    ap.add_argument("--solver", default="Mumps", help="OpenSees system (default Mumps)")
-    ap.add_argument("--length-unit", choices=("m", "mm"), default="mm",
-                    help="OpenSees model length unit (default mm)")
-    ap.add_argument("--blas", default="auto",
-                    help="BLAS for OpenSees: auto, bundled or a libblas.so.3 path")
+    add_opensees_options(ap)  # --penalty, --solver, --length-unit, --blas
     args = ap.parse_args()
     os_duration = min(args.os_duration or args.duration, args.duration)
     setup = Setup(unit={"m": 1.0, "mm": 1e-3}[args.length_unit], max_iter=args.max_iter,

@@ -284,12 +284,18 @@ def build_opensees(ops: ModuleType, mesh: Mesh, setup: Setup) -> list[int]:
     return list(range(first, first + len(mesh.pairs)))
 
 
-def load_control(ops: ModuleType, dlam: float, setup: Setup) -> None:
-    """(Re)define the static load-controlled Newton analysis."""
+def analysis_base(ops: ModuleType, solver: str) -> None:
+    """Clear the analysis and set what every analysis of these benchmarks shares: plain
+    constraints, RCM numbering, the linear system ``solver``."""
     ops.wipeAnalysis()
     ops.constraints("Plain")
     ops.numberer("RCM")
-    ops.system(setup.solver)
+    ops.system(solver)
+
+
+def load_control(ops: ModuleType, dlam: float, setup: Setup) -> None:
+    """(Re)define the static load-controlled Newton analysis."""
+    analysis_base(ops, setup.solver)
     ops.test("NormUnbalance", 1e-6 * H_EXACT, setup.max_iter)
     ops.algorithm("Newton", "-intialThenCurrent")  # sic: OpenSees's spelling
     ops.integrator("LoadControl", dlam)
@@ -422,6 +428,17 @@ def report(c: dict, wall: float) -> str:
     return "\n".join(lines)
 
 
+def add_opensees_options(ap: argparse.ArgumentParser) -> None:
+    """The OpenSees options the OpenSees benchmarks share: penalty, system, units, BLAS."""
+    ap.add_argument("--penalty", type=float, default=100.0,
+                    help="α in the OpenSees penalty K_n = K_t = α·E·t·L/h (default 100)")
+    ap.add_argument("--solver", default="Mumps", help="OpenSees system (default Mumps)")
+    ap.add_argument("--length-unit", choices=("m", "mm"), default="mm",
+                    help="OpenSees model length unit (default mm)")
+    ap.add_argument("--blas", default="auto",
+                    help="BLAS for OpenSees: auto, bundled or a libblas.so.3 path")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[2, 4, 8],
@@ -432,13 +449,7 @@ def main() -> None:
                     help="OpenSees load steps of the push up to 1.05·f·W (default 100)")
     ap.add_argument("--max-iter", type=int, default=50,
                     help="OpenSees Newton iterations per step (default 50)")
-    ap.add_argument("--penalty", type=float, default=100.0,
-                    help="α in the OpenSees penalty K_n = K_t = α·E·t·L/h (default 100)")
-    ap.add_argument("--solver", default="Mumps", help="OpenSees system (default Mumps)")
-    ap.add_argument("--length-unit", choices=("m", "mm"), default="mm",
-                    help="OpenSees model length unit (default mm)")
-    ap.add_argument("--blas", default="auto",
-                    help="BLAS for OpenSees: auto, bundled or a libblas.so.3 path")
+    add_opensees_options(ap)
     args = ap.parse_args()
     setup = Setup(steps=args.steps, max_iter=args.max_iter, solver=args.solver,
                   unit={"m": 1.0, "mm": 1e-3}[args.length_unit])
