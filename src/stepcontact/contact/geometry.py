@@ -55,6 +55,9 @@ class ContactElements:
         Initial gap g_k⁰ ≥ 0, m.
     kn, kt : (m,) float
         Contact-layer stiffnesses C_nk, C_τk in N/m (eq. (11)); ``inf`` for rigid contact.
+    cn : (m,) float
+        Normal damping of the contact layer, N·s/m (0: none; dynamics only, a Kelvin–Voigt
+        layer: :mod:`stepcontact.solver.dynamic`).
     """
 
     names: tuple[str, ...]
@@ -73,6 +76,11 @@ class ContactElements:
     gap: np.ndarray
     kn: np.ndarray
     kt: np.ndarray
+    cn: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.cn is None:
+            object.__setattr__(self, "cn", np.zeros(len(self.interface)))
 
     @property
     def m(self) -> int:
@@ -740,9 +748,11 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
     if itf.layer is not None:
         kn_a, kt_a = itf.layer.stiffness_per_area(f"{item}.layer")
         kn, kt = kn_a * area, kt_a * area
+        cn = itf.layer.damping * area
     else:
         kn = np.full(m, np.inf)
         kt = np.full(m, np.inf)
+        cn = np.zeros(m)
 
     if plus is None:
         n_p = np.full((m, MAX_END_NODES), -1, dtype=np.int64)
@@ -766,6 +776,7 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
         gap=gap,
         kn=kn,
         kt=kt,
+        cn=cn,
     )
 
 

@@ -100,6 +100,13 @@ class CoulombLaw:
         Components whose relative motion is held by supports on both sides (their row of the
         contact operator is zero): the supports carry that component.  A CFE held normally
         carries nothing (it stays OPEN); one held tangentially is frictionless.
+
+    Two arrays that a driver may set between steps (zero by default, as in statics):
+    ``offset`` (N), the closed compliant relation p = C_n u_n + offset, and ``surface`` (m),
+    the position of the layer's free surface for an open CFE, which closes at u_n = surface.
+    The dynamic driver's damped (Kelvin–Voigt) layers use them: a step's relation
+    p = (C_n + c_n c₁) u_n + … and a layer that relaxes after it opened
+    (:mod:`stepcontact.solver.dynamic`).
     """
 
     n_columns = 4
@@ -115,6 +122,8 @@ class CoulombLaw:
         self.rigid_n = ~np.isfinite(self.kn)
         self.rigid_t = ~np.isfinite(self.kt)
         self.frictional = self.f > 0
+        self.offset = np.zeros(k)
+        self.surface = np.zeros(k)
 
     # ---- states ----------------------------------------------------------------------------
     def closed_state(self) -> np.ndarray:
@@ -163,8 +172,7 @@ class CoulombLaw:
         out[stick, 1] = self.f[stick] * p[stick] - Q[stick]
         out[stick, 2] = self.f[stick] * p[stick] + Q[stick]
         op = (states == OPEN) & ~self.inert
-        out[op, 3] = -un[op]
-        del affine  # every function of this law is linear in (Q, p, u_n); gaps sit in u_n
+        out[op, 3] = (self.surface[op] if affine else 0.0) - un[op]
         return out
 
     def fire(self, states: np.ndarray, col: np.ndarray) -> np.ndarray:
@@ -180,7 +188,7 @@ class CoulombLaw:
     def limits(self, states, Q, p, un, tf: float, tw: float):
         """Which CFEs sit at their normal limit (p = 0 closed, u_n = 0 open), and which are
         two-sided in friction as well (Q = 0 and f p = 0)."""
-        normal = np.where(states == OPEN, -un <= tw, p <= tf) & ~self.inert
+        normal = np.where(states == OPEN, self.surface - un <= tw, p <= tf) & ~self.inert
         two_sided = normal | ((np.abs(Q) <= tf) & (self.f * p <= tf))
         return normal, two_sided & ~self.inert
 
@@ -268,7 +276,7 @@ class CoulombLaw:
         r_n = np.where(~closed, -p, 0.0)
         r_n = np.where(closed & self.rigid_n, -un, r_n)
         kn = np.where(self.rigid_n, 0.0, self.kn)
-        r_n = np.where(closed & ~self.rigid_n, kn * un - p, r_n)
+        r_n = np.where(closed & ~self.rigid_n, kn * un + self.offset - p, r_n)
         sig = np.where(states == SLIP_POS, 1.0, -1.0)
         r_t = np.where(self.slipping(states) & closed, sig * self.f * p - Q, r_t)
         return r_t, r_n
@@ -283,7 +291,7 @@ class CoulombLaw:
         v = [
             np.where(self.inert, 0.0, np.maximum(-p, 0)) / F,  # N ≤ 0
             np.where(~closed, np.abs(p) + np.abs(Q), 0) / F,  # open: N = Q = 0
-            np.where(~closed & ~self.inert, np.maximum(un, 0), 0) / W,  # open: u_n ≤ 0
+            np.where(~closed & ~self.inert, np.maximum(un - self.surface, 0), 0) / W,  # open
             np.where(closed & self.rigid_n, np.abs(un), 0) / W,  # closed rigid: u_n = 0
             np.maximum(np.abs(Q) - self.f * p, 0) / F,  # |Q| ≤ f(−N)
             np.where(self.slipping(states) & closed, np.abs(Q - sig * self.f * p), 0) / F,

@@ -471,13 +471,16 @@ class SpringSpec(_Spec):
 
 
 class LayerSpec(_Spec):
-    """Compliant contact layer (eq. (11)): ``{kn, kt}`` in Pa/m or ``{thickness, E, nu}``."""
+    """Compliant contact layer (eq. (11)): ``{kn, kt}`` in Pa/m or ``{thickness, E, nu}``;
+    ``damping`` makes it a Kelvin–Voigt layer in dynamic runs."""
 
     kn: float | None = Field(None, gt=0, description="normal stiffness per area, Pa/m")
     kt: float | None = Field(None, gt=0, description="tangential stiffness per area, Pa/m")
     thickness: float | None = Field(None, gt=0, description="layer thickness ζ_n⁰, m")
     E: float | None = Field(None, gt=0, description="layer modulus E_c, Pa")
     nu: float | None = Field(None, gt=-1.0, lt=0.5, description="layer Poisson ratio μ_c")
+    damping: float = Field(0.0, ge=0, description="normal damping per area, Pa·s/m "
+                           "(dynamic runs: a Kelvin–Voigt layer)")
 
     @model_validator(mode="after")
     def _one_form(self) -> LayerSpec:
@@ -493,8 +496,9 @@ class LayerSpec(_Spec):
 
     def build(self) -> ContactLayer:
         if self.kn is not None:
-            return ContactLayer(kn=self.kn, kt=self.kt)
-        return ContactLayer(thickness=self.thickness, E=self.E, nu=self.nu or 0.0)
+            return ContactLayer(kn=self.kn, kt=self.kt, damping=self.damping)
+        return ContactLayer(thickness=self.thickness, E=self.E, nu=self.nu or 0.0,
+                            damping=self.damping)
 
 
 class ObstacleSpec(_Spec):

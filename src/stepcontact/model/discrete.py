@@ -117,6 +117,9 @@ class DiscreteModel:
         Friction coefficients f ≥ 0.
     kn, kt : float or (m,)
         Contact-layer stiffnesses C_n, C_τ > 0 of eq. (11), N/m (``inf``: rigid contact).
+    cn : float or (m,)
+        Normal damping of the contact layer, N·s/m (≥ 0; dynamics only: a Kelvin–Voigt layer,
+        which needs a finite ``kn``).
     names : str or sequence of m str
         CFE names: CFEs of one name form an interface of the result (``res.interface_names``;
         ``local`` numbers them in order).  One string names them all.
@@ -148,6 +151,7 @@ class DiscreteModel:
     friction: object = 0.0
     kn: object = np.inf
     kt: object = np.inf
+    cn: object = 0.0
     names: object = "contact"
     dof_names: Sequence[str] | None = None
     name: str = "discrete"
@@ -202,6 +206,12 @@ class DiscreteModel:
         put(self, "friction", _per_cfe(self.friction, m, "friction"))
         put(self, "kn", _per_cfe(self.kn, m, "kn", inf_ok=True, strict=True))
         put(self, "kt", _per_cfe(self.kt, m, "kt", inf_ok=True, strict=True))
+        put(self, "cn", _per_cfe(self.cn, m, "cn"))
+        rigid_damped = (self.cn > 0) & ~np.isfinite(self.kn)
+        if rigid_damped.any():
+            k = int(np.flatnonzero(rigid_damped)[0])
+            raise ModelError(f"cn[{k}]", "a damped contact layer needs a finite stiffness kn "
+                             "(the damping acts in the layer)")
         frictional = self.friction > 0
         no_t = At.getnnz(axis=1) == 0
         if np.any(frictional & no_t):

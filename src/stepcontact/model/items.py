@@ -509,6 +509,11 @@ class ContactLayer:
     Either stiffnesses per unit area ``kn``, ``kt`` (Pa/m) are given directly, or the layer's
     thickness ``thickness`` (ζ_n⁰, m), modulus ``E`` (E_c, Pa) and Poisson ratio ``nu`` (μ_c),
     giving ρ_n = (1-μ_c²) ζ_n⁰ / E_c, ρ_τ = 2(1+μ_c) ζ_n⁰ / E_c and C = A_k / ρ.
+
+    ``damping`` (Pa·s/m, ≥ 0) is the layer's normal damping per unit area: in a dynamic run
+    the layer is a Kelvin–Voigt one, N = −(C_n u_n + c_n u̇_n) while closed, that opens when
+    that force reaches zero and then relaxes (:mod:`stepcontact.solver.dynamic`).  Static runs
+    ignore it.
     """
 
     kn: float | None = None
@@ -516,6 +521,7 @@ class ContactLayer:
     thickness: float | None = None
     E: float | None = None
     nu: float = 0.0
+    damping: float = 0.0
 
     def stiffness_per_area(self, item: str) -> tuple[float, float]:
         """(C_n/A, C_τ/A) in Pa/m."""
@@ -533,6 +539,9 @@ class ContactLayer:
         for key, v in (("kn", kn), ("kt", kt)):
             if not np.isfinite(v) or v <= 0:
                 raise ModelError(f"{item}.{key}", f"stiffness must be positive, got {v}")
+        if not (np.isfinite(self.damping) and self.damping >= 0):
+            raise ModelError(f"{item}.damping", f"must be ≥ 0 and finite (Pa·s/m), got "
+                             f"{self.damping}")
         return float(kn), float(kt)
 
 

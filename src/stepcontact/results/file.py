@@ -112,6 +112,7 @@ _CFE_SPEC: dict[str, tuple[str, str, str | None]] = {
     "gap": ("m", "initial gap g_k0", None),
     "kn": ("N m-1", "normal contact-layer stiffness C_nk (inf: rigid)", None),
     "kt": ("N m-1", "tangential contact-layer stiffness C_tk (inf: rigid)", None),
+    "cn": ("N s m-1", "normal contact-layer damping c_nk (dynamics: Kelvin-Voigt layer)", None),
 }
 
 _STATE_VARS: dict[str, tuple[str, str]] = {

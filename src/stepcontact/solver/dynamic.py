@@ -431,6 +431,108 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np
     return sig
 
 
+class _DampedLayers:
+    """Kelvin–Voigt contact layers: CFEs whose compliant layer (C_n, eq. (11)) has a normal
+    damping c_n > 0 (N·s/m).
+
+    Closed, the layer's force is p = C_n u_n + c_n u̇_n (compression positive).  With Newmark's
+    u̇_{n+1} = c₁ Δu_n + c_v u̇_n + c_a ü_n, the end of a step relates p and u_n through the
+    stiffness Ĉ_n = C_n + c_n c₁ (constant: every step uses Δt's c₁), so the engine's law
+    carries Ĉ_n, and along the step p' = Ĉ_n (u_n' + e) with the constant
+    e = c_n ((c_v − 1) u̇_n + c_a ü_n)/Ĉ_n of the step's start: the same shift of the mutual
+    displacement as the stuck CFEs' drift (the engine's forcing e).
+
+    The layer opens when its force reaches zero (it cannot pull), still compressed by
+    x = u_n > 0; open, it relaxes, C_n x + c_n ẋ = 0, x(t) = x₀ e^{−C_n t / c_n}, and the CFE
+    closes again where u_n reaches the layer's surface x (the law's ``surface``: the
+    exponential at the steps' ends, linear in time between them, as eq. (10) interpolates the
+    structure).  At a closing the force jumps to C_n u_n + c_n u̇_n ≥ 0:
+    the dashpot's share of an impact.  Energy: ½ C_n x² is stored; what the dashpot takes
+    (closed: c_n ū̇_n Δu_n; open: the relaxation) is the ledger's ``damping``."""
+
+    def __init__(self, cfe, law: CoulombLaw, m: int):
+        self.m = m
+        self.k = np.flatnonzero((cfe.cn > 0) & np.isfinite(cfe.kn))
+        self.kn, self.cn = cfe.kn[self.k], cfe.cn[self.k]
+        self.khat = law.kn[self.k]
+        self.law = law
+        self.x = np.zeros(len(self.k))  # compression of each layer, m
+        self.x1 = self.x  # … of an open one at the end of the current step
+
+    def __bool__(self) -> bool:
+        return bool(self.k.size)
+
+    @staticmethod
+    def law_stiffness(cfe, c1: float) -> np.ndarray:
+        """C_n of the engine's law: Ĉ_n = C_n + c_n c₁ for the damped layers."""
+        damped = (cfe.cn > 0) & np.isfinite(cfe.kn)
+        return np.where(damped, cfe.kn + cfe.cn * c1, cfe.kn)
+
+    def set_initial(self, states, w) -> None:
+        closed = states[self.k] != OPEN
+        self.x = np.where(closed, w[self.m + self.k], 0.0)
+        self.sync(states, None, w)
+
+    def relaxed(self, frac: float) -> np.ndarray:
+        """Compression of a layer open throughout the step, at ``frac`` of the step."""
+        return self.x + frac * (self.x1 - self.x)
+
+    def sync(self, states, s, w) -> None:
+        """The law's offsets (closed: p = Ĉ_n u_n + offset holds at this state) and surfaces
+        (open: the layer's compression) for the schemes ``states``."""
+        closed = states[self.k] != OPEN
+        if s is not None:
+            p = s[self.m + self.k]
+            self.law.offset[self.k] = np.where(closed, p - self.khat * w[self.m + self.k], 0.0)
+        self.law.surface[self.k] = np.where(closed, 0.0, self.x)
+
+    def start(self, states, s, w, wdot, wacc, nm: _Newmark, drift: np.ndarray) -> None:
+        """The step's shift (``drift`` of the normal rows, −e) and the law's offsets and
+        surfaces for the schemes ``states`` at the step's start."""
+        if not self:
+            return
+        j = self.m + self.k
+        closed = states[self.k] != OPEN
+        e = self.cn * ((nm.cv - 1.0) * wdot[j] + nm.ca * wacc[j]) / self.khat
+        self.x1 = self.x * np.exp(-nm.h * self.kn / self.cn)
+        drift[j] = np.where(closed, -e, self.x1 - self.x)
+        self.sync(states, s, w)
+
+    def at(self, states, w, frac: float) -> np.ndarray:
+        """Compressions at ``frac`` of the step under ``states``."""
+        closed = states[self.k] != OPEN
+        return np.where(closed, w[self.m + self.k], self.relaxed(frac))
+
+    def closing_states(self, old, new) -> np.ndarray:
+        """A damped layer that closes with a compliant tangential layer closes stuck: its
+        shear force grows from zero with the tangential displacement (C_τ), whatever the jump
+        of its normal force; it slips later, where the shear reaches f p."""
+        k = self.k[(old[self.k] == OPEN) & (new[self.k] != OPEN) & ~self.law.rigid_t[self.k]]
+        if k.size == 0:
+            return new
+        new = new.copy()
+        new[k] = self.law.closed_state()[k]
+        return new
+
+    def restart(self, old, new, s, w, wdot, frac: float) -> None:
+        """After a cut at ``frac`` of the step (``s`` changed in place): the closed layers'
+        force p = C_n u_n + c_n u̇_n (a closing's jump), the open ones' compression."""
+        if not self:
+            return
+        j = self.m + self.k
+        was_closed = old[self.k] != OPEN
+        closed = new[self.k] != OPEN
+        self.x = np.where(closed | was_closed, w[j], self.relaxed(frac))
+        s[j] = np.where(closed, np.maximum(self.kn * w[j] + self.cn * wdot[j], 0.0), 0.0)
+        s[self.k] = np.where(closed, s[self.k], 0.0)
+        self.sync(new, s, w)
+
+    def energy(self, x=None) -> np.ndarray:
+        """½ C_n x² of every damped layer, J."""
+        x = self.x if x is None else x
+        return 0.5 * self.kn * x**2
+
+
 def _one_thread(fn):
     """Run ``fn`` with every thread pool (BLAS, MKL PARDISO, OpenMP) held to one thread: a
     time step's work is a forward and back substitution and small dense algebra, which a
@@ -561,10 +663,17 @@ def solve_dynamic(
     schemes = SchemeSolver(cond.G, cond.d, product=cond.product)
     t_setup = time.perf_counter() - t0
     cfe = system.cfe
-    law = CoulombLaw(np.arange(m), cfe.friction, cfe.kn, cfe.kt)
+    if np.any((cfe.cn > 0) & ~np.isfinite(cfe.kn)):
+        k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
+        raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
+                         "layer needs a finite normal stiffness kn")
+    law = CoulombLaw(np.arange(m), cfe.friction,
+                     _DampedLayers.law_stiffness(cfe, _Newmark(dt0, alpha).c1), cfe.kt)
+    layers = _DampedLayers(cfe, law, m)
     eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
     u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
     eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
+    layers.set_initial(states, w)
     free = cond.free
     names = list(system.loads)
     f_of = {n: system.loads[n].f for n in names}
@@ -762,13 +871,26 @@ def solve_dynamic(
 
     stiff = np.r_[cfe.kt, cfe.kn]
     soft = np.isfinite(stiff) & (stiff > 0)
+    damped = np.zeros(2 * m, bool)
+    damped[m + layers.k] = True  # Kelvin–Voigt layers: ½ C_n x², their dashpot's share
 
-    def layer_energy(s_):
-        """½ s²/C of every component of a compliant layer (m,), J."""
-        return np.where(soft, 0.5 * s_**2 / np.where(soft, stiff, 1.0), 0.0)
+    def layer_energy(s_, x_=None):
+        """½ s²/C of every component of a compliant layer (2m,), J (½ C_n x² of a damped
+        layer of compression x, :class:`_DampedLayers`)."""
+        out = np.where(soft, 0.5 * s_**2 / np.where(soft, stiff, 1.0), 0.0)
+        if layers:
+            out[m + layers.k] = layers.energy(x_)
+        return out
 
-    def strain_energy(u_, s_):
-        return float(0.5 * u_ @ (Kx(u_)) + layer_energy(s_).sum())
+    def strain_energy(u_, s_, x_=None):
+        return float(0.5 * u_ @ (Kx(u_)) + layer_energy(s_, x_).sum())
+
+    def book_contact(diss: np.ndarray) -> dict[str, float]:
+        """The contact's dissipation per component → friction, impact (normal) and damping
+        (the damped layers' dashpots)."""
+        return {"friction": float(diss[:m].sum()),
+                "impact": float(diss[m:][~damped[m:]].sum()),
+                "damping": float(diss[damped].sum())}
 
     e0 = 0.5 * v @ (Mx(v)) + strain_energy(u, s)
 
@@ -820,14 +942,14 @@ def solve_dynamic(
     t = 0.0
     n = 0
     n_impacts = 0
+    zero_restarts = 0
     end_time = float(duration)
-    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, w_start):
+    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states):
         """The state at t + frac·Δt of the step under the scheme before an event (eq. (8):
         ü linear in time over the step, with the step's end under that scheme), the works of
         the part step in the ledger.  Returns (u, v, s, w, F) there."""
         s_end = eng.s + (1.0 - mu) * ds_o
-        w_end = eng.w + (1.0 - mu) * dw_o
-        w_end[:m] += drift[:m]
+        w_end = eng.w + (1.0 - mu) * dw_o + drift
         tv = s_end - cond.d * (w_end - system.w0)
         u_end = np.zeros(ndof)
         u_end[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tv))
@@ -841,17 +963,19 @@ def solve_dynamic(
         F_i = force_at(t + tau)
         du = u_i - u
         w_i = system.B @ u_i + system.w0
-        diss = 0.5 * (s_start + s_i) * (system.B @ du) - (layer_energy(s_i)
-                                                            - layer_energy(s_start))
+        x_i = layers.at(run_states, w_i, frac) if layers else None
+        diss = 0.5 * (s_start + s_i) * (system.B @ du) - (layer_energy(s_i, x_i)
+                                                            - layer_energy(s_start, x_start))
+        contact = book_contact(diss)
         works = {"external": float(du @ (0.5 * (F + F_i))),
-                 "damping": float(du @ (C @ (0.5 * (v + v_i)))),
-                 "friction": float(diss[:m].sum()), "impact": float(diss[m:].sum())}
+                 "damping": float(du @ (C @ (0.5 * (v + v_i)))) + contact["damping"],
+                 "friction": contact["friction"], "impact": contact["impact"]}
         for key, val in works.items():
             ledger[key] += val
         # the interpolation (8) is not a Newmark step: what it adds or removes is the
         # integrator's (numerical) share of the part step
-        d_energy = (0.5 * v_i @ (Mx(v_i)) + strain_energy(u_i, s_i)
-                    - 0.5 * v @ (Mx(v)) - strain_energy(u, s_start))
+        d_energy = (0.5 * v_i @ (Mx(v_i)) + strain_energy(u_i, s_i, x_i)
+                    - 0.5 * v @ (Mx(v)) - strain_energy(u, s_start, x_start))
         d_num = (works["external"] - works["damping"] - works["friction"] - works["impact"]
                  - d_energy)
         ledger["numerical"] += d_num
@@ -886,9 +1010,11 @@ def solve_dynamic(
         w_hat = eng.w - system.w0
         h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
         wdot = system.B @ v
+        wacc = system.B @ a
         drift = np.zeros(2 * m)
-        drift[:m] = np.where(np.isfinite(cfe.kt), 0.0,
-                             nm.drift(wdot[:m], (system.B @ a)[:m]))
+        drift[:m] = np.where(np.isfinite(cfe.kt), 0.0, nm.drift(wdot[:m], wacc[:m]))
+        layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
+        x_start = layers.x.copy()
         forcing = (h_end - h0, -drift)
         # the scale of forces: the contact forces, the loads, and the force that would stop
         # the motion within a step (|M u̇| / Δt: before any contact force, an impact's scale)
@@ -921,6 +1047,23 @@ def solve_dynamic(
                 old = np.where(touching, dec.new, old)
                 first = False
             changed = np.flatnonzero(old != dec.new)
+            if changed.size and ds is None:
+                times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, 0.0,
+                                     t, dt, nm.c1)
+                later = bool(times) and min(times.values()) > t + 1e-9 * dt
+                now = changed[~np.isin(changed, list(times))] if later else changed
+                # changes at the step's start that the step cannot carry (the schemes of its
+                # part steps are fixed): beside a slip that stops later in the step (the
+                # part step runs under the old scheme), and a damped layer that opens or
+                # closes (its shift e depends on the state).  They are made here at t and the
+                # step restarts from the same point (twice at most: then the step goes on)
+                sw = changed[np.isin(changed, layers.k)
+                             & ((old[changed] == OPEN) != (dec.new[changed] == OPEN))]
+                if zero_restarts < 2 and ((later and now.size) or sw.size):
+                    keep = old.copy()
+                    keep[now] = dec.new[now]
+                    restart = (0.0, 0.0, dec.ds, dec.dw, old, keep, {})
+                    break
             if changed.size and ds is not None and mu > 1e-9:
                 # an event inside the step: cut the step here (eq. (10)) and restart
                 restart = (mu, mu, ds, dw, old, dec.new, {})
@@ -928,8 +1071,6 @@ def solve_dynamic(
             if changed.size and ds is None:
                 # decided at the step's start: a slip that stops inside the step is cut where
                 # its velocity vanishes; the other changes happen at t
-                times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, 0.0,
-                                     t, dt, nm.c1)
                 if times and min(times.values()) > t + 1e-9 * dt:
                     try:
                         ds_o, dw_o = eng.rates(old, forcing, article=False)
@@ -978,8 +1119,9 @@ def solve_dynamic(
             break
         if restart is not None:
             frac, mu_r, ds_o, dw_o, old, new_states, times = restart
+            zero_restarts = zero_restarts + 1 if frac == 0.0 else 0
             u_i, v_i, s_i, w_i, F_i = cut(frac, mu_r, ds_o, dw_o, drift, Fhat, s_start,
-                                          w_start)
+                                          x_start, old)
             t_i = t + frac * dt
             closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & rigid_n)
             s_i[m + closing] = 0.0
@@ -996,6 +1138,7 @@ def solve_dynamic(
                     if sg != 0 and k_ in closing:
                         new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
                 n_impacts += 1
+            new_states = layers.closing_states(old, new_states)
             for k in np.flatnonzero(old != new_states):
                 log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
             eng.states = new_states.copy()
@@ -1008,6 +1151,7 @@ def solve_dynamic(
             w_i = system.B @ u_i + system.w0
             on = (new_states != OPEN) & rigid_n
             w_i[m:][on] = 0.0  # on the obstacle (round-off of the projection)
+            layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
             eng.s, eng.w = s_i, w_i
             eng.snap()
             u, v = u_i, v_i
@@ -1022,17 +1166,21 @@ def solve_dynamic(
             record(t, "event", 0.0)
             continue
         # the end of the step: real mutual displacements, the fields, the ledger
-        eng.w[:m] += drift[:m]
+        zero_restarts = 0
+        eng.w += drift
         gone = eng.states == OPEN
         eng.s[:m][gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
         eng.s[m:][gone] = 0.0
+        if layers:
+            layers.x = layers.at(eng.states, eng.w, 1.0)
+            layers.sync(eng.states, eng.s, eng.w)
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
         u_new = np.zeros(ndof)
         u_new[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tvec))
         a_new, v_new = nm.end(u_new, u, v, a)
         du = u_new - u
-        e_step0 = 0.5 * v @ (Mx(v)) + strain_energy(u, s_start)
+        e_step0 = 0.5 * v @ (Mx(v)) + strain_energy(u, s_start, x_start)
         ledger["external"] += float(du @ (0.5 * (F + F1)))
         F_prev, F = F, F1
         vbar = 0.5 * (v + v_new)
@@ -1040,9 +1188,9 @@ def solve_dynamic(
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
         # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
-        diss = sbar * (system.B @ du) - (layer_energy(eng.s) - layer_energy(s_start))
-        ledger["friction"] += float(diss[:m].sum())
-        ledger["impact"] += float(diss[m:].sum())
+        diss = sbar * (system.B @ du) - (layer_energy(eng.s) - layer_energy(s_start, x_start))
+        for key, val in book_contact(diss).items():
+            ledger[key] += val
         if alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what the
             # works leave
             e_step1 = 0.5 * v_new @ (Mx(v_new)) + strain_energy(u_new, eng.s)
@@ -1083,7 +1231,8 @@ def solve_dynamic(
         "run_seconds": time.perf_counter() - t_run, "ndof": ndof, "cfes": m}
     cfe_arrays = {"interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
                   "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction,
-                  "gap": cfe.gap, "kn": cfe.kn, "kt": cfe.kt, "tangent": cfe.tangent}
+                  "gap": cfe.gap, "kn": cfe.kn, "kt": cfe.kt, "cn": cfe.cn,
+                  "tangent": cfe.tangent}
     return DynamicResult(
         pattern_names=tuple(names), segments=[("dynamic", 0.0, float(t))],
         cfe=cfe_arrays, interface_names=cfe.names, lam=arr["lam"], segment=arr["segment"],
