@@ -114,7 +114,16 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None,
             zb = basis >= n
             z[basis[zb] - n] = np.maximum(T[zb, -1], 0.0)
             z = z * cs * qs_scale
-            return LCPResult(z, M @ z + q, True, k, "solved")
+            w = M @ z + q
+            # a tableau carried through nearly singular pivots can end on a "solution" that
+            # is not one: it is checked against M and q before it is reported as solved
+            scale = max(qs_scale, float(np.abs(M).max(initial=0.0) * np.abs(z).max(initial=0.0)))
+            if w.min(initial=0.0) < -1e-7 * scale or np.abs(z * w).max(initial=0.0) > (
+                    1e-7 * scale * max(np.abs(z).max(initial=0.0), 1e-300)):
+                return LCPResult(np.zeros(n), q.copy(), False, k,
+                                 "Lemke's method ended on a point that fails w = Mz + q ≥ 0 "
+                                 "(nearly singular pivots)")
+            return LCPResult(z, w, True, k, "solved")
         entering = leaving_var + n if leaving_var < n else leaving_var - n
     return LCPResult(np.zeros(n), q.copy(), False, max_pivots, "pivot budget exhausted")
 

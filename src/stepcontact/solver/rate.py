@@ -189,6 +189,19 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     if singular and eng.drives(trial, forcing):
         raise MechanismError(None, None, _admissible(eng, L, trial, forcing, normal_lim))
     found = _enumerate(eng, L, base, var, M, q)
+    if not found:
+        # the CFEs at their normal limit that the stuck scheme's rates pull apart separate
+        # (a body whose last supports let go): a driven mechanism is a loss of equilibrium
+        pulled = var.cfe[(var.kind == OPENING) & (q < 0)]
+        if pulled.size:
+            trial = base.copy()
+            trial[pulled] = OPEN
+            try:
+                eng.factor(trial, article=False)
+            except MechanismError:
+                if eng.drives(trial, forcing):
+                    raise MechanismError(None, None, _admissible(eng, L, trial, forcing,
+                                                                 normal_lim)) from None
     if found:
         z = found[0]
         active = z > 1e-9 * max(np.abs(z).max(initial=0), 1e-300)
