@@ -1,4 +1,5 @@
-"""Command line: ``stepcontact run MODEL.toml``, ``stepcontact demo``, ``stepcontact validate``.
+"""Command line: ``stepcontact run MODEL.toml``, ``stepcontact demo``, ``stepcontact validate``,
+``stepcontact sweep STUDY.toml``.
 
 The CLI sits at the end of the data flow (model file -> model -> solver -> result -> files) and
 only wires those pieces together; the progress bar is a solver hook.  Bad input never shows a
@@ -14,6 +15,7 @@ Example
 
     $ stepcontact run dam.toml -o dam.nc --plot dam.png --lam 1.5 --lam 2.0
     $ stepcontact run dam.toml --json --quiet     # machine-readable summary on stdout
+    $ stepcontact sweep friction.toml --workers 4  # a parameter sweep (docs/sweeps.md)
     $ stepcontact demo -o demo-out
 """
 
@@ -43,6 +45,7 @@ from stepcontact.fem.level import is_virtual
 if TYPE_CHECKING:
     from stepcontact.model import Model
     from stepcontact.results.result import StaticResult
+    from stepcontact.solver.condensation import Condensation
 
 EXIT_ERROR = 2  #: exit code for bad input (model errors, missing files, solver errors)
 #: exit code of a run that stopped without a physical answer: the contact conditions could not
@@ -140,9 +143,10 @@ class ProgressHook:
 
 def _solve(
     model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool,
-    output: Path | None = None, precision: str = "auto",
+    output: Path | None = None, precision: str = "auto", condensation: Condensation | None = None,
 ) -> StaticResult:
-    """Run :func:`stepcontact.solver.static.solve_static` with a progress bar on stderr."""
+    """Run :func:`stepcontact.solver.static.solve_static` with a progress bar on stderr
+    (``condensation``: a shared one, e.g. from a sweep worker's cache)."""
     from stepcontact.solver import static
 
     segments = model.segments_resolved()
@@ -159,6 +163,7 @@ def _solve(
         return static.solve_static(
             model, slip=slip.value, eps_p=eps_p, max_events=max_events, hooks=hooks,
             output=output, precision=precision,
+            **({} if condensation is None else {"condensation": condensation}),
         )
 
 
@@ -173,21 +178,27 @@ class _TimeProgress:
                              description=f"dynamics t = {t:.4g} s")
 
 
+def _solve_dynamics(model: Model, static_res: StaticResult, *, progress_bar: bool) -> Any:
+    """The model's dynamic interval from the static state (a DynamicResult), with a progress
+    bar in simulated time on stderr."""
+    from stepcontact.solver.dynamic import solve_dynamic
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+                  console=Console(stderr=True), transient=True,
+                  disable=not progress_bar) as progress:
+        task = progress.add_task("dynamics", total=model.dynamics.duration)
+        hooks = (_TimeProgress(progress, task),) if progress_bar else ()
+        return solve_dynamic(model, initial=static_res if model.program else None,
+                             hooks=hooks)
+
+
 def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
               plot_path: Path | None, progress_bar: bool, console: Console,
               as_json: bool) -> dict[str, Any]:
     """The model's dynamic interval from the static state: run it with a progress bar in
     simulated time, write MODEL-dynamic.nc (and the energy ledger's figure), report."""
-    from stepcontact.solver.dynamic import solve_dynamic
-
     spec = model.dynamics
-    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
-                  console=Console(stderr=True), transient=True,
-                  disable=not progress_bar) as progress:
-        task = progress.add_task("dynamics", total=spec.duration)
-        hooks = (_TimeProgress(progress, task),) if progress_bar else ()
-        dres = solve_dynamic(model, initial=static_res if model.program else None,
-                             hooks=hooks)
+    dres = _solve_dynamics(model, static_res, progress_bar=progress_bar)
     path = result_path.with_name(result_path.stem + "-dynamic.nc")
     dres.save(path)
     written = [str(path)]
@@ -652,6 +663,153 @@ def validate(
             + (f" ({len(warnings)} warnings)" if warnings else ""),
             style="green",
         ))
+
+
+def _sweep_cell(v: Any) -> str:
+    """A value of the sweep table (a Python scalar): floats to 6 digits, NaN as —."""
+    if isinstance(v, float):
+        return f"{v:.6g}" if math.isfinite(v) else "—"
+    return str(v)
+
+
+def sweep_table(ds: Any, outputs: Sequence[str], title: str) -> Table:
+    """The cases of a collected sweep (:func:`stepcontact.study.sweep.collect`) as a rich
+    table: the case (its index when the id is made of its parameters), parameters, case
+    status and the outputs (NaN and missing values as —)."""
+    from stepcontact.study.sweep import _short_keys, case_id
+
+    keys = json.loads(ds.attrs.get("params", "[]"))
+    short = _short_keys(keys)
+    table = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_edge=False,
+                  pad_edge=False)
+    table.add_column("case", no_wrap=True)
+    for k in keys:
+        table.add_column(short[k], justify="right", no_wrap=True)
+    table.add_column("case status", no_wrap=True)
+    shown = [o for o in outputs if o in ds and o != "message" and ds[o].ndim == 1]
+    for o in shown:
+        table.add_column(o, justify="left" if ds[o].dtype.kind == "U" else "right",
+                         no_wrap=True)
+    for i in range(ds.sizes["case"]):
+        cs = str(ds["case_status"].values[i])
+        style = {"ok": "", "failed": "red"}.get(cs, "yellow")
+        table.add_row(str(i) if str(ds["case"].values[i]) == case_id(
+                          {k: ds[k].values[i].item() for k in keys}, short)
+                      else str(ds["case"].values[i]),
+                      *(_sweep_cell(ds[k].values[i].item()) for k in keys),
+                      Text(cs, style=style),
+                      *(_sweep_cell(ds[o].values[i].item()) if cs == "ok" else "—"
+                        for o in shown))
+    return table
+
+
+@app.command()
+def sweep(
+    study_file: Annotated[
+        Path, typer.Argument(metavar="STUDY.toml", help="Study file: [study] (base model "
+                             "file, store directory, outputs) and [grid] or [[cases]].")
+    ],
+    scheduler: Annotated[
+        str | None,
+        typer.Option("--scheduler", metavar="ADDRESS", help="Run on a dask.distributed "
+                     "cluster: the scheduler's address, e.g. tcp://10.0.0.5:8786. Default: a "
+                     "local process pool."),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", "-w", min=1, help="Processes of the local pool (default: "
+                     "the CPU cores available)."),
+    ] = None,
+    serial: Annotated[
+        bool, typer.Option("--serial", help="Run the cases one after another in this process "
+                           "(debugging).")
+    ] = False,
+    rerun: Annotated[
+        bool, typer.Option("--rerun", help="Run every case again, also those already done.")
+    ] = False,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No progress bar and no table.")
+    ] = False,
+    as_json: JsonOption = False,
+) -> None:
+    """Run a parameter sweep of a model file: every case of a grid (or list) of parameter
+    values, on a local process pool or a dask cluster. See docs/sweeps.md.
+
+    Each finished case is stored at once (STORE/cases/<id>.nc, its result file in
+    STORE/results/); a rerun skips the cases already done with the same parameters, and
+    retries failed ones. At the end, prints a table of the cases and writes STORE/sweep.nc
+    (the outputs along the dimension 'case'). Exit code 3 when a case failed or stopped
+    without a physical answer.
+
+    Examples:
+
+        stepcontact sweep friction.toml
+
+        stepcontact sweep friction.toml --workers 4 --quiet
+
+        stepcontact sweep friction.toml --scheduler tcp://10.0.0.5:8786
+
+        stepcontact sweep friction.toml --serial --rerun --json
+    """
+    from stepcontact.study.sweep import StudyError, load_study, run_study
+
+    console = Console(highlight=False, soft_wrap=True)
+    try:
+        if serial and scheduler is not None:
+            raise _Failure("give either --serial or --scheduler, not both")
+        try:
+            study = load_study(study_file)
+        except StudyError as e:
+            raise _Failure(_error_text(e)) from None
+        executor = "serial" if serial else scheduler if scheduler is not None else "process"
+        try:
+            ds = run_study(study, executor=executor, workers=workers,
+                           progress=not quiet and not as_json, rerun=rerun)
+        except (StudyError, OSError, TimeoutError) as e:
+            where = f"--scheduler {scheduler}: " if scheduler is not None else ""
+            raise _Failure(where + _error_text(e)) from None
+    except _Failure as e:
+        raise _fail(str(e), as_json) from None
+    outputs = list(study.func.outputs)
+    failed = [i for i, cs in enumerate(ds["case_status"].values) if cs != "ok"]
+    unresolved = []
+    if "status" in ds:
+        unresolved = [i for i, st in enumerate(ds["status"].values) if i not in failed
+                      and st not in (Status.COMPLETED.value, Status.EQUILIBRIUM_LOST.value)]
+    path = study.store / "sweep.nc"
+    if as_json:
+        keys = json.loads(ds.attrs["params"])
+        rows = []
+        for i in range(ds.sizes["case"]):
+            row = {"id": str(ds["case"].values[i]),
+                   "params": {k: _jsonable(ds[k].values[i]) for k in keys},
+                   "case_status": str(ds["case_status"].values[i]),
+                   "case_message": str(ds["case_message"].values[i])}
+            row |= {o: _jsonable(ds[o].values[i]) for o in outputs
+                    if o in ds and ds[o].ndim == 1}
+            rows.append(row)
+        typer.echo(json.dumps({"status": "failed" if failed else "ok", "study": study.name,
+                               "store": str(study.store), "dataset": str(path),
+                               "failed": len(failed), "cases": rows}, indent=2,
+                              ensure_ascii=False))
+    elif not quiet:
+        from rich.measure import Measurement
+
+        table = sweep_table(ds, outputs, f"sweep '{study.name}': {ds.sizes['case']} cases, "
+                            f"{len(failed)} failed")
+        wide = Console(width=1000)
+        need = Measurement.get(wide, wide.options, table).maximum
+        if need > console.width:  # a wide table is not squeezed into the terminal
+            console = Console(highlight=False, soft_wrap=True, width=need)
+        console.print(table)
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    for i in failed:
+        err.print(Text(f"failed: {ds['case'].values[i]}: {ds['case_message'].values[i]}",
+                       style="red"))
+    if not as_json:
+        console.print(Text(f"written: {path}", style="green"))
+    if failed or unresolved:
+        raise typer.Exit(EXIT_UNRESOLVED)
 
 
 @app.command(hidden=True)

@@ -1,0 +1,1154 @@
+"""Parameter sweeps: many runs of one function (or one model file) over a grid of parameters,
+resumable, on a local process pool or a dask.distributed cluster.
+
+The core is independent of the solver::
+
+    cases = grid(friction=[0.4, 0.5, 0.6], scale=[1.0, 2.0])     # 6 cases, ids "friction=0.4,..."
+    ds = run_sweep(cases, func, "store")                          # xarray.Dataset along "case"
+    to_grid(ds).first_slip.plot(x="friction", hue="scale")        # the same, on the grid axes
+
+``func(params) -> {name: float | int | str | bool | None | ndarray}`` is a top-level (picklable)
+function called once per case; ``None`` is stored as NaN.  Each finished case is written at
+once to ``store/cases/<id>.nc`` (a temporary file in the same directory, then
+:func:`os.replace`), with its parameters (JSON attribute ``params``) and outputs; a re-run skips
+the cases whose file holds the same parameters and status ``ok`` (a changed parameter, a
+failed case or a missing file: the case runs again), so an interrupted sweep loses nothing
+that finished.  The collected ``store/sweep.nc`` is written atomically at the end;
+:func:`collect` rebuilds it from the case files.
+
+The model-file front end (:class:`ModelCase`, :func:`load_study`, ``stepcontact sweep``) sets
+dotted paths of a model file's TOML dict (``interfaces.joint.friction``,
+``patterns.push.loads.0.normal``) and runs each case as ``stepcontact run`` would.
+
+Threads: every worker process (pool or dask) holds BLAS/OpenMP to one thread
+(:func:`pin_threads`).  With W workers each starting as many BLAS threads as there are cores,
+the machine is oversubscribed W-fold; on a 2-core machine that made the 256-column blocked
+solves of a condensation 30–80× slower.  One thread per worker, one worker per core.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import contextvars
+import copy
+import hashlib
+import itertools
+import json
+import math
+import os
+import re
+import threading
+import time
+import traceback
+import uuid
+from collections import OrderedDict
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+
+from stepcontact.errors import StepContactError
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from stepcontact.model import Model
+    from stepcontact.solver.condensation import Condensation
+
+Scalar = float | int | str | bool
+Output = float | int | str | bool | None | np.ndarray
+
+#: ids longer than this are shortened to a readable prefix and a hash
+MAX_ID_LENGTH = 64
+#: environment variables that hold BLAS/OpenMP to one thread in a worker
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS",
+                    "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
+#: condensations kept per worker thread (each holds a factorisation and a dense 2m × 2m G)
+CACHE_SIZE = 2
+
+STATUS_OK = "ok"
+STATUS_FAILED = "failed"
+STATUS_MISSING = "missing"  #: in a collected dataset: the case has not run (yet)
+
+
+class StudyError(StepContactError, ValueError):
+    """A study (grid, case list, study file or parameter path) is wrong; the message names the
+    offending key."""
+
+
+# --------------------------------------------------------------------------------------------
+# cases
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Case:
+    """One run of a sweep: ``id`` (file-system safe, unique in the sweep) and ``params``
+    ({name: scalar}, the argument of the case function)."""
+
+    id: str
+    params: dict[str, Scalar]
+
+
+def _check_scalar(key: str, v: Any) -> Scalar:
+    if isinstance(v, np.generic):
+        v = v.item()
+    if isinstance(v, bool | int | str):
+        return v
+    if isinstance(v, float):
+        if not math.isfinite(v):
+            raise StudyError(f"parameter '{key}': {v} is not a finite number")
+        return v
+    raise StudyError(f"parameter '{key}': {v!r} is not a scalar (float, int, str or bool)")
+
+
+def _fmt(v: Scalar) -> str:
+    if isinstance(v, float):
+        return repr(v)  # shortest round-trip form: 0.5, 2.0, 1e-05
+    return str(v)
+
+
+_UNSAFE = re.compile(r"[^A-Za-z0-9._=,+-]+")
+
+
+def _short_keys(keys: Sequence[str]) -> dict[str, str]:
+    """Each key's last dotted component when those are unique, else the whole key."""
+    last = [k.rsplit(".", 1)[-1] for k in keys]
+    return dict(zip(keys, last if len(set(last)) == len(last) else keys, strict=True))
+
+
+def _params_hash(params: Mapping[str, Scalar]) -> str:
+    return hashlib.blake2b(_params_json(params).encode(), digest_size=4).hexdigest()
+
+
+def case_id(params: Mapping[str, Scalar], short: Mapping[str, str] | None = None) -> str:
+    """A readable, file-system safe id: ``friction=0.5,thickness=2`` (characters other than
+    letters, digits and ``._=,+-`` become ``_``); longer than :data:`MAX_ID_LENGTH`: a prefix
+    of it and a hash of the parameters."""
+    short = short or {k: k for k in params}
+    text = ",".join(f"{short[k]}={_fmt(v)}" for k, v in params.items())
+    text = _UNSAFE.sub("_", text).strip("._") or "case"
+    if len(text) > MAX_ID_LENGTH:
+        text = f"{text[:MAX_ID_LENGTH - 10].rstrip('._,=')}~{_params_hash(params)}"
+    return text
+
+
+def _unique(cases: list[Case]) -> list[Case]:
+    """Ids made unique (a clash after sanitising: the clashing ids get a hash suffix)."""
+    seen: dict[str, int] = {}
+    for c in cases:
+        seen[c.id] = seen.get(c.id, 0) + 1
+    out = []
+    for c in cases:
+        if seen[c.id] > 1:
+            c = Case(f"{c.id[:MAX_ID_LENGTH - 10]}~{_params_hash(c.params)}", c.params)
+        out.append(c)
+    ids = [c.id for c in out]
+    if len(set(ids)) != len(ids):
+        dup = next(i for i in ids if ids.count(i) > 1)
+        raise StudyError(f"two cases have the same id and parameters: '{dup}'")
+    return out
+
+
+def grid(axes: Mapping[str, Iterable[Scalar]] | None = None, /,
+         **more: Iterable[Scalar]) -> list[Case]:
+    """The Cartesian product of parameter axes, the last axis varying fastest.
+
+    ``grid(friction=[0.4, 0.6], scale=[1, 2])`` or, for dotted model-file keys,
+    ``grid({"interfaces.joint.friction": [0.4, 0.6]})``.  Ids use each key's last dotted
+    component when those are unique (``friction=0.4,scale=1``), else the whole key.
+    """
+    spec = {**(axes or {}), **more}
+    if not spec:
+        raise StudyError("grid: give at least one parameter axis")
+    values: dict[str, list[Scalar]] = {}
+    for key, vals in spec.items():
+        if isinstance(vals, str | bytes) or not isinstance(vals, Iterable):
+            raise StudyError(f"grid axis '{key}': give a list of values, got {vals!r}")
+        vs = [_check_scalar(key, v) for v in vals]
+        if not vs:
+            raise StudyError(f"grid axis '{key}': no values")
+        if len(set(map(_fmt, vs))) != len(vs):
+            raise StudyError(f"grid axis '{key}': repeated values {vs}")
+        values[key] = vs
+    short = _short_keys(list(values))
+    cases = []
+    for combo in itertools.product(*values.values()):
+        params = dict(zip(values, combo, strict=True))
+        cases.append(Case(case_id(params, short), params))
+    return _unique(cases)
+
+
+def cases_from_list(rows: Iterable[Mapping[str, Scalar]]) -> list[Case]:
+    """Cases from a list of parameter dicts; an ``id`` entry (optional) names the case."""
+    rows = [dict(r) for r in rows]
+    if not rows:
+        raise StudyError("no cases")
+    keys = list(dict.fromkeys(k for r in rows for k in r if k != "id"))
+    short = _short_keys(keys)
+    cases = []
+    for i, r in enumerate(rows):
+        given = r.pop("id", None)
+        params = {k: _check_scalar(k, v) for k, v in r.items()}
+        if given is not None:
+            cid = _UNSAFE.sub("_", str(given)).strip("._")
+            if not cid:
+                raise StudyError(f"cases[{i}].id: {given!r} is not a usable file name")
+        else:
+            cid = case_id(params, short)
+        cases.append(Case(cid, params))
+    return _unique(cases)
+
+
+def _params_json(params: Mapping[str, Scalar]) -> str:
+    return json.dumps(dict(params), sort_keys=True)
+
+
+# --------------------------------------------------------------------------------------------
+# workers: thread pinning, the case being run, the wrapper
+# --------------------------------------------------------------------------------------------
+_PINNED = False
+_LIMITS: Any = None
+_CURRENT: contextvars.ContextVar[Case | None] = contextvars.ContextVar("case", default=None)
+
+
+def pin_threads() -> None:
+    """Hold BLAS and OpenMP to one thread in this process (idempotent): sets
+    OMP/MKL/OPENBLAS_NUM_THREADS=1 (for libraries loaded later) and applies
+    ``threadpoolctl.threadpool_limits(1)`` to those already loaded.  Run in every worker of
+    the process pool (its initializer) and in dask tasks: W workers × (cores) BLAS threads
+    oversubscribe the machine and made blocked solves 30–80× slower."""
+    global _PINNED, _LIMITS
+    if _PINNED:
+        return
+    for var in THREAD_VARIABLES:
+        os.environ[var] = "1"
+    from threadpoolctl import threadpool_limits
+
+    _LIMITS = threadpool_limits(1)
+    _PINNED = True
+
+
+def _init_worker() -> None:
+    """Initializer of the process pool's workers."""
+    pin_threads()
+
+
+@contextlib.contextmanager
+def _pinned_environment() -> Iterator[None]:
+    """Set the thread variables in this process while workers are started (they inherit the
+    environment, so BLAS starts with one thread before NumPy is imported there)."""
+    old = {v: os.environ.get(v) for v in THREAD_VARIABLES}
+    for v in THREAD_VARIABLES:
+        os.environ[v] = "1"
+    try:
+        yield
+    finally:
+        for v, val in old.items():
+            if val is None:
+                os.environ.pop(v, None)
+            else:
+                os.environ[v] = val
+
+
+def current_case() -> Case | None:
+    """The case being run by this thread (inside a case function), else None."""
+    return _CURRENT.get()
+
+
+@dataclass
+class Outcome:
+    """What a case produced: ``status`` "ok" or "failed", the ``message`` of a failure, the
+    ``outputs`` and the wall time ``seconds`` (s)."""
+
+    case: Case
+    status: str
+    outputs: dict[str, Output] = field(default_factory=dict)
+    message: str = ""
+    seconds: float = 0.0
+    attempts: int = 1
+
+
+def _normalise(outputs: Any) -> dict[str, Output]:
+    if not isinstance(outputs, Mapping):
+        raise TypeError(f"the case function must return a dict of outputs, got "
+                        f"{type(outputs).__name__}")
+    out: dict[str, Output] = {}
+    for k, v in outputs.items():
+        if not isinstance(k, str) or not k or "/" in k:
+            raise TypeError(f"output name {k!r}: give a non-empty string without '/'")
+        if k in ("case", "case_status", "case_message"):
+            raise TypeError(f"output name '{k}' is reserved")
+        if isinstance(v, np.generic):
+            v = v.item()
+        if v is None or isinstance(v, bool | int | float | str):
+            out[k] = v
+        elif isinstance(v, np.ndarray | list | tuple):
+            a = np.asarray(v)
+            if a.dtype.kind not in "biuf":
+                raise TypeError(f"output '{k}': arrays must be numeric, got {a.dtype}")
+            out[k] = a
+        else:
+            raise TypeError(f"output '{k}': {type(v).__name__} is not a float, int, str, "
+                            "bool, None or numeric array")
+    return out
+
+
+def _run_case(func: Callable[[dict[str, Scalar]], Mapping[str, Output]], case: Case,
+              retries: int = 0, pin: bool = False) -> Outcome:
+    """Run ``func`` on one case (``retries`` more attempts after an exception); an exception
+    becomes a failed outcome carrying its message."""
+    if pin:
+        pin_threads()
+    t0 = time.perf_counter()
+    token = _CURRENT.set(case)
+    try:
+        message = ""
+        for attempt in range(1, retries + 2):
+            try:
+                outputs = _normalise(func(dict(case.params)))
+                return Outcome(case, STATUS_OK, outputs, "", time.perf_counter() - t0, attempt)
+            except Exception as e:  # noqa: BLE001 - a failing case is a result
+                message = " ".join(f"{type(e).__name__}: {e}".split())
+                if not isinstance(e, StepContactError | TypeError):
+                    tb = traceback.extract_tb(e.__traceback__)
+                    if tb:
+                        message += f" (at {Path(tb[-1].filename).name}:{tb[-1].lineno})"
+        return Outcome(case, STATUS_FAILED, {}, message, time.perf_counter() - t0, retries + 1)
+    finally:
+        _CURRENT.reset(token)
+
+
+# --------------------------------------------------------------------------------------------
+# the store: case files, manifest, collected dataset
+# --------------------------------------------------------------------------------------------
+def _atomic_netcdf(ds: xr.Dataset, path: Path) -> None:
+    """Write ``ds`` to a temporary file next to ``path``, then replace ``path``."""
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+    try:
+        ds.to_netcdf(tmp, engine="h5netcdf")
+        with open(tmp, "rb+") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def _atomic_text(text: str, path: Path) -> None:
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
+    try:
+        tmp.write_text(text, encoding="utf-8")
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def case_path(store: str | os.PathLike[str], case: Case | str) -> Path:
+    """``store/cases/<id>.nc``."""
+    cid = case.id if isinstance(case, Case) else case
+    return Path(store) / "cases" / f"{cid}.nc"
+
+
+def _case_dataset(outcome: Outcome, key: str) -> xr.Dataset:
+    import xarray as xr
+
+    data_vars = {}
+    for name, v in outcome.outputs.items():
+        if isinstance(v, np.ndarray):
+            data_vars[name] = ([f"{name}_dim{i}" for i in range(v.ndim)], v)
+        elif v is None:
+            data_vars[name] = ((), np.nan)
+        elif isinstance(v, bool):
+            data_vars[name] = ((), np.int8(v))
+        else:
+            data_vars[name] = ((), v)
+    return xr.Dataset(data_vars, attrs={
+        "case": outcome.case.id, "params": _params_json(outcome.case.params),
+        "status": outcome.status, "message": outcome.message, "key": key,
+        "seconds": float(outcome.seconds), "attempts": int(outcome.attempts),
+        "outputs": json.dumps(list(outcome.outputs)),
+    })
+
+
+def _write_case(store: Path, outcome: Outcome, key: str) -> Path:
+    path = case_path(store, outcome.case)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _atomic_netcdf(_case_dataset(outcome, key), path)
+    return path
+
+
+def _read_case(path: Path) -> xr.Dataset | None:
+    """A case file's dataset, or None when it is missing or unreadable."""
+    import xarray as xr
+
+    if not path.is_file():
+        return None
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            return ds.load()
+    except (OSError, ValueError, KeyError):
+        return None
+
+
+def is_done(store: str | os.PathLike[str], case: Case, key: str = "") -> bool:
+    """True when the store holds a finished (status ok) result of ``case`` with the same
+    parameters (and function ``key``)."""
+    ds = _read_case(case_path(store, case))
+    return ds is not None and _matches(ds, case, key) and ds.attrs.get("status") == STATUS_OK
+
+
+def _matches(ds: xr.Dataset, case: Case, key: str) -> bool:
+    return (ds.attrs.get("params") == _params_json(case.params)
+            and ds.attrs.get("key", "") == key)
+
+
+def _write_manifest(store: Path, cases: Sequence[Case], key: str) -> None:
+    store.mkdir(parents=True, exist_ok=True)
+    _atomic_text(json.dumps({"key": key, "cases": [{"id": c.id, "params": c.params}
+                                                   for c in cases]}, indent=1),
+                 store / "sweep.json")
+
+
+def _read_manifest(store: Path) -> tuple[list[Case], str] | None:
+    path = store / "sweep.json"
+    if not path.is_file():
+        return None
+    data = json.loads(path.read_text(encoding="utf-8"))
+    return [Case(c["id"], c["params"]) for c in data["cases"]], data.get("key", "")
+
+
+def _column(values: list[Any]) -> tuple[np.ndarray, dict[str, Any]]:
+    """One output over the cases (None: missing) as an array: strings ("" missing), integers
+    (when none is missing), else float64 with NaN."""
+    present = [v for v in values if v is not None]
+    if present and all(isinstance(v, str) for v in present):
+        return np.array(["" if v is None else v for v in values], dtype=str), {}
+    if present and all(isinstance(v, int | np.integer) for v in present) \
+            and len(present) == len(values):
+        return np.array(values, dtype=np.int64), {}
+    return np.array([np.nan if v is None else float(v) for v in values], dtype=float), {}
+
+
+def _param_column(values: list[Any]) -> np.ndarray:
+    if all(isinstance(v, str) for v in values):
+        return np.array(values, dtype=str)
+    if all(isinstance(v, bool) for v in values):
+        return np.array(values, dtype=bool)
+    if all(isinstance(v, int) and not isinstance(v, bool) for v in values):
+        return np.array(values, dtype=np.int64)
+    if all(isinstance(v, int | float) and not isinstance(v, bool) for v in values):
+        return np.array(values, dtype=float)
+    return np.array([_fmt(v) for v in values], dtype=str)
+
+
+def collect(store: str | os.PathLike[str], cases: Sequence[Case] | None = None,
+            key: str | None = None, write: bool = True) -> xr.Dataset:
+    """The sweep's dataset rebuilt from its case files (and written to ``store/sweep.nc``
+    atomically when ``write``).
+
+    ``cases``: default the sweep's manifest (``store/sweep.json``, written by
+    :func:`run_sweep`), else every case file of the store.  Layout: dimension ``case`` (the
+    ids, in the order of the cases); one coordinate per parameter along ``case``; variables
+    ``status`` ("ok", "failed" or "missing": not run or run with other parameters),
+    ``message`` (of a failure) and every output — scalars along ``case`` (float64 with NaN
+    where a case has no value, int64 or str), arrays along ``case`` and ``<name>_dim<i>``
+    (padded with NaN).  Attributes: ``params`` (JSON list of the parameter names) and
+    ``grid`` (1 when the cases are a full Cartesian grid: :func:`to_grid`).
+    """
+    import xarray as xr
+
+    store = Path(store)
+    manifest = _read_manifest(store)
+    if cases is None:
+        if manifest is not None:
+            cases, mkey = manifest
+            key = mkey if key is None else key
+        else:
+            cases = []
+            for p in sorted((store / "cases").glob("*.nc")):
+                ds = _read_case(p)
+                if ds is not None:
+                    cases.append(Case(str(ds.attrs["case"]), json.loads(ds.attrs["params"])))
+                    if key is None:
+                        key = str(ds.attrs.get("key", ""))
+    key = key or ""
+    cases = list(cases)
+    status, message = [], []
+    rows: list[dict[str, Any]] = []
+    names: dict[str, None] = {}
+    for c in cases:
+        ds = _read_case(case_path(store, c))
+        if ds is None or not _matches(ds, c, key):
+            status.append(STATUS_MISSING)
+            message.append("")
+            rows.append({})
+            continue
+        status.append(str(ds.attrs.get("status", STATUS_FAILED)))
+        message.append(str(ds.attrs.get("message", "")))
+        order = json.loads(ds.attrs.get("outputs", "[]"))
+        row = {}
+        for n in order:
+            v = ds[n].values
+            row[n] = v.item() if v.ndim == 0 else v
+            names[n] = None
+        rows.append(row)
+    keys = list(dict.fromkeys(k for c in cases for k in c.params))
+    coords: dict[str, Any] = {"case": ("case", np.array([c.id for c in cases], dtype=str))}
+    for k in keys:
+        if any(k not in c.params for c in cases):
+            coords[k] = ("case", np.array([_fmt(c.params[k]) if k in c.params else ""
+                                           for c in cases], dtype=str))
+        else:
+            coords[k] = ("case", _param_column([c.params[k] for c in cases]))
+    data_vars: dict[str, Any] = {"case_status": ("case", np.array(status, dtype=str)),
+                                 "case_message": ("case", np.array(message, dtype=str))}
+    for n in names:
+        values = [r.get(n) for r in rows]
+        arrays = [v for v in values if isinstance(v, np.ndarray)]
+        if arrays:
+            ndim = max(a.ndim for a in arrays)
+            shape = tuple(max(a.shape[i] if i < a.ndim else 1 for a in arrays)
+                          for i in range(ndim))
+            out = np.full((len(cases), *shape), np.nan)
+            for i, v in enumerate(values):
+                if isinstance(v, np.ndarray):
+                    a = v.reshape(v.shape + (1,) * (ndim - v.ndim))
+                    out[(i, *(slice(0, s) for s in a.shape))] = a
+                elif v is not None:
+                    out[i] = float(v)
+            data_vars[n] = (("case", *(f"{n}_dim{i}" for i in range(ndim))), out)
+        else:
+            data_vars[n] = ("case", _column(values)[0])
+    ds = xr.Dataset(data_vars, coords=coords, attrs={
+        "params": json.dumps(keys), "grid": int(_is_full_grid(cases, keys)),
+        "cases": len(cases), "failed": status.count(STATUS_FAILED),
+        "missing": status.count(STATUS_MISSING),
+    })
+    if write:
+        store.mkdir(parents=True, exist_ok=True)
+        _atomic_netcdf(ds, store / "sweep.nc")
+    return ds
+
+
+def _is_full_grid(cases: Sequence[Case], keys: Sequence[str]) -> bool:
+    if not cases or not keys or any(set(c.params) != set(keys) for c in cases):
+        return False
+    combos = {tuple(_fmt(c.params[k]) for k in keys) for c in cases}
+    sizes = [len({_fmt(c.params[k]) for c in cases}) for k in keys]
+    return len(combos) == len(cases) == math.prod(sizes)
+
+
+def to_grid(ds: xr.Dataset) -> xr.Dataset:
+    """A collected sweep of a full grid reshaped onto its parameter axes: the dimension
+    ``case`` becomes one dimension per parameter (sorted values), ready to plot, e.g.
+    ``to_grid(ds).first_slip.plot(x="friction", hue="scale")``; the case ids stay as the
+    variable ``case_id``."""
+    keys = json.loads(ds.attrs.get("params", "[]"))
+    if not keys or not int(ds.attrs.get("grid", 0)):
+        raise StudyError("to_grid: the cases are not a full Cartesian grid of their "
+                         "parameters (use the flat dataset, dimension 'case')")
+    flat = ds.assign(case_id=("case", ds["case"].values)).drop_vars("case")
+    out = flat.set_index(case=list(keys)).unstack("case")
+    return out.transpose(*keys, ...)
+
+
+# --------------------------------------------------------------------------------------------
+# running a sweep
+# --------------------------------------------------------------------------------------------
+Executor = Literal["process", "serial"] | str | Any
+
+
+def _workers(workers: int | None, n: int) -> int:
+    if workers is None:
+        try:
+            workers = len(os.sched_getaffinity(0))
+        except AttributeError:  # pragma: no cover - not on Linux
+            workers = os.cpu_count() or 1
+    return max(1, min(int(workers), max(n, 1)))
+
+
+class _Progress:
+    """Rich progress bar on stderr: cases done / total, failures, time left (mean wall time
+    of a finished case × cases remaining / workers)."""
+
+    def __init__(self, total: int, skipped: int, workers: int, enabled: bool, name: str):
+        from rich.console import Console
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
+
+        self.workers, self.total, self.ran, self.failed = workers, total, 0, 0
+        self.seconds = 0.0  # wall time of the finished cases, s
+        self.progress = Progress(
+            TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+            TextColumn("failed: {task.fields[failed]}"), TextColumn("{task.fields[left]}"),
+            console=Console(stderr=True), transient=True, disable=not enabled)
+        self.task = self.progress.add_task(f"sweep '{name}'" if name else "sweep",
+                                           total=total, completed=skipped, failed=0, left="")
+
+    def __enter__(self) -> _Progress:
+        self.progress.__enter__()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.progress.__exit__(*exc)
+
+    def done(self, outcome: Outcome) -> None:
+        self.ran += 1
+        self.failed += outcome.status != STATUS_OK
+        self.seconds += outcome.seconds
+        task = self.progress.tasks[0]
+        remaining = self.total - (task.completed + 1)
+        left = self.seconds / self.ran * remaining / self.workers
+        self.progress.update(self.task, advance=1, failed=self.failed,
+                             left=f"left ~{left:.0f} s" if remaining else "")
+
+
+def run_sweep(
+    cases: Sequence[Case],
+    func: Callable[[dict[str, Scalar]], Mapping[str, Output]],
+    store: str | os.PathLike[str],
+    *,
+    executor: Executor = "process",
+    workers: int | None = None,
+    progress: bool = True,
+    retries: int = 0,
+    rerun: bool = False,
+    key: str | None = None,
+    name: str = "",
+    on_result: Callable[[Outcome], None] | None = None,
+) -> xr.Dataset:
+    """Run ``func(case.params)`` for every case not already done and return the collected
+    dataset (also written to ``store/sweep.nc``; layout: :func:`collect`).
+
+    Parameters
+    ----------
+    cases : sequence of Case
+        From :func:`grid` or :func:`cases_from_list` (ids unique).
+    func : callable
+        ``func(params) -> {name: value}``, a top-level (picklable) function or object; values
+        float, int, str, bool, None (stored as NaN) or numeric arrays.  An exception marks
+        the case failed (its message is stored) and the sweep goes on.
+    store : path
+        Directory of the sweep: ``cases/<id>.nc`` (one per finished case, written as soon as
+        it finishes), ``sweep.json`` (the cases), ``sweep.nc`` (the collected dataset).
+    executor : "process", "serial", a dask scheduler address or a ``distributed.Client``
+        ``process`` (default): a local pool of ``workers`` processes (spawn context, BLAS
+        pinned to one thread each); ``serial``: in this process, one case after another
+        (debugging, tests); an address such as ``"tcp://10.0.0.5:8786"`` or a Client: the
+        dask.distributed cluster (tasks pin BLAS to one thread in their worker).  The results
+        do not depend on the executor.
+    workers : int, optional
+        Processes of the local pool (default: the CPU cores available).
+    progress : bool
+        Show a progress bar on stderr.
+    retries : int
+        Further attempts of a failing case within this run (a failed case is also retried
+        by the next run of the sweep).
+    rerun : bool
+        Run every case again, even those already done.
+    key : str, optional
+        Identifies what ``func`` computes: stored with each case, and a case stored under
+        another key runs again.  Default: ``func.sweep_key`` if it has one, else "".
+    name : str
+        Shown in the progress bar.
+    on_result : callable, optional
+        Called in this process with each :class:`Outcome` as it is stored.
+    """
+    store = Path(store)
+    cases = list(cases)
+    ids = [c.id for c in cases]
+    if len(set(ids)) != len(ids):
+        raise StudyError("the cases' ids are not unique")
+    if retries < 0:
+        raise StudyError(f"retries: {retries} must be ≥ 0")
+    key = key if key is not None else str(getattr(func, "sweep_key", ""))
+    _write_manifest(store, cases, key)
+    todo = [c for c in cases if rerun or not is_done(store, c, key)]
+    n_workers = 1 if executor == "serial" else _workers(workers, len(todo))
+
+    def finish(outcome: Outcome) -> None:
+        _write_case(store, outcome, key)
+        bar.done(outcome)
+        if on_result is not None:
+            on_result(outcome)
+
+    with _Progress(len(cases), len(cases) - len(todo), n_workers, progress, name) as bar:
+        if not todo:
+            pass
+        elif executor == "serial":
+            for c in todo:
+                finish(_run_case(func, c, retries))
+        elif executor == "process":
+            _run_pool(func, todo, retries, n_workers, finish)
+        else:
+            _run_dask(func, todo, retries, executor, finish)
+    return collect(store, cases, key)
+
+
+def _run_pool(func: Callable, todo: list[Case], retries: int, workers: int,
+              finish: Callable[[Outcome], None]) -> None:
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("spawn")
+    with _pinned_environment(), ProcessPoolExecutor(workers, mp_context=ctx,
+                                                    initializer=_init_worker) as pool:
+        pending = {pool.submit(_run_case, func, c, retries, True): c for c in todo}
+        try:
+            while pending:
+                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    case = pending.pop(fut)
+                    try:
+                        outcome = fut.result()
+                    except Exception as e:  # noqa: BLE001 - a dead worker, unpicklable data
+                        outcome = Outcome(case, STATUS_FAILED, {},
+                                          " ".join(f"{type(e).__name__}: {e}".split()))
+                    finish(outcome)
+        except BaseException:
+            for fut in pending:
+                fut.cancel()
+            raise
+
+
+def _run_dask(func: Callable, todo: list[Case], retries: int, executor: Any,
+              finish: Callable[[Outcome], None]) -> None:
+    try:
+        import distributed
+    except ImportError as e:  # pragma: no cover - distributed is a dependency
+        raise StudyError(f"a dask scheduler needs the package 'distributed' ({e})") from None
+    own = isinstance(executor, str)
+    if own and not re.match(r"^[a-z]+://", executor) and ":" not in executor:
+        raise StudyError(f"executor '{executor}': use 'process', 'serial', a dask scheduler "
+                         "address (tcp://HOST:PORT) or a distributed.Client")
+    client = distributed.Client(executor, timeout="30s") if own else executor
+    token = uuid.uuid4().hex[:8]
+    try:
+        futures = {client.submit(_run_case, func, c, retries, True, pure=False,
+                                 key=f"stepcontact-sweep-{token}-{i}"): c
+                   for i, c in enumerate(todo)}
+        for fut in distributed.as_completed(list(futures)):
+            case = futures[fut]
+            try:
+                outcome = fut.result()
+            except Exception as e:  # noqa: BLE001 - a lost worker, unpicklable data
+                outcome = Outcome(case, STATUS_FAILED, {},
+                                  " ".join(f"{type(e).__name__}: {e}".split()))
+            finish(outcome)
+            fut.release()
+    finally:
+        if own:
+            client.close()
+
+
+# --------------------------------------------------------------------------------------------
+# model files: parameter paths into the TOML dict
+# --------------------------------------------------------------------------------------------
+_IDENT = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def _loc_text(loc: Sequence[str | int]) -> str:
+    """A location as the model-file errors write it: ``interfaces[0].friction``."""
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            k = part if _IDENT.match(part) else f'"{part}"'
+            out += f".{k}" if out else k
+    return out
+
+
+def _listing(node: Any) -> str:
+    if isinstance(node, dict):
+        return ", ".join(repr(k) for k in node) or "nothing"
+    names = [f"{i} ({item['name']!r})" if isinstance(item, dict) and "name" in item
+             else str(i) for i, item in enumerate(node)]
+    return ", ".join(names) or "nothing (empty list)"
+
+
+def resolve_path(doc: dict[str, Any], key: str) -> tuple[Any, str | int, list[str | int]]:
+    """The container and the last key/index that a dotted parameter path addresses in a model
+    file's TOML dict, and its location (``["interfaces", 0, "friction"]``).
+
+    Tables are entered by key; arrays of tables by the ``name`` of an entry or by index
+    (``interfaces.joint.friction``, ``program.1.end``).  The last component of a table may
+    be a key the file does not set (a default of the format; checked when the model is
+    validated).  An unknown component is a :class:`StudyError` naming the key and listing
+    what exists at that level."""
+    parts = key.split(".")
+    if not key or any(not p for p in parts):
+        raise StudyError(f"parameter '{key}': give a dotted path such as "
+                         "interfaces.joint.friction")
+    node: Any = doc
+    loc: list[str | int] = []
+    for i, part in enumerate(parts):
+        last = i == len(parts) - 1
+        where = ".".join(parts[:i]) or "the model file"
+        if isinstance(node, dict):
+            if part not in node and not last:
+                raise StudyError(f"parameter '{key}': no '{part}' in {where}; it has "
+                                 f"{_listing(node)}")
+            if last:
+                return node, part, [*loc, part]
+            node, loc = node[part], [*loc, part]
+        elif isinstance(node, list):
+            named = [j for j, item in enumerate(node)
+                     if isinstance(item, dict) and item.get("name") == part]
+            if named:
+                j = named[0]
+            elif re.fullmatch(r"\d+", part) and int(part) < len(node):
+                j = int(part)
+            else:
+                raise StudyError(f"parameter '{key}': no entry '{part}' in {where} (give its "
+                                 f"name or index); it has {_listing(node)}")
+            if last:
+                return node, j, [*loc, j]
+            node, loc = node[j], [*loc, j]
+        else:
+            raise StudyError(f"parameter '{key}': {where} is a value ({node!r}), not a table "
+                             "or a list")
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def apply_params(doc: dict[str, Any], params: Mapping[str, Scalar]) -> dict[str, Any]:
+    """A deep copy of the TOML dict ``doc`` with each dotted parameter path set (see
+    :func:`resolve_path`); a value replacing a table or a list is an error."""
+    out = copy.deepcopy(doc)
+    for key, value in params.items():
+        parent, k, _ = resolve_path(out, key)
+        old = parent[k] if (isinstance(parent, dict) and k in parent) or isinstance(
+            parent, list) else None
+        if isinstance(old, dict | list):
+            kind = "table" if isinstance(old, dict) else "list"
+            raise StudyError(f"parameter '{key}' names a {kind} ({_listing(old)}), not a value")
+        parent[k] = value
+    return out
+
+
+def check_params(doc: dict[str, Any], params: Mapping[str, Scalar]) -> None:
+    """Raise a :class:`StudyError` naming the parameter when ``params`` cannot be applied to
+    ``doc`` or the result breaks the model file's schema (field types and ranges; the mesh
+    and geometry are checked when the case runs)."""
+    from stepcontact.io.modelfile import _validate
+
+    d = apply_params(doc, params)
+    try:
+        _validate(d)
+    except StepContactError as e:
+        item = str(getattr(e, "item", ""))
+        locs = {k: _loc_text(resolve_path(d, k)[2]) for k in params}
+        blamed = [k for k, loc in locs.items() if item == loc or item.startswith(loc + ".")
+                  or item.startswith(loc + "[")]
+        text = " ".join(str(e).split())
+        if blamed:
+            k = blamed[0]
+            parent, last, _ = resolve_path(d, k)
+            hint = ""
+            if "unknown field" in text and isinstance(parent, dict):
+                known = [n for n in parent if n != last]
+                hint = f"; {'.'.join(k.split('.')[:-1]) or 'the model file'} sets " \
+                       f"{', '.join(map(repr, known)) or 'nothing'}"
+            raise StudyError(f"parameter '{k}' = {params[k]!r}: {text}{hint}") from None
+        raise StudyError(f"case {dict(params)}: {text}") from None
+
+
+# --------------------------------------------------------------------------------------------
+# model files: the case function
+# --------------------------------------------------------------------------------------------
+#: outputs a model-file case can report (units: λ of the segment's pattern; m; N; s)
+MODEL_OUTPUTS: dict[str, str] = {
+    "first_slip": "λ at the first slip in the last segment reached (NaN: none)",
+    "first_opening": "λ at the first opening in the last segment reached (NaN: none)",
+    "first_closing": "λ at the first closing in the last segment reached (NaN: none)",
+    "equilibrium_lost": "λ at which equilibrium is lost (NaN: not lost)",
+    "status": "run status (completed, equilibrium lost, …)",
+    "message": "the run's closing message",
+    "events": "number of events of the static run",
+    "segment": "index of the last segment reached (the segment of the multipliers)",
+    "lam_end": "load factor λ of the last state",
+    "max_un": "max |u_n| over the CFEs and the states, m",
+    "max_N": "max |N| over the CFEs and the states, N",
+    "max_Q": "max |Q| over the CFEs and the states, N",
+    "factorizations": "sparse factorisations of the static run (0: the worker's cached "
+                      "condensation reused)",
+    "dynamic_status": "status of the dynamic interval ('' without one)",
+    "dynamic_events": "events of the dynamic interval",
+    "dynamic_first_opening": "time of the first opening in the dynamic interval, s",
+    "dynamic_max_un": "max |u_n| in the dynamic interval, m",
+}
+DEFAULT_OUTPUTS = ("first_slip", "first_opening", "first_closing", "equilibrium_lost",
+                   "status", "events", "max_un", "max_N")
+DYNAMIC_OUTPUTS = ("dynamic_status", "dynamic_events", "dynamic_first_opening")
+
+_CACHE = threading.local()
+
+
+def condensation_cache_info() -> dict[str, int]:
+    """Hits, misses and size of this worker thread's condensation cache."""
+    c = _cache()
+    return {"hits": c["hits"], "misses": c["misses"], "size": len(c["lru"])}
+
+
+def clear_condensation_cache() -> None:
+    """Empty this worker thread's condensation cache and reset its counters."""
+    for k in ("lru", "hits", "misses"):
+        if hasattr(_CACHE, k):
+            delattr(_CACHE, k)
+
+
+def _cache() -> dict[str, Any]:
+    if not hasattr(_CACHE, "lru"):
+        _CACHE.lru, _CACHE.hits, _CACHE.misses = OrderedDict(), 0, 0
+    return {"lru": _CACHE.lru, "hits": _CACHE.hits, "misses": _CACHE.misses}
+
+
+def cached_condensation(model: Model, precision: str = "auto") -> Condensation:
+    """The static condensation of ``model`` from this worker thread's LRU cache (keyed by
+    :attr:`Condensation.fingerprint`, i.e. K₀ and B: friction, gaps, loads and program do
+    not enter it), built on a miss.  Costs one assembly of the model to compute the key."""
+    from stepcontact.fem.assembly import assemble
+    from stepcontact.solver.condensation import _fingerprint, condense, static_operator
+
+    system = assemble(model)
+    K0, Bf, *_ = static_operator(system)
+    fp = (_fingerprint(K0, Bf), precision)
+    _cache()
+    lru: OrderedDict = _CACHE.lru
+    if fp in lru:
+        _CACHE.hits += 1
+        lru.move_to_end(fp)
+        return lru[fp]
+    _CACHE.misses += 1
+    c = condense(system, precision=precision)
+    lru[fp] = c
+    while len(lru) > CACHE_SIZE:
+        lru.popitem(last=False)
+    return c
+
+
+def _finite(v: float | None) -> float:
+    return math.nan if v is None else float(v)
+
+
+@dataclass(frozen=True)
+class ModelCase:
+    """The case function of a model-file sweep (picklable): apply the case's parameters to a
+    deep copy of the model file's TOML dict, build and validate the model, run it as
+    ``stepcontact run`` does (the CLI's own solve functions: the static program, then the
+    ``[dynamics]`` interval when the file has one), write ``results_dir/<id>.nc`` (and
+    ``<id>-dynamic.nc``) at the end of the case when ``save_results``, and return the scalar
+    ``outputs`` (:data:`MODEL_OUTPUTS`).
+
+    The static condensation is reused from the worker's cache (:func:`cached_condensation`)
+    when cases share the mesh and stiffness: a friction or load sweep factorises once per
+    worker."""
+
+    doc: dict[str, Any]
+    base_dir: str
+    results_dir: str
+    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
+    model_name: str = "model"
+    slip: str = "exact"
+    eps_p: float = 0.01
+    max_events: int = 100_000
+    precision: str = "auto"
+    save_results: bool = True
+
+    @property
+    def sweep_key(self) -> str:
+        """Hash of everything but the parameters that decides the outputs (the base model,
+        the outputs and the run options): stored cases of another key run again."""
+        blob = json.dumps([self.doc, list(self.outputs), self.slip, self.eps_p,
+                           self.max_events, self.precision, self.save_results], sort_keys=True,
+                          default=str)
+        return hashlib.blake2b(blob.encode(), digest_size=8).hexdigest()
+
+    def __call__(self, params: dict[str, Scalar]) -> dict[str, Output]:
+        from stepcontact.cli import commands
+        from stepcontact.enums import SlipTreatment, Status
+        from stepcontact.io.modelfile import model_from_dict
+
+        case = current_case()
+        cid = case.id if case is not None else case_id(params)
+        d = apply_params(self.doc, params)
+        model = model_from_dict(d, base_dir=self.base_dir)
+        if not (d.get("model") or {}).get("name"):
+            model = model.replace(name=self.model_name)
+        result_path = Path(self.results_dir) / f"{cid}.nc"
+        dyn_path = result_path.with_name(result_path.stem + "-dynamic.nc")
+        if self.save_results:  # a stale dynamic result of an earlier run must not survive
+            result_path.parent.mkdir(parents=True, exist_ok=True)
+            dyn_path.unlink(missing_ok=True)
+        misses = condensation_cache_info()["misses"]
+        condensation = cached_condensation(model, self.precision)
+        built = condensation_cache_info()["misses"] - misses  # 1: factorised for this case
+        res = commands._solve(model, slip=SlipTreatment(self.slip), eps_p=self.eps_p,
+                              max_events=self.max_events, progress_bar=False,
+                              precision=self.precision, condensation=condensation)
+        if self.save_results:
+            res.save(result_path)
+        mu = res.multipliers[-1] if res.multipliers else None
+        a_un, a_N, a_Q = (np.abs(getattr(res, n)) for n in ("un", "N", "Q"))
+        values: dict[str, Output] = {
+            "first_slip": _finite(mu.first_slip if mu else None),
+            "first_opening": _finite(mu.first_opening if mu else None),
+            "first_closing": _finite(mu.first_closing if mu else None),
+            "equilibrium_lost": _finite(mu.equilibrium_lost if mu else None),
+            "status": res.status.value, "message": res.message,
+            "events": len(res.events),
+            "segment": int(mu.segment) if mu else -1,
+            "lam_end": float(res.lam[-1]) if len(res.lam) else math.nan,
+            "max_un": float(a_un.max(initial=0.0)), "max_N": float(a_N.max(initial=0.0)),
+            "max_Q": float(a_Q.max(initial=0.0)),
+            "factorizations": int(res.counters.get("factorizations", 0)) + built,
+            "dynamic_status": "", "dynamic_events": 0,
+            "dynamic_first_opening": math.nan, "dynamic_max_un": math.nan,
+        }
+        if model.dynamics is not None and res.status == Status.COMPLETED:
+            dres = commands._solve_dynamics(model, res, progress_bar=False)
+            if self.save_results:
+                dres.save(dyn_path)
+            dmu = dres.multipliers[-1] if dres.multipliers else None
+            values |= {"dynamic_status": dres.status.value, "dynamic_events": len(dres.events),
+                       "dynamic_first_opening": _finite(dmu.first_opening if dmu else None),
+                       "dynamic_max_un": float(np.abs(dres.un).max(initial=0.0))}
+        elif model.dynamics is not None:
+            values["dynamic_status"] = "not run (the static program did not complete)"
+        return {k: values[k] for k in self.outputs}
+
+
+# --------------------------------------------------------------------------------------------
+# study files
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Study:
+    """A loaded study file: its name, the base model file, the store directory, the cases
+    and the case function."""
+
+    name: str
+    path: Path
+    model_path: Path
+    store: Path
+    cases: list[Case]
+    func: ModelCase
+
+
+def _study_schema():
+    from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+    class _Spec(BaseModel):
+        model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
+
+    class StudySection(_Spec):
+        """``[study]``: name, base model file, store directory, outputs and run options."""
+
+        name: str | None = None
+        model: str = Field(description="base model file, relative to the study file")
+        output: str | None = Field(None, description="store directory, relative to the study "
+                                   "file (default: the study file's name without .toml)")
+        outputs: list[str] | None = None
+        slip: Literal["exact", "article"] = "exact"
+        eps_p: float = Field(0.01, ge=0)
+        max_events: int = Field(100_000, ge=1)
+        precision: Literal["auto", "float64", "float32"] = "auto"
+        results: bool = Field(True, description="write each case's result file to "
+                              "STORE/results/<id>.nc")
+
+        @model_validator(mode="after")
+        def _known_outputs(self) -> StudySection:
+            for i, o in enumerate(self.outputs or []):
+                if o not in MODEL_OUTPUTS:
+                    raise ValueError(f"outputs[{i}]: unknown output '{o}'; use "
+                                     f"{', '.join(MODEL_OUTPUTS)}")
+            if self.outputs is not None and not self.outputs:
+                raise ValueError("outputs: give at least one output (or leave it out)")
+            return self
+
+    ScalarT = float | int | str | bool
+
+    class StudyFile(_Spec):
+        """The study file: ``[study]`` and either ``[grid]`` or ``[[cases]]``."""
+
+        study: StudySection
+        grid: dict[str, list[ScalarT]] | None = None
+        cases: list[dict[str, ScalarT]] | None = None
+
+        @model_validator(mode="after")
+        def _one_form(self) -> StudyFile:
+            if (self.grid is None) == (self.cases is None):
+                raise ValueError("give either a [grid] table or [[cases]] tables")
+            return self
+
+    return StudyFile
+
+
+def load_study(path: str | os.PathLike[str]) -> Study:
+    """Read and validate a study file (TOML): ``[study]`` (``model``, ``name``, ``output``,
+    ``outputs``, ``slip``, ``eps_p``, ``max_events``, ``precision``) and either ``[grid]``
+    ({dotted key = [values]}, their Cartesian product) or ``[[cases]]`` (one table of
+    {dotted key = value} per case, optional ``id``).  Every case's parameters are applied to
+    the base model file and checked against its schema here, so that a wrong key or value is
+    a :class:`StudyError` naming it before anything runs."""
+    import tomllib
+
+    from pydantic import ValidationError
+
+    from stepcontact.io.modelfile import _message, _path, _read_toml
+
+    path = Path(path)
+    if not path.is_file():
+        raise StudyError(f"study file not found: {path}")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        raise StudyError(f"{path}: not a valid TOML file: {e}") from None
+    try:
+        spec = _study_schema().model_validate(data)
+    except ValidationError as e:
+        err = e.errors()[0]
+        more = f" (and {len(e.errors()) - 1} more problems)" if len(e.errors()) > 1 else ""
+        raise StudyError(f"{path}: {_path(err['loc'])}: {_message(err)}{more}") from None
+    s = spec.study
+    model_path = (path.parent / s.model).resolve()
+    if not model_path.is_file():
+        raise StudyError(f"{path}: study.model: model file not found: {model_path}")
+    try:
+        doc = _read_toml(model_path)
+    except StepContactError as e:
+        raise StudyError(f"{path}: study.model: {' '.join(str(e).split())}") from None
+    try:
+        cases = grid(spec.grid) if spec.grid is not None else cases_from_list(spec.cases or [])
+        for c in cases:
+            check_params(doc, c.params)
+    except StudyError as e:
+        raise StudyError(f"{path}: {e}") from None
+    outputs = tuple(s.outputs) if s.outputs else DEFAULT_OUTPUTS + (
+        DYNAMIC_OUTPUTS if doc.get("dynamics") is not None else ())
+    store = path.parent / s.output if s.output else path.with_suffix("")
+    model_name = (doc.get("model") or {}).get("name") or model_path.stem
+    func = ModelCase(doc=doc, base_dir=str(model_path.parent),
+                     results_dir=str((store / "results").resolve()), outputs=outputs,
+                     model_name=model_name, slip=s.slip, eps_p=s.eps_p,
+                     max_events=s.max_events, precision=s.precision,
+                     save_results=s.results)
+    return Study(name=s.name or path.stem, path=path, model_path=model_path, store=store,
+                 cases=cases, func=func)
+
+
+def run_study(study: Study | str | os.PathLike[str], **kwargs: Any) -> xr.Dataset:
+    """Run a study file (or a loaded :class:`Study`) with :func:`run_sweep`: ``kwargs`` are
+    its executor options (``executor``, ``workers``, ``progress``, ``retries``, ``rerun``)."""
+    if not isinstance(study, Study):
+        study = load_study(study)
+    return run_sweep(study.cases, study.func, study.store, name=study.name, **kwargs)
+
+
+__all__ = [
+    "DEFAULT_OUTPUTS", "MODEL_OUTPUTS", "Case", "ModelCase", "Outcome", "Study", "StudyError",
+    "apply_params", "cached_condensation", "case_id", "cases_from_list", "check_params",
+    "clear_condensation_cache", "collect", "condensation_cache_info", "current_case", "grid",
+    "is_done", "load_study", "pin_threads", "resolve_path", "run_study", "run_sweep",
+    "to_grid",
+]
