@@ -338,6 +338,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             continue  # a water load whose level is the factor: stepcontact.fem.level
         elif getattr(ld, "in_crack", False):
             continue  # water in opened joints: a load of the contact state (fem.crack)
+        elif getattr(ld, "through", "faces") == "cfes":
+            continue  # an uplift through the CFEs: added with the contact operator (assemble)
         elif hasattr(ld, "edge_loads"):  # WaterLoad, Uplift (stepcontact.model.water)
             from stepcontact.fem._edge_kinks import water_forces
 
@@ -497,6 +499,15 @@ def assemble(model: Model | DiscreteModel) -> System:
                     groups.append((f"{name} (prescribed):{dname}", lv.dofs[comp == c]))
     cfe = build_contact(model)
     B, w0 = contact_operator(cfe, dofs)
+    for p in model.patterns:
+        for i, ld in enumerate(p.loads):
+            if getattr(ld, "through", "faces") != "cfes":
+                continue
+            if p.name in levels:
+                raise ModelError(f"load pattern '{p.name}' load {i}", "an uplift through the "
+                                 "CFEs cannot move with a water level: give it its own pattern")
+            lv = loads[p.name]
+            loads[p.name] = LoadVectors(lv.f + uplift_through_cfes(cfe, B, ld), lv.u, lv.dofs)
     if not fixed.any() and cfe.m == 0 and not any(sp_.b is None for sp_ in model.springs):
         raise ModelError("model", "has no supports and no contact: it is free to move")
     _check_restrained(model, dofs, K, B, fixed, cfe)
@@ -505,6 +516,18 @@ def assemble(model: Model | DiscreteModel) -> System:
 
     crack = crack_water(model, cfe, levels)
     return System(model, dofs, K, fixed, loads, cfe, B, w0, rows, labels, levels, crack=crack)
+
+
+def uplift_through_cfes(cfe, B: sp.csr_matrix, ld) -> np.ndarray:
+    """Force vector (ndof,) of an :class:`~stepcontact.model.Uplift` with ``through="cfes"``:
+    W_k = A_k p(x_k) across each CFE of its interface, acting like a compressive normal force
+    s_w = [0; W] of the CFEs, whose load on the structure is −Bᵀ s_w (N, per unit λ)."""
+    k = cfe.of(ld.name)
+    p = np.asarray(ld.function()(cfe.x[k, 0], cfe.x[k, 1]), float) * np.ones(len(k))
+    if not np.all(np.isfinite(p)):
+        raise ModelError(f"uplift on interface '{ld.name}'", "pressure function gives NaN "
+                         "or inf")
+    return -(B[cfe.m + k].T @ (cfe.area[k] * p))
 
 
 def _reaction_rows(groups: list[tuple[str, np.ndarray]], ndof: int):

@@ -283,12 +283,22 @@ class Uplift:
     joint), so a foundation face longer than the dam's base is loaded only under the base.
     ``interface`` is an :class:`~stepcontact.model.Interface` or its name.  The uplift is a
     given load: it does not follow the opening of the joint.
+
+    ``through``: ``"faces"`` (default) integrates the pressure over each face's own mesh;
+    ``"cfes"`` applies it through the joint's CFEs, the force A_k p(x_k) across each CFE
+    (x_k its S+ end) pushing the two sides apart by the CFE's own force distribution, like a
+    compressive contact force.  Then a closed CFE's normal force drops by exactly A_k p (the
+    effective stress) whatever the meshes, and an open one is pushed apart by it; with
+    ``"faces"`` on non-matching meshes the two faces' nodal forces do not cancel CFE by CFE,
+    and a uniform uplift on a closed joint can open it locally.  Use ``"cfes"`` for joints
+    between non-matching meshes (the slab study does).
     """
 
     interface: Interface | str
     head: object = None
     pressure: object = None
     unit_weight: float = UNIT_WEIGHT_WATER
+    through: str = "faces"
 
     def __post_init__(self):
         name = self.interface if isinstance(self.interface, str) else self.interface.name
@@ -296,6 +306,8 @@ class Uplift:
         if (self.head is None) == (self.pressure is None):
             raise ModelError(item, "give either head (m of water) or pressure (Pa)")
         _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
+        if self.through not in ("faces", "cfes"):
+            raise ModelError(f"{item}.through", f"'{self.through}' is not 'faces' or 'cfes'")
         self.function()  # checks the spec
 
     @property

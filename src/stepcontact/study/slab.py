@@ -149,7 +149,9 @@ class Slab:
     compliant layer (eq. (11)), None for rigid contact.  ``top``, ``uplift``: the mean
     pressure on the top and in the joint, Pa (a number, a pair (upstream, downstream), or a
     function of the distance x from the upstream edge).  ``cells``: the slab's mesh (along,
-    through); the foundation's cells are ``soil_ratio`` times larger (non-matching meshes).
+    through); the foundation's cells are ``soil_ratio`` times the slab's (non-matching
+    meshes; below 1 so that the slab, the S+ side of the mortar CFEs, is the coarser side —
+    with S+ finer the mortar pressures oscillate, see the user guide).
     ``water_depth``: depth of water above the slab taken as added mass (m; 0: none).
 
     The slab's top stays at its level as the thickness changes (the basin's floor is set by
@@ -170,7 +172,7 @@ class Slab:
     top: Pressure = 0.0
     uplift: Pressure = 0.0
     cells: tuple[int, int] = (40, 4)
-    soil_ratio: float = 1.6
+    soil_ratio: float = 0.6
     water_depth: float = 0.0
     buoyancy: bool = True
 
@@ -232,11 +234,11 @@ def slab_model(slab: Slab, impulse: Impulse | None = None) -> Model:
         joint,
         LoadPattern("weight", [BodyForce(bodies=("slab",))]),
         LoadPattern("top", [EdgeLoad(top, normal=_pressure(slab.top, L, "slab.top"))]),
-        LoadPattern("uplift", [Uplift(JOINT, pressure=_uplift(slab))]),
+        LoadPattern("uplift", [Uplift(JOINT, pressure=_uplift(slab), through="cfes")]),
     ]
     if impulse is not None:
         f = impulse.pressure(L)
-        load = (Uplift(JOINT, pressure=f) if impulse.direction == "up"
+        load = (Uplift(JOINT, pressure=f, through="cfes") if impulse.direction == "up"
                 else EdgeLoad(top, normal=f))
         items.append(LoadPattern("impulse", [load]))
     items += [Segment("weight", 1.0),
