@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 
 import stepcontact as sc
-from stepcontact.study.sweep import ModelCase, grid, run_sweep, to_grid
+from stepcontact.study.studyfile import ModelCase
+from stepcontact.study.sweep import grid, run_sweep, to_grid
 
 OUTPUT = Path("friction-sweep-output")
 

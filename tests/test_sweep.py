@@ -17,6 +17,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from stepcontact.cli.commands import EXIT_ERROR, app
+from stepcontact.study import studyfile as sf
 from stepcontact.study import sweep as sw
 
 DEMO = Path(str(files("stepcontact") / "data" / "demo.toml"))
@@ -123,21 +124,21 @@ def test_parameter_paths_into_the_model_file():
     import tomllib
 
     doc = tomllib.loads(DEMO.read_text())
-    d = sw.apply_params(doc, {"interfaces.joint.friction": 0.3, "program.1.end": 7.0,
+    d = sf.apply_params(doc, {"interfaces.joint.friction": 0.3, "program.1.end": 7.0,
                               "materials.rock.E": 5e9, "model.thickness": 2.0})
     assert d["interfaces"][0]["friction"] == 0.3 and d["program"][1]["end"] == 7.0
     assert d["materials"]["rock"]["E"] == 5e9 and d["model"]["thickness"] == 2.0
     assert doc["interfaces"][0]["friction"] == 0.6  # a deep copy
     with pytest.raises(sw.StudyError, match=r"'interfaces.jont.friction'.*0 \('joint'\)"):
-        sw.apply_params(doc, {"interfaces.jont.friction": 0.3})
+        sf.apply_params(doc, {"interfaces.jont.friction": 0.3})
     with pytest.raises(sw.StudyError, match="no 'materialz'.*'model', 'materials'"):
-        sw.apply_params(doc, {"materialz.rock.E": 1.0})
+        sf.apply_params(doc, {"materialz.rock.E": 1.0})
     with pytest.raises(sw.StudyError, match="names a table"):
-        sw.apply_params(doc, {"materials.rock": 1.0})
+        sf.apply_params(doc, {"materials.rock": 1.0})
     with pytest.raises(sw.StudyError, match=r"'interfaces.joint.frction'.*unknown field"):
-        sw.check_params(doc, {"interfaces.joint.frction": 0.3})
+        sf.check_params(doc, {"interfaces.joint.frction": 0.3})
     with pytest.raises(sw.StudyError, match=r"'interfaces.joint.friction' = -1.*greater"):
-        sw.check_params(doc, {"interfaces.joint.friction": -1.0})
+        sf.check_params(doc, {"interfaces.joint.friction": -1.0})
 
 
 # --------------------------------------------------------------------------------------------
@@ -239,25 +240,25 @@ OUTPUTS = ["first_slip", "equilibrium_lost", "status", "events", "max_un", "max_
 
 def test_serial_pool_and_dask_give_the_same_dataset(tmp_path):
     distributed = pytest.importorskip("distributed")
-    study = sw.load_study(_study(tmp_path))
+    study = sf.load_study(_study(tmp_path))
     assert [c.id for c in study.cases][0] == "friction=0.4,normal=10000.0"
     times = {}
     results = {}
     for name, executor in (("serial", "serial"), ("process", "process")):
         t0 = time.perf_counter()
-        results[name] = sw.run_study(study, executor=executor, workers=2, progress=False,
+        results[name] = sf.run_study(study, executor=executor, workers=2, progress=False,
                                      rerun=True)
         times[name] = time.perf_counter() - t0
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   host="127.0.0.1", dashboard_address=None) as cluster:
         t0 = time.perf_counter()
-        results["dask"] = sw.run_study(study, executor=cluster.scheduler_address,
+        results["dask"] = sf.run_study(study, executor=cluster.scheduler_address,
                                        progress=False, rerun=True)
         times["dask"] = time.perf_counter() - t0
         # a Client of one's own: the case whose file is gone runs on the (warm) workers
         sw.case_path(study.store, study.cases[2]).unlink()
         with distributed.Client(cluster) as client:
-            results["client"] = sw.run_study(study, executor=client, progress=False)
+            results["client"] = sf.run_study(study, executor=client, progress=False)
     print("sweep wall times (s):", {k: round(v, 2) for k, v in times.items()})
     ref = results["serial"]
     assert list(ref.case_status.values) == ["ok"] * 4
@@ -274,17 +275,17 @@ def test_serial_pool_and_dask_give_the_same_dataset(tmp_path):
 def test_cases_sharing_a_mesh_reuse_the_condensation(tmp_path):
     text = STUDY.replace('"patterns.push.loads.0.normal" = [1.0e4, 2.0e4]\n', "").replace(
         "[study]\n", '[study]\noutputs = ["equilibrium_lost", "factorizations"]\n')
-    study = sw.load_study(_study(tmp_path, text=text))
-    sw.clear_condensation_cache()
-    ds = sw.run_study(study, executor="serial", progress=False)
+    study = sf.load_study(_study(tmp_path, text=text))
+    sf.clear_condensation_cache()
+    ds = sf.run_study(study, executor="serial", progress=False)
     assert list(ds.factorizations.values) == [1, 0]  # the second case did not refactorise
-    assert sw.condensation_cache_info() == {"hits": 1, "misses": 1, "size": 1}
+    assert sf.condensation_cache_info() == {"hits": 1, "misses": 1, "size": 1}
     # another mesh is another condensation
     mesh = sw.cases_from_list([{"bodies.block.nx": 8}])
     ds = sw.run_sweep(mesh, study.func, tmp_path / "mesh", executor="serial", progress=False)
     assert list(ds.factorizations.values) == [1]
-    assert sw.condensation_cache_info()["misses"] == 2
-    sw.clear_condensation_cache()
+    assert sf.condensation_cache_info()["misses"] == 2
+    sf.clear_condensation_cache()
 
 
 def test_a_dynamic_model_file_sweep(tmp_path):
@@ -294,10 +295,10 @@ def test_a_dynamic_model_file_sweep(tmp_path):
     (tmp_path / "study.toml").write_text(
         '[study]\nmodel = "dyn.toml"\n[[cases]]\n"dynamics.loads.0.amplitude" = 0.5\n'
         '[[cases]]\nid = "strong"\n"dynamics.loads.0.amplitude" = 3.0\n')
-    study = sw.load_study(tmp_path / "study.toml")
+    study = sf.load_study(tmp_path / "study.toml")
     assert study.store == tmp_path / "study"
-    assert set(sw.DYNAMIC_OUTPUTS) <= set(study.func.outputs)
-    ds = sw.run_study(study, executor="serial", progress=False)
+    assert set(sf.DYNAMIC_OUTPUTS) <= set(study.func.outputs)
+    ds = sf.run_study(study, executor="serial", progress=False)
     assert list(ds.case.values) == ["amplitude=0.5", "strong"]
     assert list(ds.case_status.values) == ["ok", "ok"]
     assert list(ds.dynamic_status.values) == ["completed", "completed"]
