@@ -49,18 +49,30 @@ _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displ
           "plot_event_timeline", "plot_safety", "plot_time_history", "plot_energy")
 
 
+#: the studies' public names (:mod:`stepcontact.study`), imported on first use
+_STUDY = {"run_sweep": "sweep", "grid": "sweep", "cases_from_list": "sweep",
+          "collect": "sweep", "to_grid": "sweep", "BasinStudy": "basin", "run_basin": "basin",
+          "Slab": "slab", "Impulse": "slab", "limit_thickness": "slab",
+          "hydraulic_jump": "hydraulics"}
+
+
 def __getattr__(name: str):
-    """Figures are imported on first use (matplotlib is slow to import)."""
+    """Figures (matplotlib is slow to import) and the studies are imported on first use."""
     if name in _PLOTS:
         from stepcontact.post import plotting
 
         return getattr(plotting, name)
+    if name in _STUDY:
+        import importlib
+
+        return getattr(importlib.import_module(f"stepcontact.study.{_STUDY[name]}"), name)
     raise AttributeError(f"module 'stepcontact' has no attribute '{name}'")
 
 
 __version__ = "0.1.0"
 
 __all__ = [
+    *_STUDY,
     "MeshFile",
     "demo_model",
     "load_model",

@@ -1,5 +1,5 @@
 """Command line: ``stepcontact run MODEL.toml``, ``stepcontact demo``, ``stepcontact validate``,
-``stepcontact sweep STUDY.toml``.
+``stepcontact sweep STUDY.toml``, ``stepcontact study slab``.
 
 The CLI sits at the end of the data flow (model file -> model -> solver -> result -> files) and
 only wires those pieces together; the progress bar is a solver hook.  Bad input never shows a
@@ -16,6 +16,7 @@ Example
     $ stepcontact run dam.toml -o dam.nc --plot dam.png --lam 1.5 --lam 2.0
     $ stepcontact run dam.toml --json --quiet     # machine-readable summary on stdout
     $ stepcontact sweep friction.toml --workers 4  # a parameter sweep (docs/sweeps.md)
+    $ stepcontact study slab --quick -o slab-quick  # the stilling-basin slab (docs/slab-study.md)
     $ stepcontact demo -o demo-out
 """
 
@@ -751,7 +752,8 @@ def sweep(
 
         stepcontact sweep friction.toml --serial --rerun --json
     """
-    from stepcontact.study.sweep import StudyError, load_study, run_study
+    from stepcontact.study.studyfile import load_study, run_study
+    from stepcontact.study.sweep import StudyError
 
     console = Console(highlight=False, soft_wrap=True)
     try:
@@ -809,6 +811,134 @@ def sweep(
     if not as_json:
         console.print(Text(f"written: {path}", style="green"))
     if failed or unresolved:
+        raise typer.Exit(EXIT_UNRESOLVED)
+
+
+STUDIES = ("slab",)
+
+
+@app.command()
+def study(
+    name: Annotated[str, typer.Argument(metavar="STUDY", help="The study: slab (the "
+                                        "stilling-basin slab of the article, Figs. 4–5).")],
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Directory of the study: the cases, their "
+                           "result files, the dataset, the figures and the report.")
+    ] = Path("slab-study"),
+    quick: Annotated[
+        bool, typer.Option("--quick", help="A coarse version (three positions, one duration, "
+                           "a coarse mesh and tolerance): minutes instead of an hour.")
+    ] = False,
+    E0: Annotated[
+        float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
+                                   "(default 25).")
+    ] = None,
+    h_kr: Annotated[
+        float | None, typer.Option("--h-kr", min=0.0, help="Critical depth of the design "
+                                   "unit discharge, m (default 3.48).")
+    ] = None,
+    amplitude: Annotated[
+        float | None, typer.Option("--amplitude", min=0.0, help="Impulse amplitude as a "
+                                   "fraction of the velocity head ρV1²/2 (default 0.4).")
+    ] = None,
+    positions: Annotated[
+        list[float] | None, typer.Option("--position", help="Impulse position x/L_p "
+                                         "(repeatable; default 0.05 … 0.95).")
+    ] = None,
+    durations: Annotated[
+        list[float] | None, typer.Option("--duration", help="Impulse duration, s "
+                                         "(repeatable; default 0.1 and 1).")
+    ] = None,
+    friction: Annotated[
+        float | None, typer.Option("--friction", min=0.0, help="Friction coefficient of "
+                                   "the slab's base (default 0.6).")
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option("--scheduler", metavar="ADDRESS", help="Run the cases on a "
+                     "dask.distributed cluster (its scheduler's address)."),
+    ] = None,
+    workers: Annotated[
+        int | None, typer.Option("--workers", "-w", min=1, help="Processes of the local pool "
+                                 "(default: the CPU cores available).")
+    ] = None,
+    serial: Annotated[
+        bool, typer.Option("--serial", help="Run the cases one after another in this process.")
+    ] = False,
+    rerun: Annotated[
+        bool, typer.Option("--rerun", help="Run every case again, also those already done.")
+    ] = False,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No progress bar and no tables.")
+    ] = False,
+) -> None:
+    """Run a ready-made study and write its figures and report. See docs/slab-study.md.
+
+    slab: the limit thickness of a stilling-basin slab (apron) on its soil foundation against
+    the position of a pressure impulse (the article's Fig. 5), beside the static-only limit,
+    with the contact stresses just before lift-off (Fig. 4), a table of all cases and the
+    design formulas for the same inputs; every case is one case of a sweep (resumable: a
+    rerun skips the finished cases).
+
+    Examples:
+
+        stepcontact study slab --quick -o slab-quick
+
+        stepcontact study slab --E0 30 --amplitude 0.3 --workers 4
+
+        stepcontact study slab --scheduler tcp://10.0.0.5:8786
+    """
+    import dataclasses
+
+    from stepcontact.study import basin
+
+    console = Console(highlight=False, soft_wrap=True)
+    try:
+        if name not in STUDIES:
+            raise _Failure(f"unknown study '{name}' (known: {', '.join(STUDIES)})")
+        if serial and scheduler is not None:
+            raise _Failure("give either --serial or --scheduler, not both")
+        changes = {k: v for k, v in (("E0", E0), ("h_kr", h_kr), ("amplitude", amplitude),
+                                     ("friction", friction)) if v is not None}
+        if positions:
+            changes["positions"] = tuple(positions)
+        if durations:
+            changes["durations"] = tuple(durations)
+        try:
+            st = (basin.quick(**changes) if quick
+                  else dataclasses.replace(basin.BasinStudy(), **changes))
+        except StepContactError as e:
+            raise _Failure(_error_text(e)) from None
+        executor = "serial" if serial else scheduler if scheduler is not None else "process"
+        try:
+            ds = basin.run_basin(st, output, executor=executor, workers=workers,
+                                 progress=not quiet, rerun=rerun)
+        except (StepContactError, OSError, TimeoutError) as e:
+            raise _Failure(_error_text(e)) from None
+    except _Failure as e:
+        raise _fail(str(e), False) from None
+    from stepcontact.study.report import write_report
+
+    files = write_report(ds, st, output / "report")
+    failed = [i for i, cs in enumerate(ds["case_status"].values) if cs != "ok"]
+    if not quiet:
+        console.print(sweep_table(ds, ["h_limit", "h_ratio", "mode", "when", "runs"],
+                                  f"slab study: {ds.sizes['case']} cases (h in m, h_kr = "
+                                  f"{st.h_kr:g} m), {len(failed)} failed"))
+        table = Table(title="the study's limits beside the design formulas", box=box.SIMPLE_HEAD,
+                      title_justify="left")
+        for col in ("", "thickness, m", "h/h_kr", "note"):
+            table.add_column(col, justify="right" if col.startswith(("th", "h/")) else "left")
+        for label, h, note in basin.design_table(st, ds):
+            table.add_row(label, f"{h:.2f}", f"{h / st.h_kr:.2f}", note)
+        console.print(table)
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    for i in failed:
+        err.print(Text(f"failed: {ds['case'].values[i]}: {ds['case_message'].values[i]}",
+                       style="red"))
+    for f in files.values():
+        console.print(Text(f"written: {f}", style="green"))
+    if failed:
         raise typer.Exit(EXIT_UNRESOLVED)
 
 

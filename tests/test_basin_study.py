@@ -1,0 +1,107 @@
+"""The stilling-basin study end to end on a tiny configuration: the hydraulic loads, the cases
+as a resumable sweep, the physics of the answers, the design table and the command line."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from stepcontact.cli import app
+from stepcontact.errors import ModelError
+from stepcontact.study import basin as B
+from stepcontact.study import hydraulics as hy
+
+TINY = dict(cells=(10, 2), positions=(0.5,), directions=("up",), durations=(0.2,),
+            steps=10, tol=0.1)
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    st = B.quick(**TINY)
+    store = tmp_path_factory.mktemp("basin")
+    return st, store, B.run_basin(st, store, executor="serial", progress=False)
+
+
+def test_the_study_finds_each_cases_limit_and_the_impulse_needs_more(tiny):
+    st, store, ds = tiny
+    assert list(ds["case_status"].values) == ["ok", "ok"]
+    kind = ds["kind"].values.astype(str)
+    h = dict(zip(kind, ds["h_limit"].values, strict=True))
+    # the static deficit of the jump needs a real slab; an upward impulse on top of it more
+    assert 0.2 * st.h_kr < h["static"] < 3 * st.h_kr
+    assert h["impulse"] >= h["static"] - st.tol
+    assert np.allclose(ds["h_ratio"].values, ds["h_limit"].values / st.h_kr)
+    # each limit is bracketed by a failing slab within the tolerance
+    assert np.all(ds["h_limit"].values - ds["h_failing"].values <= st.tol + 1e-12)
+    # the static case fails by lift-off near the upstream edge (the jump's deficit is largest
+    # at the toe): just before it, a CFE in the upstream third carries nearly nothing while
+    # the rest of the base is compressed (compression negative; the end CFE at the slab's
+    # corner carries the corner's concentrated force)
+    i = int(np.flatnonzero(kind == "static")[0])
+    assert ds["mode"].values[i] == "lift-off"
+    sn = ds["sigma_n"].values[i]
+    x = ds["x"].values[i]
+    assert x[0] == pytest.approx(0.0, abs=1e-9) and np.all(np.diff(x) > 0)
+    assert np.all(sn <= 1e-6 * np.abs(sn).max())
+    k = int(np.argmin(np.abs(sn)))
+    assert x[k] < st.length / 3 and abs(sn[k]) < 0.05 * np.abs(sn).max()
+    # every case kept its run at the failing thickness
+    for case in ds["case"].values:
+        assert (store / "results" / f"{case}.nc").is_file()
+
+
+def test_a_second_run_of_the_study_runs_nothing_again(tiny):
+    st, store, ds = tiny
+    stamps = {p: p.stat().st_mtime_ns for p in (store / "cases").glob("*.nc")}
+    again = B.run_basin(st, store, executor="serial", progress=False)
+    assert {p: p.stat().st_mtime_ns for p in (store / "cases").glob("*.nc")} == stamps
+    assert np.array_equal(again["h_limit"].values, ds["h_limit"].values)
+
+
+def test_the_design_table_beside_the_formulas():
+    st = B.BasinStudy()
+    rows = {name: h for name, h, _ in B.design_table(st)}
+    jump = st.jump
+    # Fiorotto–Rinaldo with the reference case's coefficients: 1.86 m (docs/slab-hydraulics)
+    fr = rows["Fiorotto & Rinaldo (1992), Ω = 0.15, C⁺p + C⁻p = 0.8"]
+    assert fr == pytest.approx(0.15 * 0.8 * jump.velocity_head * hy.GAMMA_W
+                               / (2400 * 9.81 - hy.GAMMA_W), rel=1e-12)
+    assert fr == pytest.approx(1.86, abs=0.01)
+    # flotation: the thickness grows in proportion to the required safety factor
+    usual = rows["USACE flotation, SF = 1.3 (usual)"]
+    extreme = rows["USACE flotation, SF = 1.1 (extreme)"]
+    assert usual / extreme == pytest.approx(1.3 / 1.1, rel=1e-12)
+    # and is the thickness whose submerged weight is SF times the mean profile's net uplift
+    x = np.linspace(0, st.length, 20001)
+    net = hy.base_uplift(jump, x) - hy.top_pressure(jump, x)
+    resultant = float(np.sum(0.5 * (net[1:] + net[:-1]) * np.diff(x)))  # N/m
+    assert usual * (2400 * 9.81 - hy.GAMMA_W) * st.length == pytest.approx(1.3 * resultant,
+                                                                           rel=1e-6)
+    assert rows["Dombrovsky, t = 0.15 V1 √h1"] == pytest.approx(3.07, abs=0.01)
+
+
+def test_bad_study_inputs_name_the_field():
+    for bad, item in ((dict(criterion="cracks"), "criterion"), (dict(amplitude=-1.0),
+                      "amplitude"), (dict(directions=("sideways",)), "directions"),
+                      (dict(E0=1.0), "E0"), (dict(steps=2), "steps")):
+        with pytest.raises(ModelError, match=item):
+            dataclasses.replace(B.BasinStudy(), **bad)
+
+
+def test_the_study_command(tmp_path):
+    runner = CliRunner()
+    out = tmp_path / "study"
+    r = runner.invoke(app, ["study", "slab", "--quick", "--position", "0.5", "--duration",
+                            "0.2", "-o", str(out), "--serial", "--quiet"],
+                      env={"COLUMNS": "200", **os.environ})
+    assert r.exit_code == 0, r.output
+    assert (out / "sweep.nc").is_file()
+    assert (out / "report" / "report.md").is_file()
+    assert (out / "report" / "report.html").is_file()
+    bad = runner.invoke(app, ["study", "dam", "-o", str(tmp_path / "x")])
+    assert bad.exit_code == 2
+    assert "unknown study 'dam'" in bad.output and "Traceback" not in bad.output
