@@ -127,6 +127,15 @@ def test_the_model_of_the_slab_and_bad_inputs():
     assert fy["top"] == pytest.approx(-10e3 * 12, rel=1e-12)
     assert fy["uplift"] == pytest.approx(0.0, abs=1e-6)  # both faces: equal and opposite
     assert fy["impulse"] == pytest.approx(-3.0, rel=0.35)  # 1 Pa on a 3 m footprint (mesh)
+    # the water above as added mass: ρ_w · depth per unit area of the top, vertical only
+    from stepcontact.study.slab import _added_mass
+
+    dry = _added_mass(system, dataclasses.replace(slab, water_depth=0.0)).diagonal()
+    wet = _added_mass(system, slab).diagonal()
+    ydof = system.dofs.of[:, 1][system.dofs.of[:, 1] >= 0]
+    xdof = system.dofs.of[:, 0][system.dofs.of[:, 0] >= 0]
+    assert (wet - dry)[ydof].sum() == pytest.approx(1000.0 * 5.0 * 12.0, rel=1e-12)
+    assert np.array_equal(wet[xdof], dry[xdof])
     for bad, item in ((dict(thickness=-1.0), "slab.thickness"),
                       (dict(friction=-0.1), "slab.friction"),
                       (dict(uplift="high"), "slab.uplift"),

@@ -52,7 +52,8 @@ class BasinStudy:
     (formula of :func:`~stepcontact.study.hydraulics.jump_length`), ``slab_factor``
     (L_p = factor · L_j), ``residual_head`` (m of seepage head in the joint beyond the
     tailwater).  Slab and foundation: ``concrete``, ``soil``, ``soil_depth`` (m, default
-    L_p/2), ``friction``, ``layer``, ``cells`` (along, through the slab).  Impulses:
+    L_p/2), ``friction``, ``layer``, ``cells`` (along, through the slab), ``added_mass``
+    (the tailwater depth h2 of water above the slab moves with it in the response).  Impulses:
     ``positions`` (x/L_p of the footprint's centre), ``directions``, ``durations`` (s),
     ``amplitude`` (fraction of ρ_w V1²/2), ``footprint`` (m), ``shape``.  Search: ``tol`` (m),
     ``h0`` (m, first trial), ``criterion``, ``no_slip``, ``steps`` (time steps per impulse
@@ -70,6 +71,7 @@ class BasinStudy:
     friction: float = 0.6
     layer: ContactLayer | None = None
     cells: tuple[int, int] = (40, 4)
+    added_mass: bool = False
     positions: tuple[float, ...] = (0.05, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95)
     directions: tuple[str, ...] = DIRECTIONS
     durations: tuple[float, ...] = (0.1, 1.0)
@@ -115,7 +117,8 @@ class BasinStudy:
         uplift = _JointPressure(jump, self.residual_head)
         return Slab(length=L, thickness=h, concrete=self.concrete, soil=self.soil,
                     soil_depth=self.soil_depth, friction=self.friction, layer=self.layer,
-                    top=top, uplift=uplift, cells=self.cells)
+                    top=top, uplift=uplift, cells=self.cells,
+                    water_depth=jump.h2 if self.added_mass else 0.0)
 
     def impulse(self, position: float, direction: str, duration: float) -> Impulse:
         return Impulse(position, hy.impulse_amplitude(self.jump, self.amplitude), duration,
