@@ -25,8 +25,8 @@ from stepcontact.study import basin
 from stepcontact.study.report import write_report
 from stepcontact.study.slab import slab_model
 
-study = basin.quick(positions=(0.2,), directions=("up",), durations=(0.5,), cells=(16, 2),
-                    tol=0.05, steps=20)
+study = basin.quick(positions=(0.2,), directions=("up",), durations=(0.5,), cells=(12, 2),
+                    tol=0.1, steps=12)
 jump = study.jump
 print(f"hydraulics: q = {jump.q:.2f} m²/s, h1 = {jump.h1:.3f} m, V1 = {jump.V1:.2f} m/s, "
       f"Fr1 = {jump.Fr1:.2f}, h2 = {jump.h2:.2f} m, L_j = L_p = {study.length:.1f} m "

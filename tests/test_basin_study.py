@@ -87,21 +87,31 @@ def test_the_design_table_beside_the_formulas():
 def test_bad_study_inputs_name_the_field():
     for bad, item in ((dict(criterion="cracks"), "criterion"), (dict(amplitude=-1.0),
                       "amplitude"), (dict(directions=("sideways",)), "directions"),
-                      (dict(E0=1.0), "E0"), (dict(steps=2), "steps")):
+                      (dict(E0=1.0), "E0"), (dict(steps=2), "steps"),
+                      (dict(positions=(0.5, 1.5)), "positions"),
+                      (dict(durations=(0.0,)), "durations")):
         with pytest.raises(ModelError, match=item):
             dataclasses.replace(B.BasinStudy(), **bad)
 
 
-def test_the_study_command(tmp_path):
+def test_the_study_command(tiny, tmp_path, monkeypatch):
+    st, store, ds = tiny
+    # the command on the study of the fixture (its --quick study replaced by the tiny one):
+    # the cases are done, so it resumes them and writes the report
+    monkeypatch.setattr(B, "quick", lambda **changes: st)
+    stamps = {p: p.stat().st_mtime_ns for p in (store / "cases").glob("*.nc")}
     runner = CliRunner()
-    out = tmp_path / "study"
     r = runner.invoke(app, ["study", "slab", "--quick", "--position", "0.5", "--duration",
-                            "0.2", "-o", str(out), "--serial", "--quiet"],
+                            "0.2", "-o", str(store), "--serial"],
                       env={"COLUMNS": "200", **os.environ})
     assert r.exit_code == 0, r.output
-    assert (out / "sweep.nc").is_file()
-    assert (out / "report" / "report.md").is_file()
-    assert (out / "report" / "report.html").is_file()
+    assert {p: p.stat().st_mtime_ns for p in (store / "cases").glob("*.nc")} == stamps
+    for case in ds["case"].values:  # the table of cases
+        assert str(case) in r.output
+    assert "Fiorotto & Rinaldo" in r.output
+    assert (store / "report" / "report.md").is_file()
+    assert (store / "report" / "report.html").is_file()
+    assert (store / "report" / "figures" / "limits.png").stat().st_size > 0
     bad = runner.invoke(app, ["study", "dam", "-o", str(tmp_path / "x")])
     assert bad.exit_code == 2
     assert "unknown study 'dam'" in bad.output and "Traceback" not in bad.output

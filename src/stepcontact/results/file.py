@@ -46,7 +46,6 @@ import json
 import os
 import re
 import time
-import uuid
 from enum import Enum
 from pathlib import Path
 from typing import Any
@@ -56,6 +55,7 @@ import xarray as xr
 
 from stepcontact import enums as _enums
 from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.io.atomic import write_netcdf
 from stepcontact.results.result import Event, Multipliers, StaticResult
 
 FORMAT = "stepcontact-static-result"
@@ -730,16 +730,7 @@ def save_result(res: StaticResult, path: str | os.PathLike[str]) -> Path:
     if path.exists() and path.is_dir():
         raise IsADirectoryError(f"path '{path}' is a directory, expected a result file name")
     ds = result_to_dataset(res)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
-    try:
-        ds.to_netcdf(tmp, engine="h5netcdf")
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    write_netcdf(ds, path)
     return path
 
 

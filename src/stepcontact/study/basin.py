@@ -96,6 +96,10 @@ class BasinStudy:
             v = getattr(self, key)
             if not (np.isfinite(v) and v > 0):
                 raise ModelError(key, f"must be positive, got {v}")
+        if not all(0.0 <= p <= 1.0 for p in self.positions):
+            raise ModelError("positions", f"are x/L_p, in [0, 1]; got {self.positions}")
+        if not all(np.isfinite(t) and t > 0 for t in self.durations):
+            raise ModelError("durations", f"must be positive (s), got {self.durations}")
         if self.steps < 4:
             raise ModelError("steps", f"give at least 4 time steps per impulse, got {self.steps}")
         _ = self.jump  # the hydraulics check their inputs

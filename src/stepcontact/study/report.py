@@ -30,7 +30,6 @@ import datetime
 import html
 import math
 import os
-import uuid
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -39,6 +38,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from stepcontact.io.atomic import write_text
 from stepcontact.post.plotting import DPI, _check_path, _new_figure, _save
 from stepcontact.study import hydraulics as hy
 from stepcontact.study.basin import BasinStudy, design_table, envelope
@@ -716,15 +716,8 @@ def _to_html(title: str, blocks: Sequence[_Block]) -> str:
 
 
 def _write_text(path: Path, text: str) -> None:
-    """Write ``text`` (UTF-8) atomically: a temporary file beside ``path``, renamed."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    """Write ``text`` (UTF-8) atomically."""
+    write_text(path, text)
 
 
 def write_report(ds: xr.Dataset, study: BasinStudy, out_dir: str | os.PathLike[str], *,

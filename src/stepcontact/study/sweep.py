@@ -48,6 +48,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from stepcontact.errors import StepContactError
+from stepcontact.io.atomic import write_netcdf, write_text
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -317,26 +318,11 @@ def _run_case(func: Callable[[dict[str, Scalar]], Mapping[str, Output]], case: C
 # the store: case files, manifest, collected dataset
 # --------------------------------------------------------------------------------------------
 def _atomic_netcdf(ds: xr.Dataset, path: Path) -> None:
-    """Write ``ds`` to a temporary file next to ``path``, then replace ``path``."""
-    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
-    try:
-        ds.to_netcdf(tmp, engine="h5netcdf")
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    write_netcdf(ds, path)
 
 
 def _atomic_text(text: str, path: Path) -> None:
-    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex}.tmp")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    write_text(path, text)
 
 
 def case_path(store: str | os.PathLike[str], case: Case | str) -> Path:
@@ -671,8 +657,11 @@ def run_sweep(
         if not todo:
             pass
         elif executor == "serial":
-            for c in todo:
-                finish(_run_case(func, c, retries))
+            from threadpoolctl import threadpool_limits
+
+            with threadpool_limits(limits=1):  # as in a worker: one thread per case
+                for c in todo:
+                    finish(_run_case(func, c, retries))
         elif executor == "process":
             _run_pool(func, todo, retries, n_workers, finish)
         else:
