@@ -84,6 +84,17 @@ def test_the_design_table_beside_the_formulas():
     assert rows["Dombrovsky, t = 0.15 V1 √h1"] == pytest.approx(3.07, abs=0.01)
 
 
+def test_a_compliant_layer_from_the_soil_and_joints_at_the_ends():
+    st = B.BasinStudy(layer_thickness=0.5, end_joints=0.4)
+    slab = st.slab(2.0)
+    kn, kt = slab.layer.stiffness_per_area("layer")
+    E, nu = st.soil.E, st.soil.nu
+    assert kn == pytest.approx(E / ((1 - nu**2) * 0.5), rel=1e-12)  # eq. (11): C_n/A
+    assert kt == pytest.approx(E / (2 * (1 + nu) * 0.5), rel=1e-12)
+    assert slab.end_joints == 0.4
+    assert B.BasinStudy().slab(2.0).layer is None
+
+
 def test_bad_study_inputs_name_the_field():
     for bad, item in ((dict(criterion="cracks"), "criterion"), (dict(amplitude=-1.0),
                       "amplitude"), (dict(directions=("sideways",)), "directions"),

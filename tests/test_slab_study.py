@@ -66,6 +66,22 @@ def _sdof_limit(dp: float, impulse: Impulse, kn: float, T_end: float) -> float:
     return brentq(excess, 0.5, 5.0, xtol=1e-6)
 
 
+def test_joints_against_the_neighbours_hold_the_ends_but_not_the_uplift():
+    dp = 25.5e3
+    free = Slab(length=20.0, thickness=1.0, cells=(20, 2), uplift=dp)
+    exact = dp / free.net_unit_weight
+    walls = dataclasses.replace(free, end_joints=0.0)
+    m = slab_model(walls)
+    assert [i.name for i in m.interfaces] == ["upstream", "downstream", "base"]
+    # frictionless end joints push only horizontally: the slab floats at the same thickness
+    lim = limit_thickness(walls, tol=1e-3, criterion="separation")
+    assert lim.failing < exact <= lim.passing + 1e-12
+    # with friction they can only hold it down more
+    rough = limit_thickness(dataclasses.replace(free, end_joints=0.6), tol=1e-3,
+                            criterion="separation")
+    assert rough.passing >= lim.failing
+
+
 def test_a_pulse_of_uplift_lifts_the_slab_as_a_spring_mass_system_predicts():
     dp, kn = 20e3, 50e6
     slab = Slab(length=20.0, thickness=2.0, concrete=sc.Material(300e9, 0.2, 2400.0),
@@ -144,7 +160,8 @@ def test_the_model_of_the_slab_and_bad_inputs():
     for bad, item in ((dict(thickness=-1.0), "slab.thickness"),
                       (dict(friction=-0.1), "slab.friction"),
                       (dict(uplift="high"), "slab.uplift"),
-                      (dict(cells=(0, 2)), "slab.cells")):
+                      (dict(cells=(0, 2)), "slab.cells"),
+                      (dict(end_joints=-0.5), "slab.end_joints")):
         with pytest.raises(ModelError, match=item.replace(".", r"\.")):
             dataclasses.replace(slab, **bad)
     with pytest.raises(ModelError, match="impulse.direction"):

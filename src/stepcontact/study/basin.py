@@ -53,7 +53,10 @@ class BasinStudy:
     (L_p = factor · L_j), ``residual_head`` (m of seepage head in the joint beyond the
     tailwater).  Slab and foundation: ``concrete``, ``soil``, ``soil_depth`` (m, default
     L_p/2), ``friction``, ``layer``, ``cells`` (along, through the slab), ``added_mass``
-    (the tailwater depth h2 of water above the slab moves with it in the response).  Impulses:
+    (the tailwater depth h2 of water above the slab moves with it in the response),
+    ``layer_thickness`` (m: a compliant layer of the soil's E and ν that thick in the joint,
+    eq. (11), when ``layer`` is not given), ``end_joints`` (friction of the joints against the
+    neighbouring slabs, taken as rigid; None: free ends).  Impulses:
     ``positions`` (x/L_p of the footprint's centre), ``directions``, ``durations`` (s),
     ``amplitude`` (fraction of ρ_w V1²/2), ``footprint`` (m), ``shape``.  Search: ``tol`` (m),
     ``h0`` (m, first trial), ``criterion``, ``no_slip``, ``steps`` (time steps per impulse
@@ -72,6 +75,8 @@ class BasinStudy:
     layer: ContactLayer | None = None
     cells: tuple[int, int] = (40, 4)
     added_mass: bool = False
+    layer_thickness: float | None = None
+    end_joints: float | None = None
     positions: tuple[float, ...] = (0.05, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95)
     directions: tuple[str, ...] = DIRECTIONS
     durations: tuple[float, ...] = (0.1, 1.0)
@@ -119,8 +124,12 @@ class BasinStudy:
         h = self.h_kr * 0.5 if thickness is None else float(thickness)
         top = _TopPressure(jump)
         uplift = _JointPressure(jump, self.residual_head)
+        layer = self.layer
+        if layer is None and self.layer_thickness is not None:
+            layer = ContactLayer(thickness=self.layer_thickness, E=self.soil.E, nu=self.soil.nu)
         return Slab(length=L, thickness=h, concrete=self.concrete, soil=self.soil,
-                    soil_depth=self.soil_depth, friction=self.friction, layer=self.layer,
+                    soil_depth=self.soil_depth, friction=self.friction, layer=layer,
+                    end_joints=self.end_joints,
                     top=top, uplift=uplift, cells=self.cells,
                     water_depth=jump.h2 if self.added_mass else 0.0)
 

@@ -159,6 +159,11 @@ class Slab:
     referred to the top's level, and with ``buoyancy`` (default) the model adds γ_w h, the
     hydrostatic increase across the slab: the net uplift against the submerged weight
     (γ_c − γ_w) h is then ``uplift − top``.
+
+    ``end_joints`` (a friction coefficient, or None: none): the joints at the slab's ends,
+    against the neighbouring slabs (or the basin's walls) taken as rigid — interfaces
+    ``upstream`` and ``downstream`` with that friction, closed at zero gap, which hold the
+    slab's ends horizontally and resist their vertical slip by friction.
     """
 
     length: float = 40.0
@@ -175,6 +180,7 @@ class Slab:
     soil_ratio: float = 0.6
     water_depth: float = 0.0
     buoyancy: bool = True
+    end_joints: float | None = None
 
     def __post_init__(self):
         for key in ("length", "thickness"):
@@ -187,6 +193,10 @@ class Slab:
             raise ModelError("slab.concrete.density", "the slab needs a density (its weight)")
         if len(self.cells) != 2 or min(self.cells) < 1:
             raise ModelError("slab.cells", f"give (along, through) ≥ 1, got {self.cells}")
+        if self.end_joints is not None and not (np.isfinite(self.end_joints)
+                                                and self.end_joints >= 0):
+            raise ModelError("slab.end_joints", f"is a friction coefficient ≥ 0 (or None), "
+                             f"got {self.end_joints}")
         if self.water_depth < 0:
             raise ModelError("slab.water_depth", f"must be ≥ 0, got {self.water_depth}")
         _pressure(self.top, self.length, "slab.top")
@@ -230,6 +240,11 @@ def slab_model(slab: Slab, impulse: Impulse | None = None) -> Model:
     joint = Interface(JOINT, plus=bottom, minus=minus, friction=slab.friction,
                       layer=slab.layer)
     top = m.select("slab", y=h)
+    if slab.end_joints is not None:  # the neighbours as rigid walls, bodies between them
+        for name, x, side in (("upstream", 0.0, "right"), ("downstream", L, "left")):
+            wall = RigidObstacle(f"{name} neighbour", [(x, -h), (x, 2 * h)], side=side)
+            items.append(Interface(name, plus=m.select("slab", x=x), minus=wall,
+                                   friction=float(slab.end_joints)))
     items += [
         joint,
         LoadPattern("weight", [BodyForce(bodies=("slab",))]),
