@@ -252,3 +252,13 @@ def test_failed_case_section(study, tmp_path):
     assert "&lt;no convergence&gt;" in page and "<no convergence>" not in page
     row = [ln for ln in md.splitlines() if ln.startswith("| down-t1-x0.5 |")][0]
     assert row.endswith("| failed |") and "| — |" in row
+
+
+def test_every_input_of_the_study_is_described_in_the_report():
+    import dataclasses
+
+    from stepcontact.study import report
+    from stepcontact.study.basin import BasinStudy
+
+    missing = {f.name for f in dataclasses.fields(BasinStudy)} - set(report._FIELDS)
+    assert not missing, f"BasinStudy fields without a unit and meaning in the report: {missing}"

@@ -154,6 +154,11 @@ _FIELDS: dict[str, tuple[str, str]] = {
     "friction": ("–", "friction coefficient f of the joint"),
     "layer": ("", "compliant contact layer of the joint (eq. (11))"),
     "cells": ("–", "slab mesh: cells along, through the slab"),
+    "added_mass": ("–", "the tailwater depth h2 of water above the slab as added mass"),
+    "layer_thickness": ("m", "a compliant layer of the soil's E and ν this thick (no layer: "
+                        "rigid contact)"),
+    "end_joints": ("–", "friction of the joints against the neighbouring slabs (rigid); "
+                   "None: free ends"),
     "positions": ("x/L_p", "impulse positions (centre of the footprint)"),
     "directions": ("–", "impulse directions: up in the joint, down on the top"),
     "durations": ("s", "impulse durations"),
