@@ -682,16 +682,20 @@ def _run_pool(func: Callable, todo: list[Case], retries: int, workers: int,
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for fut in done:
                     case = pending.pop(fut)
-                    try:
-                        outcome = fut.result()
-                    except Exception as e:  # noqa: BLE001 - a dead worker, unpicklable data
-                        outcome = Outcome(case, STATUS_FAILED, {},
-                                          " ".join(f"{type(e).__name__}: {e}".split()))
-                    finish(outcome)
+                    finish(_outcome_of(fut, case))
         except BaseException:
             for fut in pending:
                 fut.cancel()
             raise
+
+
+def _outcome_of(fut: Any, case: Case) -> Outcome:
+    """The outcome a worker's future holds; a future that raises (a dead or lost worker,
+    unpicklable data) is a failed case with the error's message."""
+    try:
+        return fut.result()
+    except Exception as e:  # noqa: BLE001 - the sweep goes on
+        return Outcome(case, STATUS_FAILED, {}, " ".join(f"{type(e).__name__}: {e}".split()))
 
 
 def _run_dask(func: Callable, todo: list[Case], retries: int, executor: Any,
@@ -712,12 +716,7 @@ def _run_dask(func: Callable, todo: list[Case], retries: int, executor: Any,
                    for i, c in enumerate(todo)}
         for fut in distributed.as_completed(list(futures)):
             case = futures[fut]
-            try:
-                outcome = fut.result()
-            except Exception as e:  # noqa: BLE001 - a lost worker, unpicklable data
-                outcome = Outcome(case, STATUS_FAILED, {},
-                                  " ".join(f"{type(e).__name__}: {e}".split()))
-            finish(outcome)
+            finish(_outcome_of(fut, case))
             fut.release()
     finally:
         if own:
