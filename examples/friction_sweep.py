@@ -16,6 +16,7 @@ the friction coefficient to ``friction-sweep-output/first_slip.png``.
 Run:  python examples/friction_sweep.py
 """
 
+import runpy
 import tomllib
 from importlib.resources import files
 from pathlib import Path
@@ -27,25 +28,15 @@ from stepcontact.study.studyfile import ModelCase
 from stepcontact.study.sweep import grid, run_sweep, to_grid
 
 OUTPUT = Path("friction-sweep-output")
+# the model of block_on_base.py (its function, without running that script)
+block_model = runpy.run_path(str(Path(__file__).with_name("block_on_base.py")),
+                             run_name="block_on_base")["block_model"]
 
 
 def one_condensation() -> None:
     """The friction sweep and the two-pattern segment in this process, on one condensation."""
-    concrete = sc.Material(E=30e9, nu=0.2, density=2400)  # Pa, -, kg/m³
-    base = sc.rectangle("base", (0, 0), (4, 1), 16, 4, concrete)  # m
-    block = sc.rectangle("block", (1, 1), (3, 2), 10, 5, concrete)
-    m = sc.Model(bodies=[base, block], plane="strain", thickness=1.0, name="friction-sweep")
-    left = m.select("block", x=1)
-    m = m.add(
-        sc.Support("bed", m.select("base", y=0), "xy"),
-        sc.Interface("joint", plus=m.select("block", y=1), minus=m.select("base", y=1),
-                     friction=0.5),
-        sc.LoadPattern("weight", [sc.BodyForce(bodies=("block",))]),
-        sc.LoadPattern("push", [sc.NodalLoad(left, fx=1.0 / len(left))]),  # 1 N per unit λ
-        sc.LoadPattern("uplift", [sc.BodyForce(bodies=("block",), g=(0.0, 9.81))]),  # W/unit
-        sc.Segment("weight", 1.0),
-        sc.Segment("push", 1e6),
-    )
+    m = block_model().add(
+        sc.LoadPattern("uplift", [sc.BodyForce(bodies=("block",), g=(0.0, 9.81))]))  # W/unit
     W = 2 * 1 * 2400 * 9.81  # N per metre run
 
     c = sc.condense(m)  # one factorisation for the whole sweep
