@@ -30,11 +30,11 @@ RHO = 2400.0
 
 
 def dam_model(B=8.0, H=11.0, lam_end=1.0, crack=True, level_param=False, uplift=False,
-              nx=16):
+              nx=16, E=1e14):
     """A stiff rectangular block B × 12 m on a compliant layer on a rigid base (obstacle),
     weight then water on its upstream face (x = 0) to level H (or the level itself as the load
     parameter), with crack water entering at the heel."""
-    conc = sc.Material(E=1e14, nu=0.2, density=RHO)
+    conc = sc.Material(E=E, nu=0.2, density=RHO)
     dam = sc.rectangle("dam", (0, 0), (B, HEIGHT), nx, 24, conc)
     m = sc.Model(bodies=[dam])
     ground = sc.RigidObstacle("ground", [(-1.0, 0.0), (B + 1.0, 0.0)])
@@ -256,6 +256,27 @@ def test_bad_crack_water_inputs_name_the_item():
         sc.CrackWater("base", level=3.0, entry=(1.0,))
     with pytest.raises(ModelError, match="unit_weight"):
         sc.CrackWater("base", level=3.0, unit_weight=-1.0)
+    with pytest.raises(ModelError, match="not both"):
+        sc.CrackWater("base", level=3.0, pressure=1e4)
+    with pytest.raises(ModelError, match="entry"):
+        sc.CrackWater("base", pressure=1e4, entry=[(0.0, 0.0), (1.0,)])
+    two = sc.CrackWater("base", pressure=1e4, entry=[(0.0, 0.0), (8.0, 0.0)])
+    assert two.entry == ((0.0, 0.0), (8.0, 0.0)) and two.entries.shape == (2, 2)
+    np.testing.assert_array_equal(two.crack_pressure(np.array([0.0, 5.0])), [1e4, 1e4])
+
+
+def test_several_entries_wet_the_runs_joined_to_any_of_them():
+    """A crack from each end of the base (entries at heel and toe): runs of open CFEs joined
+    to either end are wet, an open CFE in between (not joined) stays dry."""
+    m = dam_model(nx=8, crack=False)
+    system = sc.assemble(m.replace(patterns=(*m.patterns, sc.LoadPattern("joint", [
+        sc.CrackWater("base", pressure=1.0, entry=[(0.0, 0.0), (8.0, 0.0)])]))))
+    crack = system.crack
+    order = np.argsort(system.cfe.x[:, 0])
+    states = np.full(system.m, int(sc.ContactState.STICK))
+    states[order[[0, 1, 4, 7, 8]]] = int(sc.ContactState.OPEN)
+    wet = crack.wet(states)
+    assert set(np.flatnonzero(wet[order])) == {0, 1, 7, 8}
 
 
 def test_model_file_crack_water(tmp_path):
@@ -321,6 +342,14 @@ end = 1.0
     wet = res.water[i] > 0
     assert wet.any()
     np.testing.assert_allclose(res.crack_pressure[i][wet], 88290.0, rtol=1e-8)
+    # a given pressure in the crack (the same 88 290 Pa), with entries as a list of points
+    f.write_text(text.replace('level = 9.0, entry = [0.0, 0.0]',
+                              'pressure = 88290.0, entry = [[0.0, 0.0], [4.0, 0.0]]'))
+    res2 = sc.solve_static(load_model(f))
+    np.testing.assert_allclose(res2.crack_pressure[-1][wet], 88290.0, rtol=1e-8)
+    f.write_text(text.replace('level = 9.0, entry', 'level = 9.0, pressure = 1.0, entry'))
+    with pytest.raises(ModelError, match="not both"):
+        load_model(f)
 
 
 def test_stress_diagram_draws_the_crack_pressure(crack_run):

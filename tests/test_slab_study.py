@@ -170,3 +170,39 @@ def test_the_model_of_the_slab_and_bad_inputs():
         Impulse(1.5, 1e3, 0.1)
     with pytest.raises(ModelError, match="criterion"):
         check(slab, criterion="cracks")
+
+
+def test_with_the_joints_pressure_in_the_gap_an_impulse_at_the_upstream_joint_lifts_the_slab():
+    """gap_pressure="joint": where the base has opened in a run from the upstream edge, the
+    pressure at the upstream joint (the mean uplift there, p₀, plus the impulse's pressure at
+    x = 0) acts in the gap instead of the uplift, following the opened length in time.  An
+    impulse under the upstream end opens the edge; the joint's pressure then lifts the whole
+    slab, which the uplift alone (falling from p₀ to p₁ downstream) does not."""
+    p0, p1, amp = 30e3, 5e3, 20e3
+    base = Slab(length=20.0, thickness=1.5, cells=(20, 2), soil=None,
+                layer=sc.ContactLayer(kn=2e8, kt=2e8), uplift=(p0, p1), buoyancy=False)
+    imp = Impulse(position=0.0, amplitude=amp, duration=0.2, footprint=4.0, direction="up")
+    held = check(base, imp, criterion="separation")
+    assert held.passes
+    slab = dataclasses.replace(base, gap_pressure="joint")
+    out = check(slab, imp, criterion="separation", keep=True)
+    assert not out.passes and out.lifted and out.phase == "dynamic"
+    res = out.result
+    g = imp.time_function()
+    wet = res.crack_pressure != 0  # (W = A (p_c − p_u) is 0 where p_c = p_u: at x = 0)
+    assert wet[-1].all()  # the whole base is open and wet: the slab is afloat
+    scale = float(np.abs(res.N).max())
+    for i in np.flatnonzero(wet.any(axis=1)):
+        np.testing.assert_allclose(res.crack_pressure[i][wet[i]], p0 + g(res.time[i]),
+                                   rtol=1e-9)
+        np.testing.assert_allclose(res.N[i][wet[i]], 0.0, atol=1e-12 * scale)
+        run = wet[i][np.argsort(res.cfe["x"][:, 0])]
+        assert run[0] and np.all(run[: run.sum()])  # a run from the upstream edge
+    # the model: crack water entering at the upstream edge, p₀ and the impulse's pressure
+    waters = {p.name: [ld for ld in p.loads if isinstance(ld, sc.CrackWater)]
+              for p in slab_model(slab, imp).patterns}
+    assert waters["uplift"][0].pressure == pytest.approx(p0)
+    assert waters["impulse"][0].pressure == 1.0 and waters["impulse"][0].entry == (0.0, 0.0)
+    assert not any(waters[n] for n in ("weight", "top"))
+    with pytest.raises(ModelError, match="slab.gap_pressure"):
+        dataclasses.replace(base, gap_pressure="tailwater")

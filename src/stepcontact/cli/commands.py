@@ -853,6 +853,12 @@ def study(
         float | None, typer.Option("--friction", min=0.0, help="Friction coefficient of "
                                    "the slab's base (default 0.6).")
     ] = None,
+    gap_pressure: Annotated[
+        str | None, typer.Option("--gap-pressure", metavar="uplift|joint", help="Pressure in "
+                                 "the opened joint: 'uplift' (default), or 'joint': the "
+                                 "pressure at the upstream joint, mean and impulse, in the gap "
+                                 "opened from there (Fiorotto & Rinaldo's mechanism).")
+    ] = None,
     scheduler: Annotated[
         str | None,
         typer.Option("--scheduler", metavar="ADDRESS", help="Run the cases on a "
@@ -899,7 +905,8 @@ def study(
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
         changes = {k: v for k, v in (("E0", E0), ("h_kr", h_kr), ("amplitude", amplitude),
-                                     ("friction", friction)) if v is not None}
+                                     ("friction", friction), ("gap_pressure", gap_pressure))
+                   if v is not None}
         if positions:
             changes["positions"] = tuple(positions)
         if durations:

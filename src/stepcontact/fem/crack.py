@@ -6,7 +6,8 @@ open CFEs), the water pushes the two faces apart with the force
 
     W_k = A_k (p_c,k − p_u,k)                                              (N)
 
-p_c the crack pressure γ_w max(h_w − y_k, 0) and p_u the uplift the model applies to that joint
+p_c the crack pressure γ_w max(h_w − y_k, 0) (or a given pressure, uniform in the crack: the
+pressure that reaches the gap through the joint) and p_u the uplift the model applies to that joint
 (:class:`~stepcontact.model.Uplift`, which acts whether the joint is open or not: in the
 crack, p_c replaces it).  W_k acts through the CFE's own force distribution, exactly like a
 compressive normal force across the gap: in the condensed equations it is a force
@@ -14,7 +15,9 @@ s_w = [0; W] added to the contact forces, ŵ + G (s + s_w − D ŵ) = Σ c ĥ (i
 structure is −Bᵀ s_w).  W is linear in the load factors (piecewise linear in a water level:
 it starts where the level passes the CFE), so between events it moves the path like any load;
 at an event that changes which CFEs are wet it jumps, and the static driver applies the jump
-at the same λ (:meth:`stepcontact.solver.static.StaticSolver._water_jump`).
+at the same λ (:meth:`stepcontact.solver.static.StaticSolver._water_jump`); the dynamic
+driver cuts the step where the wet set changes and applies the jump at that instant
+(``settle_water`` in :func:`stepcontact.solver.dynamic.solve_dynamic`).
 """
 
 from __future__ import annotations
@@ -48,9 +51,9 @@ class CrackWaterData:
         A_k, m².
     y : (m,) float
         Height of each CFE, m (where a moving level starts to load it).
-    runs : list of ((k,) int, int)
-        For each joint with an entry point: its CFEs in order along the joint and the position
-        in that order of the CFE nearest the entry.
+    runs : list of ((k,) int, (e,) int)
+        For each joint with entry points: its CFEs in order along the joint and the positions
+        in that order of the CFEs nearest the entries.
     """
 
     wettable: np.ndarray
@@ -59,16 +62,17 @@ class CrackWaterData:
     level: dict[str, np.ndarray]
     area: np.ndarray
     y: np.ndarray
-    runs: list[tuple[np.ndarray, int]]
+    runs: list[tuple[np.ndarray, np.ndarray]]
 
     def wet(self, states: np.ndarray) -> np.ndarray:
         """CFEs the water fills in the scheme ``states``: open, of a joint with crack water and
-        (joints with an entry point) joined to the entry by open CFEs."""
+        (joints with entry points) joined to an entry by open CFEs."""
         wet = self.wettable & (states == OPEN)
         for order, at in self.runs:
             op = wet[order]
             label = np.cumsum(~op)  # runs of open CFEs share a label
-            wet[order] = op & (label == label[at]) & op[at]
+            reached = label[at][op[at]]  # the runs that an open entry CFE belongs to
+            wet[order] = op & np.isin(label, reached)
         return wet
 
     def uplift_pressure(self, factors: dict[str, float]) -> np.ndarray:
@@ -141,9 +145,9 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
     crack: dict[str, np.ndarray] = {}
     uplift: dict[str, np.ndarray] = {}
     level: dict[str, np.ndarray] = {}
-    runs: list[tuple[np.ndarray, int]] = []
+    runs: list[tuple[np.ndarray, np.ndarray]] = []
     y = cfe.x[:, 1].copy() if m else np.zeros(0)
-    entries: dict[str, tuple[float, float] | None] = {}
+    entries: dict[str, tuple | None] = {}
     for pname, cw in items:
         item = f"load pattern '{pname}': crack water in interface '{cw.name}'"
         if cw.name not in names:
@@ -155,20 +159,23 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
             raise ModelError(item, "the joint's crack water is given twice with different "
                              "entry points")
         entries[cw.name] = cw.entry
-        if cw.level is None:
+        if cw.pressure is not None:
+            crack.setdefault(pname, np.zeros(m))[ks] += cw.pressure
+        elif cw.level is None:
             if pname not in levels:
                 raise ModelError(item, "level=None follows the water level of its pattern, but "
                                  "this pattern's factor is not a level (give the pattern a "
                                  "WaterLoad with level=None, or give the crack water a level)")
             level.setdefault(pname, np.zeros(m))[ks] += cw.unit_weight
         else:
-            crack.setdefault(pname, np.zeros(m))[ks] += cw.pressure(y[ks])
+            crack.setdefault(pname, np.zeros(m))[ks] += cw.crack_pressure(y[ks])
     for name, entry in entries.items():
         if entry is None:
             continue
         ks = np.flatnonzero(cfe.interface == names.index(name))
         order = ks[np.argsort(cfe.s[ks], kind="stable")]
-        at = int(np.argmin(np.hypot(*(cfe.x[order] - np.asarray(entry)).T)))
+        points = np.atleast_2d(np.asarray(entry, float))
+        at = np.array([int(np.argmin(np.hypot(*(cfe.x[order] - pt).T))) for pt in points])
         runs.append((order, at))
     # in the crack, the crack pressure replaces the uplift given for the joint
     for p in model.patterns:

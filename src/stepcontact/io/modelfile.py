@@ -738,9 +738,18 @@ class CrackWaterSpec(_Spec):
                                 "omitted: the pattern's factor is the level (a pattern with a "
                                 "water load without a level)")
     unit_weight: float = Field(9810.0, gt=0, description="unit weight of water γ_w, N/m³")
-    entry: Point | None = Field(None, description="where the water reaches the joint (the "
-                                "heel), m: only open CFEs joined to it by open CFEs are wet; "
-                                "omitted: every open CFE")
+    pressure: float | None = Field(None, description="pressure in the crack, Pa per unit "
+                                   "factor, uniform (the pressure that reaches the gap through "
+                                   "the joint), instead of a level")
+    entry: Point | list[Point] | None = Field(
+        None, description="where the water reaches the joint (the heel), m, or a list of such "
+        "points: only open CFEs joined to one by open CFEs are wet; omitted: every open CFE")
+
+    @model_validator(mode="after")
+    def _level_or_pressure(self) -> CrackWaterSpec:
+        if self.level is not None and self.pressure is not None:
+            raise ValueError("give the water level or the pressure in the crack, not both")
+        return self
 
 
 class DisplacementLoad(_Spec):
@@ -1426,7 +1435,8 @@ class _Builder:
                     found = [i for i in interfaces if i.name == ld.interface]
                     if found:
                         loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
-                                                None if ld.entry is None else tuple(ld.entry)))
+                                                None if ld.entry is None else tuple(ld.entry),
+                                                ld.pressure))
                 elif isinstance(ld, ObstacleMotionLoad):
                     if ld.obstacle in obstacles:
                         loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,

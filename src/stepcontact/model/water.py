@@ -365,26 +365,52 @@ class CrackWater:
     with ``level=None`` the pattern's factor is the level itself (a pattern that moves a
     water level, :class:`WaterLoad` with ``level=None``).
 
+    ``pressure`` (Pa per unit λ), instead of a level: the pressure that reaches the gap
+    through the joint, uniform in the crack (the pressure at the joint's entry: a stilling-basin
+    slab's joint under the flow, whose pattern a time function makes fluctuate in a dynamic
+    interval).  Give a level or a pressure, not both.
+
     ``entry`` (x, y), optional: the point where water reaches the joint (the heel of a dam's
-    base).  Only open CFEs joined to the CFE nearest that point by a run of open CFEs along the
-    joint are wet; without it every open CFE of the joint is wet.
+    base), or several points ``[(x₁, y₁), (x₂, y₂)]`` (the joints at both ends of a slab).
+    Only open CFEs joined to the CFE nearest an entry by a run of open CFEs along the joint are
+    wet; without it every open CFE of the joint is wet.
     """
 
     interface: Interface | str
     level: float | None = None
     unit_weight: float = UNIT_WEIGHT_WATER
-    entry: tuple[float, float] | None = None
+    entry: tuple | None = None
+    pressure: float | None = None
 
     def __post_init__(self):
         item = f"crack water in interface '{self.name}'"
         if self.level is not None:
             _finite(self.level, f"{item}.level")
+        if self.pressure is not None:
+            _finite(self.pressure, f"{item}.pressure")
+            if self.level is not None:
+                raise ModelError(item, "give the water level or the pressure in the crack, "
+                                 "not both")
+            object.__setattr__(self, "pressure", float(self.pressure))
         _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
         if self.entry is not None:
-            e = np.asarray(self.entry, dtype=float)
-            if e.shape != (2,) or not np.all(np.isfinite(e)):
-                raise ModelError(f"{item}.entry", f"must be a point (x, y), got {self.entry!r}")
-            object.__setattr__(self, "entry", (float(e[0]), float(e[1])))
+            try:
+                e = np.asarray(self.entry, dtype=float)
+            except (TypeError, ValueError):
+                e = np.zeros(0)
+            if (e.ndim not in (1, 2) or e.shape[-1] != 2 or e.size == 0
+                    or not np.all(np.isfinite(e))):
+                raise ModelError(f"{item}.entry", "must be a point (x, y) or a list of points, "
+                                 f"got {self.entry!r}")
+            entry = ((float(e[0]), float(e[1])) if e.ndim == 1
+                     else tuple((float(x), float(y)) for x, y in e))
+            object.__setattr__(self, "entry", entry)
+
+    @property
+    def entries(self) -> np.ndarray:
+        """The entry points as an array (k, 2), m (empty: no entry, every open CFE is wet)."""
+        return np.zeros((0, 2)) if self.entry is None else np.atleast_2d(
+            np.asarray(self.entry, float))
 
     #: a load of the contact state, not of the nodes (the assembly skips it: fem.crack)
     in_crack = True
@@ -393,10 +419,14 @@ class CrackWater:
     def name(self) -> str:
         return self.interface if isinstance(self.interface, str) else self.interface.name
 
-    def pressure(self, y: np.ndarray, level: float | None = None) -> np.ndarray:
-        """p_c (Pa) at heights ``y`` for the water level ``level`` (default: the given one)."""
+    def crack_pressure(self, y: np.ndarray, level: float | None = None) -> np.ndarray:
+        """p_c (Pa) at heights ``y``: the given pressure, or the hydrostatic pressure of the
+        water level ``level`` (default: the given one)."""
+        y = np.asarray(y, dtype=float)
+        if self.pressure is not None and level is None:
+            return np.full(y.shape, self.pressure)
         h = self.level if level is None else level
-        return self.unit_weight * np.maximum(h - np.asarray(y, dtype=float), 0.0)
+        return self.unit_weight * np.maximum(h - y, 0.0)
 
 
 __all__ = ["UNIT_WEIGHT_WATER", "CrackWater", "HydrostaticPressure", "LinearProfile", "Uplift",

@@ -41,6 +41,13 @@ interval.  Those few shorter steps h < Δt keep Δt's K̂: Newmark's β and γ s
 stable (2β ≥ γ ≥ ½); it is first-order accurate and dissipative for that one step, which the
 ledger books as numerical.  No step ever refactorises.
 
+Water in opened joints (:class:`~stepcontact.model.CrackWater`, :mod:`stepcontact.fem.crack`):
+on the wet CFEs the force W = A (p_c − p_u) is a load −Bᵀ [0; W] that follows its patterns'
+time functions; where a CFE opens (closes) the step is cut there, as at any event, and the
+load jumps at that instant — followed like a pulse's edge, the contact forces with it; a CFE
+that opens under the jump is wet in turn.  The pressure in the gap thus follows the opened
+length in time.
+
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
 by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
@@ -694,13 +701,36 @@ def solve_dynamic(
             c[name] = c.get(name, 0.0) + float(g(t))
         return c
 
+    # water in the opened joints (fem.crack): W = A (p_c − p_u) on the CFEs of ``water_on``
+    # (the wet set of the scheme the run is in), a load −Bᵀ [0; W] that follows the factors in
+    # time and jumps where the wet set changes (settle_water)
+    crack = system.crack
+    water_on = (crack.wet(states) if crack is not None and initial is not None
+                else np.zeros(m, bool))
+
+    def water_at(t: float, c: dict | None = None) -> np.ndarray:
+        """W (m,), N, on the CFEs of ``water_on`` at time t (factors ``c``)."""
+        if crack is None or not water_on.any():
+            return np.zeros(m)
+        return np.where(water_on, crack.area * crack.net(factors_at(t) if c is None else c),
+                        0.0)
+
+    def water_load(W: np.ndarray) -> np.ndarray:
+        """The nodal load (ndof,) of crack-water forces W (m,): −Bᵀ [0; W]."""
+        z = np.zeros(2 * m)
+        z[m:] = W
+        return -(system.B.T @ z)
+
     def force_at(t: float) -> np.ndarray:
         F = np.zeros(ndof)
-        for name, c in factors_at(t).items():
+        c_t = factors_at(t)
+        for name, c in c_t.items():
             if c:
                 F += c * f_of[name]
         if r_ground is not None:
             F += float(ground_acceleration[0](t)) * r_ground
+        if crack is not None and water_on.any():
+            F += water_load(water_at(t, c_t))
         return F
 
     # initial acceleration from the equation of motion with the initial contact forces and
@@ -710,6 +740,8 @@ def solve_dynamic(
     F_held = np.zeros(ndof)
     for name, c in static.items():
         F_held += c * f_of[name]
+    if crack is not None and water_on.any():  # the static run's crack water, held
+        F_held += water_load(water_at(0.0, static))
     Bf = cond.Bf
     BfT = Bf.T.tocsr()
     rhs = F_held[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s
@@ -858,6 +890,24 @@ def solve_dynamic(
         Fn = force_at(t_now)
         out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
         return out
+    def settle_water(t_now: float, step: int) -> bool:
+        """Let the water into the CFEs that opened (out of those that closed) at t_now: the
+        crack-water load jumps there by −Bᵀ [0; ΔW], followed like any load jump
+        (:func:`load_jump`, the contact forces with it at fixed time); a CFE that opens under
+        it is wet in turn, until the wet set is the scheme's.  Sets the accelerations;
+        returns whether the water moved."""
+        nonlocal a
+        moved = False
+        for _ in range(2 * m + 2):
+            new = crack.wet(eng.states)
+            if np.array_equal(new, water_on):
+                break
+            F_left = force_at(t_now)
+            water_on[:] = new
+            a = load_jump(force_at(t_now) - F_left, t_now, step)
+            moved = True
+        return moved
+
     rec = Recorder(m, len(names), 0)
     extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
              "a": GrowingArray((ndof,))}
@@ -901,10 +951,13 @@ def solve_dynamic(
         ledger["error"] = (total - e0 - ledger["external"] + ledger["damping"]
                            + ledger["friction"] + ledger["impact"] + ledger["numerical"])
         c = factors_at(t)
+        W_t = water_at(t, c)
+        p_t = (np.where(water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
+               if crack is not None else W_t)
         i = rec.append(lam=t, segment=0, kind=kind, factors=[c.get(n, 0.0) for n in names],
                        s=eng.s, w=eng.w, state=eng.states, residual=residual,
                        violation=eng.violation(), reactions=np.zeros(0),
-                       water=np.zeros(m), pressure=np.zeros(m))
+                       water=W_t, pressure=p_t)
         for k, arr in (("u", u), ("v", v), ("a", a)):
             extra[k].append(arr)
         for k in ENERGY_TERMS:
@@ -936,6 +989,8 @@ def solve_dynamic(
     else:
         a = np.zeros(ndof)
         a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
+    if crack is not None and initial is not None and settle_water(0.0, 0):
+        F = force_at(0.0)
     record(0.0, "start", 0.0)
     rigid_n = ~np.isfinite(cfe.kn)
     t_run = time.perf_counter()
@@ -1059,7 +1114,11 @@ def solve_dynamic(
                 # step restarts from the same point (twice at most: then the step goes on)
                 sw = changed[np.isin(changed, layers.k)
                              & ((old[changed] == OPEN) != (dec.new[changed] == OPEN))]
-                if zero_restarts < 2 and ((later and now.size) or sw.size):
+                # and a CFE that opens (closes) where crack water enters (leaves): the load
+                # of the step changes with it
+                wet_moves = crack is not None and not np.array_equal(crack.wet(dec.new),
+                                                                     water_on)
+                if zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves):
                     keep = old.copy()
                     keep[now] = dec.new[now]
                     restart = (0.0, 0.0, dec.ds, dec.dw, old, keep, {})
@@ -1163,6 +1222,8 @@ def solve_dynamic(
                 a = np.zeros(ndof)
                 a[free] = M_lu.solve(F_i[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
             t = t_i
+            if crack is not None and settle_water(t, n):
+                F = force_at(t)
             record(t, "event", 0.0)
             continue
         # the end of the step: real mutual displacements, the fields, the ledger
@@ -1208,6 +1269,9 @@ def solve_dynamic(
             else:
                 a = np.zeros(ndof)
                 a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free])
+        if crack is not None and settle_water(t, n):  # (a catch-all: a wet set that moved
+            F = force_at(t)                             # at the step's start is settled there)
+            step_events += 1
         w_scale[0] = max(w_scale[0], float(np.abs(eng.w).max(initial=0.0)),
                          float(np.abs(u).max(initial=0.0)))
         last = t >= end_time - 1e-6 * dt0
@@ -1243,6 +1307,8 @@ def solve_dynamic(
         geometry=result_geometry(system),
         units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
+        water=None if crack is None else arr["water"],
+        crack_pressure=None if crack is None else arr["pressure"],
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
         energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
         _recover=None if system.discrete is not None else _Stresses(system),

@@ -35,6 +35,7 @@ from stepcontact.study import hydraulics as hy
 from stepcontact.study.slab import (
     CRITERIA,
     DIRECTIONS,
+    GAP_PRESSURES,
     JOINT,
     Impulse,
     Slab,
@@ -56,7 +57,9 @@ class BasinStudy:
     (the tailwater depth h2 of water above the slab moves with it in the response),
     ``layer_thickness`` (m: a compliant layer of the soil's E and ν that thick in the joint,
     eq. (11), when ``layer`` is not given), ``end_joints`` (friction of the joints against the
-    neighbouring slabs, taken as rigid; None: free ends).  Impulses:
+    neighbouring slabs, taken as rigid; None: free ends), ``gap_pressure`` (the pressure in
+    the opened joint: "uplift", or "joint" — the upstream joint's pressure, mean and impulse,
+    following the opened length; :class:`~stepcontact.study.slab.Slab`).  Impulses:
     ``positions`` (x/L_p of the footprint's centre), ``directions``, ``durations`` (s),
     ``amplitude`` (fraction of ρ_w V1²/2), ``footprint`` (m), ``shape``.  Search: ``tol`` (m),
     ``h0`` (m, first trial), ``criterion``, ``no_slip``, ``steps`` (time steps per impulse
@@ -77,6 +80,7 @@ class BasinStudy:
     added_mass: bool = False
     layer_thickness: float | None = None
     end_joints: float | None = None
+    gap_pressure: str = "uplift"
     positions: tuple[float, ...] = (0.05, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95)
     directions: tuple[str, ...] = DIRECTIONS
     durations: tuple[float, ...] = (0.1, 1.0)
@@ -94,6 +98,9 @@ class BasinStudy:
         if self.criterion not in CRITERIA:
             raise ModelError("criterion", f"'{self.criterion}' is not one of "
                              f"{', '.join(CRITERIA)}")
+        if self.gap_pressure not in GAP_PRESSURES:
+            raise ModelError("gap_pressure", f"'{self.gap_pressure}' is not one of "
+                             f"{', '.join(GAP_PRESSURES)}")
         for d in self.directions:
             if d not in DIRECTIONS:
                 raise ModelError("directions", f"'{d}' is not one of {', '.join(DIRECTIONS)}")
@@ -129,7 +136,7 @@ class BasinStudy:
             layer = ContactLayer(thickness=self.layer_thickness, E=self.soil.E, nu=self.soil.nu)
         return Slab(length=L, thickness=h, concrete=self.concrete, soil=self.soil,
                     soil_depth=self.soil_depth, friction=self.friction, layer=layer,
-                    end_joints=self.end_joints,
+                    end_joints=self.end_joints, gap_pressure=self.gap_pressure,
                     top=top, uplift=uplift, cells=self.cells,
                     water_depth=jump.h2 if self.added_mass else 0.0)
 

@@ -159,6 +159,8 @@ _FIELDS: dict[str, tuple[str, str]] = {
                         "rigid contact)"),
     "end_joints": ("–", "friction of the joints against the neighbouring slabs (rigid); "
                    "None: free ends"),
+    "gap_pressure": ("–", "pressure in the opened joint: the uplift, or the pressure at the "
+                     "upstream joint (mean and impulse) following the opened length"),
     "positions": ("x/L_p", "impulse positions (centre of the footprint)"),
     "directions": ("–", "impulse directions: up in the joint, down on the top"),
     "durations": ("s", "impulse durations"),

@@ -42,6 +42,7 @@ from stepcontact.errors import ModelError, SolverError
 from stepcontact.model import (
     BodyForce,
     ContactLayer,
+    CrackWater,
     EdgeLoad,
     Interface,
     LoadPattern,
@@ -83,6 +84,20 @@ def _pressure(spec: Pressure, length: float, item: str) -> Callable:
     if not np.isfinite(v):
         raise ModelError(item, f"must be finite, got {v}")
     return lambda x, y: np.full(np.shape(x), v)
+
+
+#: the pressures in the opened joint a slab study can take (:class:`Slab`)
+GAP_PRESSURES = ("uplift", "joint")
+
+
+def _gap_water(slab: Slab, p: Callable) -> list:
+    """With ``gap_pressure="joint"``: the pressure ``p`` (Pa per unit factor) at the upstream
+    joint (x = 0) in the gap opened from there (a :class:`CrackWater` entering at the
+    slab's upstream edge); none otherwise."""
+    if slab.gap_pressure != "joint":
+        return []
+    at = float(np.asarray(p(np.zeros(1), np.zeros(1)), float).reshape(-1)[0])
+    return [CrackWater(JOINT, pressure=at, entry=(0.0, 0.0))]
 
 
 def _uplift(slab: Slab) -> Callable:
@@ -164,6 +179,15 @@ class Slab:
     against the neighbouring slabs (or the basin's walls) taken as rigid — interfaces
     ``upstream`` and ``downstream`` with that friction, closed at zero gap, which hold the
     slab's ends horizontally and resist their vertical slip by friction.
+
+    ``gap_pressure``: the pressure in the joint where it has opened.  ``"uplift"`` (default):
+    the joint's uplift, which acts on the base whether the joint is open or not.
+    ``"joint"``: the pressure that reaches the gap through the upstream joint (at x = 0) —
+    where the contact has opened in a run from the upstream edge, the pressure at that joint
+    (the mean uplift there, plus the impulse's pressure at x = 0 while it acts) replaces the
+    uplift, as a load that follows the opened length event by event
+    (:class:`~stepcontact.model.CrackWater` with an entry point, in statics and in the dynamic
+    interval): the mechanism of slab failure of Fiorotto & Rinaldo (1992).
     """
 
     length: float = 40.0
@@ -181,6 +205,7 @@ class Slab:
     water_depth: float = 0.0
     buoyancy: bool = True
     end_joints: float | None = None
+    gap_pressure: str = "uplift"
 
     def __post_init__(self):
         for key in ("length", "thickness"):
@@ -197,6 +222,9 @@ class Slab:
                                                 and self.end_joints >= 0):
             raise ModelError("slab.end_joints", f"is a friction coefficient ≥ 0 (or None), "
                              f"got {self.end_joints}")
+        if self.gap_pressure not in GAP_PRESSURES:
+            raise ModelError("slab.gap_pressure", f"'{self.gap_pressure}' is not one of "
+                             f"{', '.join(map(repr, GAP_PRESSURES))}")
         if self.water_depth < 0:
             raise ModelError("slab.water_depth", f"must be ≥ 0, got {self.water_depth}")
         _pressure(self.top, self.length, "slab.top")
@@ -249,13 +277,14 @@ def slab_model(slab: Slab, impulse: Impulse | None = None) -> Model:
         joint,
         LoadPattern("weight", [BodyForce(bodies=("slab",))]),
         LoadPattern("top", [EdgeLoad(top, normal=_pressure(slab.top, L, "slab.top"))]),
-        LoadPattern("uplift", [Uplift(JOINT, pressure=_uplift(slab), through="cfes")]),
+        LoadPattern("uplift", [Uplift(JOINT, pressure=_uplift(slab), through="cfes")]
+                    + _gap_water(slab, _uplift(slab))),
     ]
     if impulse is not None:
         f = impulse.pressure(L)
         load = (Uplift(JOINT, pressure=f, through="cfes") if impulse.direction == "up"
                 else EdgeLoad(top, normal=f))
-        items.append(LoadPattern("impulse", [load]))
+        items.append(LoadPattern("impulse", [load] + _gap_water(slab, f)))
     items += [Segment("weight", 1.0),
               Segment("hydraulic", 1.0, rates={"top": 1.0, "uplift": 1.0})]
     return m.add(*items)
@@ -448,5 +477,5 @@ def cases(positions: Sequence[float], directions: Sequence[str] = DIRECTIONS,
             for d in directions for t in durations for p in positions]
 
 
-__all__ = ["CRITERIA", "DIRECTIONS", "GAMMA_W", "JOINT", "Impulse", "Limit", "Outcome", "Slab",
-           "cases", "check", "limit_thickness", "slab_model"]
+__all__ = ["CRITERIA", "DIRECTIONS", "GAMMA_W", "GAP_PRESSURES", "JOINT", "Impulse", "Limit",
+           "Outcome", "Slab", "cases", "check", "limit_thickness", "slab_model"]
