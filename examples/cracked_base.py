@@ -33,13 +33,17 @@ concrete = sc.Material(E=25e9, nu=0.2, density=2400)
 rock = sc.Material(E=15e9, nu=0.25, density=2650)
 
 
-def dam_model(crack_water: bool) -> sc.Model:
+def dam_model(crack_water: bool, *, bond: sc.Bond | None = None,
+              layer: sc.ContactLayer | None = None, levels=(40.0,)) -> sc.Model:
+    """The dam on rock (f = 1.0, or a ``bond`` with its own friction, and an optional compliant
+    ``layer`` in the joint), weight, then the reservoir raised through ``levels`` (m; the last
+    one beyond failure)."""
     dam = sc.quad_region("dam", [(0, 0), (B, 0), (CREST, HEIGHT), (0, HEIGHT)], 18, 30,
                          concrete)
     rock_body = sc.rectangle("rock", (-20, -20), (40, 0), 40, 14, rock)  # 1.5 m cells
-    m = sc.Model(bodies=[rock_body, dam], name="cracked-base")
+    m = sc.Model(bodies=[rock_body, dam], name="cracked-base" if bond is None else "bonded-dam")
     base = sc.Interface("base", plus=m.select("dam", y=0), minus=m.select("rock", y=0),
-                        friction=f)
+                        friction=f, bond=bond, layer=layer)
     reservoir = [sc.WaterLoad(m.select("dam", x=0.0), level=None),   # the factor is h
                  sc.Uplift(base, head=[(0.0, 0.0, 1.0), (B, 0.0, 0.0)])]  # h at the heel
     if crack_water:
@@ -50,45 +54,47 @@ def dam_model(crack_water: bool) -> sc.Model:
         sc.LoadPattern("weight", [sc.BodyForce(bodies=("dam",))]),
         sc.LoadPattern("reservoir", reservoir),
         sc.Segment("weight", 1.0),
-        sc.Segment("reservoir", 40.0),   # from the base until the dam fails
+        *(sc.Segment("reservoir", h) for h in levels),  # from the base until the dam fails
     )
 
 
-res = sc.solve_static(dam_model(crack_water=True))
-dry = sc.solve_static(dam_model(crack_water=False))
-print(res.summary())
+if __name__ == "__main__":
+    res = sc.solve_static(dam_model(crack_water=True))
+    dry = sc.solve_static(dam_model(crack_water=False))
+    print(res.summary())
 
-print("\nThe crack along the base (level h in m; x of the CFE in m; ← same level as above):")
-last = None
-for e in res.events:
-    if e.segment == 1 and e.transition == Transition.OPENED:
-        same = "  ←" if last is not None and e.lam == last else ""
-        print(f"  h = {e.lam:9.5f}  opened at x = {e.x:5.2f}{same}")
-        last = e.lam
+    print("\nThe crack along the base (level h in m; x of the CFE in m; ← same level as above):")
+    last = None
+    for e in res.events:
+        if e.segment == 1 and e.transition == Transition.OPENED:
+            same = "  ←" if last is not None and e.lam == last else ""
+            print(f"  h = {e.lam:9.5f}  opened at x = {e.x:5.2f}{same}")
+            last = e.lam
 
-i = len(res.lam) - 1
-h = res.lam[i]
-wet = res.crack_pressure[i] > 0  # open and joined to the heel (the last one just opened)
-print(f"\nat the last state (h = {h:.6f} m): water in the crack from the heel to x = "
-      f"{res.cfe['x'][wet, 0].max(initial=0):.2f} m at {res.crack_pressure[i][wet].min() / 1e3:.2f}"
-      f" … {res.crack_pressure[i][wet].max() / 1e3:.2f} kPa (γ_w h = {GAMMA_W * h / 1e3:.2f} kPa)")
-print(f"first opening: h = {res.multipliers[1].first_opening:.5f} m with crack water, "
-      f"{dry.multipliers[1].first_opening:.5f} m without")
-print(f"dam fails at h = {res.multipliers[-1].equilibrium_lost:.5f} m with crack water, "
-      f"{dry.multipliers[-1].equilibrium_lost:.5f} m without ({res.message.split(': ')[-1]})")
+    i = len(res.lam) - 1
+    h = res.lam[i]
+    wet = res.crack_pressure[i] > 0  # open and joined to the heel (the last one just opened)
+    p_c = res.crack_pressure[i][wet] / 1e3
+    print(f"\nat the last state (h = {h:.6f} m): water in the crack from the heel to x = "
+          f"{res.cfe['x'][wet, 0].max(initial=0):.2f} m at {p_c.min():.2f} … {p_c.max():.2f} kPa"
+          f" (γ_w h = {GAMMA_W * h / 1e3:.2f} kPa)")
+    print(f"first opening: h = {res.multipliers[1].first_opening:.5f} m with crack water, "
+          f"{dry.multipliers[1].first_opening:.5f} m without")
+    print(f"dam fails at h = {res.multipliers[-1].equilibrium_lost:.5f} m with crack water, "
+          f"{dry.multipliers[-1].equilibrium_lost:.5f} m without ({res.message.split(': ')[-1]})")
 
-# ---- hand statics of the sliding state --------------------------------------------------------
-W = concrete.density * 9.81 * (B + CREST) / 2 * HEIGHT
-U = GAMMA_W * h * B / 2
-Wc = float(res.water[i].sum())
-lhs, rhs = GAMMA_W * h * h / 2, f * (W - U - Wc)
-print(f"sliding: γ_w h²/2 = {lhs:.2f} N/m; f (W − U − ΣW_crack) = {rhs:.2f} N/m "
-      f"(relative difference {lhs / rhs - 1:.1e})")
-assert res.status == sc.Status.EQUILIBRIUM_LOST and "sliding" in res.message
-assert abs(lhs / rhs - 1) < 1e-9
-# where the water had entered before the last opening: the full reservoir pressure (the dam
-# slid while water was entering the CFE that opened last: its pressure was still rising)
-x_last = [e.x for e in res.events if e.transition == Transition.OPENED][-1]
-done = (res.water[i] > 0) & (res.cfe["x"][:, 0] < x_last)
-np.testing.assert_allclose(res.crack_pressure[i][done], GAMMA_W * h, rtol=1e-9)
-assert res.multipliers[-1].equilibrium_lost < dry.multipliers[-1].equilibrium_lost
+    # ---- hand statics of the sliding state ----------------------------------------------------
+    W = concrete.density * 9.81 * (B + CREST) / 2 * HEIGHT
+    U = GAMMA_W * h * B / 2
+    Wc = float(res.water[i].sum())
+    lhs, rhs = GAMMA_W * h * h / 2, f * (W - U - Wc)
+    print(f"sliding: γ_w h²/2 = {lhs:.2f} N/m; f (W − U − ΣW_crack) = {rhs:.2f} N/m "
+          f"(relative difference {lhs / rhs - 1:.1e})")
+    assert res.status == sc.Status.EQUILIBRIUM_LOST and "sliding" in res.message
+    assert abs(lhs / rhs - 1) < 1e-9
+    # where the water had entered before the last opening: the full reservoir pressure (the dam
+    # slid while water was entering the CFE that opened last: its pressure was still rising)
+    x_last = [e.x for e in res.events if e.transition == Transition.OPENED][-1]
+    done = (res.water[i] > 0) & (res.cfe["x"][:, 0] < x_last)
+    np.testing.assert_allclose(res.crack_pressure[i][done], GAMMA_W * h, rtol=1e-9)
+    assert res.multipliers[-1].equilibrium_lost < dry.multipliers[-1].equilibrium_lost

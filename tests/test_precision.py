@@ -15,9 +15,7 @@ every scheme solve refined to float64 accuracy against the sparse factorisation.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import runpy
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -127,8 +125,14 @@ def test_refined_float32_rates_equal_float64(model):
 
 
 # ---- the recorded event sequences, in float32 -------------------------------------------------
-@functools.cache
-def _float32_calls(stem: str, workdir: str) -> list[dict]:
+_FLOAT32_RUNS: dict[str, list[dict]] = {}
+
+
+def _float32_calls(stem: str, tmp_path_factory) -> list[dict]:
+    """The example's solve_static calls in float32, run once per session per example (each
+    of its calls is one test; the script runs once for all of them)."""
+    if stem in _FLOAT32_RUNS:
+        return _FLOAT32_RUNS[stem]
     original = sc.solve_static
 
     def f32(model, *args, **kwargs):
@@ -137,7 +141,10 @@ def _float32_calls(stem: str, workdir: str) -> list[dict]:
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(sc, "solve_static", f32)
-        return seq.run_example(seq.EXAMPLES_DIR / f"{stem}.py", Path(workdir))
+        calls = seq.run_example(seq.EXAMPLES_DIR / f"{stem}.py",
+                                tmp_path_factory.mktemp(stem + "-f32"))
+    _FLOAT32_RUNS[stem] = calls
+    return calls
 
 
 def _example_runs():
@@ -151,7 +158,7 @@ def _example_runs():
 def test_examples_in_float32_reproduce_recorded_sequences(stem, index, tmp_path_factory):
     """Each example run with precision="float32" (runs given a float64 condensation keep it)
     has the recorded status, events and λ (to 1e-12, or 100× the run's residual)."""
-    calls = _float32_calls(stem, str(tmp_path_factory.mktemp(stem + "-f32")))
+    calls = _float32_calls(stem, tmp_path_factory)
     res = calls[index]["result"]
     seq.compare(f"{stem}#{index}", seq.REFERENCE[f"{stem}#{index}"], res)
     if "condensation" not in calls[index]["kwargs"]:

@@ -35,8 +35,10 @@ from stepcontact.model import (
     Support,
     Tie,
 )
+from stepcontact.model.bond import Bond
 from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.program import cycles
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 from stepcontact.results.file import load_result
@@ -102,6 +104,7 @@ __all__ = [
     "PrescribedDisplacement",
     "RigidObstacle",
     "Segment",
+    "cycles",
     "SlipTreatment",
     "SolverError",
     "Spring",
@@ -115,6 +118,7 @@ __all__ = [
     "half_disc",
     "rotate",
     "translate",
+    "Bond",
     "CrackWater",
     "LinearProfile",
     "Uplift",

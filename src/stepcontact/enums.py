@@ -15,13 +15,13 @@ class ContactState(IntEnum):
     STICK = 1  #: S1c: contact with adhesion, u_n = 0, N <= 0, |Q| <= -f N, no slip
     SLIP_POS = 2  #: S2c: slipping, Q = -f N, slip increment > 0
     SLIP_NEG = 3  #: S2c: slipping, Q = +f N, slip increment < 0
-    BONDED = 4  #: joint with initial strength, bond intact (eq. (12)); reserved
+    BONDED = 4  #: joint with initial strength, bond intact (eq. (12)): tension and shear
     CLOSED = 5  #: frictionless contact: u_n = 0, N <= 0, Q = 0 (no stick/slip distinction)
 
     @property
     def closed(self) -> bool:
         return self in (ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG,
-                        ContactState.CLOSED)
+                        ContactState.CLOSED, ContactState.BONDED)
 
     @property
     def slipping(self) -> bool:
@@ -45,15 +45,15 @@ class Transition(StrEnum):
     SLIP_POS = "slip+"  #: stick (or slip-) -> slip in + direction
     SLIP_NEG = "slip-"  #: stick (or slip+) -> slip in - direction
     STUCK = "stuck"  #: slip -> stick
-    BROKEN = "broken"  #: bond broken (reserved for joints with initial strength)
+    BROKEN = "broken"  #: bond broken (eq. (12)): the CFE becomes a Coulomb one
 
     @staticmethod
     def between(old: ContactState, new: ContactState) -> Transition:
         """The transition that takes a CFE from ``old`` to ``new`` (``old != new``)."""
-        if new == ContactState.OPEN:
-            return Transition.OPENED
         if old == ContactState.BONDED:
             return Transition.BROKEN
+        if new == ContactState.OPEN:
+            return Transition.OPENED
         if old == ContactState.OPEN and new in (ContactState.STICK, ContactState.CLOSED):
             return Transition.CLOSED
         if new == ContactState.SLIP_POS:

@@ -58,6 +58,9 @@ class ContactElements:
     cn : (m,) float
         Normal damping of the contact layer, N·s/m (0: none; dynamics only, a Kelvin–Voigt
         layer: :mod:`stepcontact.solver.dynamic`).
+    bond : (m, 4) float
+        Initial strength of bonded CFEs (eq. (12), :data:`~stepcontact.contact.laws.BOND_COLUMNS`:
+        N_R, Q_R in N, α_R, 1/α_t); NaN rows for CFEs without a bond.
     """
 
     names: tuple[str, ...]
@@ -77,10 +80,18 @@ class ContactElements:
     kn: np.ndarray
     kt: np.ndarray
     cn: np.ndarray | None = None
+    bond: np.ndarray | None = None
 
     def __post_init__(self):
         if self.cn is None:
             object.__setattr__(self, "cn", np.zeros(len(self.interface)))
+        if self.bond is None:
+            object.__setattr__(self, "bond", np.full((len(self.interface), 4), np.nan))
+
+    @property
+    def bonded(self) -> np.ndarray:
+        """(m,) bool: CFEs with an initial strength (eq. (12))."""
+        return ~np.isnan(self.bond[:, 0])
 
     @property
     def m(self) -> int:
@@ -753,6 +764,17 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
         kn = np.full(m, np.inf)
         kt = np.full(m, np.inf)
         cn = np.zeros(m)
+    friction = np.full(m, float(itf.friction))
+    bond = np.full((m, 4), np.nan)
+    if itf.bond is not None:
+        open_ = gap > 1e-9 * max(float(np.ptp(xp)) if m else 0.0, 1.0)
+        if np.any(open_):
+            k = int(np.flatnonzero(open_)[0])
+            raise ModelError(f"{item}.bond", f"a bonded joint must be closed: CFE {k} at "
+                             f"({xp[k, 0]:g}, {xp[k, 1]:g}) has a gap of {gap[k]:g} m")
+        bond = itf.bond.arrays(xp, area, item)
+        if itf.bond.friction is not None:
+            friction[:] = float(itf.bond.friction)
 
     if plus is None:
         n_p = np.full((m, MAX_END_NODES), -1, dtype=np.int64)
@@ -772,11 +794,12 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
         x=xp,
         s=s,
         area=area,
-        friction=np.full(m, float(itf.friction)),
+        friction=friction,
         gap=gap,
         kn=kn,
         kt=kt,
         cn=cn,
+        bond=bond,
     )
 
 

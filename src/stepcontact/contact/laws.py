@@ -19,8 +19,8 @@ about load factors, time or matrices:
 * the **measure of violation** of its conditions at a state.
 
 The faceted form of friction: the Coulomb limit in 2D is two facets f p ∓ Q ≥ 0 (slip+ and
-slip−); a faceted cone in 3D and the strength surface of a bonded joint (eq. (12), four facets
-in (N, Q)) are further laws with more facets, added without touching the engine.
+slip−); the strength surface of a bonded joint (eq. (12)) is four more facets in (N, Q), and a
+faceted cone in 3D a further law with more facets, added without touching the engine.
 """
 
 from __future__ import annotations
@@ -31,9 +31,13 @@ import numpy as np
 
 from stepcontact.enums import ContactState
 
-OPEN, STICK, SLIP_POS, SLIP_NEG, CLOSED = (int(s) for s in (
+OPEN, STICK, SLIP_POS, SLIP_NEG, CLOSED, BONDED = (int(s) for s in (
     ContactState.OPEN, ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG,
-    ContactState.CLOSED))
+    ContactState.CLOSED, ContactState.BONDED))
+
+#: columns of a bond's strength (``bond`` of :class:`CoulombLaw`): N_R, Q_R (N), α_R and
+#: 1/α_t (the slope of the tension facets; 0: a tension cut-off N ≤ N_R)
+BOND_COLUMNS = ("tensile", "shear", "alpha", "inv_alpha_t")
 
 #: relation kinds of one CFE component in a working scheme
 FREE, FIXED, SPRING = 0, 1, 2
@@ -77,29 +81,47 @@ class RateVariables:
 
 
 class CoulombLaw:
-    """Unilateral contact with Coulomb friction, rigid or with a compliant layer (eqs. (1), (11)).
+    """Unilateral contact with Coulomb friction, rigid or with a compliant layer (eqs. (1), (11)),
+    and joints with initial strength (eq. (12)) that break into it.
 
     States: OPEN (S3c: N = Q = 0, u_n ≤ 0), STICK (S1c: closed, |Q| ≤ −f N, no slip),
-    SLIP_POS / SLIP_NEG (S2c: Q = ∓ f N … written Q = σ f p), and CLOSED for frictionless CFEs
-    (f = 0: closed, Q = 0; there is no stick or slip to tell apart).
+    SLIP_POS / SLIP_NEG (S2c: Q = ∓ f N … written Q = σ f p), CLOSED for frictionless CFEs
+    (f = 0: closed, Q = 0; there is no stick or slip to tell apart), and BONDED (eq. (12)):
+    the bond is intact, the CFE carries tension and shear with no relative motion (or the
+    compliance of its layer), inside the strength surface
+
+        N + |Q| / α_t ≤ N_R  (tension facets),     |Q| ≤ Q_R − α_R N  (shear facets)
+
+    (N_R, Q_R the CFE's limit tensile and shear forces, N; the article's eq. (12) has
+    α_t = α_R, the Mohr–Coulomb form a tension cut-off, 1/α_t = 0).  Reaching the surface
+    breaks the bond: from then on the CFE is a Coulomb one with friction f (its target state
+    from :meth:`broken_state`; the driver releases the forces it can no longer carry,
+    :meth:`released`).
 
     Event functions (columns), each ≥ 0 while the state holds:
 
     0. p = −N                (closed → open, eq. (3))
     1. f p − Q               (stick → slip+, eq. (2))
     2. f p + Q               (stick → slip−, eq. (2))
-    3. −u_n                  (open → closed, eq. (3))
+    3. N_R + p − Q / α_t     (bonded → broken, tension facet, Q > 0; eq. (12))
+    4. N_R + p + Q / α_t     (bonded → broken, tension facet, Q < 0)
+    5. Q_R + α_R p − Q       (bonded → broken, shear facet, Q > 0)
+    6. Q_R + α_R p + Q       (bonded → broken, shear facet, Q < 0)
+    7. −u_n                  (open → closed, eq. (3))
 
     Parameters
     ----------
     cfes : (k,) int
         Global indices of the CFEs governed by this law.
     friction, kn, kt : (k,) float
-        f, C_n, C_τ (N/m; ``inf`` for rigid contact) of those CFEs.
+        f, C_n, C_τ (N/m; ``inf`` for rigid contact) of those CFEs (f: after a bond broke).
     held_normal, held_tangent : (k,) bool, optional
         Components whose relative motion is held by supports on both sides (their row of the
         contact operator is zero): the supports carry that component.  A CFE held normally
         carries nothing (it stays OPEN); one held tangentially is frictionless.
+    bond : (k, 4) float, optional
+        The strength of bonded CFEs (:data:`BOND_COLUMNS`: N_R, Q_R in N, α_R, 1/α_t); rows
+        of NaN for CFEs without a bond.
 
     Two arrays that a driver may set between steps (zero by default, as in statics):
     ``offset`` (N), the closed compliant relation p = C_n u_n + offset, and ``surface`` (m),
@@ -109,9 +131,11 @@ class CoulombLaw:
     (:mod:`stepcontact.solver.dynamic`).
     """
 
-    n_columns = 4
+    n_columns = 8
+    #: the event-function columns of the bond's facets
+    BOND_FACETS = slice(3, 7)
 
-    def __init__(self, cfes, friction, kn, kt, held_normal=None, held_tangent=None):
+    def __init__(self, cfes, friction, kn, kt, held_normal=None, held_tangent=None, bond=None):
         self.cfes = np.asarray(cfes, dtype=np.int64)
         k = len(self.cfes)
         self.inert = np.zeros(k, bool) if held_normal is None else np.asarray(held_normal, bool)
@@ -124,29 +148,71 @@ class CoulombLaw:
         self.frictional = self.f > 0
         self.offset = np.zeros(k)
         self.surface = np.zeros(k)
+        b = np.full((k, 4), np.nan) if bond is None else np.asarray(bond, dtype=float)
+        self.has_bond = ~np.isnan(b[:, 0]) & ~self.inert
+        b = np.where(self.has_bond[:, None], b, 0.0)
+        self.NR, self.QR, self.alpha, self.iat = b[:, 0], b[:, 1], b[:, 2], b[:, 3]
 
     # ---- states ----------------------------------------------------------------------------
     def closed_state(self) -> np.ndarray:
         """The state a CFE takes when it closes (and the base of the rate problem)."""
         return np.where(self.frictional, STICK, CLOSED)
 
+    def base_state(self, states: np.ndarray) -> np.ndarray:
+        """The base scheme of the rate problem: every CFE closed and stuck (the state it
+        takes when it closes), bonded ones bonded."""
+        return np.where(states == BONDED, BONDED, self.closed_state())
+
+    def initial_states(self, states: np.ndarray) -> np.ndarray:
+        """``states`` with the bonded CFEs BONDED (the start of a run)."""
+        return np.where(self.has_bond, BONDED, states)
+
     @staticmethod
     def slipping(states: np.ndarray) -> np.ndarray:
         return (states == SLIP_POS) | (states == SLIP_NEG)
 
-    # ---- relations (eqs. (1), (11)) ----------------------------------------------------------
+    # ---- bonds (eq. (12)) ---------------------------------------------------------------------
+    def bond_values(self, Q, p, affine: bool = True) -> np.ndarray:
+        """The four facets' values (k, 4) of eq. (12) at forces (Q, p); rates with
+        ``affine=False``."""
+        NR = self.NR if affine else 0.0
+        QR = self.QR if affine else 0.0
+        return np.column_stack([NR + p - Q * self.iat, NR + p + Q * self.iat,
+                                QR + self.alpha * p - Q, QR + self.alpha * p + Q])
+
+    def broken_state(self, Q, p, tf: float = 0.0) -> np.ndarray:
+        """The Coulomb state a CFE takes when its bond breaks at forces (Q, p): open where it
+        is in tension (p ≤ tf), else stuck or slipping (|Q| > f p: in the direction of Q), or
+        closed where it is frictionless."""
+        slip = np.where(Q > 0, SLIP_POS, SLIP_NEG)
+        closed = np.where(self.frictional, np.where(np.abs(Q) > self.f * p + tf, slip, STICK),
+                          CLOSED)
+        return np.where(p <= tf, OPEN, closed)
+
+    def released(self, states, Q, p) -> tuple[np.ndarray, np.ndarray]:
+        """The part (ΔQ, Δp) of the forces (Q, p) that the relations of Coulomb ``states``
+        cannot carry (open: all of it; slipping: Q − σ f p; frictionless: Q): what a broken
+        bond releases."""
+        op = states == OPEN
+        sig = np.where(states == SLIP_POS, 1.0, -1.0)
+        dQ = np.where(op | (states == CLOSED), Q,
+                      np.where(self.slipping(states), Q - sig * self.f * p, 0.0))
+        dp = np.where(op, p, 0.0)
+        return dQ, dp
+
+    # ---- relations (eqs. (1), (11), (12)) ------------------------------------------------------
     def relations(self, states: np.ndarray, rel: Relations, m: int, article: bool = False) -> None:
         """Write the relation rows of this law's CFEs in ``states`` into ``rel``.
 
-        Open: both forces zero (FREE).  Stick: tangential fixed (or spring C_τ), normal fixed
-        (or spring C_n).  Closed frictionless: Q = 0, normal as stick.  Slip (exact):
-        Q' − σ f p' = 0; slip (article, eqs. (4)–(6)): Q held during the step (FREE) and
-        corrected afterwards by compensating forces.
+        Open: both forces zero (FREE).  Stick and bonded: tangential fixed (or spring C_τ),
+        normal fixed (or spring C_n).  Closed frictionless: Q = 0, normal as stick.  Slip
+        (exact): Q' − σ f p' = 0; slip (article, eqs. (4)–(6)): Q held during the step (FREE)
+        and corrected afterwards by compensating forces.
         """
         c = self.cfes
         closed = (states != OPEN) & ~self.inert
         slipping = self.slipping(states) & closed
-        frictionless = closed & ~self.frictional
+        frictionless = closed & ~self.frictional & (states != BONDED)
         kt = np.where(self.rigid_t, FIXED, SPRING)
         kn = np.where(self.rigid_n, FIXED, SPRING)
         rel.kind[c] = np.where(closed & ~slipping & ~frictionless, kt, FREE)
@@ -157,40 +223,55 @@ class CoulombLaw:
         rel.couple[c] = np.where(slipping & ~frictionless & (not article), -sigma * self.f, 0.0)
         rel.couple[m + c] = 0.0
 
-    # ---- event functions (eqs. (2), (3)) -----------------------------------------------------
+    # ---- event functions (eqs. (2), (3), (12)) ------------------------------------------------
     def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray:
-        """φ (k, 4) of the CFEs in ``states`` (``+inf`` where a function does not apply).
+        """φ (k, 8) of the CFEs in ``states`` (``+inf`` where a function does not apply).
 
         With ``affine=False`` the constant part is dropped, which turns values into rates
         when (Q, p, u_n) are rates: φ' = event_values(states, Q', p', u_n', affine=False).
         """
         k = len(states)
-        closed = (states != OPEN) & ~self.inert
+        bonded = (states == BONDED) & ~self.inert
+        closed = (states != OPEN) & ~self.inert & ~bonded
         stick = (states == STICK) & closed & self.frictional
-        out = np.full((k, 4), _INF)
+        out = np.full((k, self.n_columns), _INF)
         out[closed, 0] = p[closed]
         out[stick, 1] = self.f[stick] * p[stick] - Q[stick]
         out[stick, 2] = self.f[stick] * p[stick] + Q[stick]
+        if bonded.any():
+            out[bonded, self.BOND_FACETS] = self.bond_values(Q, p, affine)[bonded]
         op = (states == OPEN) & ~self.inert
-        out[op, 3] = (self.surface[op] if affine else 0.0) - un[op]
+        out[op, 7] = (self.surface[op] if affine else 0.0) - un[op]
         return out
 
     def fire(self, states: np.ndarray, col: np.ndarray) -> np.ndarray:
         """The natural transition of each CFE whose event function ``col`` reached zero
-        (col < 0: none)."""
+        (col < 0: none).  A bond's facet (3–6) leaves the CFE BONDED here: the break, which
+        releases forces, is the driver's (:meth:`broken_state`, :meth:`released`)."""
         new = states.copy()
         new = np.where(col == 0, OPEN, new)
         new = np.where(col == 1, SLIP_POS, new)
         new = np.where(col == 2, SLIP_NEG, new)
-        return np.where(col == 3, self.closed_state(), new)
+        return np.where(col == 7, self.closed_state(), new)
 
     # ---- the consistency check at a degenerate point ------------------------------------------
     def limits(self, states, Q, p, un, tf: float, tw: float):
         """Which CFEs sit at their normal limit (p = 0 closed, u_n = 0 open), and which are
-        two-sided in friction as well (Q = 0 and f p = 0)."""
-        normal = np.where(states == OPEN, self.surface - un <= tw, p <= tf) & ~self.inert
+        two-sided in friction as well (Q = 0 and f p = 0).  A bonded CFE has neither."""
+        free = ~self.inert & (states != BONDED)
+        normal = np.where(states == OPEN, self.surface - un <= tw, p <= tf) & free
         two_sided = normal | ((np.abs(Q) <= tf) & (self.f * p <= tf))
-        return normal, two_sided & ~self.inert
+        return normal, two_sided & free
+
+    def breaking(self, states, Q, p, dQ, dp, tf: float, rf: float) -> np.ndarray:
+        """Bonded CFEs on their strength surface (a facet within ``tf``) that the rates
+        (dQ, dp) drive beyond it (rate below −``rf``): their bonds break here."""
+        bonded = (states == BONDED) & self.has_bond
+        if not bonded.any():
+            return bonded
+        phi = self.bond_values(Q, p)
+        dphi = self.bond_values(dQ, dp, affine=False)
+        return bonded & np.any((phi <= tf) & (dphi < -rf), axis=1)
 
     def consistent(self, trial, Q, dQ, dp, dun, dut, normal_lim, two_sided, rf, rw):
         """States that the rates of scheme ``trial`` point to (equal to ``trial`` where the
@@ -222,7 +303,8 @@ class CoulombLaw:
     def rate_variables(self, local, states, Q, normal_lim, two_sided) -> RateVariables:
         """Variables of the rate problem for the CFEs ``local`` (indices into this law's CFEs):
         an opening rate o ≥ 0 where the CFE is at its normal limit (complement p' ≥ 0), and
-        slip rates a± ≥ 0 on the friction facets it touches (complement f p' ∓ Q' ≥ 0).
+        slip rates a± ≥ 0 on the friction facets it touches (complement f p' ∓ Q' ≥ 0).  A
+        bonded CFE has none (its bond breaks, a jump the driver follows).
 
         Their effect on the stuck base scheme enters through the right-hand side of the
         relations: rigid u_n' = −o, u_τ' = a⁺ − a⁻; compliant p' − C_n u_n' = C_n o,
@@ -231,7 +313,7 @@ class CoulombLaw:
         sigma = np.where(states == SLIP_NEG, -1.0,
                          np.where(states == SLIP_POS, 1.0, np.sign(Q)))[local]
         op = normal_lim[local]
-        fr = self.frictional[local]
+        fr = self.frictional[local] & (states[local] != BONDED)
         both = fr & (two_sided[local] | (sigma == 0))
         one = fr & ~both
         # per CFE: [opening?, slip+?, slip−?]
@@ -268,9 +350,9 @@ class CoulombLaw:
     # ---- corrections and violation ----------------------------------------------------------
     def snap(self, states, Q, p, un):
         """Right-hand side (r_τ, r_n) that moves the state onto the relations of ``states`` at
-        a fixed load: open → N = Q = 0; closed rigid → u_n = 0; compliant → p = C_n u_n;
-        slipping → Q = σ f p (in article mode this is the compensating correction δQ of
-        eq. (4)); closed frictionless → Q = 0."""
+        a fixed load: open → N = Q = 0; closed rigid (and bonded) → u_n = 0; compliant →
+        p = C_n u_n; slipping → Q = σ f p (in article mode this is the compensating correction
+        δQ of eq. (4)); closed frictionless → Q = 0."""
         closed = (states != OPEN) & ~self.inert
         r_t = np.where(~closed | (states == CLOSED), -Q, 0.0)
         r_n = np.where(~closed, -p, 0.0)
@@ -282,22 +364,28 @@ class CoulombLaw:
         return r_t, r_n
 
     def violation(self, states, Q, p, un, F: float, W: float) -> float:
-        """Largest relative violation of conditions (1) (and of the slip law) at a state:
-        forces relative to ``F``, displacements relative to ``W``."""
+        """Largest relative violation of conditions (1) (and of the slip law, and of the
+        strength surface of bonded CFEs) at a state: forces relative to ``F``, displacements
+        relative to ``W``."""
         if len(states) == 0:
             return 0.0
+        bonded = states == BONDED
         closed = (states != OPEN) & ~self.inert
+        coulomb = ~self.inert & ~bonded
         sig = np.where(states == SLIP_POS, 1.0, -1.0)
         v = [
-            np.where(self.inert, 0.0, np.maximum(-p, 0)) / F,  # N ≤ 0
+            np.where(coulomb, np.maximum(-p, 0), 0.0) / F,  # N ≤ 0
             np.where(~closed, np.abs(p) + np.abs(Q), 0) / F,  # open: N = Q = 0
             np.where(~closed & ~self.inert, np.maximum(un - self.surface, 0), 0) / W,  # open
             np.where(closed & self.rigid_n, np.abs(un), 0) / W,  # closed rigid: u_n = 0
-            np.maximum(np.abs(Q) - self.f * p, 0) / F,  # |Q| ≤ f(−N)
+            np.where(coulomb, np.maximum(np.abs(Q) - self.f * p, 0), 0) / F,  # |Q| ≤ f(−N)
             np.where(self.slipping(states) & closed, np.abs(Q - sig * self.f * p), 0) / F,
         ]
+        if bonded.any():  # inside the strength surface (eq. (12))
+            v.append(np.where(bonded, np.maximum(-self.bond_values(Q, p).min(axis=1), 0),
+                              0) / F)
         return float(max(x.max(initial=0) for x in v))
 
 
-__all__ = ["CLOSED", "FIXED", "FREE", "OPEN", "SLIP_NEG", "SLIP_POS", "SPRING", "STICK",
-           "CoulombLaw", "RateVariables", "Relations"]
+__all__ = ["BONDED", "BOND_COLUMNS", "CLOSED", "FIXED", "FREE", "OPEN", "SLIP_NEG", "SLIP_POS",
+           "SPRING", "STICK", "CoulombLaw", "RateVariables", "Relations"]

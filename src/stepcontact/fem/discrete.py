@@ -34,6 +34,7 @@ def discrete_contact(dm: DiscreteModel) -> ContactElements:
         names, interface, local, nodes, np.zeros((m, 3)), nodes.copy(), np.zeros((m, 3)),
         nan2, nan2.copy(), nan2.copy(), local.astype(float), np.ones(m),
         dm.friction.copy(), dm.gaps.copy(), dm.kn.copy(), dm.kt.copy(), dm.cn.copy(),
+        dm.bond.copy(),
     )
 
 

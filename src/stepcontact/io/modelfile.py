@@ -103,6 +103,7 @@ from pydantic import (
 from stepcontact.errors import ModelError, StepContactError
 from stepcontact.io.meshfile import GROUP_KINDS, MeshFile, read_mesh
 from stepcontact.model import meshcheck
+from stepcontact.model.bond import Bond
 from stepcontact.model.items import (
     E_RANGE,
     Body,
@@ -127,6 +128,7 @@ from stepcontact.model.items import (
 )
 from stepcontact.model.mesh import half_disc, quad_region, rectangle
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.program import cycle_amplitudes, cycles
 from stepcontact.model.size import check_size
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 
@@ -135,12 +137,15 @@ from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 _TAGS = {
     "kind=rectangle",
     "kind=mesh",
+    "kind=quad",
+    "kind=half_disc",
     "type=gravity",
     "type=nodal",
     "type=pressure",
     "type=edge_force",
     "type=water",
     "type=uplift",
+    "type=crack_water",
     "type=displacement",
     "type=obstacle_motion",
     "material=name",
@@ -532,6 +537,8 @@ class InterfaceSpec(_Spec):
     cfe: Literal["auto", "mortar", "node-to-segment", "node-to-node"] = Field(
         "auto", description="how CFEs join S+ to S−: node-to-node where the meshes match and "
         "mortar (segment-to-segment) otherwise (auto); node-to-segment is the article's CFE")
+    bond: BondSpec | None = Field(None, description="initial strength of the joint (eq. (12)): "
+                                  "its CFEs start bonded and break into frictional contact")
 
     @field_validator("normal")
     @classmethod
@@ -644,6 +651,48 @@ Profile = Annotated[
         }
     ),
 ]
+
+
+class BondSpec(_Spec):
+    """Initial strength of a joint (eq. (12)), per unit area: the article's form
+    ``{tensile, shear, alpha}`` (Pa, Pa, –; ``tension_alpha`` optional: the slope of the
+    tension facets, default alpha) or Mohr–Coulomb ``{cohesion, tensile_strength,
+    friction_angle}`` (Pa, Pa, degrees: a tension cut-off).  Strengths are a number or vary
+    along the joint by coordinates.  ``friction``: f after the bond breaks (default: the
+    interface's, or tan φ for Mohr–Coulomb)."""
+
+    tensile: Profile | None = Field(None, description="tensile strength σ_R, Pa")
+    shear: Profile | None = Field(None, description="shear strength without normal force "
+                                  "τ_R, Pa")
+    alpha: float | None = Field(None, ge=0, description="α_R: growth of the shear strength "
+                                "with compression (tan φ)")
+    tension_alpha: float | None = Field(None, gt=0, description="α_t of the tension facets "
+                                        "N + |Q|/α_t ≤ N_R (default α_R; inf: a cut-off)")
+    cohesion: Profile | None = Field(None, description="Mohr–Coulomb cohesion c, Pa")
+    tensile_strength: Profile | None = Field(None, description="Mohr–Coulomb tensile "
+                                             "strength σ_t, Pa (a tension cut-off)")
+    friction_angle: float | None = Field(None, ge=0, lt=90, description="Mohr–Coulomb "
+                                         "friction angle φ, degrees")
+    friction: float | None = Field(None, ge=0, description="friction coefficient after the "
+                                   "bond breaks")
+
+    @model_validator(mode="after")
+    def _one_form(self) -> BondSpec:
+        article = [self.tensile, self.shear, self.alpha]
+        mc = [self.cohesion, self.tensile_strength, self.friction_angle]
+        if any(v is not None for v in article) and any(v is not None for v in mc):
+            raise ValueError("give either {tensile, shear, alpha} (eq. (12)) or {cohesion, "
+                             "tensile_strength, friction_angle} (Mohr–Coulomb), not both")
+        if not (all(v is not None for v in article) or all(v is not None for v in mc)):
+            raise ValueError("give {tensile, shear, alpha} (eq. (12)) or {cohesion, "
+                             "tensile_strength, friction_angle} (Mohr–Coulomb)")
+        return self
+
+    def build(self) -> Bond:
+        if self.cohesion is not None:
+            return Bond.mohr_coulomb(self.cohesion, self.tensile_strength, self.friction_angle,
+                                     self.friction)
+        return Bond(self.tensile, self.shear, self.alpha, self.tension_alpha, self.friction)
 
 
 class GravityLoad(_Spec):
@@ -799,17 +848,78 @@ class PatternSpec(_Spec):
     loads: list[LoadSpec] = []
 
 
+def _amplitude_value(v: Any) -> float | list[float]:
+    """The amplitude of a cyclic ``[[program]]`` entry: a finite number, or a non-empty list
+    of them (one per cycle)."""
+
+    def num(x: Any) -> float:
+        if isinstance(x, bool) or not isinstance(x, int | float) or not math.isfinite(x):
+            raise ValueError("must be a finite number, or a list of them (one per cycle)")
+        return float(x)
+
+    if isinstance(v, list | tuple):
+        if not v:
+            raise ValueError("is empty: give one amplitude, or one per cycle")
+        return [num(x) for x in v]
+    return num(v)
+
+
+Amplitude = Annotated[
+    float | list[float],
+    PlainValidator(_amplitude_value),
+    WithJsonSchema({"anyOf": [{"type": "number"},
+                              {"type": "array", "items": {"type": "number"}, "minItems": 1}]}),
+]
+
+
 class SegmentSpec(_Spec):
     """``[[program]]``: the factor of ``pattern`` goes from ``start`` to ``end``; with
     ``rates``, several patterns move at once (non-proportional loading) and ``pattern`` is the
-    segment's own name."""
+    segment's own name.  With ``amplitude`` and ``cycles`` instead of ``end`` the entry is a
+    cyclic program (:func:`stepcontact.cycles`): ``cycles`` times the factor goes to
+    ``mean + amplitude``, then to ``mean − amplitude`` (two segments per cycle)."""
 
     pattern: str = Field(description="load pattern; with rates: the segment's name (a label)")
-    end: float
+    end: float | None = Field(None, description="load factor λ at the end of the segment "
+                              "(required, unless the entry gives amplitude and cycles)")
     start: float | None = Field(None, description="default: where the pattern stands")
     rates: dict[str, float] | None = Field(
         None, description="{pattern = rate, …}: each pattern's factor changes by rate per unit "
         "of the segment's parameter (which goes from start to end)")
+    amplitude: Amplitude | None = Field(
+        None, description="cyclic entry (instead of end): the factor swings to mean ± "
+        "amplitude, in the pattern's units per unit factor (N for 1 N per unit λ); a list: one "
+        "amplitude per cycle; nonzero, of one sign (negative: the first half-cycle goes down)")
+    cycles: int | None = Field(None, ge=1, description="cyclic entry: number of cycles, two "
+                               "segments each (default with a list of amplitudes: its length)")
+    mean: float = Field(0.0, description="cyclic entry: the factor the cycles swing about")
+
+    @model_validator(mode="after")
+    def _segment_or_cycles(self) -> SegmentSpec:
+        cyclic = {"cycles", "mean"} & self.model_fields_set
+        if self.amplitude is None:
+            if cyclic:
+                raise ValueError(f"{sorted(cyclic)[0]} belongs to a cyclic entry: give its "
+                                 "amplitude too (and no end)")
+            if self.end is None:
+                raise ValueError("give end (one segment), or amplitude and cycles (a cyclic "
+                                 "program)")
+        elif self.end is not None:
+            raise ValueError("give end (one segment) or amplitude and cycles (a cyclic "
+                             "program), not both: the cycles end at mean − amplitude")
+        return self
+
+
+def _segments(s: SegmentSpec) -> tuple[Segment, ...]:
+    """The segments of one ``[[program]]`` entry, a cyclic one expanded (none when its
+    amplitudes are wrong: :meth:`_Builder.check_references` reports them)."""
+    if s.amplitude is None:
+        return (Segment(s.pattern, s.end, s.start, s.rates),)  # type: ignore[arg-type]
+    try:
+        return cycles(s.pattern, s.amplitude, s.cycles, mean=s.mean, start=s.start,
+                      rates=s.rates)
+    except ModelError:
+        return ()
 
 
 class TimeFunctionSpec(_Spec):
@@ -1245,7 +1355,14 @@ class _Builder:
                     f"segments do not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
                     f"this segment starts at {seg.start:g}",
                 )
-            current[seg.pattern] = seg.end
+            if seg.amplitude is None:
+                current[seg.pattern] = seg.end  # type: ignore[assignment]
+                continue
+            try:  # a cyclic entry ends at mean − its last amplitude
+                amps = cycle_amplitudes(seg.amplitude, seg.cycles, f"program[{i}]", "cycles")
+                current[seg.pattern] = seg.mean - amps[-1]
+            except ModelError as e:
+                p.add(e.item, e.problem)
 
     # ---- bodies and node sets -------------------------------------------------------------
     def _material(self, ref: str | MaterialSpec | None) -> Material | None:
@@ -1415,6 +1532,7 @@ class _Builder:
                     gap=itf.gap,
                     normal=itf.normal,
                     layer=None if itf.layer is None else itf.layer.build(),
+                    bond=None if itf.bond is None else itf.bond.build(),
                     pairs=itf.pairs,
                     area=itf.area,
                     cfe=itf.cfe,
@@ -1455,7 +1573,7 @@ class _Builder:
                 else:
                     loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
             patterns.append(LoadPattern(pname, tuple(loads)))
-        program = [Segment(s.pattern, s.end, s.start, s.rates) for s in spec.program]
+        program = [seg for s in spec.program for seg in _segments(s)]
         dynamics = self._dynamics(spec.dynamics, {pt.name for pt in patterns}, p)
         try:
             return Model(

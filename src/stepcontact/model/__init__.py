@@ -37,6 +37,11 @@ from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 
 __all__ += ["CrackWater", "LinearProfile", "Uplift", "WaterLoad"]
 
+# joints with initial strength (eq. (12))
+from stepcontact.model.bond import Bond  # noqa: E402
+
+__all__ += ["Bond"]
+
 # rigid obstacles (fixed or moving lines and polylines, not meshed)
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle  # noqa: E402
 
@@ -46,3 +51,8 @@ __all__ += ["ObstacleMotion", "RigidObstacle"]
 from stepcontact.model.discrete import DiscreteModel  # noqa: E402
 
 __all__ += ["DiscreteModel"]
+
+# load programs built from a few numbers (cyclic loading)
+from stepcontact.model.program import cycles  # noqa: E402
+
+__all__ += ["cycles"]

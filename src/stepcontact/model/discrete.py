@@ -120,6 +120,10 @@ class DiscreteModel:
     cn : float or (m,)
         Normal damping of the contact layer, N·s/m (≥ 0; dynamics only: a Kelvin–Voigt layer,
         which needs a finite ``kn``).
+    bond : Bond, or a sequence of m Bond or None, optional
+        Initial strength of the CFEs (eq. (12), :class:`~stepcontact.model.bond.Bond`; with
+        area 1, its strengths are the CFE's limit forces N_R, Q_R in N); its ``friction``,
+        if given, replaces ``friction`` after the break.  Bonded CFEs need zero gaps.
     names : str or sequence of m str
         CFE names: CFEs of one name form an interface of the result (``res.interface_names``;
         ``local`` numbers them in order).  One string names them all.
@@ -152,6 +156,7 @@ class DiscreteModel:
     kn: object = np.inf
     kt: object = np.inf
     cn: object = 0.0
+    bond: object = None
     names: object = "contact"
     dof_names: Sequence[str] | None = None
     name: str = "discrete"
@@ -212,6 +217,7 @@ class DiscreteModel:
             k = int(np.flatnonzero(rigid_damped)[0])
             raise ModelError(f"cn[{k}]", "a damped contact layer needs a finite stiffness kn "
                              "(the damping acts in the layer)")
+        put(self, "bond", self._bonds(m))
         frictional = self.friction > 0
         no_t = At.getnnz(axis=1) == 0
         if np.any(frictional & no_t):
@@ -277,6 +283,33 @@ class DiscreteModel:
         if not 0 <= int(key) < n:
             raise ModelError(item, f"DOF {key} does not exist (DOFs 0…{n - 1})")
         return int(key)
+
+    def _bonds(self, m: int) -> np.ndarray:
+        """The bond columns (m, 4) of the law (NaN rows: no bond); sets the friction after
+        the break where a bond gives one."""
+        from stepcontact.model.bond import Bond
+
+        out = np.full((m, 4), np.nan)
+        spec = self.bond
+        if spec is None or isinstance(spec, np.ndarray) and spec.shape == (m, 4):
+            return out if spec is None else np.asarray(spec, float)
+        bonds = [spec] * m if isinstance(spec, Bond) else list(spec)
+        if len(bonds) != m:
+            raise ModelError("bond", f"give one Bond or {m} (one per CFE, None for none), got "
+                             f"{len(bonds)}")
+        for k, b in enumerate(bonds):
+            if b is None:
+                continue
+            if not isinstance(b, Bond):
+                raise ModelError(f"bond[{k}]", f"must be a Bond or None, got "
+                                 f"{type(b).__name__}")
+            if self.gaps[k] > 0:
+                raise ModelError(f"bond[{k}]", f"a bonded CFE must be closed: its gap is "
+                                 f"{self.gaps[k]:g} m")
+            out[k] = b.arrays(np.zeros((1, 2)), np.ones(1), f"bond[{k}]")[0]
+            if b.friction is not None:
+                self.friction[k] = float(b.friction)
+        return out
 
     def _dof_mask(self, spec, item: str) -> np.ndarray:
         n = self.K.shape[0]

@@ -594,6 +594,11 @@ class Interface:
         part of it facing S− for mortar CFEs; for a single isolated node, 1 m × thickness).
     cfe : str
         ``"auto"``, ``"mortar"``, ``"node-to-segment"`` or ``"node-to-node"`` (see above).
+    bond : Bond or None
+        Initial strength of the joint in tension and shear (eq. (12),
+        :class:`~stepcontact.model.bond.Bond`): its CFEs start bonded and break into
+        unilateral contact with friction (``friction``, or the bond's own).  The joint must be
+        closed (zero gap).
     """
 
     name: str
@@ -606,9 +611,15 @@ class Interface:
     pairs: bool = False
     area: float | None = None
     cfe: str = "auto"
+    bond: object = None
 
     def __post_init__(self):
         item = f"interface '{self.name}'"
+        if self.bond is not None:
+            from stepcontact.model.bond import Bond
+
+            if not isinstance(self.bond, Bond):
+                raise ModelError(f"{item}.bond", f"must be a Bond, got {type(self.bond).__name__}")
         if self.cfe not in CFE_KINDS:
             raise ModelError(f"{item}.cfe", f"unknown CFE kind '{self.cfe}', use one of "
                                             + ", ".join(repr(k) for k in CFE_KINDS))
@@ -922,7 +933,13 @@ class Model:
     def segments_resolved(self) -> list[tuple[str, float, float]]:
         """The load program as (pattern or segment name, start, end), with starts filled in and
         chaining checked: ``start`` must equal the factor the pattern has reached (a segment
-        with rates moves each of its patterns by rate × its span)."""
+        with rates moves each of its patterns by rate × its span).
+
+        Resolved once per model (it is immutable): a solver hook that gets a result after
+        every segment must not cost O(segments) each time, i.e. O(segments²) in all."""
+        cached = self.__dict__.get("_program_resolved")
+        if cached is not None:
+            return list(cached)
         current: dict[str, float] = {}
         out = []
         for i, seg in enumerate(self.program):
@@ -953,6 +970,7 @@ class Model:
             current[seg.pattern] = float(seg.end)
             for name, rate in seg.rates or ():  # the patterns a segment with rates moved
                 current[name] = current.get(name, 0.0) + rate * (float(seg.end) - start)
+        object.__setattr__(self, "_program_resolved", tuple(out))
         return out
 
     def segment_rates(self) -> list[dict[str, float]]:

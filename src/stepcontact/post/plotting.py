@@ -61,7 +61,9 @@ MAX_PIXELS = 2e8  #: largest raster of a figure, pixels (about 800 MB of RGBA)
 MAX_SIDE = 2**16  #: the Agg renderer's limit on each side, pixels
 
 
-def _new_figure(**kw) -> Figure:
+def new_figure(**kw) -> Figure:
+    """A matplotlib figure (constrained layout, the Agg canvas: no GUI backend) for the
+    plotting functions of this module and of the studies' reports."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -70,7 +72,9 @@ def _new_figure(**kw) -> Figure:
     return fig
 
 
-def _check_path(path: str | os.PathLike[str] | None, dpi: float = DPI) -> Path | None:
+def figure_path(path: str | os.PathLike[str] | None, dpi: float = DPI) -> Path | None:
+    """``path`` as a Path checked for a supported image suffix (None stays None: the figure is
+    returned, not written), and ``dpi`` checked to be positive."""
     if not (np.isfinite(dpi) and dpi > 0):
         raise ValueError(f"dpi={dpi}: must be a positive number of dots per inch")
     if path is None:
@@ -97,7 +101,7 @@ def _check_pixels(fig: Figure, dpi: float) -> None:
         )
 
 
-def _save(fig: Figure, path: Path | None, dpi: float = DPI) -> None:
+def save_figure(fig: Figure, path: Path | None, dpi: float = DPI) -> None:
     """Write the figure atomically: to a temporary file beside ``path``, renamed into place;
     a failed write leaves no partial figure (and an existing file untouched)."""
     if path is None:
@@ -119,10 +123,17 @@ def _stress_scale(values: np.ndarray) -> tuple[float, str]:
     return 1.0, "Pa"
 
 
+#: the default interface figure draws at most this many segment ends (the last ones): a cyclic
+#: program of hundreds of segments would otherwise draw a diagram per half-cycle
+MAX_DEFAULT_SNAPSHOTS = 8
+
+
 def _default_lams(res: StaticResult, segment: int | None) -> list[tuple[int, float]]:
-    """(segment, λ) at the end of each segment (or of the given one)."""
+    """(segment, λ) at the end of each segment — the last :data:`MAX_DEFAULT_SNAPSHOTS` — or of
+    the given one."""
     segs = np.asarray(res.segment)
-    chosen = [segment] if segment is not None else list(dict.fromkeys(segs.tolist()))
+    chosen = ([segment] if segment is not None
+              else list(dict.fromkeys(segs.tolist()))[-MAX_DEFAULT_SNAPSHOTS:])
     out = []
     for s in chosen:
         idx = np.flatnonzero(segs == s)
@@ -304,10 +315,11 @@ def plot_interfaces(
     ----------
     res : StaticResult
     lams : float or sequence of float, optional
-        Load factors of the active pattern of ``segment``.  Default: the end of every segment
-        (or of ``segment`` when given).  For a dynamic result (:func:`~stepcontact.
-        solve_dynamic`) the times t, s: the diagrams at chosen instants, the forces between
-        two recorded steps interpolated linearly in time (as Newmark's step does).
+        Load factors of the active pattern of ``segment``.  Default: the end of every segment,
+        the last :data:`MAX_DEFAULT_SNAPSHOTS` of them (or of ``segment`` when given).  For a
+        dynamic result (:func:`~stepcontact.solve_dynamic`) the times t, s: the diagrams at
+        chosen instants, the forces between two recorded steps interpolated linearly in time
+        (as Newmark's step does).
     path : str or PathLike, optional
         Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
     segment : int, optional
@@ -326,7 +338,7 @@ def plot_interfaces(
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    out = _check_path(path, dpi)
+    out = figure_path(path, dpi)
     snaps = []
     if states is not None:
         picked = [states] if np.isscalar(states) else list(states)
@@ -347,12 +359,12 @@ def plot_interfaces(
 
     names = list(res.interface_names)
     ncol = max(1, len(names))
-    fig = _new_figure(figsize=(max(8.5, 4.8 * ncol), 7.5))
+    fig = new_figure(figsize=(max(8.5, 4.8 * ncol), 7.5))
     if not names or res.m == 0:
         ax = fig.add_subplot()
         ax.text(0.5, 0.5, "no contact interfaces", ha="center", va="center")
         ax.set_axis_off()
-        _save(fig, out, dpi)
+        save_figure(fig, out, dpi)
         return fig
 
     area = np.asarray(res.cfe["area"], dtype=float)
@@ -450,7 +462,7 @@ def plot_interfaces(
             "Contact stresses at "
             + ";\n".join(f"pattern '{p}' λ = {', '.join(v)}" for p, v in by_pattern.items())
         )
-    _save(fig, out, dpi)
+    save_figure(fig, out, dpi)
     return fig
 
 
@@ -479,8 +491,8 @@ def plot_load_path(
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
 
-    out = _check_path(path, dpi)
-    fig = _new_figure(figsize=(8.0, 6.5))
+    out = figure_path(path, dpi)
+    fig = new_figure(figsize=(8.0, 6.5))
     ax_l, ax_c = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
     i = np.arange(res.n_states)
     segs = np.asarray(res.segment)
@@ -541,7 +553,7 @@ def plot_load_path(
     fig.suptitle(
         f"Load path — {res.status.value}, {len(res.events)} events, {res.m} CFEs"
     )
-    _save(fig, out, dpi)
+    save_figure(fig, out, dpi)
     return fig
 
 
@@ -1016,7 +1028,7 @@ def plot_deformed(
     -------
     >>> fig = plot_deformed(res, stress="mises", path="out/mises.png")  # doctest: +SKIP
     """
-    out = _check_path(path, dpi)
+    out = figure_path(path, dpi)
     i = _state_index(res, res.n_states - 1 if state is None else state)
     if scale is not None and not (np.isfinite(scale) and scale > 0):
         raise ValueError(f"scale={scale}: the magnification must be a positive number")
@@ -1041,7 +1053,7 @@ def plot_deformed(
     lo = np.minimum(points.min(0), np.min([v.min(0) for v in tips], axis=0))
     hi = np.maximum(points.max(0), np.max([v.max(0) for v in tips], axis=0))
     w, h = np.maximum(hi - lo, 1e-3 * size)
-    fig = _new_figure(figsize=(9.0, round(float(np.clip(9.0 * h / w + 1.2, 3.0, 9.0)), 1)))
+    fig = new_figure(figsize=(9.0, round(float(np.clip(9.0 * h / w + 1.2, 3.0, 9.0)), 1)))
     ax = fig.add_subplot()
     _draw_bodies(ax, bodies, points, reference=True)
     _draw_bodies(ax, bodies, xy)
@@ -1077,7 +1089,7 @@ def plot_deformed(
         f") — displacements × {scale:g}, "
         f"max |u| = {umax:.3g} m"
     )
-    _save(fig, out, dpi)
+    save_figure(fig, out, dpi)
     return fig
 
 
@@ -1230,7 +1242,7 @@ def plot_load_displacement(
     -------
     matplotlib.figure.Figure
     """
-    out = _check_path(path, dpi)
+    out = figure_path(path, dpi)
     if dof is not None and dof not in _DOFS:
         raise ValueError(f"dof={dof!r}: use 'x', 'y' or 'rz'")
     if axis not in ("lam", "path"):
@@ -1261,7 +1273,7 @@ def plot_load_displacement(
 
     segs = _segments_reached(res)
     panels = len(segs) if axis == "lam" else 1
-    fig = _new_figure(figsize=(7.5, min(3.0 * panels + 1.2, 11.0)))
+    fig = new_figure(figsize=(7.5, min(3.0 * panels + 1.2, 11.0)))
     axes = np.atleast_1d(fig.subplots(panels, 1, sharex=True, squeeze=False)[:, 0])
     seen: list[Transition] = []
     for j, s in enumerate(segs):
@@ -1297,7 +1309,7 @@ def plot_load_displacement(
                    ncol=len(set(seen)), fontsize=8, frameon=False, title="events")
     what = "reaction" if reaction is not None else "displacement"
     fig.suptitle(f"Load–{what} — {res.status.value}, {len(res.events)} events")
-    _save(fig, out, dpi)
+    save_figure(fig, out, dpi)
     return fig
 
 
@@ -1329,18 +1341,18 @@ def plot_event_timeline(
     """
     from matplotlib.collections import LineCollection
 
-    out = _check_path(path, dpi)
+    out = figure_path(path, dpi)
     names = list(res.interface_names)
     segs = _segments_reached(res)
     nrow, ncol = max(1, len(names)), max(1, len(segs))
-    fig = _new_figure(figsize=(min(3.8 * ncol + 2.0, 16.0), min(2.6 * nrow + 1.6, 12.0)))
+    fig = new_figure(figsize=(min(3.8 * ncol + 2.0, 16.0), min(2.6 * nrow + 1.6, 12.0)))
     fig.suptitle(f"Event timeline — {len(res.events)} events, {res.m} CFEs, "
                  f"{res.status.value}")
     if not names or res.m == 0 or not segs:
         ax = fig.add_subplot()
         ax.text(0.5, 0.5, "no contact interfaces", ha="center", va="center")
         ax.set_axis_off()
-        _save(fig, out, dpi)
+        save_figure(fig, out, dpi)
         return fig
     axes = fig.subplots(nrow, ncol, squeeze=False, sharey="row")
     iface = np.asarray(res.cfe["interface"])
@@ -1389,7 +1401,7 @@ def plot_event_timeline(
         [e.transition for e in res.events], prefix="→ ")
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 6),
                fontsize=8, frameon=False)
-    _save(fig, out, dpi)
+    save_figure(fig, out, dpi)
     return fig
 
 
@@ -1428,7 +1440,7 @@ def plot_safety(
     -------
     matplotlib.figure.Figure
     """
-    out = _check_path(path, dpi)
+    out = figure_path(path, dpi)
     names = list(res.interface_names if interfaces is None else interfaces)
     for name in names:
         if name not in res.interface_names:
@@ -1436,14 +1448,14 @@ def plot_safety(
                              f"{', '.join(map(repr, res.interface_names)) or 'none'})")
     segs = _segments_reached(res)
     seg = segs[-1] if segment is None and segs else segment
-    fig = _new_figure(figsize=(7.5, 7.5))
+    fig = new_figure(figsize=(7.5, 7.5))
     axes = fig.subplots(3, 1, sharex=True)
     if not names or seg is None or seg not in segs:
         for ax in axes:
             ax.set_axis_off()
         axes[0].text(0.5, 0.5, "no contact interfaces" if not names else
                      f"segment {seg} was not reached", ha="center", va="center")
-        _save(fig, out, dpi)
+        save_figure(fig, out, dpi)
         return fig
     idx, lam = _segment_chain(res, seg)
     peak = 1.0
@@ -1478,7 +1490,7 @@ def plot_safety(
         axes[-1].invert_xaxis()
     axes[0].legend(fontsize=8, loc="best")
     fig.suptitle(f"Joint safety — segment {seg} '{_pattern_of(res, seg)}', {res.status.value}")
-    _save(fig, out, dpi)
+    save_figure(fig, out, dpi)
     return fig
 
 
@@ -1523,11 +1535,11 @@ def plot_time_history(res, dofs: Sequence, path: str | os.PathLike[str] | None =
     contact event marked by a vertical line in its transition's colour (a dynamic result,
     :func:`~stepcontact.solve_dynamic`).  ``dofs``: a discrete model's DOF names or global
     DOF indices.  Units: m, m/s, s."""
-    out = _check_path(path, dpi)
+    out = figure_path(path, dpi)
     if not hasattr(res, "v"):
         raise ValueError("plot_time_history needs a dynamic result (sc.solve_dynamic)")
     picked = [_dof_index(res, d) for d in ([dofs] if isinstance(dofs, str | int) else dofs)]
-    fig = _new_figure(figsize=(8.5, 6.0))
+    fig = new_figure(figsize=(8.5, 6.0))
     ax_u, ax_v = fig.subplots(2, 1, sharex=True)
     t = np.asarray(res.time)
     for i, name in picked:
@@ -1543,7 +1555,7 @@ def plot_time_history(res, dofs: Sequence, path: str | os.PathLike[str] | None =
     ax_u.legend(handles=ax_u.get_lines()[: len(picked)] + _transition_handles(seen, "event: "),
                 fontsize=8, loc="best")
     fig.suptitle(f"Time history ({len(res.events)} contact events, Δt = {res.dt:g} s)")
-    _save(fig, out, dpi)
+    save_figure(fig, out, dpi)
     return fig
 
 
@@ -1552,10 +1564,10 @@ def plot_energy(res, path: str | os.PathLike[str] | None = None, *, dpi: float =
     """The energy ledger of a dynamic result against time: kinetic, strain, the work of the
     loads and what damping, friction, the impacts and the integrator dissipated (J), and the
     balance error."""
-    out = _check_path(path, dpi)
+    out = figure_path(path, dpi)
     if not getattr(res, "energy", None):
         raise ValueError("plot_energy needs a dynamic result (sc.solve_dynamic)")
-    fig = _new_figure(figsize=(8.5, 5.5))
+    fig = new_figure(figsize=(8.5, 5.5))
     ax = fig.subplots()
     t = np.asarray(res.time)
     for key in ("kinetic", "strain", "external", "damping", "friction", "impact",
@@ -1570,7 +1582,7 @@ def plot_energy(res, path: str | os.PathLike[str] | None = None, *, dpi: float =
     ax.set_ylabel("energy, J (per metre of thickness in plane strain)")
     ax.legend(fontsize=8, loc="best")
     fig.suptitle(f"Energy ledger (largest balance error {err:.1e} J)")
-    _save(fig, out, dpi)
+    save_figure(fig, out, dpi)
     return fig
 
 
@@ -1578,6 +1590,9 @@ __all__ = [
     "DPI",
     "STATE_COLORS",
     "TRANSITION_MARKERS",
+    "figure_path",
+    "new_figure",
+    "save_figure",
     "plot_deformed",
     "plot_event_timeline",
     "plot_interfaces",

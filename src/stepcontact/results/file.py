@@ -751,8 +751,11 @@ class ResultWriter:
 
     The file holds every state finished so far, with status ``incomplete`` until the run ends;
     an interrupted run (Ctrl-C) writes what it has.  Writes are at most one per
-    ``min_interval`` seconds (the last segment's result and :meth:`finish` always write), so
-    long programs of many short segments do not spend their time writing.
+    ``min_interval`` seconds (the last segment's result and :meth:`finish` always write), and
+    with ``min_interval`` > 0 at most one per (1 − s)/s times the duration of the last write
+    (s = :attr:`max_share`): a write of the whole result grows with the run, so long programs
+    of many short segments (cyclic loading) spend at most about a share s of their time
+    writing, and their cost stays linear in the number of segments.
 
     Parameters
     ----------
@@ -766,21 +769,30 @@ class ResultWriter:
     >>> res = sc.solve_static(model, output="out/run.nc")          # doctest: +SKIP
     """
 
+    #: the largest share of the run's time spent writing at segment ends (min_interval > 0)
+    max_share: float = 0.2
+
     def __init__(self, path: str | os.PathLike[str], min_interval: float = 0.0) -> None:
         self.path = Path(path)
         self.min_interval = float(min_interval)
         self.writes = 0
         self._last = -float("inf")
+        self._cost = 0.0  # seconds the last write took
 
     def _write(self, result: StaticResult) -> None:
+        t0 = time.monotonic()
         save_result(result, self.path)
         self.writes += 1
         self._last = time.monotonic()
+        self._cost = self._last - t0
 
     def after_segment(self, result: StaticResult) -> None:
         """Save ``result`` (the run up to the end of the segment just finished)."""
         final = Status(result.status) != Status.INCOMPLETE
-        if final or time.monotonic() - self._last >= self.min_interval:
+        wait = self.min_interval
+        if wait > 0:
+            wait = max(wait, self._cost * (1.0 - self.max_share) / self.max_share)
+        if final or time.monotonic() - self._last >= wait:
             self._write(result)
 
     def interrupted(self, result: StaticResult) -> None:

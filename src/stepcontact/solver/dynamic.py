@@ -670,6 +670,12 @@ def solve_dynamic(
     schemes = SchemeSolver(cond.G, cond.d, product=cond.product)
     t_setup = time.perf_counter() - t0
     cfe = system.cfe
+    if cfe.bonded.any() and (initial is None or np.any(
+            np.asarray(initial.state)[-1][cfe.bonded] == int(ContactState.BONDED))):
+        k = int(np.flatnonzero(cfe.bonded)[0])
+        raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond", "joints with "
+                         "initial strength (eq. (12)) are followed in static load programs; "
+                         "a dynamic interval with intact bonds is not supported yet")
     if np.any((cfe.cn > 0) & ~np.isfinite(cfe.kn)):
         k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
         raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "

@@ -108,9 +108,9 @@ def free_to_open(engine: EventEngine, cond, system, states: np.ndarray, f: np.nd
     along the load opens every one of them.  At a degenerate point (a body resting on zero
     forces, pulled off) several schemes are mechanisms; the one that keeps a force-free CFE
     closed names a rotation about it, where the body in fact lifts off."""
-    from stepcontact.contact.laws import OPEN
+    from stepcontact.contact.laws import BONDED, OPEN
 
-    idle = (states != OPEN) & (np.abs(N) <= tol)
+    idle = (states != OPEN) & (states != BONDED) & (np.abs(N) <= tol)
     if not idle.any():
         return states
     alt = states.copy()

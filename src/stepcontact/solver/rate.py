@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stepcontact.contact.laws import OPEN, OPENING, SLIP_NEG, SLIP_POS, RateVariables
+from stepcontact.contact.laws import BONDED, OPEN, OPENING, SLIP_NEG, SLIP_POS, RateVariables
 from stepcontact.enums import Status
 from stepcontact.solver.lcp import enumerate_solutions, lemke, principal_pivoting
 from stepcontact.solver.schemes import MechanismError
@@ -126,7 +126,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     base = guess.copy()
     for law in eng.laws:
         inl = np.isin(law.cfes, L)
-        base[law.cfes[inl]] = law.closed_state()[inl]
+        base[law.cfes[inl]] = law.base_state(base[law.cfes])[inl]
     h, e = forcing
     try:
         fact = eng.factor(base, article=False)
@@ -249,6 +249,8 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
         opts = [OPEN, int(law.closed_state()[j])]
         if law.frictional[j]:
             opts += [SLIP_POS, SLIP_NEG]
+        if guess[k] == BONDED:  # a bond holds (its break is the driver's)
+            opts = [BONDED]
         options.append(opts)
     driven = None
     for combo in itertools.product(*options):

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
+from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
 from stepcontact.errors import ContactHeldWarning, ModelError
 from stepcontact.fem.assembly import System, assemble, load_resultants
@@ -245,7 +245,8 @@ class StaticSolver:
         cfe = self.cfe
         held_n, held_t = held_components(system)
         self._warn_held(held_n, held_t)
-        self.law = CoulombLaw(np.arange(cfe.m), cfe.friction, cfe.kn, cfe.kt, held_n, held_t)
+        self.law = CoulombLaw(np.arange(cfe.m), cfe.friction, cfe.kn, cfe.kt, held_n, held_t,
+                              bond=cfe.bond)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         self.engine = EventEngine(self.schemes, [self.law], system.w0, rtol=rtol,
                                   article=self.article, eps_p=eps_p, rate_solver=rate_solver)
@@ -259,6 +260,12 @@ class StaticSolver:
         #: water in opened joints (fem.crack) and the force W (m,) it applies now, N
         self.crack = system.crack
         self.sw = np.zeros(cfe.m)
+        #: joints with initial strength (eq. (12)): bonded CFEs start BONDED; ``ghost`` (2m,)
+        #: is what broken bonds still transmit while their release is followed (N)
+        self.bonds = bool(self.law.has_bond.any())
+        self.engine.states = self.law.initial_states(self.engine.states)
+        self.ghost = np.zeros(2 * cfe.m)
+        self._releasing = False
 
     def _level_path(self, seg: int, pattern: str, rates: dict[str, float], lam0: float,
                     lam1: float) -> LevelPath | None:
@@ -430,6 +437,97 @@ class StaticSolver:
                 self._record(lam, seg, "event")  # the state after the water entered
         return True, ds, dw, forcing
 
+    # ---- joints with initial strength (eq. (12)) -------------------------------------------
+    def _breaks(self, brk: np.ndarray, lam: float, seg: int, pattern: str, mult: dict) -> None:
+        """Break the bonds of the CFEs ``brk`` at the current point: each takes its Coulomb
+        state (open in tension, else stuck or slipping), and what it can no longer carry is
+        moved from its contact force into ``ghost`` (still transmitted, as a load, until
+        :meth:`_release` has let it go).  Logs a ``broken`` event per CFE; a bond that breaks
+        open (slipping) is the segment's first opening (slip) if none came before."""
+        eng, law, m = self.engine, self.law, self.cfe.m
+        tf, _ = eng.tolerances()
+        Q, p = eng.s[:m], eng.s[m:]
+        old = eng.states.copy()
+        new = old.copy()
+        new[brk] = law.broken_state(Q, p, tf)[brk]
+        self._log_events(old, new, lam, seg, pattern, len(self.rec))
+        for key, hit in (("first_opening", new[brk] == OPEN),
+                         ("first_slip", (new[brk] == SLIP_POS) | (new[brk] == SLIP_NEG))):
+            if mult[key] is None and hit.any():
+                mult[key] = lam
+        dQ, dp = law.released(new, Q, p)
+        dQ, dp = np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)
+        self.ghost[:m] += dQ
+        self.ghost[m:] += dp
+        eng.s[:m] -= dQ
+        eng.s[m:] -= dp
+        eng.states = new
+
+    def _release(self, lam: float, seg: int, pattern: str, mult: dict,
+                 fired: np.ndarray) -> bool:
+        """Release the forces of broken bonds at the fixed load factor λ: the ghost forces g
+        go to zero along a parameter τ ∈ [0, 1] (g = g₀ (1 − τ), a load −Bᵀ g on the
+        structure, forcing ĥ = G g₀ per unit τ), followed by the engine from event to event
+        like a load segment.  A bonded neighbour that reaches its strength surface on the way
+        breaks there (its own forces join the release, which restarts for the new ghost): a
+        crack running along the joint at one λ, event by event, in its order.  Returns False
+        if the run stopped (equilibrium lost while the forces were released, no progress)."""
+        eng, law, m = self.engine, self.law, self.cfe.m
+        saved_f = self._f
+        self._releasing = True
+        small = 0
+        try:
+            while np.any(self.ghost != 0):
+                g0 = self.ghost.copy()
+                forcing = (self.cond.product(g0), np.zeros(2 * m))
+                self._f = self.sys.B.T @ g0
+                eng.F_scale = max(eng.F_scale, float(np.abs(g0).max()))
+                tau = 0.0
+                while True:
+                    ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult,
+                                                   False, 1.0, False)
+                    if not ok or self.status != Status.COMPLETED:
+                        return False
+                    tf, _ = eng.tolerances()
+                    rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
+                    brk = ((fired & (eng.states == BONDED))
+                           | law.breaking(eng.states, eng.s[:m], eng.s[m:], ds[:m], ds[m:],
+                                          tf, rf))
+                    fired = np.zeros(m, bool)
+                    if brk.any():  # a neighbour breaks here: its forces join the release
+                        self._breaks(brk, lam, seg, pattern, mult)
+                        break
+                    dtau, _, fired = eng.next_event(ds, dw, 1.0 - tau, 1e-10)
+                    small = small + 1 if dtau <= 1e-12 else 0
+                    if small > 100 or self.step >= self.max_events:
+                        self.status = Status.CYCLING if small > 100 else Status.MAX_EVENTS
+                        self.message = (f"no progress at λ = {lam:.10g} while broken bonds "
+                                        "release their forces: events repeat" if small > 100
+                                        else f"event budget of {self.max_events} exhausted at "
+                                        f"λ = {lam:.6g}")
+                        self._record(lam, seg, "event", final=True)
+                        return False
+                    eng.advance(dtau, ds, dw)
+                    tau += dtau
+                    self.ghost = g0 * (1.0 - tau)
+                    if tau >= 1.0 - 1e-15 and not fired.any():
+                        self.ghost = np.zeros(2 * m)
+                        break
+            return True
+        finally:
+            self._f = saved_f
+            self._releasing = False
+
+    def _break(self, brk, lam, seg, pattern, mult, fired) -> bool:
+        """Break the bonds ``brk`` here, release their forces (:meth:`_release`) and record
+        the state after the cascade."""
+        self._breaks(brk, lam, seg, pattern, mult)
+        if not self._release(lam, seg, pattern, mult, fired & ~brk):
+            return False
+        self.step += 1
+        self._record(lam, seg, "event")
+        return self.status == Status.COMPLETED
+
     def _warn_held(self, held_n, held_t) -> None:
         cfe = self.cfe
         for mask, what, effect in ((held_n, "normal", "its normal force (the CFE carries "
@@ -452,7 +550,7 @@ class StaticSolver:
         the other states' fields are recomputed exactly on request from (factors, s, w)."""
         eng = self.engine
         store = final or kind != "event" or self.store_fields == "all"
-        st = self._s_total(eng.s, self.sw)
+        st = self._s_total(eng.s, self.sw) + self.ghost
         if store:  # full field: residual of the whole model and kinematics B u + w⁰ = w
             u = self.cond.displacement(self.c, st, eng.w)
             res, kin = self.cond.check(self.c, st, eng.w, u, eng.W_scale)
@@ -665,6 +763,37 @@ class StaticSolver:
         return self.result(time.perf_counter() - t0)
 
     def _event_point(self, fired, forcing, lam, seg, pattern, mult, first, span, seg_start):
+        """Decide the scheme at the current point; record it if anything changed.  Bonds
+        that break here (a facet reached, or the rates of the scheme decided drive a bonded
+        CFE beyond its strength surface) are broken and released first (:meth:`_break`), and
+        the point decided again."""
+        eng = self.engine
+        if self.bonds and not self._releasing:
+            for _ in range(self.cfe.m + 1):
+                brk = fired & (eng.states == BONDED)
+                if brk.any():
+                    if not self._break(brk, lam, seg, pattern, mult, fired):
+                        return False, None, None
+                    fired = np.zeros(self.cfe.m, bool)
+                    first = False
+                ok, ds, dw = self._decide_point(fired, forcing, lam, seg, pattern, mult, first,
+                                                span, seg_start)
+                if not ok:
+                    return ok, ds, dw
+                m = self.cfe.m
+                tf, _ = eng.tolerances()
+                rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
+                brk = self.law.breaking(eng.states, eng.s[:m], eng.s[m:], ds[:m], ds[m:], tf,
+                                        rf)
+                if not brk.any():
+                    return ok, ds, dw
+                fired = brk
+                first = seg_start = False
+            return ok, ds, dw
+        return self._decide_point(fired, forcing, lam, seg, pattern, mult, first, span,
+                                  seg_start)
+
+    def _decide_point(self, fired, forcing, lam, seg, pattern, mult, first, span, seg_start):
         """Decide the scheme at the current point; record it if anything changed."""
         eng = self.engine
         if first:  # CFEs in contact at rest (zero gap, not held by supports)
@@ -737,14 +866,16 @@ class StaticSolver:
             old = np.where(touching, np.where(self.law.frictional, STICK, new), old)
             old = np.where(touching & (new == OPEN), self.law.closed_state(), old)
             switched = bool(np.any(old != new))
-        if seg_start and not switched:
+        if seg_start and not switched and not self._releasing:
             # a state at the start of every segment, so that any λ of it can be interpolated
             self._record(lam, seg, "start" if first else "segment_start")
         if dec.outcome is not None and dec.outcome.alternatives:
             self._nonunique(dec, lam, seg, pattern)
         if switched:
             self.step += 1
-            i = self._record(lam, seg, "event")
+            # (while broken bonds release their forces the state after the cascade is
+            # recorded, not the ones on the way)
+            i = len(self.rec) if self._releasing else self._record(lam, seg, "event")
             n_before = len(self.rec.events)
             self._log_events(old, new, lam, seg, pattern, i)
             self._first_multipliers(mult, lam, n_before)

@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepcontact.io.atomic import write_text
-from stepcontact.post.plotting import DPI, _check_path, _new_figure, _save
+from stepcontact.post.plotting import DPI, figure_path, new_figure, save_figure
 from stepcontact.study import hydraulics as hy
 from stepcontact.study.basin import BasinStudy, design_table, envelope
 
@@ -217,11 +217,11 @@ def plot_limits(ds: xr.Dataset, study: BasinStudy,
     when there are several), the envelope over all impulse cases (a thick grey band, label
     "envelope of all impulses"), the static-only limit (dashed horizontal line).  Saved to
     ``path`` (.png, .pdf, .svg) if given."""
-    p = _check_path(path, dpi)
+    p = figure_path(path, dpi)
     env = _quiet_envelope(ds)
     xs = env["x"]
     durations = np.unique(_floats(ds, "duration")[_strings(ds, "kind") == "impulse"])
-    fig = _new_figure(figsize=(8.0, 5.6))
+    fig = new_figure(figsize=(8.0, 5.6))
     ax = fig.add_subplot()
     for d in (k for k in env if k not in ("x", "envelope", "static")):
         color = COLORS.get(d)
@@ -254,7 +254,7 @@ def plot_limits(ds: xr.Dataset, study: BasinStudy,
                  f"{study.length:.1f} m\nimpulse {study.amplitude:g} ρ_w V1²/2 = "
                  f"{amp / 1e3:.0f} kPa over a {study.footprint:g} m footprint",
                  fontsize="medium")
-    _save(fig, p, dpi)
+    save_figure(fig, p, dpi)
     return fig
 
 
@@ -350,9 +350,9 @@ def plot_edge_stresses(ds: xr.Dataset, study: BasinStudy,
     the upstream third shaded and a triangle at each case's least compressed CFE (where the
     joint is about to open), the right column zooms on that upstream third.  Saved to
     ``path`` if given."""
-    p = _check_path(path, dpi)
+    p = figure_path(path, dpi)
     rows = _stress_cases(ds, cases)
-    fig = _new_figure(figsize=(11.0, 6.5))
+    fig = new_figure(figsize=(11.0, 6.5))
     grid = fig.add_gridspec(2, 2, width_ratios=(1.0, 1.8))
     ax_full_n = fig.add_subplot(grid[0, 0])
     ax_full_t = fig.add_subplot(grid[1, 0], sharex=ax_full_n)
@@ -381,7 +381,7 @@ def plot_edge_stresses(ds: xr.Dataset, study: BasinStudy,
                   transform=ax_n.transAxes)
     fig.suptitle("Contact stresses under the slab just before its first lift-off "
                  "(at the failing thickness)", fontsize="medium")
-    _save(fig, p, dpi)
+    save_figure(fig, p, dpi)
     return fig
 
 

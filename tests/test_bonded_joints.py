@@ -1,0 +1,324 @@
+"""Joints with initial strength (article eq. (12), :class:`~stepcontact.model.bond.Bond`): a
+bonded CFE carries tension and shear inside its strength surface, breaks exactly on it (an event
+located like the others), releases what it can no longer carry at the same load factor, and is a
+unilateral Coulomb contact from then on.
+
+References:
+
+* one bonded CFE (a discrete model, springs to the ground): the break load is N_R in tension,
+  min(N_R, Q_R/α_R) in the article's form, Q_R + α_R p in shear at a constant compression p,
+  exactly; after the break the CFE opens, or slips at Q = f p and follows Coulomb's law
+  (sticks on unloading, slips the other way at −f p);
+* a crack running along a bonded base: a rigid block on a Winkler layer (C = k A per CFE) with
+  the Mohr–Coulomb bond, tensile strength varying along the joint, under its weight and a rising
+  reservoir — solved here by hand (dense): for a set of broken CFEs the base forces are linear
+  in λ (normal: vertical and moment equilibrium of the springs; shear: the horizontal thrust
+  shared by the bonded springs and the slipping CFEs' f p); the next break is the first facet
+  reached, and a break's release is the straight path between the two equilibria at that λ, on
+  which a neighbour that reaches its facet breaks in turn (a cascade, in its order).  The block
+  is 1e6 times stiffer than the layer: tolerance 1e-5 on λ.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import stepcontact as sc
+from stepcontact.enums import Status, Transition
+from stepcontact.errors import ModelError
+
+BROKEN = Transition.BROKEN
+OPEN, STICK, SLIP_POS, SLIP_NEG, BONDED = (int(s) for s in (
+    sc.ContactState.OPEN, sc.ContactState.STICK, sc.ContactState.SLIP_POS,
+    sc.ContactState.SLIP_NEG, sc.ContactState.BONDED))
+
+
+def one_cfe(bond, program, k=1e3, friction=0.3):
+    """A point (DOFs ux, uy) on springs k to the ground, bonded to a rigid base by one CFE."""
+    return sc.DiscreteModel(
+        K=[[k, 0.0], [0.0, k]], normal_rows=[[0, 1]], tangent_rows=[[1, 0]],
+        loads={"pull": {"uy": 1.0}, "press": {"uy": -1.0}, "push": {"ux": 1.0}},
+        friction=friction, bond=bond, dof_names=("ux", "uy"), program=program)
+
+
+def _breaks(res):
+    return [e for e in res.events if e.transition == BROKEN]
+
+
+@pytest.mark.parametrize("alpha_t, shear, expect", [(np.inf, 60.0, 100.0), (None, 60.0, 100.0),
+                                                    (np.inf, 40.0, 80.0), (None, 40.0, 80.0)])
+def test_a_bond_breaks_in_tension_on_its_strength_surface_and_the_cfe_opens(alpha_t, shear,
+                                                                            expect):
+    """N_R = 100 N, α_R = 0.5, pulled at Q = 0: the bond breaks at N = min(N_R, Q_R/α_R) —
+    the tension facet N ≤ N_R (a cut-off, or the article's N + |Q|/α_R ≤ N_R), unless the
+    shear facet |Q| ≤ Q_R − α_R N reaches zero first (Q_R = 40 N: at N = 80 N)."""
+    bond = sc.Bond(tensile=100.0, shear=shear, alpha=0.5, tension_alpha=alpha_t)
+    res = sc.solve_static(one_cfe(bond, [sc.Segment("pull", 150.0)]))
+    assert res.status == Status.COMPLETED
+    (brk,) = _breaks(res)
+    assert brk.lam == pytest.approx(expect, rel=1e-12)
+    assert brk.N == pytest.approx(expect, rel=1e-12) and brk.Q == 0.0
+    i = len(res.lam) - 1
+    assert res.state[i][0] == OPEN and res.N[i][0] == 0.0
+    # the spring takes what the bond released: u_y = λ/k
+    assert res.displacement(i)[1] == pytest.approx(150.0 / 1e3, rel=1e-12)
+    assert res.residual.max() < 1e-9 and res.violation.max() < 1e-9
+    # before the break the CFE carried the whole pull in tension with no displacement
+    j = int(np.flatnonzero(res.lam == expect)[0])
+    assert res.state[j][0] == BONDED or res.state[j - 1][0] == BONDED
+
+
+def test_a_bond_breaks_in_shear_at_constant_compression_then_the_cfe_is_coulomb():
+    """Pressed by p = 100 N, pushed sideways: the bond breaks at Q = Q_R + α_R p = 100 N; the
+    CFE then slips with Q = f p = 30 N (the spring takes the rest), sticks when the push
+    falls, and slips the other way at Q = −f p."""
+    bond = sc.Bond(tensile=100.0, shear=50.0, alpha=0.5, tension_alpha=np.inf, friction=0.3)
+    prog = [sc.Segment("press", 100.0), sc.Segment("push", 200.0), sc.Segment("push", -200.0)]
+    res = sc.solve_static(one_cfe(bond, prog))
+    assert res.status == Status.COMPLETED
+    (brk,) = _breaks(res)
+    assert (brk.segment, brk.lam) == (1, pytest.approx(100.0, rel=1e-12))
+    assert brk.Q == pytest.approx(100.0, rel=1e-12) and brk.N == pytest.approx(-100.0)
+    after = [e for e in res.events if e.step > brk.step]
+    assert [e.transition for e in after] == [Transition.STUCK, Transition.SLIP_NEG]
+    # sticks when the push starts to fall (at 200), slips back where Q reaches −f p:
+    # ux = (200 − 30)/k held, push − k ux = −30 → push = 170 − 30 = 140
+    assert after[0].lam == pytest.approx(200.0, rel=1e-12)
+    assert after[1].lam == pytest.approx(140.0, rel=1e-12)
+    i = len(res.lam) - 1
+    assert res.Q[i][0] == pytest.approx(-30.0, rel=1e-12)
+    assert res.displacement(i)[0] == pytest.approx((-200.0 + 30.0) / 1e3, rel=1e-12)
+    # equilibrium and the contact conditions through the break
+    assert res.residual.max() < 1e-9 and res.violation.max() < 1e-9
+
+
+# ---- a crack running along a bonded base -----------------------------------------------------
+GW, KN, RHO, HEIGHT, B, H = 9810.0, 1e8, 2400.0, 12.0, 8.0, 11.0
+COHESION, PHI = 2e6, 35.0
+TENSILE = (60e3, 20e3)  # Pa at the heel and at the toe (linear between)
+
+
+def bonded_dam(bond=None, level=H, lam_end=4.0, nx=16, crack=False, tensile=TENSILE, width=B):
+    """A stiff block B × 12 m on a compliant layer on a rigid base, its base bonded
+    (Mohr–Coulomb), weight then water on its upstream face to level H (per unit λ)."""
+    conc = sc.Material(E=1e14, nu=0.2, density=RHO)
+    m = sc.Model(bodies=[sc.rectangle("dam", (0, 0), (width, HEIGHT), nx, 24, conc)])
+    ground = sc.RigidObstacle("ground", [(-1.0, 0.0), (width + 1.0, 0.0)])
+    bond = bond or sc.Bond.mohr_coulomb(
+        COHESION, [(0.0, 0.0, tensile[0]), (width, 0.0, tensile[1])], PHI)
+    base = sc.Interface("base", plus=m.select("dam", y=0), minus=ground, friction=0.5,
+                        layer=sc.ContactLayer(kn=KN, kt=KN), bond=bond)
+    water = [sc.WaterLoad(m.select("dam", x=0.0), level=level)]
+    if crack:
+        water.append(sc.CrackWater(base, level=level, entry=(0.0, 0.0)))
+    return m.add(base, sc.LoadPattern("weight", [sc.BodyForce(bodies=("dam",))]),
+                 sc.LoadPattern("water", water), sc.Segment("weight", 1.0),
+                 sc.Segment("water", lam_end))
+
+
+class BondedBlock:
+    """The dense hand reference: a rigid block on CFE springs (C = KN A_k at x_k, normal and
+    tangential), the Mohr–Coulomb bond per CFE, Coulomb friction tan φ after a break."""
+
+    def __init__(self, res, tensile=TENSILE):
+        self.x = res.cfe["x"][:, 0]
+        A = res.cfe["area"]
+        self.C = KN * A
+        self.NR = A * np.interp(self.x, [0.0, B], tensile)
+        self.QR = A * COHESION
+        self.al = self.f = np.tan(np.radians(PHI))
+        self.W = RHO * 9.81 * B * HEIGHT
+        self.mode = np.zeros(len(self.x), int)  # 0 bonded, 1 open, 2 slipping (+)
+
+    def loads(self, t):
+        F = t * GW * H * H / 2
+        return F, F * H / 3
+
+    def forces(self, t, mode=None):
+        """(p, Q) at λ = t for the modes (compression p > 0)."""
+        mode = self.mode if mode is None else mode
+        F, MF = self.loads(t)
+        closed = mode != 1
+        Cc, xc = self.C[closed], self.x[closed]
+        M = -np.array([[Cc.sum(), (Cc * xc).sum()], [(Cc * xc).sum(), (Cc * xc**2).sum()]])
+        v, th = np.linalg.solve(M, [self.W, self.W * B / 2 + MF])
+        p = np.where(closed, -self.C * (v + th * self.x), 0.0)
+        slip = mode == 2
+        u = (F - self.f * p[slip].sum()) / self.C[mode == 0].sum()
+        Q = np.where(mode == 0, self.C * u, np.where(slip, self.f * p, 0.0))
+        return p, Q
+
+    def facets(self, p, Q):
+        """(tension, shear) facet values (m, 2) of the Mohr–Coulomb bond (a tension cut-off
+        N ≤ N_R, |Q| ≤ Q_R + α p)."""
+        return np.column_stack([self.NR + p, self.QR + self.al * p - np.abs(Q)])
+
+    def first_crossing(self, before, after):
+        """The earliest fraction s ∈ (0, 1] of the straight path from the forces ``before``
+        to ``after`` where a bonded CFE's facet reaches zero (each facet is linear along it
+        while Q keeps its sign): (s, CFE), or (inf, None)."""
+        fb, fa = self.facets(*before), self.facets(*after)
+        crossing = (self.mode == 0)[:, None] & (fa < 0) & (fb > fa)
+        s = np.full(fb.shape, np.inf)
+        s[crossing] = fb[crossing] / (fb[crossing] - fa[crossing])
+        k = int(np.argmin(s.min(axis=1)))
+        return (float(s[k].min()), k) if np.isfinite(s[k].min()) else (np.inf, None)
+
+    def run(self, t_end):
+        """[(CFE, λ)] of the breaks in order, and λ where equilibrium is lost (or None)."""
+        out, t = [], 0.0
+        while True:
+            # the forces are linear in λ for fixed modes: the next facet reached
+            s, k = self.first_crossing(self.forces(t), self.forces(t + t_end))
+            if k is None or t + s * t_end > t_end:
+                return out, None
+            t += s * t_end
+            before = self.forces(t)
+            while k is not None:  # the break and its release (a cascade at this λ)
+                out.append((k, t))
+                p, Q = before
+                self.mode[k] = 1 if p[k] <= 0 else 2  # open in tension, else slipping
+                if np.sum(self.mode != 1) < 2 or not np.any(self.mode == 0):
+                    return out, t  # overturning, or nothing bonded holds the thrust: lost
+                after = self.forces(t)
+                s, k = self.first_crossing(before, after)
+                if k is not None:
+                    before = tuple(b + s * (a - b) for b, a in zip(before, after, strict=True))
+
+
+@pytest.mark.parametrize("tensile, cascades", [((60e3, 20e3), 1), ((300e3, 20e3), 7)])
+def test_the_crack_runs_along_a_bonded_base_in_the_order_and_at_the_load_factors_of_the_reference(
+        tensile, cascades):
+    """σ_t falling from the heel to the toe: 60 → 20 kPa (the crack grows with the level),
+    300 → 20 kPa (a strong heel: once it breaks, the crack runs through seven weaker CFEs at
+    the same λ, in order)."""
+    res = sc.solve_static(bonded_dam(tensile=tensile))
+    ref, lost = BondedBlock(res, tensile).run(4.0)
+    got = [(e.local, e.lam) for e in _breaks(res)]
+    assert [k for k, _ in got] == [k for k, _ in ref]
+    np.testing.assert_allclose([t for _, t in got], [t for _, t in ref], rtol=1e-5)
+    # breaks at the same λ as the one before (a cascade), in the reference's order
+    assert int(np.sum(np.diff([t for _, t in got]) == 0)) == cascades
+    assert res.status == Status.EQUILIBRIUM_LOST and lost is not None
+    assert res.multipliers[-1].equilibrium_lost == pytest.approx(lost, rel=1e-5)
+    # the heel breaks in tension at its strength: N = A σ_t(0)
+    first = _breaks(res)[0]
+    assert first.local == 0 and first.N == pytest.approx(res.cfe["area"][0] * tensile[0],
+                                                         rel=1e-9)
+    assert res.residual.max() < 1e-6 and res.violation.max() < 1e-9
+
+
+def test_water_enters_the_crack_of_a_broken_bond_heel_under_9_m_of_water():
+    """A narrow bonded block (4 m) under 9 m of water with crack water from the heel: the heel's
+    bonds break, the crack opens and fills; the normal stress in the open part is
+    −ρ_w g · 9 = −88 290 Pa, the bonded rest carries the block."""
+    res = sc.solve_static(bonded_dam(level=9.0, lam_end=1.0, nx=8, crack=True,
+                                     tensile=(20e3, 20e3), width=4.0))
+    assert res.status == Status.COMPLETED
+    i = len(res.lam) - 1
+    wet = res.crack_pressure[i] > 0
+    assert wet.any() and not wet.all()
+    broken = {e.cfe for e in _breaks(res)}
+    assert set(np.flatnonzero(wet)) <= broken  # water only where a bond broke
+    assert np.all(res.state[i][wet] == OPEN)
+    np.testing.assert_allclose(res.crack_pressure[i][wet], 88290.0, rtol=1e-8)
+    # (the contact stress is round-off: 1e-8 of the crack pressure, 1e-10 of the base's forces)
+    np.testing.assert_allclose(res.sigma_n[i][wet], 0.0, atol=1e-8 * 88290.0)
+    assert np.any(res.state[i] == BONDED)
+    assert res.residual.max() < 1e-6 and res.violation.max() < 1e-9
+
+
+def test_model_file_bond_gives_the_same_breaks_as_the_python_model(tmp_path):
+    from stepcontact.io.modelfile import load_model
+
+    text = """
+[materials.c]
+E = 1e14
+nu = 0.2
+density = 2400
+
+[[bodies]]
+name = "dam"
+kind = "rectangle"
+corner0 = [0.0, 0.0]
+corner1 = [8.0, 12.0]
+nx = 16
+ny = 24
+material = "c"
+
+[node_sets.upstream]
+body = "dam"
+x = 0.0
+
+[node_sets.bottom]
+body = "dam"
+y = 0.0
+
+[[obstacles]]
+name = "ground"
+points = [[-1.0, 0.0], [9.0, 0.0]]
+
+[[interfaces]]
+name = "base"
+plus = "bottom"
+obstacle = "ground"
+friction = 0.5
+layer = { kn = 1e8, kt = 1e8 }
+
+[interfaces.bond]
+cohesion = 2e6
+tensile_strength = { from = [0.0, 0.0, 60e3], to = [8.0, 0.0, 20e3] }
+friction_angle = 35.0
+
+[patterns.weight]
+loads = [{ type = "gravity" }]
+
+[patterns.water]
+loads = [{ type = "water", nodes = "upstream", level = 11.0 }]
+
+[[program]]
+pattern = "weight"
+end = 1.0
+
+[[program]]
+pattern = "water"
+end = 4.0
+"""
+    f = tmp_path / "m.toml"
+    f.write_text(text)
+    res = sc.solve_static(load_model(f))
+    ref = sc.solve_static(bonded_dam())
+    assert [e.cfe for e in _breaks(res)] == [e.cfe for e in _breaks(ref)]
+    np.testing.assert_allclose([e.lam for e in _breaks(res)], [e.lam for e in _breaks(ref)],
+                               rtol=1e-12)
+    # the article's form, and a bond given both ways, in the file
+    f.write_text(text.replace("cohesion = 2e6\ntensile_strength = { from = [0.0, 0.0, 60e3], "
+                              "to = [8.0, 0.0, 20e3] }\nfriction_angle = 35.0",
+                              "tensile = 60e3\nshear = 2e6\nalpha = 0.7"))
+    assert load_model(f).interfaces[0].bond.alpha == 0.7
+    f.write_text(text.replace("friction_angle = 35.0", "friction_angle = 35.0\nalpha = 0.7"))
+    with pytest.raises(ModelError, match="not both"):
+        load_model(f)
+
+
+def test_bad_bonds_name_the_item():
+    with pytest.raises(ModelError, match="bond.alpha"):
+        sc.Bond(tensile=1e5, shear=1e5, alpha=0.0)  # the article's tension facets need α_R
+    with pytest.raises(ModelError, match="bond.friction_angle"):
+        sc.Bond.mohr_coulomb(1e5, 1e5, 95.0)
+    with pytest.raises(ModelError, match="bond.tension_alpha"):
+        sc.Bond(tensile=1e5, shear=1e5, alpha=0.5, tension_alpha=-1.0)
+    with pytest.raises(ModelError, match="interface 'base'.bond.tensile"):
+        sc.assemble(bonded_dam(bond=sc.Bond.mohr_coulomb(1e5, [(0, 0, 1e5), (8, 0, -1e5)],
+                                                           30.0)))
+    with pytest.raises(ModelError, match="interface 'base'.bond"):
+        m = bonded_dam()
+        sc.Interface("base", plus=m.interfaces[0].plus, minus=m.interfaces[0].minus,
+                     bond="strong")
+    with pytest.raises(ModelError, match="a bonded CFE must be closed"):
+        sc.DiscreteModel(K=[[1e3]], normal_rows=[[1.0]], tangent_rows=[[0.0]], gaps=0.01,
+                         bond=sc.Bond(1e2, 1e2, 0.5))
+    # a dynamic interval with intact bonds is not supported (yet): said, not ignored
+    with pytest.raises(ModelError, match="dynamic interval"):
+        sc.solve_dynamic(bonded_dam(), dt=0.01, duration=0.1)
