@@ -151,9 +151,9 @@ def test_cfe_kind_errors_name_the_interface():
         sc.Interface("pins", m.select("top", y=H), m.select("bot", y=H), pairs=True, cfe="mortar")
 
 
-def test_mortar_on_the_much_finer_side_warns():
-    """S+ much finer than S− (13 against 4 cells): a ContactMeshWarning that names the
-    interface and says to swap; S+ on the coarser side, or 7 against 4: no warning."""
+def test_mortar_on_the_finer_side_warns():
+    """S+ finer than S− by more than 3 (13 against 4 cells): a ContactMeshWarning that names
+    the interface and says to swap; S+ on the coarser side, or 7 against 4: none."""
     with pytest.warns(ContactMeshWarning, match=r"interface 'joint'.*swap plus and minus"):
         assemble(patch_model(13, 4, "quad4", True, False))
     with warnings.catch_warnings():
