@@ -322,3 +322,32 @@ def test_bad_bonds_name_the_item():
     # a dynamic interval with intact bonds is not supported (yet): said, not ignored
     with pytest.raises(ModelError, match="dynamic interval"):
         sc.solve_dynamic(bonded_dam(), dt=0.01, duration=0.1)
+
+
+def test_bond_strengths_are_kept_in_the_result_file_and_drawn_as_the_bonded_limit(tmp_path):
+    """The result (and its file) keep the bond's columns; the interface figure draws, where
+    the joint is still bonded, its shear strength ±(τ_R − α_R σ_n) instead of ±f|σ_n|."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    res = sc.solve_static(bonded_dam(lam_end=2.0))
+    path = tmp_path / "r.nc"
+    res.save(path)
+    back = sc.load_result(path)
+    np.testing.assert_array_equal(back.cfe["bond"], res.cfe["bond"])
+    i = len(res.lam) - 1
+    toe = int(np.argmax(res.cfe["x"][:, 0]))
+    assert res.state[i][toe] == BONDED and res.state[i][0] != BONDED
+    fig = sc.plot_interfaces(back, lams=[float(res.lam[i])], segment=int(res.segment[i]))
+    ax_t = fig.axes[1]
+    upper = np.asarray([ln for ln in ax_t.get_lines() if ln.get_linestyle() == "--"][0]
+                       .get_ydata(), float)  # in the order of s along the joint
+    order = np.argsort(res.cfe["s"])
+    A = res.cfe["area"]
+    sigma = res.N[i] / A  # Pa, compression < 0
+    bonded_lim = COHESION - np.tan(np.radians(PHI)) * sigma
+    coulomb_lim = res.cfe["friction"] * np.abs(sigma)  # (tan φ after the break)
+    expect = np.where(res.state[i] == BONDED, bonded_lim, coulomb_lim)[order]
+    scale = expect[-1] / upper[-1]
+    assert any(np.isclose(scale, u, rtol=1e-9) for u in (1.0, 1e3, 1e6))  # Pa, kPa or MPa
+    np.testing.assert_allclose(upper * scale, expect, rtol=1e-9, atol=1e-9 * expect.max())

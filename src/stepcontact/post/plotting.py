@@ -296,7 +296,8 @@ def plot_interfaces(
     s along the interface (m), in the manner of the stress diagrams of the article (Fig. 4):
 
     * the normal contact stress σ_n = N/A (negative in compression), the diagram shaded,
-    * the tangential stress τ = Q/A with the friction limits ±f|σ_n| dashed (eq. (1)),
+    * the tangential stress τ = Q/A with the friction limits ±f|σ_n| dashed (eq. (1)); where a
+      joint is still bonded, its shear strength ±(τ_R − α_R σ_n) (eq. (12)),
     * a strip with the state of each CFE (open / stick / slip+ / slip−) for each λ, its rows
       named by the pattern and λ (e.g. ``push λ=23 544``).
 
@@ -369,6 +370,7 @@ def plot_interfaces(
 
     area = np.asarray(res.cfe["area"], dtype=float)
     fric = np.asarray(res.cfe["friction"], dtype=float)
+    bond = res.cfe.get("bond")  # (m, 4): N_R, Q_R, α_R, 1/α_t of bonded joints
     pos = np.asarray(res.cfe["s"], dtype=float)
     iface = np.asarray(res.cfe["interface"])
     xc = np.asarray(res.cfe["x"], dtype=float).reshape(res.m, 2)
@@ -401,6 +403,10 @@ def plot_interfaces(
             sig = snap["N"][k] / area[k] / scale
             tau = snap["Q"][k] / area[k] / scale
             lim = fric[k] * np.abs(sig)
+            if bond is not None:  # a bonded CFE's limit is its shear strength (eq. (12))
+                b = np.asarray(bond, dtype=float)[k]
+                bonded = np.asarray(snap["state"])[k] == int(ContactState.BONDED)
+                lim = np.where(bonded, b[:, 1] / area[k] / scale - b[:, 2] * sig, lim)
             ax_n.plot(s, sig, color=colors[j], marker=mk, ms=3, lw=1.4)
             ax_n.fill_between(s, sig, color=colors[j], alpha=shade, lw=0)
             ax_t.plot(s, tau, color=colors[j], marker=mk, ms=3, lw=1.4)
@@ -419,7 +425,9 @@ def plot_interfaces(
                            xc[k], corners, scale)
         ax_n.set_ylabel(rf"$\sigma_n$ = N/A, {unit} (compression < 0)"
                         + (";\nwater in the crack −p dotted" if wet else ""))
-        ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed")
+        ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed"
+                        + (";\n" + r"bonded: $\pm(\tau_R - \alpha_R \sigma_n)$"
+                           if bond is not None else ""))
 
         # state strip: one row per λ, one cell per CFE between mid-points
         if s.size > 1:

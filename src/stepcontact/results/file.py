@@ -113,6 +113,8 @@ _CFE_SPEC: dict[str, tuple[str, str, str | None]] = {
     "kn": ("N m-1", "normal contact-layer stiffness C_nk (inf: rigid)", None),
     "kt": ("N m-1", "tangential contact-layer stiffness C_tk (inf: rigid)", None),
     "cn": ("N s m-1", "normal contact-layer damping c_nk (dynamics: Kelvin-Voigt layer)", None),
+    "bond": ("1", "initial strength of bonded CFEs (eq. (12)): N_R (N), Q_R (N), alpha_R, "
+             "1/alpha_t; NaN: no bond", "bond_column"),
 }
 
 _STATE_VARS: dict[str, tuple[str, str]] = {

@@ -953,6 +953,8 @@ class StaticSolver:
             "plus_nodes": cfe.plus_nodes, "plus_w": cfe.plus_w,
             "minus_nodes": cfe.minus_nodes, "minus_w": cfe.minus_w,
         }
+        if self.bonds:  # the strengths of bonded joints (eq. (12))
+            cfe_arrays["bond"] = cfe.bond
         geometry = result_geometry(self.sys)
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
             "events": len(self.rec.events), "event_points": self.step,
