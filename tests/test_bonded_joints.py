@@ -231,60 +231,15 @@ def test_water_enters_the_crack_of_a_broken_bond_heel_under_9_m_of_water():
 
 def test_model_file_bond_gives_the_same_breaks_as_the_python_model(tmp_path):
     from stepcontact.io.modelfile import load_model
+    from test_crack_water import block_toml
 
-    text = """
-[materials.c]
-E = 1e14
-nu = 0.2
-density = 2400
-
-[[bodies]]
-name = "dam"
-kind = "rectangle"
-corner0 = [0.0, 0.0]
-corner1 = [8.0, 12.0]
-nx = 16
-ny = 24
-material = "c"
-
-[node_sets.upstream]
-body = "dam"
-x = 0.0
-
-[node_sets.bottom]
-body = "dam"
-y = 0.0
-
-[[obstacles]]
-name = "ground"
-points = [[-1.0, 0.0], [9.0, 0.0]]
-
-[[interfaces]]
-name = "base"
-plus = "bottom"
-obstacle = "ground"
-friction = 0.5
-layer = { kn = 1e8, kt = 1e8 }
-
+    text = block_toml(8.0, 16, 0.5, '[{ type = "water", nodes = "upstream", level = 11.0 }]',
+                      4.0, bond="""
 [interfaces.bond]
 cohesion = 2e6
 tensile_strength = { from = [0.0, 0.0, 60e3], to = [8.0, 0.0, 20e3] }
 friction_angle = 35.0
-
-[patterns.weight]
-loads = [{ type = "gravity" }]
-
-[patterns.water]
-loads = [{ type = "water", nodes = "upstream", level = 11.0 }]
-
-[[program]]
-pattern = "weight"
-end = 1.0
-
-[[program]]
-pattern = "water"
-end = 4.0
-"""
+""")
     f = tmp_path / "m.toml"
     f.write_text(text)
     res = sc.solve_static(load_model(f))

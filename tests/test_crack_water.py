@@ -15,6 +15,8 @@ largest force on the contact forces, 1e-6 on the equilibrium residual (K spans 1
 
 from __future__ import annotations
 
+import string
+
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -279,10 +281,12 @@ def test_several_entries_wet_the_runs_joined_to_any_of_them():
     assert set(np.flatnonzero(wet[order])) == {0, 1, 7, 8}
 
 
-def test_model_file_crack_water(tmp_path):
-    from stepcontact.io.modelfile import load_model
-
-    text = """
+def block_toml(width: float, nx: int, friction: float, water: str, end: float,
+               bond: str = "") -> str:
+    """The stiff block of :func:`dam_model` in the model-file form (12 m high, ``width`` m
+    wide, on a compliant layer on a rigid base; ``bond``: an ``[interfaces.bond]`` table),
+    weight, then the pattern ``water`` (its loads, TOML) to ``end``."""
+    return string.Template("""
 [materials.c]
 E = 1e14
 nu = 0.2
@@ -292,8 +296,8 @@ density = 2400
 name = "dam"
 kind = "rectangle"
 corner0 = [0.0, 0.0]
-corner1 = [4.0, 12.0]
-nx = 8
+corner1 = [$width, 12.0]
+nx = $nx
 ny = 24
 material = "c"
 
@@ -307,21 +311,21 @@ y = 0.0
 
 [[obstacles]]
 name = "ground"
-points = [[-1.0, 0.0], [5.0, 0.0]]
+points = [[-1.0, 0.0], [$right, 0.0]]
 
 [[interfaces]]
 name = "base"
 plus = "bottom"
 obstacle = "ground"
-friction = 5.0
+friction = $friction
 layer = { kn = 1e8, kt = 1e8 }
+$bond
 
 [patterns.weight]
 loads = [{ type = "gravity" }]
 
 [patterns.water]
-loads = [{ type = "water", nodes = "upstream", level = 9.0 },
-         { type = "crack_water", interface = "base", level = 9.0, entry = [0.0, 0.0] }]
+loads = $water
 
 [[program]]
 pattern = "weight"
@@ -329,8 +333,17 @@ end = 1.0
 
 [[program]]
 pattern = "water"
-end = 1.0
-"""
+end = $end
+""").substitute(width=width, nx=nx, right=width + 1.0, friction=friction, water=water,
+                end=end, bond=bond)
+
+
+def test_model_file_crack_water(tmp_path):
+    from stepcontact.io.modelfile import load_model
+
+    text = block_toml(4.0, 8, 5.0, """[{ type = "water", nodes = "upstream", level = 9.0 },
+         { type = "crack_water", interface = "base", level = 9.0, entry = [0.0, 0.0] }]""",
+                      1.0)
     f = tmp_path / "m.toml"
     f.write_text(text)
     try:

@@ -229,26 +229,9 @@ def test_cycles_that_do_not_chain_are_named():
 
 def model_file(*program: dict) -> dict:
     """A block on a base in the model-file form: patterns 'w' (its weight) and 'push'."""
-    return {
-        "materials": {"soft": {"E": 1e9, "nu": 0.25, "density": 2000.0}},
-        "bodies": [
-            {"name": "base", "kind": "rectangle", "corner0": [-0.5, -0.5],
-             "corner1": [2.5, 0.0], "nx": 6, "ny": 1, "material": "soft"},
-            {"name": "block", "kind": "rectangle", "corner0": [0.0, 0.0], "corner1": [2.0, 0.5],
-             "nx": 4, "ny": 1, "material": "soft"},
-        ],
-        "node_sets": {
-            "bed": {"body": "base", "y": -0.5}, "top": {"body": "base", "y": 0.0},
-            "bottom": {"body": "block", "y": 0.0}, "left": {"body": "block", "x": 0.0},
-        },
-        "supports": [{"name": "bed", "nodes": "bed", "dofs": "xy"}],
-        "interfaces": [{"name": "joint", "plus": "bottom", "minus": "top", "friction": 0.5}],
-        "patterns": {
-            "w": {"loads": [{"type": "gravity", "g": [0.0, -9.81], "bodies": ["block"]}]},
-            "push": {"loads": [{"type": "nodal", "nodes": "left", "fx": 1.0}]},
-        },
-        "program": [{"pattern": "w", "end": 1.0}, *program],
-    }
+    from test_program import block_file
+
+    return block_file({"type": "nodal", "fx": 1.0}, *program)
 
 
 def test_model_file_cyclic_entry_expands_to_the_helper():

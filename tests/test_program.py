@@ -80,9 +80,10 @@ def test_bad_rates_name_the_item():
         sc.solve_static(m.replace(program=(sc.Segment("push", 1.0, rates={"lift": 1.0}),)))
 
 
-def test_rates_in_the_model_file():
-    """``[[program]]`` with ``rates`` in a model file: unknown patterns are named."""
-    text = {
+def block_file(push: dict, *program: dict) -> dict:
+    """A block on a base in the model-file form: patterns 'w' (its weight) and 'push' (the load
+    ``push`` on the block's left face), the weight applied first, then ``program``."""
+    return {
         "materials": {"soft": {"E": 1e9, "nu": 0.25, "density": 2000.0}},
         "bodies": [
             {"name": "base", "kind": "rectangle", "corner0": [-0.5, -0.5],
@@ -98,11 +99,16 @@ def test_rates_in_the_model_file():
         "interfaces": [{"name": "joint", "plus": "bottom", "minus": "top", "friction": 0.5}],
         "patterns": {
             "w": {"loads": [{"type": "gravity", "g": [0.0, -9.81], "bodies": ["block"]}]},
-            "push": {"loads": [{"type": "pressure", "nodes": "left", "normal": 1.0}]},
+            "push": {"loads": [{"nodes": "left", **push}]},
         },
-        "program": [{"pattern": "w", "end": 1.0},
-                    {"pattern": "both", "end": 1.0, "rates": {"push": 1e5, "w": 0.0}}],
+        "program": [{"pattern": "w", "end": 1.0}, *program],
     }
+
+
+def test_rates_in_the_model_file():
+    """``[[program]]`` with ``rates`` in a model file: unknown patterns are named."""
+    text = block_file({"type": "pressure", "normal": 1.0},
+                      {"pattern": "both", "end": 1.0, "rates": {"push": 1e5, "w": 0.0}})
     model = model_from_dict(text)
     assert model.program[1].rates == (("push", 1e5), ("w", 0.0))
     res = sc.solve_static(model)
