@@ -231,3 +231,20 @@ def test_an_interface_to_a_body_built_later_and_a_tie_across_stages_are_errors()
     with pytest.raises(ModelError) as exc:
         sc.solve_static(tied)
     assert exc.value.item == "tie 'glue'"
+
+
+def test_a_dynamic_interval_after_stages_is_not_supported_yet():
+    m = _wall().add(sc.LoadPattern("weight", [sc.BodyForce()]),
+                    sc.Stage("first", [sc.Segment("weight", 1.0)]))
+    with pytest.raises(ModelError) as exc:
+        sc.solve_dynamic(m, dt=1e-3, duration=1e-2)
+    assert exc.value.item == "model.stages"
+
+
+def test_the_stages_are_kept_in_the_result_file(walls, tmp_path):
+    res = walls["staged"]
+    res.save(tmp_path / "wall.nc")
+    back = sc.load_result(tmp_path / "wall.nc")
+    assert np.array_equal(back.stage, res.stage) and back.stage_names == res.stage_names
+    assert np.array_equal(back.stage_cfes, res.stage_cfes)
+    assert back.active_bodies(0) == {"lower"} and back.active_cfes(len(back.lam) - 1).all()
