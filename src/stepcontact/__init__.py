@@ -39,6 +39,7 @@ from stepcontact.model.bond import Bond
 from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.program import cycles
+from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 from stepcontact.results.file import load_result
@@ -108,6 +109,7 @@ __all__ = [
     "SlipTreatment",
     "SolverError",
     "Spring",
+    "Stage",
     "StepContactError",
     "Status",
     "Support",

@@ -56,3 +56,8 @@ __all__ += ["DiscreteModel"]
 from stepcontact.model.program import cycles  # noqa: E402
 
 __all__ += ["cycles"]
+
+# construction in stages (issue 12)
+from stepcontact.model.stages import Stage  # noqa: E402
+
+__all__ += ["Stage"]

@@ -757,10 +757,21 @@ class Model:
     name: str = "model"
     #: a dynamic interval after the program (:class:`DynamicInterval`), or None
     dynamics: DynamicInterval | None = None
+    #: construction stages (:class:`~stepcontact.model.stages.Stage`); with stages the
+    #: program is theirs and ``program`` must be empty
+    stages: tuple = ()
 
     def __post_init__(self):
-        for key in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program"):
+        for key in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program",
+                    "stages"):
             object.__setattr__(self, key, tuple(getattr(self, key)))
+        if self.stages and self.program:
+            raise ModelError("model.program", "is given together with stages: with stages the "
+                             "load program is the stages' own (Stage(program=...))")
+        names = [st.name for st in self.stages]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ModelError(f"stage '{sorted(dup)[0]}'", "duplicate stage name")
         if self.plane not in ("strain", "stress"):
             raise ModelError("model.plane", f"must be 'strain' or 'stress', got '{self.plane}'")
         if not np.isfinite(self.thickness) or self.thickness <= 0:
@@ -788,10 +799,13 @@ class Model:
     # ---- construction -----------------------------------------------------------------------
     def add(self, *items) -> Model:
         """Return a new model with ``items`` added (bodies, frames, supports, ties, springs,
-        interfaces, load patterns, segments), dispatched on their type."""
+        interfaces, load patterns, segments, stages), dispatched on their type."""
+        from stepcontact.model.stages import Stage
+
         groups: dict[str, list] = {
             k: list(getattr(self, k))
-            for k in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program")
+            for k in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program",
+                      "stages")
         }
         kinds = {
             Body: "bodies",
@@ -802,6 +816,7 @@ class Model:
             Interface: "interfaces",
             LoadPattern: "patterns",
             Segment: "program",
+            Stage: "stages",
         }
         for it in items:
             key = kinds.get(type(it))
@@ -942,7 +957,7 @@ class Model:
             return list(cached)
         current: dict[str, float] = {}
         out = []
-        for i, seg in enumerate(self.program):
+        for i, seg in enumerate(self.effective_program):
             item = f"program segment {i} ('{seg.pattern}')"
             if seg.rates is None:
                 self.pattern(seg.pattern)  # raises with the name
@@ -977,7 +992,14 @@ class Model:
         """For every segment of the program, the rate of each pattern it moves per unit of the
         segment's parameter ({pattern: 1} for a single-pattern segment)."""
         return [{seg.pattern: 1.0} if seg.rates is None else dict(seg.rates)
-                for seg in self.program]
+                for seg in self.effective_program]
+
+    @property
+    def effective_program(self) -> tuple[Segment, ...]:
+        """The load program: ``program``, or with stages their programs in order."""
+        if self.stages:
+            return tuple(seg for st in self.stages for seg in st.program)
+        return self.program
 
 
 def select_nodes(

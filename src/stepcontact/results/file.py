@@ -279,6 +279,11 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
             ("state", "cfe"), np.asarray(res.crack_pressure, float), "Pa",
             "water pressure in the opened joint",
         )
+    if getattr(res, "stage", None) is not None:  # construction stages
+        dv["stage"] = _var(("state",), np.asarray(res.stage, np.int64), "1",
+                           "construction stage of the state (index into stage_names)")
+        dv["stage_cfes"] = _var(("stage", "cfe"), np.asarray(res.stage_cfes, np.int8), "1",
+                                "1 where the CFE acts at the stage")
     if len(res.reaction_labels):
         coords["reaction"] = _var(("reaction",), _str_array(list(res.reaction_labels)), "1",
                                   "support:component of each reaction resultant")
@@ -435,6 +440,8 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
         "counters": _dumps(dict(res.counters)),
         "mechanism": _dumps(res.mechanism),
         "nonunique": _dumps(list(res.nonunique)),
+        "stages": _dumps({"names": list(getattr(res, "stage_names", ())),
+                          "bodies": [list(b) for b in getattr(res, "stage_bodies", ())]}),
         "complete": int(Status(res.status) != Status.INCOMPLETE),
         "path_axis": res.path_axis,
         "units": _dumps(dict(res.units)),
@@ -710,7 +717,19 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
         water=arr("water") if "water" in ds else None,
         **dyn,
         crack_pressure=arr("crack_pressure") if "crack_pressure" in ds else None,
+        **_stage_fields(ds, arr),
     )
+
+
+def _stage_fields(ds, arr) -> dict:
+    """The construction stages of a result file (none in a file without them)."""
+    if "stage" not in ds:
+        return {}
+    info = _loads(ds.attrs["stages"]) if "stages" in ds.attrs else {}
+    return {"stage": np.asarray(arr("stage"), np.int64),
+            "stage_cfes": np.asarray(arr("stage_cfes"), bool),
+            "stage_names": tuple(info.get("names", ())),
+            "stage_bodies": tuple(tuple(b) for b in info.get("bodies", ()))}
 
 
 # --------------------------------------------------------------------------------------------

@@ -30,7 +30,7 @@ class Recorder:
     """The reported states of a run (one row each) and the logs that go with them."""
 
     COLUMNS = ("lam", "segment", "kind", "factors", "s", "w", "state", "residual", "violation",
-               "reactions", "water", "pressure")
+               "reactions", "water", "pressure", "stage")
 
     def __init__(self, m: int, n_patterns: int, n_reactions: int):
         self.lam = GrowingArray(())
@@ -45,6 +45,7 @@ class Recorder:
         self.reactions = GrowingArray((n_reactions,))
         self.water = GrowingArray((m,))  # crack-water forces W (fem.crack), N
         self.pressure = GrowingArray((m,))  # water pressure in opened joints, Pa
+        self.stage = GrowingArray((), np.int64)  # construction stage (0 without stages)
         self.fields: dict[int, np.ndarray] = {}
         self.stresses: dict[int, dict[str, np.ndarray]] = {}
         self.events: list = []
@@ -56,6 +57,7 @@ class Recorder:
 
     def append(self, **row) -> int:
         i = self.lam.n
+        row.setdefault("stage", 0)
         for k in self.COLUMNS:
             getattr(self, k).append(row[k])
         return i

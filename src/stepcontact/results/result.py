@@ -179,6 +179,25 @@ class StaticResult:
     #: :class:`~stepcontact.solver.static.FieldRecovery` (``displacements(states)`` in one
     #: solve, ``stresses(u)``), or any callable state index -> displacement vector
     _recover: Callable[[int], np.ndarray] | None = field(default=None, repr=False)
+    #: construction stages (:class:`~stepcontact.model.stages.Stage`): the stage of every
+    #: state (n_states,), the stages' names, the CFEs active at each stage (n_stages, m) and
+    #: the bodies built by each stage; None / empty for a run without stages
+    stage: np.ndarray | None = None
+    stage_names: tuple[str, ...] = ()
+    stage_cfes: np.ndarray | None = None
+    stage_bodies: tuple[tuple[str, ...], ...] = ()
+
+    def active_cfes(self, i: int) -> np.ndarray:
+        """(m,) bool: the CFEs that act at state ``i`` (all of them without stages)."""
+        if self.stage is None:
+            return np.ones(self.m, bool)
+        return np.asarray(self.stage_cfes[int(self.stage[i])], bool)
+
+    def active_bodies(self, i: int) -> set[str]:
+        """The names of the bodies built at state ``i`` (every body without stages)."""
+        if self.stage is None:
+            return {b["name"] for b in self.geometry.get("bodies", [])}
+        return set(self.stage_bodies[int(self.stage[i])])
 
     def __getstate__(self) -> dict:
         state = dict(self.__dict__)

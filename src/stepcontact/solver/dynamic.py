@@ -637,6 +637,9 @@ def solve_dynamic(
     if not (0.0 <= alpha <= 1.0 / 3.0):
         raise ModelError("alpha", f"HHT-α must lie in [0, 1/3], got {alpha}")
     system = model if isinstance(model, System) else assemble(model)
+    if getattr(system.model, "stages", ()):
+        raise ModelError("model.stages", "a dynamic interval after (or within) construction "
+                         "stages is not supported yet: solve the stages with solve_static")
     loads = dict(loads or {})
     for name, g in loads.items():
         if name not in system.loads:

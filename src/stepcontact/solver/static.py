@@ -154,6 +154,45 @@ class FieldRecovery:
         return {name: self.stress(name, u[:, d].T) for name, d in self.body_dofs.items()}
 
 
+class StagedRecovery:
+    """Field recovery of a run in stages: each state's field from its own stage's
+    condensation (:class:`FieldRecovery` per stage)."""
+
+    def __init__(self, rec: Recorder, names: Sequence[str]):
+        self.rec = rec
+        self.names = list(names)
+        self.parts: dict[int, FieldRecovery] = {}
+
+    def add(self, k: int, cond: Condensed) -> None:
+        stress = next(iter(self.parts.values())).stress if self.parts else None
+        self.parts[k] = FieldRecovery.of_recorder(cond, self.rec, self.names, stress)
+        self.cond = cond
+
+    @property
+    def stress(self):
+        return next(iter(self.parts.values())).stress
+
+    def displacements(self, states) -> np.ndarray:
+        idx = np.asarray(states, dtype=np.int64).reshape(-1)
+        stage = self.rec.stage.view[idx]
+        out = np.zeros((len(idx), self.cond.system.ndof))
+        for k in np.unique(stage):
+            sel = stage == k
+            out[sel] = self.parts[int(k)].displacements(idx[sel]).reshape(int(sel.sum()), -1)
+        return out
+
+    def __call__(self, i: int) -> np.ndarray:
+        return self.displacements([i])[0]
+
+    def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
+        return next(iter(self.parts.values())).stresses(u)
+
+
+def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
+    """The bodies built at stage ``k`` of a plan."""
+    return tuple(b for b, j in plan.body_stage.items() if j == k)
+
+
 #: size 2m of the scheme matrices up to which the event loop holds BLAS to one thread (an LU
 #: of 2m = 2000 takes about 0.1 s on one core; beyond, the dense work is large enough for
 #: threads to pay)
@@ -223,6 +262,21 @@ class StaticSolver:
         condensation: Condensation | None = None,
         precision: str = "auto",
     ):
+        #: construction stages (:mod:`stepcontact.solver.staging`): the stage systems, the
+        #: automatic patterns and segments; None without stages
+        self.plan = None
+        self.stage = 0
+        self.backend, self.precision = backend, precision
+        if getattr(system.model, "stages", ()) and system.discrete is None:
+            from stepcontact.solver.staging import StagePlan
+
+            if condensation is not None:
+                raise ModelError("condensation", "cannot be reused by a run in stages (each "
+                                 "stage has its own factorisation)")
+            self.plan = StagePlan(system)
+            system = self.plan.system(0)
+            # a state's field needs its stage's condensation: keep every field
+            store_fields = "all"
         self.sys = system
         self.cfe = system.cfe
         self.slip = SlipTreatment(slip)
@@ -243,20 +297,26 @@ class StaticSolver:
         self.cond = Condensed.from_system(system, backend, condensation, precision)
         self.t_setup = time.perf_counter() - t0
         cfe = self.cfe
-        held_n, held_t = held_components(system)
-        self._warn_held(held_n, held_t)
-        self.law = CoulombLaw(np.arange(cfe.m), cfe.friction, cfe.kn, cfe.kt, held_n, held_t,
-                              bond=cfe.bond)
+        self.law = self._make_law(system, warn=True)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         self.engine = EventEngine(self.schemes, [self.law], system.w0, rtol=rtol,
                                   article=self.article, eps_p=eps_p, rate_solver=rate_solver)
         self.c = {name: 0.0 for name in system.loads}
         self.rec = Recorder(cfe.m, len(self.c), len(system.reaction_labels))
+        if self.plan is not None:
+            self._segments, self._rates = self.plan.segments, self.plan.rates
+        else:
+            self._segments = system.model.segments_resolved()
+            self._rates = system.model.segment_rates()
         self.status = Status.COMPLETED
         self.message = "load program completed"
         self.mechanism: dict | None = None
         self.step = 0
-        self.fields = FieldRecovery.of_recorder(self.cond, self.rec, list(self.c))
+        if self.plan is None:
+            self.fields = FieldRecovery.of_recorder(self.cond, self.rec, list(self.c))
+        else:
+            self.fields = StagedRecovery(self.rec, list(self.c))
+            self.fields.add(0, self.cond)
         #: water in opened joints (fem.crack) and the force W (m,) it applies now, N
         self.crack = system.crack
         self.sw = np.zeros(cfe.m)
@@ -266,6 +326,120 @@ class StaticSolver:
         self.engine.states = self.law.initial_states(self.engine.states)
         self.ghost = np.zeros(2 * cfe.m)
         self._releasing = False
+
+    def _make_law(self, system: System, warn: bool = False) -> CoulombLaw:
+        """The contact law of ``system``: CFEs held by supports on both ends, and in a run in
+        stages the CFEs not yet active, are inert; bonds (grouted joints included)."""
+        cfe = self.cfe
+        held_n, held_t = held_components(system)
+        friction, bond = cfe.friction, cfe.bond
+        if self.plan is not None:
+            active = self.plan.active_cfes(self.stage)
+            if warn:
+                self._warn_held(held_n & active, held_t & active)
+            held_n, held_t = held_n | ~active, held_t | ~active
+            friction, bond = self.plan.friction, self.plan.bond
+        elif warn:
+            self._warn_held(held_n, held_t)
+        return CoulombLaw(np.arange(cfe.m), friction, cfe.kn, cfe.kt, held_n, held_t,
+                          bond=bond)
+
+    # ---- construction in stages (stepcontact.solver.staging) ----------------------------------
+    def _enter_stage(self, k: int) -> None:
+        """Go from the current stage to stage ``k``: hold the removed supports' reactions and
+        minus the loads standing on the bodies just built by their automatic patterns (at
+        factor 1, released by the stage's automatic segments), hold supports placed on bodies
+        in place where they are, make the new interfaces' CFEs (at once: stress-free, their
+        current mutual displacements their zero; contacts: with their current gap), grout
+        joints, and refactorise with the stage's system.  The contact state (s, w, states)
+        and the factors are kept."""
+        from stepcontact.fem.assembly import LoadVectors
+
+        plan, eng, m, cfe = self.plan, self.engine, self.cfe.m, self.cfe
+        old_k, old = self.stage, self.cond.system
+        st = self._s_total(eng.s, self.sw) + self.ghost
+        u = self.cond.displacement(self.c, st, eng.w)
+        f = np.zeros(old.ndof)
+        for name, c in self.c.items():
+            if c:
+                f += c * old.loads[name].f
+        r = old.K @ u + old.B.T @ st - f  # reactions per DOF at the held DOFs
+        new_fixed = plan.fixed(k)
+        zero = np.zeros(old.ndof)
+        none = np.zeros(0, np.int64)
+        stage = plan.names[k]
+        for name, (kk, kind, item) in plan.auto.items():
+            if kk != k:
+                continue
+            if kind == "release":
+                d = plan.sup_dofs[item]
+                d = d[~new_fixed[d]]  # the DOFs no other support or prescription holds
+                vec = zero.copy()
+                vec[d] = r[d]
+                plan.vectors[name] = LoadVectors(vec, zero.copy(), none)
+            elif kind == "ramp":
+                vec = zero.copy()
+                for b in model_stage_bodies(plan, k):
+                    d = plan.body_dofs[b]
+                    vec[d] = -f[d]
+                    for pname, c in self.c.items():
+                        lv = old.loads[pname]
+                        if c and np.any(lv.u[d]):
+                            raise ModelError(f"stage '{stage}'", f"body '{b}' is built while "
+                                             f"pattern '{pname}' prescribes displacements of "
+                                             f"its nodes at factor {c:g}: start that pattern "
+                                             "after the body is built")
+                plan.vectors[name] = LoadVectors(vec, zero.copy(), none)
+            else:  # hold a support placed on a body in place where its DOFs are now
+                d = plan.sup_dofs[item]
+                d = d[~old.fixed[d]]
+                uv = zero.copy()
+                uv[d] = u[d]
+                plan.vectors[name] = LoadVectors(zero.copy(), uv, d)
+            self.c[name] = 1.0
+        # the CFEs made at this stage, and grouted ones
+        new = plan.active_cfes(k) & ~plan.active_cfes(old_k)
+        names = np.asarray(cfe.names, dtype=object)[cfe.interface] if m else np.zeros(0)
+        contact = np.array([n in plan.contact_itf for n in names], bool)
+        at_once = new & ~contact
+        grouted = plan.grouted_cfes(k)
+        if grouted.any():
+            plan.grout_stage(k)
+        shift_t = at_once | (new & contact) | (grouted & (eng.states == OPEN))
+        shift_n = at_once | (new & contact & (eng.w[m:] > 0)) | (grouted & (eng.states == OPEN))
+        for rows, mask in ((np.arange(m), shift_t), (m + np.arange(m), shift_n)):
+            j = rows[mask]
+            plan.w0[j] -= eng.w[j]
+            eng.w[j] = 0.0
+        self.stage = k
+        system = plan.system(k)
+        self.sys = system
+        self.cond = Condensed.from_system(system, self.backend, None, self.precision)
+        self.law = self._make_law(system)
+        self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
+        eng.schemes = self.schemes
+        eng.laws = [self.law]
+        eng._relations = {}
+        law = self.law
+        _, tw = eng.tolerances()
+        touching = new & contact & (-eng.w[m:] <= tw)
+        states = eng.states.copy()
+        states[at_once | touching] = law.closed_state()[at_once | touching]
+        states[new & law.has_bond] = BONDED
+        if grouted.any():
+            tf, _ = eng.tolerances()
+            bad = grouted & (law.bond_values(eng.s[:m], eng.s[m:]).min(axis=1) < -tf)
+            if bad.any():
+                j = int(np.flatnonzero(bad)[0])
+                raise ModelError(f"stage '{stage}'.grout['{cfe.names[cfe.interface[j]]}']",
+                                 f"CFE {cfe.local[j]} carries forces beyond the bond's "
+                                 f"strength when it is grouted (N = {-eng.s[m + j]:g} N, "
+                                 f"Q = {eng.s[j]:g} N)")
+            states[grouted & law.has_bond] = BONDED
+        eng.states = states
+        self.bonds = bool(law.has_bond.any())
+        self._load_resultants = None
+        self.fields.add(k, self.cond)
 
     def _level_path(self, seg: int, pattern: str, rates: dict[str, float], lam0: float,
                     lam1: float) -> LevelPath | None:
@@ -560,7 +734,7 @@ class StaticSolver:
         i = self.rec.append(
             lam=lam, segment=seg, kind=kind, factors=[self.c[n] for n in self.c], s=eng.s,
             w=eng.w, state=eng.states, residual=res, violation=viol,
-            reactions=self.cond.reactions(self.c, st, eng.w), water=self.sw,
+            reactions=self.cond.reactions(self.c, st, eng.w), water=self.sw, stage=self.stage,
             pressure=(0.0 if self.crack is None else
                       self.crack.pressure(eng.states, self.c, self.sw)))
         if store:
@@ -629,12 +803,14 @@ class StaticSolver:
             raise
 
     def _run(self, t0: float) -> StaticResult:
-        segments = self.sys.model.segments_resolved()
+        segments = self._segments
         eng = self.engine
         m = self.cfe.m
         first = True
-        all_rates = self.sys.model.segment_rates()
+        all_rates = self._rates
         for seg, (pattern, lam0, lam1) in enumerate(segments):
+            if self.plan is not None and self.plan.stage_of_segment[seg] != self.stage:
+                self._enter_stage(self.plan.stage_of_segment[seg])
             mult = {"first_slip": None, "first_opening": None, "first_closing": None,
                     "equilibrium_lost": None}
             rates = all_rates[seg]
@@ -967,7 +1143,7 @@ class StaticSolver:
             message = (f"run in progress: reached λ = {r['lam'][-1]:.10g} in segment "
                        f"{int(r['segment'][-1])}" if len(self.rec) else "run in progress")
         return StaticResult(
-            pattern_names=tuple(self.c), segments=self.sys.model.segments_resolved(),
+            pattern_names=tuple(self.c), segments=list(self._segments),
             cfe=cfe_arrays, interface_names=cfe.names,
             lam=r["lam"], segment=r["segment"], factors=r["factors"], kind=r["kind"],
             N=-S[:, m:], Q=S[:, :m], un=W[:, m:], ut=W[:, :m], state=r["state"],
@@ -982,7 +1158,20 @@ class StaticSolver:
             water=None if self.crack is None else r["water"],
             crack_pressure=None if self.crack is None else r["pressure"],
             _recover=self.fields,
+            **self._stage_arrays(r),
         )
+
+    def _stage_arrays(self, r) -> dict:
+        """The stage of every state and what acts at each stage (a run in stages)."""
+        if self.plan is None:
+            return {}
+        plan = self.plan
+        n = len(plan.names)
+        return {"stage": np.asarray(r["stage"], np.int64), "stage_names": plan.names,
+                "stage_cfes": np.array([plan.active_cfes(k) for k in range(n)],
+                                       bool).reshape(n, self.cfe.m),
+                "stage_bodies": tuple(tuple(sorted(plan.active_bodies(k)))
+                                      for k in range(n))}
 
 
 def solve_static(
@@ -1059,7 +1248,7 @@ def solve_static(
     >>> res.multipliers[-1].equilibrium_lost            # doctest: +SKIP
     """
     system = model if isinstance(model, System) else assemble(model)
-    if not system.model.program:
+    if not system.model.effective_program and not getattr(system.model, "stages", ()):
         raise ModelError("model.program", "is empty: give at least one load segment")
     writer = None
     if output is not None:

@@ -1,0 +1,82 @@
+"""Construction in stages (issue 12): one static run through the stages of a construction,
+keeping locked-in stresses and contact forces.
+
+A :class:`Stage` lists what enters the structure when it begins (bodies, interfaces made at
+once, contacts, supports), what leaves it (supports removed) and joints grouted, and its own
+load segments.  Items that no stage lists are in place from the start.  The solver keeps one
+assembled system of the whole model; a stage changes which DOFs are held, which CFEs act and
+the zero of the CFEs made at once (:mod:`stepcontact.solver.staging`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from stepcontact.errors import ModelError
+
+
+@dataclass(frozen=True, eq=False)
+class Stage:
+    """One construction stage.
+
+    Parameters
+    ----------
+    name : str
+    program : tuple of Segment
+        The stage's load segments (the model's program is the stages' programs in order).
+    bodies : names of the bodies built at this stage (inactive, unloaded and stress-free
+        before; their nodes start from zero displacement: they are placed on the deformed
+        structure).
+    interfaces : names of interfaces made *at once* at this stage: contact established now and
+        stress-free (the CFEs' current mutual displacements become their zero).
+    contacts : names of interfaces that act from this stage with their geometric gap in the
+        current deformed configuration (a CFE closes when its gap does).
+    supports : names of supports placed at this stage (they hold the DOFs where they are now).
+    remove_supports : names of supports removed at this stage: their reaction is released by
+        an automatic segment at the start of the stage (events located).
+    grout : {interface name: Bond}: the CFEs of an interface in place become bonded with that
+        strength, keeping their current forces (an open CFE is filled: its opening becomes
+        its zero).
+    """
+
+    name: str
+    program: tuple = ()
+    bodies: tuple[str, ...] = ()
+    interfaces: tuple[str, ...] = ()
+    contacts: tuple[str, ...] = ()
+    supports: tuple[str, ...] = ()
+    remove_supports: tuple[str, ...] = ()
+    grout: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        from stepcontact.model.bond import Bond
+        from stepcontact.model.items import Segment
+
+        item = f"stage '{self.name}'"
+        for key in ("program", "bodies", "interfaces", "contacts", "supports",
+                    "remove_supports"):
+            v = getattr(self, key)
+            if isinstance(v, str | Segment):
+                v = (v,)
+            object.__setattr__(self, key, tuple(v))
+        for i, seg in enumerate(self.program):
+            if not isinstance(seg, Segment):
+                raise ModelError(f"{item}.program[{i}]", f"must be a Segment, got "
+                                 f"{type(seg).__name__}")
+        g = dict(self.grout.items() if isinstance(self.grout, dict) else self.grout)
+        for name, bond in g.items():
+            if not isinstance(bond, Bond):
+                raise ModelError(f"{item}.grout['{name}']", f"must be a Bond, got "
+                                 f"{type(bond).__name__}")
+        object.__setattr__(self, "grout", g)
+        both = set(self.interfaces) & set(self.contacts)
+        if both:
+            raise ModelError(f"{item}", f"interface '{sorted(both)[0]}' is listed both as made "
+                             "at once (interfaces) and as a contact (contacts)")
+        both = set(self.supports) & set(self.remove_supports)
+        if both:
+            raise ModelError(f"{item}", f"support '{sorted(both)[0]}' is both placed and "
+                             "removed at this stage")
+
+
+__all__ = ["Stage"]
