@@ -295,6 +295,12 @@ def test_result_writer_hook(tmp_path):
     w.after_segment(res)
     assert w.writes == 2
     assert_results_equal(res, load_result(tmp_path / "out" / "run.nc"))
+    w.finish(res)  # the final result is on disk already: not written again
+    assert w.writes == 2
+    more = make_result(events=False)
+    w.finish(more)  # a different end state is
+    assert w.writes == 3
+    assert_results_equal(more, load_result(tmp_path / "out" / "run.nc"))
 
 
 def test_load_errors(tmp_path):

@@ -799,6 +799,11 @@ class ResultWriter:
         self.writes = 0
         self._last = -float("inf")
         self._cost = 0.0  # seconds the last write took
+        self._final: tuple | None = None  # (states, events, status, message) of a final write
+
+    @staticmethod
+    def _key(result: StaticResult) -> tuple:
+        return len(result.lam), len(result.events), str(result.status), result.message
 
     def _write(self, result: StaticResult) -> None:
         t0 = time.monotonic()
@@ -806,6 +811,8 @@ class ResultWriter:
         self.writes += 1
         self._last = time.monotonic()
         self._cost = self._last - t0
+        final = Status(result.status) != Status.INCOMPLETE
+        self._final = self._key(result) if final else None
 
     def after_segment(self, result: StaticResult) -> None:
         """Save ``result`` (the run up to the end of the segment just finished)."""
@@ -821,8 +828,10 @@ class ResultWriter:
         self._write(result)
 
     def finish(self, result: StaticResult) -> None:
-        """The run has ended: write the complete result."""
-        self._write(result)
+        """The run has ended: write the complete result (unless the last segment's hook has
+        written it already: the same states, events, status and message)."""
+        if self._final != self._key(result):
+            self._write(result)
 
     def __repr__(self) -> str:
         return f"ResultWriter('{self.path}', writes={self.writes})"
