@@ -61,7 +61,7 @@ def dam_model(staged: bool = True) -> sc.Model:
     return base_script["dam_model"](
         crack_water=True, bond=sc.Bond.mohr_coulomb(COHESION, TENSILE, PHI),
         layer=sc.ContactLayer(thickness=0.5, E=2e9, nu=0.25), levels=(H_DESIGN, 60.0),
-        lift=LIFT, lift_bond=LIFT_BOND, staged=staged)
+        lifts=(LIFT,), lift_bond=LIFT_BOND, staged=staged)
 
 
 res = sc.solve_static(dam_model())
@@ -70,7 +70,7 @@ print(res.summary())
 print("\nThe stages and their segments (factor from → to):")
 for k, (name, a, b) in enumerate(res.segments):
     stage = res.stage_names[int(res.stage[np.flatnonzero(res.segment == k)[0]])]
-    print(f"  {stage:12s}  {name:36s} {a:6g} → {b:g}")
+    print(f"  {stage:12s}  {name:26s} {a:6g} → {b:g}")
 
 base = res.cfe["interface"] == res.interface_names.index("base")  # the base's CFEs
 x_cfe, A = res.cfe["x"][base, 0], res.cfe["area"][base]
@@ -132,7 +132,7 @@ print(f"  ΣN = {N.sum() / 1e3:.1f} kN (W − U − ΣW_crack = {(W - U - Wc) / 
 assert abs(N.sum() - (W - U - Wc)) < 1e-6 * W
 assert abs(abs(Q.sum()) - Hh) < 1e-6 * W
 assert res.status == sc.Status.EQUILIBRIUM_LOST and h_crack < H_DESIGN < h_fail
-assert res.stage_names == ("first lift", "second lift", "impounding")
+assert res.stage_names == ("lift 1", "lift 2", "impounding")
 assert abs(h_crack - h_once[0]) < 0.01 * h_crack  # the base's forces hardly depend on it
 assert res.residual.max() < 1e-6 and res.violation.max() < 1e-9
 

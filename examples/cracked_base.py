@@ -35,27 +35,22 @@ rock = sc.Material(E=15e9, nu=0.25, density=2650)
 
 def dam_model(crack_water: bool, *, bond: sc.Bond | None = None,
               layer: sc.ContactLayer | None = None, levels=(40.0,),
-              lift: float | None = None, lift_bond: sc.Bond | None = None,
-              staged: bool = True) -> sc.Model:
+              lifts=(), lift_bond: sc.Bond | None = None, staged: bool = True) -> sc.Model:
     """The dam on rock (f = 1.0, or a ``bond`` with its own friction, and an optional compliant
     ``layer`` in the joint), weight, then the reservoir raised through ``levels`` (m; the last
     one beyond failure).
 
-    With ``lift`` (m) the dam is two bodies, the ``first lift`` below y = lift and the
-    ``second lift`` above it, joined by the ``lift joint`` (matching meshes, f = 1.0, bonded
-    with ``lift_bond``), and — if ``staged`` — built in stages: the first lift under its
-    weight, then the second lift placed on it (the joint made at once: stress-free; its
-    weight ramps in), then the reservoir ("impounding")."""
-    corners = [(0, 0), (B, 0), (CREST, HEIGHT), (0, HEIGHT)]
-    if lift is None:
-        dams = [sc.quad_region("dam", corners, 18, 30, concrete)]
-    else:  # the downstream face at y = lift
-        x_l = B - (B - CREST) * lift / HEIGHT
-        ny = round(30 * lift / HEIGHT)
-        dams = [sc.quad_region("first lift", [(0, 0), (B, 0), (x_l, lift), (0, lift)], 18, ny,
-                               concrete),
-                sc.quad_region("second lift", [(0, lift), (x_l, lift), (CREST, HEIGHT),
-                                               (0, HEIGHT)], 18, 30 - ny, concrete)]
+    With ``lifts`` (the elevations of the lift joints, m, each a multiple of 1 m) the dam is
+    one body per lift, ``lift 1`` from the base up, joined by the lift joints ``joint 1``, …
+    (matching meshes, f = 1.0, bonded with ``lift_bond``), and — if ``staged`` — built in
+    stages ``lift 1``, ``lift 2``, …: each lift placed on the deformed lifts below, its joint
+    made at once (stress-free) and its weight ramping in; then the reservoir ("impounding")."""
+    ys = [0.0, *map(float, lifts), HEIGHT]
+    xs = [B - (B - CREST) * y / HEIGHT for y in ys]  # the downstream face at each y
+    one = len(ys) == 2
+    dams = [sc.quad_region("dam" if one else f"lift {k + 1}",
+                           [(0, ys[k]), (xs[k], ys[k]), (xs[k + 1], ys[k + 1]), (0, ys[k + 1])],
+                           18, round(ys[k + 1] - ys[k]), concrete) for k in range(len(ys) - 1)]
     names = tuple(d.name for d in dams)
     rock_body = sc.rectangle("rock", (-20, -20), (40, 0), 40, 14, rock)  # 1.5 m cells
     m = sc.Model(bodies=[rock_body, *dams], name="cracked-base" if bond is None else
@@ -66,22 +61,22 @@ def dam_model(crack_water: bool, *, bond: sc.Bond | None = None,
                  sc.Uplift(base, head=[(0.0, 0.0, 1.0), (B, 0.0, 0.0)])]  # h at the heel
     if crack_water:
         reservoir.append(sc.CrackWater(base, level=None, entry=(0.0, 0.0)))
+    joints = [sc.Interface(f"joint {k}", plus=m.select(names[k], y=ys[k]),
+                           minus=m.select(names[k - 1], y=ys[k]), friction=f, bond=lift_bond)
+              for k in range(1, len(names))]
     m = m.add(
         sc.Support("deep rock", m.select("rock", y=-20), "xy"),
-        base,
+        base, *joints,
         sc.LoadPattern("weight", [sc.BodyForce(bodies=names)]),
         sc.LoadPattern("reservoir", reservoir),
     )
     weight = [sc.Segment("weight", 1.0)]
     filling = [sc.Segment("reservoir", h) for h in levels]  # from the base until the dam fails
-    if lift is None:
+    if one or not staged:
         return m.add(*weight, *filling)
-    m = m.add(sc.Interface("lift joint", plus=m.select(names[1], y=lift),
-                           minus=m.select(names[0], y=lift), friction=f, bond=lift_bond))
-    if not staged:
-        return m.add(*weight, *filling)
-    return m.add(sc.Stage("first lift", weight),
-                 sc.Stage("second lift", bodies=(names[1],), interfaces=("lift joint",)),
+    return m.add(sc.Stage(names[0], weight),
+                 *(sc.Stage(names[k], bodies=(names[k],), interfaces=(f"joint {k}",))
+                   for k in range(1, len(names))),
                  sc.Stage("impounding", filling))
 
 if __name__ == "__main__":
