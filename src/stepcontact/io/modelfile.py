@@ -1507,10 +1507,6 @@ class _Builder:
                           "(there is no earlier state to keep): give the interface its "
                           "strength from the start ([interfaces.bond]) or grout it at a later "
                           "stage")
-                elif claimed.get(("made", name), (0,))[0] > k:
-                    j = claimed[("made", name)][0]
-                    p.add(f"{item}.grout", f"interface '{name}' is made later, by stages[{j}] "
-                          f"('{spec.stages[j].name}'): grout joints in place")
             auto = bool(st.bodies or st.remove_supports)
             if k > 0 and not st.program and not auto:
                 p.add(f"{item}.program", f"stage '{st.name}' has no load segment: give it a "
@@ -1518,6 +1514,12 @@ class _Builder:
         if len(spec.stages) == 1 and not spec.stages[0].program:
             p.add("stages[0].program", f"stage '{spec.stages[0].name}' has no load segment: "
                   "give it [[stages.program]] entries")
+        for k, st in enumerate(spec.stages):
+            for name in st.grout:
+                j = claimed.get(("made", name), (0,))[0]
+                if j > k:
+                    p.add(f"stages[{k}].grout", f"interface '{name}' is made later, by "
+                          f"stages[{j}] ('{spec.stages[j].name}'): grout joints in place")
         for (what, name), (k, key) in claimed.items():
             if what != "removed":
                 continue
