@@ -70,6 +70,12 @@ Rigid obstacles (not meshed): ``[[obstacles]] name = "ground"``, ``points = [[x0
 y1], …]`` (m), ``side = "left"`` (the side the bodies lie on walking along the points; a line
 drawn from left to right carries bodies above it) or ``"right"``; an interface against it gives
 ``obstacle = "ground"`` instead of ``minus``.
+
+Construction in stages (method.md §6): ``[[stages]]`` entries, in order, each with ``name``,
+the names of the ``bodies``, ``interfaces`` (made at once), ``contacts``, ``supports`` and
+``remove_supports`` of that stage, ``grout = {interface = bond table}`` and its own
+``[[stages.program]]`` segments (the syntax of ``[[program]]``); a model with stages has no
+top-level ``[[program]]`` (:class:`StageSpec`, :class:`stepcontact.Stage`).
 :func:`schema` gives the complete JSON schema.
 """
 
@@ -879,7 +885,9 @@ class SegmentSpec(_Spec):
     ``rates``, several patterns move at once (non-proportional loading) and ``pattern`` is the
     segment's own name.  With ``amplitude`` and ``cycles`` instead of ``end`` the entry is a
     cyclic program (:func:`stepcontact.cycles`): ``cycles`` times the factor goes to
-    ``mean + amplitude``, then to ``mean − amplitude`` (two segments per cycle)."""
+    ``mean + amplitude``, then to ``mean − amplitude`` (two segments per cycle).  Required,
+    unless the model is built in ``[[stages]]``: each stage then has its own
+    ``[[stages.program]]`` and a top-level ``[[program]]`` is an error."""
 
     pattern: str = Field(description="load pattern; with rates: the segment's name (a label)")
     end: float | None = Field(None, description="load factor λ at the end of the segment "
