@@ -328,6 +328,10 @@ BAD_STAGES = {
         "stages[0].grout", "the first stage cannot grout interface 'joint'"),
     "incomplete grout bond": (_set(["stages", 1, "grout"], {"joint": {"tensile": 1e5}}),
                               "stages[1].grout.joint", "give {tensile, shear, alpha}"),
+    "negative grout strength": (
+        _set(["stages", 1, "grout"], {"joint": {"tensile": -1e5, "shear": 1e5, "alpha": 0.7}}),
+        'stages[1].grout.joint', "gives a tensile strength of -100000 Pa: a strength must be "
+        "≥ 0"),
     "unknown field of a stage": (_set(["stages", 1, "build"], ["upper"]), "stages[1].build",
                                  "unknown field"),
     "top-level program with stages": (
@@ -399,6 +403,14 @@ def test_validate_reports_what_the_solver_checks_of_the_stages(tmp_path):
     assert "body 'upper' is built later" in problems[0].message
     path.write_text(WALL, encoding="utf-8")
     assert validate_model_file(path) == []
+    # a grout strength varying along the joint, negative at one end: found at its CFEs
+    grout = ('grout.joint = { tensile = { from = [0.0, 4.0, -1e5], to = [2.0, 4.0, 1e5] }, '
+             'shear = 1e5, alpha = 0.7 }\n')
+    path.write_text(WALL + '\n[[stages]]\nname = "grouted"\n' + grout
+                    + '[[stages.program]]\npattern = "weight"\nend = 2.0\n', encoding="utf-8")
+    problems = validate_model_file(path)
+    assert [p.item for p in problems] == ["stage 'grouted'.grout['joint'].bond.tensile"]
+    assert "gives -100000.0 Pa at CFE 0 (0, 4)" in problems[0].message
 
 
 def test_the_command_line_runs_a_staged_model_file(tmp_path):

@@ -1777,10 +1777,17 @@ class _Builder:
         for k, st in enumerate(self.spec.stages):
             grout = {}
             for name, bond in st.grout.items():
+                path = _path(["stages", k, "grout", name])
                 try:
-                    grout[name] = bond.build()
+                    grout[name] = built = bond.build()
                 except ModelError as e:
-                    p.add(f"stages[{k}].grout.{name}", e.problem)
+                    p.add(path, e.problem)
+                    continue
+                for key in ("tensile", "shear"):  # constants; profiles: at validation
+                    v = getattr(built, key)
+                    if isinstance(v, int | float) and v < 0:
+                        p.add(path, f"gives a {key} strength of {v:g} Pa: a strength must "
+                              "be ≥ 0")
             try:
                 stages.append(Stage(
                     st.name, tuple(seg for s in st.program for seg in _segments(s)),
@@ -2114,7 +2121,9 @@ def validation_report(path: str | Path) -> Validation:
             if model.stages:  # what a run checks of the stages before solving
                 from stepcontact.solver.staging import StagePlan
 
-                StagePlan(system)
+                plan = StagePlan(system)
+                for k in range(len(model.stages)):  # grout strengths at the joints' CFEs
+                    plan.grout_stage(k)
             _check_mechanism(system)
         except StepContactError as e:
             problems.add(getattr(e, "item", "model"), getattr(e, "problem", str(e)))
