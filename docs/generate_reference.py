@@ -370,17 +370,22 @@ class _Reference:
             "|---|---|---|---|",
         ]
         props = root.get("properties", {})
+        # {"anyOf": [{"required": [a]}, {"required": [b]}]}: one of the sections is required
+        either = [k for alt in root.get("anyOf", []) for k in alt.get("required", [])]
         for s in plan:
             if s["level"] != 2:
                 continue
             node = props[s["key"]]
+            if s["key"] in either:
+                need = "one of " + ", ".join(f"`{k}`" for k in either)
+            else:
+                need = "yes" if s["key"] in required else "no"
             form = ("table" if s["title"].startswith("[") and not s["title"].startswith("[[")
                     else "array of tables")
             if s["title"].endswith(".NAME]"):
                 form = "named tables"
             lines.append("| " + " | ".join(_md_cell(c) for c in (
-                f"[`{s['title']}`](#{s['anchor']})", form,
-                "yes" if s["key"] in required else "no", self.constraints(node),
+                f"[`{s['title']}`](#{s['anchor']})", form, need, self.constraints(node),
             )) + " |")
         for s in plan:
             d = self.defs[s["def"]]

@@ -1,8 +1,8 @@
 """The documentation is checked against the code.
 
 * the generated references (docs/model-file-reference.md, docs/cli.md) are up to date;
-* every complete TOML model in docs/*.md (one with a ``[[program]]``) is valid, and every TOML
-  block parses;
+* every complete TOML model in docs/*.md (one with a ``[[program]]`` or ``[[stages]]``) is
+  valid, and every TOML block parses;
 * the Python snippets of docs/user-guide.md run, in order, as one session;
 * the example model files validate against the JSON schema and load;
 * relative links between the documents point to existing files.
@@ -84,7 +84,8 @@ def code_blocks(path: Path) -> list[Block]:
 
 DOC_FILES = sorted(DOCS.glob("*.md"))
 TOML_BLOCKS = [b for p in DOC_FILES for b in code_blocks(p) if b.lang == "toml"]
-MODEL_BLOCKS = [b for b in TOML_BLOCKS if re.search(r"^\s*\[\[program\]\]", b.text, re.M)]
+MODEL_BLOCKS = [b for b in TOML_BLOCKS
+                if re.search(r"^\s*\[\[(program|stages)\]\]", b.text, re.M)]
 PYTHON_BLOCKS = [b for b in code_blocks(GUIDE) if b.lang == "python"]
 
 
@@ -169,7 +170,7 @@ def test_toml_model_in_docs_is_valid(block):
         pytest.skip(f"{block.id} references the mesh file '{mesh_file}', which the docs do not "
                     "ship")
     model = model_from_dict(data)
-    assert model.program
+    assert model.effective_program
     try:
         import jsonschema
     except ImportError:  # the pydantic validation above is the reference
@@ -230,7 +231,7 @@ def test_example_model_file_matches_the_json_schema(path):
 @pytest.mark.parametrize("path", MODEL_FILES, ids=_ids(MODEL_FILES))
 def test_example_model_file_loads(path):
     model = load_model(path)
-    assert model.bodies and model.program
+    assert model.bodies and model.effective_program
 
 
 # --------------------------------------------------------------------------------------------

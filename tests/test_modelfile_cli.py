@@ -359,7 +359,8 @@ def test_schema_is_json():
     assert {"model", "materials", "bodies", "interfaces", "patterns", "program"} <= set(
         s["properties"]
     )
-    assert "program" in s["required"]
+    # a load program is required: top-level segments, or construction stages with theirs
+    assert {"required": ["program"]} in s["anyOf"] and {"required": ["stages"]} in s["anyOf"]
     json.dumps(s)
 
 

@@ -661,6 +661,7 @@ def validate(
             f"model OK: '{s['model']}': {s['bodies']} bodies, {s['nodes']} nodes, {s['dofs']} "
             f"DOFs, {s['cfes']} CFEs on {s['interfaces']} interfaces, {s['patterns']} load "
             f"patterns, {s['segments']} segments"
+            + (f" in {s['stages']} stages" if s.get("stages") else "")
             + (f" ({len(warnings)} warnings)" if warnings else ""),
             style="green",
         ))

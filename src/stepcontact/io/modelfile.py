@@ -70,6 +70,12 @@ Rigid obstacles (not meshed): ``[[obstacles]] name = "ground"``, ``points = [[x0
 y1], …]`` (m), ``side = "left"`` (the side the bodies lie on walking along the points; a line
 drawn from left to right carries bodies above it) or ``"right"``; an interface against it gives
 ``obstacle = "ground"`` instead of ``minus``.
+
+Construction in stages (method.md §6): ``[[stages]]`` entries, in order, each with ``name``,
+the names of the ``bodies``, ``interfaces`` (made at once), ``contacts``, ``supports`` and
+``remove_supports`` of that stage, ``grout = {interface = bond table}`` and its own
+``[[stages.program]]`` segments (the syntax of ``[[program]]``); a model with stages has no
+top-level ``[[program]]`` (:class:`StageSpec`, :class:`stepcontact.Stage`).
 :func:`schema` gives the complete JSON schema.
 """
 
@@ -80,7 +86,7 @@ import os
 import re
 import tomllib
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
@@ -130,6 +136,7 @@ from stepcontact.model.mesh import half_disc, quad_region, rectangle
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.program import cycle_amplitudes, cycles
 from stepcontact.model.size import check_size
+from stepcontact.model.stages import Stage
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 
 # tags of the discriminated unions; they appear in pydantic's error locations and are removed
@@ -873,11 +880,14 @@ Amplitude = Annotated[
 
 
 class SegmentSpec(_Spec):
-    """``[[program]]``: the factor of ``pattern`` goes from ``start`` to ``end``; with
+    """``[[program]]`` (and ``[[stages.program]]``, the program of a construction stage): the
+    factor of ``pattern`` goes from ``start`` to ``end``; with
     ``rates``, several patterns move at once (non-proportional loading) and ``pattern`` is the
     segment's own name.  With ``amplitude`` and ``cycles`` instead of ``end`` the entry is a
     cyclic program (:func:`stepcontact.cycles`): ``cycles`` times the factor goes to
-    ``mean + amplitude``, then to ``mean − amplitude`` (two segments per cycle)."""
+    ``mean + amplitude``, then to ``mean − amplitude`` (two segments per cycle).  Required,
+    unless the model is built in ``[[stages]]``: each stage then has its own
+    ``[[stages.program]]`` and a top-level ``[[program]]`` is an error."""
 
     pattern: str = Field(description="load pattern; with rates: the segment's name (a label)")
     end: float | None = Field(None, description="load factor λ at the end of the segment "
@@ -920,6 +930,45 @@ def _segments(s: SegmentSpec) -> tuple[Segment, ...]:
                       rates=s.rates)
     except ModelError:
         return ()
+
+
+class StageSpec(_Spec):
+    """``[[stages]]``: one construction stage (method.md §6; :class:`stepcontact.Stage`).  The
+    stages run in the order of the file, in one static run that keeps the locked-in stresses
+    and contact forces from stage to stage.  A stage lists what enters the structure when it
+    begins, what leaves it and the joints grouted, then its own load segments
+    (``[[stages.program]]``, the syntax of ``[[program]]``); the model's load program is the
+    stages' programs in order, so a model with stages has no top-level ``[[program]]`` (move
+    its segments into the first stage).  Bodies, interfaces and supports that no stage lists
+    are in place from the start; each name is listed by one stage at most.  Automatic
+    segments (events located) start a stage: the reactions of removed supports are released,
+    and the loads of standing patterns ramp onto the bodies just built; so a later stage that
+    removes supports or builds bodies may have no segment of its own."""
+
+    name: str = Field(description="unique stage name (results show it)")
+    bodies: list[str] = Field([], description="bodies built at this stage: inactive, unloaded "
+                              "and stress-free before, then placed stress-free on the deformed "
+                              "structure (their nodes start from zero displacement)")
+    interfaces: list[str] = Field([], description="interfaces made at once at this stage: in "
+                                  "contact and stress-free (the CFEs' current mutual "
+                                  "displacements become their zero)")
+    contacts: list[str] = Field([], description="interfaces that act from this stage with "
+                                "their geometric gap in the current deformed configuration (a "
+                                "CFE closes when its gap does)")
+    supports: list[str] = Field([], description="supports (by name) placed at this stage: "
+                                "they hold the DOFs where they are now")
+    remove_supports: list[str] = Field([], description="supports removed at this stage: their "
+                                       "reaction is released by an automatic segment at the "
+                                       "start of the stage (events located)")
+    grout: dict[str, BondSpec] = Field({}, description="{interface name = bond table}: the "
+                                       "CFEs of an interface in place become bonded with that "
+                                       "strength (eq. (12), the table of `[interfaces.bond]`), "
+                                       "keeping their current forces; an open CFE is filled "
+                                       "(its opening becomes its zero)")
+    program: list[SegmentSpec] = Field([], description="`[[stages.program]]`: the stage's "
+                                       "load segments, exactly as `[[program]]` (cyclic "
+                                       "entries too); needed unless the stage removes supports "
+                                       "or builds bodies (automatic segments)")
 
 
 class TimeFunctionSpec(_Spec):
@@ -991,8 +1040,15 @@ class ModelFile(_Spec):
     obstacles: list[ObstacleSpec] = []
     interfaces: list[InterfaceSpec] = []
     patterns: dict[str, PatternSpec] = {}
-    program: list[SegmentSpec] = Field(min_length=1)
+    program: list[SegmentSpec] = Field([], description="the load program; required, "
+                                       "unless the model has `[[stages]]` (then each stage "
+                                       "has its own `[[stages.program]]` and this is an error)")
+    stages: list[StageSpec] = Field([], description="construction stages, in order; their "
+                                    "programs are the load program")
     dynamics: DynamicsSpec | None = None
+
+    model_config = ConfigDict(json_schema_extra={"anyOf": [{"required": ["program"]},
+                                                           {"required": ["stages"]}]})
 
 
 # --------------------------------------------------------------------------------------------
@@ -1088,10 +1144,35 @@ def _model_error(items: list[tuple[str, str]]) -> ModelError:
 
 def _validate(d: dict[str, Any]) -> ModelFile:
     try:
-        return ModelFile.model_validate(d)
+        spec = ModelFile.model_validate(d)
+        items = []
     except ValidationError as e:
         items = [(_path(err["loc"]), _message(err)) for err in e.errors()]
+    items += _program_problems(d)
+    if items:
         raise _model_error(items) from None
+    return spec
+
+
+def _program_problems(d: Any) -> list[tuple[str, str]]:
+    """A load program is given: top-level ``[[program]]`` segments, or ``[[stages]]`` each with
+    its own (not both)."""
+    if not isinstance(d, dict):
+        return []
+    program, stages = d.get("program"), d.get("stages")
+    if stages:
+        if program:
+            return [("program", "is given together with [[stages]]: with stages the load "
+                     "program is the stages' own; move these segments into the "
+                     "[[stages.program]] of the first stage")]
+        return []
+    how = ("give the load program as [[program]] segments (or construction stages, "
+           "[[stages]], each with its [[stages.program]])")
+    if program is None:
+        return [("program", f"required field is missing: {how}")]
+    if isinstance(program, list) and not program:
+        return [("program", f"is empty: {how}")]
+    return []
 
 
 # --------------------------------------------------------------------------------------------
@@ -1333,25 +1414,25 @@ class _Builder:
                     if isinstance(ld, PressureLoad):
                         _deprecated_pairs(p, path, ld)
         current: dict[str, float] = {}
-        for i, seg in enumerate(spec.program):
+        for path, seg in self.program_entries():
             if seg.rates is not None:
                 if not seg.rates:
-                    p.add(f"program[{i}].rates", "is empty: give {pattern = rate, …}")
+                    p.add(f"{path}.rates", "is empty: give {pattern = rate, …}")
                 for name in seg.rates:
                     if name not in spec.patterns:
-                        p.add(f"program[{i}].rates.{name}",
+                        p.add(f"{path}.rates.{name}",
                               f"unknown load pattern '{name}' (known: {_known(spec.patterns)})")
                 if seg.pattern in spec.patterns:
-                    p.add(f"program[{i}].pattern", f"'{seg.pattern}' is a load pattern: a "
+                    p.add(f"{path}.pattern", f"'{seg.pattern}' is a load pattern: a "
                           "segment with rates is named by a label that is not a pattern")
             elif seg.pattern not in spec.patterns:
-                p.add(f"program[{i}].pattern",
+                p.add(f"{path}.pattern",
                       f"unknown load pattern '{seg.pattern}' (known: {_known(spec.patterns)})")
                 continue
             now = current.get(seg.pattern, 0.0)
             if seg.start is not None and abs(seg.start - now) > 1e-12 * max(1.0, abs(now)):
                 p.add(
-                    f"program[{i}].start",
+                    f"{path}.start",
                     f"segments do not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
                     f"this segment starts at {seg.start:g}",
                 )
@@ -1359,10 +1440,103 @@ class _Builder:
                 current[seg.pattern] = seg.end  # type: ignore[assignment]
                 continue
             try:  # a cyclic entry ends at mean − its last amplitude
-                amps = cycle_amplitudes(seg.amplitude, seg.cycles, f"program[{i}]", "cycles")
+                amps = cycle_amplitudes(seg.amplitude, seg.cycles, path, "cycles")
                 current[seg.pattern] = seg.mean - amps[-1]
             except ModelError as e:
                 p.add(e.item, e.problem)
+
+        self.check_stages(bodies, names)
+
+    def program_entries(self) -> Iterator[tuple[str, SegmentSpec]]:
+        """Every ``[[program]]`` entry with its field path; with stages, the stages' entries
+        in order (the model's load program)."""
+        for i, seg in enumerate(self.spec.program):
+            yield f"program[{i}]", seg
+        for k, st in enumerate(self.spec.stages):
+            for i, seg in enumerate(st.program):
+                yield f"stages[{k}].program[{i}]", seg
+
+    def check_stages(self, bodies: list[str], interfaces: set[str]) -> None:
+        """The names a stage lists exist and are listed once (by one stage, in one of its
+        lists); stage names are unique; a support is removed after it is placed; grout fills
+        joints in place, after the first stage; a stage has a load segment (its own, or the
+        automatic ones of removed supports and new bodies).  The checks of the solver's
+        :class:`~stepcontact.solver.staging.StagePlan`, with the paths of the file."""
+        spec, p = self.spec, self.p
+        if not spec.stages:
+            return
+        if spec.dynamics is not None:
+            p.add("dynamics", "a dynamic interval after construction stages is not supported "
+                  "yet: run the stages without [dynamics]")
+        supports: dict[str, list[int]] = {}
+        for i, s in enumerate(spec.supports):
+            supports.setdefault(s.name or s.nodes, []).append(i)
+        known = {"body": bodies, "interface": sorted(interfaces), "support": list(supports)}
+        lists = (("bodies", "body", "built"), ("interfaces", "interface", "made"),
+                 ("contacts", "interface", "made"), ("supports", "support", "placed"),
+                 ("remove_supports", "support", "removed"))
+        first: dict[str, int] = {}
+        claimed: dict[tuple[str, str], tuple[int, str]] = {}  # (what, name) -> (stage, list)
+        for k, st in enumerate(spec.stages):
+            item = f"stages[{k}]"
+            if st.name in first:
+                p.add(f"{item}.name", f"duplicate stage name '{st.name}' (also stages"
+                      f"[{first[st.name]}])")
+            first.setdefault(st.name, k)
+            for key, kind, what in lists:
+                for name in getattr(st, key):
+                    if name not in known[kind]:
+                        p.add(f"{item}.{key}", f"no such {kind} '{name}' (known: "
+                              f"{_known(known[kind])})")
+                        continue
+                    if kind == "support" and len(supports[name]) > 1:
+                        at = " and ".join(f"supports[{i}]" for i in supports[name])
+                        p.add(f"{item}.{key}", f"support name '{name}' is ambiguous ({at} have "
+                              "it): give those supports distinct names (name = \"...\")")
+                    prev = claimed.get((what, name))
+                    if prev is None:
+                        claimed[(what, name)] = (k, key)
+                    elif prev == (k, key):
+                        p.add(f"{item}.{key}", f"lists {kind} '{name}' twice")
+                    elif prev[0] == k:
+                        p.add(f"{item}.{key}", f"{kind} '{name}' is listed in {prev[1]} too: "
+                              "an interface is made at once (interfaces) or acts as a contact "
+                              "with its gap (contacts)" if kind == "interface" else
+                              f"{kind} '{name}' is listed in {prev[1]} too")
+                    else:
+                        p.add(f"{item}.{key}", f"{kind} '{name}' is already listed by "
+                              f"stages[{prev[0]}] ('{spec.stages[prev[0]].name}')")
+            for name in st.grout:
+                if name not in interfaces:
+                    p.add(f"{item}.grout", f"no such interface '{name}' (known: "
+                          f"{_known(sorted(interfaces))})")
+                elif k == 0:
+                    p.add(f"{item}.grout", f"the first stage cannot grout interface '{name}' "
+                          "(there is no earlier state to keep): give the interface its "
+                          "strength from the start ([interfaces.bond]) or grout it at a later "
+                          "stage")
+            auto = bool(st.bodies or st.remove_supports)
+            if k > 0 and not st.program and not auto:
+                p.add(f"{item}.program", f"stage '{st.name}' has no load segment: give it a "
+                      "[[stages.program]] entry (a stage begins with its first segment)")
+        if len(spec.stages) == 1 and not spec.stages[0].program:
+            p.add("stages[0].program", f"stage '{spec.stages[0].name}' has no load segment: "
+                  "give it [[stages.program]] entries")
+        for k, st in enumerate(spec.stages):
+            for name in st.grout:
+                j = claimed.get(("made", name), (0,))[0]
+                if j > k:
+                    p.add(f"stages[{k}].grout", f"interface '{name}' is made later, by "
+                          f"stages[{j}] ('{spec.stages[j].name}'): grout joints in place")
+        for (what, name), (k, key) in claimed.items():
+            if what != "removed":
+                continue
+            j = claimed.get(("placed", name), (0, ""))[0]
+            if k <= j:
+                where = (f"placed by stages[{j}] ('{spec.stages[j].name}')" if
+                         ("placed", name) in claimed else "in place from the start")
+                p.add(f"stages[{k}].{key}", f"support '{name}' is removed before or when it is "
+                      f"placed ({where}): remove it at a later stage")
 
     # ---- bodies and node sets -------------------------------------------------------------
     def _material(self, ref: str | MaterialSpec | None) -> Material | None:
@@ -1574,6 +1748,8 @@ class _Builder:
                     loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
             patterns.append(LoadPattern(pname, tuple(loads)))
         program = [seg for s in spec.program for seg in _segments(s)]
+        # stages whose names are wrong (reported) are left out: the model would repeat it
+        stages = () if any(q.startswith("stages") for q, _ in p.items) else self._stages(p)
         dynamics = self._dynamics(spec.dynamics, {pt.name for pt in patterns}, p)
         try:
             return Model(
@@ -1588,10 +1764,38 @@ class _Builder:
                 program=tuple(program),
                 name=spec.model.name or "model",
                 dynamics=dynamics,
+                stages=stages,
             )
         except ModelError as e:
             p.add(e.item, e.problem)
             return None
+
+    def _stages(self, p: _Problems) -> tuple[Stage, ...]:
+        """The construction stages of the file (their names were checked by
+        :meth:`check_stages`); a grout's bond that cannot be made is reported at its path."""
+        stages = []
+        for k, st in enumerate(self.spec.stages):
+            grout = {}
+            for name, bond in st.grout.items():
+                path = _path(["stages", k, "grout", name])
+                try:
+                    grout[name] = built = bond.build()
+                except ModelError as e:
+                    p.add(path, e.problem)
+                    continue
+                for key in ("tensile", "shear"):  # constants; profiles: at validation
+                    v = getattr(built, key)
+                    if isinstance(v, int | float) and v < 0:
+                        p.add(path, f"gives a {key} strength of {v:g} Pa: a strength must "
+                              "be ≥ 0")
+            try:
+                stages.append(Stage(
+                    st.name, tuple(seg for s in st.program for seg in _segments(s)),
+                    tuple(st.bodies), tuple(st.interfaces), tuple(st.contacts),
+                    tuple(st.supports), tuple(st.remove_supports), grout))
+            except ModelError as e:  # reported by check_stages already, with its path
+                p.add(f"stages[{k}]", e.problem)
+        return tuple(stages)
 
     def _dynamics(self, spec, pattern_names: set[str], p):
         """The dynamic interval of the file (None without one)."""
@@ -1873,7 +2077,8 @@ class Validation:
             "cfes": self.n_cfes,
             "interfaces": len(m.interfaces),
             "patterns": len(m.patterns),
-            "segments": len(m.program),
+            "segments": len(m.effective_program),
+            "stages": len(m.stages),
         }
 
 
@@ -1913,6 +2118,12 @@ def validation_report(path: str | Path) -> Validation:
 
             for name, text in zero_patterns(model, system.loads):
                 problems.warn(f"patterns.{name}", text)
+            if model.stages:  # what a run checks of the stages before solving
+                from stepcontact.solver.staging import StagePlan
+
+                plan = StagePlan(system)
+                for k in range(len(model.stages)):  # grout strengths at the joints' CFEs
+                    plan.grout_stage(k)
             _check_mechanism(system)
         except StepContactError as e:
             problems.add(getattr(e, "item", "model"), getattr(e, "problem", str(e)))

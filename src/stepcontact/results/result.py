@@ -705,7 +705,8 @@ class StaticResult:
                 return "—" if v is None else f"{v:.6g}"
 
             lines.append(
-                f"segment {mu.segment} ('{mu.pattern}'): first slip λ={fmt(mu.first_slip)}, "
+                f"segment {mu.segment} ('{mu.pattern}'){self._stage_of_segment(mu.segment)}: "
+                f"first slip λ={fmt(mu.first_slip)}, "
                 f"first opening λ={fmt(mu.first_opening)}, "
                 f"equilibrium lost λ={fmt(mu.equilibrium_lost)}"
             )
@@ -731,6 +732,13 @@ class StaticResult:
                 else:
                     lines.append(f"  '{name}': {fmt3(r)}")
         return "\n".join(lines)
+
+    def _stage_of_segment(self, j: int) -> str:
+        """`` in stage 'NAME'`` for segment ``j`` of a run in stages, else ``""``."""
+        if self.stage is None:
+            return ""
+        idx = np.flatnonzero(np.asarray(self.segment) == j)
+        return f" in stage '{self.stage_names[int(self.stage[idx[-1]])]}'" if idx.size else ""
 
     def segments_summary(self) -> list[dict[str, object]]:
         """One record per load-program segment: its pattern, λ range (start, end, reached —
