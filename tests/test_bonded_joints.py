@@ -486,3 +486,26 @@ residual_cohesion = -5e3
 """))
     with pytest.raises(ModelError, match="residual_cohesion"):
         load_model(f)
+
+
+def test_a_lost_residual_cohesion_stays_lost_across_construction_stages():
+    """The run of the model-file test split into two stages at λ = 2.3 of the water (the law
+    is rebuilt at the stage boundary): the same events, and each CFE's cohesion lost at the
+    same load factor as in one stage (not again at the start of the second)."""
+    import dataclasses
+
+    bond = sc.Bond.mohr_coulomb(150e3, 300e3, 35.0, 0.5, [(0.0, 0.0, 80e3), (8.0, 0.0, 40e3)])
+    m = bonded_dam(bond=bond)
+    ref = sc.solve_static(m)
+    res = sc.solve_static(dataclasses.replace(m, program=()).add(
+        sc.Stage("one", [sc.Segment("weight", 1.0), sc.Segment("water", 2.3)]),
+        sc.Stage("two", [sc.Segment("water", 4.0)])))
+    assert [(e.cfe, e.transition) for e in res.events] == [(e.cfe, e.transition)
+                                                           for e in ref.events]
+    np.testing.assert_allclose([e.lam for e in res.events], [e.lam for e in ref.events],
+                               rtol=1e-9)
+    lost, lost_ref = res.cfe["cohesion_lost"], ref.cfe["cohesion_lost"]
+    np.testing.assert_array_equal(lost >= 0, lost_ref >= 0)
+    assert np.sum(ref.lam[lost_ref[lost_ref >= 0]] < 2.3) >= 3  # lost in the first stage
+    np.testing.assert_allclose(res.lam[lost[lost >= 0]], ref.lam[lost_ref[lost_ref >= 0]],
+                               rtol=1e-9)
