@@ -306,3 +306,206 @@ def test_bond_strengths_are_kept_in_the_result_file_and_drawn_as_the_bonded_limi
     scale = expect[-1] / upper[-1]
     assert any(np.isclose(scale, u, rtol=1e-9) for u in (1.0, 1e3, 1e6))  # Pa, kPa or MPa
     np.testing.assert_allclose(upper * scale, expect, rtol=1e-9, atol=1e-9 * expect.max())
+
+
+# ---- residual cohesion after the break -------------------------------------------------------
+def test_after_the_break_the_cfe_slips_at_f_p_plus_its_residual_cohesion_both_ways():
+    """Pressed by p = 100 N, the bond (Q_R + α_R p = 100 N) breaks into a Coulomb CFE with
+    f = 0.3 and residual cohesion C_r A = 80 N (A = 1): it still sticks (|Q| = 100 < f p + C =
+    110), slips where the push reaches Q = 110 N (the CFE is rigid: push = Q), sticks when the
+    push falls at 150 (u_x = 40/k), and slips back at Q = −110 N: push − k u_x = −110 → −70."""
+    bond = sc.Bond(tensile=100.0, shear=50.0, alpha=0.5, tension_alpha=np.inf, friction=0.3,
+                   residual_cohesion=80.0)
+    prog = [sc.Segment("press", 100.0), sc.Segment("push", 150.0), sc.Segment("push", -100.0)]
+    res = sc.solve_static(one_cfe(bond, prog))
+    assert res.status == Status.COMPLETED
+    assert [e.transition for e in res.events] == [BROKEN, Transition.SLIP_POS,
+                                                  Transition.STUCK, Transition.SLIP_NEG]
+    brk, slip, stuck, back = res.events
+    assert brk.lam == pytest.approx(100.0, rel=1e-12)
+    assert slip.segment == 1 and abs(slip.lam - 110.0) <= 1e-12 * 110.0
+    assert abs(slip.Q - 110.0) <= 1e-12 * 110.0
+    assert stuck.lam == pytest.approx(150.0, rel=1e-12)
+    assert back.segment == 2 and abs(back.lam + 70.0) <= 1e-12 * 110.0
+    assert abs(back.Q + 110.0) <= 1e-12 * 110.0
+    i = len(res.lam) - 1
+    assert res.state[i][0] == SLIP_NEG and abs(res.Q[i][0] + 110.0) <= 1e-12 * 110.0
+    assert res.displacement(i)[0] == pytest.approx((-100.0 + 110.0) / 1e3, rel=1e-12)
+    assert res.residual.max() < 1e-9 and res.violation.max() < 1e-12
+    assert res.cfe["bond"][0, 4] == 80.0 and res.cfe["cohesion_lost"][0] == -1
+    # with C_r A = 20 N the break lands beyond the residual limit: the CFE slips at once,
+    # with Q = f p + C = 50 N (the rest released to the spring), and back at −50 N
+    res = sc.solve_static(one_cfe(sc.Bond(100.0, 50.0, 0.5, np.inf, 0.3, 20.0), [
+        sc.Segment("press", 100.0), sc.Segment("push", 200.0), sc.Segment("push", -200.0)]))
+    assert [e.transition for e in res.events] == [BROKEN, Transition.STUCK, Transition.SLIP_NEG]
+    j = int(np.flatnonzero(res.kind == "event")[0])
+    assert res.state[j][0] == SLIP_POS and abs(res.Q[j][0] - 50.0) <= 1e-12 * 50.0
+    assert res.displacement(j)[0] == pytest.approx(50.0 / 1e3, rel=1e-12)
+    # ux held at (200 − 50)/k, push − k ux = −50 → push = 100
+    assert res.events[2].lam == pytest.approx(100.0, rel=1e-12)
+    assert res.Q[-1][0] == pytest.approx(-50.0, rel=1e-12)
+
+
+def test_a_cfe_pulled_open_loses_its_residual_cohesion_and_releases_its_shear():
+    """After the break and a slip (Q = f p + C = 110 N) the push falls to 100 (Q = 60 N, stuck),
+    then the CFE is pulled: at p = 0 it opens with Q = 60 N, which is released at the same
+    load factor to the spring (u_x = 100/k); it stays open (u_y = 50/k at the pull of 50).
+    Pressed again it closes without cohesion: it slips at Q = f p = 30 N, at push 130."""
+    bond = sc.Bond(tensile=100.0, shear=50.0, alpha=0.5, tension_alpha=np.inf, friction=0.3,
+                   residual_cohesion=80.0)
+    prog = [sc.Segment("press", 100.0), sc.Segment("push", 150.0), sc.Segment("push", 100.0),
+            sc.Segment("press", -50.0)]
+    res = sc.solve_static(one_cfe(bond, prog))
+    assert res.status == Status.COMPLETED
+    opened = res.events[-1]
+    assert opened.transition == Transition.OPENED and opened.segment == 3
+    assert abs(opened.lam) <= 1e-12 * 100.0 and opened.Q == pytest.approx(60.0, rel=1e-12)
+    i = opened.state
+    assert res.cfe["cohesion_lost"][0] == i
+    assert res.state[i][0] == OPEN and res.Q[i][0] == 0.0 and res.N[i][0] == 0.0
+    np.testing.assert_allclose(res.displacement(i), [100.0 / 1e3, 0.0], rtol=0, atol=1e-15)
+    end = len(res.lam) - 1
+    assert res.state[end][0] == OPEN
+    np.testing.assert_allclose(res.displacement(end), [0.1, 0.05], rtol=1e-12)
+    assert res.residual.max() < 1e-9 and res.violation.max() < 1e-12
+    # closed again: purely frictional
+    res = sc.solve_static(one_cfe(bond, [*prog, sc.Segment("press", 100.0),
+                                         sc.Segment("push", 200.0)]))
+    slip = res.events[-1]
+    assert slip.transition == Transition.SLIP_POS and slip.segment == 5
+    assert slip.lam == pytest.approx(130.0, rel=1e-12) and slip.Q == pytest.approx(30.0)
+    assert res.residual.max() < 1e-9 and res.violation.max() < 1e-12
+
+
+def sliding_block(bond, width=20.0):
+    """A block ``width`` × 12 m (E = 30 GPa) on a compliant bonded layer, weight then water
+    to 11 m per unit λ (no opening: the resultant stays in the middle third)."""
+    conc = sc.Material(E=3e10, nu=0.2, density=RHO)
+    m = sc.Model(bodies=[sc.rectangle("dam", (0, 0), (width, HEIGHT), 10, 12, conc)])
+    ground = sc.RigidObstacle("ground", [(-1.0, 0.0), (width + 1.0, 0.0)])
+    base = sc.Interface("base", plus=m.select("dam", y=0), minus=ground, friction=0.5,
+                        layer=sc.ContactLayer(kn=KN, kt=KN), bond=bond)
+    return m.add(base, sc.LoadPattern("weight", [sc.BodyForce(bodies=("dam",))]),
+                 sc.LoadPattern("water", [sc.WaterLoad(m.select("dam", x=0.0), level=H)]),
+                 sc.Segment("weight", 1.0), sc.Segment("water", 10.0))
+
+
+def test_a_block_with_residual_cohesion_slides_at_f_w_plus_c_r_times_its_length():
+    """The bond (c = 20 kPa, φ = 30°) is weaker than the residual strength (f = 0.6, C_r from
+    40 kPa at the heel to 20 kPa at the toe): every CFE breaks into a stuck one, then slips,
+    and the block slides when the thrust γ_w H²/2 · λ reaches f W + ∫C_r dx = 0.6 W + 30 kPa ·
+    20 m (hand statics: Σp = W with the base closed throughout)."""
+    width = 20.0
+    bond = sc.Bond.mohr_coulomb(20e3, 50e3, 30.0, residual_friction=0.6,
+                                residual_cohesion=[(0.0, 0.0, 40e3), (width, 0.0, 20e3)])
+    res = sc.solve_static(sliding_block(bond, width))
+    W = RHO * 9.81 * width * HEIGHT
+    lam = (0.6 * W + 30e3 * width) / (GW * H * H / 2)
+    assert res.status == Status.EQUILIBRIUM_LOST and "sliding" in res.message
+    assert abs(res.multipliers[-1].equilibrium_lost - lam) <= 1e-9 * lam
+    assert len(_breaks(res)) == res.m and np.all(res.cfe["cohesion_lost"] == -1)
+    np.testing.assert_allclose(res.cfe["bond"][:, 4].sum(), 30e3 * width, rtol=1e-12)
+    assert res.residual.max() < 1e-9 and res.violation.max() < 1e-9
+    # without residual cohesion (and f = 0.7 so that the residual strength is still the
+    # larger): at f W
+    res0 = sc.solve_static(sliding_block(sc.Bond.mohr_coulomb(20e3, 50e3, 30.0, 0.7), width))
+    lam0 = 0.7 * W / (GW * H * H / 2)
+    assert abs(res0.multipliers[-1].equilibrium_lost - lam0) <= 1e-9 * lam0
+    assert "cohesion_lost" not in res0.cfe and res0.cfe["bond"][:, 4].max() == 0.0
+
+
+def test_model_file_residual_cohesion_gives_the_same_run_as_the_python_model(tmp_path):
+    """Heel CFEs break in shear, keep a residual cohesion, and lose it when the crack opens
+    them: the same events (and the same states where the cohesion was lost) from the file."""
+    from stepcontact.io.modelfile import load_model
+    from test_crack_water import block_toml
+
+    text = block_toml(8.0, 16, 0.5, '[{ type = "water", nodes = "upstream", level = 11.0 }]',
+                      4.0, bond="""
+[interfaces.bond]
+cohesion = 150e3
+tensile_strength = 300e3
+friction_angle = 35.0
+friction = 0.5
+residual_cohesion = { from = [0.0, 0.0, 80e3], to = [8.0, 0.0, 40e3] }
+""")
+    f = tmp_path / "m.toml"
+    f.write_text(text)
+    res = sc.solve_static(load_model(f))
+    ref = sc.solve_static(bonded_dam(bond=sc.Bond.mohr_coulomb(
+        150e3, 300e3, 35.0, 0.5, [(0.0, 0.0, 80e3), (8.0, 0.0, 40e3)])))
+    assert [(e.cfe, e.transition) for e in res.events] == [(e.cfe, e.transition)
+                                                           for e in ref.events]
+    np.testing.assert_allclose([e.lam for e in res.events], [e.lam for e in ref.events],
+                               rtol=1e-12)
+    np.testing.assert_array_equal(res.cfe["cohesion_lost"], ref.cfe["cohesion_lost"])
+    lost = ref.cfe["cohesion_lost"] >= 0
+    assert lost.any() and not lost.all()
+    # a CFE lost its cohesion where its bond broke open (in tension) or where it opened later
+    # with shear (its event at the state after the release); from then on |Q| ≤ f p (the
+    # release may close it again at the same λ, and the rising water open it once more)
+    scale = np.abs(ref.Q).max()
+    opened = 0
+    for k in np.flatnonzero(lost):
+        i = ref.cfe["cohesion_lost"][k]
+        ev = next(e for e in ref.events if e.cfe == k and e.state == i)
+        assert ev.transition in (BROKEN, Transition.OPENED)
+        if ev.transition == Transition.OPENED:
+            assert ev.N == 0.0 and ev.Q > 0.2 * ref.cfe["bond"][k, 4]
+            opened += 1
+        after = np.arange(len(ref.lam)) >= i
+        assert np.all(np.abs(ref.Q[after, k]) <= 0.5 * -ref.N[after, k] + 1e-9 * scale)
+    assert opened >= 3
+    assert ref.residual.max() < 1e-6 and ref.violation.max() < 1e-9
+    # the result file keeps the residual cohesion and where it was lost
+    path = tmp_path / "r.nc"
+    ref.save(path)
+    back = sc.load_result(path)
+    np.testing.assert_array_equal(back.cfe["cohesion_lost"], ref.cfe["cohesion_lost"])
+    np.testing.assert_array_equal(back.cfe["bond"], ref.cfe["bond"])
+
+
+def test_a_negative_residual_cohesion_names_the_field(tmp_path):
+    with pytest.raises(ModelError, match="bond.residual_cohesion"):
+        sc.Bond(1e5, 1e5, 0.5, residual_cohesion=-1.0)
+    with pytest.raises(ModelError, match="bond.residual_cohesion"):
+        sc.Bond.mohr_coulomb(1e5, 1e5, 30.0, residual_cohesion=-1e3)
+    with pytest.raises(ModelError, match="interface 'base'.bond.residual_cohesion"):
+        sc.assemble(bonded_dam(bond=sc.Bond.mohr_coulomb(
+            1e5, 1e5, 30.0, residual_cohesion=[(0, 0, 1e5), (8, 0, -1e5)])))
+    from stepcontact.io.modelfile import load_model
+    from test_crack_water import block_toml
+
+    f = tmp_path / "m.toml"
+    f.write_text(block_toml(8.0, 4, 0.5, "[]", 1.0, bond="""
+[interfaces.bond]
+cohesion = 150e3
+tensile_strength = 300e3
+friction_angle = 35.0
+residual_cohesion = -5e3
+"""))
+    with pytest.raises(ModelError, match="residual_cohesion"):
+        load_model(f)
+
+
+def test_a_lost_residual_cohesion_stays_lost_across_construction_stages():
+    """The run of the model-file test split into two stages at λ = 2.3 of the water (the law
+    is rebuilt at the stage boundary): the same events, and each CFE's cohesion lost at the
+    same load factor as in one stage (not again at the start of the second)."""
+    import dataclasses
+
+    bond = sc.Bond.mohr_coulomb(150e3, 300e3, 35.0, 0.5, [(0.0, 0.0, 80e3), (8.0, 0.0, 40e3)])
+    m = bonded_dam(bond=bond)
+    ref = sc.solve_static(m)
+    res = sc.solve_static(dataclasses.replace(m, program=()).add(
+        sc.Stage("one", [sc.Segment("weight", 1.0), sc.Segment("water", 2.3)]),
+        sc.Stage("two", [sc.Segment("water", 4.0)])))
+    assert [(e.cfe, e.transition) for e in res.events] == [(e.cfe, e.transition)
+                                                           for e in ref.events]
+    np.testing.assert_allclose([e.lam for e in res.events], [e.lam for e in ref.events],
+                               rtol=1e-9)
+    lost, lost_ref = res.cfe["cohesion_lost"], ref.cfe["cohesion_lost"]
+    np.testing.assert_array_equal(lost >= 0, lost_ref >= 0)
+    assert np.sum(ref.lam[lost_ref[lost_ref >= 0]] < 2.3) >= 3  # lost in the first stage
+    np.testing.assert_allclose(res.lam[lost[lost >= 0]], ref.lam[lost_ref[lost_ref >= 0]],
+                               rtol=1e-9)

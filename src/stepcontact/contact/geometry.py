@@ -58,9 +58,10 @@ class ContactElements:
     cn : (m,) float
         Normal damping of the contact layer, N·s/m (0: none; dynamics only, a Kelvin–Voigt
         layer: :mod:`stepcontact.solver.dynamic`).
-    bond : (m, 4) float
+    bond : (m, 5) float
         Initial strength of bonded CFEs (eq. (12), :data:`~stepcontact.contact.laws.BOND_COLUMNS`:
-        N_R, Q_R in N, α_R, 1/α_t); NaN rows for CFEs without a bond.
+        N_R, Q_R in N, α_R, 1/α_t, and the residual cohesion C_r A in N after the break); NaN
+        rows for CFEs without a bond.
     """
 
     names: tuple[str, ...]
@@ -86,7 +87,7 @@ class ContactElements:
         if self.cn is None:
             object.__setattr__(self, "cn", np.zeros(len(self.interface)))
         if self.bond is None:
-            object.__setattr__(self, "bond", np.full((len(self.interface), 4), np.nan))
+            object.__setattr__(self, "bond", np.full((len(self.interface), 5), np.nan))
 
     @property
     def bonded(self) -> np.ndarray:
@@ -772,7 +773,7 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
         kt = np.full(m, np.inf)
         cn = np.zeros(m)
     friction = np.full(m, float(itf.friction))
-    bond = np.full((m, 4), np.nan)
+    bond = np.full((m, 5), np.nan)
     if itf.bond is not None:
         open_ = gap > 1e-9 * max(float(np.ptp(xp)) if m else 0.0, 1.0)
         if np.any(open_):

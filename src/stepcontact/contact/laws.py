@@ -18,9 +18,10 @@ about load factors, time or matrices:
   their complements, so that the engine can write the linear complementarity problem;
 * the **measure of violation** of its conditions at a state.
 
-The faceted form of friction: the Coulomb limit in 2D is two facets f p ∓ Q ≥ 0 (slip+ and
-slip−); the strength surface of a bonded joint (eq. (12)) is four more facets in (N, Q), and a
-faceted cone in 3D a further law with more facets, added without touching the engine.
+The faceted form of friction: the Coulomb limit in 2D is two facets f p + C ∓ Q ≥ 0 (slip+ and
+slip−; C the residual cohesion of a broken bond, 0 for plain Coulomb contact); the strength
+surface of a bonded joint (eq. (12)) is four more facets in (N, Q), and a faceted cone in 3D a
+further law with more facets, added without touching the engine.
 """
 
 from __future__ import annotations
@@ -35,9 +36,10 @@ OPEN, STICK, SLIP_POS, SLIP_NEG, CLOSED, BONDED = (int(s) for s in (
     ContactState.OPEN, ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG,
     ContactState.CLOSED, ContactState.BONDED))
 
-#: columns of a bond's strength (``bond`` of :class:`CoulombLaw`): N_R, Q_R (N), α_R and
-#: 1/α_t (the slope of the tension facets; 0: a tension cut-off N ≤ N_R)
-BOND_COLUMNS = ("tensile", "shear", "alpha", "inv_alpha_t")
+#: columns of a bond's strength (``bond`` of :class:`CoulombLaw`): N_R, Q_R (N), α_R,
+#: 1/α_t (the slope of the tension facets; 0: a tension cut-off N ≤ N_R) and the residual
+#: cohesion C_r A (N) that the CFE keeps after the break, until it opens
+BOND_COLUMNS = ("tensile", "shear", "alpha", "inv_alpha_t", "residual_cohesion")
 
 #: relation kinds of one CFE component in a working scheme
 FREE, FIXED, SPRING = 0, 1, 2
@@ -98,11 +100,20 @@ class CoulombLaw:
     from :meth:`broken_state`; the driver releases the forces it can no longer carry,
     :meth:`released`).
 
+    **Residual cohesion** (:data:`BOND_COLUMNS` ``residual_cohesion``, C = C_r A_k): a broken
+    bond may keep a cohesion, and its friction facets are then f p + C ∓ Q ≥ 0 (slip at
+    |Q| = f p + C; the slip relation's rate form Q' = σ f p' is unchanged).  The cohesion is
+    lost when the CFE opens (an opened joint has none): ``cohesion_lost`` (k,) bool is part of
+    the contact state, set by the driver (:meth:`lose_cohesion`; a closed CFE reaching p = 0
+    with cohesion, :meth:`losing_cohesion`, is handled like a break: the shear it carried is
+    released at the same load factor).  A CFE with f = 0 but C > 0 sticks and slips like a
+    frictional one until it loses C.
+
     Event functions (columns), each ≥ 0 while the state holds:
 
     0. p = −N                (closed → open, eq. (3))
-    1. f p − Q               (stick → slip+, eq. (2))
-    2. f p + Q               (stick → slip−, eq. (2))
+    1. f p + C − Q           (stick → slip+, eq. (2))
+    2. f p + C + Q           (stick → slip−, eq. (2))
     3. N_R + p − Q / α_t     (bonded → broken, tension facet, Q > 0; eq. (12))
     4. N_R + p + Q / α_t     (bonded → broken, tension facet, Q < 0)
     5. Q_R + α_R p − Q       (bonded → broken, shear facet, Q > 0)
@@ -119,9 +130,9 @@ class CoulombLaw:
         Components whose relative motion is held by supports on both sides (their row of the
         contact operator is zero): the supports carry that component.  A CFE held normally
         carries nothing (it stays OPEN); one held tangentially is frictionless.
-    bond : (k, 4) float, optional
-        The strength of bonded CFEs (:data:`BOND_COLUMNS`: N_R, Q_R in N, α_R, 1/α_t); rows
-        of NaN for CFEs without a bond.
+    bond : (k, 5) float, optional
+        The strength of bonded CFEs (:data:`BOND_COLUMNS`: N_R, Q_R in N, α_R, 1/α_t, C_r A in
+        N; four columns: no residual cohesion); rows of NaN for CFEs without a bond.
 
     Two arrays that a driver may set between steps (zero by default, as in statics):
     ``offset`` (N), the closed compliant relation p = C_n u_n + offset, and ``surface`` (m),
@@ -145,13 +156,55 @@ class CoulombLaw:
         self.kt = np.asarray(kt, dtype=float)
         self.rigid_n = ~np.isfinite(self.kn)
         self.rigid_t = ~np.isfinite(self.kt)
-        self.frictional = self.f > 0
         self.offset = np.zeros(k)
         self.surface = np.zeros(k)
         b = np.full((k, 4), np.nan) if bond is None else np.asarray(bond, dtype=float)
         self.has_bond = ~np.isnan(b[:, 0]) & ~self.inert
         b = np.where(self.has_bond[:, None], b, 0.0)
         self.NR, self.QR, self.alpha, self.iat = b[:, 0], b[:, 1], b[:, 2], b[:, 3]
+        #: C_r A (N) of each CFE after its bond broke (0: none; held tangentially: none)
+        self.residual = b[:, 4].copy() if b.shape[1] > 4 else np.zeros(k)
+        self.residual[ht | self.inert] = 0.0
+        #: (k,) bool, part of the contact state: the CFE opened after its bond broke and has
+        #: no residual cohesion any more (set by the driver, :meth:`lose_cohesion`)
+        self.cohesion_lost = np.zeros(k, bool)
+        self._fpos = self.f > 0
+        self._any_residual = bool(np.any(self.residual > 0))
+
+    @property
+    def cohesion(self) -> np.ndarray:
+        """C (k,): the residual cohesion (N) the CFEs have now (0 where lost or none)."""
+        if not self._any_residual:
+            return np.zeros(len(self.cfes))
+        return np.where(self.cohesion_lost, 0.0, self.residual)
+
+    @property
+    def frictional(self) -> np.ndarray:
+        """CFEs that stick and slip (f > 0, or a residual cohesion C > 0)."""
+        if not self._any_residual:
+            return self._fpos
+        return self._fpos | (self.cohesion > 0)
+
+    def friction_limit(self, p, states=None) -> np.ndarray:
+        """The friction limit f p + C (N) of closed CFEs at normal force p (an open CFE, in
+        ``states``, has no cohesion)."""
+        c = self.cohesion
+        if states is not None and self._any_residual:
+            c = np.where(states == OPEN, 0.0, c)
+        return self.f * p + c
+
+    # ---- residual cohesion ------------------------------------------------------------------
+    def losing_cohesion(self, states, p, tf: float) -> np.ndarray:
+        """Closed Coulomb CFEs that still have a residual cohesion and sit at p ≤ ``tf``: they
+        open here and lose it (the driver releases the shear they carried)."""
+        if not self._any_residual:
+            return np.zeros(len(states), bool)
+        coulomb = (states != OPEN) & (states != BONDED) & ~self.inert
+        return coulomb & (self.cohesion > 0) & (p <= tf)
+
+    def lose_cohesion(self, mask) -> None:
+        """The CFEs ``mask`` (k,) lose their residual cohesion for good (they opened)."""
+        self.cohesion_lost |= np.asarray(mask, bool) & (self.residual > 0)
 
     # ---- states ----------------------------------------------------------------------------
     def closed_state(self) -> np.ndarray:
@@ -182,21 +235,21 @@ class CoulombLaw:
 
     def broken_state(self, Q, p, tf: float = 0.0) -> np.ndarray:
         """The Coulomb state a CFE takes when its bond breaks at forces (Q, p): open where it
-        is in tension (p ≤ tf), else stuck or slipping (|Q| > f p: in the direction of Q), or
-        closed where it is frictionless."""
+        is in tension (p ≤ tf), else stuck or slipping (|Q| > f p + C: in the direction of Q),
+        or closed where it is frictionless."""
         slip = np.where(Q > 0, SLIP_POS, SLIP_NEG)
-        closed = np.where(self.frictional, np.where(np.abs(Q) > self.f * p + tf, slip, STICK),
-                          CLOSED)
+        closed = np.where(self.frictional,
+                          np.where(np.abs(Q) > self.friction_limit(p) + tf, slip, STICK), CLOSED)
         return np.where(p <= tf, OPEN, closed)
 
     def released(self, states, Q, p) -> tuple[np.ndarray, np.ndarray]:
         """The part (ΔQ, Δp) of the forces (Q, p) that the relations of Coulomb ``states``
-        cannot carry (open: all of it; slipping: Q − σ f p; frictionless: Q): what a broken
-        bond releases."""
+        cannot carry (open: all of it; slipping: Q − σ (f p + C); frictionless: Q): what a
+        broken bond (or a lost residual cohesion) releases."""
         op = states == OPEN
         sig = np.where(states == SLIP_POS, 1.0, -1.0)
         dQ = np.where(op | (states == CLOSED), Q,
-                      np.where(self.slipping(states), Q - sig * self.f * p, 0.0))
+                      np.where(self.slipping(states), Q - sig * self.friction_limit(p), 0.0))
         dp = np.where(op, p, 0.0)
         return dQ, dp
 
@@ -206,8 +259,8 @@ class CoulombLaw:
 
         Open: both forces zero (FREE).  Stick and bonded: tangential fixed (or spring C_τ),
         normal fixed (or spring C_n).  Closed frictionless: Q = 0, normal as stick.  Slip
-        (exact): Q' − σ f p' = 0; slip (article, eqs. (4)–(6)): Q held during the step (FREE)
-        and corrected afterwards by compensating forces.
+        (exact): Q' − σ f p' = 0 (the rate of Q = σ (f p + C)); slip (article, eqs. (4)–(6)):
+        Q held during the step (FREE) and corrected afterwards by compensating forces.
         """
         c = self.cfes
         closed = (states != OPEN) & ~self.inert
@@ -236,8 +289,11 @@ class CoulombLaw:
         stick = (states == STICK) & closed & self.frictional
         out = np.full((k, self.n_columns), _INF)
         out[closed, 0] = p[closed]
-        out[stick, 1] = self.f[stick] * p[stick] - Q[stick]
-        out[stick, 2] = self.f[stick] * p[stick] + Q[stick]
+        fp = self.f[stick] * p[stick]
+        if affine and self._any_residual:
+            fp = fp + self.cohesion[stick]
+        out[stick, 1] = fp - Q[stick]
+        out[stick, 2] = fp + Q[stick]
         if bonded.any():
             out[bonded, self.BOND_FACETS] = self.bond_values(Q, p, affine)[bonded]
         op = (states == OPEN) & ~self.inert
@@ -257,11 +313,25 @@ class CoulombLaw:
     # ---- the consistency check at a degenerate point ------------------------------------------
     def limits(self, states, Q, p, un, tf: float, tw: float):
         """Which CFEs sit at their normal limit (p = 0 closed, u_n = 0 open), and which are
-        two-sided in friction as well (Q = 0 and f p = 0).  A bonded CFE has neither."""
+        two-sided in friction as well (Q = 0 and f p + C = 0; at the normal limit without
+        cohesion).  A bonded CFE has neither."""
         free = ~self.inert & (states != BONDED)
         normal = np.where(states == OPEN, self.surface - un <= tw, p <= tf) & free
-        two_sided = normal | ((np.abs(Q) <= tf) & (self.f * p <= tf))
+        if not self._any_residual:
+            two_sided = normal | ((np.abs(Q) <= tf) & (self.f * p <= tf))
+            return normal, two_sided & free
+        c = np.where(states == OPEN, 0.0, self.cohesion)
+        two_sided = (normal & (c <= tf)) | ((np.abs(Q) <= tf) & (self.f * p + c <= tf))
         return normal, two_sided & free
+
+    def _at_friction(self, states, Q, p, tf: float) -> np.ndarray:
+        """CFEs on a friction facet (|Q| ≥ f p + C − tf) or slipping; True everywhere without
+        residual cohesion (where the CFEs a rate problem sees are on their facets anyway)."""
+        if not self._any_residual or p is None:
+            return np.ones(len(states), bool)
+        c = np.where(states == OPEN, 0.0, self.cohesion)
+        return ((c <= 0) | self.slipping(states)
+                | (np.abs(Q) >= self.f * p + c - tf))
 
     def breaking(self, states, Q, p, dQ, dp, tf: float, rf: float) -> np.ndarray:
         """Bonded CFEs on their strength surface (a facet within ``tf``) that the rates
@@ -273,9 +343,12 @@ class CoulombLaw:
         dphi = self.bond_values(dQ, dp, affine=False)
         return bonded & np.any((phi <= tf) & (dphi < -rf), axis=1)
 
-    def consistent(self, trial, Q, dQ, dp, dun, dut, normal_lim, two_sided, rf, rw):
+    def consistent(self, trial, Q, dQ, dp, dun, dut, normal_lim, two_sided, rf, rw, *, p=None,
+                   tf: float = 0.0):
         """States that the rates of scheme ``trial`` point to (equal to ``trial`` where the
-        rates satisfy the contact conditions (1) of the CFE at its limits)."""
+        rates satisfy the contact conditions (1) of the CFE at its limits).  With the normal
+        forces ``p`` (and force tolerance ``tf``) a stuck CFE with residual cohesion that is
+        not on its friction facet (|Q| < f p + C) is not driven to slip by its rates."""
         f = self.f
         sigma = np.sign(Q)
         dg = -dun
@@ -291,6 +364,8 @@ class CoulombLaw:
         v2 = stick & ~v1 & two_sided & (np.abs(dQ) > f * dp + rf)
         new[v2] = np.where(dQ[v2] > 0, SLIP_POS, SLIP_NEG)
         v3 = stick & ~two_sided & (sigma * dQ > f * dp + rf)
+        if self._any_residual and p is not None:
+            v3 &= self._at_friction(trial, Q, p, tf)
         new[v3] = np.where(sigma[v3] > 0, SLIP_POS, SLIP_NEG)
         slipping = self.slipping(trial)
         sg = np.where(trial == SLIP_POS, 1.0, -1.0)
@@ -300,11 +375,14 @@ class CoulombLaw:
         new[v5] = STICK
         return new
 
-    def rate_variables(self, local, states, Q, normal_lim, two_sided) -> RateVariables:
+    def rate_variables(self, local, states, Q, normal_lim, two_sided, *, p=None,
+                       tf: float = 0.0) -> RateVariables:
         """Variables of the rate problem for the CFEs ``local`` (indices into this law's CFEs):
         an opening rate o ≥ 0 where the CFE is at its normal limit (complement p' ≥ 0), and
-        slip rates a± ≥ 0 on the friction facets it touches (complement f p' ∓ Q' ≥ 0).  A
-        bonded CFE has none (its bond breaks, a jump the driver follows).
+        slip rates a± ≥ 0 on the friction facets it touches (complement f p' ∓ Q' ≥ 0: the
+        rate of f p + C ∓ Q).  A bonded CFE has none (its bond breaks, a jump the driver
+        follows); with the normal forces ``p`` (tolerance ``tf``) a CFE with residual cohesion
+        has slip rates only where it is on a facet.
 
         Their effect on the stuck base scheme enters through the right-hand side of the
         relations: rigid u_n' = −o, u_τ' = a⁺ − a⁻; compliant p' − C_n u_n' = C_n o,
@@ -314,6 +392,8 @@ class CoulombLaw:
                          np.where(states == SLIP_POS, 1.0, np.sign(Q)))[local]
         op = normal_lim[local]
         fr = self.frictional[local] & (states[local] != BONDED)
+        if self._any_residual and p is not None:
+            fr &= self._at_friction(states, Q, p, tf)[local]
         both = fr & (two_sided[local] | (sigma == 0))
         one = fr & ~both
         # per CFE: [opening?, slip+?, slip−?]
@@ -351,8 +431,8 @@ class CoulombLaw:
     def snap(self, states, Q, p, un):
         """Right-hand side (r_τ, r_n) that moves the state onto the relations of ``states`` at
         a fixed load: open → N = Q = 0; closed rigid (and bonded) → u_n = 0; compliant →
-        p = C_n u_n; slipping → Q = σ f p (in article mode this is the compensating correction
-        δQ of eq. (4)); closed frictionless → Q = 0."""
+        p = C_n u_n; slipping → Q = σ (f p + C) (in article mode this is the compensating
+        correction δQ of eq. (4)); closed frictionless → Q = 0."""
         closed = (states != OPEN) & ~self.inert
         r_t = np.where(~closed | (states == CLOSED), -Q, 0.0)
         r_n = np.where(~closed, -p, 0.0)
@@ -360,7 +440,7 @@ class CoulombLaw:
         kn = np.where(self.rigid_n, 0.0, self.kn)
         r_n = np.where(closed & ~self.rigid_n, kn * un + self.offset - p, r_n)
         sig = np.where(states == SLIP_POS, 1.0, -1.0)
-        r_t = np.where(self.slipping(states) & closed, sig * self.f * p - Q, r_t)
+        r_t = np.where(self.slipping(states) & closed, sig * self.friction_limit(p) - Q, r_t)
         return r_t, r_n
 
     def violation(self, states, Q, p, un, F: float, W: float) -> float:
@@ -373,13 +453,14 @@ class CoulombLaw:
         closed = (states != OPEN) & ~self.inert
         coulomb = ~self.inert & ~bonded
         sig = np.where(states == SLIP_POS, 1.0, -1.0)
+        lim = self.friction_limit(p, states)
         v = [
             np.where(coulomb, np.maximum(-p, 0), 0.0) / F,  # N ≤ 0
             np.where(~closed, np.abs(p) + np.abs(Q), 0) / F,  # open: N = Q = 0
             np.where(~closed & ~self.inert, np.maximum(un - self.surface, 0), 0) / W,  # open
             np.where(closed & self.rigid_n, np.abs(un), 0) / W,  # closed rigid: u_n = 0
-            np.where(coulomb, np.maximum(np.abs(Q) - self.f * p, 0), 0) / F,  # |Q| ≤ f(−N)
-            np.where(self.slipping(states) & closed, np.abs(Q - sig * self.f * p), 0) / F,
+            np.where(coulomb, np.maximum(np.abs(Q) - lim, 0), 0) / F,  # |Q| ≤ f(−N) + C
+            np.where(self.slipping(states) & closed, np.abs(Q - sig * lim), 0) / F,
         ]
         if bonded.any():  # inside the strength surface (eq. (12))
             v.append(np.where(bonded, np.maximum(-self.bond_values(Q, p).min(axis=1), 0),

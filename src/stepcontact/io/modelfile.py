@@ -666,7 +666,8 @@ class BondSpec(_Spec):
     tension facets, default alpha) or Mohr–Coulomb ``{cohesion, tensile_strength,
     friction_angle}`` (Pa, Pa, degrees: a tension cut-off).  Strengths are a number or vary
     along the joint by coordinates.  ``friction``: f after the bond breaks (default: the
-    interface's, or tan φ for Mohr–Coulomb)."""
+    interface's, or tan φ for Mohr–Coulomb); ``residual_cohesion``: C_r after the break, Pa
+    (a number or varying like the strengths; default 0), lost where the joint opens."""
 
     tensile: Profile | None = Field(None, description="tensile strength σ_R, Pa")
     shear: Profile | None = Field(None, description="shear strength without normal force "
@@ -682,6 +683,15 @@ class BondSpec(_Spec):
                                          "friction angle φ, degrees")
     friction: float | None = Field(None, ge=0, description="friction coefficient after the "
                                    "bond breaks")
+    residual_cohesion: Profile | None = Field(None, description="cohesion C_r after the bond "
+                                              "breaks (until the joint opens), Pa")
+
+    @field_validator("residual_cohesion")
+    @classmethod
+    def _not_negative(cls, v):
+        if isinstance(v, float) and v < 0:
+            raise ValueError(f"must be ≥ 0 Pa, got {v:g}")
+        return v
 
     @model_validator(mode="after")
     def _one_form(self) -> BondSpec:
@@ -696,10 +706,12 @@ class BondSpec(_Spec):
         return self
 
     def build(self) -> Bond:
+        residual = 0.0 if self.residual_cohesion is None else self.residual_cohesion
         if self.cohesion is not None:
             return Bond.mohr_coulomb(self.cohesion, self.tensile_strength, self.friction_angle,
-                                     self.friction)
-        return Bond(self.tensile, self.shear, self.alpha, self.tension_alpha, self.friction)
+                                     self.friction, residual)
+        return Bond(self.tensile, self.shear, self.alpha, self.tension_alpha, self.friction,
+                    residual)
 
 
 class GravityLoad(_Spec):

@@ -13,6 +13,12 @@ the compliance of its layer, eq. (11)) inside the strength surface
 article writes α_t = α_R).  Reaching a facet breaks the bond, an event located like the
 others; the forces the CFE can no longer carry are released at the same load factor and its
 neighbours may break in turn (a crack running along the joint, event by event).
+
+After the break the CFE is a unilateral Coulomb contact with its own friction f and, optionally,
+a residual cohesion C_r (per unit area): a closed CFE slips when |Q| = f p + C_r A_k.  The
+residual cohesion is lost when the CFE opens (an opened joint has no cohesion): the shear it
+still carried is released at the same load factor, and the CFE is purely frictional from then
+on.
 """
 
 from __future__ import annotations
@@ -45,6 +51,10 @@ class Bond:
         smaller intercept governs); ``inf``: a tension cut-off N ≤ N_R (Mohr–Coulomb).
     friction : float, optional
         Friction coefficient of the joint after its bond breaks (None: the interface's).
+    residual_cohesion : optional
+        C_r, Pa: the cohesion the joint keeps after its bond breaks (a constant, profile,
+        points or function like the strengths; default 0).  A broken, closed CFE slips at
+        |Q| = f p + C_r A_k; it loses C_r for good when it opens.
 
     :meth:`mohr_coulomb` builds one from cohesion, tensile strength and friction angle.
     """
@@ -54,10 +64,14 @@ class Bond:
     alpha: float = 0.0
     tension_alpha: float | None = None
     friction: float | None = None
+    residual_cohesion: object = 0.0
+
+    #: the strengths given per unit area (Pa), in the order of the law's columns
+    STRENGTHS = ("tensile", "shear")
 
     def __post_init__(self):
         item = "bond"
-        for key in ("tensile", "shear"):
+        for key in (*self.STRENGTHS, "residual_cohesion"):
             self.function(key)  # checks the spec
         if not (np.isfinite(self.alpha) and self.alpha >= 0):
             raise ModelError(f"{item}.alpha", f"must be ≥ 0, got {self.alpha}")
@@ -70,42 +84,50 @@ class Bond:
         if self.friction is not None and not (np.isfinite(self.friction)
                                               and self.friction >= 0):
             raise ModelError(f"{item}.friction", f"must be ≥ 0, got {self.friction}")
+        rc = self.residual_cohesion
+        if np.ndim(rc) == 0 and not callable(rc) and not float(rc) >= 0:
+            raise ModelError(f"{item}.residual_cohesion", f"must be ≥ 0 Pa, got {rc}")
 
     @classmethod
     def mohr_coulomb(cls, cohesion, tensile_strength, friction_angle: float,
-                     residual_friction: float | None = None) -> Bond:
+                     residual_friction: float | None = None,
+                     residual_cohesion: object = 0.0) -> Bond:
         """The Mohr–Coulomb strength engineers use: shear τ ≤ c + σ tan φ (σ compression)
         with a tension cut-off σ_t, per unit area: eq. (12) with τ_R = c, α_R = tan φ,
         σ_R = σ_t and α_t = ∞.
 
         ``cohesion`` c and ``tensile_strength`` σ_t in Pa (constants, profiles or functions
         of (x, y)), ``friction_angle`` φ in degrees; ``residual_friction``: f after the break
-        (default tan φ)."""
+        (default tan φ), ``residual_cohesion`` C_r after the break, Pa (default 0)."""
         if not (np.isfinite(friction_angle) and 0 <= friction_angle < 90):
             raise ModelError("bond.friction_angle", f"must be in [0, 90) degrees, got "
                              f"{friction_angle}")
         tan = math.tan(math.radians(friction_angle))
         return cls(tensile=tensile_strength, shear=cohesion, alpha=tan, tension_alpha=math.inf,
-                   friction=tan if residual_friction is None else residual_friction)
+                   friction=tan if residual_friction is None else residual_friction,
+                   residual_cohesion=residual_cohesion)
 
     def function(self, key: str):
-        """The strength ``key`` ("tensile" or "shear") as a function v(x, y), Pa."""
+        """The strength ``key`` ("tensile", "shear" or "residual_cohesion") as a function
+        v(x, y), Pa."""
         from stepcontact.model.water import _as_function
 
         return _as_function(getattr(self, key), f"bond.{key}", 1.0)
 
     def arrays(self, x: np.ndarray, area: np.ndarray, item: str) -> np.ndarray:
-        """The law's bond columns (k, 4) — N_R, Q_R (N), α_R, 1/α_t — of CFEs at points ``x``
-        (k, 2) with areas ``area`` (m²); ``item`` names the interface in errors."""
-        out = np.empty((len(area), 4))
-        for j, key in enumerate(("tensile", "shear")):
+        """The law's bond columns (k, 5) — N_R, Q_R (N), α_R, 1/α_t, C_r A (N) — of CFEs at
+        points ``x`` (k, 2) with areas ``area`` (m²); ``item`` names the interface in errors
+        (:data:`~stepcontact.contact.laws.BOND_COLUMNS`)."""
+        out = np.empty((len(area), 5))
+        for j, key in zip((0, 1, 4), (*self.STRENGTHS, "residual_cohesion"), strict=True):
             v = np.broadcast_to(np.asarray(self.function(key)(x[:, 0], x[:, 1]), float),
                                 area.shape)
             bad = ~np.isfinite(v) | (v < 0)
             if bad.any():
                 k = int(np.flatnonzero(bad)[0])
+                what = "a cohesion" if key == "residual_cohesion" else "a strength"
                 raise ModelError(f"{item}.bond.{key}", f"gives {v[k]} Pa at CFE {k} "
-                                 f"({x[k, 0]:g}, {x[k, 1]:g}): a strength must be ≥ 0")
+                                 f"({x[k, 0]:g}, {x[k, 1]:g}): {what} must be ≥ 0")
             out[:, j] = area * v
         out[:, 2] = self.alpha
         at = self.alpha if self.tension_alpha is None else self.tension_alpha

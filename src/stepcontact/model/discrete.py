@@ -285,13 +285,15 @@ class DiscreteModel:
         return int(key)
 
     def _bonds(self, m: int) -> np.ndarray:
-        """The bond columns (m, 4) of the law (NaN rows: no bond); sets the friction after
+        """The bond columns (m, 5) of the law (NaN rows: no bond); sets the friction after
         the break where a bond gives one."""
         from stepcontact.model.bond import Bond
 
-        out = np.full((m, 4), np.nan)
+        out = np.full((m, 5), np.nan)
         spec = self.bond
-        if spec is None or isinstance(spec, np.ndarray) and spec.shape == (m, 4):
+        if isinstance(spec, np.ndarray) and spec.shape == (m, 4):  # without C_r: 0
+            spec = np.column_stack([spec, np.where(np.isnan(spec[:, 0]), np.nan, 0.0)])
+        if spec is None or isinstance(spec, np.ndarray) and spec.shape == (m, 5):
             return out if spec is None else np.asarray(spec, float)
         bonds = [spec] * m if isinstance(spec, Bond) else list(spec)
         if len(bonds) != m:

@@ -114,7 +114,10 @@ _CFE_SPEC: dict[str, tuple[str, str, str | None]] = {
     "kt": ("N m-1", "tangential contact-layer stiffness C_tk (inf: rigid)", None),
     "cn": ("N s m-1", "normal contact-layer damping c_nk (dynamics: Kelvin-Voigt layer)", None),
     "bond": ("1", "initial strength of bonded CFEs (eq. (12)): N_R (N), Q_R (N), alpha_R, "
-             "1/alpha_t; NaN: no bond", "bond_column"),
+             "1/alpha_t, residual cohesion C_r A_k after the break (N); NaN: no bond",
+             "bond_column"),
+    "cohesion_lost": ("1", "state from which the CFE's residual cohesion is lost (it opened "
+                      "after its bond broke); -1: kept", None),
 }
 
 _STATE_VARS: dict[str, tuple[str, str]] = {

@@ -296,7 +296,7 @@ class EventEngine:
         for law, c, _Q, p, _ut, _un in self._parts(self.s, self.w):
             sl = law.slipping(self.states[c])
             dqp = law.f * ds[m + c]
-            qp = law.f * p
+            qp = law.friction_limit(p, self.states[c])  # f p + C
             with np.errstate(divide="ignore", invalid="ignore"):
                 v = np.where(sl & (np.abs(dqp) > 0), np.abs(self.eps_p * qp / dqp), _INF)
             lim = min(lim, float(v.min(initial=_INF)))
@@ -333,9 +333,10 @@ class EventEngine:
         rf = 1e3 * self.rtol * max(np.abs(ds).max(initial=0), 1e-300)
         rw = 1e3 * self.rtol * max(np.abs(dw).max(initial=0), 1e-300)
         out = trial.copy()
-        for law, c, Q, _p, _ut, _un in self._parts(self.s, self.w):
+        tf, _ = self.tolerances()
+        for law, c, Q, p, _ut, _un in self._parts(self.s, self.w):
             out[c] = law.consistent(trial[c], Q, ds[c], ds[m + c], dw[m + c], dw[c], normal[c],
-                                    two[c], rf, rw)
+                                    two[c], rf, rw, p=p, tf=tf)
         return out[L]
 
     def decide(self, fired: np.ndarray, forcing, *, natural: bool = False) -> Decision:

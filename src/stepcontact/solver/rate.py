@@ -12,7 +12,8 @@ complementarity problem of 2D Coulomb friction:
 
     z: opening rate o (CFEs at the normal limit), slip rates a⁺, a⁻ (on the friction facets
        the CFE touches);
-    w: the complements p' = −N' ≥ 0,  f p' − Q' ≥ 0,  f p' + Q' ≥ 0;
+    w: the complements p' = −N' ≥ 0,  f p' − Q' ≥ 0,  f p' + Q' ≥ 0 (the rates of the
+       facets f p + C ∓ Q, C the residual cohesion of a broken bond);
 
 q is the base scheme's response to the load rate and column j of M its response to z_j = 1
 (one block solve with the base scheme's factor).  It is solved by principal pivoting from the
@@ -71,13 +72,15 @@ class RateOutcome:
 def _variables(eng, L, normal_lim, two_sided) -> RateVariables:
     """The variables of every law for the CFEs in L."""
     parts = []
+    tf, _ = eng.tolerances()
     for law in eng.laws:
         pos = np.searchsorted(law.cfes, L)
         pos = np.clip(pos, 0, max(len(law.cfes) - 1, 0))
         mine = np.flatnonzero(law.cfes[pos] == L) if len(law.cfes) else np.zeros(0, int)
         local = pos[mine]
         sl = law.cfes
-        v = law.rate_variables(local, eng.states[sl], eng.s[sl], normal_lim[sl], two_sided[sl])
+        v = law.rate_variables(local, eng.states[sl], eng.s[sl], normal_lim[sl], two_sided[sl],
+                               p=eng.s[eng.m + sl], tf=tf)
         parts.append(v)
     cat = {k: np.concatenate([getattr(p, k) for p in parts]) for k in
            ("cfe", "kind", "row", "value", "cp", "cq")}

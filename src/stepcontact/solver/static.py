@@ -326,6 +326,8 @@ class StaticSolver:
         self.engine.states = self.law.initial_states(self.engine.states)
         self.ghost = np.zeros(2 * cfe.m)
         self._releasing = False
+        #: the state index from which each CFE's residual cohesion is lost (−1: kept)
+        self._cohesion_lost_at = np.full(cfe.m, -1, np.int64)
 
     def _make_law(self, system: System, warn: bool = False) -> CoulombLaw:
         """The contact law of ``system``: CFEs held by supports on both ends, and in a run in
@@ -415,7 +417,10 @@ class StaticSolver:
         system = plan.system(k)
         self.sys = system
         self.cond = Condensed.from_system(system, self.backend, None, self.precision)
+        lost = self.law.cohesion_lost & ~grouted  # (a grouted joint has its cohesion again)
+        self._cohesion_lost_at[grouted] = -1
         self.law = self._make_law(system)
+        self.law.lose_cohesion(lost)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         eng.schemes = self.schemes
         eng.laws = [self.law]
@@ -612,12 +617,25 @@ class StaticSolver:
         return True, ds, dw, forcing
 
     # ---- joints with initial strength (eq. (12)) -------------------------------------------
+    def _lose_cohesion(self, mask: np.ndarray) -> None:
+        """The CFEs ``mask`` opened: those with a residual cohesion lose it for good (the
+        state index where it happened is kept for the result)."""
+        law = self.law
+        new = mask & (law.residual > 0) & ~law.cohesion_lost & ~law.inert
+        if new.any():
+            law.lose_cohesion(new)
+            self._cohesion_lost_at[new] = len(self.rec)
+
     def _breaks(self, brk: np.ndarray, lam: float, seg: int, pattern: str, mult: dict) -> None:
         """Break the bonds of the CFEs ``brk`` at the current point: each takes its Coulomb
         state (open in tension, else stuck or slipping), and what it can no longer carry is
         moved from its contact force into ``ghost`` (still transmitted, as a load, until
         :meth:`_release` has let it go).  Logs a ``broken`` event per CFE; a bond that breaks
-        open (slipping) is the segment's first opening (slip) if none came before."""
+        open (slipping) is the segment's first opening (slip) if none came before.
+
+        A closed Coulomb CFE in ``brk`` (one that reached p = 0 with its residual cohesion,
+        :meth:`CoulombLaw.losing_cohesion`) opens the same way: its cohesion is lost and the
+        shear it carried released."""
         eng, law, m = self.engine, self.law, self.cfe.m
         tf, _ = eng.tolerances()
         Q, p = eng.s[:m], eng.s[m:]
@@ -631,6 +649,7 @@ class StaticSolver:
                 mult[key] = lam
         dQ, dp = law.released(new, Q, p)
         dQ, dp = np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)
+        self._lose_cohesion(brk & (new == OPEN))
         self.ghost[:m] += dQ
         self.ghost[m:] += dp
         eng.s[:m] -= dQ
@@ -658,6 +677,12 @@ class StaticSolver:
                 eng.F_scale = max(eng.F_scale, float(np.abs(g0).max()))
                 tau = 0.0
                 while True:
+                    tf, _ = eng.tolerances()
+                    coh = fired & law.losing_cohesion(eng.states, eng.s[m:], tf)
+                    if coh.any():  # residual cohesion lost where p reached 0: released too
+                        self._breaks(coh, lam, seg, pattern, mult)
+                        fired = fired & ~coh
+                        break
                     ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult,
                                                    False, 1.0, False)
                     if not ok or self.status != Status.COMPLETED:
@@ -947,6 +972,10 @@ class StaticSolver:
         if self.bonds and not self._releasing:
             for _ in range(self.cfe.m + 1):
                 brk = fired & (eng.states == BONDED)
+                # closed CFEs that reach p = 0 with a residual cohesion lose it: released too
+                tf, _ = eng.tolerances()
+                brk |= (fired | first) & self.law.losing_cohesion(eng.states,
+                                                                  eng.s[self.cfe.m:], tf)
                 if brk.any():
                     if not self._break(brk, lam, seg, pattern, mult, fired):
                         return False, None, None
@@ -1028,6 +1057,7 @@ class StaticSolver:
             self._record(lam, seg, "event", final=True)
             return False, None, None
         old, new, ds, dw = dec.old, dec.new, dec.ds, dec.dw
+        self._lose_cohesion(new == OPEN)  # an opened joint has no residual cohesion
         switched = dec.switched
         if switched or first or fired.any() or (self.article and np.any(
                 (new == SLIP_POS) | (new == SLIP_NEG))):
@@ -1131,6 +1161,8 @@ class StaticSolver:
         }
         if self.bonds:  # the strengths of bonded joints (eq. (12))
             cfe_arrays["bond"] = cfe.bond
+            if cfe.bond.shape[1] > 4 and np.any(cfe.bond[:, 4] > 0):  # residual cohesion lost
+                cfe_arrays["cohesion_lost"] = self._cohesion_lost_at.copy()
         geometry = result_geometry(self.sys)
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
             "events": len(self.rec.events), "event_points": self.step,
