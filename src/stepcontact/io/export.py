@@ -22,6 +22,18 @@ contact elements (``NAME_cfe.pvd`` / ``FILE_cfe.xdmf``)
     ``plus_w``, ``minus_nodes``, ``minus_w``); without them, and for the CFEs on a fixed
     rigid obstacle (no S− nodes), the S− point is placed at x − g⁰ n.
 
+Construction stages
+-------------------
+A staged result (``result.stage`` set) shows at each frame only what exists at its state.  A
+VTU frame holds only the bodies built and the CFEs made by the state's stage (the other cells,
+and the points only they use, are omitted: the mesh of a ``.pvd`` series may change between
+frames; a frame before any CFE is made is an empty grid).  XDMF keeps one mesh for all frames:
+there every cell is written and the cell array ``active`` (1 exists, 0 not yet built) selects
+what to show (ParaView's Threshold filter).  Both formats add the cell arrays ``active`` and
+``built_stage`` (the stage that built the body or made the CFE), the field data ``stage`` (in
+XDMF also ``stage_name``) and list the stage names in the notes.  An unstaged result exports
+exactly as without stages.
+
 Time
 ----
 ParaView needs increasing times.  The time of a frame is the load-path parameter

@@ -8,6 +8,11 @@ the returned :class:`matplotlib.figure.Figure` displays in Jupyter and can be sa
 Sign convention of the article: the normal contact stress σ_n = N/A is negative in
 compression; the Coulomb condition is |τ| ≤ f |σ_n| with τ = Q/A (eq. (1)).
 
+Construction stages (``res.stage``): a figure of a state draws only the bodies built and the
+CFEs made at it (:meth:`StaticResult.active_bodies`, :meth:`StaticResult.active_cfes`); CFEs
+not yet made are left out of the diagrams and hatched :data:`NOT_BUILT` in the state strips,
+and every snapshot, segment panel and the load path are labelled with their stage's name.
+
 Example
 -------
 >>> from stepcontact.post.plotting import plot_interfaces, plot_load_path
@@ -357,6 +362,9 @@ def plot_interfaces(
     as under a rigid or stiff block), the peak is annotated "corner singularity: refines
     with the mesh, not a physical value": the elastic corner stress is singular, the value
     drawn is the mean over the end CFE and grows as the mesh is refined.
+
+    For a staged result each snapshot is named by its stage (``stage 'dam': …``) and the CFEs
+    not yet made at it are left out: no σ_n, τ there, the strip hatched "not yet built".
 
     Stresses are shown in MPa, kPa or Pa (whichever reads best; the unit is in the axis label).
     The values at any λ come from :meth:`StaticResult.interpolate` (exact: the path is linear
@@ -1096,6 +1104,10 @@ def plot_deformed(
     frames as lines between their displaced nodes.  The undeformed outlines are dashed grey.
     Each CFE is a dot at its displaced position (mean of its S+ and S− nodes), coloured by
     its state in the working scheme after the state (open / stick / slip+ / slip− / bonded).
+
+    For a staged result only the bodies built at the state, the CFEs made by then and the
+    loads on those bodies are drawn (the extent of the figure is theirs), and the title names
+    the stage.
 
     Optionally the cells are coloured by a stress component of the state (``stress``: the
     element stresses of :meth:`StaticResult.stress`, with a colour bar in MPa, kPa or Pa).
