@@ -454,8 +454,10 @@ def plot_interfaces(
     labels = [_at_text(res, s, v) for s, v, _ in snaps]
     rows = [_at_text(res, sg, v, short=True) for sg, v, _ in snaps]
     if staged:  # each snapshot named by its stage
-        labels = [f"{_stage_text(res, st)}: {t}" for st, t in zip(stages, labels, strict=True)]
-        rows = [f"{res.stage_names[st]}: {t}" for st, t in zip(stages, rows, strict=True)]
+        labels = [t if st is None else f"{_stage_text(res, st)}: {t}"
+                  for st, t in zip(stages, labels, strict=True)]
+        rows = [t if st is None else f"{res.stage_names[st]}: {t}"
+                for st, t in zip(stages, rows, strict=True)]
 
     axes = fig.subplots(3, ncol, squeeze=False, sharex="col", height_ratios=[3, 3, 1.2])
     for c, name in enumerate(names):
