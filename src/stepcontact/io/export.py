@@ -22,6 +22,18 @@ contact elements (``NAME_cfe.pvd`` / ``FILE_cfe.xdmf``)
     ``plus_w``, ``minus_nodes``, ``minus_w``); without them, and for the CFEs on a fixed
     rigid obstacle (no S− nodes), the S− point is placed at x − g⁰ n.
 
+Construction stages
+-------------------
+A staged result (``result.stage`` set) shows at each frame only what exists at its state.  A
+VTU frame holds only the bodies built and the CFEs made by the state's stage (the other cells,
+and the points only they use, are omitted: the mesh of a ``.pvd`` series may change between
+frames; a frame before any CFE is made is an empty grid).  XDMF keeps one mesh for all frames:
+there every cell is written and the cell array ``active`` (1 exists, 0 not yet built) selects
+what to show (ParaView's Threshold filter).  Both formats add the cell arrays ``active`` and
+``built_stage`` (the stage that built the body or made the CFE), the field data ``stage`` (in
+XDMF also ``stage_name``) and list the stage names in the notes.  An unstaged result exports
+exactly as without stages.
+
 Time
 ----
 ParaView needs increasing times.  The time of a frame is the load-path parameter
@@ -271,7 +283,8 @@ def _field_data(result: StaticResult, i: int, t: float, time: float) -> dict[str
         "state": np.array([i], dtype=np.int64),
         "state_kind": np.array([STATE_KINDS.get(kind, -1)], dtype=np.int64),
         "factors": np.asarray(result.factors[i], dtype=float).ravel(),
-    }
+    } | ({} if getattr(result, "stage", None) is None
+         else {"stage": np.array([int(result.stage[i])], dtype=np.int64)})
 
 
 # --------------------------------------------------------------------------------------------
@@ -487,13 +500,79 @@ def _iter_frames(
 ) -> Iterator[tuple[int, float, float, _Data, _Data | None]]:
     """Per frame: (state, t, time, body point/cell data, CFE point/cell data or None)."""
     static = _cfe_static(result) if cfe is not None else {}
+    built = _built_stage(result, body.names) if _staged(result) else None
     states = frames.states.tolist()
     fields = _state_fields(result, states, int(body.dof_of.max(initial=-1)) + 1)
     for i, t, time, (u, at_state) in zip(states, frames.t, frames.time, fields, strict=True):
         disp, rot = _nodal_displacement(body, u)
         bpd, bcd = _body_data(body, i, disp, rot, at_state)
         cdata = _cfe_data(result, cfe, static, i, disp) if cfe is not None else None
+        if built is not None:
+            _add_stage_data(result, i, body, built, bcd, cdata)
         yield i, float(t), float(time), (bpd, bcd), cdata
+
+
+# --------------------------------------------------------------------------------------------
+# construction stages: what exists at a state
+# --------------------------------------------------------------------------------------------
+def _staged(result: StaticResult) -> bool:
+    return getattr(result, "stage", None) is not None
+
+
+def _built_stage(result: StaticResult, names: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    """The stage at which every body (in the order of ``names``) and every CFE is built or
+    made (index into ``result.stage_names``; -1: never in the run)."""
+    built = np.array([next((k for k, b in enumerate(result.stage_bodies) if n in b), -1)
+                      for n in names], dtype=np.int32)
+    acts = np.asarray(result.stage_cfes, dtype=bool).reshape(-1, result.m)
+    first = np.where(acts.any(axis=0), acts.argmax(axis=0), -1).astype(np.int32)
+    return built, first
+
+
+def _add_stage_data(
+    result: StaticResult, i: int, body: _BodyGrid, built: tuple[np.ndarray, np.ndarray],
+    bcd: dict[str, list[np.ndarray]], cdata: _Data | None,
+) -> None:
+    """Cell data ``active`` (1 where the body / CFE exists at state ``i``) and
+    ``built_stage`` of a staged result, added in place."""
+    here = result.active_bodies(i)
+    bcd["active"] = [np.full(len(c), int(n in here), dtype=np.int8)
+                     for (_, c), n in zip(body.blocks, body.names, strict=True)]
+    bcd["built_stage"] = [np.full(len(c), b, dtype=np.int32)
+                          for (_, c), b in zip(body.blocks, built[0], strict=True)]
+    if cdata is not None:
+        cdata[1]["active"] = [result.active_cfes(i).astype(np.int8)]
+        cdata[1]["built_stage"] = [built[1]]
+
+
+def _keep_cells(
+    points: np.ndarray, blocks: list[tuple[str, np.ndarray]], keep: list[bool], data: _Data
+) -> tuple[np.ndarray, list[tuple[str, np.ndarray]], dict, dict]:
+    """The grid without the blocks not in ``keep`` and without the points only they use
+    (points of no cell stay); point and cell data cut to match."""
+    point_data, cell_data = data
+    used_off = np.zeros(len(points), bool)
+    used_on = np.zeros(len(points), bool)
+    for (_, cells), k in zip(blocks, keep, strict=True):
+        (used_on if k else used_off)[cells.ravel()] = True
+    stay = used_on | ~used_off
+    new_id = np.cumsum(stay) - 1
+    out_blocks = [(t, new_id[c]) for (t, c), k in zip(blocks, keep, strict=True) if k]
+    pd = {key: np.asarray(v)[stay] for key, v in point_data.items()}
+    cd = {key: [v for v, k in zip(vs, keep, strict=True) if k] for key, vs in cell_data.items()}
+    return points[stay], out_blocks, pd, cd
+
+
+def _keep_cfes(grid: _CfeGrid, keep: np.ndarray, data: _Data
+               ) -> tuple[np.ndarray, list[tuple[str, np.ndarray]], dict, dict]:
+    """The CFE grid of the CFEs in ``keep`` (their two end points each)."""
+    m = len(grid.lines)
+    k = np.flatnonzero(keep)
+    rows = np.r_[k, m + k]
+    lines = np.column_stack([np.arange(k.size), k.size + np.arange(k.size)]).astype(np.int64)
+    pd = {key: np.asarray(v)[rows] for key, v in data[0].items()}
+    cd = {key: [np.asarray(v[0])[k]] for key, v in data[1].items()}
+    return grid.points[rows], [("line", lines)], pd, cd
 
 
 # --------------------------------------------------------------------------------------------
@@ -525,7 +604,10 @@ def _write_vtu(
     field_data: dict[str, np.ndarray],
 ) -> None:
     mesh = meshio.Mesh(points, blocks, point_data=point_data, cell_data=cell_data)
-    meshio.write(path, mesh, file_format="vtu")
+    # an empty grid (no CFE made yet at a stage) uncompressed: a compressed array of no
+    # blocks is an edge case of VTK's reader
+    meshio.write(path, mesh, file_format="vtu",
+                 **({} if len(points) else {"compression": None}))
     # meshio's VTU writer drops field data: insert it as the grid's first child
     text = path.read_text(encoding="utf-8")
     tag = "<UnstructuredGrid>"
@@ -561,8 +643,13 @@ def _notes(result: StaticResult, body: _BodyGrid) -> list[str]:
         "interface ids: " + ", ".join(f"{k} {n}" for k, n in enumerate(result.interface_names)),
         f"CFE state codes: {codes}",
         "field data of every frame: TimeValue, load_path_t, lam, segment, state, "
-        "state_kind (0 start, 1 segment start, 2 event, 3 segment end), factors",
-    ]
+        "state_kind (0 start, 1 segment start, 2 event, 3 segment end), factors"
+        + (", stage" if _staged(result) else ""),
+    ] + ([
+        "stage ids: " + ", ".join(f"{k} {n}" for k, n in enumerate(result.stage_names)),
+        "construction stages: every frame holds the bodies and CFEs that exist at its state "
+        "(cell data active = 1, built_stage = the stage that built them)",
+    ] if _staged(result) else [])
 
 
 _NAME_RE = re.compile(r"[^/\\\x00]+")
@@ -636,14 +723,24 @@ def export_vtu(
         (tmp / name).mkdir()
         body_entries: list[tuple[float, str]] = []
         cfe_entries: list[tuple[float, str]] = []
+        staged = _staged(result)
         for i, t, time, (bpd, bcd), cdata in _iter_frames(result, frames, body, cfe):
             fdata = _field_data(result, i, t, time)
             rel = f"{name}/{name}_{i:0{width}d}.vtu"
-            _write_vtu(tmp / rel, body.points, body.blocks, bpd, bcd, fdata)
+            if staged:  # only the bodies built at the state
+                here = result.active_bodies(i)
+                _write_vtu(tmp / rel, *_keep_cells(body.points, body.blocks,
+                                                   [n in here for n in body.names],
+                                                   (bpd, bcd)), fdata)
+            else:
+                _write_vtu(tmp / rel, body.points, body.blocks, bpd, bcd, fdata)
             body_entries.append((time, rel))
             if cfe is not None and cdata is not None:
                 rel = f"{name}/{name}_cfe_{i:0{width}d}.vtu"
-                _write_vtu(tmp / rel, cfe.points, [("line", cfe.lines)], *cdata, fdata)
+                if staged:  # only the CFEs made at the state
+                    _write_vtu(tmp / rel, *_keep_cfes(cfe, result.active_cfes(i), cdata), fdata)
+                else:
+                    _write_vtu(tmp / rel, cfe.points, [("line", cfe.lines)], *cdata, fdata)
                 cfe_entries.append((time, rel))
         pvd = tmp / f"{name}.pvd"
         cfe_pvd = tmp / f"{name}_cfe.pvd"
@@ -718,11 +815,12 @@ class _XdmfWriter(TimeSeriesWriter):
                              Format=self.data_format, Precision=prec)
         item.text = self.numpy_to_xml_string(data)
 
-    def information(self, values: dict[str, np.ndarray]) -> None:
+    def information(self, values: dict[str, np.ndarray | str]) -> None:
         """Attach ``<Information>`` elements to the time grid written last."""
         grid = list(self.collection)[-1]
         for key, v in values.items():
-            text = " ".join(repr(x) for x in np.atleast_1d(v).tolist())
+            text = v if isinstance(v, str) else " ".join(
+                repr(x) for x in np.atleast_1d(v).tolist())
             ET.SubElement(grid, "Information", Name=key, Value=text)
 
 
@@ -773,6 +871,8 @@ def export_xdmf(
                 wc.write_points_cells(cfe.points, [("line", cfe.lines)])
             for i, t, time, (bpd, bcd), cdata in _iter_frames(result, frames, body, cfe):
                 info = _field_data(result, i, t, time)
+                if "stage" in info:
+                    info["stage_name"] = result.stage_names[int(result.stage[i])]
                 wb.write_data(time, point_data=bpd, cell_data=bcd)
                 wb.information(info)
                 if cdata is not None:

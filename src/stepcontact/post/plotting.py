@@ -8,6 +8,11 @@ the returned :class:`matplotlib.figure.Figure` displays in Jupyter and can be sa
 Sign convention of the article: the normal contact stress σ_n = N/A is negative in
 compression; the Coulomb condition is |τ| ≤ f |σ_n| with τ = Q/A (eq. (1)).
 
+Construction stages (``res.stage``): a figure of a state draws only the bodies built and the
+CFEs made at it (:meth:`StaticResult.active_bodies`, :meth:`StaticResult.active_cfes`); CFEs
+not yet made are left out of the diagrams and hatched :data:`NOT_BUILT` in the state strips,
+and every snapshot, segment panel and the load path are labelled with their stage's name.
+
 Example
 -------
 >>> from stepcontact.post.plotting import plot_interfaces, plot_load_path
@@ -169,6 +174,54 @@ def _state_snapshot(res: StaticResult, i: int) -> tuple[int, float, dict[str, np
     return int(res.segment[i]), float(res.lam[i]), snap
 
 
+def _stage_of(res: StaticResult, i: int) -> int | None:
+    """Construction stage of reported state ``i`` (None for a result without stages)."""
+    stage = getattr(res, "stage", None)
+    return None if stage is None else int(stage[i])
+
+
+def _segment_stage(res: StaticResult, seg: int) -> int | None:
+    """Construction stage of load segment ``seg`` (that of its last reported state)."""
+    idx = np.flatnonzero(np.asarray(res.segment) == seg)
+    return _stage_of(res, int(idx[-1])) if idx.size else None
+
+
+def _stage_text(res: StaticResult, stage: int | None) -> str:
+    """``stage 'second'`` (empty for no stage)."""
+    return "" if stage is None else f"stage '{res.stage_names[stage]}'"
+
+
+def _active_cfes(res: StaticResult, stage: int | None) -> np.ndarray:
+    """(m,) bool: the CFEs that exist at ``stage`` (all of them for None)."""
+    if stage is None:
+        return np.ones(res.m, bool)
+    return np.asarray(res.stage_cfes, dtype=bool).reshape(-1, res.m)[stage]
+
+
+def _made(res: StaticResult) -> np.ndarray | None:
+    """(n_states, m) bool: the CFEs made at every state (None for a result without stages)."""
+    stage = getattr(res, "stage", None)
+    if stage is None:
+        return None
+    return np.asarray(res.stage_cfes, dtype=bool).reshape(-1, res.m)[np.asarray(stage, int)]
+
+
+def _mark_stages(res: StaticResult, ax, axes_lines: Sequence) -> None:
+    """The construction stages along the reported-state axis: a solid line where each stage
+    starts (on ``axes_lines``) and its name at the top of ``ax``."""
+    stage = getattr(res, "stage", None)
+    if stage is None:
+        return
+    stage = np.asarray(stage, int)
+    for k in dict.fromkeys(stage.tolist()):
+        first = int(np.flatnonzero(stage == k)[0])
+        if first > 0:
+            for a in axes_lines:
+                a.axvline(first - 0.5, color="0.25", lw=1.0)
+        ax.text(first - 0.5, 0.98, f" {_stage_text(res, k)}", transform=ax.get_xaxis_transform(),
+                ha="left", va="top", fontsize=8, color="0.25", gid="stage_label")
+
+
 def _pattern_of(res: StaticResult, seg: int) -> str:
     if 0 <= seg < len(res.segments):
         return str(res.segments[seg][0])
@@ -202,6 +255,9 @@ def _lam_text(v: float) -> str:
     text = f"{v:,.{decimals}f}".replace(",", " ")
     return text.rstrip("0").rstrip(".") if "." in text else text
 
+
+#: label of the CFEs (and bodies) of a later construction stage
+NOT_BUILT = "not yet built"
 
 #: the corner peak of a contact-stress diagram: the end CFE of an interface at a body corner
 #: carrying more than this times the mean |σ_n| of its next two CFEs
@@ -307,6 +363,9 @@ def plot_interfaces(
     with the mesh, not a physical value": the elastic corner stress is singular, the value
     drawn is the mean over the end CFE and grows as the mesh is refined.
 
+    For a staged result each snapshot is named by its stage (``stage 'dam': …``) and the CFEs
+    not yet made at it are left out: no σ_n, τ there, the strip hatched "not yet built".
+
     Stresses are shown in MPa, kPa or Pa (whichever reads best; the unit is in the axis label).
     The values at any λ come from :meth:`StaticResult.interpolate` (exact: the path is linear
     between events); at the λ of a reported state the strip shows the working scheme after
@@ -341,11 +400,13 @@ def plot_interfaces(
 
     out = figure_path(path, dpi)
     snaps = []
+    at_states: list[int] = []
     if states is not None:
         picked = [states] if np.isscalar(states) else list(states)
         if not picked:
             raise ValueError("states: give at least one reported state (or None)")
-        snaps = [_state_snapshot(res, _state_index(res, i)) for i in picked]
+        at_states = [_state_index(res, i) for i in picked]
+        snaps = [_state_snapshot(res, i) for i in at_states]
     if lams is None and not snaps:
         picks = _default_lams(res, segment)
     elif lams is None:
@@ -357,6 +418,10 @@ def plot_interfaces(
             raise ValueError("lams: give at least one load factor (or None for the default)")
         picks = [(seg, v) for v in lam_list]
     snaps = [(s, v, _snapshot(res, s, v)) for s, v in picks] + snaps
+    # construction stages: the stage of each snapshot, the CFEs made by then
+    stages = [_segment_stage(res, s) for s, _ in picks] + [_stage_of(res, i) for i in at_states]
+    acts = [_active_cfes(res, st) for st in stages]
+    staged = any(st is not None for st in stages)
 
     names = list(res.interface_names)
     ncol = max(1, len(names))
@@ -376,7 +441,8 @@ def plot_interfaces(
     xc = np.asarray(res.cfe["x"], dtype=float).reshape(res.m, 2)
     corners = _body_corners(res)
     all_sig = np.concatenate(
-        [np.r_[snap["N"] / area, snap["Q"] / area] for _, _, snap in snaps]
+        [np.where(np.r_[a, a], np.r_[snap["N"] / area, snap["Q"] / area], 0.0)
+         for (_, _, snap), a in zip(snaps, acts, strict=True)]
     )
     scale, unit = _stress_scale(all_sig)
 
@@ -386,6 +452,12 @@ def plot_interfaces(
     colors = [f"C{j % 10}" for j in range(len(snaps))]
     shade = 0.15 if len(snaps) == 1 else 0.06  # the diagrams' fill, lighter when they overlap
     labels = [_at_text(res, s, v) for s, v, _ in snaps]
+    rows = [_at_text(res, sg, v, short=True) for sg, v, _ in snaps]
+    if staged:  # each snapshot named by its stage
+        labels = [t if st is None else f"{_stage_text(res, st)}: {t}"
+                  for st, t in zip(stages, labels, strict=True)]
+        rows = [t if st is None else f"{res.stage_names[st]}: {t}"
+                for st, t in zip(stages, rows, strict=True)]
 
     axes = fig.subplots(3, ncol, squeeze=False, sharex="col", height_ratios=[3, 3, 1.2])
     for c, name in enumerate(names):
@@ -400,8 +472,9 @@ def plot_interfaces(
         mk = "o" if k.size <= 40 else None
         wet = False
         for j, (_, _, snap) in enumerate(snaps):
-            sig = snap["N"][k] / area[k] / scale
-            tau = snap["Q"][k] / area[k] / scale
+            made = acts[j][k]  # CFEs not yet made at the snapshot's stage are not drawn
+            sig = np.where(made, snap["N"][k] / area[k] / scale, np.nan)
+            tau = np.where(made, snap["Q"][k] / area[k] / scale, np.nan)
             lim = fric[k] * np.abs(sig)
             if bond is not None:  # a bonded CFE's limit is its shear strength (eq. (12))
                 b = np.asarray(bond, dtype=float)[k]
@@ -421,7 +494,11 @@ def plot_interfaces(
         for ax in (ax_n, ax_t):
             ax.axhline(0.0, color="k", lw=0.6)
             ax.grid(True, alpha=0.3)
-        _note_corner_peaks(ax_n, [snap["N"][k] / area[k] for _, _, snap in snaps], s,
+        if not any(a[k].any() for a in acts):
+            ax_n.text(0.5, 0.5, NOT_BUILT, ha="center", va="center", color="0.4",
+                      transform=ax_n.transAxes, gid="not_built")
+        _note_corner_peaks(ax_n, [snap["N"][k] / area[k] for (_, _, snap), a
+                                  in zip(snaps, acts, strict=True) if a[k].all()], s,
                            xc[k], corners, scale)
         ax_n.set_ylabel(rf"$\sigma_n$ = N/A, {unit} (compression < 0)"
                         + (";\nwater in the crack −p dotted" if wet else ""))
@@ -437,26 +514,34 @@ def plot_interfaces(
             edges = np.array([s[0] - 0.5, s[0] + 0.5])
         if np.any(np.diff(edges) <= 0):  # coincident positions: equal-width cells by order
             edges = np.arange(k.size + 1) - 0.5
-        grid = np.array([np.asarray(snap["state"])[k] for _, _, snap in snaps], dtype=float)
+        grid = np.ma.masked_array(
+            [np.asarray(snap["state"])[k] for _, _, snap in snaps], dtype=float,
+            mask=[~a[k] for a in acts])  # not yet made: blank over the hatched background
+        if np.ma.is_masked(grid):
+            ax_s.patch.set_facecolor("white")
+            ax_s.patch.set_hatch("////")
+            ax_s.patch.set_edgecolor("0.75")
         ax_s.pcolormesh(
             edges, np.arange(len(snaps) + 1) - 0.5, grid, cmap=cmap, norm=norm,
             edgecolors="white", linewidth=0.3,
         )
-        ax_s.set_yticks(np.arange(len(snaps)),
-                        [_at_text(res, sg, v, short=True) for sg, v, _ in snaps],
-                        fontsize=7)
+        ax_s.set_yticks(np.arange(len(snaps)), rows, fontsize=7)
         ax_s.set_ylim(len(snaps) - 0.5, -0.5)
         ax_s.set_xlabel("position s along the interface, m")
         if c == 0:
             ax_s.set_ylabel("state")
 
     handles = [Line2D([], [], color=colors[j], lw=1.6, label=labels[j]) for j in range(len(snaps))]
-    shown = {int(v) for _, _, snap in snaps for v in np.asarray(snap["state"])}
+    shown = {int(v) for (_, _, snap), a in zip(snaps, acts, strict=True)
+             for v in np.asarray(snap["state"])[a]}
     handles += [
         Patch(facecolor=STATE_COLORS[cs], edgecolor="0.4", label=cs.label)
         for cs in ContactState
         if cs not in (ContactState.BONDED, ContactState.CLOSED) or int(cs) in shown
     ]
+    if not all(a.all() for a in acts):
+        handles.append(Patch(facecolor="white", edgecolor="0.75", hatch="////",
+                             label=NOT_BUILT))
     fig.legend(handles=handles, loc="outside lower center",
                ncol=min(len(handles), max(4, 3 * ncol)), fontsize=8, frameon=False)
     by_pattern: dict[str, list[str]] = {}
@@ -543,7 +628,9 @@ def plot_load_path(
         top.set_xlabel("events so far")
 
     st = np.asarray(res.state)
-    counts = np.array([(st == int(cs)).sum(axis=1) for cs in ContactState]) if st.size else None
+    made = _made(res)  # construction stages: CFEs not yet made are counted apart
+    counts = (np.array([((st == int(cs)) & (True if made is None else made)).sum(axis=1)
+                        for cs in ContactState]) if st.size else None)
     present = [cs for cs in ContactState if counts is not None and counts[int(cs)].any()]
     if counts is not None and present:
         bottom = np.zeros(res.n_states)
@@ -551,9 +638,14 @@ def plot_load_path(
             ax_c.bar(i, counts[int(cs)], width=1.0, bottom=bottom, color=STATE_COLORS[cs],
                      edgecolor="0.3", linewidth=0.3, label=cs.label)
             bottom += counts[int(cs)]
-        ax_c.legend(fontsize=8, loc="upper left", ncol=len(present))
+        if made is not None and not made.all():
+            ax_c.bar(i, (~made).sum(axis=1), width=1.0, bottom=bottom, color="white",
+                     hatch="////", edgecolor="0.6", linewidth=0.3, label=NOT_BUILT)
+        ax_c.legend(fontsize=8, loc="upper left",
+                    ncol=len(present) + int(made is not None and not made.all()))
         ax_c.set_ylim(0, res.m * 1.15)
     ax_c.set_xlim(-0.5, max(res.n_states, 1) - 0.5)
+    _mark_stages(res, ax_l, (ax_l, ax_c))
     ax_c.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax_c.set_ylabel("number of CFEs")
     ax_c.set_xlabel("reported state i")
@@ -686,16 +778,31 @@ def _boundary_edges(edges: np.ndarray) -> np.ndarray:
     return edges[counts[inv.ravel()] == 1]
 
 
-def _draw_bodies(ax, bodies: list[dict], xy: np.ndarray, *, reference: bool = False) -> None:
+def _shown_nodes(bodies: list[dict], n: int, only: set[str] | None) -> np.ndarray:
+    """(n,) bool: the nodes drawn when only the bodies ``only`` are (all for None): those of
+    their cells, and the nodes of no body's cells."""
+    if only is None:
+        return np.ones(n, bool)
+    on, off = np.zeros(n, bool), np.zeros(n, bool)
+    for b in bodies:
+        cells = np.asarray(b["cells"], dtype=np.int64).ravel()
+        (on if str(b["name"]) in only else off)[cells] = True
+    return on | ~off
+
+
+def _draw_bodies(ax, bodies: list[dict], xy: np.ndarray, *, reference: bool = False,
+                 only: set[str] | None = None) -> None:
     """Cells (light edges), outlines and frames of all bodies at node positions ``xy`` (m).
 
     ``reference``: the undeformed configuration as thin dashed grey outlines only.
+    ``only``: draw just these bodies (those built at a construction stage); each body keeps
+    its colour.
     """
     from matplotlib.collections import LineCollection, PolyCollection
 
     for j, b in enumerate(bodies):
         cells = np.asarray(b["cells"], dtype=np.int64)
-        if not cells.size:
+        if not cells.size or (only is not None and str(b["name"]) not in only):
             continue
         color = "0.6" if reference else f"C{j % 10}"
         style = {"linestyles": "--", "linewidths": 0.7, "zorder": 1} if reference else {}
@@ -865,12 +972,13 @@ def _draw_stress(fig: Figure, ax, polys: list[np.ndarray], values: np.ndarray,
     fig.colorbar(pc, ax=ax, label=f"{label}, {unit}", shrink=0.9)
 
 
-def _label_bodies(ax, bodies: list[dict], xy: np.ndarray) -> None:
+def _label_bodies(ax, bodies: list[dict], xy: np.ndarray, only: set[str] | None = None
+                  ) -> None:
     """Each body's name at its centroid (area-weighted over the cells; frames: the mean of
-    the element mid-points weighted by length), positions ``xy`` (m)."""
+    the element mid-points weighted by length), positions ``xy`` (m); ``only`` these bodies."""
     for j, b in enumerate(bodies):
         cells = np.asarray(b["cells"], dtype=np.int64)
-        if not cells.size:
+        if not cells.size or (only is not None and str(b["name"]) not in only):
             continue
         if str(b.get("kind")) == "frame" or cells.shape[1] == 2:
             ends = xy[cells[:, :2]]
@@ -906,11 +1014,13 @@ def _nodal_forces(f: np.ndarray, dof_of: np.ndarray) -> np.ndarray:
 
 
 def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
-                 size: float) -> list[dict]:
+                 size: float, shown: np.ndarray | None = None) -> list[dict]:
     """Arrows of the load patterns at state ``i`` (factor ≠ 0): for each, ``name``, ``lam``
     (its factor; None for a water level), ``at`` (k, 2) arrow tips and ``vec`` (k, 2) arrow
     vectors (m, scaled for visibility), ``F`` (F_x, F_y), N, and ``nodal`` (from the
-    assembled load vectors, else one arrow on the line of action of the resultant)."""
+    assembled load vectors, else one arrow on the line of action of the resultant).
+    ``shown``: (n_nodes,) bool, the nodal forces at the other nodes (of bodies not yet built
+    at a construction stage, which carry no load) are left out."""
     names = list(res.pattern_names)
     factors = np.asarray(res.factors, dtype=float).reshape(res.n_states, -1)[i]
     groups: dict[str, list[int]] = {}
@@ -930,6 +1040,8 @@ def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
         if nodal:
             F = sum(factors[j] * _nodal_forces(np.asarray(loads[names[j]].f, float), dof_of)
                     for j in idx)
+            if shown is not None:
+                F = np.where(shown[:, None], F, 0.0)
             mag = np.linalg.norm(F, axis=1)
             big = float(mag.max(initial=0.0))
             keep = np.flatnonzero(mag > 1e-9 * big) if big > 0 else np.zeros(0, int)
@@ -995,6 +1107,10 @@ def plot_deformed(
     Each CFE is a dot at its displaced position (mean of its S+ and S− nodes), coloured by
     its state in the working scheme after the state (open / stick / slip+ / slip− / bonded).
 
+    For a staged result only the bodies built at the state, the CFEs made by then and the
+    loads on those bodies are drawn (the extent of the figure is theirs), and the title names
+    the stage.
+
     Optionally the cells are coloured by a stress component of the state (``stress``: the
     element stresses of :meth:`StaticResult.stress`, with a colour bar in MPa, kPa or Pa).
     Each body is named at its centroid.  The loads of the patterns at the state (factor ≠ 0)
@@ -1042,9 +1158,12 @@ def plot_deformed(
         raise ValueError(f"scale={scale}: the magnification must be a positive number")
     component = None if stress is None else _stress_component(stress)
     points, dof_of, bodies = _geometry(res)
+    stage = _stage_of(res, i)
+    only = None if stage is None else set(res.stage_bodies[stage])  # built at the state
+    shown = _shown_nodes(bodies, len(points), only)
     un = _node_u(dof_of, _field(res, i))
-    size = _extent(points)
-    umax = float(np.max(np.linalg.norm(un, axis=1), initial=0.0))
+    size = _extent(points[shown])
+    umax = float(np.max(np.linalg.norm(un[shown], axis=1), initial=0.0))
     if scale is None:
         scale = _nice_floor(0.1 * size / umax) if umax > 0 else 1.0
     xy = points + scale * un
@@ -1054,26 +1173,28 @@ def plot_deformed(
             per_body = res.stress(i)
         except KeyError as e:
             raise ValueError(str(e.args[0])) from None
-        cells_stress = _cell_stress(bodies, per_body, xy, component[0])
-    arrows = _load_arrows(res, i, xy, dof_of, size) if loads else []
+        drawn = [b for b in bodies if only is None or str(b["name"]) in only]
+        cells_stress = _cell_stress(drawn, per_body, xy, component[0])
+    arrows = _load_arrows(res, i, xy, dof_of, size, shown) if loads else []
 
-    tips = [xy] + [np.r_[a["at"], a["at"] - a["vec"]] for a in arrows]
-    lo = np.minimum(points.min(0), np.min([v.min(0) for v in tips], axis=0))
-    hi = np.maximum(points.max(0), np.max([v.max(0) for v in tips], axis=0))
+    tips = [xy[shown]] + [np.r_[a["at"], a["at"] - a["vec"]] for a in arrows]
+    lo = np.minimum(points[shown].min(0), np.min([v.min(0) for v in tips], axis=0))
+    hi = np.maximum(points[shown].max(0), np.max([v.max(0) for v in tips], axis=0))
     w, h = np.maximum(hi - lo, 1e-3 * size)
     fig = new_figure(figsize=(9.0, round(float(np.clip(9.0 * h / w + 1.2, 3.0, 9.0)), 1)))
     ax = fig.add_subplot()
-    _draw_bodies(ax, bodies, points, reference=True)
-    _draw_bodies(ax, bodies, xy)
+    _draw_bodies(ax, bodies, points, reference=True, only=only)
+    _draw_bodies(ax, bodies, xy, only=only)
     if cells_stress is not None and component is not None:
         _draw_stress(fig, ax, *cells_stress, component)
     if labels:
-        _label_bodies(ax, bodies, xy)
+        _label_bodies(ax, bodies, xy, only)
     load_handles = _draw_load_arrows(ax, arrows)
     handles = []
-    if res.m:
-        codes = np.asarray(res.state)[i]
-        xc = np.asarray(res.cfe["x"], dtype=float).reshape(res.m, 2)
+    act = _active_cfes(res, stage)  # the CFEs made at the state
+    if res.m and act.any():
+        codes = np.asarray(res.state)[i][act]
+        xc = np.asarray(res.cfe["x"], dtype=float).reshape(res.m, 2)[act]
         pc = xc + scale * _cfe_displacement(points, un, xc)
         ax.scatter(pc[:, 0], pc[:, 1], s=22, c=[STATE_COLORS[ContactState(int(v))] for v in codes],
                    edgecolors="0.15", linewidths=0.5, zorder=4)
@@ -1092,10 +1213,12 @@ def plot_deformed(
                    title="loads (arrows scaled for visibility)", title_fontsize=8,
                    frameon=False, ncol=1 if len(load_handles) > 2 else len(load_handles))
     seg = int(res.segment[i])
+    built = ("" if only is None else f"\n{_stage_text(res, stage)}: bodies built "
+             + ", ".join(str(b["name"]) for b in bodies if str(b["name"]) in only))
     fig.suptitle(
-        f"Deformed shape at state {i} ({res.kind[i]}, {_at_text(res, seg, float(res.lam[i]))}"
-        f") — displacements × {scale:g}, "
-        f"max |u| = {umax:.3g} m"
+        f"Deformed shape at state {i} ({res.kind[i]}, "
+        f"{_at_text(res, seg, float(res.lam[i]))}) — displacements × {scale:g}, "
+        f"max |u| = {umax:.3g} m{built}"
     )
     save_figure(fig, out, dpi)
     return fig
@@ -1289,8 +1412,12 @@ def plot_load_displacement(
         idx, lam = _segment_chain(res, s)
         if axis == "path":
             lam = s + _path_fraction(lam)
+        stage = _segment_stage(res, s)
         ax.plot(u[idx] / div, lam, color=f"C{j % 10}", lw=1.3, marker=".", ms=4,
-                label=f"segment {s}: '{_pattern_of(res, s)}'")
+                label=f"segment {s}: '{_pattern_of(res, s)}'"
+                + ("" if stage is None else f" ({_stage_text(res, stage)})"))
+        if axis == "lam" and stage is not None:
+            ax.set_title(_stage_text(res, stage), fontsize=8, loc="left")
         y_of = dict(zip(idx.tolist(), lam.tolist(), strict=True))
         marks = {(e.state, e.transition) for e in res.events if e.segment == s}
         for i, tr in sorted(marks, key=lambda m: (m[0], m[1].value)):
@@ -1366,6 +1493,7 @@ def plot_event_timeline(
     iface = np.asarray(res.cfe["interface"])
     pos = np.asarray(res.cfe["s"], dtype=float)
     st = np.asarray(res.state)
+    made = _made(res)
     palette = np.array([STATE_COLORS[cs] for cs in ContactState])
     for c, s in enumerate(segs):
         idx, lam = _segment_chain(res, s)
@@ -1379,8 +1507,11 @@ def plot_event_timeline(
                 ends = [np.stack([np.broadcast_to(v[:, None], shape), y], -1)
                         for v in (lam[:-1], lam[1:])]
                 segments = np.stack(ends, axis=2)  # (intervals, CFEs, 2 ends, xy)
+                # CFEs not yet made (construction stages): no bar
+                on = (np.ones(shape, bool) if made is None else made[idx[:-1]][:, k]).ravel()
                 ax.add_collection(LineCollection(
-                    segments.reshape(-1, 2, 2), colors=palette[st[idx[:-1]][:, k].ravel()],
+                    segments.reshape(-1, 2, 2)[on],
+                    colors=palette[st[idx[:-1]][:, k].ravel()][on],
                     linewidths=lw, capstyle="butt", zorder=1,
                 ))
             for e in res.events:
@@ -1389,6 +1520,12 @@ def plot_event_timeline(
                     ax.plot([e.lam], [e.position], ls="none", marker=marker, color=color,
                             ms=7, mec="k", mew=0.4, zorder=3)
             ax.autoscale_view()
+            if made is not None and k.size and idx.size and not made[idx][:, k].any():
+                # the interface is not made yet in this segment's stage
+                if np.ptp(lam) > 0:
+                    ax.set_xlim(lam.min(), lam.max())
+                ax.text(0.5, 0.5, NOT_BUILT, ha="center", va="center", color="0.4",
+                        transform=ax.transAxes, gid="not_built")
             if k.size:
                 span = np.ptp(pos[k]) or 1.0
                 ax.set_ylim(pos[k].min() - 0.05 * span, pos[k].max() + 0.05 * span)
@@ -1400,12 +1537,15 @@ def plot_event_timeline(
                         if getattr(res, "path_axis", "lam") == "time" else
                         f"segment {s}: {_pattern_of(res, s)} λ={_lam_text(lam[0])} → "
                         f"{_lam_text(lam[-1])}")
-                ax.set_title(span, fontsize=9)
+                stage = _segment_stage(res, s)
+                ax.set_title(span if stage is None else f"{_stage_text(res, stage)}\n{span}",
+                             fontsize=9)
             if r == nrow - 1:
                 ax.set_xlabel(_axis_text(res, s))
             if c == 0:
                 ax.set_ylabel(f"s along '{name}', m")
-    handles = _state_handles(st.ravel(), bars=True) + _transition_handles(
+    handles = _state_handles(st.ravel() if made is None else st[made], bars=True)
+    handles += _transition_handles(
         [e.transition for e in res.events], prefix="→ ")
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 6),
                fontsize=8, frameon=False)
