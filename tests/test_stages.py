@@ -171,6 +171,39 @@ def test_a_removed_support_releases_its_reaction_onto_the_contact():
     assert np.abs(u - u_ref).max() <= 1e-9 * np.abs(u_ref).max()
 
 
+def _propped_pair(together: bool):
+    """The propped block of :func:`_block_on_base` with a second block placed on it (a joint
+    with friction made at once) and the prop removed: in one stage, or in two."""
+    m = _block_on_base()
+    m = m.add(sc.rectangle("top", (0.0, 1.0), (2.0, 1.5), 8, 2, MAT))
+    m = m.add(sc.Interface("joint", m.select("top", y=1.0), m.select("block", y=1.0),
+                           friction=0.6))
+    first = sc.Stage("props", [sc.Segment("weight", 1.0)])
+    if together:
+        return m.add(first, sc.Stage("top, unprop", bodies=("top",), interfaces=("joint",),
+                                     remove_supports=("prop",)))
+    return m.add(first, sc.Stage("top", bodies=("top",), interfaces=("joint",)),
+                 sc.Stage("unprop", remove_supports=("prop",)))
+
+
+def test_a_stage_that_builds_and_removes_a_support_ramps_the_loads_in_first():
+    """The new block's weight ramps in before the prop is released (a weightless block on a
+    joint could float off): the same segments in the same order as building and unpropping
+    in two stages, so the same end state (1e-9), with the weight of both on the ground."""
+    one = sc.solve_static(_propped_pair(True))
+    two = sc.solve_static(_propped_pair(False))
+    assert one.status == two.status == Status.COMPLETED, (one.message, two.message)
+    assert [s[0] for s in one.segments[1:]] == ["top, unprop: loads on top",
+                                                 "top, unprop: release prop"]
+    scale = np.abs(two.N[-1]).max()
+    assert np.abs(one.N[-1] - two.N[-1]).max() <= 1e-9 * scale
+    u1, u2 = one.displacement(len(one.lam) - 1), two.displacement(len(two.lam) - 1)
+    assert np.abs(u1 - u2).max() <= 1e-9 * np.abs(u2).max()
+    w = RHO * G * 2.0 * 1.5  # both blocks on the ground at the end
+    ground = one.cfe["interface"] == one.interface_names.index("base")
+    assert -one.N[-1][ground].sum() == pytest.approx(w, rel=1e-9)
+
+
 def _pull_model(grout: bool):
     m = _block_on_base(friction=0.6, prop=False)
     top = m.select("block", y=1.0, name="top")
@@ -209,6 +242,15 @@ def test_a_stage_naming_an_unknown_item_is_an_error(stage, item):
         sc.solve_static(m)
     assert exc.value.item == item
     assert "nothing" in str(exc.value)
+
+
+def test_grouting_at_the_first_stage_is_an_error():
+    bond = sc.Bond.mohr_coulomb(cohesion=1e6, tensile_strength=1e6, friction_angle=35.0)
+    m = _block_on_base(prop=False).add(
+        sc.Stage("placed", [sc.Segment("weight", 1.0)], grout={"base": bond}))
+    with pytest.raises(ModelError) as exc:
+        sc.solve_static(m)
+    assert exc.value.item == "stage 'placed'.grout" and "'base'" in str(exc.value)
 
 
 def test_a_program_with_stages_is_an_error():

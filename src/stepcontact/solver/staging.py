@@ -86,6 +86,10 @@ class StagePlan:
                                  f"(stage '{self.names[self.sup_stage[name]]}')")
         for k, g in self.grout.items():
             for name in g:
+                if k == 0:
+                    raise ModelError(f"stage '{self.names[k]}'.grout", f"interface '{name}' "
+                                     "is grouted at the first stage: give the interface its "
+                                     "bond instead (Interface(bond=...))")
                 if self.itf_stage[name] > k:
                     raise ModelError(f"stage '{self.names[k]}'.grout",
                                      f"interface '{name}' is made later (stage "
@@ -144,12 +148,12 @@ class StagePlan:
         user_rates = model.segment_rates()
         j = 0
         for k, st in enumerate(stages):
-            if k > 0:
-                for s in st.remove_supports:
-                    self._auto_segment(k, f"{st.name}: release {s}", "release", s)
+            if k > 0:  # the new bodies' loads first: a weightless body could float off
                 if st.bodies:
                     self._auto_segment(k, f"{st.name}: loads on {', '.join(st.bodies)}",
                                        "ramp", "")
+                for s in st.remove_supports:
+                    self._auto_segment(k, f"{st.name}: release {s}", "release", s)
                 for s in st.supports:
                     if self.body_of_support(s) not in st.bodies:
                         self.auto[f"{st.name}: hold {s}"] = (k, "hold", s)
