@@ -154,6 +154,62 @@ class _Stresses:
         raise KeyError(i)
 
 
+def _after_stages(system: System, initial):
+    """A dynamic interval after construction stages (:mod:`stepcontact.solver.staging`): the
+    last stage's system (its held DOFs, shifted w⁰ of the interfaces made at once, removed
+    supports gone, automatic patterns), the contact law's inputs there (CFEs not active are
+    inert; bonds of grouted joints) and the static result of the stages it starts from — the
+    staged program is run here when ``initial`` is None, and again (checked against it) when
+    ``initial`` was loaded from a file (which does not keep the stage systems).
+
+    Returns (system, law keyword arguments, initial, stage arrays of the result)."""
+    from stepcontact.solver.static import StagedRecovery, held_components, solve_static
+
+    def plan_of(res):
+        rec = getattr(res, "_recover", None)
+        return rec.plan if isinstance(rec, StagedRecovery) else None
+
+    if initial is None:
+        initial = solve_static(system)
+    elif plan_of(initial) is None:
+        again = solve_static(system)
+        i, j = len(initial.lam) - 1, len(again.lam) - 1
+        scale = max(float(np.abs(again.N[j]).max(initial=0.0)),
+                    float(np.abs(again.Q[j]).max(initial=0.0)), 1e-300)
+        same = (initial.m == again.m and initial.stage is not None
+                and np.array_equal(initial.state[i], again.state[j])
+                and max(float(np.abs(initial.N[i] - again.N[j]).max(initial=0.0)),
+                        float(np.abs(initial.Q[i] - again.Q[j]).max(initial=0.0)))
+                <= 1e-6 * scale)
+        if not same:
+            raise ModelError("initial", "is not the result of this model's stages (its last "
+                             "state differs from the staged program's)")
+        initial = again
+    plan = plan_of(initial)
+    last = len(plan.names) - 1
+    if initial.status != Status.COMPLETED or int(initial.stage[-1]) != last:
+        raise ModelError("initial", f"the static run of the stages stopped in stage "
+                         f"'{plan.names[int(initial.stage[-1])]}' ({initial.message}): the "
+                         "dynamic interval follows the last stage "
+                         f"'{plan.names[last]}'")
+    stage_system = plan.system(last)
+    i = len(initial.lam) - 1
+    for j, name in enumerate(initial.pattern_names):
+        lv = stage_system.loads[name]
+        if initial.factors[i][j] != 0.0 and np.any(lv.u != 0.0):
+            raise ModelError(f"pattern '{name}'", "prescribes nonzero displacements at the "
+                             "end of the stages: a dynamic interval does not follow "
+                             "prescribed displacements (place the support before its body "
+                             "moves, or let the pattern return to 0)")
+    held_n, held_t = held_components(stage_system)
+    active = plan.active_cfes(last)
+    law_in = {"held_normal": held_n | ~active, "held_tangent": held_t | ~active,
+              "friction": plan.friction.copy(), "bond": plan.bond.copy()}
+    arrays = {"stage_names": initial.stage_names, "stage_cfes": initial.stage_cfes,
+              "stage_bodies": initial.stage_bodies, "last_stage": last}
+    return stage_system, law_in, initial, arrays
+
+
 def _initial(system: System, cond: Condensed, initial, u0, v0):
     """(u, v, s, w, states, static factors) at t = 0."""
     ndof, m = system.ndof, system.m
@@ -637,9 +693,10 @@ def solve_dynamic(
     if not (0.0 <= alpha <= 1.0 / 3.0):
         raise ModelError("alpha", f"HHT-α must lie in [0, 1/3], got {alpha}")
     system = model if isinstance(model, System) else assemble(model)
-    if getattr(system.model, "stages", ()):
-        raise ModelError("model.stages", "a dynamic interval after (or within) construction "
-                         "stages is not supported yet: solve the stages with solve_static")
+    law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
+    stage_arrays: dict | None = None
+    if getattr(system.model, "stages", ()) and system.discrete is None:
+        system, law_in, initial, stage_arrays = _after_stages(system, initial)
     loads = dict(loads or {})
     for name, g in loads.items():
         if name not in system.loads:
@@ -683,8 +740,9 @@ def solve_dynamic(
         k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
         raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
                          "layer needs a finite normal stiffness kn")
-    law = CoulombLaw(np.arange(m), cfe.friction,
-                     _DampedLayers.law_stiffness(cfe, _Newmark(dt0, alpha).c1), cfe.kt)
+    law = CoulombLaw(np.arange(m), law_in.pop("friction"),
+                     _DampedLayers.law_stiffness(cfe, _Newmark(dt0, alpha).c1), cfe.kt,
+                     **law_in)
     layers = _DampedLayers(cfe, law, m)
     eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
     u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
@@ -1321,6 +1379,11 @@ def solve_dynamic(
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
         energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
         _recover=None if system.discrete is not None else _Stresses(system),
+        **({} if stage_arrays is None else {
+            "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
+            "stage_names": stage_arrays["stage_names"],
+            "stage_cfes": stage_arrays["stage_cfes"],
+            "stage_bodies": stage_arrays["stage_bodies"]}),
     )
 
 
