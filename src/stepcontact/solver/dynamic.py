@@ -67,7 +67,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
+from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
@@ -80,8 +80,8 @@ from stepcontact.solver.schemes import MechanismError, SchemeSolver
 from stepcontact.solver.static import result_geometry
 
 #: the energy ledger's columns (J per metre of thickness in plane strain)
-ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "numerical",
-                "error")
+ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "fracture",
+                "numerical", "error")
 
 
 @dataclass
@@ -393,7 +393,8 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating."""
     m = system.m
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
-    stuck = np.flatnonzero((states == STICK) & law.frictional & law.rigid_t)
+    stuck = np.flatnonzero((((states == STICK) & law.frictional) | (states == BONDED))
+                           & law.rigid_t & ~law.inert)
     rows_v = np.r_[m + closed, stuck].astype(np.int64)
     if rows_v.size == 0:
         return u, v
@@ -426,13 +427,19 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
 
 
 def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
-            e: float, friction: np.ndarray):
+            e: float, friction: np.ndarray, bonded: np.ndarray | None = None,
+            bonded_t: np.ndarray | None = None):
     """Velocities after an impact (Newton's law): impulses P ≥ 0 on the normal rows of the
     CFEs ``cand`` (closing and already closed) such that each active one leaves with the
     normal velocity −e u̇_n⁻ (closing) or 0 (closed): M Δv = −B_nᵀ P, by an active set (an
     impulse that would pull is dropped); then the tangential impulses of Coulomb's law
     (:func:`_friction_impulse`).  Returns (velocities, slip direction per CFE of ``cand``
-    after the impact, 0 where it sticks)."""
+    after the impact, 0 where it sticks).
+
+    ``bonded``, ``bonded_t`` (m,) bool: CFEs whose bond is intact (eq. (12)) hold both ways
+    — their normal impulse may pull, and (``bonded_t``: rigid in shear) their tangential one
+    is not limited: a rigid bond carries an impact's impulse (its strength is checked on the
+    forces after it)."""
     m = system.m
     free = cond.free
     Bn = cond.Bf[m + cand]  # normal rows on the free DOFs
@@ -442,7 +449,8 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
     target = np.where(np.isin(cand, closing), -e * wd, 0.0)
     X, W = minv(m + cand)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
-    active = wd > 0  # approaching (or closed and pushed on)
+    bil = np.zeros(len(cand), bool) if bonded is None else np.asarray(bonded)[cand]
+    active = (wd > 0) | bil  # approaching (or closed and pushed on; bonded: held)
     P = np.zeros(len(cand))
     for _ in range(2 * len(cand) + 1):
         P[:] = 0.0
@@ -450,32 +458,35 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
         if idx.size:
             P[idx] = _spd_solve(W[np.ix_(idx, idx)], wd[idx] - target[idx])
         after = wd - W @ P
-        neg = active & (P < 0)
+        neg = active & (P < 0) & ~bil
         pen = ~active & (after > 1e-12 * max(np.abs(wd).max(initial=0.0), 1e-300))
         if not (neg.any() or pen.any()):
             break
         active = (active & ~neg) | pen
     out = v.copy()
     out[free] = vf - X(P)
-    return out, _friction_impulse(system, cond, minv, out, cand, P, friction)
+    bil_t = np.zeros(len(cand), bool) if bonded_t is None else np.asarray(bonded_t)[cand]
+    return out, _friction_impulse(system, cond, minv, out, cand, P, friction, bil_t)
 
 
 def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np.ndarray,
-                      friction: np.ndarray) -> np.ndarray:
+                      friction: np.ndarray, bil: np.ndarray | None = None) -> np.ndarray:
     """Tangential impulses of an impact, consistent with Coulomb's law (|T| ≤ f P): each
     CFE with a normal impulse P > 0 and rigid friction stops sliding if the impulse that
-    stops it is within f P, else slides on with T = f P against its slip.  Changes ``v`` in
+    stops it is within f P, else slides on with T = f P against its slip; a bonded one
+    (``bil``, eq. (12)) stops whatever the impulse.  Changes ``v`` in
     place; returns per CFE of ``cand`` the slip direction after the impact (0: stuck)."""
     free = cond.free
     sig = np.zeros(len(cand))
-    k = np.flatnonzero((P > 0) & (friction[cand] > 0))
+    bil = np.zeros(len(cand), bool) if bil is None else bil
+    k = np.flatnonzero(((P > 0) & (friction[cand] > 0)) | bil)
     if k.size == 0:
         return sig
     rows = cand[k]
     Bt = cond.Bf[rows]  # tangential rows
     X, W = minv(rows)
     wt = Bt @ v[free]
-    limit = friction[rows] * P[k]
+    limit = np.where(bil[k], np.inf, friction[rows] * np.abs(P[k]))
     T = np.zeros(len(k))
     sliding = np.zeros(len(k), bool)
     for _ in range(2 * len(k) + 1):
@@ -730,12 +741,18 @@ def solve_dynamic(
     schemes = SchemeSolver(cond.G, cond.d, product=cond.product)
     t_setup = time.perf_counter() - t0
     cfe = system.cfe
-    if cfe.bonded.any() and (initial is None or np.any(
-            np.asarray(initial.state)[-1][cfe.bonded] == int(ContactState.BONDED))):
-        k = int(np.flatnonzero(cfe.bonded)[0])
-        raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond", "joints with "
-                         "initial strength (eq. (12)) are followed in static load programs; "
-                         "a dynamic interval with intact bonds is not supported yet")
+    bond_cols = law_in.get("bond")
+    if bond_cols is not None:
+        bonded = ~np.isnan(np.asarray(bond_cols, float)[:, 0])
+        damped_bond = bonded & (cfe.cn > 0)
+        if initial is not None:  # (bonds already broken by the static run do not count)
+            damped_bond &= np.asarray(initial.state)[-1] == BONDED
+        if damped_bond.any():
+            k = int(np.flatnonzero(damped_bond)[0])
+            raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond", "a bonded "
+                             "joint with a damped contact layer (Kelvin–Voigt, c_n > 0) is "
+                             "not supported in a dynamic interval: give the layer no damping "
+                             "while its bond is intact")
     if np.any((cfe.cn > 0) & ~np.isfinite(cfe.kn)):
         k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
         raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
@@ -744,9 +761,17 @@ def solve_dynamic(
                      _DampedLayers.law_stiffness(cfe, _Newmark(dt0, alpha).c1), cfe.kt,
                      **law_in)
     layers = _DampedLayers(cfe, law, m)
+    bonds_on = bool(law.has_bond.any())
     eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
     u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
+    if initial is None:  # joints with initial strength start bonded (eq. (12)), their
+        states = law.initial_states(states)  # compliant layers carrying C w at u0
+        stiff0 = np.r_[cfe.kt, cfe.kn]
+        on = np.r_[states == BONDED, states == BONDED] & np.isfinite(stiff0)
+        s = np.where(on, np.where(on, stiff0, 0.0) * w, s)
     eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
+    if bonds_on:  # the bonds' strengths are forces of the problem's scale
+        eng.F_scale = max(eng.F_scale, float(np.abs(np.r_[law.NR, law.QR]).max()))
     layers.set_initial(states, w)
     free = cond.free
     names = list(system.loads)
@@ -888,7 +913,7 @@ def solve_dynamic(
                 # instant (N = Q = 0, admissible closed); whether it separates, the step's
                 # contact problem decides with its gap and velocity (with a consistent mass
                 # the acceleration level alone may pull where the step does not)
-                pulled = (trial != OPEN) & ~law.inert & rigid_n & (p < -tol)
+                pulled = (trial != OPEN) & (trial != BONDED) & ~law.inert & rigid_n & (p < -tol)
                 if not (up.any() or down.any() or pulled.any()):
                     eng.s = s_new
                     break
@@ -899,17 +924,109 @@ def solve_dynamic(
                     log_event(n, k, states[k], new[k], t_now)
                 states = new
             eng.states = states
+            if bonds_on:  # bonds the forces' jump takes beyond their strength break here
+                tf, _ = eng.tolerances()
+                over = (states == BONDED) & law.has_bond & (
+                    law.bond_values(eng.s[:m], eng.s[m:]).min(axis=1) < -tf)
+                if over.any():
+                    return load_jump(np.zeros(ndof), t_now, n, brk=over)
         out[free] = M_lu.solve(np.ascontiguousarray(f_rest - BfT @ eng.s))
         return out
 
     all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
 
-    def load_jump(dF: np.ndarray, t_now: float, step: int) -> np.ndarray:
+    def break_bonds(E: EventEngine, brk: np.ndarray, t_now: float, step: int) -> np.ndarray:
+        """Break the bonds of the CFEs ``brk`` (eq. (12)) at t_now in the engine ``E`` (the
+        step's, or the one in accelerations): each takes its Coulomb state (open in tension,
+        else stuck or slipping, :meth:`CoulombLaw.broken_state`) and drops the part of its
+        forces it can no longer carry (:meth:`CoulombLaw.released`).  Logs a ``broken``
+        event per CFE (in the order of the CFEs), books the elastic energy ½ s²/C a
+        compliant layer loses with that force as ``fracture``; returns the forces g (2m,)
+        released (N)."""
+        tf, _ = E.tolerances()
+        Q, p = E.s[:m], E.s[m:]
+        old = E.states.copy()
+        new = old.copy()
+        new[brk] = law.broken_state(Q, p, tf)[brk]
+        dQ, dp = law.released(new, Q, p)
+        g = np.concatenate([np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)])
+        s_before, s_after = E.s.copy(), E.s - g
+        ledger["fracture"] += float(layer_energy(s_before).sum() - layer_energy(s_after).sum())
+        E.s = s_after
+        for k in np.flatnonzero(brk):
+            log_event(step, k, old[k], new[k], t_now, s_before)
+            if mult["first_opening"] is None and new[k] == OPEN:
+                mult["first_opening"] = t_now
+            if mult["first_slip"] is None and new[k] in (SLIP_POS, SLIP_NEG):
+                mult["first_slip"] = t_now
+        E.states = new
+        return g
+
+    def follow_jump(ea: EventEngine, forcing, t_now: float, step: int, depth: int = 0) -> None:
+        """Follow the contact problem in accelerations along a jump at fixed time (μ from 0
+        to 1 under ``forcing``, events located on the way and logged at t_now).  A bond that
+        reaches its strength surface on the way (a facet, or the rates of the scheme decided
+        drive it beyond) breaks there: what it carried is released first (the forces g go
+        to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking in turn —
+        the cascade at t_now in its order), then the jump goes on."""
+        mu, fired = 0.0, np.zeros(m, bool)
+        for _ in range(10 * m + 10):
+            old = ea.states.copy()
+            dec = ea.decide(fired, forcing)
+            if dec.switched or fired.any():
+                ea.snap()
+            for k in np.flatnonzero(old != dec.new):
+                log_event(step, k, old[k], dec.new[k], t_now)
+            if bonds_on and depth <= m:
+                tf, _ = ea.tolerances()
+                rf = 1e3 * ea.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
+                brk = ((fired & (ea.states == BONDED))
+                       | law.breaking(ea.states, ea.s[:m], ea.s[m:], dec.ds[:m], dec.ds[m:],
+                                      tf, rf))
+                if brk.any():
+                    release(ea, break_bonds(ea, brk, t_now, step), t_now, step, depth)
+                    fired = np.zeros(m, bool)
+                    continue
+            if mu >= 1.0:
+                break
+            dmu, _, fired = ea.next_event(dec.ds, dec.dw, 1.0 - mu, 1e-10)
+            ea.advance(dmu, dec.ds, dec.dw)
+            mu += dmu
+            if mu >= 1.0 - 1e-15 and not fired.any():
+                break
+
+    def release(ea: EventEngine, g: np.ndarray, t_now: float, step: int, depth: int) -> None:
+        """Release the forces g (2m,) of broken bonds at t_now in accelerations: the load
+        −Bᵀ g they still put on the structure goes to zero (:func:`follow_jump`)."""
+        ea.F_scale = max(ea.F_scale, float(np.abs(g).max(initial=0.0)))
+        dh = accel["GM"] @ g
+        ea.W_scale = max(ea.W_scale, float(np.abs(dh).max(initial=0.0)))
+        follow_jump(ea, pinned(dh), t_now, step, depth + 1)
+
+    def pinned(dh: np.ndarray):
+        """The forcing (dh, e) of a jump in accelerations: a CFE that slips with a velocity
+        keeps slipping whatever its acceleration (its slip rate pinned to its direction)."""
+        wd = system.B @ v
+        st = eng.states
+        sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
+        moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
+                                                            1e-300))
+        e = np.zeros(2 * m)
+        e[:m] = np.where(moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
+                         0.0)
+        return dh, e
+
+    def load_jump(dF: np.ndarray, t_now: float, step: int,
+                  brk: np.ndarray | None = None) -> np.ndarray:
         """A load that jumps by dF at t_now (the start, a pulse's edge): the contact forces
         jump with it.  Followed in accelerations at fixed time (the engine along the jump,
         events located in it and logged at t_now); returns the accelerations after it and
-        sets the contact forces and states."""
+        sets the contact forces and states.  ``brk``: bonds that break at t_now (eq. (12)),
+        broken and released first (:func:`follow_jump`).  With compliant layers the forces
+        follow the displacements and do not jump: a broken bond's layer force drops."""
         if not all_rigid:  # compliant layers: the forces follow the displacements
+            if brk is not None and brk.any():
+                break_bonds(eng, brk, t_now, step)
             Fn = force_at(t_now)
             out = np.zeros(ndof)
             out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
@@ -925,38 +1042,20 @@ def solve_dynamic(
         ea.w = wa
         ea.F_scale = max(eng.F_scale, float(np.abs(dF).max(initial=0.0)))
         ea.W_scale = float(np.abs(wa[np.abs(wa) < 1e29]).max(initial=0.0)) or 1e-300
-        dh = Bf @ M_lu.solve(np.ascontiguousarray(dF[free]))
-        # a CFE that slips with a velocity keeps slipping whatever its acceleration: its
-        # slip rate is pinned to the direction of the slip
-        st = eng.states
-        sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
-        moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
-                                                            1e-300))
-        e = np.zeros(2 * m)
-        e[:m] = np.where(moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
-                         0.0)
-        forcing = (dh, e)
-        mu, fired = 0.0, np.zeros(m, bool)
-        for _ in range(10 * m + 10):
-            old = ea.states.copy()
-            dec = ea.decide(fired, forcing)
-            if dec.switched or fired.any():
-                ea.snap()
-            for k in np.flatnonzero(old != dec.new):
-                log_event(step, k, old[k], dec.new[k], t_now)
-            if mu >= 1.0:
-                break
-            dmu, _, fired = ea.next_event(dec.ds, dec.dw, 1.0 - mu, 1e-10)
-            ea.advance(dmu, dec.ds, dec.dw)
-            mu += dmu
-            if mu >= 1.0 - 1e-15 and not fired.any():
-                break
+        if brk is not None and brk.any():
+            release(ea, break_bonds(ea, brk, t_now, step), t_now, step, 0)
+        if np.any(dF != 0.0) or not (bonds_on or brk is not None):
+            dh = Bf @ M_lu.solve(np.ascontiguousarray(dF[free]))
+            if bonds_on:  # (bonded at rest: no accelerations give the scale)
+                ea.W_scale = max(ea.W_scale, float(np.abs(dh).max(initial=0.0)))
+            follow_jump(ea, pinned(dh), t_now, step)
         eng.states = ea.states.copy()
         eng.s = ea.s.copy()
         out = np.zeros(ndof)
         Fn = force_at(t_now)
         out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
         return out
+
     def settle_water(t_now: float, step: int) -> bool:
         """Let the water into the CFEs that opened (out of those that closed) at t_now: the
         crack-water load jumps there by −Bᵀ [0; ΔW], followed like any load jump
@@ -1016,7 +1115,8 @@ def solve_dynamic(
         ledger["strain"] = strain_energy(u, eng.s)
         total = ledger["kinetic"] + ledger["strain"]
         ledger["error"] = (total - e0 - ledger["external"] + ledger["damping"]
-                           + ledger["friction"] + ledger["impact"] + ledger["numerical"])
+                           + ledger["friction"] + ledger["impact"] + ledger["fracture"]
+                           + ledger["numerical"])
         c = factors_at(t)
         W_t = water_at(t, c)
         p_t = (np.where(water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
@@ -1034,7 +1134,8 @@ def solve_dynamic(
     mult = {"first_slip": None, "first_opening": None, "first_closing": None,
             "equilibrium_lost": None}
 
-    def log_event(step: int, k, was, now, t_ev: float) -> None:
+    def log_event(step: int, k, was, now, t_ev: float, s_=None) -> None:
+        s_ = eng.s if s_ is None else s_
         tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
         rec.events.append(Event(
             step=step, state=len(rec), segment=0, pattern="dynamic", lam=t_ev, cfe=int(k),
@@ -1042,7 +1143,7 @@ def solve_dynamic(
             local=int(cfe.local[k]), position=float(cfe.s[k]),
             x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
             y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-eng.s[m + k]), Q=float(eng.s[k])))
+            transition=tr, N=float(-s_[m + k]), Q=float(s_[k])))
         key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
                Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
         if key and mult[key] is None:
@@ -1053,6 +1154,9 @@ def solve_dynamic(
     if m and initial is not None:
         a = load_jump(F - F_held, 0.0, 0)
         first = False
+    elif m and all_rigid and u0 is None and np.any(eng.states == BONDED):
+        # rigid bonds from rest: their forces jump with the loads at t = 0
+        a = load_jump(F - F_held, 0.0, 0)
     else:
         a = np.zeros(ndof)
         a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
@@ -1150,6 +1254,7 @@ def solve_dynamic(
         small = 0
         stop = False
         restart = None
+        bond_brk = None  # bonds that break where the step is cut (eq. (12))
         step_events = 0
         ds = dw = None
         while True:
@@ -1168,6 +1273,17 @@ def solve_dynamic(
                 touching = (-eng.w[m:] <= 1e-12 * max(w_scale[0], 1e-300)) & (old == OPEN)
                 old = np.where(touching, dec.new, old)
                 first = False
+            if bonds_on and ds is None:
+                # at the step's start: bonds on their strength surface that the rates of the
+                # scheme decided drive beyond it break here, before anything else
+                tf, _ = eng.tolerances()
+                rf = 1e3 * eng.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
+                brk = law.breaking(eng.states, eng.s[:m], eng.s[m:], dec.ds[:m], dec.ds[m:],
+                                   tf, rf)
+                if brk.any():
+                    bond_brk = brk
+                    restart = (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {})
+                    break
             changed = np.flatnonzero(old != dec.new)
             if changed.size and ds is None:
                 times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, 0.0,
@@ -1239,6 +1355,12 @@ def solve_dynamic(
                 break
             eng.advance(dmu, ds, dw)
             mu += dmu
+            if bonds_on and np.any(fired & (eng.states == BONDED)):
+                # a bond reaches its strength surface (eq. (12)): the step is cut at that time
+                # (eq. (10)), the bond breaks there and its forces are released
+                bond_brk = fired & (eng.states == BONDED)
+                restart = (mu, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
+                break
             if mu >= 1.0 - 1e-15 and not fired.any():
                 break
         if stop:
@@ -1256,7 +1378,7 @@ def solve_dynamic(
                 closed_now = np.flatnonzero((old != OPEN) & rigid_n)
                 cand = np.union1d(closing, closed_now)
                 v_new, sig = _impact(system, cond, minv, v_i, cand, closing, restitution,
-                                     law.f)
+                                     law.f, old == BONDED, (old == BONDED) & law.rigid_t)
                 ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
                 v_i = v_new
                 # a CFE still sliding after its impact slips on (with its velocity)
@@ -1282,8 +1404,10 @@ def solve_dynamic(
             eng.snap()
             u, v = u_i, v_i
             F = F_i
-            if closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
-                                      & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
+            if bond_brk is not None:  # the bonds break: their forces are released here
+                a = load_jump(np.zeros(ndof), t_i, n, brk=bond_brk)
+            elif closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
+                                        & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
                 a = accel_forces(t_i)  # the forces jump: an impact, a slip that stops
             else:
                 a = np.zeros(ndof)
