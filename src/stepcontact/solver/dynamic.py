@@ -1039,6 +1039,13 @@ def solve_dynamic(
         wd = system.B @ v
         apart = (eng.states == OPEN) & ((-eng.w[m:] > tw) | (wd[m:] < 0))
         wa[m:] = np.where(apart, -1e30, wa[m:])  # open with a gap: cannot close now
+        if bonds_on:
+            # the rows the scheme holds have no relative acceleration: not Newmark's residue
+            # there (a correction of it would move the forces off a bond's strength surface)
+            st_ = eng.states
+            wa[m:][(st_ != OPEN) & law.rigid_n & ~law.inert] = 0.0
+            wa[:m][(((st_ == STICK) & law.frictional) | (st_ == BONDED)) & law.rigid_t
+                   & ~law.inert] = 0.0
         ea.w = wa
         ea.F_scale = max(eng.F_scale, float(np.abs(dF).max(initial=0.0)))
         ea.W_scale = float(np.abs(wa[np.abs(wa) < 1e29]).max(initial=0.0)) or 1e-300
