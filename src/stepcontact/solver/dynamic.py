@@ -48,12 +48,25 @@ load jumps at that instant — followed like a pulse's edge, the contact forces 
 that opens under the jump is wet in turn.  The pressure in the gap thus follows the opened
 length in time.
 
+Joints with initial strength (eq. (12), :class:`~stepcontact.model.Bond`): a bonded CFE
+carries tension and shear (no relative motion, or its layer's compliance) inside its strength
+surface; the surface's facets are event functions like the others, so the step is cut at the
+time a bond reaches it (eq. (10)) and the bond breaks there into its Coulomb state (open in
+tension, else stuck or slipping).  What it can no longer carry is released at that instant:
+with rigid contact the contact forces re-solve in accelerations at fixed t — the released
+forces go to zero along a jump followed by the engine, and a bonded neighbour that reaches its
+strength on the way breaks in turn (a cascade at one t, each break an event ``broken`` in its
+order); with a compliant layer the layer's force drops (the forces follow the displacements,
+nothing else jumps).  An impact on a body held by intact rigid bonds is carried by them (their
+impulses are two-sided).
+
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
 by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
-impacts' velocity jumps, and by the integrator itself ("numerical": what the interpolation (8)
-of cut steps adds or removes; Newmark's whole steps conserve energy); the balance error is
-what is left (round-off).
+impacts' velocity jumps, released by broken bonds ("fracture": the elastic energy ½ s²/C a
+compliant bonded layer loses with the force it drops; a rigid bond stores none), and by the
+integrator itself ("numerical": what the interpolation (8) of cut steps adds or removes;
+Newmark's whole steps conserve energy); the balance error is what is left (round-off).
 """
 
 from __future__ import annotations
@@ -685,6 +698,40 @@ def solve_dynamic(
         the ledger's ``numerical``).
     record_every : int
         Record every k-th step (events and the last step always).
+
+    Construction stages (``model.stages``, :class:`~stepcontact.model.Stage`)
+        The interval follows the last stage and runs on its system: its supports (those
+        removed gone), the CFEs of every stage acting (interfaces made at once with their
+        zero where they were made), grouted joints bonded, the automatic patterns (released
+        reactions, ramps, holds) at their final factors.  It starts from the last state of
+        ``initial``, the static result of the stages; without ``initial`` the staged
+        program is run first (:func:`~stepcontact.solve_static`), and a result loaded from a
+        file (which does not keep the stage systems) is checked against a run of the
+        program.  The result carries ``stage`` (every state in the last stage),
+        ``stage_names``, ``stage_cfes`` and ``stage_bodies`` as the static result does.  The
+        interval can be given on the last stage (``Stage(..., dynamics=...)``, the model's
+        ``dynamics``); not on an earlier one: static segments after a dynamic interval are
+        not supported (the state at its end is not at rest).  A pattern that still
+        prescribes nonzero displacements at the end of the stages is refused (prescribed
+        displacements are not followed in time).
+
+    Joints with initial strength (eq. (12))
+        Intact bonds carry tension and shear up to their strength surface; reaching it is
+        an event located in time, the bond breaks and what it carried is released at that
+        instant, its neighbours breaking in turn where they reach theirs (module
+        docstring); each break is an event ``broken`` (N, Q at the break).  The ledger
+        books the elastic energy released by compliant bonded layers as ``fracture``.  A
+        bonded CFE with a damped layer (c_n > 0) is refused.
+
+    Example
+    -------
+    >>> import numpy as np, stepcontact as sc                           # doctest: +SKIP
+    >>> dm = sc.DiscreteModel(np.zeros((2, 2)), [[0, 1]], [[1, 0]], loads={"P": [0, 1]},
+    ...                       kn=1e4, kt=1e4, bond=sc.Bond(1.5, 10.0, 0.5))
+    >>> res = sc.solve_dynamic(dm, dt=1e-4, duration=0.03, mass=np.eye(2),
+    ...                        loads={"P": sc.Constant(1.0)})
+    >>> str(res.events[0].transition), round(res.events[0].lam, 4)  # N = P(1 − cos ωt) = N_R
+    ('broken', 0.0209)
     """
     from stepcontact.fem.mass import mass as mass_matrix
 
