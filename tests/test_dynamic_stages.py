@@ -161,3 +161,12 @@ def test_a_dynamic_interval_given_twice_is_an_error():
     with pytest.raises(ModelError) as exc:
         sc.Stage("s", dynamics="soon")
     assert exc.value.item == "stage 's'.dynamics"
+
+
+def test_a_dynamic_interval_after_stages_that_did_not_complete_is_refused():
+    loose = _pull_model(grout=False)  # the ungrouted block lifts off: equilibrium lost
+    st = sc.solve_static(loose)
+    assert st.status == Status.EQUILIBRIUM_LOST
+    with pytest.raises(ModelError) as exc:
+        sc.solve_dynamic(loose, initial=st, dt=1e-4, duration=1e-3)
+    assert exc.value.item == "initial" and "stage 'grouted'" in str(exc.value)
