@@ -170,3 +170,15 @@ def test_a_dynamic_interval_after_stages_that_did_not_complete_is_refused():
     with pytest.raises(ModelError) as exc:
         sc.solve_dynamic(loose, initial=st, dt=1e-4, duration=1e-3)
     assert exc.value.item == "initial" and "stage 'grouted'" in str(exc.value)
+
+
+def test_a_support_placed_on_a_moved_body_is_refused_in_the_dynamic_interval():
+    """A support placed at a later stage holds its nodes where they are by a prescribed
+    displacement; the dynamic interval does not follow prescribed displacements: said."""
+    m = _block_on_base(prop=False)
+    m = m.add(sc.Support("top", m.select("block", y=1.0, name="top"), "y"),
+              sc.Stage("placed", [sc.Segment("weight", 1.0)]),
+              sc.Stage("propped", [sc.Segment("weight", 1.0, 1.0)], supports=("top",)))
+    with pytest.raises(ModelError) as exc:
+        sc.solve_dynamic(m, dt=1e-4, duration=1e-3)
+    assert exc.value.item == "pattern 'propped: hold top'"
