@@ -22,7 +22,9 @@ References (all independent of the library's integrator):
   N_R: it breaks at the same instant, second — the cascade at fixed t; then free flight;
 * a bar on three bonded compliant springs under an eccentric step load against the exact
   modal solution between breaks (eigenvectors of (K, M) for the springs still bonded,
-  break times by root finding): order and times of the breaks to 1e-5 (ωΔt = 6e-3).
+  break times by root finding): order and times of the breaks to 1e-5 (ωΔt = 6e-3);
+* a bonded dam on a compliant layer (tests/test_bonded_joints.py) hit by a water pulse: each
+  CFE on its strength surface when it breaks, the ledger balanced.
 """
 
 from __future__ import annotations
@@ -35,7 +37,8 @@ from scipy.optimize import brentq
 import stepcontact as sc
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
-from stepcontact.model.timefunction import Constant, Tabulated
+from stepcontact.model.timefunction import Constant, Pulse, Tabulated
+from test_bonded_joints import COHESION, PHI, TENSILE, B, bonded_dam
 
 OPEN, SLIP_POS, BONDED = (int(s) for s in (ContactState.OPEN, ContactState.SLIP_POS,
                                            ContactState.BONDED))
@@ -214,3 +217,32 @@ def test_a_bonded_damped_layer_is_refused_naming_the_interface():
         sc.solve_dynamic(dm, dt=1e-3, duration=1e-2, loads={"P": Constant(1.0)},
                          mass=np.eye(2))
     assert exc.value.item == "interface 'glue'.bond"
+
+
+def test_a_water_pulse_runs_a_crack_along_a_bonded_dam_base_each_cfe_on_its_surface():
+    """The bonded dam of tests/test_bonded_joints.py (a stiff block on a compliant bonded
+    layer, Mohr–Coulomb strength with a tension cut-off) after its static program, hit by
+    a water pulse: the crack runs along the base, CFE after CFE at increasing times (the
+    layers' forces follow the displacements: no two break at one instant), each on its
+    strength surface (to 1e-9 of Q_R) when it breaks; the ledger books the layers' released
+    energy and balances."""
+    m = bonded_dam(lam_end=2.0)
+    st = sc.solve_static(m)
+    res = sc.solve_dynamic(m, initial=st, dt=2e-4, duration=2e-2, record_every=10,
+                           loads={"water": Pulse(60.0, 0.0, 0.02)})
+    assert res.status == Status.COMPLETED, res.message
+    br = _broken(res)
+    assert len(br) == int(np.sum(st.state[-1] == BONDED)) > 5  # every bond breaks
+    times = np.array([e.lam for e in br])
+    assert np.all(np.diff(times) > 0)
+    pos = np.array([res.cfe["x"][e.cfe, 0] for e in br])
+    assert np.all(np.diff(pos) < 0) or np.all(np.diff(pos) > 0)  # a crack running
+    A, x = res.cfe["area"], res.cfe["x"][:, 0]
+    NR, QR = A * np.interp(x, [0.0, B], TENSILE), A * COHESION
+    al = np.tan(np.radians(PHI))
+    for e in br:
+        k = e.cfe
+        margin = min(NR[k] - e.N, QR[k] - al * e.N - abs(e.Q))
+        assert abs(margin) <= 1e-9 * QR[k]
+    assert res.energy["fracture"][-1] > 0
+    assert np.abs(res.energy["error"]).max() <= 1e-8 * res.energy["external"].max()
