@@ -274,9 +274,7 @@ def test_bad_bonds_name_the_item():
     with pytest.raises(ModelError, match="a bonded CFE must be closed"):
         sc.DiscreteModel(K=[[1e3]], normal_rows=[[1.0]], tangent_rows=[[0.0]], gaps=0.01,
                          bond=sc.Bond(1e2, 1e2, 0.5))
-    # a dynamic interval with intact bonds is not supported (yet): said, not ignored
-    with pytest.raises(ModelError, match="dynamic interval"):
-        sc.solve_dynamic(bonded_dam(), dt=0.01, duration=0.1)
+    # (a dynamic interval with intact bonds: tests/test_bonded_dynamic.py)
 
 
 def test_bond_strengths_are_kept_in_the_result_file_and_drawn_as_the_bonded_limit(tmp_path):

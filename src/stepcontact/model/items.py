@@ -772,6 +772,18 @@ class Model:
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ModelError(f"stage '{sorted(dup)[0]}'", "duplicate stage name")
+        for st in self.stages[:-1]:
+            if getattr(st, "dynamics", None) is not None:
+                raise ModelError(f"stage '{st.name}'.dynamics", "a dynamic interval is allowed "
+                                 "in the last stage only: static segments after a dynamic "
+                                 "interval are not supported (the state at its end is not at "
+                                 "rest)")
+        last = getattr(self.stages[-1], "dynamics", None) if self.stages else None
+        if last is not None and self.dynamics is not last:
+            if self.dynamics is not None:
+                raise ModelError(f"stage '{self.stages[-1].name}'.dynamics", "is given together "
+                                 "with model.dynamics: give the dynamic interval once")
+            object.__setattr__(self, "dynamics", last)  # the model's dynamic interval
         if self.plane not in ("strain", "stress"):
             raise ModelError("model.plane", f"must be 'strain' or 'stress', got '{self.plane}'")
         if not np.isfinite(self.thickness) or self.thickness <= 0:

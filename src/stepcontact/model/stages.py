@@ -37,6 +37,12 @@ class Stage:
     grout : {interface name: Bond}: the CFEs of an interface in place become bonded with that
         strength, keeping their current forces (an open CFE is filled: its opening becomes
         its zero).
+    dynamics : DynamicInterval, optional
+        A dynamic interval at the end of this stage, allowed on the *last* stage only (static
+        segments after a dynamic interval are not supported: the state at its end is not at
+        rest).  It is the model's dynamic interval (``Model.dynamics``, set from it):
+        :func:`~stepcontact.solve_dynamic` runs it on the last stage's system from the
+        state the stages end in.
     """
 
     name: str
@@ -47,10 +53,11 @@ class Stage:
     supports: tuple[str, ...] = ()
     remove_supports: tuple[str, ...] = ()
     grout: dict = field(default_factory=dict)
+    dynamics: object = None
 
     def __post_init__(self):
         from stepcontact.model.bond import Bond
-        from stepcontact.model.items import Segment
+        from stepcontact.model.items import DynamicInterval, Segment
 
         item = f"stage '{self.name}'"
         for key in ("program", "bodies", "interfaces", "contacts", "supports",
@@ -69,6 +76,9 @@ class Stage:
                 raise ModelError(f"{item}.grout['{name}']", f"must be a Bond, got "
                                  f"{type(bond).__name__}")
         object.__setattr__(self, "grout", g)
+        if self.dynamics is not None and not isinstance(self.dynamics, DynamicInterval):
+            raise ModelError(f"{item}.dynamics", f"must be a DynamicInterval, got "
+                             f"{type(self.dynamics).__name__}")
         both = set(self.interfaces) & set(self.contacts)
         if both:
             raise ModelError(f"{item}", f"interface '{sorted(both)[0]}' is listed both as made "

@@ -48,12 +48,25 @@ load jumps at that instant — followed like a pulse's edge, the contact forces 
 that opens under the jump is wet in turn.  The pressure in the gap thus follows the opened
 length in time.
 
+Joints with initial strength (eq. (12), :class:`~stepcontact.model.Bond`): a bonded CFE
+carries tension and shear (no relative motion, or its layer's compliance) inside its strength
+surface; the surface's facets are event functions like the others, so the step is cut at the
+time a bond reaches it (eq. (10)) and the bond breaks there into its Coulomb state (open in
+tension, else stuck or slipping).  What it can no longer carry is released at that instant:
+with rigid contact the contact forces re-solve in accelerations at fixed t — the released
+forces go to zero along a jump followed by the engine, and a bonded neighbour that reaches its
+strength on the way breaks in turn (a cascade at one t, each break an event ``broken`` in its
+order); with a compliant layer the layer's force drops (the forces follow the displacements,
+nothing else jumps).  An impact on a body held by intact rigid bonds is carried by them (their
+impulses are two-sided).
+
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
 by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
-impacts' velocity jumps, and by the integrator itself ("numerical": what the interpolation (8)
-of cut steps adds or removes; Newmark's whole steps conserve energy); the balance error is
-what is left (round-off).
+impacts' velocity jumps, released by broken bonds ("fracture": the elastic energy ½ s²/C a
+compliant bonded layer loses with the force it drops; a rigid bond stores none), and by the
+integrator itself ("numerical": what the interpolation (8) of cut steps adds or removes;
+Newmark's whole steps conserve energy); the balance error is what is left (round-off).
 """
 
 from __future__ import annotations
@@ -67,7 +80,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
+from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
@@ -80,8 +93,8 @@ from stepcontact.solver.schemes import MechanismError, SchemeSolver
 from stepcontact.solver.static import result_geometry
 
 #: the energy ledger's columns (J per metre of thickness in plane strain)
-ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "numerical",
-                "error")
+ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "fracture",
+                "numerical", "error")
 
 
 @dataclass
@@ -152,6 +165,62 @@ class _Stresses:
 
     def __call__(self, i):  # (not used: the displacements are stored)
         raise KeyError(i)
+
+
+def _after_stages(system: System, initial):
+    """A dynamic interval after construction stages (:mod:`stepcontact.solver.staging`): the
+    last stage's system (its held DOFs, shifted w⁰ of the interfaces made at once, removed
+    supports gone, automatic patterns), the contact law's inputs there (CFEs not active are
+    inert; bonds of grouted joints) and the static result of the stages it starts from — the
+    staged program is run here when ``initial`` is None, and again (checked against it) when
+    ``initial`` was loaded from a file (which does not keep the stage systems).
+
+    Returns (system, law keyword arguments, initial, stage arrays of the result)."""
+    from stepcontact.solver.static import StagedRecovery, held_components, solve_static
+
+    def plan_of(res):
+        rec = getattr(res, "_recover", None)
+        return rec.plan if isinstance(rec, StagedRecovery) else None
+
+    if initial is None:
+        initial = solve_static(system)
+    elif plan_of(initial) is None:
+        again = solve_static(system)
+        i, j = len(initial.lam) - 1, len(again.lam) - 1
+        scale = max(float(np.abs(again.N[j]).max(initial=0.0)),
+                    float(np.abs(again.Q[j]).max(initial=0.0)), 1e-300)
+        same = (initial.m == again.m and initial.stage is not None
+                and np.array_equal(initial.state[i], again.state[j])
+                and max(float(np.abs(initial.N[i] - again.N[j]).max(initial=0.0)),
+                        float(np.abs(initial.Q[i] - again.Q[j]).max(initial=0.0)))
+                <= 1e-6 * scale)
+        if not same:
+            raise ModelError("initial", "is not the result of this model's stages (its last "
+                             "state differs from the staged program's)")
+        initial = again
+    plan = plan_of(initial)
+    last = len(plan.names) - 1
+    if initial.status != Status.COMPLETED or int(initial.stage[-1]) != last:
+        raise ModelError("initial", f"the static run of the stages stopped in stage "
+                         f"'{plan.names[int(initial.stage[-1])]}' ({initial.message}): the "
+                         "dynamic interval follows the last stage "
+                         f"'{plan.names[last]}'")
+    stage_system = plan.system(last)
+    i = len(initial.lam) - 1
+    for j, name in enumerate(initial.pattern_names):
+        lv = stage_system.loads[name]
+        if initial.factors[i][j] != 0.0 and np.any(lv.u != 0.0):
+            raise ModelError(f"pattern '{name}'", "prescribes nonzero displacements at the "
+                             "end of the stages: a dynamic interval does not follow "
+                             "prescribed displacements (place the support before its body "
+                             "moves, or let the pattern return to 0)")
+    held_n, held_t = held_components(stage_system)
+    active = plan.active_cfes(last)
+    law_in = {"held_normal": held_n | ~active, "held_tangent": held_t | ~active,
+              "friction": plan.friction.copy(), "bond": plan.bond.copy()}
+    arrays = {"stage_names": initial.stage_names, "stage_cfes": initial.stage_cfes,
+              "stage_bodies": initial.stage_bodies, "last_stage": last}
+    return stage_system, law_in, initial, arrays
 
 
 def _initial(system: System, cond: Condensed, initial, u0, v0):
@@ -337,7 +406,8 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating."""
     m = system.m
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
-    stuck = np.flatnonzero((states == STICK) & law.frictional & law.rigid_t)
+    stuck = np.flatnonzero((((states == STICK) & law.frictional) | (states == BONDED))
+                           & law.rigid_t & ~law.inert)
     rows_v = np.r_[m + closed, stuck].astype(np.int64)
     if rows_v.size == 0:
         return u, v
@@ -370,13 +440,19 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
 
 
 def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
-            e: float, friction: np.ndarray):
+            e: float, friction: np.ndarray, bonded: np.ndarray | None = None,
+            bonded_t: np.ndarray | None = None):
     """Velocities after an impact (Newton's law): impulses P ≥ 0 on the normal rows of the
     CFEs ``cand`` (closing and already closed) such that each active one leaves with the
     normal velocity −e u̇_n⁻ (closing) or 0 (closed): M Δv = −B_nᵀ P, by an active set (an
     impulse that would pull is dropped); then the tangential impulses of Coulomb's law
     (:func:`_friction_impulse`).  Returns (velocities, slip direction per CFE of ``cand``
-    after the impact, 0 where it sticks)."""
+    after the impact, 0 where it sticks).
+
+    ``bonded``, ``bonded_t`` (m,) bool: CFEs whose bond is intact (eq. (12)) hold both ways
+    — their normal impulse may pull, and (``bonded_t``: rigid in shear) their tangential one
+    is not limited: a rigid bond carries an impact's impulse (its strength is checked on the
+    forces after it)."""
     m = system.m
     free = cond.free
     Bn = cond.Bf[m + cand]  # normal rows on the free DOFs
@@ -386,7 +462,8 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
     target = np.where(np.isin(cand, closing), -e * wd, 0.0)
     X, W = minv(m + cand)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
-    active = wd > 0  # approaching (or closed and pushed on)
+    bil = np.zeros(len(cand), bool) if bonded is None else np.asarray(bonded)[cand]
+    active = (wd > 0) | bil  # approaching (or closed and pushed on; bonded: held)
     P = np.zeros(len(cand))
     for _ in range(2 * len(cand) + 1):
         P[:] = 0.0
@@ -394,32 +471,35 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
         if idx.size:
             P[idx] = _spd_solve(W[np.ix_(idx, idx)], wd[idx] - target[idx])
         after = wd - W @ P
-        neg = active & (P < 0)
+        neg = active & (P < 0) & ~bil
         pen = ~active & (after > 1e-12 * max(np.abs(wd).max(initial=0.0), 1e-300))
         if not (neg.any() or pen.any()):
             break
         active = (active & ~neg) | pen
     out = v.copy()
     out[free] = vf - X(P)
-    return out, _friction_impulse(system, cond, minv, out, cand, P, friction)
+    bil_t = np.zeros(len(cand), bool) if bonded_t is None else np.asarray(bonded_t)[cand]
+    return out, _friction_impulse(system, cond, minv, out, cand, P, friction, bil_t)
 
 
 def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np.ndarray,
-                      friction: np.ndarray) -> np.ndarray:
+                      friction: np.ndarray, bil: np.ndarray | None = None) -> np.ndarray:
     """Tangential impulses of an impact, consistent with Coulomb's law (|T| ≤ f P): each
     CFE with a normal impulse P > 0 and rigid friction stops sliding if the impulse that
-    stops it is within f P, else slides on with T = f P against its slip.  Changes ``v`` in
+    stops it is within f P, else slides on with T = f P against its slip; a bonded one
+    (``bil``, eq. (12)) stops whatever the impulse.  Changes ``v`` in
     place; returns per CFE of ``cand`` the slip direction after the impact (0: stuck)."""
     free = cond.free
     sig = np.zeros(len(cand))
-    k = np.flatnonzero((P > 0) & (friction[cand] > 0))
+    bil = np.zeros(len(cand), bool) if bil is None else bil
+    k = np.flatnonzero(((P > 0) & (friction[cand] > 0)) | bil)
     if k.size == 0:
         return sig
     rows = cand[k]
     Bt = cond.Bf[rows]  # tangential rows
     X, W = minv(rows)
     wt = Bt @ v[free]
-    limit = friction[rows] * P[k]
+    limit = np.where(bil[k], np.inf, friction[rows] * np.abs(P[k]))
     T = np.zeros(len(k))
     sliding = np.zeros(len(k), bool)
     for _ in range(2 * len(k) + 1):
@@ -618,6 +698,40 @@ def solve_dynamic(
         the ledger's ``numerical``).
     record_every : int
         Record every k-th step (events and the last step always).
+
+    Construction stages (``model.stages``, :class:`~stepcontact.model.Stage`)
+        The interval follows the last stage and runs on its system: its supports (those
+        removed gone), the CFEs of every stage acting (interfaces made at once with their
+        zero where they were made), grouted joints bonded, the automatic patterns (released
+        reactions, ramps, holds) at their final factors.  It starts from the last state of
+        ``initial``, the static result of the stages; without ``initial`` the staged
+        program is run first (:func:`~stepcontact.solve_static`), and a result loaded from a
+        file (which does not keep the stage systems) is checked against a run of the
+        program.  The result carries ``stage`` (every state in the last stage),
+        ``stage_names``, ``stage_cfes`` and ``stage_bodies`` as the static result does.  The
+        interval can be given on the last stage (``Stage(..., dynamics=...)``, the model's
+        ``dynamics``); not on an earlier one: static segments after a dynamic interval are
+        not supported (the state at its end is not at rest).  A pattern that still
+        prescribes nonzero displacements at the end of the stages is refused (prescribed
+        displacements are not followed in time).
+
+    Joints with initial strength (eq. (12))
+        Intact bonds carry tension and shear up to their strength surface; reaching it is
+        an event located in time, the bond breaks and what it carried is released at that
+        instant, its neighbours breaking in turn where they reach theirs (module
+        docstring); each break is an event ``broken`` (N, Q at the break).  The ledger
+        books the elastic energy released by compliant bonded layers as ``fracture``.  A
+        bonded CFE with a damped layer (c_n > 0) is refused.
+
+    Example
+    -------
+    >>> import numpy as np, stepcontact as sc                           # doctest: +SKIP
+    >>> dm = sc.DiscreteModel(np.zeros((2, 2)), [[0, 1]], [[1, 0]], loads={"P": [0, 1]},
+    ...                       kn=1e4, kt=1e4, bond=sc.Bond(1.5, 10.0, 0.5))
+    >>> res = sc.solve_dynamic(dm, dt=1e-4, duration=0.03, mass=np.eye(2),
+    ...                        loads={"P": sc.Constant(1.0)})
+    >>> str(res.events[0].transition), round(res.events[0].lam, 4)  # N = P(1 − cos ωt) = N_R
+    ('broken', 0.0209)
     """
     from stepcontact.fem.mass import mass as mass_matrix
 
@@ -637,9 +751,10 @@ def solve_dynamic(
     if not (0.0 <= alpha <= 1.0 / 3.0):
         raise ModelError("alpha", f"HHT-α must lie in [0, 1/3], got {alpha}")
     system = model if isinstance(model, System) else assemble(model)
-    if getattr(system.model, "stages", ()):
-        raise ModelError("model.stages", "a dynamic interval after (or within) construction "
-                         "stages is not supported yet: solve the stages with solve_static")
+    law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
+    stage_arrays: dict | None = None
+    if getattr(system.model, "stages", ()) and system.discrete is None:
+        system, law_in, initial, stage_arrays = _after_stages(system, initial)
     loads = dict(loads or {})
     for name, g in loads.items():
         if name not in system.loads:
@@ -673,22 +788,37 @@ def solve_dynamic(
     schemes = SchemeSolver(cond.G, cond.d, product=cond.product)
     t_setup = time.perf_counter() - t0
     cfe = system.cfe
-    if cfe.bonded.any() and (initial is None or np.any(
-            np.asarray(initial.state)[-1][cfe.bonded] == int(ContactState.BONDED))):
-        k = int(np.flatnonzero(cfe.bonded)[0])
-        raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond", "joints with "
-                         "initial strength (eq. (12)) are followed in static load programs; "
-                         "a dynamic interval with intact bonds is not supported yet")
+    bond_cols = law_in.get("bond")
+    if bond_cols is not None:
+        bonded = ~np.isnan(np.asarray(bond_cols, float)[:, 0])
+        damped_bond = bonded & (cfe.cn > 0)
+        if initial is not None:  # (bonds already broken by the static run do not count)
+            damped_bond &= np.asarray(initial.state)[-1] == BONDED
+        if damped_bond.any():
+            k = int(np.flatnonzero(damped_bond)[0])
+            raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond", "a bonded "
+                             "joint with a damped contact layer (Kelvin–Voigt, c_n > 0) is "
+                             "not supported in a dynamic interval: give the layer no damping "
+                             "while its bond is intact")
     if np.any((cfe.cn > 0) & ~np.isfinite(cfe.kn)):
         k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
         raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
                          "layer needs a finite normal stiffness kn")
-    law = CoulombLaw(np.arange(m), cfe.friction,
-                     _DampedLayers.law_stiffness(cfe, _Newmark(dt0, alpha).c1), cfe.kt)
+    law = CoulombLaw(np.arange(m), law_in.pop("friction"),
+                     _DampedLayers.law_stiffness(cfe, _Newmark(dt0, alpha).c1), cfe.kt,
+                     **law_in)
     layers = _DampedLayers(cfe, law, m)
+    bonds_on = bool(law.has_bond.any())
     eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
     u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
+    if initial is None:  # joints with initial strength start bonded (eq. (12)), their
+        states = law.initial_states(states)  # compliant layers carrying C w at u0
+        stiff0 = np.r_[cfe.kt, cfe.kn]
+        on = np.r_[states == BONDED, states == BONDED] & np.isfinite(stiff0)
+        s = np.where(on, np.where(on, stiff0, 0.0) * w, s)
     eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
+    if bonds_on:  # the bonds' strengths are forces of the problem's scale
+        eng.F_scale = max(eng.F_scale, float(np.abs(np.r_[law.NR, law.QR]).max()))
     layers.set_initial(states, w)
     free = cond.free
     names = list(system.loads)
@@ -830,7 +960,7 @@ def solve_dynamic(
                 # instant (N = Q = 0, admissible closed); whether it separates, the step's
                 # contact problem decides with its gap and velocity (with a consistent mass
                 # the acceleration level alone may pull where the step does not)
-                pulled = (trial != OPEN) & ~law.inert & rigid_n & (p < -tol)
+                pulled = (trial != OPEN) & (trial != BONDED) & ~law.inert & rigid_n & (p < -tol)
                 if not (up.any() or down.any() or pulled.any()):
                     eng.s = s_new
                     break
@@ -841,17 +971,109 @@ def solve_dynamic(
                     log_event(n, k, states[k], new[k], t_now)
                 states = new
             eng.states = states
+            if bonds_on:  # bonds the forces' jump takes beyond their strength break here
+                tf, _ = eng.tolerances()
+                over = (states == BONDED) & law.has_bond & (
+                    law.bond_values(eng.s[:m], eng.s[m:]).min(axis=1) < -tf)
+                if over.any():
+                    return load_jump(np.zeros(ndof), t_now, n, brk=over)
         out[free] = M_lu.solve(np.ascontiguousarray(f_rest - BfT @ eng.s))
         return out
 
     all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
 
-    def load_jump(dF: np.ndarray, t_now: float, step: int) -> np.ndarray:
+    def break_bonds(E: EventEngine, brk: np.ndarray, t_now: float, step: int) -> np.ndarray:
+        """Break the bonds of the CFEs ``brk`` (eq. (12)) at t_now in the engine ``E`` (the
+        step's, or the one in accelerations): each takes its Coulomb state (open in tension,
+        else stuck or slipping, :meth:`CoulombLaw.broken_state`) and drops the part of its
+        forces it can no longer carry (:meth:`CoulombLaw.released`).  Logs a ``broken``
+        event per CFE (in the order of the CFEs), books the elastic energy ½ s²/C a
+        compliant layer loses with that force as ``fracture``; returns the forces g (2m,)
+        released (N)."""
+        tf, _ = E.tolerances()
+        Q, p = E.s[:m], E.s[m:]
+        old = E.states.copy()
+        new = old.copy()
+        new[brk] = law.broken_state(Q, p, tf)[brk]
+        dQ, dp = law.released(new, Q, p)
+        g = np.concatenate([np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)])
+        s_before, s_after = E.s.copy(), E.s - g
+        ledger["fracture"] += float(layer_energy(s_before).sum() - layer_energy(s_after).sum())
+        E.s = s_after
+        for k in np.flatnonzero(brk):
+            log_event(step, k, old[k], new[k], t_now, s_before)
+            if mult["first_opening"] is None and new[k] == OPEN:
+                mult["first_opening"] = t_now
+            if mult["first_slip"] is None and new[k] in (SLIP_POS, SLIP_NEG):
+                mult["first_slip"] = t_now
+        E.states = new
+        return g
+
+    def follow_jump(ea: EventEngine, forcing, t_now: float, step: int, depth: int = 0) -> None:
+        """Follow the contact problem in accelerations along a jump at fixed time (μ from 0
+        to 1 under ``forcing``, events located on the way and logged at t_now).  A bond that
+        reaches its strength surface on the way (a facet, or the rates of the scheme decided
+        drive it beyond) breaks there: what it carried is released first (the forces g go
+        to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking in turn —
+        the cascade at t_now in its order), then the jump goes on."""
+        mu, fired = 0.0, np.zeros(m, bool)
+        for _ in range(10 * m + 10):
+            old = ea.states.copy()
+            dec = ea.decide(fired, forcing)
+            if dec.switched or fired.any():
+                ea.snap()
+            for k in np.flatnonzero(old != dec.new):
+                log_event(step, k, old[k], dec.new[k], t_now)
+            if bonds_on and depth <= m:
+                tf, _ = ea.tolerances()
+                rf = 1e3 * ea.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
+                brk = ((fired & (ea.states == BONDED))
+                       | law.breaking(ea.states, ea.s[:m], ea.s[m:], dec.ds[:m], dec.ds[m:],
+                                      tf, rf))
+                if brk.any():
+                    release(ea, break_bonds(ea, brk, t_now, step), t_now, step, depth)
+                    fired = np.zeros(m, bool)
+                    continue
+            if mu >= 1.0:
+                break
+            dmu, _, fired = ea.next_event(dec.ds, dec.dw, 1.0 - mu, 1e-10)
+            ea.advance(dmu, dec.ds, dec.dw)
+            mu += dmu
+            if mu >= 1.0 - 1e-15 and not fired.any():
+                break
+
+    def release(ea: EventEngine, g: np.ndarray, t_now: float, step: int, depth: int) -> None:
+        """Release the forces g (2m,) of broken bonds at t_now in accelerations: the load
+        −Bᵀ g they still put on the structure goes to zero (:func:`follow_jump`)."""
+        ea.F_scale = max(ea.F_scale, float(np.abs(g).max(initial=0.0)))
+        dh = accel["GM"] @ g
+        ea.W_scale = max(ea.W_scale, float(np.abs(dh).max(initial=0.0)))
+        follow_jump(ea, pinned(dh), t_now, step, depth + 1)
+
+    def pinned(dh: np.ndarray):
+        """The forcing (dh, e) of a jump in accelerations: a CFE that slips with a velocity
+        keeps slipping whatever its acceleration (its slip rate pinned to its direction)."""
+        wd = system.B @ v
+        st = eng.states
+        sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
+        moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
+                                                            1e-300))
+        e = np.zeros(2 * m)
+        e[:m] = np.where(moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
+                         0.0)
+        return dh, e
+
+    def load_jump(dF: np.ndarray, t_now: float, step: int,
+                  brk: np.ndarray | None = None) -> np.ndarray:
         """A load that jumps by dF at t_now (the start, a pulse's edge): the contact forces
         jump with it.  Followed in accelerations at fixed time (the engine along the jump,
         events located in it and logged at t_now); returns the accelerations after it and
-        sets the contact forces and states."""
+        sets the contact forces and states.  ``brk``: bonds that break at t_now (eq. (12)),
+        broken and released first (:func:`follow_jump`).  With compliant layers the forces
+        follow the displacements and do not jump: a broken bond's layer force drops."""
         if not all_rigid:  # compliant layers: the forces follow the displacements
+            if brk is not None and brk.any():
+                break_bonds(eng, brk, t_now, step)
             Fn = force_at(t_now)
             out = np.zeros(ndof)
             out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
@@ -864,41 +1086,30 @@ def solve_dynamic(
         wd = system.B @ v
         apart = (eng.states == OPEN) & ((-eng.w[m:] > tw) | (wd[m:] < 0))
         wa[m:] = np.where(apart, -1e30, wa[m:])  # open with a gap: cannot close now
+        if bonds_on:
+            # the rows the scheme holds have no relative acceleration: not Newmark's residue
+            # there (a correction of it would move the forces off a bond's strength surface)
+            st_ = eng.states
+            wa[m:][(st_ != OPEN) & law.rigid_n & ~law.inert] = 0.0
+            wa[:m][(((st_ == STICK) & law.frictional) | (st_ == BONDED)) & law.rigid_t
+                   & ~law.inert] = 0.0
         ea.w = wa
         ea.F_scale = max(eng.F_scale, float(np.abs(dF).max(initial=0.0)))
         ea.W_scale = float(np.abs(wa[np.abs(wa) < 1e29]).max(initial=0.0)) or 1e-300
-        dh = Bf @ M_lu.solve(np.ascontiguousarray(dF[free]))
-        # a CFE that slips with a velocity keeps slipping whatever its acceleration: its
-        # slip rate is pinned to the direction of the slip
-        st = eng.states
-        sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
-        moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
-                                                            1e-300))
-        e = np.zeros(2 * m)
-        e[:m] = np.where(moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
-                         0.0)
-        forcing = (dh, e)
-        mu, fired = 0.0, np.zeros(m, bool)
-        for _ in range(10 * m + 10):
-            old = ea.states.copy()
-            dec = ea.decide(fired, forcing)
-            if dec.switched or fired.any():
-                ea.snap()
-            for k in np.flatnonzero(old != dec.new):
-                log_event(step, k, old[k], dec.new[k], t_now)
-            if mu >= 1.0:
-                break
-            dmu, _, fired = ea.next_event(dec.ds, dec.dw, 1.0 - mu, 1e-10)
-            ea.advance(dmu, dec.ds, dec.dw)
-            mu += dmu
-            if mu >= 1.0 - 1e-15 and not fired.any():
-                break
+        if brk is not None and brk.any():
+            release(ea, break_bonds(ea, brk, t_now, step), t_now, step, 0)
+        if np.any(dF != 0.0) or not (bonds_on or brk is not None):
+            dh = Bf @ M_lu.solve(np.ascontiguousarray(dF[free]))
+            if bonds_on:  # (bonded at rest: no accelerations give the scale)
+                ea.W_scale = max(ea.W_scale, float(np.abs(dh).max(initial=0.0)))
+            follow_jump(ea, pinned(dh), t_now, step)
         eng.states = ea.states.copy()
         eng.s = ea.s.copy()
         out = np.zeros(ndof)
         Fn = force_at(t_now)
         out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
         return out
+
     def settle_water(t_now: float, step: int) -> bool:
         """Let the water into the CFEs that opened (out of those that closed) at t_now: the
         crack-water load jumps there by −Bᵀ [0; ΔW], followed like any load jump
@@ -958,7 +1169,8 @@ def solve_dynamic(
         ledger["strain"] = strain_energy(u, eng.s)
         total = ledger["kinetic"] + ledger["strain"]
         ledger["error"] = (total - e0 - ledger["external"] + ledger["damping"]
-                           + ledger["friction"] + ledger["impact"] + ledger["numerical"])
+                           + ledger["friction"] + ledger["impact"] + ledger["fracture"]
+                           + ledger["numerical"])
         c = factors_at(t)
         W_t = water_at(t, c)
         p_t = (np.where(water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
@@ -976,7 +1188,8 @@ def solve_dynamic(
     mult = {"first_slip": None, "first_opening": None, "first_closing": None,
             "equilibrium_lost": None}
 
-    def log_event(step: int, k, was, now, t_ev: float) -> None:
+    def log_event(step: int, k, was, now, t_ev: float, s_=None) -> None:
+        s_ = eng.s if s_ is None else s_
         tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
         rec.events.append(Event(
             step=step, state=len(rec), segment=0, pattern="dynamic", lam=t_ev, cfe=int(k),
@@ -984,7 +1197,7 @@ def solve_dynamic(
             local=int(cfe.local[k]), position=float(cfe.s[k]),
             x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
             y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-eng.s[m + k]), Q=float(eng.s[k])))
+            transition=tr, N=float(-s_[m + k]), Q=float(s_[k])))
         key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
                Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
         if key and mult[key] is None:
@@ -995,6 +1208,9 @@ def solve_dynamic(
     if m and initial is not None:
         a = load_jump(F - F_held, 0.0, 0)
         first = False
+    elif m and all_rigid and u0 is None and np.any(eng.states == BONDED):
+        # rigid bonds from rest: their forces jump with the loads at t = 0
+        a = load_jump(F - F_held, 0.0, 0)
     else:
         a = np.zeros(ndof)
         a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
@@ -1092,6 +1308,7 @@ def solve_dynamic(
         small = 0
         stop = False
         restart = None
+        bond_brk = None  # bonds that break where the step is cut (eq. (12))
         step_events = 0
         ds = dw = None
         while True:
@@ -1110,6 +1327,17 @@ def solve_dynamic(
                 touching = (-eng.w[m:] <= 1e-12 * max(w_scale[0], 1e-300)) & (old == OPEN)
                 old = np.where(touching, dec.new, old)
                 first = False
+            if bonds_on and ds is None:
+                # at the step's start: bonds on their strength surface that the rates of the
+                # scheme decided drive beyond it break here, before anything else
+                tf, _ = eng.tolerances()
+                rf = 1e3 * eng.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
+                brk = law.breaking(eng.states, eng.s[:m], eng.s[m:], dec.ds[:m], dec.ds[m:],
+                                   tf, rf)
+                if brk.any():
+                    bond_brk = brk
+                    restart = (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {})
+                    break
             changed = np.flatnonzero(old != dec.new)
             if changed.size and ds is None:
                 times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, 0.0,
@@ -1181,6 +1409,12 @@ def solve_dynamic(
                 break
             eng.advance(dmu, ds, dw)
             mu += dmu
+            if bonds_on and np.any(fired & (eng.states == BONDED)):
+                # a bond reaches its strength surface (eq. (12)): the step is cut at that time
+                # (eq. (10)), the bond breaks there and its forces are released
+                bond_brk = fired & (eng.states == BONDED)
+                restart = (mu, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
+                break
             if mu >= 1.0 - 1e-15 and not fired.any():
                 break
         if stop:
@@ -1198,7 +1432,7 @@ def solve_dynamic(
                 closed_now = np.flatnonzero((old != OPEN) & rigid_n)
                 cand = np.union1d(closing, closed_now)
                 v_new, sig = _impact(system, cond, minv, v_i, cand, closing, restitution,
-                                     law.f)
+                                     law.f, old == BONDED, (old == BONDED) & law.rigid_t)
                 ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
                 v_i = v_new
                 # a CFE still sliding after its impact slips on (with its velocity)
@@ -1224,8 +1458,10 @@ def solve_dynamic(
             eng.snap()
             u, v = u_i, v_i
             F = F_i
-            if closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
-                                      & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
+            if bond_brk is not None:  # the bonds break: their forces are released here
+                a = load_jump(np.zeros(ndof), t_i, n, brk=bond_brk)
+            elif closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
+                                        & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
                 a = accel_forces(t_i)  # the forces jump: an impact, a slip that stops
             else:
                 a = np.zeros(ndof)
@@ -1321,6 +1557,11 @@ def solve_dynamic(
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
         energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
         _recover=None if system.discrete is not None else _Stresses(system),
+        **({} if stage_arrays is None else {
+            "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
+            "stage_names": stage_arrays["stage_names"],
+            "stage_cfes": stage_arrays["stage_cfes"],
+            "stage_bodies": stage_arrays["stage_bodies"]}),
     )
 
 

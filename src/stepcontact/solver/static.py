@@ -162,6 +162,9 @@ class StagedRecovery:
         self.rec = rec
         self.names = list(names)
         self.parts: dict[int, FieldRecovery] = {}
+        #: the run's :class:`~stepcontact.solver.staging.StagePlan` (its final state: the
+        #: last stage's system, shifted w⁰, automatic patterns, grouted bonds)
+        self.plan = None
 
     def add(self, k: int, cond: Condensed) -> None:
         stress = next(iter(self.parts.values())).stress if self.parts else None
@@ -316,6 +319,7 @@ class StaticSolver:
             self.fields = FieldRecovery.of_recorder(self.cond, self.rec, list(self.c))
         else:
             self.fields = StagedRecovery(self.rec, list(self.c))
+            self.fields.plan = self.plan  # (a dynamic interval after the stages runs on it)
             self.fields.add(0, self.cond)
         #: water in opened joints (fem.crack) and the force W (m,) it applies now, N
         self.crack = system.crack
