@@ -219,6 +219,17 @@ def test_a_bonded_damped_layer_is_refused_naming_the_interface():
     assert exc.value.item == "interface 'glue'.bond"
 
 
+def test_a_residual_cohesion_in_a_dynamic_interval_is_refused_naming_the_field():
+    dm = sc.DiscreteModel(K=np.zeros((2, 2)), normal_rows=[[0, 1]], tangent_rows=[[1, 0]],
+                          loads={"P": [0.0, 1.0]}, kn=1e4, kt=1e4, names="glue",
+                          bond=sc.Bond(tensile=1.0, shear=1.0, alpha=0.5,
+                                       residual_cohesion=0.5))
+    with pytest.raises(ModelError) as exc:
+        sc.solve_dynamic(dm, dt=1e-3, duration=1e-2, loads={"P": Constant(1.0)},
+                         mass=np.eye(2))
+    assert exc.value.item == "interface 'glue'.bond.residual_cohesion"
+
+
 def test_a_water_pulse_runs_a_crack_along_a_bonded_dam_base_each_cfe_on_its_surface():
     """The bonded dam of tests/test_bonded_joints.py (a stiff block on a compliant bonded
     layer, Mohr–Coulomb strength with a tension cut-off) after its static program, hit by

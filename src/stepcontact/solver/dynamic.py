@@ -800,6 +800,13 @@ def solve_dynamic(
                              "joint with a damped contact layer (Kelvin–Voigt, c_n > 0) is "
                              "not supported in a dynamic interval: give the layer no damping "
                              "while its bond is intact")
+        cols = np.asarray(bond_cols, float)
+        if cols.ndim == 2 and cols.shape[1] > 4 and np.any(np.nan_to_num(cols[:, 4]) > 0):
+            k = int(np.flatnonzero(np.nan_to_num(cols[:, 4]) > 0)[0])
+            raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond.residual_"
+                             "cohesion", "a residual cohesion after the break is followed in "
+                             "static load programs; a dynamic interval with one is not "
+                             "supported yet (give residual_cohesion = 0 for the dynamic run)")
     if np.any((cfe.cn > 0) & ~np.isfinite(cfe.kn)):
         k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
         raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
