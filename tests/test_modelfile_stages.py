@@ -293,10 +293,6 @@ def _add_stage(**stage):
     return mutate
 
 
-def _dynamics(d):
-    d["dynamics"] = {"dt": 1e-3, "duration": 1e-2}
-
-
 BAD_STAGES = {
     "unknown body": (_set(["stages", 1, "bodies"], ["upper", "uper"]), "stages[1].bodies",
                      "no such body 'uper' (known: 'lower', 'upper')"),
@@ -355,7 +351,6 @@ BAD_STAGES = {
         lambda d: d["stages"][1].update(supports=["corner"], remove_supports=["corner"]),
         "stages[1].remove_supports", "support 'corner' is removed before or when it is placed "
         "(placed by stages[1] ('second'))"),
-    "dynamics after stages": (_dynamics, "dynamics", "not supported yet"),
 }
 
 
@@ -428,6 +423,26 @@ def test_the_command_line_runs_a_staged_model_file(tmp_path):
     assert back.active_bodies(0) == {"lower"} and back.active_bodies(3) == {"lower", "upper"}
     result = runner.invoke(app, ["validate", str(path)])
     assert result.exit_code == 0 and "in 2 stages" in result.stdout
+
+
+def test_the_command_line_runs_a_dynamic_interval_after_the_stages(tmp_path):
+    """[dynamics] in a staged file runs after the last stage, from its static state: the
+    wall stands at rest (no dynamic load: velocities stay at round-off), and the dynamic
+    result file keeps the stages."""
+    path = tmp_path / "wall.toml"
+    path.write_text(WALL + '\n[dynamics]\ndt = 1e-4\nduration = 2e-3\nmass = "lumped"\n',
+                    encoding="utf-8")
+    out = tmp_path / "wall.nc"
+    result = runner.invoke(app, ["run", str(path), "--no-plot", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    dyn = sc.load_result(tmp_path / "wall-dynamic.nc")
+    assert dyn.stage_names == ("first", "second")
+    assert np.all(dyn.stage == 1)
+    assert dyn.active_bodies(len(dyn.lam) - 1) == {"lower", "upper"}
+    static = sc.load_result(out)
+    n = len(static.lam) - 1
+    u0, u1 = static.displacement(n), dyn.displacement(len(dyn.lam) - 1)
+    assert np.abs(u1 - u0).max() <= 1e-9 * np.abs(u0).max()
 
 
 @pytest.mark.parametrize("text, fragment", [

@@ -189,7 +189,7 @@ def _solve_dynamics(model: Model, static_res: StaticResult, *, progress_bar: boo
                   disable=not progress_bar) as progress:
         task = progress.add_task("dynamics", total=model.dynamics.duration)
         hooks = (_TimeProgress(progress, task),) if progress_bar else ()
-        return solve_dynamic(model, initial=static_res if model.program else None,
+        return solve_dynamic(model, initial=static_res if model.effective_program else None,
                              hooks=hooks)
 
 

@@ -1477,9 +1477,6 @@ class _Builder:
         spec, p = self.spec, self.p
         if not spec.stages:
             return
-        if spec.dynamics is not None:
-            p.add("dynamics", "a dynamic interval after construction stages is not supported "
-                  "yet: run the stages without [dynamics]")
         supports: dict[str, list[int]] = {}
         for i, s in enumerate(spec.supports):
             supports.setdefault(s.name or s.nodes, []).append(i)
