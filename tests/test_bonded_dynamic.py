@@ -80,6 +80,14 @@ def test_a_bonded_layer_under_a_step_load_breaks_at_the_closed_form_time():
     assert np.all(res.energy["fracture"][res.time < ev.lam] == 0.0)
     scale = max(np.abs(res.energy["external"]).max(), res.energy["kinetic"].max())
     assert np.abs(res.energy["error"]).max() <= 1e-9 * scale
+    # the ledger's figure draws the fracture term
+    import matplotlib
+
+    matplotlib.use("Agg")
+    fig = sc.plot_energy(res)
+    lines = {ln.get_label(): ln for ln in fig.axes[0].get_lines()}
+    assert "fracture" in lines
+    assert lines["fracture"].get_ydata()[-1] == pytest.approx(0.5 * NR**2 / k, rel=1e-6)
 
 
 def test_a_rigid_bond_breaks_in_shear_at_its_strength_under_compression_then_slides():

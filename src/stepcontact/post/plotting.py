@@ -1710,8 +1710,8 @@ def plot_time_history(res, dofs: Sequence, path: str | os.PathLike[str] | None =
 def plot_energy(res, path: str | os.PathLike[str] | None = None, *, dpi: float = DPI
                 ) -> Figure:
     """The energy ledger of a dynamic result against time: kinetic, strain, the work of the
-    loads and what damping, friction, the impacts and the integrator dissipated (J), and the
-    balance error."""
+    loads and what damping, friction, the impacts, broken bonds (fracture) and the integrator
+    dissipated (J), and the balance error."""
     out = figure_path(path, dpi)
     if not getattr(res, "energy", None):
         raise ValueError("plot_energy needs a dynamic result (sc.solve_dynamic)")
@@ -1719,7 +1719,9 @@ def plot_energy(res, path: str | os.PathLike[str] | None = None, *, dpi: float =
     ax = fig.subplots()
     t = np.asarray(res.time)
     for key in ("kinetic", "strain", "external", "damping", "friction", "impact",
-                "numerical"):
+                "fracture", "numerical"):
+        if key not in res.energy:  # (a result file written before the term existed)
+            continue
         vals = np.asarray(res.energy[key])
         if np.any(vals != 0):
             ax.plot(t, vals, lw=1.4, label=key)
