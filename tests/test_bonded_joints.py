@@ -410,6 +410,22 @@ def test_a_block_with_residual_cohesion_slides_at_f_w_plus_c_r_times_its_length(
     lam0 = 0.7 * W / (GW * H * H / 2)
     assert abs(res0.multipliers[-1].equilibrium_lost - lam0) <= 1e-9 * lam0
     assert "cohesion_lost" not in res0.cfe and res0.cfe["bond"][:, 4].max() == 0.0
+    # the interface figure draws the broken CFEs' limit ±(f|σ_n| + C_r) (the last state
+    # before sliding: every CFE broken, closed, its cohesion kept)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    i = len(res.lam) - 2
+    assert not np.any(res.state[i] == BONDED) and not np.any(res.state[i] == OPEN)
+    fig = sc.plot_interfaces(res, states=[i])
+    upper = np.asarray([ln for ln in fig.axes[1].get_lines() if ln.get_linestyle() == "--"][0]
+                       .get_ydata(), float)
+    order = np.argsort(res.cfe["s"])
+    A = res.cfe["area"]
+    expect = (0.6 * np.abs(res.N[i]) / A + res.cfe["bond"][:, 4] / A)[order]
+    scale = expect[-1] / upper[-1]
+    assert any(np.isclose(scale, u, rtol=1e-9) for u in (1.0, 1e3, 1e6))  # Pa, kPa or MPa
+    np.testing.assert_allclose(upper * scale, expect, rtol=1e-9)
 
 
 def test_model_file_residual_cohesion_gives_the_same_run_as_the_python_model(tmp_path):

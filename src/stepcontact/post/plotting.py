@@ -155,7 +155,13 @@ def _snapshot(res: StaticResult, segment: int, lam: float) -> dict[str, np.ndarr
     at = np.flatnonzero((np.asarray(res.segment) == segment) & (np.asarray(res.lam) == lam))
     if at.size:
         snap = snap | {"state": np.asarray(res.state)[at[-1]]}
-    return snap
+    # the last reported state at or before lam (what the CFEs have lost by then)
+    seg = np.asarray(res.segment)
+    start = res.segments[segment][1] if segment < len(res.segments) else 0.0
+    passed = (seg < segment) | ((seg == segment)
+                                & (np.abs(np.asarray(res.lam) - start) <= abs(lam - start)))
+    idx = np.flatnonzero(passed)
+    return snap | {"_index": int(idx[-1]) if idx.size else 0}
 
 
 def _state_index(res: StaticResult, state: int) -> int:
@@ -171,7 +177,7 @@ def _state_index(res: StaticResult, state: int) -> int:
 def _state_snapshot(res: StaticResult, i: int) -> tuple[int, float, dict[str, np.ndarray]]:
     """(segment, λ, CFE quantities) of reported state ``i`` (the scheme after the state)."""
     snap = {k: np.asarray(getattr(res, k))[i] for k in (*res._cfe_keys(), "state")}
-    return int(res.segment[i]), float(res.lam[i]), snap
+    return int(res.segment[i]), float(res.lam[i]), snap | {"_index": i}
 
 
 def _stage_of(res: StaticResult, i: int) -> int | None:
@@ -435,7 +441,10 @@ def plot_interfaces(
 
     area = np.asarray(res.cfe["area"], dtype=float)
     fric = np.asarray(res.cfe["friction"], dtype=float)
-    bond = res.cfe.get("bond")  # (m, 4): N_R, Q_R, α_R, 1/α_t of bonded joints
+    bond = res.cfe.get("bond")  # (m, 5): N_R, Q_R, α_R, 1/α_t of bonded joints, C_r A
+    residual = (np.zeros(res.m) if bond is None or np.shape(bond)[1] < 5
+                else np.nan_to_num(np.asarray(bond, dtype=float)[:, 4]))
+    lost = np.asarray(res.cfe.get("cohesion_lost", np.full(res.m, -1)))  # state it was lost
     pos = np.asarray(res.cfe["s"], dtype=float)
     iface = np.asarray(res.cfe["interface"])
     xc = np.asarray(res.cfe["x"], dtype=float).reshape(res.m, 2)
@@ -478,7 +487,12 @@ def plot_interfaces(
             lim = fric[k] * np.abs(sig)
             if bond is not None:  # a bonded CFE's limit is its shear strength (eq. (12))
                 b = np.asarray(bond, dtype=float)[k]
-                bonded = np.asarray(snap["state"])[k] == int(ContactState.BONDED)
+                st = np.asarray(snap["state"])[k]
+                bonded = st == int(ContactState.BONDED)
+                # broken, closed, its residual cohesion kept: f|σ_n| + C_r
+                kept = ((residual[k] > 0) & ~bonded & (st != int(ContactState.OPEN))
+                        & ((lost[k] < 0) | (lost[k] > snap.get("_index", 0))))
+                lim = np.where(kept, lim + residual[k] / area[k] / scale, lim)
                 lim = np.where(bonded, b[:, 1] / area[k] / scale - b[:, 2] * sig, lim)
             ax_n.plot(s, sig, color=colors[j], marker=mk, ms=3, lw=1.4)
             ax_n.fill_between(s, sig, color=colors[j], alpha=shade, lw=0)
@@ -504,7 +518,9 @@ def plot_interfaces(
                         + (";\nwater in the crack −p dotted" if wet else ""))
         ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed"
                         + (";\n" + r"bonded: $\pm(\tau_R - \alpha_R \sigma_n)$"
-                           if bond is not None else ""))
+                           if bond is not None else "")
+                        + (r", broken: $\pm(f|\sigma_n| + c_r)$" if residual[k].any()
+                           else ""))
 
         # state strip: one row per λ, one cell per CFE between mid-points
         if s.size > 1:
