@@ -222,6 +222,8 @@ def test_a_grouted_joint_is_bonded_and_carries_tension_it_could_not_before():
     # grouting keeps the forces the joint carried
     assert np.array_equal(res.N[i0], res.N[i0 - 1])
     assert np.all(res.state[i0] == BONDED) and np.all(res.state[-1] == BONDED)
+    # the result keeps the grouted strengths (N_R = σ_t A)
+    np.testing.assert_allclose(res.cfe["bond"][:, 0], 1e6 * res.cfe["area"], rtol=1e-12)
     weight = RHO * G * 2.0 * 1.0
     assert np.sum(res.N[-1]) == pytest.approx(weight, rel=1e-9)  # net tension = the pull − W
     assert res.N[-1].max() > 0

@@ -1163,9 +1163,10 @@ class StaticSolver:
             "plus_nodes": cfe.plus_nodes, "plus_w": cfe.plus_w,
             "minus_nodes": cfe.minus_nodes, "minus_w": cfe.minus_w,
         }
-        if self.bonds:  # the strengths of bonded joints (eq. (12))
-            cfe_arrays["bond"] = cfe.bond
-            if cfe.bond.shape[1] > 4 and np.any(cfe.bond[:, 4] > 0):  # residual cohesion lost
+        if self.bonds:  # the strengths of bonded joints (eq. (12)), grouted ones included
+            bond = cfe.bond if self.plan is None else self.plan.bond
+            cfe_arrays["bond"] = bond
+            if bond.shape[1] > 4 and np.any(bond[:, 4] > 0):  # residual cohesion lost
                 cfe_arrays["cohesion_lost"] = self._cohesion_lost_at.copy()
         geometry = result_geometry(self.sys)
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
