@@ -646,7 +646,9 @@ class StaticSolver:
         old = eng.states.copy()
         new = old.copy()
         new[brk] = law.broken_state(Q, p, tf)[brk]
-        self._log_events(old, new, lam, seg, pattern, len(self.rec))
+        # (the event point of the breaks is the one recorded after the cascade: numbered
+        # from 1 like the others)
+        self._log_events(old, new, lam, seg, pattern, len(self.rec), step=self.step + 1)
         for key, hit in (("first_opening", new[brk] == OPEN),
                          ("first_slip", (new[brk] == SLIP_POS) | (new[brk] == SLIP_NEG))):
             if mult[key] is None and hit.any():
@@ -793,14 +795,15 @@ class StaticSolver:
         r.violation.view[i] = max(float(r.violation.view[i]), kin)
         self._keep_field(i, u)
 
-    def _log_events(self, old, new, lam, seg, pattern, state_index):
+    def _log_events(self, old, new, lam, seg, pattern, state_index, step=None):
         m = self.cfe.m
+        step = self.step if step is None else step
         s = self.engine.s
         cfe = self.cfe
         for k in np.flatnonzero(old != new):
             o, n = ContactState(int(old[k])), ContactState(int(new[k]))
             self.rec.events.append(Event(
-                step=self.step, state=state_index, segment=seg, pattern=pattern, lam=lam,
+                step=step, state=state_index, segment=seg, pattern=pattern, lam=lam,
                 cfe=int(k), interface=cfe.names[cfe.interface[k]], local=int(cfe.local[k]),
                 position=float(cfe.s[k]), x=float(cfe.x[k, 0]), y=float(cfe.x[k, 1]),
                 transition=Transition.between(o, n), N=float(-s[m + k]), Q=float(s[k]),
