@@ -457,3 +457,21 @@ def test_a_bad_staged_model_file_is_a_one_line_error(tmp_path, text, fragment):
     result = runner.invoke(app, ["run", str(path), "--no-plot"])
     assert_one_line_error(result, fragment)
     assert not (tmp_path / "wall.nc").exists()
+
+
+def test_the_progress_bar_follows_the_program_as_run_with_the_automatic_segments():
+    """The command line's progress hook learns the staged program as the solver runs it (the
+    model's own segments lack the automatic ones): one unit of the bar per segment."""
+    from rich.progress import Progress
+
+    from stepcontact.cli import ProgressHook
+
+    model = model_from_dict(_wall_dict())
+    with Progress(disable=True) as progress:
+        task = progress.add_task("run", total=1)
+        hook = ProgressHook(progress, task, model.segments_resolved())
+        assert len(hook.segments) == 1  # the model's own segments only
+        res = sc.solve_static(model, hooks=(hook,))
+        assert hook.segments == [tuple(s) for s in res.segments]
+        assert hook.segments[1][0] == "second: loads on upper"
+        assert progress.tasks[0].total == len(res.segments) == hook.done == 2

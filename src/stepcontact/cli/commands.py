@@ -119,6 +119,11 @@ class ProgressHook:
         self.segments = list(segments)
         self.done = 0
 
+    def before_run(self, segments: Sequence[tuple[str, float, float]]) -> None:
+        """The program as the solver runs it (a staged model's automatic segments too)."""
+        self.segments = list(segments)
+        self.progress.update(self.task, total=max(len(self.segments), 1))
+
     def _describe(self, segment: int, lam: float, n_events: int) -> str:
         name = self.segments[segment][0] if 0 <= segment < len(self.segments) else "?"
         return f"segment {segment} '{name}'  λ = {lam:.4g}  events: {n_events}"

@@ -840,6 +840,9 @@ class StaticSolver:
         m = self.cfe.m
         first = True
         all_rates = self._rates
+        for hk in self.hooks:  # the program as run (a staged one with its automatic segments)
+            if hasattr(hk, "before_run"):
+                hk.before_run(list(segments))
         for seg, (pattern, lam0, lam1) in enumerate(segments):
             if self.plan is not None and self.plan.stage_of_segment[seg] != self.stage:
                 self._enter_stage(self.plan.stage_of_segment[seg])
@@ -1253,7 +1256,9 @@ def solve_static(
     max_events : int
         Event-point budget.
     hooks : sequence
-        Objects with optional ``after_event(StepInfo)`` and ``after_segment(StaticResult)``
+        Objects with optional ``before_run(segments)`` (the program as run: (pattern, λ₀, λ₁)
+        of every segment, a staged model's automatic ones included), ``after_event(StepInfo)``
+        and ``after_segment(StaticResult)``
         (``interrupted(StaticResult)`` on Ctrl-C).
     backend : str
         Sparse factorisation backend (``auto``, ``scipy``, ``cholmod``, ``pypardiso``).
