@@ -277,16 +277,6 @@ def test_an_interface_to_a_body_built_later_and_a_tie_across_stages_are_errors()
     assert exc.value.item == "tie 'glue'"
 
 
-def test_a_dynamic_interval_in_a_middle_stage_is_an_error():
-    """(A dynamic interval after the stages: tests/test_dynamic_stages.py.)"""
-    dyn = sc.DynamicInterval(dt=1e-3, duration=1e-2)
-    with pytest.raises(ModelError) as exc:
-        _wall().add(sc.LoadPattern("weight", [sc.BodyForce()]),
-                    sc.Stage("first", [sc.Segment("weight", 1.0)], dynamics=dyn),
-                    sc.Stage("second", [sc.Segment("weight", 1.0, 1.0)], bodies=("upper",)))
-    assert exc.value.item == "stage 'first'.dynamics"
-
-
 def test_the_stages_are_kept_in_the_result_file(walls, tmp_path):
     res = walls["staged"]
     res.save(tmp_path / "wall.nc")

@@ -141,6 +141,10 @@ class ProgressHook:
             description=self._describe(seg, float(info.lam), int(info.n_events)),
         )
 
+    def after_step(self, step: int, t: float, end: float) -> None:
+        """A time step of the dynamic interval of a stage (run inside the static run)."""
+        self.progress.update(self.task, description=f"dynamics t = {t:.4g} of {end:.4g} s")
+
     def after_segment(self, result: Any) -> None:
         """A load segment is finished."""
         self.done += 1
@@ -203,15 +207,32 @@ def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
               as_json: bool) -> dict[str, Any]:
     """The model's dynamic interval from the static state: run it with a progress bar in
     simulated time, write MODEL-dynamic.nc (and the energy ledger's figure), report."""
-    spec = model.dynamics
     dres = _solve_dynamics(model, static_res, progress_bar=progress_bar)
-    path = result_path.with_name(result_path.stem + "-dynamic.nc")
+    return _dynamic_report(dres, model.dynamics, result_path=result_path,
+                           plot_path=plot_path, console=console, as_json=as_json)
+
+
+def _stage_file_tag(name: str) -> str:
+    """A stage name as part of a file name."""
+    import re
+
+    return re.sub(r"[^A-Za-z0-9_-]+", "_", name).strip("_") or "stage"
+
+
+def _dynamic_report(dres: Any, spec: Any, *, result_path: Path, plot_path: Path | None,
+                    console: Console, as_json: bool, stage: str | None = None) -> dict[str, Any]:
+    """Write a dynamic result to MODEL-dynamic.nc (the interval of an earlier ``stage``:
+    MODEL-dynamic-STAGE.nc) with the energy ledger's figure, and report it."""
+    tag = "-dynamic" if stage is None else f"-dynamic-{_stage_file_tag(stage)}"
+    path = result_path.with_name(result_path.stem + tag + ".nc")
     dres.save(path)
     written = [str(path)]
     if plot_path is not None:
         from stepcontact.post.plotting import plot_energy
 
-        fig_path = plot_path.with_name(plot_path.stem + "-energy" + plot_path.suffix)
+        fig_path = plot_path.with_name(plot_path.stem + ("-energy" if stage is None else
+                                                         f"-energy-{_stage_file_tag(stage)}")
+                                       + plot_path.suffix)
         plot_energy(dres, fig_path)
         written.append(str(fig_path))
     e = dres.energy
@@ -223,7 +244,8 @@ def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
     }
     if not as_json:
         console.print(Text(
-            f"dynamics: {dres.message} at t = {dres.time[-1]:.6g} s; {len(dres.events)} "
+            ("dynamics" if stage is None else f"dynamics of stage '{stage}'") +
+            f": {dres.message} at t = {dres.time[-1]:.6g} s; {len(dres.events)} "
             f"events ({summary['impacts']} impacts) in {summary['steps']} steps of "
             f"{spec.dt:g} s; energy (J): loads {e['external'][-1]:.6g}, friction "
             f"{e['friction'][-1]:.6g}, impacts {e['impact'][-1]:.6g}, numerical "
@@ -398,6 +420,13 @@ def _analyse(
         plot=None if plot_path is None else str(plot_path),
         warnings=warnings,
     )
+    if res.dynamics:  # the dynamic intervals of stages before the last (run in the run)
+        specs = {st.name: st.dynamics for st in model.stages}
+        summary["stage_dynamics"] = {
+            name: _dynamic_report(dres, specs[name], result_path=result_path,
+                                  plot_path=plot_path, console=console, as_json=as_json,
+                                  stage=name)
+            for name, dres in res.dynamics.items()}
     if model.dynamics is not None and res.status == Status.COMPLETED:
         summary["dynamics"] = _dynamics(model, res, result_path=result_path,
                                         plot_path=plot_path,

@@ -104,7 +104,7 @@ TIME_SEPARATION = 1e-9
 RECOVERY_BLOCK_BYTES = 256 * 2**20
 
 #: codes of the ``state_kind`` field data
-STATE_KINDS = {"start": 0, "segment_start": 1, "event": 2, "segment_end": 3}
+STATE_KINDS = {"start": 0, "segment_start": 1, "event": 2, "segment_end": 3, "dynamics": 4}
 
 StateSelection = str | int | Sequence[int] | np.ndarray | None
 

@@ -980,7 +980,17 @@ class StageSpec(_Spec):
     program: list[SegmentSpec] = Field([], description="`[[stages.program]]`: the stage's "
                                        "load segments, exactly as `[[program]]` (cyclic "
                                        "entries too); needed unless the stage removes supports "
-                                       "or builds bodies (automatic segments)")
+                                       "or builds bodies (automatic segments) or has a "
+                                       "dynamic interval")
+    dynamics: DynamicsSpec | None = Field(None, description="`[stages.dynamics]`: a dynamic "
+                                          "interval at the end of the stage, after its "
+                                          "segments (the table of `[dynamics]`).  On a stage "
+                                          "before the last, the static run goes on from where "
+                                          "the motion leaves the structure: the force out of "
+                                          "balance there (M a + C v) is released by an "
+                                          "automatic segment; the patterns of its loads stand "
+                                          "at g(T) after it.  On the last stage it is the "
+                                          "model's `[dynamics]` (give it once)")
 
 
 class TimeFunctionSpec(_Spec):
@@ -1035,6 +1045,9 @@ class DynamicsSpec(_Spec):
                          "Newmark's average acceleration)")
     record_every: int = Field(1, ge=1)
     loads: list[TimeFunctionSpec] = []
+
+
+StageSpec.model_rebuild()
 
 
 class ModelFile(_Spec):
@@ -1524,7 +1537,7 @@ class _Builder:
                           "(there is no earlier state to keep): give the interface its "
                           "strength from the start ([interfaces.bond]) or grout it at a later "
                           "stage")
-            auto = bool(st.bodies or st.remove_supports)
+            auto = bool(st.bodies or st.remove_supports or st.dynamics is not None)
             if k > 0 and not st.program and not auto:
                 p.add(f"{item}.program", f"stage '{st.name}' has no load segment: give it a "
                       "[[stages.program]] entry (a stage begins with its first segment)")
@@ -1758,8 +1771,10 @@ class _Builder:
             patterns.append(LoadPattern(pname, tuple(loads)))
         program = [seg for s in spec.program for seg in _segments(s)]
         # stages whose names are wrong (reported) are left out: the model would repeat it
-        stages = () if any(q.startswith("stages") for q, _ in p.items) else self._stages(p)
-        dynamics = self._dynamics(spec.dynamics, {pt.name for pt in patterns}, p)
+        pattern_names = {pt.name for pt in patterns}
+        stages = (() if any(q.startswith("stages") for q, _ in p.items)
+                  else self._stages(p, pattern_names))
+        dynamics = self._dynamics(spec.dynamics, pattern_names, p)
         try:
             return Model(
                 bodies=tuple(self.bodies.values()),
@@ -1779,7 +1794,7 @@ class _Builder:
             p.add(e.item, e.problem)
             return None
 
-    def _stages(self, p: _Problems) -> tuple[Stage, ...]:
+    def _stages(self, p: _Problems, pattern_names: set[str]) -> tuple[Stage, ...]:
         """The construction stages of the file (their names were checked by
         :meth:`check_stages`); a grout's bond that cannot be made is reported at its path."""
         stages = []
@@ -1801,13 +1816,15 @@ class _Builder:
                 stages.append(Stage(
                     st.name, tuple(seg for s in st.program for seg in _segments(s)),
                     tuple(st.bodies), tuple(st.interfaces), tuple(st.contacts),
-                    tuple(st.supports), tuple(st.remove_supports), grout))
+                    tuple(st.supports), tuple(st.remove_supports), grout,
+                    self._dynamics(st.dynamics, pattern_names, p, f"stages[{k}].dynamics")))
             except ModelError as e:  # reported by check_stages already, with its path
                 p.add(f"stages[{k}]", e.problem)
         return tuple(stages)
 
-    def _dynamics(self, spec, pattern_names: set[str], p):
-        """The dynamic interval of the file (None without one)."""
+    def _dynamics(self, spec, pattern_names: set[str], p, where: str = "dynamics"):
+        """The dynamic interval of the file at ``where`` (``dynamics`` or
+        ``stages[k].dynamics``; None without one)."""
         if spec is None:
             return None
         from stepcontact.fem.mass import rayleigh_coefficients
@@ -1816,7 +1833,7 @@ class _Builder:
 
         loads = []
         for j, tf in enumerate(spec.loads):
-            item = f"dynamics.loads[{j}]"
+            item = f"{where}.loads[{j}]"
             if tf.pattern not in pattern_names:
                 p.add(f"{item}.pattern", f"unknown load pattern '{tf.pattern}' (known: "
                       f"{_known(pattern_names)})")
@@ -1845,12 +1862,14 @@ class _Builder:
                 d.ratios[0], d.frequencies[0], d.ratios[1], d.frequencies[1])
                 if d.frequencies is not None else None)
             if damping is None:
-                p.add("dynamics.damping", "ratios need their two frequencies (Hz)")
+                p.add(f"{where}.damping", "ratios need their two frequencies (Hz)")
                 return None
             return DynamicInterval(spec.dt, spec.duration, tuple(loads), spec.mass, damping,
                                    spec.restitution, spec.record_every, spec.alpha)
         except ModelError as e:
-            p.add(e.item, e.problem)
+            item = e.item
+            p.add(where + item[len("dynamics"):] if item.startswith("dynamics") else item,
+                  e.problem)
             return None
 
     # ---- checks of ``validate`` -----------------------------------------------------------

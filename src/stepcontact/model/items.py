@@ -772,12 +772,6 @@ class Model:
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ModelError(f"stage '{sorted(dup)[0]}'", "duplicate stage name")
-        for st in self.stages[:-1]:
-            if getattr(st, "dynamics", None) is not None:
-                raise ModelError(f"stage '{st.name}'.dynamics", "a dynamic interval is allowed "
-                                 "in the last stage only: static segments after a dynamic "
-                                 "interval are not supported (the state at its end is not at "
-                                 "rest)")
         last = getattr(self.stages[-1], "dynamics", None) if self.stages else None
         if last is not None and self.dynamics is not last:
             if self.dynamics is not None:
@@ -969,7 +963,10 @@ class Model:
             return list(cached)
         current: dict[str, float] = {}
         out = []
+        jumps = self.dynamic_jumps()
         for i, seg in enumerate(self.effective_program):
+            for name, dg in jumps.get(i, {}).items():  # a dynamic interval moved these
+                current[name] = current.get(name, 0.0) + dg
             item = f"program segment {i} ('{seg.pattern}')"
             if seg.rates is None:
                 self.pattern(seg.pattern)  # raises with the name
@@ -998,6 +995,32 @@ class Model:
             for name, rate in seg.rates or ():  # the patterns a segment with rates moved
                 current[name] = current.get(name, 0.0) + rate * (float(seg.end) - start)
         object.__setattr__(self, "_program_resolved", tuple(out))
+        return out
+
+    def dynamic_jumps(self) -> dict[int, dict[str, float]]:
+        """The factor changes g(T) of the load patterns of the dynamic intervals of stages
+        before the last, keyed by the number of program segments before them (the static
+        program goes on from the factors the interval ends at)."""
+        out: dict[int, dict[str, float]] = {}
+        n = 0
+        for st in self.stages[:-1]:
+            n += len(st.program)
+            dyn = getattr(st, "dynamics", None)
+            if dyn is None:
+                continue
+            jump = out.setdefault(n, {})
+            for name, g in dyn.loads:
+                item = f"stage '{st.name}'.dynamics.loads['{name}']"
+                if name not in {p.name for p in self.patterns}:
+                    raise ModelError(item, f"no such load pattern (known: "
+                                     f"{', '.join(repr(p.name) for p in self.patterns) or 'none'})")
+                if not callable(g):
+                    raise ModelError(item, "must be a time function g(t)")
+                value = float(g(float(dyn.duration)))
+                if not np.isfinite(value):
+                    raise ModelError(item, f"is not finite at the interval's end "
+                                     f"(t = {dyn.duration:g} s)")
+                jump[name] = jump.get(name, 0.0) + value
         return out
 
     def segment_rates(self) -> list[dict[str, float]]:

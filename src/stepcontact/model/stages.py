@@ -38,11 +38,17 @@ class Stage:
         strength, keeping their current forces (an open CFE is filled: its opening becomes
         its zero).
     dynamics : DynamicInterval, optional
-        A dynamic interval at the end of this stage, allowed on the *last* stage only (static
-        segments after a dynamic interval are not supported: the state at its end is not at
-        rest).  It is the model's dynamic interval (``Model.dynamics``, set from it):
-        :func:`~stepcontact.solve_dynamic` runs it on the last stage's system from the
-        state the stages end in.
+        A dynamic interval at the end of this stage, after its load segments.  On the *last*
+        stage it is the model's dynamic interval (``Model.dynamics``, set from it):
+        :func:`~stepcontact.solve_dynamic` runs it on the last stage's system from the state
+        the stages end in.  On an earlier stage :func:`~stepcontact.solve_static` runs it
+        in the run of the stages (on that stage's system, from the state its segments end
+        in; the result is ``StaticResult.dynamics[stage name]``), then holds the force out
+        of balance at its end, M a + C v (N), as an automatic pattern
+        ``"<stage>: settle after dynamics"`` at factor 1 and releases it by an automatic
+        segment (events located), so that the static path goes on from the state the motion
+        left, with its friction history, at rest.  The factors of the interval's load
+        patterns stand at g(T) after it (T its duration), and the next segments start there.
     """
 
     name: str

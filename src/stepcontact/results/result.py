@@ -92,7 +92,8 @@ class StaticResult:
     lam : (n_states,) load factor of the active segment's pattern
     segment : (n_states,) segment index
     factors : (n_states, n_patterns) factors of all patterns
-    kind : (n_states,) "start", "segment_start", "event" or "segment_end"
+    kind : (n_states,) "start", "segment_start", "event", "segment_end" or "dynamics" (the
+        state where the dynamic interval of a stage before the last ends, see ``dynamics``)
     N, Q : (n_states, m) CFE forces, N
     un, ut : (n_states, m) mutual displacements u_n, u_τ, m
     state : (n_states, m) ContactState values (scheme after the state)
@@ -186,6 +187,13 @@ class StaticResult:
     stage_names: tuple[str, ...] = ()
     stage_cfes: np.ndarray | None = None
     stage_bodies: tuple[tuple[str, ...], ...] = ()
+    #: the dynamic intervals of stages before the last (:class:`~stepcontact.model.Stage`
+    #: ``dynamics``), by stage name: each a
+    #: :class:`~stepcontact.solver.dynamic.DynamicResult` (time axis, velocities, energy
+    #: ledger, its events located in time).  The path of this result holds the state where
+    #: each interval ends (kind ``dynamics``) in the segment ``"<stage>: settle after
+    #: dynamics"`` that follows it.  In memory (the CLI writes each to its own file)
+    dynamics: dict = field(default_factory=dict, repr=False)
 
     def active_cfes(self, i: int) -> np.ndarray:
         """(m,) bool: the CFEs that act at state ``i`` (all of them without stages)."""

@@ -167,9 +167,9 @@ class _Stresses:
         raise KeyError(i)
 
 
-def _after_stages(system: System, initial):
+def _after_stages(system: System, initial, stage: int | None = None):
     """A dynamic interval after construction stages (:mod:`stepcontact.solver.staging`): the
-    last stage's system (its held DOFs, shifted w⁰ of the interfaces made at once, removed
+    last stage's (or stage ``stage``'s) system (its held DOFs, shifted w⁰ of the interfaces made at once, removed
     supports gone, automatic patterns), the contact law's inputs there (CFEs not active are
     inert; bonds of grouted joints) and the static result of the stages it starts from — the
     staged program is run here when ``initial`` is None, and again (checked against it) when
@@ -182,6 +182,12 @@ def _after_stages(system: System, initial):
         rec = getattr(res, "_recover", None)
         return rec.plan if isinstance(rec, StagedRecovery) else None
 
+    n_stages = len(system.model.stages)
+    if stage is not None and stage < n_stages - 1 and plan_of(initial) is None:
+        raise ModelError("initial", f"the dynamic interval of stage "
+                         f"'{system.model.stages[stage].name}' starts from the run of the "
+                         "stages before it: run solve_static(model), which runs it and keeps "
+                         "its result in StaticResult.dynamics")
     if initial is None:
         initial = solve_static(system)
     elif plan_of(initial) is None:
@@ -199,11 +205,11 @@ def _after_stages(system: System, initial):
                              "state differs from the staged program's)")
         initial = again
     plan = plan_of(initial)
-    last = len(plan.names) - 1
+    last = len(plan.names) - 1 if stage is None else int(stage)
     if initial.status != Status.COMPLETED or int(initial.stage[-1]) != last:
         raise ModelError("initial", f"the static run of the stages stopped in stage "
                          f"'{plan.names[int(initial.stage[-1])]}' ({initial.message}): the "
-                         "dynamic interval follows the last stage "
+                         "dynamic interval follows the segments of stage "
                          f"'{plan.names[last]}'")
     stage_system = plan.system(last)
     i = len(initial.lam) - 1
@@ -656,6 +662,7 @@ def solve_dynamic(
     max_events: int = 1_000_000,
     rtol: float = 1e-10,
     hooks: Sequence = (),
+    stage: int | str | None = None,
 ) -> DynamicResult:
     """Newmark time integration with the contact state followed exactly at every step
     (module docstring).
@@ -698,6 +705,14 @@ def solve_dynamic(
         the ledger's ``numerical``).
     record_every : int
         Record every k-th step (events and the last step always).
+    hooks : sequence
+        Objects with an optional ``after_step(step, t, end)`` (progress in simulated time).
+    stage : int or str, optional
+        A run in stages: the stage (index or name) whose dynamic interval this is (default:
+        the last).  The interval of an earlier stage is run by
+        :func:`~stepcontact.solve_static` inside the run of the stages, from ``initial``, the
+        result of the run so far (it ends in that stage); its result is
+        ``StaticResult.dynamics[stage name]``.
 
     Construction stages (``model.stages``, :class:`~stepcontact.model.Stage`)
         The interval follows the last stage and runs on its system: its supports (those
@@ -735,7 +750,23 @@ def solve_dynamic(
     """
     from stepcontact.fem.mass import mass as mass_matrix
 
-    spec = getattr(model if not isinstance(model, System) else model.model, "dynamics", None)
+    mdl = model.model if isinstance(model, System) else model
+    spec = getattr(mdl, "dynamics", None)
+    if stage is not None:
+        stages = tuple(getattr(mdl, "stages", ()))
+        names = [st.name for st in stages]
+        if isinstance(stage, str):
+            if stage not in names:
+                raise ModelError("stage", f"no such stage '{stage}' (known: "
+                                 f"{', '.join(map(repr, names)) or 'none'})")
+            stage = names.index(stage)
+        if not 0 <= int(stage) < len(stages):
+            raise ModelError("stage", f"must be a stage index in [0, {len(stages)}), got {stage}")
+        stage = int(stage)
+        spec = stages[stage].dynamics
+        if spec is None:
+            raise ModelError(f"stage '{names[stage]}'.dynamics", "is not given: the stage has "
+                             "no dynamic interval")
     if spec is not None and dt is None and duration is None:  # the model's dynamic interval
         dt, duration = spec.dt, spec.duration
         loads = dict(spec.loads) if loads is None else loads
@@ -754,7 +785,7 @@ def solve_dynamic(
     law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
     stage_arrays: dict | None = None
     if getattr(system.model, "stages", ()) and system.discrete is None:
-        system, law_in, initial, stage_arrays = _after_stages(system, initial)
+        system, law_in, initial, stage_arrays = _after_stages(system, initial, stage)
     loads = dict(loads or {})
     for name, g in loads.items():
         if name not in system.loads:

@@ -14,7 +14,11 @@ same DOF numbering and CFE set at every stage); for each stage a modified copy:
   that patterns already standing at a nonzero factor put on the bodies just built (so that
   their loads ramp in); a support placed on a body already in place holds its DOFs where
   they are by a prescribed-displacement pattern at factor 1;
-* reaction rows restricted to the DOFs of built bodies.
+* reaction rows restricted to the DOFs of built bodies;
+* after the segments of a stage with a dynamic interval (not the last stage), an automatic
+  pattern and segment ``"<stage>: settle after dynamics"``: the force out of balance where the
+  motion ends, held at factor 1 and released to 0 (the solver runs the interval and sets the
+  pattern's vector, :meth:`~stepcontact.solver.static.StaticSolver._dynamic_interval`).
 
 The solver refactorises at each stage boundary and keeps the contact state (s, w, states) and
 the factors (:class:`~stepcontact.solver.static.StaticSolver`).
@@ -162,6 +166,16 @@ class StagePlan:
                 self.rates.append(user_rates[j])
                 self.stage_of_segment.append(k)
                 j += 1
+            if st.dynamics is not None and k < len(stages) - 1:
+                damped = np.flatnonzero(np.asarray(system.cfe.cn) > 0)
+                if damped.size:
+                    itf = system.cfe.names[system.cfe.interface[damped[0]]]
+                    raise ModelError(f"stage '{st.name}'.dynamics", f"interface '{itf}' has "
+                                     "a damped contact layer (c_n > 0): static stages cannot "
+                                     "follow a dynamic interval with one (its force c_n u̇_n "
+                                     "has no static counterpart); give the layer no damping, "
+                                     "or put the interval on the last stage")
+                self._auto_segment(k, f"{st.name}: settle after dynamics", "settle", "")
             if k > 0 and self.stage_of_segment.count(k) == 0:
                 raise ModelError(f"stage '{st.name}'", "has no load segment: give it one "
                                  "(a stage begins with its first segment)")

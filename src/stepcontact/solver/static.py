@@ -329,6 +329,8 @@ class StaticSolver:
         self.bonds = bool(self.law.has_bond.any())
         self.engine.states = self.law.initial_states(self.engine.states)
         self.ghost = np.zeros(2 * cfe.m)
+        #: the results of the dynamic intervals of stages before the last, by stage name
+        self.dynamics: dict = {}
         self._releasing = False
         #: the state index from which each CFE's residual cohesion is lost (−1: kept)
         self._cohesion_lost_at = np.full(cfe.m, -1, np.int64)
@@ -375,7 +377,7 @@ class StaticSolver:
         none = np.zeros(0, np.int64)
         stage = plan.names[k]
         for name, (kk, kind, item) in plan.auto.items():
-            if kk != k:
+            if kk != k or kind == "settle":  # (set where the stage's dynamic interval ends)
                 continue
             if kind == "release":
                 d = plan.sup_dofs[item]
@@ -449,6 +451,68 @@ class StaticSolver:
         self.bonds = bool(law.has_bond.any())
         self._load_resultants = None
         self.fields.add(k, self.cond)
+
+    def _dynamic_interval(self, seg: int, pattern: str, t0: float) -> bool:
+        """Run the dynamic interval of the current stage (not the last) from the current
+        state (:func:`~stepcontact.solver.dynamic.solve_dynamic` on the stage's system), keep
+        its result in ``self.dynamics``, and take the state where it ends: the contact
+        unknowns (s, w, states), the factors g(T) of its loads, and the force out of balance
+
+            r = K u + Bᵀ s − Σ c_P f_P  (= −(M a + C v) where the motion stopped, N)
+
+        on the free DOFs as the vector of the automatic pattern ``pattern`` at factor 1, so
+        that (u, s) is a static equilibrium of the stage's system exactly; the segment that
+        follows releases it.  The state is recorded (kind ``dynamics``).  False (status and
+        message set) when the interval did not complete."""
+        from stepcontact.fem.assembly import LoadVectors
+        from stepcontact.solver.dynamic import solve_dynamic
+
+        plan, eng, m = self.plan, self.engine, self.cfe.m
+        k = self.stage
+        name = plan.names[k]
+        if int(self.rec.stage.view[-1]) != k:  # a stage that is only a dynamic interval
+            self._record(0.0, seg, "segment_start")
+        start = self.result(time.perf_counter() - t0)
+        dres = solve_dynamic(plan.full, initial=start, stage=k,
+                             hooks=[h for h in self.hooks if hasattr(h, "after_step")])
+        self.dynamics[name] = dres
+        if dres.status != Status.COMPLETED:
+            self.status = dres.status
+            self.message = (f"the dynamic interval of stage '{name}' stopped at "
+                            f"t = {dres.time[-1]:.6g} s: {dres.message}")
+            return False
+        j = len(dres.lam) - 1
+        c = dict(zip(dres.pattern_names, (float(x) for x in dres.factors[j]), strict=True))
+        eng.s = np.concatenate([dres.Q[j], -dres.N[j]])
+        eng.w = np.concatenate([dres.ut[j], dres.un[j]])
+        eng.states = np.asarray(dres.state[j], np.int64).copy()
+        eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)))
+        eng.W_scale = max(eng.W_scale, float(np.abs(eng.w).max(initial=0.0)))
+        if self.crack is not None and dres.water is not None:
+            self.sw = np.asarray(dres.water[j], float).copy()
+        u = np.asarray(dres.u[j], float)
+        system = self.sys
+        f = np.zeros(system.ndof)
+        for pname, cp in c.items():
+            if cp and pname != pattern:
+                f += cp * system.loads[pname].f
+        r = system.K @ u + system.B.T @ (self._s_total(eng.s, self.sw) + self.ghost) - f
+        vec = np.where(system.fixed, 0.0, r)
+        zero = np.zeros(system.ndof)
+        plan.vectors[pattern] = LoadVectors(vec, zero, np.zeros(0, np.int64))
+        for pname in self.c:
+            self.c[pname] = c.get(pname, 0.0)
+        self.c[pattern] = 1.0
+        self.sys = plan.system(k)
+        self.cond = Condensed.from_system(self.sys, self.backend, self.cond.condensation,
+                                          self.precision)
+        self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
+        eng.schemes = self.schemes
+        eng._relations = {}
+        self.fields.add(k, self.cond)
+        self._load_resultants = None
+        self._record(1.0, seg, "dynamics")  # (its field is u to round-off)
+        return self.status == Status.COMPLETED
 
     def _level_path(self, seg: int, pattern: str, rates: dict[str, float], lam0: float,
                     lam1: float) -> LevelPath | None:
@@ -846,6 +910,9 @@ class StaticSolver:
         for seg, (pattern, lam0, lam1) in enumerate(segments):
             if self.plan is not None and self.plan.stage_of_segment[seg] != self.stage:
                 self._enter_stage(self.plan.stage_of_segment[seg])
+            if self.plan is not None and self.plan.auto.get(pattern, ("", ""))[1] == "settle":
+                if not self._dynamic_interval(seg, pattern, t0):
+                    break
             mult = {"first_slip": None, "first_opening": None, "first_closing": None,
                     "equilibrium_lost": None}
             rates = all_rates[seg]
@@ -1046,6 +1113,13 @@ class StaticSolver:
             modes = ", ".join(f"'{b['body']}' {b['mode']}" for b in bodies) or "mechanism"
             self.message = (f"equilibrium lost at λ = {lam:.10g} (pattern '{pattern}', segment "
                             f"{seg}): {modes}")
+            if self.plan is not None and self.plan.auto.get(pattern, ("", ""))[1] == "settle":
+                self.message += (
+                    f" — the dynamic interval of stage '{self.plan.names[self.stage]}' left "
+                    "the structure moving on a mechanism (a body in flight, or rocking or "
+                    "sliding with no static equilibrium without its inertia): no static path "
+                    "goes on from there; lengthen the interval or damp it, so that the "
+                    "motion ends in contact (the interval's result is in res.dynamics)")
             eng.states = states.copy()
             self.mechanism = {
                 "lam": lam, "segment": seg, "pattern": pattern, "bodies": bodies,
@@ -1211,6 +1285,7 @@ class StaticSolver:
         plan = self.plan
         n = len(plan.names)
         return {"stage": np.asarray(r["stage"], np.int64), "stage_names": plan.names,
+                "dynamics": dict(self.dynamics),
                 "stage_cfes": np.array([plan.active_cfes(k) for k in range(n)],
                                        bool).reshape(n, self.cfe.m),
                 "stage_bodies": tuple(tuple(sorted(plan.active_bodies(k)))
