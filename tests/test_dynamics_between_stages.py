@@ -25,11 +25,15 @@ Equilibrium and the contact conditions are checked at every state of the static 
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
+from typer.testing import CliRunner
 
 import stepcontact as sc
+from cli_checks import assert_one_line_error
+from stepcontact.cli import app
 from stepcontact.enums import Status, Transition
 from stepcontact.errors import ModelError
 from test_dynamic_stages import LIFT, _lift
@@ -43,6 +47,7 @@ K = MASS * OMEGA**2  # N/m
 P = 2.5 * F * W  # N
 STIFF = sc.Material(3e11, 0.2, RHO)  # a stiff block: rigid-block closed forms to ~1e-3
 PERIOD = 2 * np.pi / OMEGA
+runner = CliRunner()
 
 
 def _struck(duration: float, dt_per: int = 300):
@@ -198,3 +203,46 @@ def test_the_stage_of_an_earlier_interval_needs_the_run_of_the_stages():
     with pytest.raises(ModelError) as exc:
         sc.solve_dynamic(m, stage=0)
     assert exc.value.item == "stage 'placed'.dynamics"
+
+
+# ---- the model file and the command line ------------------------------------------------------
+SHOCK = Path(__file__).parent.parent / "examples" / "data" / "staged_shock.toml"
+
+
+def test_the_model_file_example_gives_the_hand_calculation(tmp_path):
+    """examples/data/staged_shock.toml (E = 30 GPa, lumped mass), run by the command line:
+    the block stops at 2 (P − f W)/k to the rigid block's 1e-3 … 2e-3, slips back at
+    λ ≈ 0.8 and ends at k u = f W exactly; the interval's result file keeps its stage."""
+    out = tmp_path / "shock.nc"
+    result = runner.invoke(app, ["run", str(SHOCK), "--no-plot", "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "dynamics of stage 'struck'" in result.output
+    res = sc.load_result(out)
+    dyn = sc.load_result(tmp_path / "shock-dynamic-struck.nc")
+    assert res.status == dyn.status == Status.COMPLETED
+    assert np.all(dyn.stage == 1) and dyn.stage_names == ("placed", "struck", "unloaded")
+    fw, k, p = 0.5 * 4800 * 9.81, 4.737e6, 58860.0
+    i = int(np.flatnonzero(res.kind == "dynamics")[0])
+    model = sc.load_model(SHOCK)
+    anchor = int(model.global_nodes(model.springs[0].a)[0])
+    dof = res.geometry["dof_of"][anchor][0]
+    assert res.displacement(i)[dof] == pytest.approx(2 * (p - fw) / k, rel=2e-3)
+    assert np.abs(res.displacement(i) - dyn.displacement(len(dyn.lam) - 1)).max() <= 1e-9 * \
+        np.abs(res.displacement(i)).max()
+    slips = [e.lam for e in res.events if e.transition == Transition.SLIP_NEG]
+    assert min(slips) == pytest.approx(0.8, abs=5e-3)
+    assert res.displacement(len(res.lam) - 1)[dof] == pytest.approx(fw / k, rel=1e-6)
+
+
+@pytest.mark.parametrize("edit, fragment", [
+    (lambda t: t.replace('pattern = "push"\ntype = "constant"', 'pattern = "pusj"\ntype = '
+                         '"constant"'), "stages[1].dynamics.loads[0].pattern: unknown load "
+                                        "pattern 'pusj'"),
+    (lambda t: t.replace("dt = 5e-4", "dt = -5e-4"), "stages[1].dynamics.dt"),
+])
+def test_a_bad_stage_dynamics_in_the_file_names_its_field(tmp_path, edit, fragment):
+    path = tmp_path / "shock.toml"
+    path.write_text(edit(SHOCK.read_text(encoding="utf-8")), encoding="utf-8")
+    result = runner.invoke(app, ["run", str(path), "--no-plot"])
+    assert_one_line_error(result, fragment)
+    assert not (tmp_path / "shock.nc").exists()

@@ -694,7 +694,9 @@ def _check_stiffness_ratio(bodies: Sequence) -> None:
 @dataclass(frozen=True, eq=False)
 class DynamicInterval:
     """A dynamic interval after the load program (method.md §4): Newmark time integration
-    from the program's last state (:func:`stepcontact.solve_dynamic`).
+    from the program's last state (:func:`stepcontact.solve_dynamic`); or at the end of a
+    construction stage (:class:`~stepcontact.model.Stage` ``dynamics``; on a stage before the
+    last, :func:`stepcontact.solve_static` runs it and the static stages go on from its end).
 
     ``loads``: (pattern name, time function) pairs (:mod:`stepcontact.model.timefunction`);
     ``dt``, ``duration`` in s; ``mass`` "consistent" or "lumped"; ``damping`` the Rayleigh

@@ -467,7 +467,7 @@ class StaticSolver:
         from stepcontact.fem.assembly import LoadVectors
         from stepcontact.solver.dynamic import solve_dynamic
 
-        plan, eng, m = self.plan, self.engine, self.cfe.m
+        plan, eng = self.plan, self.engine
         k = self.stage
         name = plan.names[k]
         if int(self.rec.stage.view[-1]) != k:  # a stage that is only a dynamic interval
