@@ -171,9 +171,10 @@ def _after_stages(system: System, initial, stage: int | None = None):
     """A dynamic interval after construction stages (:mod:`stepcontact.solver.staging`): the
     last stage's (or stage ``stage``'s) system (its held DOFs, shifted w⁰ of the interfaces
     made at once, removed supports gone, automatic patterns), the contact law's inputs there
-    (CFEs not active are inert; bonds of grouted joints) and the static result of the stages it starts from — the
-    staged program is run here when ``initial`` is None, and again (checked against it) when
-    ``initial`` was loaded from a file (which does not keep the stage systems).
+    (CFEs not active are inert; bonds of grouted joints) and the static result of the stages
+    it starts from — the staged program is run here when ``initial`` is None, and again
+    (checked against it) when ``initial`` was loaded from a file (which does not keep the
+    stage systems).
 
     Returns (system, law keyword arguments, initial, stage arrays of the result)."""
     from stepcontact.solver.static import StagedRecovery, held_components, solve_static
