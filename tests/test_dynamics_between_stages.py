@@ -155,14 +155,19 @@ def test_a_frictionless_block_lifted_between_stages_ends_as_if_never_lifted():
     dyn = sc.DynamicInterval(dt=2e-4, duration=2e-2, loads=(("lift", LIFT),), damping=(0, 1e-4))
     base = _lift(_block_on_base(prop=False))
     staged = base.add(sc.Stage("placed", [sc.Segment("weight", 1.0)]),
-                      sc.Stage("lifted", dynamics=dyn),
+                      sc.Stage("lifted", [sc.Segment("weight", 1.2)], dynamics=dyn),
                       sc.Stage("loaded", [sc.Segment("weight", 1.5)]))
     ref = base.add(sc.Stage("placed", [sc.Segment("weight", 1.0)]),
+                   sc.Stage("lifted", [sc.Segment("weight", 1.2)]),
                    sc.Stage("loaded", [sc.Segment("weight", 1.5)]))
     res, rres = sc.solve_static(staged), sc.solve_static(ref)
     _checked(res)
     dres = res.dynamics["lifted"]
     assert any(e.transition == Transition.OPENED for e in dres.events)  # the corner rose
+    # the interval starts where the stage's own segment ends (weight at 1.2)
+    assert dres.factors[0, dres.pattern_names.index("weight")] == 1.2
+    assert [s[0] for s in res.segments] == ["weight", "weight", "lifted: settle after dynamics",
+                                            "weight"]
     assert res.factors[-1, res.pattern_names.index("lift")] == 0.0  # the pulse is over
     u, ur = res.displacement(len(res.lam) - 1), rres.displacement(len(rres.lam) - 1)
     assert np.abs(u - ur).max() <= 1e-9 * np.abs(ur).max()
