@@ -47,6 +47,7 @@ K = MASS * OMEGA**2  # N/m
 P = 2.5 * F * W  # N
 STIFF = sc.Material(3e11, 0.2, RHO)  # a stiff block: rigid-block closed forms to ~1e-3
 PERIOD = 2 * np.pi / OMEGA
+BONDED = int(sc.ContactState.BONDED)
 runner = CliRunner()
 
 
@@ -147,6 +148,25 @@ def test_an_interval_ending_while_the_block_accelerates_settles_where_friction_b
     # released: it slides on, every CFE slipping, to k u = P − f W exactly
     assert _ux(res, anchor, [settled])[0] == pytest.approx((P - F * W) / K, rel=1e-8)
     assert abs(np.sum(res.Q[settled])) == pytest.approx(F * W, rel=1e-9)  # full friction
+
+
+def test_a_bond_broken_by_the_shock_stays_broken_in_the_static_stage_after_it():
+    """The base bonded (c = 0.25 f W / A: the sudden push breaks it at once, a cascade), then
+    plain friction f: the block slides and stops as the unbonded one does; unloaded, it ends
+    at k u = f W exactly, which an intact bond (carrying shear with its cohesion) would not
+    give."""
+    m, anchor = _struck(0.75 * PERIOD)
+    bond = sc.Bond.mohr_coulomb(0.25 * F * W / 2.0, 1e3, np.degrees(np.arctan(F)))
+    m = dataclasses.replace(m, interfaces=(dataclasses.replace(m.interfaces[0], bond=bond),))
+    res = sc.solve_static(m)
+    _checked(res)
+    dres = res.dynamics["shock"]
+    broken = [e for e in dres.events if e.transition == Transition.BROKEN]
+    assert sorted(e.cfe for e in broken) == list(range(res.m))  # each CFE once
+    i = int(np.flatnonzero(res.kind == "dynamics")[0])
+    assert np.all(res.state[:i] == BONDED) and not np.any(res.state[i:] == BONDED)
+    assert _ux(res, anchor, [i])[0] == pytest.approx(2 * (P - F * W) / K, rel=5e-3)
+    assert _ux(res, anchor)[-1] == pytest.approx(F * W / K, rel=1e-8)
 
 
 def test_a_frictionless_block_lifted_between_stages_ends_as_if_never_lifted():
