@@ -463,9 +463,13 @@ def plot_interfaces(
     labels = [_at_text(res, s, v) for s, v, _ in snaps]
     rows = [_at_text(res, sg, v, short=True) for sg, v, _ in snaps]
     if staged:  # each snapshot named by its stage
-        labels = [t if st is None else f"{_stage_text(res, st)}: {t}"
-                  for st, t in zip(stages, labels, strict=True)]
-        rows = [t if st is None else f"{res.stage_names[st]}: {t}"
+        # (an automatic pattern is named after its stage already: "<stage>: release …")
+        def named(st, t, text):
+            return t if st is None or f"'{res.stage_names[st]}: " in t or t.startswith(
+                f"{res.stage_names[st]}: ") else f"{text}: {t}"
+        labels = [named(st, t, _stage_text(res, st)) for st, t in zip(stages, labels,
+                                                                     strict=True)]
+        rows = [named(st, t, res.stage_names[st] if st is not None else "")
                 for st, t in zip(stages, rows, strict=True)]
 
     axes = fig.subplots(3, ncol, squeeze=False, sharex="col", height_ratios=[3, 3, 1.2])
