@@ -217,6 +217,15 @@ def test_a_damped_contact_layer_before_static_stages_is_refused():
     assert exc.value.item == "stage 'shock'.dynamics" and "'base'" in str(exc.value)
 
 
+def test_a_residual_cohesion_before_the_interval_is_refused_before_any_work():
+    m, _ = _struck(0.1)
+    bond = sc.Bond.mohr_coulomb(1e4, 1e3, 30.0, residual_cohesion=500.0)
+    m = dataclasses.replace(m, interfaces=(dataclasses.replace(m.interfaces[0], bond=bond),))
+    with pytest.raises(ModelError) as exc:
+        sc.solve_static(m)
+    assert exc.value.item == "stage 'shock'.dynamics" and "residual" in str(exc.value)
+
+
 def test_the_stage_of_an_earlier_interval_needs_the_run_of_the_stages():
     m, _ = _struck(0.1)
     with pytest.raises(ModelError) as exc:

@@ -175,6 +175,16 @@ class StagePlan:
                                      "follow a dynamic interval with one (its force c_n u̇_n "
                                      "has no static counterpart); give the layer no damping, "
                                      "or put the interval on the last stage")
+                cols = np.asarray(system.cfe.bond, float)
+                residual = cols.ndim == 2 and cols.shape[1] > 4 and bool(
+                    np.any(np.nan_to_num(cols[:, 4]) > 0))
+                residual |= any(not (isinstance(b.residual_cohesion, int | float)
+                                     and b.residual_cohesion == 0)
+                                for later in stages[:k + 1] for b in later.grout.values())
+                if residual:  # (checked here, before the static stages run, not at the shock)
+                    raise ModelError(f"stage '{st.name}'.dynamics", "a bond with a residual "
+                                     "cohesion acts: a dynamic interval with one is not "
+                                     "supported yet (give residual_cohesion = 0)")
                 self._auto_segment(k, f"{st.name}: settle after dynamics", "settle", "")
             if k > 0 and self.stage_of_segment.count(k) == 0:
                 raise ModelError(f"stage '{st.name}'", "has no load segment: give it one "
