@@ -463,10 +463,15 @@ def plot_interfaces(
     labels = [_at_text(res, s, v) for s, v, _ in snaps]
     rows = [_at_text(res, sg, v, short=True) for sg, v, _ in snaps]
     if staged:  # each snapshot named by its stage
-        # (an automatic pattern is named after its stage already: "<stage>: release …")
+        # (an automatic pattern is named after its stage already, "<stage>: release …": the
+        # stage is said once, in front)
         def named(st, t, text):
-            return t if st is None or f"'{res.stage_names[st]}: " in t or t.startswith(
-                f"{res.stage_names[st]}: ") else f"{text}: {t}"
+            if st is None:
+                return t
+            name = res.stage_names[st]
+            t = t.replace(f"'{name}: ", "'", 1)
+            t = t[len(name) + 2:] if t.startswith(f"{name}: ") else t
+            return f"{text}: {t}"
         labels = [named(st, t, _stage_text(res, st)) for st, t in zip(stages, labels,
                                                                      strict=True)]
         rows = [named(st, t, res.stage_names[st] if st is not None else "")
