@@ -114,7 +114,7 @@ def test_the_study_command(tiny, tmp_path, monkeypatch):
     runner = CliRunner()
     r = runner.invoke(app, ["study", "slab", "--quick", "--position", "0.5", "--duration",
                             "0.2", "-o", str(store), "--serial"],
-                      env={"COLUMNS": "200", **os.environ})
+                      env={**os.environ, "COLUMNS": "200"})
     assert r.exit_code == 0, r.output
     assert {p: p.stat().st_mtime_ns for p in (store / "cases").glob("*.nc")} == stamps
     for case in ds["case"].values:  # the table of cases

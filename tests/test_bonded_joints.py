@@ -465,7 +465,7 @@ residual_cohesion = { from = [0.0, 0.0, 80e3], to = [8.0, 0.0, 40e3] }
         ev = next(e for e in ref.events if e.cfe == k and e.state == i)
         assert ev.transition in (BROKEN, Transition.OPENED)
         if ev.transition == Transition.OPENED:
-            assert ev.N == 0.0 and ev.Q > 0.2 * ref.cfe["bond"][k, 4]
+            assert abs(ev.N) <= 1e-9 * scale and ev.Q > 0.2 * ref.cfe["bond"][k, 4]
             opened += 1
         after = np.arange(len(ref.lam)) >= i
         assert np.all(np.abs(ref.Q[after, k]) <= 0.5 * -ref.N[after, k] + 1e-9 * scale)

@@ -183,7 +183,8 @@ def test_heel_under_9_m_of_water_carries_minus_88290_pa():
     wet = res.water[i] > 0
     assert wet.any()
     np.testing.assert_allclose(res.crack_pressure[i][wet], 88290.0, rtol=1e-8)
-    np.testing.assert_allclose(res.sigma_n[i][wet], 0.0, atol=1e-9 * 88290.0)
+    # open: σ_n = 0 to round-off of the stresses (1e-8 of the water pressure)
+    np.testing.assert_allclose(res.sigma_n[i][wet], 0.0, atol=1e-8 * 88290.0)
     assert res.residual[i] < 1e-6
 
 

@@ -424,7 +424,7 @@ def test_spring_dashpots_damp_free_vibration_by_the_closed_form(direction):
     assert np.abs(along - exact).max() < 1e-3 * peak
     assert zeta > 0.05  # the damping is felt: an undamped oscillation differs by far more
     across = res.u[:, 0::2].mean(axis=1) * d[1] - res.u[:, 1::2].mean(axis=1) * d[0]
-    assert np.abs(across).max() < 1e-9 * peak
+    assert np.abs(across).max() < 1e-8 * peak  # round-off of 600 steps
     e = res.energy
     assert e["damping"][-1] == pytest.approx(0.5 * 4 * mass / 4 * 0.01 - e["kinetic"][-1]
                                              - e["strain"][-1], rel=1e-6)
