@@ -85,7 +85,12 @@ _EVENT_SPEC: dict[str, tuple[str, str, str]] = {
     "transition": ("transition", "1", "transition of the CFE"),
     "N": ("float", "N", "normal CFE force at the event (negative in compression)"),
     "Q": ("float", "N", "tangential CFE force at the event"),
+    "impulse_n": ("float", "N s", "normal impulse of an impact at the event (negative: "
+                  "compressive; 0: no impact)"),
+    "impulse_t": ("float", "N s", "tangential impulse of an impact at the event"),
 }
+#: event columns added after format version 1 files were written: absent → this default
+_EVENT_DEFAULTS = {"impulse_n": 0.0, "impulse_t": 0.0}
 
 _MULT_SPEC: dict[str, tuple[str, str, str]] = {
     **_SEGMENT_SPEC,
@@ -630,7 +635,8 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
     cfe.update(_loads(ds.attrs["cfe_extra"]))
 
     n_ev = ds.sizes["event"]
-    ev_cols = {k: arr(f"event_{k}") for k in _EVENT_SPEC}
+    ev_cols = {k: (arr(f"event_{k}") if f"event_{k}" in ds or k not in _EVENT_DEFAULTS
+                   else np.full(n_ev, _EVENT_DEFAULTS[k])) for k in _EVENT_SPEC}
     events = [
         Event(**{k: _py(spec[0], ev_cols[k][i]) for k, spec in _EVENT_SPEC.items()})
         for i in range(n_ev)

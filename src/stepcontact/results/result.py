@@ -49,6 +49,10 @@ class Event:
     transition : Transition
     N, Q : float
         Normal and tangential force at the event, N (N ≤ 0 compression).
+    impulse_n, impulse_t : float
+        Normal and tangential impulse of an impact on the CFE at the event (dynamics, rigid
+        contact closing), N·s (per metre of thickness in plane strain), in the sign
+        convention of N and Q (impulse_n ≤ 0 compressive); 0 at other events.
     """
 
     step: int
@@ -65,6 +69,8 @@ class Event:
     transition: Transition
     N: float
     Q: float
+    impulse_n: float = 0.0
+    impulse_t: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -448,7 +448,7 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
 
 def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
             e: float, friction: np.ndarray, bonded: np.ndarray | None = None,
-            bonded_t: np.ndarray | None = None):
+            bonded_t: np.ndarray | None = None, impulses: dict | None = None):
     """Velocities after an impact (Newton's law): impulses P ≥ 0 on the normal rows of the
     CFEs ``cand`` (closing and already closed) such that each active one leaves with the
     normal velocity −e u̇_n⁻ (closing) or 0 (closed): M Δv = −B_nᵀ P, by an active set (an
@@ -459,15 +459,22 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     ``bonded``, ``bonded_t`` (m,) bool: CFEs whose bond is intact (eq. (12)) hold both ways
     — their normal impulse may pull, and (``bonded_t``: rigid in shear) their tangential one
     is not limited: a rigid bond carries an impact's impulse (its strength is checked on the
-    forces after it)."""
+    forces after it).
+
+    ``impulses``: a dict that receives the impulses per CFE of ``cand``, N·s (per metre of
+    thickness in plane strain), in the sign convention of the forces s = [Q; p]: ``"p"`` the
+    normal impulse (≥ 0 compressive, except a bond's pull), ``"Q"`` the tangential one."""
     m = system.m
     free = cond.free
     Bn = cond.Bf[m + cand]  # normal rows on the free DOFs
+    if impulses is not None:
+        impulses["p"], impulses["Q"] = np.zeros(len(cand)), np.zeros(len(cand))
     if Bn.shape[0] == 0:
         return v, np.zeros(len(cand))
     vf = v[free]
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
-    target = np.where(np.isin(cand, closing), -e * wd, 0.0)
+    target = np.where(np.isin(cand, closing), -np.asarray(e) * wd, 0.0)  # (e: one, or per
+    # CFE of cand)
     X, W = minv(m + cand)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
     bil = np.zeros(len(cand), bool) if bonded is None else np.asarray(bonded)[cand]
     active = (wd > 0) | bil  # approaching (or closed and pushed on; bonded: held)
@@ -486,16 +493,53 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     out = v.copy()
     out[free] = vf - X(P)
     bil_t = np.zeros(len(cand), bool) if bonded_t is None else np.asarray(bonded_t)[cand]
-    return out, _friction_impulse(system, cond, minv, out, cand, P, friction, bil_t)
+    T = np.zeros(len(cand))
+    sig = _friction_impulse(system, cond, minv, out, cand, P, friction, bil_t, T)
+    if impulses is not None:
+        impulses["p"], impulses["Q"] = P.copy(), T
+    return out, sig
+
+
+def _restitution_of(cond, m: int, e: float, v: np.ndarray, a: np.ndarray, cand: np.ndarray,
+                    dt: float) -> np.ndarray | float:
+    """Newton's coefficient e per CFE of ``cand`` at an impact: e, except where the rebound
+    could not be followed — its flight 2 e u̇⁻ / ü_n (u̇⁻ the approach velocity, ü_n > 0 the
+    relative acceleration towards the obstacle before the impact) would be shorter than the
+    time step Δt: the bounces that remain (a geometric series, Zeno's) last less than
+    Δt / (1 − e) in all and end at rest, so that CFE stays closed (e = 0 for it; the kinetic
+    energy left, ½ m (e u̇⁻)², goes to the ledger's ``impact``)."""
+    if e <= 0.0:
+        return e
+    free = cond.free
+    wd = cond.Bf[m + cand] @ v[free]  # approach velocities (positive: closing)
+    acc = cond.Bf[m + cand] @ a[free]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        short = (acc > 0) & (2.0 * e * np.maximum(wd, 0.0) < acc * dt)
+    return np.where(short, 0.0, e)
+
+
+def _rebounding(cond, m: int, v0: np.ndarray, v: np.ndarray, cand: np.ndarray,
+                old: np.ndarray) -> np.ndarray:
+    """The CFEs of ``cand`` that leave the obstacle after an impact with restitution e > 0
+    (Newton's law: a closing CFE's normal relative velocity after it is −e times the approach
+    one, separating): not bonded, with a separating normal velocity after the impact (``v``)
+    beyond round-off (1e-9 of the largest relative velocity of ``cand`` before it, ``v0``).
+    They open at the impact's instant."""
+    free = cond.free
+    wn = cond.Bf[m + cand] @ v[free]  # positive: approaching
+    tol = 1e-9 * max(float(np.abs(cond.Bf[m + cand] @ v0[free]).max(initial=0.0)), 1e-300)
+    return cand[(wn < -tol) & (old[cand] != BONDED)]
 
 
 def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np.ndarray,
-                      friction: np.ndarray, bil: np.ndarray | None = None) -> np.ndarray:
+                      friction: np.ndarray, bil: np.ndarray | None = None,
+                      T_out: np.ndarray | None = None) -> np.ndarray:
     """Tangential impulses of an impact, consistent with Coulomb's law (|T| ≤ f P): each
     CFE with a normal impulse P > 0 and rigid friction stops sliding if the impulse that
     stops it is within f P, else slides on with T = f P against its slip; a bonded one
     (``bil``, eq. (12)) stops whatever the impulse.  Changes ``v`` in
-    place; returns per CFE of ``cand`` the slip direction after the impact (0: stuck)."""
+    place; returns per CFE of ``cand`` the slip direction after the impact (0: stuck), and
+    writes the tangential impulses (N·s, the sign of Q) into ``T_out`` (len(cand),) if given."""
     free = cond.free
     sig = np.zeros(len(cand))
     bil = np.zeros(len(cand), bool) if bil is None else bil
@@ -520,6 +564,8 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np
             break
         sliding |= over
     v[free] -= X(T)
+    if T_out is not None:
+        T_out[k] = T
     after = Bt @ v[free]
     sig[k] = np.where(sliding, np.sign(after), 0.0)
     return sig
@@ -1227,16 +1273,20 @@ def solve_dynamic(
     mult = {"first_slip": None, "first_opening": None, "first_closing": None,
             "equilibrium_lost": None}
 
-    def log_event(step: int, k, was, now, t_ev: float, s_=None) -> None:
+    impulse_log: list[tuple[int, float, int, float, float]] = []  # (state, t, CFE, n, τ)
+
+    def log_event(step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
         s_ = eng.s if s_ is None else s_
         tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
+        pn_, qt_ = (0.0, 0.0) if impulse is None else impulse
         rec.events.append(Event(
             step=step, state=len(rec), segment=0, pattern="dynamic", lam=t_ev, cfe=int(k),
             interface=cfe.names[cfe.interface[k]] if cfe.names else "",
             local=int(cfe.local[k]), position=float(cfe.s[k]),
             x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
             y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-s_[m + k]), Q=float(s_[k])))
+            transition=tr, N=float(-s_[m + k]), Q=float(s_[k]), impulse_n=pn_,
+            impulse_t=qt_))
         key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
                Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
         if key and mult[key] is None:
@@ -1467,21 +1517,41 @@ def solve_dynamic(
             closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & rigid_n)
             s_i[m + closing] = 0.0
             w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
+            imp: dict[int, tuple[float, float]] = {}  # CFE → (normal, tangential) impulse
+            bounced = np.zeros(0, np.int64)
             if closing.size:  # an impact: normal velocities jump (Newton's law)
                 closed_now = np.flatnonzero((old != OPEN) & rigid_n)
                 cand = np.union1d(closing, closed_now)
-                v_new, sig = _impact(system, cond, minv, v_i, cand, closing, restitution,
-                                     law.f, old == BONDED, (old == BONDED) & law.rigid_t)
+                got: dict = {}
+                v_before = v_i
+                e_k = _restitution_of(cond, m, restitution, v_i, a, cand, dt0)
+                v_new, sig = _impact(system, cond, minv, v_i, cand, closing, e_k,
+                                     law.f, old == BONDED, (old == BONDED) & law.rigid_t, got)
                 ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
                 v_i = v_new
                 # a CFE still sliding after its impact slips on (with its velocity)
                 for k_, sg in zip(cand, sig, strict=True):
                     if sg != 0 and k_ in closing:
                         new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
+                if restitution > 0.0:  # Newton's rebound: a CFE leaving the obstacle opens
+                    bounced = _rebounding(cond, m, v_before, v_i, cand, old)
+                    closed_as = new_states.copy()
+                    new_states[bounced] = OPEN
+                    s_i[bounced], s_i[m + bounced] = 0.0, 0.0
+                imp = {int(k_): (-float(pk), float(qk))
+                       for k_, pk, qk in zip(cand, got["p"], got["Q"], strict=True)
+                       if pk != 0.0 or qk != 0.0}
+                for k_, (pn_, qt_) in sorted(imp.items()):
+                    impulse_log.append((len(rec), t_i, k_, pn_, qt_))
                 n_impacts += 1
             new_states = layers.closing_states(old, new_states)
+            for k in bounced:  # the contact of a rebound lasts an instant: closed, opened
+                if old[k] == OPEN:
+                    log_event(n, k, OPEN, closed_as[k], t_i, impulse=imp.get(int(k)))
+                    log_event(n, k, closed_as[k], OPEN, t_i)
             for k in np.flatnonzero(old != new_states):
-                log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
+                log_event(n, k, old[k], new_states[k], times.get(int(k), t_i),
+                          impulse=imp.get(int(k)))
             eng.states = new_states.copy()
             e_before = 0.5 * v_i @ (Mx(v_i)) + 0.5 * u_i @ (Kx(u_i))
             u_i, v_i = _project(system, cond, minv, u_i, v_i, new_states, law, rigid_n)
