@@ -103,13 +103,22 @@ class DynamicResult(StaticResult):
 
     Extra attributes: ``u``, ``v``, ``a`` (n_states, ndof) displacements, velocities and
     accelerations at every reported state (m, m/s, m/s²); ``energy`` {term: (n_states,)} the
-    energy ledger (J; :data:`ENERGY_TERMS`); ``dt`` the time step (s)."""
+    energy ledger (J; :data:`ENERGY_TERMS`); ``dt`` the time step (s); ``impulses`` the
+    impulses of the impacts, one entry per CFE and impact: {"state", "time" (s), "cfe",
+    "normal", "tangential" (N·s per metre of thickness; the sign convention of N and Q:
+    normal ≤ 0 compressive)} — the CFEs that close at the impact carry theirs on their
+    events too (``Event.impulse_n``, ``impulse_t``), the others (closed before) only here;
+    :meth:`impacts` sums them per impact.  :meth:`extremes` gives the largest values of
+    the recorded quantities (u, v, a of every DOF, N, Q …) and their times."""
 
     u: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     v: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     a: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     energy: dict[str, np.ndarray] = field(default_factory=dict)
     dt: float = 0.0
+    impulses: dict[str, np.ndarray] = field(default_factory=lambda: {
+        "state": np.zeros(0, np.int64), "time": np.zeros(0), "cfe": np.zeros(0, np.int64),
+        "normal": np.zeros(0), "tangential": np.zeros(0)})
 
     #: the path axis of the states is the time (s)
     path_axis = "time"
@@ -133,6 +142,29 @@ class DynamicResult(StaticResult):
     def velocities(self, states=None) -> np.ndarray:
         idx = np.arange(self.n_states) if states is None else np.asarray(states)
         return self.v[idx]
+
+    def impacts(self):
+        """The impacts of the run, one row per impact (a :class:`pandas.DataFrame`):
+        ``time`` (s), ``state`` (the reported state after it), ``cfes`` (how many CFEs took
+        an impulse), ``normal`` and ``tangential`` — the total impulses on the contacts,
+        N·s per metre of thickness (normal ≤ 0 compressive, as N).  Per CFE:
+        :attr:`impulses`."""
+        import pandas as pd
+
+        imp = {k: np.asarray(v) for k, v in self.impulses.items()}
+        df = pd.DataFrame({k: imp[k] for k in ("state", "time", "cfe", "normal",
+                                               "tangential")})
+        out = df.groupby(["state", "time"], sort=True).agg(
+            cfes=("cfe", "size"), normal=("normal", "sum"), tangential=("tangential", "sum"))
+        return out.reset_index()[["time", "state", "cfes", "normal", "tangential"]]
+
+    def _extreme_quantities(self) -> tuple[str, ...]:
+        return ("u", "v", "a") + super()._extreme_quantities()
+
+    def _extreme_history(self, quantity: str, nodes=None, *, point=None, body=None, dof=None):
+        if quantity in ("u", "v", "a"):
+            return getattr(self, quantity)
+        return super()._extreme_history(quantity, nodes, point=point, body=body, dof=dof)
 
     def displacement(self, i: int) -> np.ndarray:
         return self.u[i]
@@ -1665,6 +1697,7 @@ def solve_dynamic(
         crack_pressure=None if crack is None else arr["pressure"],
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
         energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
+        impulses=_impulse_arrays(impulse_log),
         _recover=None if system.discrete is not None else _Stresses(system),
         **({} if stage_arrays is None else {
             "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
@@ -1672,6 +1705,15 @@ def solve_dynamic(
             "stage_cfes": stage_arrays["stage_cfes"],
             "stage_bodies": stage_arrays["stage_bodies"]}),
     )
+
+
+def _impulse_arrays(log: list[tuple[int, float, int, float, float]]) -> dict[str, np.ndarray]:
+    """The impulse log (state, t, CFE, normal, tangential) as the arrays of
+    :attr:`DynamicResult.impulses`."""
+    cols = list(zip(*log, strict=True)) if log else [()] * 5
+    return {"state": np.asarray(cols[0], np.int64), "time": np.asarray(cols[1], float),
+            "cfe": np.asarray(cols[2], np.int64), "normal": np.asarray(cols[3], float),
+            "tangential": np.asarray(cols[4], float)}
 
 
 __all__ = ["ENERGY_TERMS", "DynamicResult", "solve_dynamic"]
