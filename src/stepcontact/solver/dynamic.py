@@ -1345,10 +1345,13 @@ def solve_dynamic(
     n_impacts = 0
     zero_restarts = 0
     end_time = float(duration)
-    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states):
+    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states, F_i=None,
+            part="cut"):
         """The state at t + frac·Δt of the step under the scheme before an event (eq. (8):
         ü linear in time over the step, with the step's end under that scheme), the works of
-        the part step in the ledger.  Returns (u, v, s, w, F) there."""
+        the part step in the ledger (the integrator's share in ``parts[part]``).  ``F_i``:
+        the load there (default F(t + frac·Δt); a break's left limit for a landing).
+        Returns (u, v, s, w, F) there."""
         s_end = eng.s + (1.0 - mu) * ds_o
         w_end = eng.w + (1.0 - mu) * dw_o + drift
         tv = s_end - cond.d * (w_end - system.w0)
@@ -1361,7 +1364,7 @@ def solve_dynamic(
         u_i = u + frac * (u_end - u)
         v_i = v + frac * (v_end - v)
         s_i = eng.s + (frac - mu) * ds_o
-        F_i = force_at(t + tau)
+        F_i = force_at(t + tau) if F_i is None else F_i
         du = u_i - u
         w_i = system.B @ u_i + system.w0
         x_i = layers.at(run_states, w_i, frac) if layers else None
@@ -1380,7 +1383,7 @@ def solve_dynamic(
         d_num = (works["external"] - works["damping"] - works["friction"] - works["impact"]
                  - d_energy)
         ledger["numerical"] += d_num
-        parts["cut"] += d_num
+        parts[part] += d_num
         return u_i, v_i, s_i, w_i, F_i
 
     breaks = np.unique(np.concatenate(
@@ -1391,19 +1394,28 @@ def solve_dynamic(
     breaks = breaks[(breaks > 0) & (breaks < end_time)]
     while t < end_time - 1e-6 * dt0:
         n += 1
-        # the step: Δt, or shorter to land on a break of a load (a pulse's end) or the end
+        # the step: Δt; one that would pass a break of a load (a pulse's end) or the end
+        # lands there: a whole step under the load's rate continued, its state at the break
+        # the convex combination of its ends (``land`` < 1, as a cut at an event: no energy
+        # gained, module docstring)
         dt = dt0
         ahead = breaks[breaks > t + 1e-9 * dt0]
         stop_at = min(float(ahead[0]) if ahead.size else np.inf, end_time)
+        land = 1.0
         if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
-            dt = stop_at - t
-        nm = _Newmark(dt, alpha, dt0 / dt)
-        t1 = t + dt
+            land = (stop_at - t) / dt0
+        nm = _Newmark(dt, alpha)
+        t1 = t + land * dt
         at_break = bool(ahead.size) and t1 >= float(ahead[0]) - 1e-6 * dt0
         if at_break:
             t1 = float(ahead[0])
+        elif land < 1.0:
+            t1 = stop_at
         # a step that ends on a break takes the load's left limit there
         F1 = force_at(t1 - 1e-9 * dt0) if at_break else force_at(t1)
+        F_land = F1
+        if land < 1.0:  # the load's rate over the part step continued to t + Δt
+            F1 = F + (F1 - F) / land
         Fhat = nm.rhs(Kx, Mx, Cx, F1, F, u, v, a)
         y = cond.factor.solve(np.ascontiguousarray(Fhat[free]))
         h_end = Bf @ y
@@ -1495,7 +1507,8 @@ def solve_dynamic(
                         ds_o = None
                     if ds_o is not None:
                         t_cut = min(times.values())
-                        frac = min((t_cut - t) / dt, 1.0)
+                        frac = min((t_cut - t) / dt, land)
+                        t_cut = min(t_cut, t + frac * dt)
                         # another CFE's event under the slipping scheme before the slip
                         # stops: the step is cut there first, the schemes unchanged (the
                         # next step decides at that point)
@@ -1519,9 +1532,9 @@ def solve_dynamic(
                 log_event(n, k, old[k], dec.new[k], t + mu * dt)
                 step_events += 1
             ds, dw = dec.ds, dec.dw
-            if mu >= 1.0:
+            if mu >= land:
                 break
-            dmu, _, fired = eng.next_event(ds, dw, 1.0 - mu, 1e-10)
+            dmu, _, fired = eng.next_event(ds, dw, land - mu, 1e-10)
             small = small + 1 if dmu <= 1e-12 else 0
             if small > 100 or len(rec.events) > max_events:
                 status = Status.CYCLING if small > 100 else Status.MAX_EVENTS
@@ -1536,16 +1549,24 @@ def solve_dynamic(
                 bond_brk = fired & (eng.states == BONDED)
                 restart = (mu, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
                 break
-            if mu >= 1.0 - 1e-15 and not fired.any():
+            if mu >= land - 1e-15 and not fired.any():
                 break
         if stop:
             break
+        landing = restart is None and land < 1.0  # a short step: its state at the break
+        if landing:
+            restart = (land, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
         if restart is not None:
             frac, mu_r, ds_o, dw_o, old, new_states, times = restart
             zero_restarts = zero_restarts + 1 if frac == 0.0 else 0
+            # a cut where the step lands on a break: the load's left limit there, its jump
+            # after the cut
+            lands = (land < 1.0 or at_break) and t + frac * dt >= t1 - 1e-9 * dt0
+            n_events = len(rec.events)
             u_i, v_i, s_i, w_i, F_i = cut(frac, mu_r, ds_o, dw_o, drift, Fhat, s_start,
-                                          x_start, old)
-            t_i = t + frac * dt
+                                          x_start, old, F_land if lands else None,
+                                          "short_steps" if landing else "cut")
+            t_i = t1 if lands else t + frac * dt
             closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & rigid_n)
             s_i[m + closing] = 0.0
             w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
@@ -1608,9 +1629,21 @@ def solve_dynamic(
                 a = np.zeros(ndof)
                 a[free] = M_lu.solve(F_i[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
             t = t_i
+            if lands and at_break:  # the load jumps here: the contact forces with it
+                F_left = F
+                F = force_at(t)
+                if m:
+                    a = load_jump(F - F_left, t, n)
+                else:
+                    a = np.zeros(ndof)
+                    a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free])
             if crack is not None and settle_water(t, n):
                 F = force_at(t)
-            record(t, "event", 0.0)
+            record(t, "event" if len(rec.events) > n_events or not landing else "step", 0.0)
+            if landing:
+                for hk in hooks:
+                    if hasattr(hk, "after_step"):
+                        hk.after_step(n, t, end_time)
             continue
         # the end of the step: real mutual displacements, the fields, the ledger
         zero_restarts = 0
