@@ -288,6 +288,65 @@ def _initial(system: System, cond: Condensed, initial, u0, v0):
     return u, v, s, w, states, static
 
 
+def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
+    """The contact state at t = 0 given the displacements u0 (``u``, gaps w = B u0 + w⁰).
+
+    Without ``initial``: a CFE whose gap is closed (−u_n ≤ 1e-9 of the displacement scale)
+    and that does not separate (B_n v0 ≥ 0 to round-off) starts closed (stuck; frictionless:
+    closed), the others open; a compliant layer closed carries its spring's force (p = C_n
+    u_n, Q = C_τ u_τ, slipping at f p where it is beyond the cone).  The forces of rigid
+    contacts are not known from u0: they are the solution of the contact problem in
+    accelerations under the loads at t = 0 (M ü + Bᵀ s = F(0) − K u0 − C v0, the rate
+    problem at that instant, solved by the driver), the definition of the initial state, not
+    events.  A rigid CFE penetrating its obstacle beyond that tolerance is refused.
+
+    With ``initial``: its contact states and forces are kept; every rigid CFE closed there
+    must be closed at u0 too (else ModelError: u0 is not the static result's displacement).
+    Returns (states, s, w)."""
+    m = system.m
+    cfe = system.cfe
+    w = w.copy()
+    scale = max(float(np.abs(u).max(initial=0.0)), float(np.abs(w).max(initial=0.0)), 1e-300)
+    tol = 1e-9 * scale
+    wn = w[m:]
+    rigid_n = ~np.isfinite(cfe.kn)
+    live = ~law.inert
+    if initial is not None:
+        closed = (states != OPEN) & rigid_n & live
+        bad = closed & (np.abs(wn) > 1e-6 * scale)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise ModelError("u0", f"is not the displacement of `initial`: CFE {k} of interface "
+                             f"'{cfe.names[cfe.interface[k]]}', closed in the static result, "
+                             f"has the gap {-wn[k]:.3g} m at u0 (give u0 equal to "
+                             "initial.displacement(-1), or one of them)")
+        w[m:][closed] = 0.0
+        return states, s, w
+    vn = system.B[m:] @ v
+    vtol = 1e-9 * max(float(np.abs(system.B @ v).max(initial=0.0)), 1e-300)
+    deep = rigid_n & live & (wn > tol)
+    if deep.any():
+        k = int(np.flatnonzero(deep)[0])
+        raise ModelError("u0", f"makes CFE {k} of interface '{cfe.names[cfe.interface[k]]}' "
+                         f"penetrate its rigid obstacle by {wn[k]:.3g} m")
+    touching = live & (wn >= -tol) & (vn >= -vtol)
+    states = states.copy()
+    states[touching] = law.closed_state()[touching]
+    w[m:][touching & rigid_n] = 0.0
+    s = s.copy()
+    soft_n = touching & np.isfinite(cfe.kn)
+    p = np.where(soft_n, np.where(soft_n, cfe.kn, 0.0) * np.maximum(wn, 0.0), 0.0)
+    s[m:] = np.where(soft_n, p, s[m:])
+    soft_t = soft_n & np.isfinite(cfe.kt)
+    q = np.where(soft_t, np.where(soft_t, cfe.kt, 0.0) * w[:m], 0.0)
+    lim = law.f * p
+    over = soft_t & law.frictional & (np.abs(q) > lim)
+    q = np.where(over, np.sign(q) * lim, q)
+    states[over] = np.where(q[over] > 0, SLIP_POS, SLIP_NEG)
+    s[:m] = np.where(soft_t, q, s[:m])
+    return states, s, w
+
+
 @dataclass(frozen=True)
 class _Newmark:
     """Coefficients of one step of length h of the HHT-α family (α = 0: Newmark's average
@@ -928,6 +987,8 @@ def solve_dynamic(
     bonds_on = bool(law.has_bond.any())
     eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
     u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
+    if u0 is not None and m:  # the contact state at u0 (gaps w = B u0 + w⁰)
+        states, s, w = _state_at_u0(system, law, u, v, s, w, states, initial)
     if initial is None:  # joints with initial strength start bonded (eq. (12)), their
         states = law.initial_states(states)  # compliant layers carrying C w at u0
         stiff0 = np.r_[cfe.kt, cfe.kn]
@@ -1332,6 +1393,17 @@ def solve_dynamic(
     elif m and all_rigid and u0 is None and np.any(eng.states == BONDED):
         # rigid bonds from rest: their forces jump with the loads at t = 0
         a = load_jump(F - F_held, 0.0, 0)
+    elif m and all_rigid and u0 is not None and np.any(eng.states != OPEN):
+        # from u0: the forces of the closed rigid contacts are those of the contact problem
+        # in accelerations under the loads at t = 0 (_state_at_u0) — the initial state,
+        # not events (bonds that break under those loads are)
+        n_ev0, mult0 = len(rec.events), dict(mult)
+        a = np.zeros(ndof)
+        a = load_jump(F - Kx(u) - Cx(v), 0.0, 0)
+        rec.events[n_ev0:] = [e for e in rec.events[n_ev0:] if bonds_on]
+        if not bonds_on:
+            mult.update(mult0)
+        first = False
     else:
         a = np.zeros(ndof)
         a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
