@@ -25,8 +25,9 @@ the slip beyond that drift, ũ_τ = u_τ − μ Δt u̇_τ,n / 2, so that stick 
 statics, and the sign of ũ_τ' is the sign of the slip velocity at the end of the step: the
 engine's consistency check (slip in the direction of the friction force, slip → stick when it
 would reverse) is then Coulomb's law in velocities.  Closed rigid contact holds u_n = 0 at the
-end of the step; a CFE that closes during a step is an impact with restitution 0 (the
-integrator's implicit constraint).
+end of the step; a CFE that closes during a step is an impact (Newton's law, restitution e:
+the step is cut there, the velocities jump by the impulses, and a CFE that leaves the obstacle
+with e > 0 opens at that instant).
 
 Events inside a step (eq. (10)): the step is cut at the event time, the state there
 interpolated linearly between the step's start and its end under the old scheme (the
@@ -36,10 +37,13 @@ scheme switched (an impact's velocities jump, forces that jump are resolved in
 accelerations, the state is projected onto the new scheme's constraints), and the
 integration restarts there with the same K̂ — no refactorisation.
 Steps land on the breaks of the time functions (a pulse's start and end) and on the end of the
-interval.  Those few shorter steps h < Δt keep Δt's K̂: Newmark's β and γ scaled by (Δt/h)² and
-Δt/h leave c₀ = 1/(βh²) and c₁ = γ/(βh) unchanged, and the member stays unconditionally
-stable (2β ≥ γ ≥ ½); it is first-order accurate and dissipative for that one step, which the
-ledger books as numerical.  No step ever refactorises.
+interval: a step that would pass one is a whole step of Δt (the load's rate over the part
+before the break continued to its end) cut at the break like at an event — the state there
+the convex combination of the step's ends, which has no more energy than they (a Newmark
+step conserves it), so the landing gains no energy (the ledger books what it removes as
+numerical); the load's jump at the break follows in accelerations.  (Newmark's β, γ scaled by
+(Δt/h)², Δt/h for a short step h keep K̂ too, but change the energy by O(Δt² ü·Mü): a gain
+where the accelerations jump.)  No step ever refactorises.
 
 Water in opened joints (:class:`~stepcontact.model.CrackWater`, :mod:`stepcontact.fem.crack`):
 on the wet CFEs the force W = A (p_c − p_u) is a load −Bᵀ [0; W] that follows its patterns'
@@ -359,8 +363,8 @@ class _Newmark:
     h: float
     alpha: float = 0.0
     #: Δt / h ≥ 1 for a step shorter than Δt made with Δt's K̂: β and γ scaled by stretch² and
-    #: stretch keep c0 = 1/(βh²) and c1 = γ/(βh), hence K̂; still unconditionally stable
-    #: (2β ≥ γ ≥ ½), first-order accurate for that step, numerically dissipative
+    #: stretch keep c0 = 1/(βh²) and c1 = γ/(βh), hence K̂ (not used by the driver, whose
+    #: short steps are cuts of whole steps: this one can gain energy where ü jumps)
     stretch: float = 1.0
 
     @property
@@ -826,7 +830,14 @@ def solve_dynamic(
         Start from the last state of a static run of the same model (displacements, contact
         forces and states; its pattern factors are held).
     u0, v0 : (ndof,) arrays, optional
-        Initial displacements and velocities (m, m/s).
+        Initial displacements and velocities (m, m/s).  The contact state at t = 0
+        (:func:`_state_at_u0`): with ``initial``, its states and forces (every rigid CFE
+        closed there must be closed at u0); from u0 alone, the CFEs whose gap B u0 + w⁰ is
+        closed (and not separating under v0) closed, the others open, the closed rigid ones'
+        forces those of the contact problem in accelerations under the loads at t = 0 (the
+        rate problem there; not events), a compliant layer's its spring's.  A static state
+        given as u0 (its loads as time functions, e.g. ``Constant(1.0)``) thus gives the
+        answer of ``initial=``.
     ground_acceleration : (time function, (dx, dy)), optional
         Ground acceleration a_g(t) (m/s²) along the unit direction (dx, dy): the effective
         load −M r a_g(t), r the rigid translation along it; displacements are relative to the
@@ -835,7 +846,12 @@ def solve_dynamic(
         Newton's coefficient e ∈ [0, 1] of the impacts of rigid contacts: the step is cut
         where a CFE closes, the normal velocities of the closing (and closed) CFEs jump to
         −e times their approach velocities by impulses (with friction's impulses by
-        Coulomb's law), and the integration restarts there.  Compliant contact closes
+        Coulomb's law), and the integration restarts there; a CFE that leaves the obstacle
+        opens at that instant (events ``closed`` and ``opened`` at one time), except where
+        its flight would be shorter than Δt (:func:`_restitution_of`: it stays closed).  The
+        impulses are recorded (``Event.impulse_n``/``impulse_t``,
+        :attr:`DynamicResult.impulses`, :meth:`DynamicResult.impacts`); the ledger books
+        the kinetic energy the impact takes as ``impact``.  Compliant contact closes
         smoothly without it.
     alpha : float
         HHT-α numerical damping, α ∈ [0, 1/3] (0: Newmark's average acceleration, no
