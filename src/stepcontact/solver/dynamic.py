@@ -835,7 +835,8 @@ def solve_dynamic(
         closed there must be closed at u0); from u0 alone, the CFEs whose gap B u0 + w⁰ is
         closed (and not separating under v0) closed, the others open, the closed rigid ones'
         forces those of the contact problem in accelerations under the loads at t = 0 (the
-        rate problem there; not events), a compliant layer's its spring's.  A static state
+        rate problem there; not events: a CFE that opens or slips under the loads at t = 0
+        starts so), a compliant layer's its spring's.  A static state
         given as u0 (its loads as time functions, e.g. ``Constant(1.0)``) thus gives the
         answer of ``initial=``.
     ground_acceleration : (time function, (dx, dy)), optional
