@@ -23,6 +23,11 @@ Dimensions
     Geometry for drawing and export (``points``, ``dof_of``, ``cells__<body>``).
 ``resultant_component``
     ``load_resultant`` (pattern × Fx, Fy, Mz): each pattern's force resultant per unit λ.
+``impulse``
+    A dynamic result's impulses of its impacts, one entry per CFE and impact
+    (``impulse_state``, ``impulse_time``, ``impulse_cfe``, ``impulse_normal``,
+    ``impulse_tangential``, N s); the events carry theirs too (``event_impulse_n``,
+    ``event_impulse_t``; a file without these columns loads with 0).
 
 Enumerations are stored so they round-trip: contact states as integers with CF
 ``flag_values`` / ``flag_meanings`` attributes, transitions and the run status as their string
