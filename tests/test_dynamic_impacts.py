@@ -100,7 +100,7 @@ def test_the_bounces_end_at_rest_after_the_geometric_series():
     would be shorter than Δt is not followed (the rest of the series lasts less than
     Δt / (1 − e)): the mass rests on the floor afterwards, all the work of gravity spent."""
     e, H, m_, dt = 0.8, 0.05, 2.0, 1e-3
-    res = drop(e, H, m_, dt, duration=1.2)
+    res = drop(e, H, m_, dt, duration=1.0)
     t_inf = np.sqrt(2 * H / G) * (1 + 2 * e / (1 - e))
     last = [ev.lam for ev in res.events if ev.transition == Transition.CLOSED][-1]
     # the bounces left out last less than Δt/(1 − e) = 5 ms; the landings' O(Δt²) errors
