@@ -23,6 +23,11 @@ Dimensions
     Geometry for drawing and export (``points``, ``dof_of``, ``cells__<body>``).
 ``resultant_component``
     ``load_resultant`` (pattern × Fx, Fy, Mz): each pattern's force resultant per unit λ.
+``impulse``
+    A dynamic result's impulses of its impacts, one entry per CFE and impact
+    (``impulse_state``, ``impulse_time``, ``impulse_cfe``, ``impulse_normal``,
+    ``impulse_tangential``, N s); the events carry theirs too (``event_impulse_n``,
+    ``event_impulse_t``; a file without these columns loads with 0).
 
 Enumerations are stored so they round-trip: contact states as integers with CF
 ``flag_values`` / ``flag_meanings`` attributes, transitions and the run status as their string
@@ -85,7 +90,12 @@ _EVENT_SPEC: dict[str, tuple[str, str, str]] = {
     "transition": ("transition", "1", "transition of the CFE"),
     "N": ("float", "N", "normal CFE force at the event (negative in compression)"),
     "Q": ("float", "N", "tangential CFE force at the event"),
+    "impulse_n": ("float", "N s", "normal impulse of an impact at the event (negative: "
+                  "compressive; 0: no impact)"),
+    "impulse_t": ("float", "N s", "tangential impulse of an impact at the event"),
 }
+#: event columns added after format version 1 files were written: absent → this default
+_EVENT_DEFAULTS = {"impulse_n": 0.0, "impulse_t": 0.0}
 
 _MULT_SPEC: dict[str, tuple[str, str, str]] = {
     **_SEGMENT_SPEC,
@@ -474,7 +484,22 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
             dv[f"energy_{key}"] = _var(("state",), np.asarray(vals, float), "J",
                                        f"energy ledger: {key}")
         attrs["dynamic_dt"] = float(res.dt)
+        imp = getattr(res, "impulses", None) or {}
+        for key, (units, long) in _IMPULSE_SPEC.items():
+            dv[f"impulse_{key}"] = _var(("impulse",), np.asarray(
+                imp.get(key, np.zeros(0)), np.int64 if key in ("state", "cfe") else float),
+                units, long)
     return xr.Dataset(dv, coords=coords, attrs=attrs)
+
+
+#: the impulses of the impacts of a dynamic result (one entry per CFE and impact)
+_IMPULSE_SPEC = {
+    "state": ("1", "index of the reported state at the impact"),
+    "time": ("s", "time of the impact"),
+    "cfe": ("1", "global CFE index"),
+    "normal": ("N s", "normal impulse on the CFE (negative: compressive)"),
+    "tangential": ("N s", "tangential impulse on the CFE"),
+}
 
 
 # --------------------------------------------------------------------------------------------
@@ -562,6 +587,14 @@ def check_dataset(ds: xr.Dataset) -> None:
         within("event_state", n, "state")
     if "event_cfe" in ds:
         within("event_cfe", m, "CFE")
+    if "impulse_state" in ds:  # the impulses of a dynamic result's impacts
+        n_imp = shape("impulse_state")[0]
+        for name in _IMPULSE_SPEC:
+            if f"impulse_{name}" in ds:
+                expect(f"impulse_{name}", (n_imp,), f"{n_imp} impulses")
+        within("impulse_state", n, "state")
+        if "impulse_cfe" in ds:
+            within("impulse_cfe", m, "CFE")
     n_nodes = shape("points")[0] if "points" in ds else None
     if "dof_of" in ds and n_nodes is not None:
         expect("dof_of", (n_nodes, None), f"{n_nodes} nodes of 'points'")
@@ -599,8 +632,11 @@ def _dynamic_parts(ds: xr.Dataset) -> dict[str, Any]:
             raise _inconsistent(f"variable '{key}' is missing or has not {n} states")
     energy = {str(k)[len("energy_"):]: ds[k].values for k in ds.data_vars
               if str(k).startswith("energy_")}
+    impulses = {k: ds[f"impulse_{k}"].values.copy() for k in _IMPULSE_SPEC
+                if f"impulse_{k}" in ds}
     return {"u": ds["dyn_u"].values, "v": ds["dyn_v"].values, "a": ds["dyn_a"].values,
-            "energy": energy, "dt": float(ds.attrs.get("dynamic_dt", 0.0))}
+            "energy": energy, "dt": float(ds.attrs.get("dynamic_dt", 0.0)),
+            **({"impulses": impulses} if impulses else {})}
 
 
 def dataset_to_result(ds: xr.Dataset) -> StaticResult:
@@ -630,7 +666,8 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
     cfe.update(_loads(ds.attrs["cfe_extra"]))
 
     n_ev = ds.sizes["event"]
-    ev_cols = {k: arr(f"event_{k}") for k in _EVENT_SPEC}
+    ev_cols = {k: (arr(f"event_{k}") if f"event_{k}" in ds or k not in _EVENT_DEFAULTS
+                   else np.full(n_ev, _EVENT_DEFAULTS[k])) for k in _EVENT_SPEC}
     events = [
         Event(**{k: _py(spec[0], ev_cols[k][i]) for k, spec in _EVENT_SPEC.items()})
         for i in range(n_ev)

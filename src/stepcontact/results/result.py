@@ -49,6 +49,10 @@ class Event:
     transition : Transition
     N, Q : float
         Normal and tangential force at the event, N (N ≤ 0 compression).
+    impulse_n, impulse_t : float
+        Normal and tangential impulse of an impact on the CFE at the event (dynamics, rigid
+        contact closing), N·s (per metre of thickness in plane strain), in the sign
+        convention of N and Q (impulse_n ≤ 0 compressive); 0 at other events.
     """
 
     step: int
@@ -65,6 +69,8 @@ class Event:
     transition: Transition
     N: float
     Q: float
+    impulse_n: float = 0.0
+    impulse_t: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -597,6 +603,74 @@ class StaticResult:
                          "(N, Q, sigma_n, tau, un, ut), a nodal one (ux, uy, rz, vx, vy, vrz) "
                          "or 'reaction'")
 
+    def extremes(self, quantity: str | None = None, nodes=None, *, point=None,
+                 body: str | None = None, dof: str | None = None):
+        """The extremes along the path of the recorded quantities: value and where on the
+        path (:attr:`path`: λ, or the time t in s of a dynamic result) each is reached.
+
+        * ``quantity`` None: one row per quantity (``N``, ``Q``, ``un``, ``ut``; a dynamic
+          result adds ``u``, ``v``, ``a`` — every DOF), with the largest magnitude over all
+          CFEs (DOFs) and states: ``absmax`` (≥ 0), the signed ``value`` there, ``at`` (the
+          path: λ or t), ``state``, and ``index`` (the CFE or DOF where it is reached).
+        * a quantity of :meth:`history` (``"N"``, ``"Q"``, ``"sigma_n"``, ``"tau"``, ``"un"``,
+          ``"ut"``, nodal ``"ux"`` … ``"vrz"`` of ``nodes``/``point``/``body``,
+          ``"reaction"``) or ``"u"``, ``"v"``, ``"a"`` (every DOF, dynamic results): one row
+          per CFE, node or DOF with ``max``, ``max_at``, ``min``, ``min_at``, ``absmax``,
+          ``absmax_at`` and ``absmax_state``.
+
+        Only the reported states count (a dynamic result records every step unless
+        ``record_every`` > 1; between them the extremes are not sought).  Returns a
+        :class:`pandas.DataFrame` (its ``attrs["at"]`` names the path axis).
+
+        Example
+        -------
+        >>> res.extremes()                                      # doctest: +SKIP
+        >>> res.extremes("uy", point=(2.0, 4.0)).absmax_at      # doctest: +SKIP
+        """
+        import pandas as pd
+
+        at = np.asarray(self.path, dtype=float)
+        if quantity is None:
+            rows = []
+            for q in self._extreme_quantities():
+                h = np.asarray(self._extreme_history(q), dtype=float).reshape(self.n_states, -1)
+                if h.size == 0:
+                    continue
+                i, j = np.unravel_index(int(np.argmax(np.abs(h))), h.shape)
+                rows.append({"quantity": q, "absmax": float(abs(h[i, j])),
+                             "value": float(h[i, j]), "at": float(at[i]), "state": int(i),
+                             "index": int(j), "units": self.units.get(q, _EXTREME_UNITS.get(q,
+                                                                                      ""))})
+            out = pd.DataFrame(rows, columns=["quantity", "absmax", "value", "at", "state",
+                                              "index", "units"]).set_index("quantity")
+        else:
+            h = self._extreme_history(quantity, nodes, point=point, body=body, dof=dof)
+            if h is None:
+                raise ValueError(f"quantity={quantity!r} is not recorded in this result")
+            h = np.asarray(h, dtype=float).reshape(self.n_states, -1)
+            imax, imin = np.argmax(h, axis=0), np.argmin(h, axis=0)
+            iabs = np.argmax(np.abs(h), axis=0)
+            cols = np.arange(h.shape[1])
+            out = pd.DataFrame({
+                "max": h[imax, cols], "max_at": at[imax], "min": h[imin, cols],
+                "min_at": at[imin], "absmax": np.abs(h[iabs, cols]), "absmax_at": at[iabs],
+                "absmax_state": iabs})
+            out.index.name = ("cfe" if quantity in _CFE_QUANTITIES
+                              else "dof" if quantity in ("u", "v", "a") else "column")
+        out.attrs["at"] = self.path_axis
+        return out
+
+    def _extreme_quantities(self) -> tuple[str, ...]:
+        return ("N", "Q", "un", "ut")
+
+    def _extreme_history(self, quantity: str, nodes=None, *, point=None, body=None, dof=None):
+        """The history of ``quantity`` for :meth:`extremes` (``u``, ``v``, ``a``: every DOF)."""
+        if quantity == "u":
+            return self.displacements()
+        if quantity in ("v", "a"):
+            return None
+        return self.history(quantity, nodes, point=point, body=body, dof=dof)
+
     # ---- fields: stored, or recomputed exactly on request ----------------------------------
     def _state_indices(self, states) -> np.ndarray:
         """States (int or sequence; negative from the end; None: all) as indices 0…n−1."""
@@ -916,6 +990,8 @@ class StaticResult:
 #: component)
 _NODE_QUANTITIES = {"ux": ("u", 0), "uy": ("u", 1), "rz": ("u", 2),
                     "vx": ("v", 0), "vy": ("v", 1), "vrz": ("v", 2)}
+_CFE_QUANTITIES = ("N", "Q", "un", "ut", "sigma_n", "tau")
+_EXTREME_UNITS = {"u": "m", "v": "m/s", "a": "m/s2"}
 _MULTIPLIER_KEYS = ("first_slip", "first_opening", "first_closing", "equilibrium_lost")
 _REPR_SEGMENTS = 8  #: segments listed by ``repr`` (the rest are counted)
 _HISTORY_UNITS = {"N": "N", "Q": "N", "sigma_n": "Pa", "tau": "Pa", "un": "m", "ut": "m"}

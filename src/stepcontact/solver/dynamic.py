@@ -25,8 +25,9 @@ the slip beyond that drift, ũ_τ = u_τ − μ Δt u̇_τ,n / 2, so that stick 
 statics, and the sign of ũ_τ' is the sign of the slip velocity at the end of the step: the
 engine's consistency check (slip in the direction of the friction force, slip → stick when it
 would reverse) is then Coulomb's law in velocities.  Closed rigid contact holds u_n = 0 at the
-end of the step; a CFE that closes during a step is an impact with restitution 0 (the
-integrator's implicit constraint).
+end of the step; a CFE that closes during a step is an impact (Newton's law, restitution e:
+the step is cut there, the velocities jump by the impulses, and a CFE that leaves the obstacle
+with e > 0 opens at that instant).
 
 Events inside a step (eq. (10)): the step is cut at the event time, the state there
 interpolated linearly between the step's start and its end under the old scheme (the
@@ -36,10 +37,13 @@ scheme switched (an impact's velocities jump, forces that jump are resolved in
 accelerations, the state is projected onto the new scheme's constraints), and the
 integration restarts there with the same K̂ — no refactorisation.
 Steps land on the breaks of the time functions (a pulse's start and end) and on the end of the
-interval.  Those few shorter steps h < Δt keep Δt's K̂: Newmark's β and γ scaled by (Δt/h)² and
-Δt/h leave c₀ = 1/(βh²) and c₁ = γ/(βh) unchanged, and the member stays unconditionally
-stable (2β ≥ γ ≥ ½); it is first-order accurate and dissipative for that one step, which the
-ledger books as numerical.  No step ever refactorises.
+interval: a step that would pass one is a whole step of Δt (the load's rate over the part
+before the break continued to its end) cut at the break like at an event — the state there
+the convex combination of the step's ends, which has no more energy than they (a Newmark
+step conserves it), so the landing gains no energy (the ledger books what it removes as
+numerical); the load's jump at the break follows in accelerations.  (Newmark's β, γ scaled by
+(Δt/h)², Δt/h for a short step h keep K̂ too, but change the energy by O(Δt² ü·Mü): a gain
+where the accelerations jump.)  No step ever refactorises.
 
 Water in opened joints (:class:`~stepcontact.model.CrackWater`, :mod:`stepcontact.fem.crack`):
 on the wet CFEs the force W = A (p_c − p_u) is a load −Bᵀ [0; W] that follows its patterns'
@@ -103,13 +107,22 @@ class DynamicResult(StaticResult):
 
     Extra attributes: ``u``, ``v``, ``a`` (n_states, ndof) displacements, velocities and
     accelerations at every reported state (m, m/s, m/s²); ``energy`` {term: (n_states,)} the
-    energy ledger (J; :data:`ENERGY_TERMS`); ``dt`` the time step (s)."""
+    energy ledger (J; :data:`ENERGY_TERMS`); ``dt`` the time step (s); ``impulses`` the
+    impulses of the impacts, one entry per CFE and impact: {"state", "time" (s), "cfe",
+    "normal", "tangential" (N·s per metre of thickness; the sign convention of N and Q:
+    normal ≤ 0 compressive)} — the CFEs that close at the impact carry theirs on their
+    events too (``Event.impulse_n``, ``impulse_t``), the others (closed before) only here;
+    :meth:`impacts` sums them per impact.  :meth:`extremes` gives the largest values of
+    the recorded quantities (u, v, a of every DOF, N, Q …) and their times."""
 
     u: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     v: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     a: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     energy: dict[str, np.ndarray] = field(default_factory=dict)
     dt: float = 0.0
+    impulses: dict[str, np.ndarray] = field(default_factory=lambda: {
+        "state": np.zeros(0, np.int64), "time": np.zeros(0), "cfe": np.zeros(0, np.int64),
+        "normal": np.zeros(0), "tangential": np.zeros(0)})
 
     #: the path axis of the states is the time (s)
     path_axis = "time"
@@ -133,6 +146,29 @@ class DynamicResult(StaticResult):
     def velocities(self, states=None) -> np.ndarray:
         idx = np.arange(self.n_states) if states is None else np.asarray(states)
         return self.v[idx]
+
+    def impacts(self):
+        """The impacts of the run, one row per impact (a :class:`pandas.DataFrame`):
+        ``time`` (s), ``state`` (the reported state after it), ``cfes`` (how many CFEs took
+        an impulse), ``normal`` and ``tangential`` — the total impulses on the contacts,
+        N·s per metre of thickness (normal ≤ 0 compressive, as N).  Per CFE:
+        :attr:`impulses`."""
+        import pandas as pd
+
+        imp = {k: np.asarray(v) for k, v in self.impulses.items()}
+        df = pd.DataFrame({k: imp[k] for k in ("state", "time", "cfe", "normal",
+                                               "tangential")})
+        out = df.groupby(["state", "time"], sort=True).agg(
+            cfes=("cfe", "size"), normal=("normal", "sum"), tangential=("tangential", "sum"))
+        return out.reset_index()[["time", "state", "cfes", "normal", "tangential"]]
+
+    def _extreme_quantities(self) -> tuple[str, ...]:
+        return ("u", "v", "a") + super()._extreme_quantities()
+
+    def _extreme_history(self, quantity: str, nodes=None, *, point=None, body=None, dof=None):
+        if quantity in ("u", "v", "a"):
+            return getattr(self, quantity)
+        return super()._extreme_history(quantity, nodes, point=point, body=body, dof=dof)
 
     def displacement(self, i: int) -> np.ndarray:
         return self.u[i]
@@ -256,6 +292,65 @@ def _initial(system: System, cond: Condensed, initial, u0, v0):
     return u, v, s, w, states, static
 
 
+def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
+    """The contact state at t = 0 given the displacements u0 (``u``, gaps w = B u0 + w⁰).
+
+    Without ``initial``: a CFE whose gap is closed (−u_n ≤ 1e-9 of the displacement scale)
+    and that does not separate (B_n v0 ≥ 0 to round-off) starts closed (stuck; frictionless:
+    closed), the others open; a compliant layer closed carries its spring's force (p = C_n
+    u_n, Q = C_τ u_τ, slipping at f p where it is beyond the cone).  The forces of rigid
+    contacts are not known from u0: they are the solution of the contact problem in
+    accelerations under the loads at t = 0 (M ü + Bᵀ s = F(0) − K u0 − C v0, the rate
+    problem at that instant, solved by the driver), the definition of the initial state, not
+    events.  A rigid CFE penetrating its obstacle beyond that tolerance is refused.
+
+    With ``initial``: its contact states and forces are kept; every rigid CFE closed there
+    must be closed at u0 too (else ModelError: u0 is not the static result's displacement).
+    Returns (states, s, w)."""
+    m = system.m
+    cfe = system.cfe
+    w = w.copy()
+    scale = max(float(np.abs(u).max(initial=0.0)), float(np.abs(w).max(initial=0.0)), 1e-300)
+    tol = 1e-9 * scale
+    wn = w[m:]
+    rigid_n = ~np.isfinite(cfe.kn)
+    live = ~law.inert
+    if initial is not None:
+        closed = (states != OPEN) & rigid_n & live
+        bad = closed & (np.abs(wn) > 1e-6 * scale)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise ModelError("u0", f"is not the displacement of `initial`: CFE {k} of interface "
+                             f"'{cfe.names[cfe.interface[k]]}', closed in the static result, "
+                             f"has the gap {-wn[k]:.3g} m at u0 (give u0 equal to "
+                             "initial.displacement(-1), or one of them)")
+        w[m:][closed] = 0.0
+        return states, s, w
+    vn = system.B[m:] @ v
+    vtol = 1e-9 * max(float(np.abs(system.B @ v).max(initial=0.0)), 1e-300)
+    deep = rigid_n & live & (wn > tol)
+    if deep.any():
+        k = int(np.flatnonzero(deep)[0])
+        raise ModelError("u0", f"makes CFE {k} of interface '{cfe.names[cfe.interface[k]]}' "
+                         f"penetrate its rigid obstacle by {wn[k]:.3g} m")
+    touching = live & (wn >= -tol) & (vn >= -vtol)
+    states = states.copy()
+    states[touching] = law.closed_state()[touching]
+    w[m:][touching & rigid_n] = 0.0
+    s = s.copy()
+    soft_n = touching & np.isfinite(cfe.kn)
+    p = np.where(soft_n, np.where(soft_n, cfe.kn, 0.0) * np.maximum(wn, 0.0), 0.0)
+    s[m:] = np.where(soft_n, p, s[m:])
+    soft_t = soft_n & np.isfinite(cfe.kt)
+    q = np.where(soft_t, np.where(soft_t, cfe.kt, 0.0) * w[:m], 0.0)
+    lim = law.f * p
+    over = soft_t & law.frictional & (np.abs(q) > lim)
+    q = np.where(over, np.sign(q) * lim, q)
+    states[over] = np.where(q[over] > 0, SLIP_POS, SLIP_NEG)
+    s[:m] = np.where(soft_t, q, s[:m])
+    return states, s, w
+
+
 @dataclass(frozen=True)
 class _Newmark:
     """Coefficients of one step of length h of the HHT-α family (α = 0: Newmark's average
@@ -268,8 +363,8 @@ class _Newmark:
     h: float
     alpha: float = 0.0
     #: Δt / h ≥ 1 for a step shorter than Δt made with Δt's K̂: β and γ scaled by stretch² and
-    #: stretch keep c0 = 1/(βh²) and c1 = γ/(βh), hence K̂; still unconditionally stable
-    #: (2β ≥ γ ≥ ½), first-order accurate for that step, numerically dissipative
+    #: stretch keep c0 = 1/(βh²) and c1 = γ/(βh), hence K̂ (not used by the driver, whose
+    #: short steps are cuts of whole steps: this one can gain energy where ü jumps)
     stretch: float = 1.0
 
     @property
@@ -448,7 +543,7 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
 
 def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
             e: float, friction: np.ndarray, bonded: np.ndarray | None = None,
-            bonded_t: np.ndarray | None = None):
+            bonded_t: np.ndarray | None = None, impulses: dict | None = None):
     """Velocities after an impact (Newton's law): impulses P ≥ 0 on the normal rows of the
     CFEs ``cand`` (closing and already closed) such that each active one leaves with the
     normal velocity −e u̇_n⁻ (closing) or 0 (closed): M Δv = −B_nᵀ P, by an active set (an
@@ -459,15 +554,22 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     ``bonded``, ``bonded_t`` (m,) bool: CFEs whose bond is intact (eq. (12)) hold both ways
     — their normal impulse may pull, and (``bonded_t``: rigid in shear) their tangential one
     is not limited: a rigid bond carries an impact's impulse (its strength is checked on the
-    forces after it)."""
+    forces after it).
+
+    ``impulses``: a dict that receives the impulses per CFE of ``cand``, N·s (per metre of
+    thickness in plane strain), in the sign convention of the forces s = [Q; p]: ``"p"`` the
+    normal impulse (≥ 0 compressive, except a bond's pull), ``"Q"`` the tangential one."""
     m = system.m
     free = cond.free
     Bn = cond.Bf[m + cand]  # normal rows on the free DOFs
+    if impulses is not None:
+        impulses["p"], impulses["Q"] = np.zeros(len(cand)), np.zeros(len(cand))
     if Bn.shape[0] == 0:
         return v, np.zeros(len(cand))
     vf = v[free]
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
-    target = np.where(np.isin(cand, closing), -e * wd, 0.0)
+    target = np.where(np.isin(cand, closing), -np.asarray(e) * wd, 0.0)  # (e: one, or per
+    # CFE of cand)
     X, W = minv(m + cand)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
     bil = np.zeros(len(cand), bool) if bonded is None else np.asarray(bonded)[cand]
     active = (wd > 0) | bil  # approaching (or closed and pushed on; bonded: held)
@@ -486,16 +588,53 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     out = v.copy()
     out[free] = vf - X(P)
     bil_t = np.zeros(len(cand), bool) if bonded_t is None else np.asarray(bonded_t)[cand]
-    return out, _friction_impulse(system, cond, minv, out, cand, P, friction, bil_t)
+    T = np.zeros(len(cand))
+    sig = _friction_impulse(system, cond, minv, out, cand, P, friction, bil_t, T)
+    if impulses is not None:
+        impulses["p"], impulses["Q"] = P.copy(), T
+    return out, sig
+
+
+def _restitution_of(cond, m: int, e: float, v: np.ndarray, a: np.ndarray, cand: np.ndarray,
+                    dt: float) -> np.ndarray | float:
+    """Newton's coefficient e per CFE of ``cand`` at an impact: e, except where the rebound
+    could not be followed — its flight 2 e u̇⁻ / ü_n (u̇⁻ the approach velocity, ü_n > 0 the
+    relative acceleration towards the obstacle before the impact) would be shorter than the
+    time step Δt: the bounces that remain (a geometric series, Zeno's) last less than
+    Δt / (1 − e) in all and end at rest, so that CFE stays closed (e = 0 for it; the kinetic
+    energy left, ½ m (e u̇⁻)², goes to the ledger's ``impact``)."""
+    if e <= 0.0:
+        return e
+    free = cond.free
+    wd = cond.Bf[m + cand] @ v[free]  # approach velocities (positive: closing)
+    acc = cond.Bf[m + cand] @ a[free]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        short = (acc > 0) & (2.0 * e * np.maximum(wd, 0.0) < acc * dt)
+    return np.where(short, 0.0, e)
+
+
+def _rebounding(cond, m: int, v0: np.ndarray, v: np.ndarray, cand: np.ndarray,
+                old: np.ndarray) -> np.ndarray:
+    """The CFEs of ``cand`` that leave the obstacle after an impact with restitution e > 0
+    (Newton's law: a closing CFE's normal relative velocity after it is −e times the approach
+    one, separating): not bonded, with a separating normal velocity after the impact (``v``)
+    beyond round-off (1e-9 of the largest relative velocity of ``cand`` before it, ``v0``).
+    They open at the impact's instant."""
+    free = cond.free
+    wn = cond.Bf[m + cand] @ v[free]  # positive: approaching
+    tol = 1e-9 * max(float(np.abs(cond.Bf[m + cand] @ v0[free]).max(initial=0.0)), 1e-300)
+    return cand[(wn < -tol) & (old[cand] != BONDED)]
 
 
 def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np.ndarray,
-                      friction: np.ndarray, bil: np.ndarray | None = None) -> np.ndarray:
+                      friction: np.ndarray, bil: np.ndarray | None = None,
+                      T_out: np.ndarray | None = None) -> np.ndarray:
     """Tangential impulses of an impact, consistent with Coulomb's law (|T| ≤ f P): each
     CFE with a normal impulse P > 0 and rigid friction stops sliding if the impulse that
     stops it is within f P, else slides on with T = f P against its slip; a bonded one
     (``bil``, eq. (12)) stops whatever the impulse.  Changes ``v`` in
-    place; returns per CFE of ``cand`` the slip direction after the impact (0: stuck)."""
+    place; returns per CFE of ``cand`` the slip direction after the impact (0: stuck), and
+    writes the tangential impulses (N·s, the sign of Q) into ``T_out`` (len(cand),) if given."""
     free = cond.free
     sig = np.zeros(len(cand))
     bil = np.zeros(len(cand), bool) if bil is None else bil
@@ -520,6 +659,8 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np
             break
         sliding |= over
     v[free] -= X(T)
+    if T_out is not None:
+        T_out[k] = T
     after = Bt @ v[free]
     sig[k] = np.where(sliding, np.sign(after), 0.0)
     return sig
@@ -689,7 +830,15 @@ def solve_dynamic(
         Start from the last state of a static run of the same model (displacements, contact
         forces and states; its pattern factors are held).
     u0, v0 : (ndof,) arrays, optional
-        Initial displacements and velocities (m, m/s).
+        Initial displacements and velocities (m, m/s).  The contact state at t = 0
+        (:func:`_state_at_u0`): with ``initial``, its states and forces (every rigid CFE
+        closed there must be closed at u0); from u0 alone, the CFEs whose gap B u0 + w⁰ is
+        closed (and not separating under v0) closed, the others open, the closed rigid ones'
+        forces those of the contact problem in accelerations under the loads at t = 0 (the
+        rate problem there; not events: a CFE that opens or slips under the loads at t = 0
+        starts so), a compliant layer's its spring's.  A static state
+        given as u0 (its loads as time functions, e.g. ``Constant(1.0)``) thus gives the
+        answer of ``initial=``.
     ground_acceleration : (time function, (dx, dy)), optional
         Ground acceleration a_g(t) (m/s²) along the unit direction (dx, dy): the effective
         load −M r a_g(t), r the rigid translation along it; displacements are relative to the
@@ -698,7 +847,12 @@ def solve_dynamic(
         Newton's coefficient e ∈ [0, 1] of the impacts of rigid contacts: the step is cut
         where a CFE closes, the normal velocities of the closing (and closed) CFEs jump to
         −e times their approach velocities by impulses (with friction's impulses by
-        Coulomb's law), and the integration restarts there.  Compliant contact closes
+        Coulomb's law), and the integration restarts there; a CFE that leaves the obstacle
+        opens at that instant (events ``closed`` and ``opened`` at one time), except where
+        its flight would be shorter than Δt (:func:`_restitution_of`: it stays closed).  The
+        impulses are recorded (``Event.impulse_n``/``impulse_t``,
+        :attr:`DynamicResult.impulses`, :meth:`DynamicResult.impacts`); the ledger books
+        the kinetic energy the impact takes as ``impact``.  Compliant contact closes
         smoothly without it.
     alpha : float
         HHT-α numerical damping, α ∈ [0, 1/3] (0: Newmark's average acceleration, no
@@ -850,6 +1004,8 @@ def solve_dynamic(
     bonds_on = bool(law.has_bond.any())
     eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
     u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
+    if u0 is not None and m:  # the contact state at u0 (gaps w = B u0 + w⁰)
+        states, s, w = _state_at_u0(system, law, u, v, s, w, states, initial)
     if initial is None:  # joints with initial strength start bonded (eq. (12)), their
         states = law.initial_states(states)  # compliant layers carrying C w at u0
         stiff0 = np.r_[cfe.kt, cfe.kn]
@@ -1227,16 +1383,20 @@ def solve_dynamic(
     mult = {"first_slip": None, "first_opening": None, "first_closing": None,
             "equilibrium_lost": None}
 
-    def log_event(step: int, k, was, now, t_ev: float, s_=None) -> None:
+    impulse_log: list[tuple[int, float, int, float, float]] = []  # (state, t, CFE, n, τ)
+
+    def log_event(step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
         s_ = eng.s if s_ is None else s_
         tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
+        pn_, qt_ = (0.0, 0.0) if impulse is None else impulse
         rec.events.append(Event(
             step=step, state=len(rec), segment=0, pattern="dynamic", lam=t_ev, cfe=int(k),
             interface=cfe.names[cfe.interface[k]] if cfe.names else "",
             local=int(cfe.local[k]), position=float(cfe.s[k]),
             x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
             y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-s_[m + k]), Q=float(s_[k])))
+            transition=tr, N=float(-s_[m + k]), Q=float(s_[k]), impulse_n=pn_,
+            impulse_t=qt_))
         key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
                Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
         if key and mult[key] is None:
@@ -1250,6 +1410,17 @@ def solve_dynamic(
     elif m and all_rigid and u0 is None and np.any(eng.states == BONDED):
         # rigid bonds from rest: their forces jump with the loads at t = 0
         a = load_jump(F - F_held, 0.0, 0)
+    elif m and all_rigid and u0 is not None and np.any(eng.states != OPEN):
+        # from u0: the forces of the closed rigid contacts are those of the contact problem
+        # in accelerations under the loads at t = 0 (_state_at_u0) — the initial state,
+        # not events (bonds that break under those loads are)
+        n_ev0, mult0 = len(rec.events), dict(mult)
+        a = np.zeros(ndof)
+        a = load_jump(F - Kx(u) - Cx(v), 0.0, 0)
+        rec.events[n_ev0:] = [e for e in rec.events[n_ev0:] if bonds_on]
+        if not bonds_on:
+            mult.update(mult0)
+        first = False
     else:
         a = np.zeros(ndof)
         a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
@@ -1263,10 +1434,13 @@ def solve_dynamic(
     n_impacts = 0
     zero_restarts = 0
     end_time = float(duration)
-    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states):
+    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states, F_i=None,
+            part="cut"):
         """The state at t + frac·Δt of the step under the scheme before an event (eq. (8):
         ü linear in time over the step, with the step's end under that scheme), the works of
-        the part step in the ledger.  Returns (u, v, s, w, F) there."""
+        the part step in the ledger (the integrator's share in ``parts[part]``).  ``F_i``:
+        the load there (default F(t + frac·Δt); a break's left limit for a landing).
+        Returns (u, v, s, w, F) there."""
         s_end = eng.s + (1.0 - mu) * ds_o
         w_end = eng.w + (1.0 - mu) * dw_o + drift
         tv = s_end - cond.d * (w_end - system.w0)
@@ -1279,7 +1453,7 @@ def solve_dynamic(
         u_i = u + frac * (u_end - u)
         v_i = v + frac * (v_end - v)
         s_i = eng.s + (frac - mu) * ds_o
-        F_i = force_at(t + tau)
+        F_i = force_at(t + tau) if F_i is None else F_i
         du = u_i - u
         w_i = system.B @ u_i + system.w0
         x_i = layers.at(run_states, w_i, frac) if layers else None
@@ -1298,7 +1472,7 @@ def solve_dynamic(
         d_num = (works["external"] - works["damping"] - works["friction"] - works["impact"]
                  - d_energy)
         ledger["numerical"] += d_num
-        parts["cut"] += d_num
+        parts[part] += d_num
         return u_i, v_i, s_i, w_i, F_i
 
     breaks = np.unique(np.concatenate(
@@ -1309,19 +1483,28 @@ def solve_dynamic(
     breaks = breaks[(breaks > 0) & (breaks < end_time)]
     while t < end_time - 1e-6 * dt0:
         n += 1
-        # the step: Δt, or shorter to land on a break of a load (a pulse's end) or the end
+        # the step: Δt; one that would pass a break of a load (a pulse's end) or the end
+        # lands there: a whole step under the load's rate continued, its state at the break
+        # the convex combination of its ends (``land`` < 1, as a cut at an event: no energy
+        # gained, module docstring)
         dt = dt0
         ahead = breaks[breaks > t + 1e-9 * dt0]
         stop_at = min(float(ahead[0]) if ahead.size else np.inf, end_time)
+        land = 1.0
         if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
-            dt = stop_at - t
-        nm = _Newmark(dt, alpha, dt0 / dt)
-        t1 = t + dt
+            land = (stop_at - t) / dt0
+        nm = _Newmark(dt, alpha)
+        t1 = t + land * dt
         at_break = bool(ahead.size) and t1 >= float(ahead[0]) - 1e-6 * dt0
         if at_break:
             t1 = float(ahead[0])
+        elif land < 1.0:
+            t1 = stop_at
         # a step that ends on a break takes the load's left limit there
         F1 = force_at(t1 - 1e-9 * dt0) if at_break else force_at(t1)
+        F_land = F1
+        if land < 1.0:  # the load's rate over the part step continued to t + Δt
+            F1 = F + (F1 - F) / land
         Fhat = nm.rhs(Kx, Mx, Cx, F1, F, u, v, a)
         y = cond.factor.solve(np.ascontiguousarray(Fhat[free]))
         h_end = Bf @ y
@@ -1413,7 +1596,8 @@ def solve_dynamic(
                         ds_o = None
                     if ds_o is not None:
                         t_cut = min(times.values())
-                        frac = min((t_cut - t) / dt, 1.0)
+                        frac = min((t_cut - t) / dt, land)
+                        t_cut = min(t_cut, t + frac * dt)
                         # another CFE's event under the slipping scheme before the slip
                         # stops: the step is cut there first, the schemes unchanged (the
                         # next step decides at that point)
@@ -1437,9 +1621,9 @@ def solve_dynamic(
                 log_event(n, k, old[k], dec.new[k], t + mu * dt)
                 step_events += 1
             ds, dw = dec.ds, dec.dw
-            if mu >= 1.0:
+            if mu >= land:
                 break
-            dmu, _, fired = eng.next_event(ds, dw, 1.0 - mu, 1e-10)
+            dmu, _, fired = eng.next_event(ds, dw, land - mu, 1e-10)
             small = small + 1 if dmu <= 1e-12 else 0
             if small > 100 or len(rec.events) > max_events:
                 status = Status.CYCLING if small > 100 else Status.MAX_EVENTS
@@ -1454,34 +1638,62 @@ def solve_dynamic(
                 bond_brk = fired & (eng.states == BONDED)
                 restart = (mu, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
                 break
-            if mu >= 1.0 - 1e-15 and not fired.any():
+            if mu >= land - 1e-15 and not fired.any():
                 break
         if stop:
             break
+        landing = restart is None and land < 1.0  # a short step: its state at the break
+        if landing:
+            restart = (land, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
         if restart is not None:
             frac, mu_r, ds_o, dw_o, old, new_states, times = restart
             zero_restarts = zero_restarts + 1 if frac == 0.0 else 0
+            # a cut where the step lands on a break: the load's left limit there, its jump
+            # after the cut
+            lands = (land < 1.0 or at_break) and t + frac * dt >= t1 - 1e-9 * dt0
+            n_events = len(rec.events)
             u_i, v_i, s_i, w_i, F_i = cut(frac, mu_r, ds_o, dw_o, drift, Fhat, s_start,
-                                          x_start, old)
-            t_i = t + frac * dt
+                                          x_start, old, F_land if lands else None,
+                                          "short_steps" if landing else "cut")
+            t_i = t1 if lands else t + frac * dt
             closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & rigid_n)
             s_i[m + closing] = 0.0
             w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
+            imp: dict[int, tuple[float, float]] = {}  # CFE → (normal, tangential) impulse
+            bounced = np.zeros(0, np.int64)
             if closing.size:  # an impact: normal velocities jump (Newton's law)
                 closed_now = np.flatnonzero((old != OPEN) & rigid_n)
                 cand = np.union1d(closing, closed_now)
-                v_new, sig = _impact(system, cond, minv, v_i, cand, closing, restitution,
-                                     law.f, old == BONDED, (old == BONDED) & law.rigid_t)
+                got: dict = {}
+                v_before = v_i
+                e_k = _restitution_of(cond, m, restitution, v_i, a, cand, dt0)
+                v_new, sig = _impact(system, cond, minv, v_i, cand, closing, e_k,
+                                     law.f, old == BONDED, (old == BONDED) & law.rigid_t, got)
                 ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
                 v_i = v_new
                 # a CFE still sliding after its impact slips on (with its velocity)
                 for k_, sg in zip(cand, sig, strict=True):
                     if sg != 0 and k_ in closing:
                         new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
+                if restitution > 0.0:  # Newton's rebound: a CFE leaving the obstacle opens
+                    bounced = _rebounding(cond, m, v_before, v_i, cand, old)
+                    closed_as = new_states.copy()
+                    new_states[bounced] = OPEN
+                    s_i[bounced], s_i[m + bounced] = 0.0, 0.0
+                imp = {int(k_): (-float(pk), float(qk))
+                       for k_, pk, qk in zip(cand, got["p"], got["Q"], strict=True)
+                       if pk != 0.0 or qk != 0.0}
+                for k_, (pn_, qt_) in sorted(imp.items()):
+                    impulse_log.append((len(rec), t_i, k_, pn_, qt_))
                 n_impacts += 1
             new_states = layers.closing_states(old, new_states)
+            for k in bounced:  # the contact of a rebound lasts an instant: closed, opened
+                if old[k] == OPEN:
+                    log_event(n, k, OPEN, closed_as[k], t_i, impulse=imp.get(int(k)))
+                    log_event(n, k, closed_as[k], OPEN, t_i)
             for k in np.flatnonzero(old != new_states):
-                log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
+                log_event(n, k, old[k], new_states[k], times.get(int(k), t_i),
+                          impulse=imp.get(int(k)))
             eng.states = new_states.copy()
             e_before = 0.5 * v_i @ (Mx(v_i)) + 0.5 * u_i @ (Kx(u_i))
             u_i, v_i = _project(system, cond, minv, u_i, v_i, new_states, law, rigid_n)
@@ -1506,9 +1718,21 @@ def solve_dynamic(
                 a = np.zeros(ndof)
                 a[free] = M_lu.solve(F_i[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
             t = t_i
+            if lands and at_break:  # the load jumps here: the contact forces with it
+                F_left = F
+                F = force_at(t)
+                if m:
+                    a = load_jump(F - F_left, t, n)
+                else:
+                    a = np.zeros(ndof)
+                    a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free])
             if crack is not None and settle_water(t, n):
                 F = force_at(t)
-            record(t, "event", 0.0)
+            record(t, "event" if len(rec.events) > n_events or not landing else "step", 0.0)
+            if landing:
+                for hk in hooks:
+                    if hasattr(hk, "after_step"):
+                        hk.after_step(n, t, end_time)
             continue
         # the end of the step: real mutual displacements, the fields, the ledger
         zero_restarts = 0
@@ -1595,6 +1819,7 @@ def solve_dynamic(
         crack_pressure=None if crack is None else arr["pressure"],
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
         energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
+        impulses=_impulse_arrays(impulse_log),
         _recover=None if system.discrete is not None else _Stresses(system),
         **({} if stage_arrays is None else {
             "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
@@ -1602,6 +1827,15 @@ def solve_dynamic(
             "stage_cfes": stage_arrays["stage_cfes"],
             "stage_bodies": stage_arrays["stage_bodies"]}),
     )
+
+
+def _impulse_arrays(log: list[tuple[int, float, int, float, float]]) -> dict[str, np.ndarray]:
+    """The impulse log (state, t, CFE, normal, tangential) as the arrays of
+    :attr:`DynamicResult.impulses`."""
+    cols = list(zip(*log, strict=True)) if log else [()] * 5
+    return {"state": np.asarray(cols[0], np.int64), "time": np.asarray(cols[1], float),
+            "cfe": np.asarray(cols[2], np.int64), "normal": np.asarray(cols[3], float),
+            "tangential": np.asarray(cols[4], float)}
 
 
 __all__ = ["ENERGY_TERMS", "DynamicResult", "solve_dynamic"]
