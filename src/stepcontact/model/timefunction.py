@@ -246,7 +246,7 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
     if ground is not None:
         funcs["ground_acceleration"] = ground
     n_breaks = 0
-    for item, g in funcs.items():
+    for g in funcs.values():
         if hasattr(g, "breaks"):
             b = np.asarray(g.breaks(), float)
             n_breaks += int(np.count_nonzero((b > 0) & (b < duration)))
