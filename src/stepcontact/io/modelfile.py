@@ -2156,6 +2156,12 @@ def validation_report(path: str | Path) -> Validation:
                 for k in range(len(model.stages)):  # grout strengths at the joints' CFEs
                     plan.grout_stage(k)
             _check_mechanism(system)
+            dyn_stages = [st.name for st in model.stages if st.dynamics is not None]
+            if model.dynamics is not None or dyn_stages:  # mass for the dynamic interval
+                from stepcontact.fem.mass import check_mass
+
+                check_mass(system, "dynamics" if not dyn_stages else
+                           f"stage '{dyn_stages[0]}'.dynamics")
         except StepContactError as e:
             problems.add(getattr(e, "item", "model"), getattr(e, "problem", str(e)))
     out.problems = problems.problems()

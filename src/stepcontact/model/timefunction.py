@@ -255,8 +255,8 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
         raise ModelError(f"{prefix}dt", f"the interval of {duration:g} s in steps of {dt:g} s "
                          f"takes about {estimate:.3g} time steps, more than max_steps = "
                          f"{max_steps:g}: give a longer dt or a shorter duration, or raise "
-                         "the limit (solve_dynamic(max_steps=...), max_steps in the model "
-                         "file's [dynamics] table)")
+                         "the limit (solve_dynamic(max_steps=...), or max_steps in the "
+                         "dynamics table of a model file)")
     for item, g in funcs.items():
         if hasattr(g, "support"):
             lo, hi = g.support()

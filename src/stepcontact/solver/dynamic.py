@@ -811,6 +811,7 @@ def solve_dynamic(
     >>> str(res.events[0].transition), round(res.events[0].lam, 4)  # N = P(1 − cos ωt) = N_R
     ('broken', 0.0209)
     """
+    from stepcontact.fem.mass import check_mass
     from stepcontact.fem.mass import mass as mass_matrix
 
     mdl = model.model if isinstance(model, System) else model
@@ -866,6 +867,8 @@ def solve_dynamic(
             raise ModelError("mass", f"must be 'consistent', 'lumped' or a matrix, got '{mass}'")
         if system.discrete is not None:
             raise ModelError("mass", "a discrete model has no geometry: give its mass matrix")
+        check_mass(system, "dynamics" if stage is None else
+                   f"stage '{mdl.stages[stage].name}'.dynamics")
         M = mass_matrix(system.model, system.dofs, lumped=mass == "lumped")
     else:
         M = sp.csr_matrix(mass, dtype=float)
