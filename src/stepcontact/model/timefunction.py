@@ -111,6 +111,16 @@ class Tabulated:
         hi = np.inf if self.hold and j == len(v) - 1 else t[min(j + 1, len(t) - 1)]
         return (float(lo), float(hi))
 
+    def period(self) -> float | None:
+        """A table that returns to zero is a pulse: twice the length of its nonzero part, s
+        (None when it holds a nonzero value)."""
+        lo, hi = self.support()
+        return 2.0 * (hi - lo) if np.isfinite(hi) and np.isfinite(lo) else None
+
+    def describe(self) -> str:
+        lo, hi = self.support()
+        return f"a table pulse of {hi - lo:g} s (from {lo:g} s to {hi:g} s)"
+
 
 PULSE_SHAPES = ("rectangular", "triangular", "half_sine")
 
@@ -164,9 +174,10 @@ class Pulse:
         return (float(self.start), float(self.start + self.duration))
 
     def period(self) -> float | None:
-        """The period of the curved part (a half-sine: 2 × duration), s; None for the
-        piecewise linear shapes, which steps landing on their breaks follow exactly."""
-        return 2.0 * self.duration if self.shape == "half_sine" else None
+        """The period of the pulse's variation (half-sine and triangular: 2 × duration), s;
+        None for a rectangular pulse, constant between its edges, which steps landing on
+        them follow exactly (the jumps are resolved in accelerations)."""
+        return None if self.shape == "rectangular" else 2.0 * self.duration
 
     def describe(self) -> str:
         return f"a {self.shape.replace('_', '-')} pulse of {self.duration:g} s"
@@ -228,11 +239,14 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
       ``max_steps`` — a run that would not end in reasonable time (or memory);
     * a load acts only outside [0, duration] (or is zero everywhere): it would not load the
       structure;
-    * a curved load (a harmonic, a half-sine pulse) has fewer than :data:`STEPS_PER_PERIOD`
-      steps per period: sampled at the steps' ends only, it would be seen where it happens
-      to be (a 1 MHz harmonic at dt = 1 ms: always at its zeros).  Piecewise linear loads
-      (rectangular and triangular pulses, tables) need no such limit: the steps land on
-      their breaks and follow them exactly.
+    * a varying load (a harmonic, a half-sine or triangular pulse, a table that returns to
+      zero) has fewer than :data:`STEPS_PER_PERIOD` steps per period (a pulse: 5 steps in
+      its duration): sampled at the steps' ends only, it would be seen where it happens to
+      be (a 1 MHz harmonic at dt = 1 ms: always at its zeros; a 1 ms half-sine at 50 ms: at
+      its zero ends), and a ramp much shorter than dt, landed on by a short step made with
+      dt's K̂, moves the structure by O(dt² Δa) instead of O(h² Δa).  A rectangular pulse
+      needs no such limit: the steps land on its edges, where the load's jumps are followed
+      in accelerations, and it is constant in between (followed exactly however short).
     """
     dt, duration = float(dt), float(duration)
     if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) \
@@ -269,11 +283,13 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
                                  "structure (times count from the start of the interval)")
         p = g.period() if hasattr(g, "period") else None
         if p is not None and p < STEPS_PER_PERIOD * dt * (1 - 1e-9):
-            what = g.describe() if hasattr(g, "describe") else "a curved load"
+            what = g.describe() if hasattr(g, "describe") else "a varying load"
             raise ModelError(item, f"{what} (period {p:g} s) is sampled by too few steps of "
-                             f"dt = {dt:g} s: a curved load needs at least {STEPS_PER_PERIOD} "
-                             f"steps per period (dt ≤ {p / STEPS_PER_PERIOD:g} s); longer "
-                             "steps see it only at their ends and miss its work")
+                             f"dt = {dt:g} s: a varying load needs at least "
+                             f"{STEPS_PER_PERIOD} steps per period, a pulse "
+                             f"{STEPS_PER_PERIOD // 2} in its duration (dt ≤ "
+                             f"{p / STEPS_PER_PERIOD:g} s); longer steps see it only at "
+                             "their ends and miss its work")
     return int(np.ceil(estimate))
 
 
