@@ -22,10 +22,10 @@ import time
 
 import numpy as np
 import pytest
-from cli_checks import assert_one_line_error
 from typer.testing import CliRunner
 
 import stepcontact as sc
+from cli_checks import assert_one_line_error
 from stepcontact.cli.commands import app
 from stepcontact.enums import Status
 from stepcontact.errors import ModelError, StepContactError
