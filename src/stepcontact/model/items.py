@@ -708,7 +708,8 @@ class DynamicInterval:
 
     Checked at once (:func:`~stepcontact.model.timefunction.check_interval`): dt ≤ duration,
     the step count, loads that act inside [0, duration], and at least 10 steps per period of
-    a curved load (a harmonic, a half-sine pulse)."""
+    a varying load (a harmonic; 5 steps in the duration of a half-sine or triangular pulse or
+    of a table that returns to zero)."""
 
     dt: float
     duration: float

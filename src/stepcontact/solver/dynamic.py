@@ -772,10 +772,11 @@ def solve_dynamic(
     Refused before any work (ModelError naming the item,
     :func:`~stepcontact.model.timefunction.check_interval`): Δt longer than the interval; more
     steps than ``max_steps``; a load (or the ground acceleration) that acts only outside
-    [0, duration] or is zero everywhere; a curved load (a harmonic, a half-sine pulse) with
-    fewer than 10 steps per period — sampled at the steps' ends only, it would be missed.
-    Piecewise linear loads (rectangular and triangular pulses, tables) are followed exactly:
-    the steps land on their breaks.
+    [0, duration] or is zero everywhere; a varying load (a harmonic; a half-sine or
+    triangular pulse, a table that returns to zero: 5 steps in its duration) with fewer than
+    10 steps per period — sampled at the steps' ends only, it would be missed.  A rectangular
+    pulse is followed exactly however short: the steps land on its edges, where its jumps
+    are resolved in accelerations.
 
     Construction stages (``model.stages``, :class:`~stepcontact.model.Stage`)
         The interval follows the last stage and runs on its system: its supports (those
