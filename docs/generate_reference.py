@@ -496,7 +496,9 @@ def render_cli_reference(app: Any = None, prog: str = "stepcontact") -> str:
         f"Every command of `{prog}`, with its help text, usage and options, as "
         f"`{prog} COMMAND --help` prints them.  Bad input (a missing file, a model error) "
         "prints one line `error: ...` on stderr and exits with code 2; a run that ends with lost "
-        "equilibrium is a result, not an error (exit code 0).  See "
+        "equilibrium is a result, not an error (exit code 0), but a dynamic interval it "
+        "could then not run is said (`dynamics not run: <reason>` on stderr) and exits with "
+        "code 3.  See "
         "[user-guide.md](user-guide.md#workflow) for a complete workflow.",
         "",
     ]

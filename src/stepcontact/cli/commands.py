@@ -395,6 +395,7 @@ def _analyse(
 
     _check_plot_path(plot_path)
     _check_lams(model, lams)
+    _check_dynamic_mass(model)
     warnings = [text for _, text in zero_patterns(model)]
     _warn(warnings)
     result_path.parent.mkdir(parents=True, exist_ok=True)
@@ -432,7 +433,46 @@ def _analyse(
                                         plot_path=plot_path,
                                         progress_bar=not quiet and not as_json,
                                         console=console, as_json=as_json)
+    not_run = _dynamics_not_run(model, res)
+    if not_run:  # asked for, not run: said on stderr, in the summary, and by the exit code
+        err = Console(stderr=True, soft_wrap=True, highlight=False)
+        for item in not_run:
+            err.print(Text(f"{item['interval']} not run: {item['reason']}", style="red"))
+        summary["dynamics_not_run"] = not_run
+        if model.dynamics is not None and "dynamics" not in summary:
+            summary["dynamics"] = {"status": "not_run", "reason": not_run[-1]["reason"]}
     return summary
+
+
+def _check_dynamic_mass(model: Model) -> None:
+    """A model with a dynamic interval needs mass on every body that can move: checked before
+    the static run (:func:`stepcontact.fem.mass.check_mass`; ModelError naming the body)."""
+    stages = [st for st in model.stages if st.dynamics is not None]
+    if model.dynamics is None and not stages:
+        return
+    if all(float(b.material.density if hasattr(b, "material") else b.density) > 0
+           for b in model.bodies):
+        return  # (no body without density: nothing to assemble for the check)
+    from stepcontact.fem.assembly import assemble
+    from stepcontact.fem.mass import check_mass
+
+    check_mass(assemble(model), "dynamics" if not stages else
+               f"stage '{stages[0].name}'.dynamics")
+
+
+def _dynamics_not_run(model: Model, res: StaticResult) -> list[dict[str, str]]:
+    """The dynamic intervals the model asks for that the run did not reach (the static
+    program stopped before them: lost equilibrium, or no answer), each with the reason."""
+    why = (f"the load program before it stopped ({res.status.value}: {res.message}); the "
+           "dynamic interval starts from the program's completed last state")
+    out = []
+    done = set(res.dynamics or {})
+    for st in model.stages[:-1]:
+        if st.dynamics is not None and st.name not in done:
+            out.append({"interval": f"dynamics of stage '{st.name}'", "reason": why})
+    if model.dynamics is not None and res.status != Status.COMPLETED:
+        out.append({"interval": "dynamics", "reason": why})
+    return out
 
 
 def _warn(texts: Sequence[str]) -> None:
@@ -544,6 +584,12 @@ def run(
 
     Prints the events and the summary; writes the result file and a contact-stress figure.
 
+    A dynamic interval (the dynamics table) runs after the load program and writes
+    MODEL-dynamic.nc.
+    When the program does not complete (lost equilibrium, no answer), the interval cannot
+    start: 'dynamics not run: <reason>' is printed on stderr, the JSON summary lists it under
+    "dynamics_not_run", and the exit code is 3 (the static result is still written).
+
     Examples:
 
         stepcontact run dam.toml                  # writes dam.nc and dam.png
@@ -576,7 +622,8 @@ def run(
         raise _fail(_error_text(e), as_json) from None
     if as_json:
         typer.echo(json.dumps(summary, indent=2))
-    if summary.get("status") not in (Status.COMPLETED.value, Status.EQUILIBRIUM_LOST.value):
+    if (summary.get("status") not in (Status.COMPLETED.value, Status.EQUILIBRIUM_LOST.value)
+            or summary.get("dynamics_not_run")):
         raise typer.Exit(EXIT_UNRESOLVED)
 
 

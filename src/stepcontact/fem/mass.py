@@ -96,4 +96,27 @@ def mass(model, dofs, lumped: bool = False) -> sp.csr_matrix:
                          shape=(dofs.ndof, dofs.ndof)).tocsr()
 
 
-__all__ = ["continuum_mass", "mass", "rayleigh_coefficients"]
+def check_mass(system, where: str = "dynamics") -> None:
+    """A dynamic interval needs mass on every body that can move: ModelError naming the first
+    body with a free translation but density 0 (kg/m³) — its mass matrix would be singular.
+    Checked before any work (``run`` and ``validate`` of a model file with a dynamic interval,
+    :func:`~stepcontact.solve_dynamic`); a discrete model gives its mass matrix itself."""
+    if getattr(system, "discrete", None) is not None:
+        return
+    model = system.model
+    off = model.node_offsets
+    free = ~np.asarray(system.fixed, bool)
+    for b in model.bodies:
+        rho = float(b.material.density) if hasattr(b, "material") else float(b.density)
+        if rho > 0:
+            continue
+        d = system.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
+        d = d[d >= 0]
+        if d.size and free[d].any():
+            mat = "its material's" if hasattr(b, "material") else "its"
+            raise ModelError(f"body '{b.name}'", f"has no mass ({mat} density is {rho:g} "
+                             f"kg/m³): the dynamic interval ({where}) needs the density of "
+                             "every body that can move")
+
+
+__all__ = ["check_mass", "continuum_mass", "mass", "rayleigh_coefficients"]

@@ -1044,6 +1044,8 @@ class DynamicsSpec(_Spec):
     alpha: float = Field(0.0, ge=0, le=1 / 3, description="HHT-α numerical damping (0: "
                          "Newmark's average acceleration)")
     record_every: int = Field(1, ge=1)
+    max_steps: int = Field(10_000_000, ge=1, description="limit of the number of time steps: "
+                           "an interval with more (duration / dt) is refused before any work")
     loads: list[TimeFunctionSpec] = []
 
 
@@ -1865,7 +1867,8 @@ class _Builder:
                 p.add(f"{where}.damping", "ratios need their two frequencies (Hz)")
                 return None
             return DynamicInterval(spec.dt, spec.duration, tuple(loads), spec.mass, damping,
-                                   spec.restitution, spec.record_every, spec.alpha)
+                                   spec.restitution, spec.record_every, spec.alpha,
+                                   spec.max_steps)
         except ModelError as e:
             item = e.item
             p.add(where + item[len("dynamics"):] if item.startswith("dynamics") else item,
@@ -2153,6 +2156,12 @@ def validation_report(path: str | Path) -> Validation:
                 for k in range(len(model.stages)):  # grout strengths at the joints' CFEs
                     plan.grout_stage(k)
             _check_mechanism(system)
+            dyn_stages = [st.name for st in model.stages if st.dynamics is not None]
+            if model.dynamics is not None or dyn_stages:  # mass for the dynamic interval
+                from stepcontact.fem.mass import check_mass
+
+                check_mass(system, "dynamics" if not dyn_stages else
+                           f"stage '{dyn_stages[0]}'.dynamics")
         except StepContactError as e:
             problems.add(getattr(e, "item", "model"), getattr(e, "problem", str(e)))
     out.problems = problems.problems()

@@ -129,6 +129,13 @@ class DiscreteModel:
         ``local`` numbers them in order).  One string names them all.
     dof_names : sequence of n str, optional
         Names of the DOFs (default ``u0``, ``u1``, …), for loads, supports and reactions.
+    dof_axes : {dof: axis} or (n, 2) array, optional
+        Which DOFs are translations along which axis, for a ground acceleration
+        (``solve_dynamic(ground_acceleration=...)``): ``"x"``, ``"y"`` or a unit vector
+        (dx, dy) per translational DOF (by index or name); the others (rotations, internal
+        DOFs) are not moved by the ground.  An (n, 2) array gives the axis of every DOF (zero
+        rows: none).  Stored as that (n, 2) array; without it a ground acceleration is
+        refused (it would load nothing).
     name : str
 
     The CFEs carry no geometry: in the result their coordinates and normals are NaN, their
@@ -159,6 +166,7 @@ class DiscreteModel:
     bond: object = None
     names: object = "contact"
     dof_names: Sequence[str] | None = None
+    dof_axes: object = None
     name: str = "discrete"
 
     def __post_init__(self):
@@ -196,6 +204,7 @@ class DiscreteModel:
             if dup:
                 raise ModelError("dof_names", f"duplicate name '{dup[0]}'")
         put(self, "dof_names", names)
+        put(self, "dof_axes", self._axes(self.dof_axes))
 
         An = _matrix(self.normal_rows, "normal_rows", (None, n))
         m = An.shape[0]
@@ -311,6 +320,42 @@ class DiscreteModel:
             out[k] = b.arrays(np.zeros((1, 2)), np.ones(1), f"bond[{k}]")[0]
             if b.friction is not None:
                 self.friction[k] = float(b.friction)
+        return out
+
+    def _axes(self, spec) -> np.ndarray:
+        """The (n, 2) unit axes of the translational DOFs (zero rows: not a translation)."""
+        n = self.K.shape[0]
+        if spec is None:
+            return np.zeros((n, 2))
+        if not isinstance(spec, Mapping):
+            try:
+                a = np.array(spec, dtype=float)
+            except (TypeError, ValueError):
+                raise ModelError("dof_axes", "give {dof: 'x' | 'y' | (dx, dy)} or an (n, 2) "
+                                 "array") from None
+            if a.shape != (n, 2) or not np.all(np.isfinite(a)):
+                raise ModelError("dof_axes", f"an array of axes must have shape ({n}, 2) "
+                                 f"and finite entries, got shape {a.shape}")
+            spec = {i: a[i] for i in range(n) if np.any(a[i])}
+        out = np.zeros((n, 2))
+        for key, axis in spec.items():
+            item = f"dof_axes[{key!r}]"
+            d = self.dof(key, item)
+            if isinstance(axis, str):
+                if axis not in ("x", "y"):
+                    raise ModelError(item, f"an axis is 'x', 'y' or a vector (dx, dy), got "
+                                     f"'{axis}'")
+                out[d] = (1.0, 0.0) if axis == "x" else (0.0, 1.0)
+                continue
+            try:
+                v = np.asarray(axis, dtype=float)
+            except (TypeError, ValueError):
+                v = np.zeros(0)
+            norm = float(np.linalg.norm(v)) if v.shape == (2,) else np.nan
+            if not np.isfinite(norm) or norm == 0.0:
+                raise ModelError(item, f"an axis is 'x', 'y' or a nonzero vector (dx, dy), "
+                                 f"got {axis!r}")
+            out[d] = v / norm
         return out
 
     def _dof_mask(self, spec, item: str) -> np.ndarray:

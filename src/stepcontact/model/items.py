@@ -23,6 +23,7 @@ import numpy as np
 
 from stepcontact.errors import ModelError
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.timefunction import MAX_STEPS, check_interval
 
 PlaneKind = Literal["strain", "stress"]
 ElementKind = Literal["tri3", "tri6", "quad4", "quad8", "quad9"]
@@ -702,7 +703,13 @@ class DynamicInterval:
     ``dt``, ``duration`` in s; ``mass`` "consistent" or "lumped"; ``damping`` the Rayleigh
     coefficients (a₀ in 1/s, a₁ in s); ``restitution`` e of the impacts; ``record_every`` k:
     every k-th step is recorded (events and the end always); ``alpha`` the HHT-α numerical
-    damping (0: Newmark's average acceleration)."""
+    damping (0: Newmark's average acceleration); ``max_steps`` the limit of the number of
+    time steps (the interval is refused, before any work, when duration / dt exceeds it).
+
+    Checked at once (:func:`~stepcontact.model.timefunction.check_interval`): dt ≤ duration,
+    the step count, loads that act inside [0, duration], and at least 10 steps per period of
+    a varying load (a harmonic; 5 steps in the duration of a half-sine or triangular pulse or
+    of a table that returns to zero)."""
 
     dt: float
     duration: float
@@ -712,6 +719,7 @@ class DynamicInterval:
     restitution: float = 0.0
     record_every: int = 1
     alpha: float = 0.0
+    max_steps: int = MAX_STEPS
 
     def __post_init__(self):
         for key in ("dt", "duration"):
@@ -732,6 +740,8 @@ class DynamicInterval:
             raise ModelError("dynamics.record_every", "must be at least 1")
         object.__setattr__(self, "loads", tuple((str(n), g) for n, g in self.loads))
         object.__setattr__(self, "damping", tuple(float(x) for x in self.damping))
+        check_interval(self.dt, self.duration, dict(self.loads), max_steps=self.max_steps,
+                       prefix="dynamics.")
 
 
 @dataclass(frozen=True, eq=False)

@@ -14,6 +14,7 @@ plain frozen dataclasses, callable on a float or an array of times (s):
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,6 +40,10 @@ class Constant:
 
     def breaks(self) -> np.ndarray:
         return np.zeros(0)
+
+    def support(self) -> tuple[float, float]:
+        """(t₀, t₁): g = 0 outside [t₀, t₁] (s); (nan, nan) when g is zero everywhere."""
+        return (-np.inf, np.inf) if self.value else (np.nan, np.nan)
 
 
 @dataclass(frozen=True)
@@ -95,6 +100,27 @@ class Tabulated:
     def breaks(self) -> np.ndarray:
         return np.asarray(self.times)
 
+    def support(self) -> tuple[float, float]:
+        """(t₀, t₁): g = 0 outside [t₀, t₁] (s); (nan, nan) when g is zero everywhere."""
+        t, v = np.asarray(self.times), np.asarray(self.values)
+        nz = np.flatnonzero(v != 0.0)
+        if nz.size == 0:
+            return (np.nan, np.nan)
+        i, j = int(nz[0]), int(nz[-1])
+        lo = t[max(i - 1, 0)]
+        hi = np.inf if self.hold and j == len(v) - 1 else t[min(j + 1, len(t) - 1)]
+        return (float(lo), float(hi))
+
+    def period(self) -> float | None:
+        """A table that returns to zero is a pulse: twice the length of its nonzero part, s
+        (None when it holds a nonzero value)."""
+        lo, hi = self.support()
+        return 2.0 * (hi - lo) if np.isfinite(hi) and np.isfinite(lo) else None
+
+    def describe(self) -> str:
+        lo, hi = self.support()
+        return f"a table pulse of {hi - lo:g} s (from {lo:g} s to {hi:g} s)"
+
 
 PULSE_SHAPES = ("rectangular", "triangular", "half_sine")
 
@@ -120,7 +146,12 @@ class Pulse:
     def __call__(self, t):
         tt = np.asarray(t, dtype=float)
         x = (tt - self.start) / self.duration
-        inside = (x >= 0) & (x < 1) if self.shape == "rectangular" else (x >= 0) & (x <= 1)
+        # inside by the break times themselves (not x, whose round-off could put the end
+        # break t = start + duration inside a rectangular pulse: the step landing there would
+        # see no jump)
+        end = self.start + self.duration
+        inside = ((tt >= self.start) & (tt < end) if self.shape == "rectangular"
+                  else (tt >= self.start) & (tt <= end))
         if self.shape == "rectangular":
             g = np.ones_like(x)
         elif self.shape == "triangular":
@@ -135,6 +166,21 @@ class Pulse:
         if self.shape == "triangular":
             pts.insert(1, self.start + self.duration / 2)
         return np.asarray(pts)
+
+    def support(self) -> tuple[float, float]:
+        """(t₀, t₁): g = 0 outside [t₀, t₁] (s); (nan, nan) when g is zero everywhere."""
+        if not self.amplitude:
+            return (np.nan, np.nan)
+        return (float(self.start), float(self.start + self.duration))
+
+    def period(self) -> float | None:
+        """The period of the pulse's variation (half-sine and triangular: 2 × duration), s;
+        None for a rectangular pulse, constant between its edges, which steps landing on
+        them follow exactly (the jumps are resolved in accelerations)."""
+        return None if self.shape == "rectangular" else 2.0 * self.duration
+
+    def describe(self) -> str:
+        return f"a {self.shape.replace('_', '-')} pulse of {self.duration:g} s"
 
 
 @dataclass(frozen=True)
@@ -162,5 +208,90 @@ class Harmonic:
     def breaks(self) -> np.ndarray:
         return np.asarray([self.start])
 
+    def support(self) -> tuple[float, float]:
+        """(t₀, t₁): g = 0 outside [t₀, t₁] (s); (nan, nan) when g is zero everywhere."""
+        return (float(self.start), np.inf) if self.amplitude else (np.nan, np.nan)
 
-__all__ = ["PULSE_SHAPES", "Constant", "Harmonic", "Pulse", "Tabulated"]
+    def period(self) -> float:
+        """1 / f, s."""
+        return 1.0 / self.frequency
+
+    def describe(self) -> str:
+        return f"a harmonic of {self.frequency:g} Hz"
+
+
+#: time steps per period a curved load (a harmonic, a half-sine pulse) needs at least: Newmark
+#: samples the load at the steps' ends and takes it linear between them
+STEPS_PER_PERIOD = 10
+#: default limit of the number of time steps of a dynamic interval (``max_steps``)
+MAX_STEPS = 10_000_000
+
+
+def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
+                   max_steps: int = MAX_STEPS, prefix: str = "", ground=None) -> int:
+    """Check, before any work, that a dynamic interval of ``duration`` in steps of ``dt`` (s)
+    can follow its loads (pattern → time function; ``ground`` the time function of a ground
+    acceleration) and ends; returns the estimated number of steps.  ModelError (items named
+    with ``prefix``, e.g. ``"dynamics."``) when
+
+    * ``dt`` is longer than the interval (a single stretched step follows nothing);
+    * the steps (duration / dt, plus one per break of a load inside the interval) exceed
+      ``max_steps`` — a run that would not end in reasonable time (or memory);
+    * a load acts only outside [0, duration] (or is zero everywhere): it would not load the
+      structure;
+    * a varying load (a harmonic, a half-sine or triangular pulse, a table that returns to
+      zero) has fewer than :data:`STEPS_PER_PERIOD` steps per period (a pulse: 5 steps in
+      its duration): sampled at the steps' ends only, it would be seen where it happens to
+      be (a 1 MHz harmonic at dt = 1 ms: always at its zeros; a 1 ms half-sine at 50 ms: at
+      its zero ends), and a ramp much shorter than dt, landed on by a short step made with
+      dt's K̂, moves the structure by O(dt² Δa) instead of O(h² Δa).  A rectangular pulse
+      needs no such limit: the steps land on its edges, where the load's jumps are followed
+      in accelerations, and it is constant in between (followed exactly however short).
+    """
+    dt, duration = float(dt), float(duration)
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) \
+            or max_steps < 1:
+        raise ModelError(f"{prefix}max_steps", f"must be a positive integer, got {max_steps!r}")
+    if dt > duration:
+        raise ModelError(f"{prefix}dt", f"{dt:g} s is longer than the interval "
+                         f"({prefix}duration = {duration:g} s): give dt ≤ duration (a step "
+                         "that long follows neither the loads nor the motion)")
+    funcs = {f"{prefix}loads['{n}']": g for n, g in loads.items()}
+    if ground is not None:
+        funcs["ground_acceleration"] = ground
+    n_breaks = 0
+    for g in funcs.values():
+        if hasattr(g, "breaks"):
+            b = np.asarray(g.breaks(), float)
+            n_breaks += int(np.count_nonzero((b > 0) & (b < duration)))
+    estimate = duration / dt + n_breaks
+    if estimate > max_steps:
+        raise ModelError(f"{prefix}dt", f"the interval of {duration:g} s in steps of {dt:g} s "
+                         f"takes about {estimate:.3g} time steps, more than max_steps = "
+                         f"{max_steps:g}: give a longer dt or a shorter duration, or raise "
+                         "the limit (solve_dynamic(max_steps=...), or max_steps in the "
+                         "dynamics table of a model file)")
+    for item, g in funcs.items():
+        if hasattr(g, "support"):
+            lo, hi = g.support()
+            if np.isnan(lo):
+                raise ModelError(item, "is zero at every time: it would not load the "
+                                 "structure")
+            if hi <= 0.0 or lo >= duration:
+                raise ModelError(item, f"acts only from {lo:g} s to {hi:g} s, outside the "
+                                 f"interval [0, {duration:g}] s: it would not load the "
+                                 "structure (times count from the start of the interval)")
+        p = g.period() if hasattr(g, "period") else None
+        if p is not None and p < STEPS_PER_PERIOD * dt * (1 - 1e-9):
+            what = g.describe() if hasattr(g, "describe") else "a varying load"
+            raise ModelError(item, f"{what} (period {p:g} s) is sampled by too few steps of "
+                             f"dt = {dt:g} s: a varying load needs at least "
+                             f"{STEPS_PER_PERIOD} steps per period, a pulse "
+                             f"{STEPS_PER_PERIOD // 2} in its duration (dt ≤ "
+                             f"{p / STEPS_PER_PERIOD:g} s); longer steps see it only at "
+                             "their ends and miss its work")
+    return int(np.ceil(estimate))
+
+
+__all__ = ["MAX_STEPS", "PULSE_SHAPES", "STEPS_PER_PERIOD", "Constant", "Harmonic", "Pulse",
+           "Tabulated", "check_interval"]

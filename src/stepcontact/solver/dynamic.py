@@ -88,6 +88,7 @@ from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, Co
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
+from stepcontact.model.timefunction import MAX_STEPS, check_interval
 from stepcontact.results.recorder import GrowingArray, Recorder
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensed
@@ -768,6 +769,49 @@ class _DampedLayers:
         return 0.5 * self.kn * x**2
 
 
+def _ground_function(ground_acceleration):
+    """The time function a_g(t) of ``ground_acceleration`` = (a_g, (dx, dy)), checked."""
+    if ground_acceleration is None:
+        return None
+    try:
+        g_fun, direction = ground_acceleration
+    except (TypeError, ValueError):
+        raise ModelError("ground_acceleration", "give (time function, (dx, dy))") from None
+    if not callable(g_fun):
+        raise ModelError("ground_acceleration", "its first entry must be a time function "
+                         "a_g(t), m/s²")
+    d = np.asarray(direction, float)
+    if d.shape != (2,) or not np.all(np.isfinite(d)) or not np.any(d):
+        raise ModelError("ground_acceleration", f"the direction must be a nonzero vector "
+                         f"(dx, dy), got {direction!r}")
+    return g_fun
+
+
+def _ground_translation(system: System, direction) -> np.ndarray:
+    """r (ndof,): the displacements of a rigid translation by 1 m along the unit vector
+    ``direction`` (the effective load of a ground acceleration is −M r a_g(t)).  Continua and
+    frames: their nodes' u_x, u_y; a discrete model: its DOFs' axes
+    (:attr:`~stepcontact.DiscreteModel.dof_axes`, r_i = e_i · d) — refused when none of its
+    DOFs translates along the direction (the load would be zero)."""
+    d = np.asarray(direction, float)
+    d = d / np.linalg.norm(d)
+    if system.discrete is not None:
+        r = system.discrete.dof_axes @ d
+        if not np.any(np.abs(r) > 1e-12):
+            named = np.any(system.discrete.dof_axes != 0.0)
+            raise ModelError("ground_acceleration", (
+                f"no DOF of the discrete model translates along ({d[0]:g}, {d[1]:g})" if named
+                else "the discrete model's DOFs have no direction") + ": the ground "
+                "acceleration would apply no load; say which DOFs are translations along "
+                "which axis (DiscreteModel(dof_axes={'ux': 'x', 'uy': 'y'}))")
+        return r
+    r = np.zeros(system.ndof)
+    has = system.dofs.of >= 0
+    for c in (0, 1):
+        r[system.dofs.of[has[:, c], c]] = d[c]
+    return r
+
+
 def _one_thread(fn):
     """Run ``fn`` with every thread pool (BLAS, MKL PARDISO, OpenMP) held to one thread: a
     time step's work is a forward and back substitution and small dense algebra, which a
@@ -805,6 +849,8 @@ def solve_dynamic(
     rtol: float = 1e-10,
     hooks: Sequence = (),
     stage: int | str | None = None,
+    backend: str = "auto",
+    max_steps: int | None = None,
 ) -> DynamicResult:
     """Newmark time integration with the contact state followed exactly at every step
     (module docstring).
@@ -868,6 +914,23 @@ def solve_dynamic(
         :func:`~stepcontact.solve_static` inside the run of the stages, from ``initial``, the
         result of the run so far (it ends in that stage); its result is
         ``StaticResult.dynamics[stage name]``.
+    backend : str
+        Sparse factorisation backend of K̂ (``auto``, ``scipy``, ``cholmod``, ``pypardiso``;
+        :mod:`stepcontact.solver.linalg`), as for :func:`~stepcontact.solve_static`.
+    max_steps : int, optional
+        Limit of the number of time steps (default: the dynamic interval's ``max_steps``, or
+        :data:`~stepcontact.model.timefunction.MAX_STEPS` = 10⁷): an interval that would take
+        more (duration / Δt plus the loads' breaks) is refused before any work, with the
+        estimate.
+
+    Refused before any work (ModelError naming the item,
+    :func:`~stepcontact.model.timefunction.check_interval`): Δt longer than the interval; more
+    steps than ``max_steps``; a load (or the ground acceleration) that acts only outside
+    [0, duration] or is zero everywhere; a varying load (a harmonic; a half-sine or
+    triangular pulse, a table that returns to zero: 5 steps in its duration) with fewer than
+    10 steps per period — sampled at the steps' ends only, it would be missed.  A rectangular
+    pulse is followed exactly however short: the steps land on its edges, where its jumps
+    are resolved in accelerations.
 
     Construction stages (``model.stages``, :class:`~stepcontact.model.Stage`)
         The interval follows the last stage and runs on its system: its supports (those
@@ -903,6 +966,7 @@ def solve_dynamic(
     >>> str(res.events[0].transition), round(res.events[0].lam, 4)  # N = P(1 − cos ωt) = N_R
     ('broken', 0.0209)
     """
+    from stepcontact.fem.mass import check_mass
     from stepcontact.fem.mass import mass as mass_matrix
 
     mdl = model.model if isinstance(model, System) else model
@@ -928,6 +992,7 @@ def solve_dynamic(
         mass, damping = spec.mass, spec.damping
         restitution, record_every = spec.restitution, spec.record_every
         alpha = spec.alpha
+        max_steps = getattr(spec, "max_steps", None) if max_steps is None else max_steps
     if dt is None or duration is None:
         raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
                          "interval (model.dynamics)")
@@ -936,6 +1001,9 @@ def solve_dynamic(
             raise ModelError(key, f"must be positive and finite, got {v}")
     if not (0.0 <= alpha <= 1.0 / 3.0):
         raise ModelError("alpha", f"HHT-α must lie in [0, 1/3], got {alpha}")
+    # Δt, the step count and every load's sampling, before any work (check_interval)
+    check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
+                   else max_steps, ground=_ground_function(ground_acceleration))
     system = model if isinstance(model, System) else assemble(model)
     law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
     stage_arrays: dict | None = None
@@ -954,6 +1022,8 @@ def solve_dynamic(
             raise ModelError("mass", f"must be 'consistent', 'lumped' or a matrix, got '{mass}'")
         if system.discrete is not None:
             raise ModelError("mass", "a discrete model has no geometry: give its mass matrix")
+        check_mass(system, "dynamics" if stage is None else
+                   f"stage '{mdl.stages[stage].name}'.dynamics")
         M = mass_matrix(system.model, system.dofs, lumped=mass == "lumped")
     else:
         M = sp.csr_matrix(mass, dtype=float)
@@ -970,7 +1040,7 @@ def solve_dynamic(
     # land on a load's break or the end, or to go on after an event) use it too (_Newmark)
     t0 = time.perf_counter()
     cond = Condensed.from_system(dataclasses.replace(
-        system, K=_Newmark(dt0, alpha).stiffness(K, M, C)))
+        system, K=_Newmark(dt0, alpha).stiffness(K, M, C)), backend)
     schemes = SchemeSolver(cond.G, cond.d, product=cond.product)
     t_setup = time.perf_counter() - t0
     cfe = system.cfe
@@ -1020,14 +1090,7 @@ def solve_dynamic(
     f_of = {n: system.loads[n].f for n in names}
     r_ground = None
     if ground_acceleration is not None:
-        g_fun, direction = ground_acceleration
-        d = np.asarray(direction, float)
-        d = d / np.linalg.norm(d)
-        r_ground = np.zeros(ndof)
-        has = system.dofs.of >= 0
-        for c in (0, 1):
-            r_ground[system.dofs.of[has[:, c], c]] = d[c]
-        r_ground = -(M @ r_ground)
+        r_ground = -(M @ _ground_translation(system, ground_acceleration[1]))
 
     def factors_at(t: float) -> dict[str, float]:
         c = dict(static)

@@ -473,7 +473,7 @@ class StaticSolver:
         if int(self.rec.stage.view[-1]) != k:  # a stage that is only a dynamic interval
             self._record(0.0, seg, "segment_start")
         start = self.result(time.perf_counter() - t0)
-        dres = solve_dynamic(plan.full, initial=start, stage=k,
+        dres = solve_dynamic(plan.full, initial=start, stage=k, backend=self.backend,
                              hooks=[h for h in self.hooks if hasattr(h, "after_step")])
         self.dynamics[name] = dres
         if dres.status != Status.COMPLETED:
