@@ -174,10 +174,11 @@ class Pulse:
         return (float(self.start), float(self.start + self.duration))
 
     def period(self) -> float | None:
-        """The period of the pulse's variation (half-sine and triangular: 2 × duration), s;
-        None for a rectangular pulse, constant between its edges, which steps landing on
-        them follow exactly (the jumps are resolved in accelerations)."""
-        return None if self.shape == "rectangular" else 2.0 * self.duration
+        """The period of the pulse's variation: 2 × duration, s (every shape: a rectangular
+        pulse's edges off the step grid are cuts of whole steps, interpolated linearly like
+        events, which moves the structure by up to |Δa| dt²/8 per edge — small only when the
+        pulse spans several steps)."""
+        return 2.0 * self.duration
 
     def describe(self) -> str:
         return f"a {self.shape.replace('_', '-')} pulse of {self.duration:g} s"
@@ -243,10 +244,10 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
       zero) has fewer than :data:`STEPS_PER_PERIOD` steps per period (a pulse: 5 steps in
       its duration): sampled at the steps' ends only, it would be seen where it happens to
       be (a 1 MHz harmonic at dt = 1 ms: always at its zeros; a 1 ms half-sine at 50 ms: at
-      its zero ends), and a ramp much shorter than dt, landed on by a short step made with
-      dt's K̂, moves the structure by O(dt² Δa) instead of O(h² Δa).  A rectangular pulse
-      needs no such limit: the steps land on its edges, where the load's jumps are followed
-      in accelerations, and it is constant in between (followed exactly however short).
+      its zero ends).  A rectangular pulse too: its edges off the step grid are cuts of whole
+      steps (linear interpolation, as at events: no energy gained), exact in velocity but
+      off by up to |Δa| dt²/8 in displacement per edge, which is small only when the pulse
+      spans several steps (a 1 ms pulse at dt = 50 ms would be placed to within 25 ms).
     """
     dt, duration = float(dt), float(duration)
     if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) \
