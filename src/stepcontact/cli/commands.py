@@ -870,10 +870,13 @@ def sweep(
 
         stepcontact sweep friction.toml --serial --rerun --json
     """
+    from stepcontact.io.atomic import OutputLockedError, output_lock
+    from stepcontact.io.interrupt import Terminated, signals_interrupt
     from stepcontact.study.studyfile import load_study, run_study
     from stepcontact.study.sweep import StudyError
 
     console = Console(highlight=False, soft_wrap=True)
+    study = None
     try:
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
@@ -883,11 +886,16 @@ def sweep(
             raise _Failure(_error_text(e)) from None
         executor = "serial" if serial else scheduler if scheduler is not None else "process"
         try:
-            ds = run_study(study, executor=executor, workers=workers,
-                           progress=not quiet and not as_json, rerun=rerun)
+            with signals_interrupt(), output_lock(study.store / "sweep.nc", "sweep store"):
+                ds = run_study(study, executor=executor, workers=workers,
+                               progress=not quiet and not as_json, rerun=rerun)
+        except OutputLockedError as e:
+            raise _Failure(_error_text(e)) from None
         except (StudyError, OSError, TimeoutError) as e:
             where = f"--scheduler {scheduler}: " if scheduler is not None else ""
             raise _Failure(where + _error_text(e)) from None
+    except Terminated as e:
+        raise _sweep_interrupted(e, study, as_json) from None
     except _Failure as e:
         raise _fail(str(e), as_json) from None
     outputs = list(study.func.outputs)
@@ -930,6 +938,21 @@ def sweep(
         console.print(Text(f"written: {path}", style="green"))
     if failed or unresolved:
         raise typer.Exit(EXIT_UNRESOLVED)
+
+
+def _sweep_interrupted(e: Any, study: Any, as_json: bool) -> typer.Exit:
+    """A sweep ended by SIGTERM or SIGINT (its workers are ended with it): say how many cases
+    are stored; the exit to raise (128 + the signal's number)."""
+    from stepcontact.study.sweep import is_done
+
+    done = sum(is_done(study.store, c, study.func.sweep_key) for c in study.cases)
+    text = (f"interrupted by {e.name}: {done} of {len(study.cases)} cases are stored in "
+            f"'{study.store}'; run the sweep again to run the others")
+    Console(stderr=True, soft_wrap=True, highlight=False).print(
+        Text(f"error: {text}", style="red"))
+    if as_json:
+        typer.echo(json.dumps({"status": "interrupted", "signal": e.name, "message": text}))
+    return typer.Exit(e.exit_code)
 
 
 STUDIES = ("slab",)
@@ -1130,9 +1153,9 @@ def _attach_model(res: StaticResult, result_file: Path, model_file: Path | None)
     fields of every state can be recomputed; returns the model file used.
 
     ``model_file`` (``--model``) must load and match the result (else a failure); without
-    it the model files of :func:`_default_model_files` are tried in turn (the one the result
-    file records, then MODEL.toml beside it), each quietly not used if it does not load or
-    match.  None: no model.
+    it the model files of :func:`_default_model_files` are tried in turn (RESULT.toml beside
+    it; for a dynamic result the model file it records, then MODEL.toml), each quietly not
+    used if it does not load or match.  None: no model.
     """
     if model_file is None:
         for path in _default_model_files(result_file, res):
@@ -1154,26 +1177,29 @@ def _attach_model(res: StaticResult, result_file: Path, model_file: Path | None)
 
 
 def _default_model_files(result_file: Path, res: StaticResult) -> list[Path]:
-    """The model files a result file may come from, most likely first: the one it records
-    (``run`` stores its path and a hash of its content), RESULT.toml beside it, and for
-    MODEL-dynamic.nc (MODEL-dynamic-STAGE.nc) MODEL.toml beside it.  For a dynamic result,
-    whose model is not checked otherwise, a file whose content differs from the recorded hash
-    is not used."""
+    """The model files a result file may come from, most likely first: RESULT.toml beside
+    it; for a dynamic result (MODEL-dynamic.nc, MODEL-dynamic-STAGE.nc), whose model is not
+    checked otherwise, the model file it records (``run`` stores its path and a SHA-256 hash
+    of its content) and MODEL.toml beside it, each used only when its content has the
+    recorded hash (files written before the hash was recorded: any)."""
     import hashlib
     import re
 
     from stepcontact.results.file import result_attrs
 
-    try:
-        attrs = result_attrs(result_file)
-    except (OSError, ValueError):
-        attrs = {}
-    out = [Path(attrs["model_file"])] if attrs.get("model_file") else []
-    out.append(result_file.with_suffix(".toml"))
-    stem = re.fullmatch(r"(.+)-dynamic(-[A-Za-z0-9_-]+)?", result_file.stem)
-    if stem:
-        out.append(result_file.with_name(stem.group(1) + ".toml"))
-    sha = attrs.get("model_sha256") if getattr(res, "path_axis", "lam") == "time" else None
+    out = [result_file.with_suffix(".toml")]
+    sha = None
+    if getattr(res, "path_axis", "lam") == "time":
+        try:
+            attrs = result_attrs(result_file)
+        except (OSError, ValueError):
+            attrs = {}
+        sha = attrs.get("model_sha256")
+        if attrs.get("model_file"):
+            out.insert(0, Path(attrs["model_file"]))
+        stem = re.fullmatch(r"(.+)-dynamic(-[A-Za-z0-9_-]+)?", result_file.stem)
+        if stem:
+            out.append(result_file.with_name(stem.group(1) + ".toml"))
     kept: list[Path] = []
     for p in out:
         try:

@@ -38,14 +38,15 @@ _FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
 
 class WriteError(StepContactError, OSError):
     """A file could not be written (full disk, quota, permission): the message names the file
-    and says that the previous file there, if any, is intact."""
+    and says that the previous file there, if any, is intact (``reason``: why, in words)."""
 
     def __init__(self, message: str, *, path: str | os.PathLike[str] | None = None,
-                 code: int | None = None) -> None:
+                 code: int | None = None, reason: str = "") -> None:
         super().__init__(message)
         self.message = message
         self.path = None if path is None else Path(path)
         self.errno = code
+        self.reason = reason or message
 
     def __str__(self) -> str:
         return self.message
@@ -67,6 +68,15 @@ def _existing_dir(path: Path) -> Path:
     return p if p.is_dir() else p.parent
 
 
+def _write_error(path: Path, reason: str, code: int | None, what: str) -> WriteError:
+    full = code in _FULL
+    kept = f"the previous file '{path.name}' is intact" if path.exists() else \
+        "no partial file was left"
+    hint = "free some space or write elsewhere" if full else "check the path and its permissions"
+    return WriteError(f"could not write the {what} '{path}': {reason}; {kept}; {hint}",
+                      path=path, code=code, reason=reason)
+
+
 def check_free_space(path: str | os.PathLike[str], size: int, what: str = "file") -> None:
     """Raise a :class:`WriteError` when the device of ``path`` has less free space than
     ``size`` bytes plus a margin (:data:`FREE_MARGIN_BYTES` + :data:`FREE_MARGIN_SHARE` ×
@@ -78,29 +88,24 @@ def check_free_space(path: str | os.PathLike[str], size: int, what: str = "file"
         return
     need = int(size) + FREE_MARGIN_BYTES + int(FREE_MARGIN_SHARE * size)
     if free < need:
-        raise WriteError(
-            f"not enough free space to write the {what} '{path}': it needs about "
-            f"{_mb(need)}, the device has {_mb(free)} free; nothing was written (a previous "
-            f"file '{path.name}' is intact); free some space or write elsewhere",
-            path=path, code=errno.ENOSPC)
+        raise _write_error(path, f"not enough free space on the device (it needs about "
+                           f"{_mb(need)}, {_mb(free)} are free); nothing was written",
+                           errno.ENOSPC, what)
 
 
 def write_error(path: str | os.PathLike[str], exc: OSError, what: str = "file") -> WriteError:
-    """A :class:`WriteError` naming ``path`` for an OS error met while writing it."""
+    """A :class:`WriteError` naming ``path`` for an OS error met while writing it (or a
+    :class:`WriteError` of a file written for it, e.g. in a temporary directory)."""
     path = Path(path)
     if isinstance(exc, WriteError):
-        return exc
-    if exc.errno in _FULL:
-        reason = "the device is full (no space left)" if exc.errno == errno.ENOSPC else \
-            (exc.strerror or str(exc)).lower()
-        hint = "free some space or write elsewhere"
+        if exc.path == path:
+            return exc
+        return _write_error(path, exc.reason, exc.errno, what)
+    if exc.errno == errno.ENOSPC:
+        reason = "the device is full (no space left)"
     else:
         reason = (exc.strerror or str(exc)).lower()
-        hint = "check the path and its permissions"
-    kept = f"the previous file '{path.name}' is intact" if path.exists() else \
-        "no file was left behind"
-    return WriteError(f"could not write the {what} '{path}': {reason}; {kept}; {hint}",
-                      path=path, code=exc.errno)
+    return _write_error(path, reason, exc.errno, what)
 
 
 @contextmanager

@@ -224,8 +224,45 @@ def pin_threads() -> None:
     _PINNED = True
 
 
-def _init_worker() -> None:
-    """Initializer of the process pool's workers."""
+#: seconds between two checks of a pool worker that its parent still lives
+PARENT_POLL = 0.5
+
+
+def die_with_parent(parent: int) -> None:
+    """End this process (a pool worker) when its parent ``parent`` dies: on Linux the kernel
+    sends SIGKILL at once (``prctl(PR_SET_PDEATHSIG)``), elsewhere (and as a fallback) a
+    daemon thread checks every :data:`PARENT_POLL` seconds that the parent still lives.  A
+    parent killed outright (SIGKILL) then leaves no worker computing on for nobody."""
+    import threading
+
+    if os.getppid() != parent:  # the parent is gone already
+        os._exit(1)
+    if os.name == "posix":
+        with contextlib.suppress(Exception):
+            import ctypes
+            import ctypes.util
+            import signal
+
+            libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+            PR_SET_PDEATHSIG = 1
+            libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+            if os.getppid() != parent:  # died between the check and prctl
+                os._exit(1)
+
+    def watch() -> None:
+        while True:
+            time.sleep(PARENT_POLL)
+            if os.getppid() != parent:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="stepcontact-parent-watch", daemon=True).start()
+
+
+def _init_worker(parent: int | None = None) -> None:
+    """Initializer of the process pool's workers: BLAS pinned to one thread, and the worker
+    dies with its parent (:func:`die_with_parent`)."""
+    if parent is not None:
+        die_with_parent(parent)
     pin_threads()
 
 
@@ -675,7 +712,8 @@ def _run_pool(func: Callable, todo: list[Case], retries: int, workers: int,
 
     ctx = multiprocessing.get_context("spawn")
     with _pinned_environment(), ProcessPoolExecutor(workers, mp_context=ctx,
-                                                    initializer=_init_worker) as pool:
+                                                    initializer=_init_worker,
+                                                    initargs=(os.getpid(),)) as pool:
         pending = {pool.submit(_run_case, func, c, retries, True): c for c in todo}
         try:
             while pending:
@@ -683,10 +721,26 @@ def _run_pool(func: Callable, todo: list[Case], retries: int, workers: int,
                 for fut in done:
                     case = pending.pop(fut)
                     finish(_outcome_of(fut, case))
-        except BaseException:
-            for fut in pending:
-                fut.cancel()
+        except BaseException:  # Ctrl-C, SIGTERM (stepcontact.io.interrupt), an error
+            _stop_pool(pool, pending)
             raise
+
+
+def _stop_pool(pool: ProcessPoolExecutor, pending: Iterable[Any]) -> None:
+    """Cancel the cases not started and end the workers at once (the cases running are
+    lost; the finished ones are stored): the pool's exit then does not wait for them."""
+    for fut in pending:
+        fut.cancel()
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    for p in procs:
+        with contextlib.suppress(Exception):
+            p.terminate()
+    for p in procs:
+        with contextlib.suppress(Exception):
+            p.join(5)
+            if p.is_alive():
+                p.kill()
+    pool.shutdown(wait=False, cancel_futures=True)
 
 
 def _outcome_of(fut: Any, case: Case) -> Outcome:
