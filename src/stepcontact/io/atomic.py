@@ -157,8 +157,19 @@ def write_text(path: str | os.PathLike[str], text: str) -> None:
 
 
 def netcdf_bytes(ds: xr.Dataset) -> bytes:
-    """The netCDF-4 file (h5netcdf) of a dataset, made in memory."""
-    return bytes(ds.to_netcdf(engine="h5netcdf"))
+    """The netCDF-4 file (h5netcdf) of a dataset, made in memory.  (Under a dask.distributed
+    client, xarray would ask the cluster for a write lock named after the in-memory buffer,
+    which fails: the dataset is in memory, so dask's synchronous scheduler is used.)"""
+    import contextlib
+    import sys
+
+    quiet = contextlib.nullcontext()
+    if "dask" in sys.modules:
+        import dask
+
+        quiet = dask.config.set(scheduler="synchronous")
+    with quiet:
+        return bytes(ds.to_netcdf(engine="h5netcdf"))
 
 
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str], what: str = "result file") -> None:
