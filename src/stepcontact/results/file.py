@@ -888,6 +888,10 @@ class ResultWriter:
         if self._final != self._key(result):
             self._write(result)
 
+    def __fspath__(self) -> str:
+        """The writer stands for its file (``Path(writer)``, ``open(writer)``)."""
+        return os.fspath(self.path)
+
     def __repr__(self) -> str:
         return f"ResultWriter('{self.path}', writes={self.writes})"
 
