@@ -227,43 +227,47 @@ def pin_threads() -> None:
 #: seconds between two checks of a pool worker that its parent still lives
 PARENT_POLL = 0.5
 
+# what a pool worker runs first (its initializer): standard library only, so that it runs
+# before the worker imports stepcontact (seconds on a busy machine, during which a parent
+# killed outright would otherwise leave the worker to compute its case for nobody)
+_DIE_WITH_PARENT = """
+import os, signal, sys, threading, time
+parent = {parent}
+if os.getppid() != parent:
+    os._exit(1)
+if sys.platform.startswith("linux"):
+    try:
+        import ctypes
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)
+    except Exception:
+        pass
+    if os.getppid() != parent:
+        os._exit(1)
+def _watch():
+    while True:
+        time.sleep({poll})
+        if os.getppid() != parent:
+            os._exit(1)
+threading.Thread(target=_watch, name="stepcontact-parent-watch", daemon=True).start()
+"""
+
+
+def _worker_initializer(parent: int) -> Callable[[], Any]:
+    """The pool workers' initializer: they die with their parent ``parent``
+    (:func:`die_with_parent`); a picklable callable of the standard library only (BLAS is
+    pinned to one thread by each case, :func:`_run_case`)."""
+    import functools
+
+    return functools.partial(exec, _DIE_WITH_PARENT.format(parent=int(parent),
+                                                           poll=float(PARENT_POLL)), {})
+
 
 def die_with_parent(parent: int) -> None:
     """End this process (a pool worker) when its parent ``parent`` dies: on Linux the kernel
     sends SIGKILL at once (``prctl(PR_SET_PDEATHSIG)``), elsewhere (and as a fallback) a
     daemon thread checks every :data:`PARENT_POLL` seconds that the parent still lives.  A
     parent killed outright (SIGKILL) then leaves no worker computing on for nobody."""
-    import threading
-
-    if os.getppid() != parent:  # the parent is gone already
-        os._exit(1)
-    if os.name == "posix":
-        with contextlib.suppress(Exception):
-            import ctypes
-            import ctypes.util
-            import signal
-
-            libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-            PR_SET_PDEATHSIG = 1
-            libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
-            if os.getppid() != parent:  # died between the check and prctl
-                os._exit(1)
-
-    def watch() -> None:
-        while True:
-            time.sleep(PARENT_POLL)
-            if os.getppid() != parent:
-                os._exit(1)
-
-    threading.Thread(target=watch, name="stepcontact-parent-watch", daemon=True).start()
-
-
-def _init_worker(parent: int | None = None) -> None:
-    """Initializer of the process pool's workers: BLAS pinned to one thread, and the worker
-    dies with its parent (:func:`die_with_parent`)."""
-    if parent is not None:
-        die_with_parent(parent)
-    pin_threads()
+    _worker_initializer(parent)()
 
 
 @contextlib.contextmanager
@@ -712,8 +716,8 @@ def _run_pool(func: Callable, todo: list[Case], retries: int, workers: int,
 
     ctx = multiprocessing.get_context("spawn")
     with _pinned_environment(), ProcessPoolExecutor(workers, mp_context=ctx,
-                                                    initializer=_init_worker,
-                                                    initargs=(os.getpid(),)) as pool:
+                                                    initializer=_worker_initializer(
+                                                        os.getpid())) as pool:
         pending = {pool.submit(_run_case, func, c, retries, True): c for c in todo}
         try:
             while pending:
