@@ -115,10 +115,12 @@ def test_write_interval_is_bounded_and_its_cost_a_share():
         w._cost = cost
         assert w._wait() == pytest.approx(want, rel=1e-12)
     assert ResultWriter("x.nc", min_interval=30.0, interval=10.0)._wait() == 10.0
+    assert ResultWriter("x.nc", interval=10.0)._wait() == 0.0  # min_interval 0: every time
     with pytest.raises(ValueError, match="interval"):
         ResultWriter("x.nc", interval=0.0)
 
 
+@pytest.mark.slow
 def test_a_long_segment_is_written_within_it(tmp_path):
     """One segment with many events (the demo block pushed to sliding): when a write is due
     (here after every second event) the file is written inside the segment, each write a whole
@@ -153,6 +155,7 @@ def test_a_long_segment_is_written_within_it(tmp_path):
     assert load_result(out).status == res.status
 
 
+@pytest.mark.slow
 def test_sigterm_writes_the_states_finished(cyclic):
     out = cyclic.with_suffix(".nc")
     p = None
@@ -174,6 +177,7 @@ def test_sigterm_writes_the_states_finished(cyclic):
     assert not atomic.lock_path(out).exists()
 
 
+@pytest.mark.slow
 def test_kill_9_keeps_the_last_periodic_write(cyclic):
     out = cyclic.with_suffix(".nc")
     p = None
@@ -209,6 +213,7 @@ def test_output_lock_refuses_a_second_holder(tmp_path):
         pass
 
 
+@pytest.mark.slow
 def test_second_run_on_one_output_is_refused(cyclic):
     out = cyclic.with_suffix(".nc")
     first = second = None
@@ -345,6 +350,7 @@ def test_full_disk_in_sweep_is_one_line(tmp_path, monkeypatch, demo_result):
 # --------------------------------------------------------------------------------------------
 # 4. a killed sweep takes its workers with it
 # --------------------------------------------------------------------------------------------
+@pytest.mark.slow
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL], ids=["TERM", "KILL"])
 def test_killed_sweep_leaves_no_worker(tmp_path, cyclic, sig):
     psutil = pytest.importorskip("psutil")

@@ -803,8 +803,9 @@ class ResultWriter:
     ``interval`` · s/(1 − s) seconds (3.75 s at 15 s), at most a share s of the run's time goes
     into writing (a write of the whole result grows with the run: long programs of many short
     segments stay linear in the number of segments); beyond, the file is still written every
-    ``interval`` seconds — the bound on the work lost wins.  The last segment's result and
-    :meth:`finish` always write.
+    ``interval`` seconds — the bound on the work lost wins.  With ``min_interval`` 0 every
+    segment end and every event writes.  The last segment's result and :meth:`finish` always
+    write.
 
     Parameters
     ----------
@@ -846,7 +847,9 @@ class ResultWriter:
         return len(result.lam), len(result.events), str(result.status), result.message
 
     def _wait(self) -> float:
-        """Seconds from the last write to the next one."""
+        """Seconds from the last write to the next one (0 with ``min_interval`` 0)."""
+        if self.min_interval <= 0:
+            return 0.0
         share = self._cost * (1.0 - self.max_share) / self.max_share
         return max(self.min_interval, min(share, self.interval))
 
@@ -855,11 +858,11 @@ class ResultWriter:
 
         t0 = time.monotonic()
         with deferred():  # a SIGTERM waits until the file is whole
-            save_result(result, self.path, attrs=self.attrs)
+            save_result(result, self.path, **({"attrs": self.attrs} if self.attrs else {}))
             self.writes += 1
             self._last = time.monotonic()
             self._cost = self._last - t0
-            self.written = (len(result.lam), str(Status(result.status).value))
+            self.written = (len(getattr(result, "lam", ())), str(Status(result.status).value))
             final = Status(result.status) != Status.INCOMPLETE
             self._final = self._key(result) if final else None
 
