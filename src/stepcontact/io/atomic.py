@@ -194,14 +194,22 @@ def output_lock(path: str | os.PathLike[str], what: str = "result file") -> Iter
     :func:`fcntl.flock` on ``OUTPUT.lock`` beside it, which holds the process id of the run.
     A second run that asks for the same lock gets an :class:`OutputLockedError` at once,
     naming the file and the other run's process id.  The lock is released (and its file
-    removed) when the block ends, also when the process is killed (the kernel drops it)."""
-    import fcntl
+    removed) when the block ends, also when the process is killed (the kernel drops it).
+    Without :mod:`fcntl` (Windows) the block runs unlocked."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not on POSIX
+        yield lock_path(path)
+        return
 
     path = Path(path)
     lock = lock_path(path)
-    lock.parent.mkdir(parents=True, exist_ok=True)
     while True:
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            lock.parent.mkdir(parents=True, exist_ok=True)
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as e:
+            raise write_error(path, e, what) from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError as e:
