@@ -1762,6 +1762,12 @@ def export(
             used_model = _attach_model(res, result_file, model)
             if used_model is not None:
                 kept, skipped = select_states(res, states)
+        dynamic = getattr(res, "path_axis", "lam") == "time"
+        if kept.size == 0 and dynamic:
+            raise _Failure(f"{result_file}: the stresses of a dynamic result are recovered "
+                           "from its model file, which was not found unchanged (the one the "
+                           "result records, or MODEL.toml beside it); give it with --model "
+                           "MODEL.toml")
         if kept.size == 0:
             raise _Failure(f"{result_file}: none of the selected states has stored "
                            "displacements; give the model file of the run with --model "
@@ -1789,7 +1795,10 @@ def export(
         return
     if quiet:
         return
-    if used_model is not None:
+    if used_model is not None and dynamic:
+        console.print(Text(f"stresses recovered from {used_model} (the displacements of "
+                           "every state are in the result file)"))
+    elif used_model is not None:
         n_rec = sum(int(i) not in res.fields for i in kept)
         console.print(Text(f"fields of {n_rec} state(s) not stored in the result file "
                            f"recomputed from {used_model}"))
