@@ -235,6 +235,7 @@ import os, signal, sys, threading, time
 parent = {parent}
 if os.getppid() != parent:
     os._exit(1)
+signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C: the parent ends its workers
 if sys.platform.startswith("linux"):
     try:
         import ctypes
@@ -254,8 +255,9 @@ threading.Thread(target=_watch, name="stepcontact-parent-watch", daemon=True).st
 
 def _worker_initializer(parent: int) -> Callable[[], Any]:
     """The pool workers' initializer: they die with their parent ``parent``
-    (:func:`die_with_parent`); a picklable callable of the standard library only (BLAS is
-    pinned to one thread by each case, :func:`_run_case`)."""
+    (:func:`die_with_parent`) and leave Ctrl-C (SIGINT, sent to the whole terminal's process
+    group) to it, which ends them (:func:`_stop_pool`); a picklable callable of the standard
+    library only (BLAS is pinned to one thread by each case, :func:`_run_case`)."""
     import functools
 
     return functools.partial(exec, _DIE_WITH_PARENT.format(parent=int(parent),
@@ -266,7 +268,8 @@ def die_with_parent(parent: int) -> None:
     """End this process (a pool worker) when its parent ``parent`` dies: on Linux the kernel
     sends SIGKILL at once (``prctl(PR_SET_PDEATHSIG)``), elsewhere (and as a fallback) a
     daemon thread checks every :data:`PARENT_POLL` seconds that the parent still lives.  A
-    parent killed outright (SIGKILL) then leaves no worker computing on for nobody."""
+    parent killed outright (SIGKILL) then leaves no worker computing on for nobody.  SIGINT
+    is ignored from then on (the parent ends its workers on Ctrl-C)."""
     _worker_initializer(parent)()
 
 
