@@ -120,6 +120,35 @@ def test_write_interval_is_bounded_and_its_cost_a_share():
         ResultWriter("x.nc", interval=0.0)
 
 
+def test_a_signal_during_a_write_waits_for_its_end(tmp_path):
+    """SIGTERM under signals_interrupt is a Terminated (a KeyboardInterrupt, exit code 143);
+    inside deferred() (a file being written) it is raised only when the block ends."""
+    from stepcontact.io.interrupt import Terminated, deferred, signals_interrupt
+
+    done = []
+    before = signal.getsignal(signal.SIGTERM)
+    with signals_interrupt(), pytest.raises(Terminated) as e:
+        with deferred():
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.2)  # the handler has run by now (main thread, between bytecodes)
+            done.append(1)
+    assert done == [1] and e.value.name == "SIGTERM" and e.value.exit_code == 143
+    assert isinstance(e.value, KeyboardInterrupt)
+    with signals_interrupt(), pytest.raises(Terminated):  # outside a write: at once
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(5)
+    assert signal.getsignal(signal.SIGTERM) == before  # restored
+
+
+def test_write_interval_must_be_positive(tmp_path):
+    f = tmp_path / "demo.toml"
+    f.write_text(DEMO, encoding="utf-8")
+    for bad in ("0", "-1", "nan"):
+        r = runner.invoke(app, ["run", str(f), "--write-interval", bad, "-q"])
+        assert_one_line_error(r, f"--write-interval {float(bad)}: give a positive number")
+    assert not list(tmp_path.glob("*.nc*"))
+
+
 @pytest.mark.slow
 def test_a_long_segment_is_written_within_it(tmp_path):
     """One segment with many events (the demo block pushed to sliding): when a write is due
