@@ -547,8 +547,8 @@ FAULTS_SECTION = [
     "file and the previous file is intact. A netCDF file is made in memory and its size "
     "checked against the free space before anything is written (an export: after its first "
     "frame, that frame's size times the frames); a write that fails anyway is one line, "
-    "e.g. `error: could not write the result file 'RUN.nc': the device is full (no space "
-    "left); the previous file 'RUN.nc' is intact; free some space or write elsewhere` "
+    "e.g. `error: could not write the result file 'RUN.nc': the device is full (No space "
+    "left on device); the previous file 'RUN.nc' is intact; free some space or write elsewhere` "
     "(exit code 2) — in `run`, `sweep` and `export` alike.",
     "- **The model of a result.** `run` records the model file's path and a SHA-256 hash of "
     "its content in the result files. `export` and `plot` of a dynamic result "

@@ -102,7 +102,7 @@ def write_error(path: str | os.PathLike[str], exc: OSError, what: str = "file") 
             return exc
         return _write_error(path, exc.reason, exc.errno, what)
     if exc.errno == errno.ENOSPC:
-        reason = "the device is full (no space left)"
+        reason = f"the device is full ({exc.strerror or os.strerror(errno.ENOSPC)})"
     else:
         reason = (exc.strerror or str(exc)).lower()
     return _write_error(path, reason, exc.errno, what)
