@@ -1386,17 +1386,17 @@ def solve_static(
         raise ModelError("model.program", "is empty: give at least one load segment")
     import contextlib
 
-    from stepcontact.io.atomic import output_lock
-    from stepcontact.results.file import ResultWriter
-
     writer = None
     lock = contextlib.nullcontext()
-    if isinstance(output, ResultWriter):
-        writer = output
-    elif output is not None:
-        writer = ResultWriter(output, min_interval=1.0)
-        lock = output_lock(writer.path)
-    if writer is not None:
+    if output is not None:  # (xarray is imported only for a result file)
+        from stepcontact.io.atomic import output_lock
+        from stepcontact.results.file import ResultWriter
+
+        if isinstance(output, ResultWriter):
+            writer = output
+        else:
+            writer = ResultWriter(output, min_interval=1.0)
+            lock = output_lock(writer.path)
         hooks = (*hooks, writer)
     with lock:
         solver = StaticSolver(system, slip=slip, eps_p=eps_p, store_fields=store_fields,
