@@ -518,7 +518,47 @@ def render_cli_reference(app: Any = None, prog: str = "stepcontact") -> str:
         sub_ctx = cmd.context_class(cmd, info_name=name, parent=ctx)
         lines += [f'<a id="{prog}-{name}"></a>', ""]
         lines += _command_section(cmd, sub_ctx, f"{prog} {name}", 2)
+    lines += ["", *FAULTS_SECTION]
     return "\n".join(lines).rstrip("\n") + "\n"
+
+
+#: the hand-written end of docs/cli.md: what the commands do when things go wrong
+FAULTS_SECTION = [
+    "## Faults: interruptions, locks, a full disk",
+    "",
+    "- **Periodic writes.** `run` writes its result file as it goes (status `incomplete` "
+    "until the run ends): at segment ends, and within a long segment after the event at which "
+    "`--write-interval` seconds (default 15) have passed since the last write. The interval "
+    "is a bound: while a write takes less than a fifth of it, at most a fifth of the run's "
+    "time goes into writing; a run killed outright (`kill -9`, a crash, a power cut) loses at "
+    "most about one interval of work (plus the step in progress).",
+    "- **Signals.** On SIGTERM (`kill`, a batch system's time limit) or SIGINT (Ctrl-C), `run` "
+    "writes every state finished (status `incomplete`, message `interrupted`), prints "
+    "`error: interrupted by SIGTERM: 'RUN.nc' holds the N states finished …` and exits with "
+    "128 + the signal's number (143, 130). A signal that arrives during a write waits until "
+    "the file is whole. `sweep` stops its workers at once, keeps every finished case "
+    "(`STORE/cases/`) and exits the same way; run it again to resume. The workers of a "
+    "local pool also die with their parent when it is killed outright (`kill -9`).",
+    "- **One output, one run.** `run` holds an exclusive lock on its result file for the "
+    "whole run (`flock` on `RUN.nc.lock` beside it, holding the run's process id; removed at "
+    "the end, released by the kernel if the run is killed). A second `run` writing the same "
+    "file stops at once with `error: the result file 'RUN.nc' is being written by another "
+    "run (process PID …)`; `sweep` locks its store the same way.",
+    "- **A full disk.** Every result, case and export file is written to a temporary file "
+    "beside its target and then renamed into place, so a failed write never leaves a partial "
+    "file and the previous file is intact. A netCDF file is made in memory and its size "
+    "checked against the free space before anything is written (an export: after its first "
+    "frame, that frame's size times the frames); a write that fails anyway is one line, "
+    "e.g. `error: could not write the result file 'RUN.nc': the device is full (No space "
+    "left on device); the previous file 'RUN.nc' is intact; free some space or write elsewhere` "
+    "(exit code 2) — in `run`, `sweep` and `export` alike.",
+    "- **The model of a result.** `run` records the model file's path and a SHA-256 hash of "
+    "its content in the result files. `export` and `plot` of a dynamic result "
+    "(`RUN-dynamic.nc`) use that file, or `RUN.toml` beside it, when its content still has "
+    "that hash; a static result uses `RESULT.toml` beside it (checked against the stored "
+    "fields). `--model` names another.",
+    "",
+]
 
 
 # --------------------------------------------------------------------------------------------

@@ -45,6 +45,7 @@ from stepcontact.fem.level import is_virtual
 
 if TYPE_CHECKING:
     from stepcontact.model import Model
+    from stepcontact.results.file import ResultWriter
     from stepcontact.results.result import StaticResult
     from stepcontact.solver.condensation import Condensation
 
@@ -153,10 +154,12 @@ class ProgressHook:
 
 def _solve(
     model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool,
-    output: Path | None = None, precision: str = "auto", condensation: Condensation | None = None,
+    output: Path | ResultWriter | None = None, precision: str = "auto",
+    condensation: Condensation | None = None,
 ) -> StaticResult:
     """Run :func:`stepcontact.solver.static.solve_static` with a progress bar on stderr
-    (``condensation``: a shared one, e.g. from a sweep worker's cache)."""
+    (``condensation``: a shared one, e.g. from a sweep worker's cache; ``output``: the result
+    file, or the :class:`~stepcontact.results.file.ResultWriter` that writes it)."""
     from stepcontact.solver import static
 
     segments = model.segments_resolved()
@@ -204,12 +207,12 @@ def _solve_dynamics(model: Model, static_res: StaticResult, *, progress_bar: boo
 
 def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
               plot_path: Path | None, progress_bar: bool, console: Console,
-              as_json: bool) -> dict[str, Any]:
+              as_json: bool, attrs: dict[str, str] | None = None) -> dict[str, Any]:
     """The model's dynamic interval from the static state: run it with a progress bar in
     simulated time, write MODEL-dynamic.nc (and the energy ledger's figure), report."""
     dres = _solve_dynamics(model, static_res, progress_bar=progress_bar)
     return _dynamic_report(dres, model.dynamics, result_path=result_path,
-                           plot_path=plot_path, console=console, as_json=as_json)
+                           plot_path=plot_path, console=console, as_json=as_json, attrs=attrs)
 
 
 def _stage_file_tag(name: str) -> str:
@@ -220,12 +223,18 @@ def _stage_file_tag(name: str) -> str:
 
 
 def _dynamic_report(dres: Any, spec: Any, *, result_path: Path, plot_path: Path | None,
-                    console: Console, as_json: bool, stage: str | None = None) -> dict[str, Any]:
+                    console: Console, as_json: bool, stage: str | None = None,
+                    attrs: dict[str, str] | None = None) -> dict[str, Any]:
     """Write a dynamic result to MODEL-dynamic.nc (the interval of an earlier ``stage``:
-    MODEL-dynamic-STAGE.nc) with the energy ledger's figure, and report it."""
+    MODEL-dynamic-STAGE.nc; ``attrs``: the model file of the run) with the energy ledger's
+    figure, and report it."""
+    from stepcontact.io.interrupt import deferred
+    from stepcontact.results.file import save_result
+
     tag = "-dynamic" if stage is None else f"-dynamic-{_stage_file_tag(stage)}"
     path = result_path.with_name(result_path.stem + tag + ".nc")
-    dres.save(path)
+    with deferred():
+        save_result(dres, path, attrs=attrs)
     written = [str(path)]
     if plot_path is not None:
         from stepcontact.post.plotting import plot_energy
@@ -385,13 +394,20 @@ def _analyse(
     as_json: bool,
     console: Console,
     precision: str = "auto",
+    writer: ResultWriter | None = None,
 ) -> dict[str, Any]:
     """Solve, report, write the result file and the figure; return the JSON summary.
 
     The arguments are checked before solving; warnings (an empty or zero load pattern,
-    displacements larger than the model) go to stderr, one line each."""
+    displacements larger than the model) go to stderr, one line each.  ``writer``: the
+    :class:`~stepcontact.results.file.ResultWriter` of ``result_path`` (its interval and
+    attributes; default: one with the default interval)."""
     from stepcontact.fem.loadcheck import zero_patterns
     from stepcontact.results.checks import displacement_warnings
+    from stepcontact.results.file import ResultWriter
+
+    if writer is None:
+        writer = ResultWriter(result_path, min_interval=1.0)
 
     _check_plot_path(plot_path)
     _check_lams(model, lams)
@@ -400,7 +416,7 @@ def _analyse(
     _warn(warnings)
     result_path.parent.mkdir(parents=True, exist_ok=True)
     res = _solve(model, slip=slip, eps_p=eps_p, max_events=max_events,
-                 progress_bar=not quiet and not as_json, output=result_path,
+                 progress_bar=not quiet and not as_json, output=writer,
                  precision=precision)
     if not as_json:
         _report(res, console, title=f"stepcontact: {model.name}", table=not quiet)
@@ -426,13 +442,13 @@ def _analyse(
         summary["stage_dynamics"] = {
             name: _dynamic_report(dres, specs[name], result_path=result_path,
                                   plot_path=plot_path, console=console, as_json=as_json,
-                                  stage=name)
+                                  stage=name, attrs=writer.attrs)
             for name, dres in res.dynamics.items()}
     if model.dynamics is not None and res.status == Status.COMPLETED:
         summary["dynamics"] = _dynamics(model, res, result_path=result_path,
                                         plot_path=plot_path,
                                         progress_bar=not quiet and not as_json,
-                                        console=console, as_json=as_json)
+                                        console=console, as_json=as_json, attrs=writer.attrs)
     not_run = _dynamics_not_run(model, res)
     if not_run:  # asked for, not run: said on stderr, in the summary, and by the exit code
         err = Console(stderr=True, soft_wrap=True, highlight=False)
@@ -500,6 +516,44 @@ def _check_lams(model: Model, lams: Sequence[float] | None) -> None:
                                "of the last segment reached")
 
 
+def _model_attrs(model_file: Path) -> dict[str, str]:
+    """What a result file records of its model file: the absolute path and a SHA-256 hash of
+    its content (``export``/``plot`` find the model by it; a changed file is not used)."""
+    import hashlib
+
+    attrs = {"model_file": str(model_file.resolve())}
+    try:
+        attrs["model_sha256"] = hashlib.sha256(model_file.read_bytes()).hexdigest()
+    except OSError:  # reported when the model is loaded
+        pass
+    return attrs
+
+
+def _interrupted(e: BaseException, writer: ResultWriter | None, as_json: bool) -> typer.Exit:
+    """The run was ended by SIGTERM or SIGINT: say what the result file holds; the exit to
+    raise (code 128 + the signal's number)."""
+    from stepcontact.io.interrupt import Terminated
+
+    name = e.name if isinstance(e, Terminated) else "SIGINT"
+    code = e.exit_code if isinstance(e, Terminated) else 130
+    written = None if writer is None else writer.written
+    if written is None:
+        text = f"interrupted by {name} before the run wrote anything: no result file written"
+    elif written[1] == Status.INCOMPLETE.value:
+        text = (f"interrupted by {name}: '{writer.path}' holds the {written[0]} states "
+                "finished (status incomplete); run again to complete it")
+    else:
+        text = (f"interrupted by {name} after the static program: '{writer.path}' holds its "
+                f"result ({written[0]} states, status {written[1]}); a dynamic interval or "
+                "figure after it was not written")
+    Console(stderr=True, soft_wrap=True, highlight=False).print(
+        Text(f"error: {text}", style="red"))
+    if as_json:
+        typer.echo(json.dumps({"status": "interrupted", "signal": name, "message": text,
+                               "result_file": None if written is None else str(writer.path)}))
+    return typer.Exit(code)
+
+
 # --------------------------------------------------------------------------------------------
 # commands
 # --------------------------------------------------------------------------------------------
@@ -550,6 +604,13 @@ PrecisionOption = Annotated[
 QuietOption = Annotated[
     bool, typer.Option("--quiet", "-q", help="No progress bar and no event table.")
 ]
+DEFAULT_WRITE_INTERVAL = 15.0  #: s, as stepcontact.results.file.WRITE_INTERVAL
+WriteIntervalOption = Annotated[
+    float,
+    typer.Option("--write-interval", metavar="SECONDS", help="Longest wall time between two "
+                 "writes of the result file during the run, s: a run killed outright loses "
+                 "at most about this much work."),
+]
 JsonOption = Annotated[
     bool, typer.Option("--json", help="Print a machine-readable JSON summary on stdout only.")
 ]
@@ -579,6 +640,7 @@ def run(
     quiet: QuietOption = False,
     as_json: JsonOption = False,
     precision: PrecisionOption = Precision.AUTO,
+    write_interval: WriteIntervalOption = DEFAULT_WRITE_INTERVAL,
 ) -> None:
     """Run the load program of a model file.
 
@@ -589,6 +651,10 @@ def run(
     When the program does not complete (lost equilibrium, no answer), the interval cannot
     start: 'dynamics not run: <reason>' is printed on stderr, the JSON summary lists it under
     "dynamics_not_run", and the exit code is 3 (the static result is still written).
+    The result file is written as the run goes (at segment ends, and at least every
+    --write-interval seconds), locked against a second run writing it, and on SIGTERM or
+    Ctrl-C the states finished are written before the run ends (exit code 128 + the signal's
+    number). See "Faults" in docs/cli.md.
 
     Examples:
 
@@ -600,22 +666,38 @@ def run(
 
         stepcontact run dam.toml --json --quiet   # JSON summary only
     """
+    from stepcontact.io.atomic import output_lock
+    from stepcontact.io.interrupt import Terminated, signals_interrupt
+    from stepcontact.results.file import ResultWriter
+
     console = Console(highlight=False)
+    result_path = output if output is not None else model_file.with_suffix(".nc")
+    writer = None
     try:
-        model = _load(model_file)
-        summary = _analyse(
-            model,
-            result_path=output if output is not None else model_file.with_suffix(".nc"),
-            plot_path=None if no_plot else (plot or model_file.with_suffix(".png")),
-            lams=lam,
-            slip=slip,
-            eps_p=eps_p,
-            max_events=max_events,
-            quiet=quiet,
-            as_json=as_json,
-            console=console,
-            precision=precision.value,
-        )
+        with signals_interrupt():
+            if not (math.isfinite(write_interval) and write_interval > 0):
+                raise _Failure(f"--write-interval {write_interval}: give a positive number "
+                               "of seconds")
+            writer = ResultWriter(result_path, min_interval=1.0, interval=write_interval,
+                                  attrs=_model_attrs(model_file))
+            with output_lock(result_path):
+                model = _load(model_file)
+                summary = _analyse(
+                    model,
+                    result_path=result_path,
+                    plot_path=None if no_plot else (plot or model_file.with_suffix(".png")),
+                    lams=lam,
+                    slip=slip,
+                    eps_p=eps_p,
+                    max_events=max_events,
+                    quiet=quiet,
+                    as_json=as_json,
+                    console=console,
+                    precision=precision.value,
+                    writer=writer,
+                )
+    except Terminated as e:
+        raise _interrupted(e, writer, as_json) from None
     except _Failure as e:
         raise _fail(str(e), as_json) from None
     except (StepContactError, OSError, tomllib.TOMLDecodeError) as e:
@@ -834,10 +916,13 @@ def sweep(
 
         stepcontact sweep friction.toml --serial --rerun --json
     """
+    from stepcontact.io.atomic import OutputLockedError, output_lock
+    from stepcontact.io.interrupt import Terminated, signals_interrupt
     from stepcontact.study.studyfile import load_study, run_study
     from stepcontact.study.sweep import StudyError
 
     console = Console(highlight=False, soft_wrap=True)
+    study = None
     try:
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
@@ -847,11 +932,16 @@ def sweep(
             raise _Failure(_error_text(e)) from None
         executor = "serial" if serial else scheduler if scheduler is not None else "process"
         try:
-            ds = run_study(study, executor=executor, workers=workers,
-                           progress=not quiet and not as_json, rerun=rerun)
+            with signals_interrupt(), output_lock(study.store / "sweep.nc", "sweep store"):
+                ds = run_study(study, executor=executor, workers=workers,
+                               progress=not quiet and not as_json, rerun=rerun)
+        except OutputLockedError as e:
+            raise _Failure(_error_text(e)) from None
         except (StudyError, OSError, TimeoutError) as e:
             where = f"--scheduler {scheduler}: " if scheduler is not None else ""
             raise _Failure(where + _error_text(e)) from None
+    except Terminated as e:
+        raise _sweep_interrupted(e, study, as_json) from None
     except _Failure as e:
         raise _fail(str(e), as_json) from None
     outputs = list(study.func.outputs)
@@ -894,6 +984,21 @@ def sweep(
         console.print(Text(f"written: {path}", style="green"))
     if failed or unresolved:
         raise typer.Exit(EXIT_UNRESOLVED)
+
+
+def _sweep_interrupted(e: Any, study: Any, as_json: bool) -> typer.Exit:
+    """A sweep ended by SIGTERM or SIGINT (its workers are ended with it): say how many cases
+    are stored; the exit to raise (128 + the signal's number)."""
+    from stepcontact.study.sweep import is_done
+
+    done = sum(is_done(study.store, c, study.func.sweep_key) for c in study.cases)
+    text = (f"interrupted by {e.name}: {done} of {len(study.cases)} cases are stored in "
+            f"'{study.store}'; run the sweep again to run the others")
+    Console(stderr=True, soft_wrap=True, highlight=False).print(
+        Text(f"error: {text}", style="red"))
+    if as_json:
+        typer.echo(json.dumps({"status": "interrupted", "signal": e.name, "message": text}))
+    return typer.Exit(e.exit_code)
 
 
 STUDIES = ("slab",)
@@ -1094,25 +1199,64 @@ def _attach_model(res: StaticResult, result_file: Path, model_file: Path | None)
     fields of every state can be recomputed; returns the model file used.
 
     ``model_file`` (``--model``) must load and match the result (else a failure); without
-    it the model file of the same name next to the result file (what ``run`` writes) is
-    tried, and quietly not used if it does not load or match.  None: no model.
+    it the model files of :func:`_default_model_files` are tried in turn (RESULT.toml beside
+    it; for a dynamic result the model file it records, then MODEL.toml), each quietly not
+    used if it does not load or match.  None: no model.
     """
-    explicit = model_file is not None
-    path = model_file if explicit else result_file.with_suffix(".toml")
-    if not explicit and not path.is_file():
+    if model_file is None:
+        for path in _default_model_files(result_file, res):
+            try:
+                res.recover_fields(_load(path))
+            except (_Failure, ValueError, StepContactError):
+                continue
+            return path
         return None
+    path = model_file
     try:
         model = _load(path)
         res.recover_fields(model)
     except _Failure:
-        if explicit:
-            raise
-        return None
+        raise
     except (ValueError, StepContactError) as e:
-        if explicit:
-            raise _Failure(f"--model {path}: {_error_text(e)}") from None
-        return None
+        raise _Failure(f"--model {path}: {_error_text(e)}") from None
     return path
+
+
+def _default_model_files(result_file: Path, res: StaticResult) -> list[Path]:
+    """The model files a result file may come from, most likely first: RESULT.toml beside
+    it; for a dynamic result (MODEL-dynamic.nc, MODEL-dynamic-STAGE.nc), whose model is not
+    checked otherwise, the model file it records (``run`` stores its path and a SHA-256 hash
+    of its content) and MODEL.toml beside it, each used only when its content has the
+    recorded hash (files written before the hash was recorded: any)."""
+    import hashlib
+    import re
+
+    from stepcontact.results.file import result_attrs
+
+    out = [result_file.with_suffix(".toml")]
+    sha = None
+    if getattr(res, "path_axis", "lam") == "time":
+        try:
+            attrs = result_attrs(result_file)
+        except (OSError, ValueError):
+            attrs = {}
+        sha = attrs.get("model_sha256")
+        if attrs.get("model_file"):
+            out.insert(0, Path(attrs["model_file"]))
+        stem = re.fullmatch(r"(.+)-dynamic(-[A-Za-z0-9_-]+)?", result_file.stem)
+        if stem:
+            out.append(result_file.with_name(stem.group(1) + ".toml"))
+    kept: list[Path] = []
+    for p in out:
+        try:
+            if not p.is_file() or any(p.samefile(q) for q in kept):
+                continue
+            if sha and hashlib.sha256(p.read_bytes()).hexdigest() != sha:
+                continue
+        except OSError:
+            continue
+        kept.append(p)
+    return kept
 
 
 def _parse_node(text: str | None) -> int | tuple[float, float] | None:
@@ -1664,6 +1808,12 @@ def export(
             used_model = _attach_model(res, result_file, model)
             if used_model is not None:
                 kept, skipped = select_states(res, states)
+        dynamic = getattr(res, "path_axis", "lam") == "time"
+        if kept.size == 0 and dynamic:
+            raise _Failure(f"{result_file}: the stresses of a dynamic result are recovered "
+                           "from its model file, which was not found unchanged (the one the "
+                           "result records, or MODEL.toml beside it); give it with --model "
+                           "MODEL.toml")
         if kept.size == 0:
             raise _Failure(f"{result_file}: none of the selected states has stored "
                            "displacements; give the model file of the run with --model "
@@ -1691,7 +1841,10 @@ def export(
         return
     if quiet:
         return
-    if used_model is not None:
+    if used_model is not None and dynamic:
+        console.print(Text(f"stresses recovered from {used_model} (the displacements of "
+                           "every state are in the result file)"))
+    elif used_model is not None:
         n_rec = sum(int(i) not in res.fields for i in kept)
         console.print(Text(f"fields of {n_rec} state(s) not stored in the result file "
                            f"recomputed from {used_model}"))

@@ -59,7 +59,11 @@ its model exports the states that have stored fields and logs which states it sk
 to get them (``stepcontact export --model MODEL.toml`` on the command line).
 
 Writes are atomic: everything is written into a hidden temporary directory next to the target
-and then renamed into place, so an interrupted export never leaves a half-written series.
+and then renamed into place, so an interrupted export never leaves a half-written series.  A
+full disk is a :class:`~stepcontact.io.atomic.WriteError` naming the export (the free space is
+checked against the size of the first frame times the frames, and the HDF5 file of an XDMF
+export is made in memory and written with plain file I/O), never a crash; the previous files
+stay intact.
 
 Example
 -------
@@ -91,6 +95,7 @@ from meshio.xdmf import TimeSeriesWriter
 from meshio.xdmf.common import meshio_to_xdmf_type, meshio_type_to_xdmf_index, numpy_to_xdmf_dtype
 
 from stepcontact.enums import ContactState
+from stepcontact.io.atomic import check_free_space, write_bytes, write_error
 from stepcontact.model.mesh import REVERSED_NODE_ORDER
 from stepcontact.results.result import StaticResult
 
@@ -718,6 +723,20 @@ def export_vtu(
     width = max(4, len(str(result.n_states - 1)))
     notes = _notes(result, body)
     tmp = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=".tmp", dir=directory))
+    try:
+        _export_vtu_into(tmp, directory, name, result, frames, body, cfe, width, notes)
+    except OSError as e:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise write_error(directory / f"{name}.pvd", e, "VTU export") from None
+    return directory / f"{name}.pvd"
+
+
+def _export_vtu_into(tmp: Path, directory: Path, name: str, result: StaticResult,
+                     frames: _Frames, body: _BodyGrid, cfe: _CfeGrid | None, width: int,
+                     notes: list[str]) -> None:
+    """The body of :func:`export_vtu`: the series written into ``tmp``, then moved into
+    ``directory``; the free space is checked after the first frame (its size × frames)."""
+    data_dir = directory / name
     old: Path | None = None
     try:
         (tmp / name).mkdir()
@@ -742,6 +761,10 @@ def export_vtu(
                 else:
                     _write_vtu(tmp / rel, cfe.points, [("line", cfe.lines)], *cdata, fdata)
                 cfe_entries.append((time, rel))
+            if len(body_entries) == 1 and len(frames.states) > 1:
+                first = sum(f.stat().st_size for f in (tmp / name).iterdir())
+                check_free_space(directory / f"{name}.pvd",
+                                 first * (len(frames.states) - 1), "VTU export")
         pvd = tmp / f"{name}.pvd"
         cfe_pvd = tmp / f"{name}_cfe.pvd"
         _write_pvd(pvd, body_entries, notes)
@@ -767,7 +790,6 @@ def export_vtu(
         shutil.rmtree(tmp, ignore_errors=True)
         if old is not None:
             shutil.rmtree(old, ignore_errors=True)
-    return directory / f"{name}.pvd"
 
 
 # --------------------------------------------------------------------------------------------
@@ -782,11 +804,23 @@ class _XdmfWriter(TimeSeriesWriter):
     """
 
     def __enter__(self):
+        import io
+
         import h5py
 
         self.h5_filename = str(self.filename.with_suffix(".h5"))
-        self.h5_file = h5py.File(self.h5_filename, "w")
+        self._h5_bytes = io.BytesIO()  # in memory: HDF5 never writes to the disk itself
+        self.h5_file = h5py.File(self._h5_bytes, "w")
         return self
+
+    def __exit__(self, *exc):
+        self.h5_file.close()
+        if exc[0] is None:
+            write_bytes(self.h5_filename, self._h5_bytes.getvalue(), fsync=False,
+                        what="XDMF data file")
+            from meshio._common import write_xml
+
+            write_xml(self.filename, self.xdmf_file)
 
     def cells(self, cells, grid: ET.Element) -> None:
         blocks = [(str(t), np.asarray(d)) for t, d in cells]
@@ -862,33 +896,42 @@ def export_xdmf(
     cfe_path = path.with_name(f"{path.stem}_cfe.xdmf")
     tmp = Path(tempfile.mkdtemp(prefix=f".{path.stem}.", suffix=".tmp", dir=path.parent))
     try:
-        with (
-            _XdmfWriter(tmp / path.name) as wb,
-            _XdmfWriter(tmp / cfe_path.name) as wc,
-        ):
-            wb.write_points_cells(body.points, body.blocks)
-            if cfe is not None:
-                wc.write_points_cells(cfe.points, [("line", cfe.lines)])
-            for i, t, time, (bpd, bcd), cdata in _iter_frames(result, frames, body, cfe):
-                info = _field_data(result, i, t, time)
-                if "stage" in info:
-                    info["stage_name"] = result.stage_names[int(result.stage[i])]
-                wb.write_data(time, point_data=bpd, cell_data=bcd)
-                wb.information(info)
-                if cdata is not None:
-                    wc.write_data(time, point_data=cdata[0] or None, cell_data=cdata[1])
-                    wc.information(info)
-        outputs = [path] + ([cfe_path] if cfe is not None else [])
-        for out in outputs:  # data first, then the XML that points to it
-            os.replace(tmp / out.with_suffix(".h5").name, out.with_suffix(".h5"))
-        for out in outputs:
-            os.replace(tmp / out.name, out)
-        if cfe is None:
-            cfe_path.unlink(missing_ok=True)
-            cfe_path.with_suffix(".h5").unlink(missing_ok=True)
+        _export_xdmf_into(tmp, path, cfe_path, result, frames, body, cfe)
+    except OSError as e:
+        raise write_error(path, e, "XDMF export") from None
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return path
+
+
+def _export_xdmf_into(tmp: Path, path: Path, cfe_path: Path, result: StaticResult,
+                      frames: _Frames, body: _BodyGrid, cfe: _CfeGrid | None) -> None:
+    """The body of :func:`export_xdmf`: both pairs of files written into ``tmp``, then moved
+    into place."""
+    with (
+        _XdmfWriter(tmp / path.name) as wb,
+        _XdmfWriter(tmp / cfe_path.name) as wc,
+    ):
+        wb.write_points_cells(body.points, body.blocks)
+        if cfe is not None:
+            wc.write_points_cells(cfe.points, [("line", cfe.lines)])
+        for i, t, time, (bpd, bcd), cdata in _iter_frames(result, frames, body, cfe):
+            info = _field_data(result, i, t, time)
+            if "stage" in info:
+                info["stage_name"] = result.stage_names[int(result.stage[i])]
+            wb.write_data(time, point_data=bpd, cell_data=bcd)
+            wb.information(info)
+            if cdata is not None:
+                wc.write_data(time, point_data=cdata[0] or None, cell_data=cdata[1])
+                wc.information(info)
+    outputs = [path] + ([cfe_path] if cfe is not None else [])
+    for out in outputs:  # data first, then the XML that points to it
+        os.replace(tmp / out.with_suffix(".h5").name, out.with_suffix(".h5"))
+    for out in outputs:
+        os.replace(tmp / out.name, out)
+    if cfe is None:
+        cfe_path.unlink(missing_ok=True)
+        cfe_path.with_suffix(".h5").unlink(missing_ok=True)
 
 
 __all__ = [

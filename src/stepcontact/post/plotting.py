@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from stepcontact.enums import ContactState, Transition
-from stepcontact.io.atomic import atomic_path
+from stepcontact.io.atomic import atomic_path, write_error
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -112,8 +112,11 @@ def save_figure(fig: Figure, path: Path | None, dpi: float = DPI) -> None:
     if path is None:
         return
     _check_pixels(fig, dpi)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format=path.suffix.lower().lstrip("."))
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi, format=path.suffix.lower().lstrip("."))
+    except OSError as e:  # a full disk: an error naming the figure, the old one intact
+        raise write_error(path, e, "figure") from None
 
 
 def _stress_scale(values: np.ndarray) -> tuple[float, str]:

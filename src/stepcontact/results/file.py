@@ -775,12 +775,15 @@ def _stage_fields(ds, arr) -> dict:
 # --------------------------------------------------------------------------------------------
 # files
 # --------------------------------------------------------------------------------------------
-def save_result(res: StaticResult, path: str | os.PathLike[str]) -> Path:
+def save_result(res: StaticResult, path: str | os.PathLike[str],
+                attrs: dict[str, str] | None = None) -> Path:
     """Write ``res`` to ``path`` (netCDF4/HDF5, engine ``h5netcdf``) atomically.
 
-    The dataset is written to a temporary file next to ``path`` which then replaces ``path``
-    with :func:`os.replace`; if writing fails the temporary file is removed and an existing
-    file at ``path`` is left untouched.  Parent directories are created.
+    The file is made in memory, the free space checked for it, then written to a temporary
+    file next to ``path`` which replaces ``path`` with :func:`os.replace`; if writing fails
+    (a full disk: :class:`~stepcontact.io.atomic.WriteError` naming the file) the temporary
+    file is removed and an existing file at ``path`` is left untouched.  Parent directories
+    are created.  ``attrs``: extra attributes of the file (strings, e.g. ``model_file``).
 
     Returns
     -------
@@ -791,6 +794,7 @@ def save_result(res: StaticResult, path: str | os.PathLike[str]) -> Path:
     if path.exists() and path.is_dir():
         raise IsADirectoryError(f"path '{path}' is a directory, expected a result file name")
     ds = result_to_dataset(res)
+    ds.attrs.update({str(k): str(v) for k, v in (attrs or {}).items()})
     write_netcdf(ds, path)
     return path
 
@@ -807,36 +811,70 @@ def load_result(path: str | os.PathLike[str]) -> StaticResult:
     return dataset_to_result(ds)
 
 
+def result_attrs(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """The attributes of a result file without loading its arrays (e.g. ``model_file``, the
+    model file of the run that wrote it, and ``model_sha256``, a hash of its content)."""
+    with xr.open_dataset(Path(path), engine="h5netcdf", decode_times=False,
+                         decode_timedelta=False) as ds:
+        return dict(ds.attrs)
+
+
+#: the longest wall time between two writes of a run's result file, s (``stepcontact run
+#: --write-interval``): a run killed (SIGKILL, a crash) loses at most about this much work
+WRITE_INTERVAL = 15.0
+
+
 class ResultWriter:
     """Solver hook that writes the result as the run goes (atomically each time).
 
     The file holds every state finished so far, with status ``incomplete`` until the run ends;
-    an interrupted run (Ctrl-C) writes what it has.  Writes are at most one per
-    ``min_interval`` seconds (the last segment's result and :meth:`finish` always write), and
-    with ``min_interval`` > 0 at most one per (1 − s)/s times the duration of the last write
-    (s = :attr:`max_share`): a write of the whole result grows with the run, so long programs
-    of many short segments (cyclic loading) spend at most about a share s of their time
-    writing, and their cost stays linear in the number of segments.
+    an interrupted run (Ctrl-C, SIGTERM under :func:`stepcontact.io.interrupt.signals_interrupt`)
+    writes what it has.  Writes come at segment ends and, within a long segment, after the
+    event at which ``interval`` seconds of wall time have passed since the last write
+    (:meth:`checkpoint_due`): a run killed outright loses at most about ``interval`` seconds
+    of work (plus the step in progress).  The time between writes is
+
+        wait = max(min_interval, min(c (1 − s)/s, interval)),
+
+    c the duration of the last write and s = :attr:`max_share`: while a write takes less than
+    ``interval`` · s/(1 − s) seconds (3.75 s at 15 s), at most a share s of the run's time goes
+    into writing (a write of the whole result grows with the run: long programs of many short
+    segments stay linear in the number of segments); beyond, the file is still written every
+    ``interval`` seconds — the bound on the work lost wins.  With ``min_interval`` 0 every
+    segment end and every event writes.  The last segment's result and :meth:`finish` always
+    write.
 
     Parameters
     ----------
     path : str or PathLike
         Result file.
     min_interval : float
-        Seconds between two writes at segment ends (0: every segment).
+        Shortest time between two writes, s (0: at every segment end).
+    interval : float
+        Longest time between two writes, s (default :data:`WRITE_INTERVAL`).
+    attrs : dict, optional
+        Extra attributes of the file (strings), e.g. the model file of the run.
 
     Example
     -------
     >>> res = sc.solve_static(model, output="out/run.nc")          # doctest: +SKIP
     """
 
-    #: the largest share of the run's time spent writing at segment ends (min_interval > 0)
+    #: the largest share of the run's time spent writing (while writes are short enough)
     max_share: float = 0.2
 
-    def __init__(self, path: str | os.PathLike[str], min_interval: float = 0.0) -> None:
+    def __init__(self, path: str | os.PathLike[str], min_interval: float = 0.0, *,
+                 interval: float | None = None, attrs: dict[str, str] | None = None) -> None:
         self.path = Path(path)
-        self.min_interval = float(min_interval)
+        self.interval = float(WRITE_INTERVAL if interval is None else interval)
+        if not (self.interval > 0 and np.isfinite(self.interval)):
+            raise ValueError(f"interval: {interval} s must be a positive number of seconds")
+        self.min_interval = min(float(min_interval), self.interval)
+        self.attrs = dict(attrs or {})
         self.writes = 0
+        #: (states, status) of the last write, None before the first
+        self.written: tuple[int, str] | None = None
+        self._start = time.monotonic()
         self._last = -float("inf")
         self._cost = 0.0  # seconds the last write took
         self._final: tuple | None = None  # (states, events, status, message) of a final write
@@ -845,23 +883,40 @@ class ResultWriter:
     def _key(result: StaticResult) -> tuple:
         return len(result.lam), len(result.events), str(result.status), result.message
 
+    def _wait(self) -> float:
+        """Seconds from the last write to the next one (0 with ``min_interval`` 0)."""
+        if self.min_interval <= 0:
+            return 0.0
+        share = self._cost * (1.0 - self.max_share) / self.max_share
+        return max(self.min_interval, min(share, self.interval))
+
     def _write(self, result: StaticResult) -> None:
+        from stepcontact.io.interrupt import deferred
+
         t0 = time.monotonic()
-        save_result(result, self.path)
-        self.writes += 1
-        self._last = time.monotonic()
-        self._cost = self._last - t0
-        final = Status(result.status) != Status.INCOMPLETE
-        self._final = self._key(result) if final else None
+        with deferred():  # a SIGTERM waits until the file is whole
+            save_result(result, self.path, **({"attrs": self.attrs} if self.attrs else {}))
+            self.writes += 1
+            self._last = time.monotonic()
+            self._cost = self._last - t0
+            self.written = (len(getattr(result, "lam", ())), str(Status(result.status).value))
+            final = Status(result.status) != Status.INCOMPLETE
+            self._final = self._key(result) if final else None
 
     def after_segment(self, result: StaticResult) -> None:
         """Save ``result`` (the run up to the end of the segment just finished)."""
         final = Status(result.status) != Status.INCOMPLETE
-        wait = self.min_interval
-        if wait > 0:
-            wait = max(wait, self._cost * (1.0 - self.max_share) / self.max_share)
-        if final or time.monotonic() - self._last >= wait:
+        if final or time.monotonic() - self._last >= self._wait():
             self._write(result)
+
+    def checkpoint_due(self) -> bool:
+        """True when the file should be written now, within a segment (the solver then calls
+        :meth:`checkpoint` with the run so far)."""
+        return time.monotonic() - max(self._last, self._start) >= self._wait()
+
+    def checkpoint(self, result: StaticResult) -> None:
+        """Save ``result`` (the run up to the last event, status ``incomplete``)."""
+        self._write(result)
 
     def interrupted(self, result: StaticResult) -> None:
         """The run was interrupted: keep what it has."""
@@ -873,14 +928,20 @@ class ResultWriter:
         if self._final != self._key(result):
             self._write(result)
 
+    def __fspath__(self) -> str:
+        """The writer stands for its file (``Path(writer)``, ``open(writer)``)."""
+        return os.fspath(self.path)
+
     def __repr__(self) -> str:
         return f"ResultWriter('{self.path}', writes={self.writes})"
 
 
 __all__ = [
+    "WRITE_INTERVAL",
     "ResultWriter",
     "dataset_to_result",
     "load_result",
+    "result_attrs",
     "result_to_dataset",
     "save_result",
 ]

@@ -883,7 +883,7 @@ class StaticSolver:
 
         from threadpoolctl import threadpool_limits
 
-        t0 = time.perf_counter()
+        t0 = self._t0 = time.perf_counter()
         small = self.schemes.n <= SMALL_DENSE
         try:
             with (threadpool_limits(limits=1, user_api="blas") if small
@@ -1175,7 +1175,17 @@ class StaticSolver:
             for hk in self.hooks:
                 if hasattr(hk, "after_event"):
                     hk.after_event(info)
+            self._checkpoint()
         return True, ds, dw
+
+    def _checkpoint(self) -> None:
+        """Give hooks that ask for it (``checkpoint_due()``: a result file written at a
+        bounded interval of wall time) the run so far, status ``incomplete``."""
+        due = [hk for hk in self.hooks if hasattr(hk, "checkpoint_due") and hk.checkpoint_due()]
+        if due:
+            res = self.result(time.perf_counter() - self._t0, partial=True)
+            for hk in due:
+                hk.checkpoint(res)
 
     def _opening_mechanism(self, cfes: np.ndarray, forcing) -> np.ndarray | None:
         """When the rate problem has no solution at CFEs that sit at their normal limit
@@ -1351,9 +1361,13 @@ def solve_static(
         solves per event; schemes with a condition number above about 1e5 count as
         mechanisms).  Too large for both is a :class:`~stepcontact.errors.SolverError` with
         the memory estimate, raised before any work.
-    output : path, optional
-        Result file written as the run goes (status ``incomplete`` until it ends; an
-        interrupted run keeps every state written before), and at the end.
+    output : path or ResultWriter, optional
+        Result file written as the run goes (status ``incomplete`` until it ends; at segment
+        ends and at most :data:`~stepcontact.results.file.WRITE_INTERVAL` seconds apart; an
+        interrupted run writes every state finished), and at the end.  A path is locked for
+        the run (:func:`~stepcontact.io.atomic.output_lock`: a second run writing it is
+        refused); a :class:`~stepcontact.results.file.ResultWriter` is used as it is (its
+        interval, its attributes; the caller holds the lock).
 
     Returns
     -------
@@ -1370,17 +1384,26 @@ def solve_static(
     system = model if isinstance(model, System) else assemble(model)
     if not system.model.effective_program and not getattr(system.model, "stages", ()):
         raise ModelError("model.program", "is empty: give at least one load segment")
+    import contextlib
+
     writer = None
-    if output is not None:
+    lock = contextlib.nullcontext()
+    if output is not None:  # (xarray is imported only for a result file)
+        from stepcontact.io.atomic import output_lock
         from stepcontact.results.file import ResultWriter
 
-        writer = ResultWriter(output, min_interval=1.0)
+        if isinstance(output, ResultWriter):
+            writer = output
+        else:
+            writer = ResultWriter(output, min_interval=1.0)
+            lock = output_lock(writer.path)
         hooks = (*hooks, writer)
-    solver = StaticSolver(system, slip=slip, eps_p=eps_p, store_fields=store_fields,
-                          max_events=max_events, hooks=hooks, backend=backend,
-                          rate_solver=rate_solver, condensation=condensation,
-                          precision=precision)
-    res = solver.run()
-    if writer is not None:
-        writer.finish(res)
+    with lock:
+        solver = StaticSolver(system, slip=slip, eps_p=eps_p, store_fields=store_fields,
+                              max_events=max_events, hooks=hooks, backend=backend,
+                              rate_solver=rate_solver, condensation=condensation,
+                              precision=precision)
+        res = solver.run()
+        if writer is not None:
+            writer.finish(res)
     return res

@@ -245,7 +245,8 @@ class ModelCase:
 
     The static condensation is reused from the worker's cache (:func:`cached_condensation`)
     when cases share the mesh and stiffness: a friction or load sweep factorises once per
-    worker."""
+    worker.  A model built in stages has one factorisation per stage, made by each case's
+    run (none is shared)."""
 
     doc: dict[str, Any]
     base_dir: str
@@ -283,9 +284,11 @@ class ModelCase:
         if self.save_results:  # a stale dynamic result of an earlier run must not survive
             result_path.parent.mkdir(parents=True, exist_ok=True)
             dyn_path.unlink(missing_ok=True)
-        misses = condensation_cache_info()["misses"]
-        condensation = cached_condensation(model, self.precision)
-        built = condensation_cache_info()["misses"] - misses  # 1: factorised for this case
+        condensation, built = None, 0
+        if not getattr(model, "stages", ()):  # a staged run factorises each stage itself
+            misses = condensation_cache_info()["misses"]
+            condensation = cached_condensation(model, self.precision)
+            built = condensation_cache_info()["misses"] - misses  # 1: factorised for the case
         res = commands._solve(model, slip=SlipTreatment(self.slip), eps_p=self.eps_p,
                               max_events=self.max_events, progress_bar=False,
                               precision=self.precision, condensation=condensation)

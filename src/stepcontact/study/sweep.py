@@ -224,9 +224,53 @@ def pin_threads() -> None:
     _PINNED = True
 
 
-def _init_worker() -> None:
-    """Initializer of the process pool's workers."""
-    pin_threads()
+#: seconds between two checks of a pool worker that its parent still lives
+PARENT_POLL = 0.5
+
+# what a pool worker runs first (its initializer): standard library only, so that it runs
+# before the worker imports stepcontact (seconds on a busy machine, during which a parent
+# killed outright would otherwise leave the worker to compute its case for nobody)
+_DIE_WITH_PARENT = """
+import os, signal, sys, threading, time
+parent = {parent}
+if os.getppid() != parent:
+    os._exit(1)
+signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C: the parent ends its workers
+if sys.platform.startswith("linux"):
+    try:
+        import ctypes
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL), 0, 0, 0)
+    except Exception:
+        pass
+    if os.getppid() != parent:
+        os._exit(1)
+def _watch():
+    while True:
+        time.sleep({poll})
+        if os.getppid() != parent:
+            os._exit(1)
+threading.Thread(target=_watch, name="stepcontact-parent-watch", daemon=True).start()
+"""
+
+
+def _worker_initializer(parent: int) -> Callable[[], Any]:
+    """The pool workers' initializer: they die with their parent ``parent``
+    (:func:`die_with_parent`) and leave Ctrl-C (SIGINT, sent to the whole terminal's process
+    group) to it, which ends them (:func:`_stop_pool`); a picklable callable of the standard
+    library only (BLAS is pinned to one thread by each case, :func:`_run_case`)."""
+    import functools
+
+    return functools.partial(exec, _DIE_WITH_PARENT.format(parent=int(parent),
+                                                           poll=float(PARENT_POLL)), {})
+
+
+def die_with_parent(parent: int) -> None:
+    """End this process (a pool worker) when its parent ``parent`` dies: on Linux the kernel
+    sends SIGKILL at once (``prctl(PR_SET_PDEATHSIG)``), elsewhere (and as a fallback) a
+    daemon thread checks every :data:`PARENT_POLL` seconds that the parent still lives.  A
+    parent killed outright (SIGKILL) then leaves no worker computing on for nobody.  SIGINT
+    is ignored from then on (the parent ends its workers on Ctrl-C)."""
+    _worker_initializer(parent)()
 
 
 @contextlib.contextmanager
@@ -675,7 +719,8 @@ def _run_pool(func: Callable, todo: list[Case], retries: int, workers: int,
 
     ctx = multiprocessing.get_context("spawn")
     with _pinned_environment(), ProcessPoolExecutor(workers, mp_context=ctx,
-                                                    initializer=_init_worker) as pool:
+                                                    initializer=_worker_initializer(
+                                                        os.getpid())) as pool:
         pending = {pool.submit(_run_case, func, c, retries, True): c for c in todo}
         try:
             while pending:
@@ -683,10 +728,26 @@ def _run_pool(func: Callable, todo: list[Case], retries: int, workers: int,
                 for fut in done:
                     case = pending.pop(fut)
                     finish(_outcome_of(fut, case))
-        except BaseException:
-            for fut in pending:
-                fut.cancel()
+        except BaseException:  # Ctrl-C, SIGTERM (stepcontact.io.interrupt), an error
+            _stop_pool(pool, pending)
             raise
+
+
+def _stop_pool(pool: ProcessPoolExecutor, pending: Iterable[Any]) -> None:
+    """Cancel the cases not started and end the workers at once (the cases running are
+    lost; the finished ones are stored): the pool's exit then does not wait for them."""
+    for fut in pending:
+        fut.cancel()
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    for p in procs:
+        with contextlib.suppress(Exception):
+            p.terminate()
+    for p in procs:
+        with contextlib.suppress(Exception):
+            p.join(5)
+            if p.is_alive():
+                p.kill()
+    pool.shutdown(wait=False, cancel_futures=True)
 
 
 def _outcome_of(fut: Any, case: Case) -> Outcome:
