@@ -9,7 +9,9 @@ spells it, and the numbers of the result (``info --json``) printed in full at 80
 from __future__ import annotations
 
 import pickle
+import re
 from importlib.resources import files
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -79,3 +81,54 @@ def test_cli_plot_with_the_run_model_file_and_another(tmp_path):
     assert out.exit_code == 2, out.output
     assert "not the one of this result" in out.output and "Traceback" not in out.output
     assert not (tmp_path / "e.png").exists()
+
+
+STAGED = Path(__file__).resolve().parents[1] / "examples" / "data" / "staged_wall.toml"
+
+
+def test_validate_shows_brackets_of_user_text_as_written(tmp_path):
+    """A stage naming the body '[upper]' (an unknown body): the error table shows the item
+    'stages[1].bodies' and the name '[upper]' with their brackets (rich markup read
+    '[upper]' as a style and dropped it)."""
+    text = STAGED.read_text(encoding="utf-8")
+    assert 'bodies = ["upper"]' in text
+    model = tmp_path / "wall.toml"
+    model.write_text(text.replace('bodies = ["upper"]', 'bodies = ["[upper]"]'), "utf-8")
+    out = runner.invoke(app, ["validate", str(model)], env={"COLUMNS": "100"})
+    assert out.exit_code == 2, out.output
+    table = out.stdout
+    assert "stages[1].bodies" in table
+    assert "no such body '[upper]'" in " ".join(table.split())
+
+
+def test_tables_never_truncate_numbers_at_80_columns(tmp_path):
+    """Long pattern and interface names in an 80-column terminal: every λ, N and Q of the
+    event table and the λ's of the info tables appear in full, as the result file has them
+    (formatted as the CLI formats them: λ to 6 digits, forces in kN to 3 decimals); no cell
+    ends in '…' after a digit."""
+    from stepcontact.cli.commands import _kN
+    from stepcontact.results.file import load_result
+
+    long_joint = "the joint between the lower and the upper lift"
+    text = (STAGED.read_text(encoding="utf-8").replace('"lift joint"', f'"{long_joint}"')
+            .replace("[patterns.push]", "[patterns.push_from_the_upstream_side]")
+            .replace('pattern = "push"', 'pattern = "push_from_the_upstream_side"'))
+    model = tmp_path / "wall.toml"
+    model.write_text(text, encoding="utf-8")
+    env = {"COLUMNS": "80"}
+    out = runner.invoke(app, ["run", str(model), "-o", str(tmp_path / "w.nc"), "--no-plot"],
+                        env=env)
+    assert out.exit_code == 0, out.output
+    res = load_result(tmp_path / "w.nc")
+    assert res.events
+    cells = set(out.stdout.split())
+    for e in res.events:
+        assert f"{e.lam:.6g}" in cells and _kN(e.N) in cells and _kN(e.Q) in cells
+    assert not re.search(r"[\d.]…", out.stdout)
+    out = runner.invoke(app, ["info", str(tmp_path / "w.nc")], env=env)
+    assert out.exit_code == 0, out.output
+    cells = set(out.stdout.split())
+    for m in res.multipliers:
+        for v in (m.first_slip, m.first_opening, m.equilibrium_lost):
+            assert v is None or f"{v:.6g}" in cells
+    assert not re.search(r"[\d.]…", out.stdout)

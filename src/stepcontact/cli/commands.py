@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tomllib
 from collections.abc import Sequence
 from dataclasses import asdict
@@ -34,8 +35,9 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 from rich import box
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
+from rich.table import Table as _RichTable
 from rich.text import Text
 
 from stepcontact import __version__
@@ -64,6 +66,47 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
+
+
+#: a number in a table cell (never split or cut: its column is at least this wide)
+_NUMBER = re.compile(r"[+\-−]?(?:\d[\d.,]*|\.\d+)(?:[eE][+\-−]?\d+)?%?")
+
+
+class Table(_RichTable):
+    """rich's Table as the CLI prints it: text given as ``str`` (cells, headers, the title) is
+    shown as written — never read as rich markup, so ``stages[1]`` or ``loads[water]`` keep
+    their brackets — and no number is ever truncated ("4.6…") or split: a column is at least
+    as wide as the longest number in it, text wraps (or folds) instead, and a table whose
+    numbers alone need more than the terminal's width is printed that wide."""
+
+    def __init__(self, *headers: Any, title: Any = None, **kw: Any) -> None:
+        super().__init__(*headers, title=Text(title) if isinstance(title, str) else title, **kw)
+
+    def add_column(self, header: Any = "", *args: Any, **kw: Any) -> None:
+        kw["no_wrap"] = False
+        kw.setdefault("overflow", "fold")
+        if kw["overflow"] == "ellipsis":
+            kw["overflow"] = "fold"
+        super().add_column(Text(header) if isinstance(header, str) else header, *args, **kw)
+
+    def add_row(self, *cells: Any, **kw: Any) -> None:
+        out = []
+        for col, cell in zip(self.columns, cells, strict=False):
+            plain = cell if isinstance(cell, str) else cell.plain if isinstance(cell, Text) \
+                else None
+            if plain is not None:
+                widest = max((len(t) for t in _NUMBER.findall(plain)), default=0)
+                col.min_width = max(col.min_width or 0, widest) or None
+            out.append(Text(cell) if isinstance(cell, str) else cell)
+        super().add_row(*out, *cells[len(out):], **kw)
+
+    def __rich_console__(self, console: Any, options: Any) -> Any:
+        pad = self.padding[1] + self.padding[3]
+        need = sum((c.min_width or 1) + pad for c in self.columns) + (
+            len(self.columns) + 1 if self.show_edge or self.box else 0)
+        if options.max_width < need:
+            options = options.update(width=need)
+        yield from super().__rich_console__(console, options)
 
 
 class _Failure(Exception):
@@ -126,7 +169,7 @@ class ProgressHook:
 
     def _describe(self, segment: int, lam: float, n_events: int) -> str:
         name = self.segments[segment][0] if 0 <= segment < len(self.segments) else "?"
-        return f"segment {segment} '{name}'  λ = {lam:.4g}  events: {n_events}"
+        return f"segment {segment} '{escape(name)}'  λ = {lam:.4g}  events: {n_events}"
 
     def after_event(self, info: Any) -> None:
         """Move the bar to the event's λ (``info``: step, segment, lam, n_events)."""
@@ -168,7 +211,8 @@ def _solve(
         transient=True,
         disable=not progress_bar,
     ) as progress:
-        task = progress.add_task(f"running '{model.name}'", total=max(len(segments), 1))
+        task = progress.add_task(f"running '{escape(model.name)}'",
+                                 total=max(len(segments), 1))
         hooks = (ProgressHook(progress, task, segments),) if progress_bar else ()
         return static.solve_static(
             model, slip=slip.value, eps_p=eps_p, max_events=max_events, hooks=hooks,
