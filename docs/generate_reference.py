@@ -496,7 +496,9 @@ def render_cli_reference(app: Any = None, prog: str = "stepcontact") -> str:
         f"Every command of `{prog}`, with its help text, usage and options, as "
         f"`{prog} COMMAND --help` prints them.  Bad input (a missing file, a model error) "
         "prints one line `error: ...` on stderr and exits with code 2; a run that ends with lost "
-        "equilibrium is a result, not an error (exit code 0).  See "
+        "equilibrium is a result, not an error (exit code 0).  Tables show names and messages "
+        "as written (brackets such as `stages[1]` included) and never cut a number: in a "
+        "narrow terminal their text columns wrap instead.  See "
         "[user-guide.md](user-guide.md#workflow) for a complete workflow.",
         "",
     ]

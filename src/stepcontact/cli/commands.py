@@ -698,6 +698,9 @@ def validate(
     checks, without solving, that it is no mechanism with every CFE stuck (names the bodies
     that can move); warns about empty or zero load patterns.
 
+    A 3D mesh (volume cells or physical volumes) is an error naming the mesh file and its
+    element types: 3D models are not supported yet.
+
     Exit code 2 when there are errors (warnings alone exit with 0).
 
     Examples:
@@ -1082,7 +1085,9 @@ ModelOption = Annotated[
     typer.Option("--model", "-m", metavar="MODEL.toml",
                  help="Model file of the run: the states whose fields the result file does not "
                  "store are recomputed exactly from it (one factorisation). Default: "
-                 "RESULT.toml next to the result file, if there is one."),
+                 "RESULT.toml next to the result file, if there is one. It must be the run's "
+                 "model: a stored field recomputed from it agrees to 1e-6, or (an "
+                 "ill-conditioned model) satisfies its equilibrium to 1e-8."),
 ]
 
 
