@@ -101,9 +101,8 @@ class Table(_RichTable):
         super().add_row(*out, *cells[len(out):], **kw)
 
     def __rich_console__(self, console: Any, options: Any) -> Any:
-        pad = self.padding[1] + self.padding[3]
-        need = sum((c.min_width or 1) + pad for c in self.columns) + (
-            len(self.columns) + 1 if self.show_edge or self.box else 0)
+        need = self._extra_width + sum((c.min_width or 1) + self._get_padding_width(i)
+                                       for i, c in enumerate(self.columns))
         if options.max_width < need:
             options = options.update(width=need)
         yield from super().__rich_console__(console, options)
@@ -412,7 +411,7 @@ def _report(
 ) -> None:
     console.rule(title)
     if table and res.events:
-        console.print(events_table(res))
+        console.print(events_table(res), crop=False)  # a table wider than the terminal: whole
     console.print(Text(res.summary()), soft_wrap=True)
 
 
