@@ -498,7 +498,9 @@ def render_cli_reference(app: Any = None, prog: str = "stepcontact") -> str:
         "prints one line `error: ...` on stderr and exits with code 2; a run that ends with lost "
         "equilibrium is a result, not an error (exit code 0), but a dynamic interval it "
         "could then not run is said (`dynamics not run: <reason>` on stderr) and exits with "
-        "code 3.  See "
+        "code 3.  Tables show names and messages as written (brackets such as `stages[1]` "
+        "included) and never cut a number: in a narrow terminal their text columns wrap "
+        "instead.  See "
         "[user-guide.md](user-guide.md#workflow) for a complete workflow.",
         "",
     ]

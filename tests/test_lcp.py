@@ -145,3 +145,133 @@ def test_equilibrium_loss_reports_the_mechanism_scheme():
     assert np.all((last == sc.ContactState.SLIP_POS) | (last == sc.ContactState.OPEN))
     assert res.violation[-1] < 1e-9
     assert res.events[-1].lam == pytest.approx(res.multipliers[-1].equilibrium_lost)
+
+
+# ---- degenerate LCPs: the lexicographic minimum-ratio test -----------------------------------
+# q with ties (equal entries, zeros): degenerate pivots.  M ≥ 0 with a positive diagonal is
+# strictly copositive, so each LCP has a solution and Lemke's method must end in one.  Before
+# the lexicographic rule (first row of z₀ by the smallest index, ties within 1e-12 only) these
+# two cycled until the pivot budget (1 800 and 2 450 pivots) ran out.
+CYCLED = [
+    ([[1, 2, 0, 2, 1], [0, 2, 2, 1, 2], [0, 0, 2, 2, 2], [2, 1, 2, 2, 1], [2, 2, 1, 1, 2]],
+     [-2.0, -2.0, 0.0, -2.0, 0.0]),
+    ([[1, 1, 2, 2, 2, 2], [2, 1, 2, 0, 0, 1], [2, 0, 1, 0, 0, 2], [0, 0, 0, 2, 1, 0],
+      [2, 2, 2, 2, 2, 0], [2, 2, 0, 1, 1, 1]],
+     [-1.0, 0.0, 0.0, -1.0, 0.0, -1.0]),
+]
+
+
+def assert_complementary(M, q, z, tol: float = 1e-12) -> None:
+    """z ≥ 0, w = M z + q ≥ 0, zᵀw = 0, each to ``tol`` relative to max(|q|, |M||z|)."""
+    w = M @ z + q
+    scale = max(np.abs(q).max(), np.abs(M).max() * np.abs(z).max())
+    assert z.min() >= 0.0
+    assert w.min() >= -tol * scale
+    assert np.abs(z * w).max() <= tol * scale * max(np.abs(z).max(), 1e-300)
+
+
+@pytest.mark.parametrize("case", range(len(CYCLED)))
+def test_lexicographic_lemke_solves_lcps_that_cycled(case):
+    """Reference: the enumeration of the complementary bases; Lemke's z is one of the LCP's
+    solutions to 1e-12 (relative to max |z|) and satisfies the complementarity conditions to
+    1e-12, in a handful of pivots (no cycling)."""
+    M, q = (np.array(a, float) for a in CYCLED[case])
+    sol = lemke(M, q)
+    assert sol.solved, sol.message
+    assert sol.pivots <= 2 * len(q)
+    assert_complementary(M, q, sol.z)
+    ref = enumerate_lcp(M, q)
+    assert any(np.abs(sol.z - z).max() <= 1e-12 * np.abs(z).max() for z in ref)
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_lexicographic_lemke_on_degenerate_copositive_lcps(seed):
+    """Random strictly copositive M (nonnegative integers, positive diagonal) and q of ties
+    (entries in {0, −1} or {0, −2}): a solution exists; Lemke's method finds one that
+    satisfies the complementarity conditions to 1e-12."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(3, 12))
+    M = rng.integers(0, 3, (n, n)).astype(float)
+    np.fill_diagonal(M, rng.integers(1, 3, n))
+    q = -(rng.random(n) < 0.4).astype(float) * rng.integers(1, 3)
+    q[rng.integers(n)] = -1.0 * rng.integers(1, 3)  # at least one negative entry
+    sol = lemke(M, q)
+    assert sol.solved, sol.message
+    assert_complementary(M, q, sol.z)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_lexicographic_lemke_on_degenerate_convex_qp_lcps(seed):
+    """Symmetric positive semidefinite, rank-deficient M (= A Aᵀ, A of entries in {−1, 0, 1})
+    and q = w* − M z* from a complementary pair with indices where both vanish (degenerate):
+    the LCP is the optimality condition of min ½zᵀMz + qᵀz over z ≥ 0.  Reference: OSQP on
+    that QP; M z (the same for every minimiser of a convex QP) agrees to 1e-6 relative (OSQP's
+    tolerance 1e-10, polished), and Lemke's z satisfies the complementarity conditions to
+    1e-12."""
+    osqp = pytest.importorskip("osqp")
+    import scipy.sparse as sp
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(3, 9))
+    A = rng.integers(-1, 2, (n, int(rng.integers(1, n)))).astype(float)
+    M = A @ A.T
+    kind = rng.integers(3, size=n)  # 0: z* > 0, 1: w* > 0, 2: both zero
+    zs = np.where(kind == 0, rng.integers(1, 3, n), 0).astype(float)
+    ws = np.where(kind == 1, rng.integers(1, 3, n), 0).astype(float)
+    q = ws - M @ zs
+    sol = lemke(M, q)
+    assert sol.solved, sol.message
+    assert_complementary(M, q, sol.z)
+    prob = osqp.OSQP()
+    prob.setup(sp.csc_matrix(M), q, sp.eye(n, format="csc"), np.zeros(n), np.full(n, np.inf),
+               eps_abs=1e-10, eps_rel=1e-10, polishing=True, verbose=False, max_iter=200000)
+    ref = prob.solve().x
+    scale = max(np.abs(M @ ref).max(), np.abs(q).max())
+    assert np.abs(M @ sol.z - M @ ref).max() <= 1e-6 * scale
+
+
+# ---- Lemke's method on the rate problem of a plate pressed and sheared from zero -------------
+def sheared_plate(base: str, f: float = 1.0, ratio: float = 0.8) -> sc.Model:
+    """A 2 m × 0.5 m plate (6 × 2 quad4) on a 3 m × 0.5 m base (mortar CFEs, zero gaps: every
+    CFE starts closed at N = Q = 0); the base fixed at its bottom (``"elastic"``) or at every
+    node (``"rigid"``).  Pressed by 1 Pa and sheared by ``ratio`` Pa along −x per unit λ on
+    its top, proportionally from zero, to λ = 10⁶ (pattern 'press': below the friction limit
+    on average, ratio < f, so the ends slip at λ = 0 and the plate holds); then a further
+    shear of 1 Pa per unit λ (pattern 'shear') to 0.15·10⁶, short of sliding (at
+    (f − ratio)·10⁶ = 0.2·10⁶)."""
+    m = vm.block_on_base(friction=f, nx=6, ny=2, w=2.0, h=0.5)
+    if base == "rigid":
+        m = m.add(sc.Support("rigid_base", m.select("base", boundary=False)))
+    top = m.select("block", y=0.5)
+    return m.add(sc.LoadPattern("press", [sc.EdgeLoad(top, normal=1.0, tangential=-ratio)]),
+                 sc.LoadPattern("shear", [sc.EdgeLoad(top, tangential=-1.0)]),
+                 sc.Segment("press", 1e6), sc.Segment("shear", 0.15e6))
+
+
+@pytest.mark.parametrize("base", ["elastic", "rigid"])
+def test_lemke_on_a_plate_sheared_from_zero_completes_as_the_default(base):
+    """At λ = 0 every CFE sits at every limit; the rate problem's M has the opposite columns of
+    each CFE's slip rates a⁺, a⁻ (not copositive-plus) and Lemke's method ends on a secondary
+    ray there (it ended the run in ``rate_problem`` before); the default solver then takes over
+    (counted in ``lemke_fallbacks``).  Reference: the default solver's run — the same events
+    (CFE, transition, segment) at the same λ to 1e-9 × 10⁶, the same forces to 1e-9 of the
+    largest; and statics at the end: ΣN = −2 m × 10⁶ Pa, ΣQ = −2 m × 0.95·10⁶ Pa (the top
+    loads' resultant), to 1e-9 relative."""
+    model = sheared_plate(base)
+    a = sc.solve_static(model)
+    b = sc.solve_static(model, rate_solver="lemke")
+    assert a.status == sc.Status.COMPLETED, a.message
+    assert b.status == sc.Status.COMPLETED, b.message
+    assert b.counters["lemke"] >= 1 and b.counters["lemke_fallbacks"] >= 1
+    assert a.counters["lemke_fallbacks"] == 0
+    assert [(e.cfe, e.transition, e.segment) for e in a.events] == \
+        [(e.cfe, e.transition, e.segment) for e in b.events]
+    assert {e.segment for e in a.events} == {0, 1}  # ends slip at λ = 0, one more CFE later
+    lam_a = np.array([e.lam for e in a.events])
+    lam_b = np.array([e.lam for e in b.events])
+    assert np.abs(lam_a - lam_b).max() <= 1e-9 * 1e6
+    scale = np.abs(a.N).max()
+    assert np.allclose(a.N, b.N, atol=1e-9 * scale) and np.allclose(a.Q, b.Q, atol=1e-9 * scale)
+    assert b.N[-1].sum() == pytest.approx(-2.0e6, rel=1e-9)
+    assert b.Q[-1].sum() == pytest.approx(-0.95 * 2.0e6, rel=1e-9)
+    assert b.residual.max() < 1e-9 and b.violation.max() < 1e-9

@@ -18,7 +18,7 @@ def _spd(n: int = 200, seed: int = 0) -> sp.csc_matrix:
     return (A @ A.T + n * sp.eye(n)).tocsc()
 
 
-@pytest.mark.parametrize("backend", available_backends())
+@pytest.mark.parametrize("backend", [*available_backends(), "dense"])
 def test_backend_solves_vectors_and_blocks(backend):
     K = _spd()
     F = factorize(K, backend)
@@ -47,6 +47,9 @@ def test_unknown_backend_and_singular_matrix_are_errors():
     K = sp.csc_matrix(np.diag([1.0, 0.0, 2.0]))
     with pytest.raises(SolverError, match="singular"):
         factorize(K, "scipy")
+    for K in (sp.csc_matrix(np.diag([1.0, 0.0, 2.0])), sp.csc_matrix(np.diag([1.0, -1.0]))):
+        with pytest.raises(SolverError, match="singular"):
+            factorize(K, "dense")
 
 
 # ---- the condensed matrix from the factors (no solve per contact unknown) --------------------
@@ -135,3 +138,68 @@ def test_too_many_contact_unknowns_for_dense_g_is_a_clear_error_before_any_work(
     with pytest.raises(SolverError, match=r"need about 38\.7 GB in float64"):
         check_dense_memory(40_000, limit=16 * 2**30, precision="float64")
     assert schur_fits(1000, limit=1e9) and not schur_fits(20_000, limit=4e9)
+
+
+# ---- small systems: a dense factorisation, never MKL -----------------------------------------
+def _two_dof() -> sc.DiscreteModel:
+    """tests/test_discrete.py's point on a rough floor (2 DOFs): pressed, then pushed until it
+    slips at λ = f P and lifts off at λ = −P k₁₁/k₁₂ (closed forms there)."""
+    return sc.DiscreteModel(
+        K=[[2e3, -1e3], [-1e3, 2e3]], normal_rows=[[0.0, 1.0]], tangent_rows=[[1.0, 0.0]],
+        loads={"press": {"uy": -1.0}, "push": {"ux": 1.0}}, friction=0.5,
+        dof_names=("ux", "uy"), name="point",
+        program=(sc.Segment("press", 100.0), sc.Segment("push", 300.0)))
+
+
+def _same_path(a, b, rtol: float) -> None:
+    assert a.status == b.status
+    assert [(e.cfe, e.transition) for e in a.events] == [(e.cfe, e.transition) for e in b.events]
+    assert np.allclose(a.lam, b.lam, rtol=rtol, atol=0.0)
+    scale = max(np.abs(a.N).max(), np.abs(a.Q).max())
+    assert np.abs(a.N - b.N).max() <= rtol * scale and np.abs(a.Q - b.Q).max() <= rtol * scale
+
+
+@pytest.mark.parametrize("name", ["two-DOF", "block", "sliding block"])
+def test_small_model_auto_backend_is_dense_and_gives_the_superlu_path(name):
+    """Below DENSE_BELOW DOFs ``backend="auto"`` factorises densely (not PARDISO: a 2-DOF
+    discrete model once crashed in its Schur phase).  Reference: the same run with SuperLU
+    (``backend="scipy"``): the same events, λ and forces to 1e-12 relative (round-off of two
+    factorisations of the same well-conditioned K₀); for the 2-DOF point also the closed forms
+    λ_slip = f P = 50 and λ_lift = −P k₁₁/k₁₂ = 200 to 1e-12."""
+    from stepcontact.solver.linalg import DENSE_BELOW
+
+    model = {"two-DOF": _two_dof, "block": _block_model,
+             "sliding block": lambda: vm.sliding_block(0.4, 10.0)}[name]()
+    c = sc.condense(model)
+    assert c.factor.name == "dense" and c.A.shape[0] < DENSE_BELOW
+    auto = sc.solve_static(model)
+    ref = sc.solve_static(model, backend="scipy")
+    _same_path(auto, ref, 1e-12)
+    assert auto.residual.max() < 1e-12 and auto.violation.max() < 1e-12
+    if name == "two-DOF":
+        lams = [e.lam for e in auto.events]
+        assert lams == pytest.approx([50.0, 200.0], rel=1e-12)
+
+
+def test_dense_condensed_matrix_equals_dense_inverse():
+    """G = B K₀⁻¹ Bᵀ of the dense backend against numpy's solve, to 1e-12 relative."""
+    from stepcontact.fem.assembly import assemble
+    from stepcontact.solver.condensation import Condensation, static_operator
+
+    K0, Bf, *_ = static_operator(assemble(_block_model()))
+    ref = Bf @ np.linalg.solve(K0.toarray(), Bf.T.toarray())
+    c = Condensation.build(K0, Bf, "dense")
+    assert c.factor.name == "dense" and c.counters["condensed_columns"] == 0
+    assert np.abs(c.G - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_large_model_keeps_the_sparse_backend():
+    """At DENSE_BELOW DOFs or more ``auto`` keeps the first sparse backend (PARDISO when
+    installed: the benchmarks rely on it)."""
+    from stepcontact.solver.linalg import DENSE_BELOW, auto_backend
+
+    c = sc.condense(_block_model(3))
+    assert c.A.shape[0] >= DENSE_BELOW
+    assert c.factor.name == factorize(sp.eye(1, format="csc"), available_backends()[0]).name
+    assert auto_backend(DENSE_BELOW - 1) == "dense"
+    assert auto_backend(DENSE_BELOW) == available_backends()[0]

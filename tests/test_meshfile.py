@@ -520,3 +520,74 @@ def test_cli_validate_missing_and_broken_files(tmp_path):
     (tmp_path / "b.toml").write_text("[model\n", encoding="utf-8")
     result = runner.invoke(app, ["validate", str(tmp_path / "b.toml")])
     assert result.exit_code == 2 and "not a valid TOML file" in result.stderr
+
+
+# --------------------------------------------------------------------------------------------
+# 3D meshes: not supported yet, said in one line (no traceback)
+# --------------------------------------------------------------------------------------------
+CUBE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                 [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
+#: the unit cube cut into five tetrahedra (a corner-cut decomposition)
+CUBE_TETS = np.array([[0, 1, 3, 4], [1, 2, 3, 6], [1, 4, 5, 6], [3, 4, 6, 7], [1, 3, 4, 6]])
+MODEL_3D = """
+[model]
+name = "cube"
+[mesh]
+file = "{mesh}"
+[materials.concrete]
+E = 30e9
+nu = 0.2
+density = 2400
+[[bodies]]
+kind = "mesh"
+group = "block"
+material = "concrete"
+[[supports]]
+name = "bed"
+nodes = "bottom"
+dofs = "xy"
+[patterns.weight]
+loads = [{{ type = "gravity", g = [0.0, -9.81] }}]
+[[program]]
+pattern = "weight"
+end = 1.0
+"""
+
+
+def write_3d_msh(path: Path, planar: bool = False) -> Path:
+    """A gmsh 2.2 file with a physical volume 'block' and a physical surface 'bottom': the unit
+    cube in five tetrahedra (``planar``: two triangles in z = 0, the volume group only named,
+    as a 2D export of a 3D model can carry it)."""
+    if planar:
+        pts = CUBE[:4]
+        cells = [("triangle", np.array([[0, 1, 2], [0, 2, 3]]))]
+        tags = [np.array([2, 2])]
+    else:
+        pts = CUBE
+        cells = [("tetra", CUBE_TETS), ("triangle", np.array([[0, 1, 2], [0, 2, 3]]))]
+        tags = [np.full(5, 1), np.array([2, 2])]
+    mesh = meshio.Mesh(pts, cells, cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+                       field_data={"block": np.array([1, 3]), "bottom": np.array([2, 2])})
+    meshio.write(path, mesh, file_format="gmsh22", binary=False)
+    return path
+
+
+@pytest.mark.parametrize("planar", [False, True])
+def test_a_3d_mesh_is_refused_naming_the_file_and_its_elements(tmp_path, planar):
+    """validate and run end with one error line (exit code 2, no traceback) saying that 3D is
+    not supported yet, naming the mesh file, its element types and its physical volume."""
+    write_3d_msh(tmp_path / "cube.msh", planar)
+    model = tmp_path / "cube.toml"
+    model.write_text(MODEL_3D.format(mesh="cube.msh"), encoding="utf-8")
+    for cmd in ("validate", "run"):
+        result = runner.invoke(app, [cmd, str(model), "-o", str(tmp_path / "r.nc")]
+                               if cmd == "run" else [cmd, str(model)])
+        out = " ".join(result.output.split())
+        assert result.exit_code == 2, out
+        assert result.exception is None or isinstance(result.exception, SystemExit), out
+        assert "Traceback" not in out
+        assert "cube.msh: is a 3D mesh" in out and "3D models are not supported yet" in out
+        assert ("triangle (2)" if planar else "tetra (5)") in out
+        assert "physical volumes 'block'" in out
+    with pytest.raises(ModelError, match=r"cube\.msh.*3D models are not supported yet"):
+        read_msh(tmp_path / "cube.msh")

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tomllib
 from collections.abc import Sequence
 from dataclasses import asdict
@@ -34,8 +35,9 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 from rich import box
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
+from rich.table import Table as _RichTable
 from rich.text import Text
 
 from stepcontact import __version__
@@ -65,6 +67,46 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
+
+
+#: a number in a table cell (never split or cut: its column is at least this wide)
+_NUMBER = re.compile(r"[+\-−]?(?:\d[\d.,]*|\.\d+)(?:[eE][+\-−]?\d+)?%?")
+
+
+class Table(_RichTable):
+    """rich's Table as the CLI prints it: text given as ``str`` (cells, headers, the title) is
+    shown as written — never read as rich markup, so ``stages[1]`` or ``loads[water]`` keep
+    their brackets — and no number is ever truncated ("4.6…") or split: a column is at least
+    as wide as the longest number in it, text wraps (or folds) instead, and a table whose
+    numbers alone need more than the terminal's width is printed that wide."""
+
+    def __init__(self, *headers: Any, title: Any = None, **kw: Any) -> None:
+        super().__init__(*headers, title=Text(title) if isinstance(title, str) else title, **kw)
+
+    def add_column(self, header: Any = "", *args: Any, **kw: Any) -> None:
+        kw["no_wrap"] = False
+        kw.setdefault("overflow", "fold")
+        if kw["overflow"] == "ellipsis":
+            kw["overflow"] = "fold"
+        super().add_column(Text(header) if isinstance(header, str) else header, *args, **kw)
+
+    def add_row(self, *cells: Any, **kw: Any) -> None:
+        out = []
+        for col, cell in zip(self.columns, cells, strict=False):
+            plain = cell if isinstance(cell, str) else cell.plain if isinstance(cell, Text) \
+                else None
+            if plain is not None:
+                widest = max((len(t) for t in _NUMBER.findall(plain)), default=0)
+                col.min_width = max(col.min_width or 0, widest) or None
+            out.append(Text(cell) if isinstance(cell, str) else cell)
+        super().add_row(*out, *cells[len(out):], **kw)
+
+    def __rich_console__(self, console: Any, options: Any) -> Any:
+        need = self._extra_width + sum((c.min_width or 1) + self._get_padding_width(i)
+                                       for i, c in enumerate(self.columns))
+        if options.max_width < need:
+            options = options.update(width=need)
+        yield from super().__rich_console__(console, options)
 
 
 class _Failure(Exception):
@@ -127,7 +169,7 @@ class ProgressHook:
 
     def _describe(self, segment: int, lam: float, n_events: int) -> str:
         name = self.segments[segment][0] if 0 <= segment < len(self.segments) else "?"
-        return f"segment {segment} '{name}'  λ = {lam:.4g}  events: {n_events}"
+        return f"segment {segment} '{escape(name)}'  λ = {lam:.4g}  events: {n_events}"
 
     def after_event(self, info: Any) -> None:
         """Move the bar to the event's λ (``info``: step, segment, lam, n_events)."""
@@ -171,7 +213,8 @@ def _solve(
         transient=True,
         disable=not progress_bar,
     ) as progress:
-        task = progress.add_task(f"running '{model.name}'", total=max(len(segments), 1))
+        task = progress.add_task(f"running '{escape(model.name)}'",
+                                 total=max(len(segments), 1))
         hooks = (ProgressHook(progress, task, segments),) if progress_bar else ()
         return static.solve_static(
             model, slip=slip.value, eps_p=eps_p, max_events=max_events, hooks=hooks,
@@ -377,7 +420,7 @@ def _report(
 ) -> None:
     console.rule(title)
     if table and res.events:
-        console.print(events_table(res))
+        console.print(events_table(res), crop=False)  # a table wider than the terminal: whole
     console.print(Text(res.summary()), soft_wrap=True)
 
 
@@ -782,6 +825,9 @@ def validate(
     Finds orphan nodes and bodies that overlap without an interface; assembles the model and
     checks, without solving, that it is no mechanism with every CFE stuck (names the bodies
     that can move); warns about empty or zero load patterns.
+
+    A 3D mesh (volume cells or physical volumes) is an error naming the mesh file and its
+    element types: 3D models are not supported yet.
 
     Exit code 2 when there are errors (warnings alone exit with 0).
 
@@ -1190,7 +1236,9 @@ ModelOption = Annotated[
     typer.Option("--model", "-m", metavar="MODEL.toml",
                  help="Model file of the run: the states whose fields the result file does not "
                  "store are recomputed exactly from it (one factorisation). Default: "
-                 "RESULT.toml next to the result file, if there is one."),
+                 "RESULT.toml next to the result file, if there is one. It must be the run's "
+                 "model: a stored field recomputed from it agrees to 1e-6, or (an "
+                 "ill-conditioned model) satisfies its equilibrium to 1e-8."),
 ]
 
 

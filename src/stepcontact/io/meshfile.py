@@ -65,7 +65,7 @@ COMPATIBLE: dict[str, tuple[str, ...]] = {
     "quad8": ("quad8",),
     "quad9": ("quad9",),
 }
-GROUP_KINDS = ("point", "curve", "surface")
+GROUP_KINDS = ("point", "curve", "surface", "volume")
 
 _FLIP = REVERSED_NODE_ORDER  # gmsh node ordering
 # nodes of a curve cell in their order along the curve
@@ -399,14 +399,42 @@ def _dim(cell_type: str) -> int | None:
     return None
 
 
+def _refuse_3d(item: str, m, pts: np.ndarray, named: dict[str, tuple[int, int]]) -> None:
+    """A :class:`ModelError` on ``item`` (the mesh file) when the mesh is 3D — volume cells
+    (tetrahedra, hexahedra, …), physical volumes, or points off one plane z = const — naming
+    the element types found, the physical volumes and the z range: only 2D models (a
+    cross-section in the plane z = 0) are supported yet."""
+    counts: dict[str, int] = {}
+    for blk in m.cells:
+        counts[blk.type] = counts.get(blk.type, 0) + len(blk.data)
+    solid = [t for t in counts if _dim(t) is None]
+    volumes = [n for n, (dim, _) in named.items() if dim == 3]
+    size = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
+    zs = pts[:, 2] if pts.shape[1] > 2 and len(pts) else np.zeros(1)
+    spread = bool(np.ptp(zs) > 1e-9 * max(size, 1.0))
+    if not (solid or volumes or spread):
+        return
+    what = []
+    if counts:
+        what.append("element types found: " + ", ".join(f"{t} ({n})" for t, n in counts.items()))
+    if volumes:
+        what.append("physical volumes " + ", ".join(f"'{v}'" for v in volumes))
+    if spread:
+        what.append(f"points at z = {zs.min():.6g} … {zs.max():.6g} m")
+    kind = "a 3D mesh" if solid or volumes else "not planar"
+    raise ModelError(item, f"is {kind} ({'; '.join(what)}): 3D models are not supported yet; "
+                     "stepcontact needs a 2D mesh of the cross-section in the plane z = 0 "
+                     "(triangles or quads, meshed in gmsh with Mesh 2)")
+
+
 def read_msh(path: str | os.PathLike) -> MeshFile:
     """Read a gmsh ``.msh`` file (format 2.2 or 4.1) with its physical groups.
 
     Raises
     ------
     ModelError
-        When the file is missing or unreadable (``item`` is the file name), not planar, or has
-        no physical group.
+        When the file is missing or unreadable (``item`` is the file name), 3D (volume cells or
+        groups: not supported yet) or not planar, or has no physical group.
     """
     import meshio
 
@@ -428,14 +456,12 @@ def read_msh(path: str | os.PathLike) -> MeshFile:
     pts = np.asarray(m.points, dtype=float)
     if pts.ndim != 2 or pts.shape[1] < 2:
         raise ModelError(item, "has no 2D points")
-    size = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
-    if pts.shape[1] > 2 and np.ptp(pts[:, 2]) > 1e-9 * max(size, 1.0):
-        raise ModelError(item, "is not planar: stepcontact needs a 2D mesh in the plane z = 0")
+    named = {str(k): (int(v[1]), int(v[0])) for k, v in (m.field_data or {}).items()}
+    _refuse_3d(item, m, pts, named)
     pts = np.ascontiguousarray(pts[:, :2])
 
     physical = m.cell_data.get("gmsh:physical")
     entity = m.cell_data.get("gmsh:geometrical")
-    named = {str(k): (int(v[1]), int(v[0])) for k, v in (m.field_data or {}).items()}
     groups: dict[str, PhysicalGroup] = {}
     for n, (dim, tag) in named.items():
         groups[n] = PhysicalGroup(n, dim, tag)

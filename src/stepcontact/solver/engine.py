@@ -94,7 +94,8 @@ class EventEngine:
         self.w = np.asarray(w0, float).copy()
         self.F_scale = 1e-300
         self.W_scale = float(np.max(np.abs(w0), initial=0.0)) or 1e-300
-        self.counters = {"rate_solves": 0, "pivots": 0, "corrections": 0, "lemke": 0}
+        self.counters = {"rate_solves": 0, "pivots": 0, "corrections": 0, "lemke": 0,
+                         "lemke_fallbacks": 0}
         self._relations: dict[tuple, Relations] = {}
 
     # ---- scales and tolerances ---------------------------------------------------------------

@@ -37,31 +37,53 @@ class LCPResult:
     ray: np.ndarray | None = None
 
 
-def _lex_min_row(T: np.ndarray, rows: np.ndarray, col: np.ndarray, n: int) -> int:
+def _lex_min_row(T: np.ndarray, rows: np.ndarray, col: np.ndarray, n: int,
+                 tol: float = 1e-12) -> int:
     """Lexicographic minimum ratio test among ``rows`` (degeneracy-proof tie breaking).
 
-    Compares rows of [q, B⁻¹] divided by the pivot column entry; B⁻¹ sits in the columns of the
-    initial basis (the w variables, columns 0..n−1).
+    The row r chosen minimises, lexicographically, the row [q̄_r, (B⁻¹)_r] / col_r of the
+    current tableau (B⁻¹ sits in the columns of the initial basis, the w variables, columns
+    0..n−1).  The rows of B⁻¹ are linearly independent, so exactly one row is the minimum:
+    every basis met keeps [q̄, B⁻¹] lexicographically positive row by row, the lexicographic
+    value of the objective row strictly increases, and no basis can repeat — Lemke's method
+    cannot cycle at a degenerate point (ties q̄_i/col_i equal, e.g. several q̄_i = 0), however
+    many there are (Cottle, Pang & Stone, *The Linear Complementarity Problem*, §4.9).
+
+    Two keys count as equal within ``tol`` times the largest of that key among the candidates
+    (round-off of the tableau), so a tie broken in round-off is broken by the next column.
     """
-    cand = rows
+    cand = np.asarray(rows)
     keys = np.column_stack([T[cand, -1], T[cand, :n]]) / col[cand, None]
     for k in range(keys.shape[1]):
         v = keys[:, k]
         best = v.min()
-        scale = max(np.abs(v).max(), 1.0)
-        keep = v <= best + 1e-12 * scale
+        keep = v <= best + tol * max(np.abs(v).max(), np.finfo(float).tiny)
         cand, keys = cand[keep], keys[keep]
         if len(cand) == 1:
             break
     return int(cand[0])
 
 
+def _first_row(q: np.ndarray, tol: float = 1e-12) -> int:
+    """The row the artificial z₀ enters in (covering vector d = 1): the most negative q_i,
+    ties broken lexicographically.  After that pivot row i holds [q_i − q_r, e_i − e_r], which
+    is lexicographically positive for every tied i only if r is the *largest* tied index."""
+    qmin = q.min()
+    ties = np.flatnonzero(q <= qmin + tol * max(abs(qmin), np.finfo(float).tiny))
+    return int(ties[-1])
+
+
 def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None,
           tol: float = 1e-12) -> LCPResult:
-    """Solve the LCP (M, q) by Lemke's complementary pivoting (dense tableau).
+    """Solve the LCP (M, q) by Lemke's complementary pivoting (dense tableau), with the
+    lexicographic minimum-ratio test (:func:`_lex_min_row`, :func:`_first_row`): it never
+    cycles at a degenerate point, and ends in a solution (always when M is copositive-plus and
+    the LCP is feasible) or on a secondary ray, which is reported with the variables growing
+    along it.
 
     Variables are numbered w_i = i, z_i = n + i, the artificial z₀ = 2n.  Columns of M are
     scaled to unit largest entry first (a positive diagonal scaling keeps complementarity).
+    When z₀ ties in the ratio test it leaves (that pivot ends the method with a solution).
     """
     M = np.asarray(M, dtype=float)
     q = np.asarray(q, dtype=float)
@@ -86,7 +108,7 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None,
         T[others] -= np.outer(T[others, c], T[r])
         basis[r] = c
 
-    r = int(np.argmin(T[:, -1]))
+    r = _first_row(T[:, -1], tol)
     pivot(r, 2 * n)
     leaving = r  # w_r left the basis
     entering = n + leaving
@@ -104,9 +126,9 @@ def lemke(M: np.ndarray, q: np.ndarray, max_pivots: int | None = None,
                              "Lemke's method ended on a secondary ray (no solution found)", ray)
         ratios = T[rows, -1] / col[rows]
         best = ratios.min()
-        ties = rows[ratios <= best + 1e-12 * max(abs(best), 1.0)]
+        ties = rows[ratios <= best + tol * max(np.abs(ratios).max(), np.finfo(float).tiny)]
         z0_rows = ties[basis[ties] == 2 * n]
-        r = int(z0_rows[0]) if z0_rows.size else _lex_min_row(T, ties, col, n)
+        r = int(z0_rows[0]) if z0_rows.size else _lex_min_row(T, rows, col, n, tol)
         leaving_var = int(basis[r])
         pivot(r, entering)
         if leaving_var == 2 * n:

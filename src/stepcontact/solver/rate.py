@@ -173,6 +173,8 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         sol = lemke(M, q)
         eng.counters["lemke"] += 1
         how = "Lemke's method from the stuck scheme"
+    if not sol.solved and method == "lemke":
+        sol, how = _lemke_fallback(eng, M, q, start, sol)
     if sol.solved:
         z = sol.z
         active = z > 1e-9 * max(np.abs(z).max(initial=0), 1e-300)
@@ -225,6 +227,21 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         f" (certificate: {sol.message}, along which {ray_text}; that scheme "
         f"{'is singular but the load does no work on it' if singular else 'is regular'})",
         certificate=trial[L])
+
+
+def _lemke_fallback(eng, M, q, start, failed):
+    """With ``rate_solver="lemke"``: Lemke's method ended without a solution (a secondary
+    ray — its M is not copositive-plus at a point where CFEs sit at every limit, e.g. the
+    slip rates a⁺, a⁻ of one CFE have opposite columns) — so the default solver, principal
+    pivoting from the current scheme, takes over.  Counted in ``counters["lemke_fallbacks"]``
+    and named in the outcome's method.  Returns (solution, how); Lemke's own outcome (with
+    its ray, the certificate) when the pivoting fails too."""
+    sol = principal_pivoting(M, q, start)
+    eng.counters["pivots"] += sol.pivots
+    eng.counters["lemke_fallbacks"] = eng.counters.get("lemke_fallbacks", 0) + 1
+    if not sol.solved:
+        return failed, "Lemke's method from the stuck scheme"
+    return sol, f"principal pivoting from the current scheme, after {failed.message}"
 
 
 def _slipping_only(eng, L: np.ndarray, normal_lim, two_sided) -> bool:

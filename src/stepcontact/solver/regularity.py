@@ -96,7 +96,7 @@ MOVE_TOL = 1e-6
 #: exceeds 1 − this (exact inclusion gives 1, a nearly rigid internal mode stays well below)
 RIGID_TOL = 1e-6
 
-_KNOWN_BACKENDS = ("auto", "cholmod", "pypardiso", "scipy")
+_KNOWN_BACKENDS = ("auto", "cholmod", "dense", "pypardiso", "scipy")
 
 
 def factorize_regular(system: System, K0: sp.spmatrix, free: np.ndarray,

@@ -1346,10 +1346,14 @@ def solve_static(
         and ``after_segment(StaticResult)``
         (``interrupted(StaticResult)`` on Ctrl-C).
     backend : str
-        Sparse factorisation backend (``auto``, ``scipy``, ``cholmod``, ``pypardiso``).
+        Factorisation backend (``auto``: dense below 400 DOFs, else ``pypardiso`` when
+        installed, else ``scipy``; or by name ``dense``, ``scipy``, ``cholmod``,
+        ``pypardiso``).
     rate_solver : str
         First method for the rate problem (an LCP) at degenerate points: ``pivoting``
-        (principal pivoting from the current scheme, then Lemke's method) or ``lemke``.
+        (principal pivoting from the current scheme, then Lemke's method) or ``lemke``
+        (lexicographic Lemke; where it ends on a secondary ray, principal pivoting takes over,
+        counted in ``counters["lemke_fallbacks"]``).
     condensation : Condensation, optional
         A condensation from :func:`condense` for the same structure (checked): runs that
         differ only in friction, gaps, loads or program then share one factorisation.
