@@ -1394,7 +1394,12 @@ def solve_dynamic(
                 # of the step changes with it
                 wet_moves = crack is not None and not np.array_equal(crack.wet(dec.new),
                                                                      water_on)
-                if zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves):
+                # and a rigid slip that stops here: its friction force jumps to what
+                # equilibrium at t requires (re-solved in accelerations, not the slip's f p)
+                stops = all_rigid and bool(np.any(np.isin(old[now], (SLIP_POS, SLIP_NEG))
+                                                  & (dec.new[now] == STICK)))
+                if zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
+                                          or stops):
                     keep = old.copy()
                     keep[now] = dec.new[now]
                     restart = (0.0, 0.0, dec.ds, dec.dw, old, keep, {})
