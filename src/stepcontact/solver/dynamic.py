@@ -382,28 +382,65 @@ class _Memo:
     __matmul__ = __call__
 
 
-def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=None) -> dict:
+def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=None,
+                 nm=None, wacc=None, law=None) -> dict:
     """Times of the slip → stick transitions decided at μ of a step (eq. (10), second row):
     where the slip velocity, linear in time over the step, would cross zero under the old
-    (slipping) scheme — u̇_τ at the step's end is 2 Δũ_τ / Δt (module docstring)."""
-    m = eng.m
+    (slipping) scheme — u̇_τ at the step's end is 2 Δũ_τ / Δt (module docstring) for a rigid
+    tangential row; for a compliant one (Jenkins: C_τ in series with the slider, eq. (11)) the
+    slip velocity is u̇_τ − Q̇/C_τ with Newmark's u̇_τ,end = c₁ Δu_τ + c_v u̇_τ + c_a ü_τ (the
+    row carries no drift) and Q̇ = ΔQ/Δt (Q linear over the step)."""
     slipping = (old == SLIP_POS) | (old == SLIP_NEG)
     ks = changed[slipping[changed] & (new[changed] != OPEN)]
     if ks.size == 0:
         return {}
     try:
-        _ds, dw_o = eng.rates(old, forcing, article=False)
+        ds_o, dw_o = eng.rates(old, forcing, article=False)
     except MechanismError:
         return {}
-    v_end = (2.0 / dt if c1 is None else c1) * (eng.w[ks] - w_start[ks]
-                                               + (1.0 - mu) * dw_o[ks])
-    v0 = wdot[ks]
+    v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law)
     den = v0 - v_end
     with np.errstate(divide="ignore", invalid="ignore"):
         frac = np.where(np.abs(den) > 0, v0 / den, mu)
     frac = np.clip(np.nan_to_num(frac, nan=mu), mu, 1.0)
-    del m
     return {int(k): t + float(f) * dt for k, f in zip(ks, frac, strict=True)}
+
+
+def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=None, wacc=None,
+                     law=None):
+    """Slip velocities (m/s) of the CFEs ``ks`` at the start and at the end of the step under
+    the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`)."""
+    dw = eng.w[ks] - w_start[ks] + (1.0 - mu) * dw_o[ks]
+    v_end = (2.0 / dt if c1 is None else c1) * dw
+    v0 = wdot[ks].copy()
+    if law is not None and nm is not None:
+        soft = ~law.rigid_t[ks]
+        if soft.any():
+            kt = np.where(soft, law.kt[ks], 1.0)
+            # (Q̇ = Q'/Δt: Q' its rate along μ, constant under the scheme)
+            q_rate = ds_o[ks] / (kt * dt)
+            v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[ks] + nm.ca * wacc[ks] - q_rate,
+                             v_end)
+            v0 = np.where(soft, v0 - q_rate, v0)
+    return v0, v_end
+
+
+def _compliant_stops(eng, law, dec, forcing, w_start, wdot, wacc, nm, dt) -> np.ndarray:
+    """Compliant slipping CFEs (Jenkins element, eq. (11)) that the decision at a step's start
+    keeps slipping but whose slip velocity reverses inside the step (eq. (10), second row):
+    the engine sees the step's mean slip rate Δu_τ/Δt (a compliant row has no drift), which
+    keeps its sign until the zero of the velocity lies in the first half of the step — the
+    stop would be found a step late.  They stop at the zero (:func:`_stick_times`)."""
+    sl = ((dec.new == SLIP_POS) | (dec.new == SLIP_NEG)) & ~law.rigid_t & law.frictional
+    ks = np.flatnonzero(sl & (dec.old == dec.new))
+    if ks.size == 0:
+        return ks
+    v0, v1 = _slip_velocities(eng, ks, dec.ds, dec.dw, w_start, wdot, 0.0, dt, None, nm, wacc,
+                              law)
+    sg = np.where(dec.new[ks] == SLIP_POS, 1.0, -1.0)
+    tol = 1e-9 * max(float(np.abs(v0).max(initial=0.0)), float(np.abs(v1).max(initial=0.0)),
+                     1e-300)
+    return ks[(sg * v0 > tol) & (sg * v1 < -tol)]
 
 
 def _project(system, cond, minv, u, v, states, law, rigid_n):
@@ -1377,10 +1414,14 @@ def solve_dynamic(
                     bond_brk = brk
                     restart = (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {})
                     break
+            if ds is None:  # a compliant slip whose velocity reverses inside the step
+                dec.new[_compliant_stops(eng, law, dec, forcing, w_start, wdot, wacc, nm,
+                                         dt)] = STICK
+                eng.states = dec.new
             changed = np.flatnonzero(old != dec.new)
             if changed.size and ds is None:
                 times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, 0.0,
-                                     t, dt, nm.c1)
+                                     t, dt, nm.c1, nm, wacc, law)
                 later = bool(times) and min(times.values()) > t + 1e-9 * dt
                 now = changed[~np.isin(changed, list(times))] if later else changed
                 # changes at the step's start that the step cannot carry (the schemes of its
