@@ -443,6 +443,18 @@ def _compliant_stops(eng, law, dec, forcing, w_start, wdot, wacc, nm, dt) -> np.
     return ks[(sg * v0 > tol) & (sg * v1 < -tol)]
 
 
+def _deferred(old, new, changed, law, damped) -> np.ndarray:
+    """Of the CFEs ``changed`` at an event inside a step, those whose switch is left to the
+    rate problem at the start of the next step (the same instant): a closed CFE that opens
+    and a stuck one that starts to slip — their forces are continuous there, so nothing jumps
+    in between.  Not a bond (its break releases forces), a damped layer (its shift depends on
+    the state), a closing (an impact) or a stop (a friction force that jumps)."""
+    k = changed[(old[changed] != BONDED) & ~np.isin(changed, damped) & ~law.inert[changed]]
+    opens = (old[k] != OPEN) & (new[k] == OPEN)
+    slips = (old[k] == STICK) & np.isin(new[k], (SLIP_POS, SLIP_NEG))
+    return k[opens | slips]
+
+
 def _project(system, cond, minv, u, v, states, law, rigid_n):
     """The state after a cut onto the constraints of its scheme (in the metric of M): the
     closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
@@ -1281,6 +1293,7 @@ def solve_dynamic(
 
     status, message = Status.COMPLETED, "time interval completed"
     first = True
+    deferred = np.zeros(m, bool)
     if m and initial is not None:
         a = load_jump(F - F_held, 0.0, 0)
         first = False
@@ -1380,7 +1393,9 @@ def solve_dynamic(
         eng.W_scale = max(eng.W_scale, w_scale[0], float(np.abs(h_end - h0).max(initial=0.0)))
         s_start, w_start = eng.s.copy(), eng.w.copy()
         mu = 0.0
-        fired = np.zeros(m, bool)
+        # CFEs that reached a limit where the last step was cut: the rate problem of this
+        # step, at that same instant, decides their state (_deferred)
+        fired, deferred = deferred, np.zeros(m, bool)
         small = 0
         stop = False
         restart = None
@@ -1446,8 +1461,16 @@ def solve_dynamic(
                     restart = (0.0, 0.0, dec.ds, dec.dw, old, keep, {})
                     break
             if changed.size and ds is not None and mu > 1e-9:
-                # an event inside the step: cut the step here (eq. (10)) and restart
-                restart = (mu, mu, ds, dw, old, dec.new, {})
+                # an event inside the step: cut the step here (eq. (10)) and restart; a CFE
+                # that opens or starts to slip is switched by the next step's rate problem at
+                # this instant (its forces are continuous; the part step's rates, a chord of
+                # the whole step, may point the other way than the motion after the cut: it
+                # would switch back at once — the chatter of a grazing corner)
+                later = _deferred(old, dec.new, changed, law, layers.k)
+                deferred[later] = True
+                keep = dec.new.copy()
+                keep[later] = old[later]
+                restart = (mu, mu, ds, dw, old, keep, {})
                 break
             if changed.size and ds is None:
                 # decided at the step's start: a slip that stops inside the step is cut where
