@@ -1549,6 +1549,7 @@ def solve_dynamic(
                         new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
                 n_impacts += 1
             new_states = layers.closing_states(old, new_states)
+            n_logged = len(rec.events)
             for k in np.flatnonzero(old != new_states):
                 log_event(n, k, old[k], new_states[k], times.get(int(k), t_i))
             eng.states = new_states.copy()
@@ -1571,6 +1572,14 @@ def solve_dynamic(
             elif closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
                                         & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
                 a = accel_forces(t_i)  # the forces jump: an impact, a slip that stops
+                # a stop that the forces at this instant undo (the CFE slips on the same way:
+                # its velocity only touched zero) is no event: the rate problem in
+                # accelerations decided the state
+                undone = ((old != new_states) & (new_states == STICK) & (eng.states == old)
+                          & np.isin(old, (SLIP_POS, SLIP_NEG)))
+                if undone.any():
+                    rec.events[n_logged:] = [e for e in rec.events[n_logged:]
+                                             if not undone[e.cfe]]
             else:
                 a = np.zeros(ndof)
                 a[free] = M_lu.solve(F_i[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
