@@ -60,6 +60,18 @@ order); with a compliant layer the layer's force drops (the forces follow the di
 nothing else jumps).  An impact on a body held by intact rigid bonds is carried by them (their
 impulses are two-sided).
 
+Friction in time (eqs. (9), (10)): a slip stops at the zero of its slip velocity inside the
+step — for a compliant tangential layer (Jenkins: C_τ in series with the slider, eq. (11)),
+whose row carries no drift, the velocity u̇_τ − Q̇/C_τ at the step's end from Newmark's
+u̇_end = c₁ Δu_τ + c_v u̇_τ + c_a ü_τ (the engine alone sees the step's mean slip rate, a
+stop half a step to a step late).  A rigid CFE that stops has its friction force re-solved in
+accelerations at that instant (equilibrium at fixed t, |Q| ≤ f p), also when the stop is
+decided at a step's start; a stop that those forces undo (the slip goes on the same way) is
+no event.  A CFE that opens or starts to slip inside a step is switched by the rate problem
+of the step that starts at that instant (its forces are continuous there): the part step's
+rates, a chord of the whole step, need not be those of the motion after the cut, and would
+switch it back at once — a grazing corner's zero-duration chatter.
+
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
 by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
