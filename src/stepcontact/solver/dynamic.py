@@ -437,7 +437,7 @@ def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=Non
     return v0, v_end
 
 
-def _compliant_stops(eng, law, dec, forcing, w_start, wdot, wacc, nm, dt) -> np.ndarray:
+def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     """Compliant slipping CFEs (Jenkins element, eq. (11)) that the decision at a step's start
     keeps slipping but whose slip velocity reverses inside the step (eq. (10), second row):
     the engine sees the step's mean slip rate Δu_τ/Δt (a compliant row has no drift), which
@@ -1442,8 +1442,7 @@ def solve_dynamic(
                     restart = (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {})
                     break
             if ds is None:  # a compliant slip whose velocity reverses inside the step
-                dec.new[_compliant_stops(eng, law, dec, forcing, w_start, wdot, wacc, nm,
-                                         dt)] = STICK
+                dec.new[_compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt)] = STICK
                 eng.states = dec.new
             changed = np.flatnonzero(old != dec.new)
             if changed.size and ds is None:
@@ -1478,10 +1477,10 @@ def solve_dynamic(
                 # this instant (its forces are continuous; the part step's rates, a chord of
                 # the whole step, may point the other way than the motion after the cut: it
                 # would switch back at once — the chatter of a grazing corner)
-                later = _deferred(old, dec.new, changed, law, layers.k)
-                deferred[later] = True
+                wait = _deferred(old, dec.new, changed, law, layers.k)
+                deferred[wait] = True
                 keep = dec.new.copy()
-                keep[later] = old[later]
+                keep[wait] = old[wait]
                 restart = (mu, mu, ds, dw, old, keep, {})
                 break
             if changed.size and ds is None:
