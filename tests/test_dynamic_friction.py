@@ -118,6 +118,31 @@ def test_a_stop_at_the_end_of_a_step_re_solves_the_friction_force():
     assert not [e for e in res.events if e.lam > stop.lam]
 
 
+def test_a_stop_re_solves_the_friction_force_beside_compliant_contacts():
+    """The same stop at the end of a step, in a model that also has a compliant contact (a
+    wall with C_n = C_τ = 1e6 N/m, 1 m away, open): the rigid CFE's friction force is re-solved
+    at its stop all the same (the compliant one's force, which follows its displacements, is
+    held), |Q| ≤ 1e-9 f W after it (before: f W) and no events after.  (Here the pulse's jump at
+    t = 0 is not followed in accelerations, the slip starts within the first step: the stop
+    time within one step of the closed form 0.45 s.)"""
+    m_, f, tp, dt = 1000.0, 0.3, 0.3, 3e-3
+    W = m_ * G
+    dm = sc.DiscreteModel(K=[[0.0, 0.0], [0.0, 0.0]], normal_rows=[[0, 1], [-1, 0]],
+                          tangent_rows=[[1, 0], [0, 1]],
+                          loads={"weight": {"uy": -W}, "push": {"ux": 1.0}}, friction=[f, 0.0],
+                          kn=[np.inf, 1e6], kt=[np.inf, 1e6], gaps=[0.0, 1.0],
+                          dof_names=("ux", "uy"), program=[sc.Segment("weight", 1.0)])
+    st = sc.solve_static(dm)
+    res = solve_dynamic(dm, dt=dt, duration=0.9, mass=np.diag([m_, m_]), initial=st,
+                        loads={"push": Pulse(1.5 * f * W, 0.0, tp, "rectangular")})
+    assert res.status == Status.COMPLETED
+    (stop,) = stops(res)
+    assert abs(stop.lam - 1.5 * tp) <= dt
+    after = np.arange(res.n_states) >= stop.state
+    assert np.abs(res.Q[after][:, 0]).max() <= 1e-9 * f * W
+    assert not [e for e in res.events if e.lam > stop.lam]
+
+
 @pytest.mark.parametrize("dt", [1e-3, 5e-4])
 def test_jenkins_element_slips_and_stops_at_the_closed_form_times(dt):
     """A block on a compliant tangential layer C_τ (no spring to the ground) pushed by a

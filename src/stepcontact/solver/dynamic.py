@@ -65,8 +65,8 @@ step — for a compliant tangential layer (Jenkins: C_τ in series with the slid
 whose row carries no drift, the velocity u̇_τ − Q̇/C_τ at the step's end from Newmark's
 u̇_end = c₁ Δu_τ + c_v u̇_τ + c_a ü_τ (the engine alone sees the step's mean slip rate, a
 stop half a step to a step late).  A rigid CFE that stops has its friction force re-solved in
-accelerations at that instant (equilibrium at fixed t, |Q| ≤ f p), also when the stop is
-decided at a step's start; a stop that those forces undo (the slip goes on the same way) is
+accelerations at that instant (equilibrium at fixed t, |Q| ≤ f p; the forces of compliant
+CFEs, which follow their displacements, held), also when the stop is decided at a step's start; a stop that those forces undo (the slip goes on the same way) is
 no event.  A CFE that opens or starts to slip inside a step is switched by the rate problem
 of the step that starts at that instant (its forces are continuous there): the part step's
 rates, a chord of the whole step, need not be those of the motion after the cut, and would
@@ -1039,13 +1039,15 @@ def solve_dynamic(
         Fn = force_at(t_now)
         f_rest = Fn[free] - (Kx(u))[free] - (Cx(v))[free]
         out = np.zeros(ndof)
-        if m and all_rigid:  # (a compliant layer's force is its spring's: it does not jump)
+        if m and (all_rigid or split):  # (a compliant layer's force is its spring's: it does
+            # not jump, it is held at its value as a load)
             ea = accel_engine()
-            hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest))
+            s_held = np.where(held, eng.s, 0.0)
+            hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest - BfT @ s_held))
             states = eng.states.copy()
             free_now = np.zeros(m, bool)  # closed CFEs without force at this instant
             for _ in range(2 * m + 2):  # active set: a stuck CFE beyond its cone slips
-                trial = np.where(free_now, OPEN, states)
+                trial = np.where(free_now | soft_cfe, OPEN, states)
                 try:
                     s_new, _ = ea.rates(trial, (hM, np.zeros(2 * m)), article=False)
                 except MechanismError:
@@ -1053,7 +1055,7 @@ def solve_dynamic(
                 Q, p = s_new[:m], s_new[m:]
                 fp = law.f * p
                 tol = 1e-9 * max(float(np.abs(s_new).max(initial=0.0)), eng.F_scale, 1e-300)
-                stuck = (states == STICK) & law.frictional & ~free_now
+                stuck = (states == STICK) & law.frictional & ~free_now & ~soft_cfe
                 up = stuck & (Q > fp + tol)
                 down = stuck & (Q < -fp - tol)
                 # a closed CFE that the accelerations would pull on carries no force at this
@@ -1062,7 +1064,7 @@ def solve_dynamic(
                 # the acceleration level alone may pull where the step does not)
                 pulled = (trial != OPEN) & (trial != BONDED) & ~law.inert & rigid_n & (p < -tol)
                 if not (up.any() or down.any() or pulled.any()):
-                    eng.s = s_new
+                    eng.s = np.where(held, s_held, s_new)
                     break
                 new = states.copy()
                 new[up], new[down] = SLIP_POS, SLIP_NEG
@@ -1081,6 +1083,12 @@ def solve_dynamic(
         return out
 
     all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
+    # a model whose CFEs are each rigid or compliant in both components: the rigid ones' forces
+    # jump in accelerations (accel_forces), the compliant ones' are held
+    soft_cfe = np.isfinite(cfe.kn) & np.isfinite(cfe.kt)
+    split = bool(np.all(soft_cfe | (~np.isfinite(cfe.kn) & ~np.isfinite(cfe.kt)))
+                 and not soft_cfe.all())
+    held = np.r_[soft_cfe, soft_cfe]
 
     def break_bonds(E: EventEngine, brk: np.ndarray, t_now: float, step: int) -> np.ndarray:
         """Break the bonds of the CFEs ``brk`` (eq. (12)) at t_now in the engine ``E`` (the
@@ -1463,8 +1471,9 @@ def solve_dynamic(
                                                                      water_on)
                 # and a rigid slip that stops here: its friction force jumps to what
                 # equilibrium at t requires (re-solved in accelerations, not the slip's f p)
-                stops = all_rigid and bool(np.any(np.isin(old[now], (SLIP_POS, SLIP_NEG))
-                                                  & (dec.new[now] == STICK)))
+                stops = (all_rigid or split) and bool(np.any(
+                    np.isin(old[now], (SLIP_POS, SLIP_NEG)) & (dec.new[now] == STICK)
+                    & law.rigid_t[now]))
                 if zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
                                           or stops):
                     keep = old.copy()
