@@ -67,10 +67,11 @@ u̇_end = c₁ Δu_τ + c_v u̇_τ + c_a ü_τ (the engine alone sees the step's
 stop half a step to a step late).  A rigid CFE that stops has its friction force re-solved in
 accelerations at that instant (equilibrium at fixed t, |Q| ≤ f p; the forces of compliant
 CFEs, which follow their displacements, held), also when the stop is decided at a step's
-start; a stop that those forces undo (the slip goes on the same way) is no event.  A CFE that opens or starts to slip inside a step is switched by the rate problem
-of the step that starts at that instant (its forces are continuous there): the part step's
-rates, a chord of the whole step, need not be those of the motion after the cut, and would
-switch it back at once — a grazing corner's zero-duration chatter.
+start; a stop that those forces undo (the slip goes on the same way) is no event.  A CFE
+that opens or starts to slip inside a step is switched by the rate problem of the step that
+starts at that instant (its forces are continuous there): the part step's rates, a chord of
+the whole step, need not be those of the motion after the cut, and would switch it back at
+once — a grazing corner's zero-duration chatter.
 
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
