@@ -1338,6 +1338,8 @@ def solve_dynamic(
         """The state at t + frac·Δt of the step under the scheme before an event (eq. (8):
         ü linear in time over the step, with the step's end under that scheme), the works of
         the part step in the ledger.  Returns (u, v, s, w, F) there."""
+        if frac == 0.0 and mu == 0.0:  # a restart at the step's start: nothing moved
+            return u, v, eng.s.copy(), system.B @ u + system.w0, force_at(t)
         s_end = eng.s + (1.0 - mu) * ds_o
         w_end = eng.w + (1.0 - mu) * dw_o + drift
         tv = s_end - cond.d * (w_end - system.w0)
