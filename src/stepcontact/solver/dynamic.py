@@ -64,6 +64,19 @@ order); with a compliant layer the layer's force drops (the forces follow the di
 nothing else jumps).  An impact on a body held by intact rigid bonds is carried by them (their
 impulses are two-sided).
 
+Friction in time (eqs. (9), (10)): a slip stops at the zero of its slip velocity inside the
+step — for a compliant tangential layer (Jenkins: C_τ in series with the slider, eq. (11)),
+whose row carries no drift, the velocity u̇_τ − Q̇/C_τ at the step's end from Newmark's
+u̇_end = c₁ Δu_τ + c_v u̇_τ + c_a ü_τ (the engine alone sees the step's mean slip rate, a
+stop half a step to a step late).  A rigid CFE that stops has its friction force re-solved in
+accelerations at that instant (equilibrium at fixed t, |Q| ≤ f p; the forces of compliant
+CFEs, which follow their displacements, held), also when the stop is decided at a step's
+start; a stop that those forces undo (the slip goes on the same way) is no event.  A CFE
+that opens or starts to slip inside a step is switched by the rate problem of the step that
+starts at that instant (its forces are continuous there): the part step's rates, a chord of
+the whole step, need not be those of the motion after the cut, and would switch it back at
+once — a grazing corner's zero-duration chatter.
+
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
 by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
@@ -478,28 +491,77 @@ class _Memo:
     __matmul__ = __call__
 
 
-def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=None) -> dict:
+def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=None,
+                 nm=None, wacc=None, law=None) -> dict:
     """Times of the slip → stick transitions decided at μ of a step (eq. (10), second row):
     where the slip velocity, linear in time over the step, would cross zero under the old
-    (slipping) scheme — u̇_τ at the step's end is 2 Δũ_τ / Δt (module docstring)."""
-    m = eng.m
+    (slipping) scheme — u̇_τ at the step's end is 2 Δũ_τ / Δt (module docstring) for a rigid
+    tangential row; for a compliant one (Jenkins: C_τ in series with the slider, eq. (11)) the
+    slip velocity is u̇_τ − Q̇/C_τ with Newmark's u̇_τ,end = c₁ Δu_τ + c_v u̇_τ + c_a ü_τ (the
+    row carries no drift) and Q̇ = ΔQ/Δt (Q linear over the step)."""
     slipping = (old == SLIP_POS) | (old == SLIP_NEG)
     ks = changed[slipping[changed] & (new[changed] != OPEN)]
     if ks.size == 0:
         return {}
     try:
-        _ds, dw_o = eng.rates(old, forcing, article=False)
+        ds_o, dw_o = eng.rates(old, forcing, article=False)
     except MechanismError:
         return {}
-    v_end = (2.0 / dt if c1 is None else c1) * (eng.w[ks] - w_start[ks]
-                                               + (1.0 - mu) * dw_o[ks])
-    v0 = wdot[ks]
+    v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law)
     den = v0 - v_end
     with np.errstate(divide="ignore", invalid="ignore"):
         frac = np.where(np.abs(den) > 0, v0 / den, mu)
     frac = np.clip(np.nan_to_num(frac, nan=mu), mu, 1.0)
-    del m
     return {int(k): t + float(f) * dt for k, f in zip(ks, frac, strict=True)}
+
+
+def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=None, wacc=None,
+                     law=None):
+    """Slip velocities (m/s) of the CFEs ``ks`` at the start and at the end of the step under
+    the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`)."""
+    dw = eng.w[ks] - w_start[ks] + (1.0 - mu) * dw_o[ks]
+    v_end = (2.0 / dt if c1 is None else c1) * dw
+    v0 = wdot[ks].copy()
+    if law is not None and nm is not None:
+        soft = ~law.rigid_t[ks]
+        if soft.any():
+            kt = np.where(soft, law.kt[ks], 1.0)
+            # (Q̇ = Q'/Δt: Q' its rate along μ, constant under the scheme)
+            q_rate = ds_o[ks] / (kt * dt)
+            v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[ks] + nm.ca * wacc[ks] - q_rate,
+                             v_end)
+            v0 = np.where(soft, v0 - q_rate, v0)
+    return v0, v_end
+
+
+def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
+    """Compliant slipping CFEs (Jenkins element, eq. (11)) that the decision at a step's start
+    keeps slipping but whose slip velocity reverses inside the step (eq. (10), second row):
+    the engine sees the step's mean slip rate Δu_τ/Δt (a compliant row has no drift), which
+    keeps its sign until the zero of the velocity lies in the first half of the step — the
+    stop would be found a step late.  They stop at the zero (:func:`_stick_times`)."""
+    sl = ((dec.new == SLIP_POS) | (dec.new == SLIP_NEG)) & ~law.rigid_t & law.frictional
+    ks = np.flatnonzero(sl & (dec.old == dec.new))
+    if ks.size == 0:
+        return ks
+    v0, v1 = _slip_velocities(eng, ks, dec.ds, dec.dw, w_start, wdot, 0.0, dt, None, nm, wacc,
+                              law)
+    sg = np.where(dec.new[ks] == SLIP_POS, 1.0, -1.0)
+    tol = 1e-9 * max(float(np.abs(v0).max(initial=0.0)), float(np.abs(v1).max(initial=0.0)),
+                     1e-300)
+    return ks[(sg * v0 > tol) & (sg * v1 < -tol)]
+
+
+def _deferred(old, new, changed, law, damped) -> np.ndarray:
+    """Of the CFEs ``changed`` at an event inside a step, those whose switch is left to the
+    rate problem at the start of the next step (the same instant): a closed CFE that opens
+    and a stuck one that starts to slip — their forces are continuous there, so nothing jumps
+    in between.  Not a bond (its break releases forces), a damped layer (its shift depends on
+    the state), a closing (an impact) or a stop (a friction force that jumps)."""
+    k = changed[(old[changed] != BONDED) & ~np.isin(changed, damped) & ~law.inert[changed]]
+    opens = (old[k] != OPEN) & (new[k] == OPEN)
+    slips = (old[k] == STICK) & np.isin(new[k], (SLIP_POS, SLIP_NEG))
+    return k[opens | slips]
 
 
 def _project(system, cond, minv, u, v, states, law, rigid_n):
@@ -1197,13 +1259,15 @@ def solve_dynamic(
         Fn = force_at(t_now)
         f_rest = Fn[free] - (Kx(u))[free] - (Cx(v))[free]
         out = np.zeros(ndof)
-        if m and all_rigid:  # (a compliant layer's force is its spring's: it does not jump)
+        if m and (all_rigid or split):  # (a compliant layer's force is its spring's: it does
+            # not jump, it is held at its value as a load)
             ea = accel_engine()
-            hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest))
+            s_held = np.where(held, eng.s, 0.0)
+            hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest - BfT @ s_held))
             states = eng.states.copy()
             free_now = np.zeros(m, bool)  # closed CFEs without force at this instant
             for _ in range(2 * m + 2):  # active set: a stuck CFE beyond its cone slips
-                trial = np.where(free_now, OPEN, states)
+                trial = np.where(free_now | soft_cfe, OPEN, states)
                 try:
                     s_new, _ = ea.rates(trial, (hM, np.zeros(2 * m)), article=False)
                 except MechanismError:
@@ -1211,7 +1275,7 @@ def solve_dynamic(
                 Q, p = s_new[:m], s_new[m:]
                 fp = law.f * p
                 tol = 1e-9 * max(float(np.abs(s_new).max(initial=0.0)), eng.F_scale, 1e-300)
-                stuck = (states == STICK) & law.frictional & ~free_now
+                stuck = (states == STICK) & law.frictional & ~free_now & ~soft_cfe
                 up = stuck & (Q > fp + tol)
                 down = stuck & (Q < -fp - tol)
                 # a closed CFE that the accelerations would pull on carries no force at this
@@ -1220,7 +1284,7 @@ def solve_dynamic(
                 # the acceleration level alone may pull where the step does not)
                 pulled = (trial != OPEN) & (trial != BONDED) & ~law.inert & rigid_n & (p < -tol)
                 if not (up.any() or down.any() or pulled.any()):
-                    eng.s = s_new
+                    eng.s = np.where(held, s_held, s_new)
                     break
                 new = states.copy()
                 new[up], new[down] = SLIP_POS, SLIP_NEG
@@ -1239,6 +1303,12 @@ def solve_dynamic(
         return out
 
     all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
+    # a model whose CFEs are each rigid or compliant in both components: the rigid ones' forces
+    # jump in accelerations (accel_forces), the compliant ones' are held
+    soft_cfe = np.isfinite(cfe.kn) & np.isfinite(cfe.kt)
+    split = bool(np.all(soft_cfe | (~np.isfinite(cfe.kn) & ~np.isfinite(cfe.kt)))
+                 and not soft_cfe.all())
+    held = np.r_[soft_cfe, soft_cfe]
 
     def break_bonds(E: EventEngine, brk: np.ndarray, t_now: float, step: int) -> np.ndarray:
         """Break the bonds of the CFEs ``brk`` (eq. (12)) at t_now in the engine ``E`` (the
@@ -1467,6 +1537,7 @@ def solve_dynamic(
 
     status, message = Status.COMPLETED, "time interval completed"
     first = True
+    deferred = np.zeros(m, bool)
     if m and initial is not None:
         a = load_jump(F - F_held, 0.0, 0)
         first = False
@@ -1504,6 +1575,9 @@ def solve_dynamic(
         the part step in the ledger (the integrator's share in ``parts[part]``).  ``F_i``:
         the load there (default F(t + frac·Δt); a break's left limit for a landing).
         Returns (u, v, s, w, F) there."""
+        if frac == 0.0 and mu == 0.0:  # a restart at the step's start: nothing moved
+            return (u, v, eng.s.copy(), system.B @ u + system.w0,
+                    force_at(t) if F_i is None else F_i)
         s_end = eng.s + (1.0 - mu) * ds_o
         w_end = eng.w + (1.0 - mu) * dw_o + drift
         tv = s_end - cond.d * (w_end - system.w0)
@@ -1589,7 +1663,9 @@ def solve_dynamic(
         eng.W_scale = max(eng.W_scale, w_scale[0], float(np.abs(h_end - h0).max(initial=0.0)))
         s_start, w_start = eng.s.copy(), eng.w.copy()
         mu = 0.0
-        fired = np.zeros(m, bool)
+        # CFEs that reached a limit where the last step was cut: the rate problem of this
+        # step, at that same instant, decides their state (_deferred)
+        fired, deferred = deferred, np.zeros(m, bool)
         small = 0
         stop = False
         restart = None
@@ -1623,10 +1699,13 @@ def solve_dynamic(
                     bond_brk = brk
                     restart = (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {})
                     break
+            if ds is None:  # a compliant slip whose velocity reverses inside the step
+                dec.new[_compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt)] = STICK
+                eng.states = dec.new
             changed = np.flatnonzero(old != dec.new)
             if changed.size and ds is None:
                 times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, 0.0,
-                                     t, dt, nm.c1)
+                                     t, dt, nm.c1, nm, wacc, law)
                 later = bool(times) and min(times.values()) > t + 1e-9 * dt
                 now = changed[~np.isin(changed, list(times))] if later else changed
                 # changes at the step's start that the step cannot carry (the schemes of its
@@ -1640,14 +1719,28 @@ def solve_dynamic(
                 # of the step changes with it
                 wet_moves = crack is not None and not np.array_equal(crack.wet(dec.new),
                                                                      water_on)
-                if zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves):
+                # and a rigid slip that stops here: its friction force jumps to what
+                # equilibrium at t requires (re-solved in accelerations, not the slip's f p)
+                stops = (all_rigid or split) and bool(np.any(
+                    np.isin(old[now], (SLIP_POS, SLIP_NEG)) & (dec.new[now] == STICK)
+                    & law.rigid_t[now]))
+                if zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
+                                          or stops):
                     keep = old.copy()
                     keep[now] = dec.new[now]
                     restart = (0.0, 0.0, dec.ds, dec.dw, old, keep, {})
                     break
             if changed.size and ds is not None and mu > 1e-9:
-                # an event inside the step: cut the step here (eq. (10)) and restart
-                restart = (mu, mu, ds, dw, old, dec.new, {})
+                # an event inside the step: cut the step here (eq. (10)) and restart; a CFE
+                # that opens or starts to slip is switched by the next step's rate problem at
+                # this instant (its forces are continuous; the part step's rates, a chord of
+                # the whole step, may point the other way than the motion after the cut: it
+                # would switch back at once — the chatter of a grazing corner)
+                wait = _deferred(old, dec.new, changed, law, layers.k)
+                deferred[wait] = True
+                keep = dec.new.copy()
+                keep[wait] = old[wait]
+                restart = (mu, mu, ds, dw, old, keep, {})
                 break
             if changed.size and ds is None:
                 # decided at the step's start: a slip that stops inside the step is cut where
@@ -1754,6 +1847,7 @@ def solve_dynamic(
                 if old[k] == OPEN:
                     log_event(n, k, OPEN, closed_as[k], t_i, impulse=imp.get(int(k)))
                     log_event(n, k, closed_as[k], OPEN, t_i)
+            n_logged = len(rec.events)
             for k in np.flatnonzero(old != new_states):
                 log_event(n, k, old[k], new_states[k], times.get(int(k), t_i),
                           impulse=imp.get(int(k)))
@@ -1777,6 +1871,14 @@ def solve_dynamic(
             elif closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
                                         & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
                 a = accel_forces(t_i)  # the forces jump: an impact, a slip that stops
+                # a stop that the forces at this instant undo (the CFE slips on the same way:
+                # its velocity only touched zero) is no event: the rate problem in
+                # accelerations decided the state
+                undone = ((old != new_states) & (new_states == STICK) & (eng.states == old)
+                          & np.isin(old, (SLIP_POS, SLIP_NEG)))
+                if undone.any():
+                    rec.events[n_logged:] = [e for e in rec.events[n_logged:]
+                                             if not undone[e.cfe]]
             else:
                 a = np.zeros(ndof)
                 a[free] = M_lu.solve(F_i[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
