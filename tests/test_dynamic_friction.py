@@ -272,9 +272,12 @@ def test_a_corner_does_not_chatter_under_a_ground_acceleration_pulse():
     tolerances 3e-3 and 5e-4).  The trailing corner, its normal force near zero while the
     block slides, used to open and close again at the same instant every few steps (44 events
     at Δt = 1 ms against 10 at 4 ms); now, while the block slides, each CFE only starts to slip
-    (5 events), and the events of the whole run number within +20 % when Δt is divided by 4
-    (measured 10 and 12: the elastic block's recoil at the stop), none undone at its
-    instant."""
+    (5 events), none undone at its instant.  After the stop the undamped elastic block recoils
+    on its base (stick/slip of single CFEs at distinct instants, from 10 events in all at 4 ms
+    to 16 at 1 ms, and hundreds at 0.25 ms where its kHz modes are resolved: the discrete
+    model's own vibration, not chatter).  With HHT-α = 0.1 damping those unresolved modes, the
+    whole run's event count converges: within +20 % from Δt = 4 ms to 1 and 0.25 ms (measured
+    12, 10, 10), the slide within the same tolerances."""
     f, tp, amp = 0.5, 0.2, G
     blk = sc.rectangle("block", (0, 0), (2.0, 1.0), 4, 2, sc.Material(3e11, 0.2, 2400.0))
     ground = sc.RigidObstacle("ground", [(-1.0, 0.0), (3.0, 0.0)])
@@ -303,5 +306,11 @@ def test_a_corner_does_not_chatter_under_a_ground_acceleration_pulse():
         sliding = [e for e in res.events if e.lam < t_stop - 0.01]
         assert sorted(e.cfe for e in sliding) == list(range(5))
         assert all(e.transition == Transition.SLIP_NEG for e in sliding)
+    for dt, tol in ((4e-3, 3e-3), (1e-3, 5e-4), (2.5e-4, 5e-4)):
+        res = sc.solve_dynamic(m, dt=dt, duration=0.4, initial=st, mass="lumped", alpha=0.1,
+                               ground_acceleration=(Pulse(amp, 0.0, tp, "half_sine"), (1, 0)))
+        assert res.status == Status.COMPLETED
+        assert res.u[-1][xdofs].mean() == pytest.approx(slide, rel=tol)
+        assert zero_duration_pairs(res) == 0
         counts.append(len(res.events))
-    assert counts[1] <= 1.2 * counts[0]
+    assert max(counts[1:]) <= 1.2 * counts[0]
