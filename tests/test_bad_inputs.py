@@ -20,6 +20,7 @@ import stepcontact as sc
 from cli_checks import assert_one_line_error
 from stepcontact.cli import app
 from stepcontact.io.modelfile import load_model
+from stepcontact.model.plausible import PlausibilityWarning
 from stepcontact.results.file import result_to_dataset
 
 runner = CliRunner()
@@ -200,7 +201,9 @@ def test_young_modulus_through_the_api():
     assert info.value.item == "body 'blk'.material"
     assert "outside 1e-10" in info.value.problem
     base = sc.rectangle("base", (0, -1), (1, 0), 1, 1, mat)
-    soft = sc.rectangle("blk", (0, 0), (1, 1), 1, 1, sc.Material(1e-6, 0.2))
+    with pytest.warns(PlausibilityWarning, match=r"body 'blk'.material.E = 1e-06 Pa is "
+                      "softer than any structural material"):
+        soft = sc.rectangle("blk", (0, 0), (1, 1), 1, 1, sc.Material(1e-6, 0.2))
     with pytest.raises(sc.ModelError) as info:
         sc.Model(bodies=[base, soft])
     assert info.value.item == "body 'blk'.material"
@@ -355,9 +358,12 @@ def test_displacements_larger_than_the_model_warn(tmp_path, solver_without_files
     result = runner.invoke(app, ["run", str(gpa), "-q", "--no-plot"])
     assert "Traceback" not in result.output
     warn = [ln for ln in result.stderr.splitlines() if ln.startswith("warning: ")]
-    assert len(warn) == 1, result.stderr
-    assert "is larger than the model itself (2 m across)" in warn[0]
-    assert "check the units (E in Pa, e.g. 30e9 for 30 GPa" in warn[0]
+    assert len(warn) == 2, result.stderr
+    # the implausible modulus, when the file is read; the displacement, after the run
+    assert warn[0].startswith("warning: materials.concrete.E: 30 Pa is softer than any")
+    assert "did you mean 3e+10 Pa (the value in GPa)?" in warn[0]
+    assert "is larger than the model itself (2 m across)" in warn[1]
+    assert "check the units (E in Pa, e.g. 30e9 for 30 GPa" in warn[1]
     result = runner.invoke(app, ["run", str(tiny(tmp_path, name="ok.toml")), "-q", "--no-plot"])
     assert result.exit_code == 0 and "warning" not in result.stderr, result.stderr
 

@@ -95,11 +95,19 @@ def _fail(message: str, as_json: bool) -> typer.Exit:
 
 
 def _load(path: Path) -> Model:
-    """Load a model file; errors name the file."""
+    """Load a model file; errors name the file; its warnings (implausible values,
+    deprecations) are printed as ``warning: …`` lines on stderr."""
+    import warnings
+
     from stepcontact.io.modelfile import load_model
 
     try:
-        return load_model(path)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            model = load_model(path)
+        _warn([str(w.message) for w in caught
+               if issubclass(w.category, UserWarning | FutureWarning)])
+        return model
     except FileNotFoundError as e:
         raise _Failure(f"model file not found: {e.filename or path}") from None
     except (StepContactError, tomllib.TOMLDecodeError) as e:

@@ -108,7 +108,7 @@ from pydantic import (
 
 from stepcontact.errors import ModelError, StepContactError
 from stepcontact.io.meshfile import GROUP_KINDS, MeshFile, read_mesh
-from stepcontact.model import meshcheck
+from stepcontact.model import meshcheck, plausible
 from stepcontact.model.bond import Bond
 from stepcontact.model.items import (
     E_RANGE,
@@ -1138,13 +1138,24 @@ class _Problems:
     def __init__(self) -> None:
         self.items: list[tuple[str, str]] = []
         self.warnings: list[tuple[str, str]] = []
+        #: the warning class of each warning (default: FutureWarning, a deprecation)
+        self.category: dict[tuple[str, str], type[Warning]] = {}
 
     def add(self, path: str, problem: str) -> None:
         if (path, problem) not in self.items:
             self.items.append((path, problem))
 
-    def warn(self, path: str, problem: str) -> None:
+    def warn(self, path: str, problem: str, category: type[Warning] = FutureWarning) -> None:
         self.warnings.append((path, problem))
+        self.category[(path, problem)] = category
+
+    def implausible(self, quantity: str, value: float, path: str) -> None:
+        """A warning when ``value`` is outside the plausible range of ``quantity``
+        (:data:`stepcontact.model.plausible.RANGES`)."""
+        text = plausible.message(quantity, value, path)
+        if text is not None:
+            self.warn(path, text.removeprefix(f"{path} = ").strip(),
+                      plausible.PlausibilityWarning)
 
     def raise_if_any(self) -> None:
         if self.items:
@@ -1664,9 +1675,68 @@ class _Builder:
                     "use NAME here")
             self._group_set(group, None, group, path, hint)
 
+    # ---- plausible values -----------------------------------------------------------------
+    def check_plausible(self) -> None:
+        """Values outside what any real structure has (:mod:`stepcontact.model.plausible`):
+        warnings with the field path (the Python objects built from the file warn with their
+        own names; those warnings are silenced while the file is built)."""
+        spec, p = self.spec, self.p
+
+        def material(path: str, m: MaterialSpec) -> None:
+            p.implausible("E", m.E, f"{path}.E")
+            p.implausible("density", m.density, f"{path}.density")
+
+        for name, m in spec.materials.items():
+            material(_path(["materials", name]), m)
+        for i, b in enumerate(spec.bodies):
+            if isinstance(b.material, MaterialSpec):
+                material(f"bodies[{i}].material", b.material)
+        for i, f in enumerate(spec.frames):
+            p.implausible("E", f.E, f"frames[{i}].E")
+            p.implausible("density", f.density, f"frames[{i}].density")
+        for i, itf in enumerate(spec.interfaces):
+            p.implausible("friction", itf.friction, f"interfaces[{i}].friction")
+            if itf.bond is not None and itf.bond.friction is not None:
+                p.implausible("friction", itf.bond.friction, f"interfaces[{i}].bond.friction")
+        for k, st in enumerate(spec.stages):
+            for name, bond in st.grout.items():
+                if bond.friction is not None:
+                    p.implausible("friction", bond.friction,
+                                  f"{_path(['stages', k, 'grout', name])}.friction")
+        for pname, pat in spec.patterns.items():
+            for j, ld in enumerate(pat.loads):
+                path = _path(["patterns", pname, "loads", j])
+                if isinstance(ld, GravityLoad):
+                    p.implausible("gravity", math.hypot(*ld.g), f"{path}.g")
+                if isinstance(ld, WaterLoadSpec | UpliftLoadSpec | CrackWaterSpec):
+                    p.implausible("unit_weight_water", ld.unit_weight, f"{path}.unit_weight")
+                if isinstance(ld, UpliftLoadSpec):
+                    key, value = (("head", ld.head) if ld.head is not None else
+                                  ("pressure", ld.pressure))
+                    values = ([pt[2] for pt in value.points]
+                              if isinstance(value, LinearProfile) else [value])
+                    for v in values:
+                        p.implausible("head" if key == "head" else "water_pressure", v,
+                                      f"{path}.{key}")
+                if isinstance(ld, CrackWaterSpec) and ld.pressure is not None:
+                    p.implausible("water_pressure", ld.pressure, f"{path}.pressure")
+        dyns = [("dynamics", spec.dynamics)] + [(f"stages[{k}].dynamics", st.dynamics)
+                                                for k, st in enumerate(spec.stages)]
+        for where, dyn in dyns:
+            if dyn is not None and dyn.damping.ratios is not None:
+                for j, z in enumerate(dyn.damping.ratios):
+                    p.implausible("damping_ratio", z, f"{where}.damping.ratios[{j}]")
+
     # ---- the model ------------------------------------------------------------------------
     def model(self) -> Model | None:
-        """The model (None when it cannot be made); problems are in ``self.p``."""
+        """The model (None when it cannot be made); problems are in ``self.p``.  Warnings of
+        implausible values are listed with their field paths (:meth:`check_plausible`)."""
+        self.check_plausible()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", plausible.PlausibilityWarning)
+            return self._model()
+
+    def _model(self) -> Model | None:
         self.read_mesh()
         self.check_references()
         self.build_bodies()
@@ -2001,8 +2071,10 @@ def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Mo
     model = _Builder(spec, base, problems).model()
     problems.raise_if_any()
     assert model is not None
-    for path, message in problems.warnings:  # deprecations (validate lists them too)
-        warnings.warn(f"{path}: {message}", FutureWarning, stacklevel=2)
+    for path, message in problems.warnings:  # deprecations, implausible values (validate
+        # lists them too)
+        category = problems.category.get((path, message), FutureWarning)
+        warnings.warn(f"{path}: {message}", category, stacklevel=2)
     return model
 
 

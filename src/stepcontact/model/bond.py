@@ -84,6 +84,10 @@ class Bond:
         if self.friction is not None and not (np.isfinite(self.friction)
                                               and self.friction >= 0):
             raise ModelError(f"{item}.friction", f"must be ≥ 0, got {self.friction}")
+        if self.friction is not None:
+            from stepcontact.model import plausible
+
+            plausible.warn("friction", self.friction, f"{item}.friction", stacklevel=4)
         rc = self.residual_cohesion
         if np.ndim(rc) == 0 and not callable(rc) and not float(rc) >= 0:
             raise ModelError(f"{item}.residual_cohesion", f"must be ≥ 0 Pa, got {rc}")
@@ -132,7 +136,27 @@ class Bond:
         out[:, 2] = self.alpha
         at = self.alpha if self.tension_alpha is None else self.tension_alpha
         out[:, 3] = 0.0 if math.isinf(at) else 1.0 / at
+        if math.isinf(at) and self.alpha > 0:
+            self._check_apex(out, x, area, item)
         return out
+
+    def _check_apex(self, out: np.ndarray, x: np.ndarray, area: np.ndarray, item: str) -> None:
+        """A tension cut-off σ_R (eq. (12) with α_t = ∞) must not lie beyond the apex of the
+        shear facets |Q| ≤ Q_R − α_R N, at N = Q_R / α_R (Mohr–Coulomb: σ_t ≤ c·cot φ): the
+        joint can carry no more tension than the apex, so a cut-off beyond it never acts and
+        its facet only meets the others outside the strength domain."""
+        apex = out[:, 1] / self.alpha
+        beyond = out[:, 0] > apex * (1 + 1e-9) + 1e-300
+        if not beyond.any():
+            return
+        k = int(np.flatnonzero(beyond)[0])
+        phi = math.degrees(math.atan(self.alpha))
+        raise ModelError(
+            f"{item}.bond.tensile", f"the tension cut-off {out[k, 0] / area[k]:g} Pa at CFE "
+            f"{k} ({x[k, 0]:g}, {x[k, 1]:g}) is beyond the apex of the Mohr–Coulomb envelope, "
+            f"c·cot φ = {apex[k] / area[k]:g} Pa (c = {out[k, 1] / area[k]:g} Pa, φ = "
+            f"{phi:.4g}°): the joint can carry no more tension than that, so the cut-off never "
+            "acts; give a tensile strength ≤ c·cot φ (Pa)")
 
 
 __all__ = ["Bond"]

@@ -39,10 +39,26 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.errors import ModelError
+from stepcontact.model import plausible
 from stepcontact.model.items import EdgeLoad, Interface, Model, NodeSet
 
 #: unit weight of fresh water γ_w = ρ_w g, N/m³
 UNIT_WEIGHT_WATER = 9810.0
+
+
+def _given_values(spec) -> list[float]:
+    """The numbers a pressure or head spec gives: the constant, or the values of the points
+    of a profile (none for a function of (x, y))."""
+    if isinstance(spec, LinearProfile):
+        return [p[2] for p in spec.points]
+    if callable(spec) or spec is None:
+        return []
+    if np.ndim(spec) == 0:
+        return [float(spec)]
+    try:
+        return [float(p[2]) for p in spec]
+    except (TypeError, ValueError, IndexError):
+        return []
 
 
 def _finite(v: float, item: str, *, positive: bool = False) -> float:
@@ -246,6 +262,8 @@ class WaterLoad:
         if self.level is not None:
             _finite(self.level, "water load.level")
         _finite(self.unit_weight, "water load.unit_weight", positive=True)
+        plausible.warn("unit_weight_water", self.unit_weight, "water load.unit_weight",
+                       stacklevel=4)
 
     @property
     def follows_level(self) -> bool:
@@ -309,6 +327,13 @@ class Uplift:
         if self.through not in ("faces", "cfes"):
             raise ModelError(f"{item}.through", f"'{self.through}' is not 'faces' or 'cfes'")
         self.function()  # checks the spec
+        plausible.warn("unit_weight_water", self.unit_weight, f"{item}.unit_weight",
+                       stacklevel=4)
+        key, spec = ("head", self.head) if self.head is not None else ("pressure",
+                                                                       self.pressure)
+        quantity = "head" if key == "head" else "water_pressure"
+        for v in _given_values(spec):
+            plausible.warn(quantity, v, f"{item}.{key}", stacklevel=4)
 
     @property
     def name(self) -> str:
@@ -388,11 +413,19 @@ class CrackWater:
             _finite(self.level, f"{item}.level")
         if self.pressure is not None:
             _finite(self.pressure, f"{item}.pressure")
+            if self.pressure < 0:
+                raise ModelError(f"{item}.pressure", f"is {self.pressure:g} Pa: water in a "
+                                 "crack pushes its faces apart, a negative pressure (suction) "
+                                 "would pull them together; give a pressure ≥ 0 Pa per unit "
+                                 "factor")
+            plausible.warn("water_pressure", self.pressure, f"{item}.pressure", stacklevel=4)
             if self.level is not None:
                 raise ModelError(item, "give the water level or the pressure in the crack, "
                                  "not both")
             object.__setattr__(self, "pressure", float(self.pressure))
         _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
+        plausible.warn("unit_weight_water", self.unit_weight, f"{item}.unit_weight",
+                       stacklevel=4)
         if self.entry is not None:
             try:
                 e = np.asarray(self.entry, dtype=float)
