@@ -775,6 +775,10 @@ def sweep(
         bool, typer.Option("--quiet", "-q", help="No progress bar and no table.")
     ] = False,
     as_json: JsonOption = False,
+    force: Annotated[
+        bool, typer.Option("--force", help="Run a sweep of more than 10 000 cases (refused "
+                           "without it).")
+    ] = False,
 ) -> None:
     """Run a parameter sweep of a model file: every case of a grid (or list) of parameter
     values, on a local process pool or a dask cluster. See docs/sweeps.md.
@@ -802,8 +806,10 @@ def sweep(
     try:
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
+        err = Console(stderr=True, soft_wrap=True, highlight=False)
+        announce = None if quiet or as_json else (lambda text: err.print(Text(text)))
         try:
-            study = load_study(study_file)
+            study = load_study(study_file, force=force, announce=announce)
         except StudyError as e:
             raise _Failure(_error_text(e)) from None
         executor = "serial" if serial else scheduler if scheduler is not None else "process"
@@ -950,6 +956,10 @@ def study(
         changes = {k: v for k, v in (("E0", E0), ("h_kr", h_kr), ("amplitude", amplitude),
                                      ("friction", friction), ("gap_pressure", gap_pressure))
                    if v is not None}
+        if friction is not None:
+            from stepcontact.model.plausible import message
+
+            _warn([w for w in (message("friction", friction, "--friction"),) if w])
         if positions:
             changes["positions"] = tuple(positions)
         if durations:
@@ -967,10 +977,18 @@ def study(
             raise _Failure(_error_text(e)) from None
     except _Failure as e:
         raise _fail(str(e), False) from None
-    from stepcontact.study.report import write_report
+    from stepcontact.study.report import all_failed, failure_reasons, write_report
 
     files = write_report(ds, st, output / "report")
     failed = [i for i, cs in enumerate(ds["case_status"].values) if cs != "ok"]
+    if all_failed(ds):
+        for f in files.values():
+            console.print(Text(f"written: {f}", style="green"))
+        reasons = failure_reasons(ds)
+        msg, k, cid = reasons[0]
+        more = f" ({len(reasons) - 1} other reason(s) in the report)" if len(reasons) > 1 else ""
+        raise _fail(f"all {ds.sizes['case']} cases of the {name} study failed; {k} of them "
+                    f"(e.g. {cid}): {msg}{more}", False)
     if not quiet:
         console.print(sweep_table(ds, ["h_limit", "h_ratio", "mode", "when", "runs"],
                                   f"slab study: {ds.sizes['case']} cases (h in m, h_kr = "
