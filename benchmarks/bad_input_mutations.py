@@ -65,12 +65,9 @@ def _segments(d: dict) -> list[dict]:
 
 def no_supports(d):
     """every support removed (the structure floats)"""
-    if not d.get("supports"):
+    if not d.get("supports") or d.get("stages"):
         return False
     d["supports"] = []
-    for st in d.get("stages", []):
-        st.pop("supports", None)
-        st.pop("remove_supports", None)
     return True
 
 
@@ -79,10 +76,83 @@ def stage_removes_every_support(d):
     if not d.get("stages") or len(d["stages"]) < 2 or not d.get("supports"):
         return False
     names = [s.get("name") or s["nodes"] for s in d["supports"]]
+    stage = next((st for st in d["stages"] if st.get("remove_supports")), d["stages"][-1])
     for st in d["stages"]:
-        st.pop("remove_supports", None)
         st.pop("supports", None)
-    d["stages"][-1]["remove_supports"] = names
+    stage["remove_supports"] = names
+    return True
+
+
+def level_pattern_starts_high(d):
+    """a water level pattern whose first segment starts above its wetted faces"""
+    face = next((n for n, s in (d.get("node_sets") or {}).items() if "body" in s
+                 and "x" in s), None)
+    if face is None or not d.get("program"):
+        return False
+    d["patterns"]["reservoir"] = {"loads": [{"type": "water", "nodes": face}]}
+    d["program"].append({"pattern": "reservoir", "start": 50.0, "end": 60.0})
+    return True
+
+
+def residual_cohesion_with_dynamics(d):
+    """a bond with a residual cohesion in a model with a dynamic interval"""
+    dyn = d.get("dynamics") or next((s["dynamics"] for s in d.get("stages", [])
+                                     if "dynamics" in s), None)
+    itf = _first_interface(d)
+    if dyn is None or itf is None:
+        return False
+    itf["bond"] = {"tensile": 1e5, "shear": 2e5, "alpha": 0.7, "residual_cohesion": 1e4}
+    return True
+
+
+def displacement_standing_before_dynamics(d):
+    """a prescribed displacement at a nonzero factor when the last dynamic interval starts"""
+    stages = d.get("stages") or []
+    if not stages or "dynamics" not in stages[-1] or not d.get("supports", True):
+        return False
+    ns = next(iter(d.get("node_sets") or {}), None)
+    d["patterns"]["settle"] = {"loads": [{"type": "displacement", "nodes": ns, "dof": "x",
+                                          "value": 1e-4}]}
+    stages[0].setdefault("program", []).append({"pattern": "settle", "end": 1.0})
+    return True
+
+
+def last_stage_dynamics(d):
+    """the dynamic interval moved to the last stage with a prescribed displacement standing"""
+    stages = d.get("stages") or []
+    dyn = next((s.pop("dynamics") for s in stages if "dynamics" in s), None)
+    if dyn is None:
+        return False
+    stages[-1]["dynamics"] = dyn
+    ns = next(iter(d.get("node_sets") or {}), None)
+    d["patterns"]["settle"] = {"loads": [{"type": "displacement", "nodes": ns, "dof": "x",
+                                          "value": 1e-4}]}
+    stages[0].setdefault("program", []).append({"pattern": "settle", "end": 1.0})
+    return True
+
+
+def body_built_under_displacement(d):
+    """a body built at a stage while a displacement of its nodes stands"""
+    stages = d.get("stages") or []
+    k = next((k for k, st in enumerate(stages) if st.get("bodies")), None)
+    if k is None or k == 0:
+        return False
+    body = stages[k]["bodies"][0]
+    ns = next(n for n, s in d["node_sets"].items() if s.get("body") == body)
+    d["patterns"]["jack"] = {"loads": [{"type": "displacement", "nodes": ns, "dof": "x",
+                                        "value": 1e-4}]}
+    stages[0].setdefault("program", []).append({"pattern": "jack", "end": 1.0})
+    return True
+
+
+def grout_weaker_than_its_forces(d):
+    """a joint grouted with a strength below the forces it carries (needs the solution)"""
+    stages = d.get("stages") or []
+    st = next((st for st in stages if st.get("grout")), None)
+    if st is None:
+        return False
+    for name in st["grout"]:
+        st["grout"][name] = {"tensile": 1.0, "shear": 1.0, "alpha": 0.0, "tension_alpha": 1.0}
     return True
 
 
@@ -389,6 +459,9 @@ def bond_tension_beyond_apex(d):
 
 
 MUTATIONS: dict[str, Mutation] = {f.__name__: f for f in (
+    level_pattern_starts_high, residual_cohesion_with_dynamics,
+    displacement_standing_before_dynamics, last_stage_dynamics, body_built_under_displacement,
+    grout_weaker_than_its_forces,
     no_supports, stage_removes_every_support, stage_dynamics_without_mass,
     stage_dynamics_on_first_stage_without_mass, friction_negative, zero_length_segment,
     segment_back_to_zero_first, gap_on_bonded_joint, grout_open_obstacle,
@@ -482,7 +555,8 @@ def check(model: str, mutation: str, folder: Path) -> dict | None:
                             str(folder / f"{path.stem}.nc")])
     return {"model": model, "mutation": mutation, "validate": v_code, "run": r_code,
             "validate_error": v_msg, "run_error": r_msg,
-            "gap": (v_code == 0 and r_code == 2) or "traceback" in (v_code, r_code)}
+            "gap": (v_code == 0 and r_code == 2)
+            or bool({"traceback", "timeout"} & {v_code, r_code})}
 
 
 def main(argv: list[str] | None = None) -> int:

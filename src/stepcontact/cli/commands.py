@@ -399,11 +399,14 @@ def _analyse(
     The arguments are checked before solving; warnings (an empty or zero load pattern,
     displacements larger than the model) go to stderr, one line each."""
     from stepcontact.fem.loadcheck import zero_patterns
+    from stepcontact.model.consistency import check_consistency, program_warnings
     from stepcontact.results.checks import displacement_warnings
 
     _check_plot_path(plot_path)
     _check_lams(model, lams)
+    check_consistency(model)  # what validate finds too, before any work
     warnings = [text for _, text in zero_patterns(model)]
+    warnings += [f"{item}: {text}" for item, text in program_warnings(model)]
     _warn(warnings)
     result_path.parent.mkdir(parents=True, exist_ok=True)
     res = _solve(model, slip=slip, eps_p=eps_p, max_events=max_events,

@@ -28,6 +28,7 @@ import numpy as np
 
 from stepcontact.contact.laws import OPEN
 from stepcontact.errors import ModelError
+from stepcontact.model.water import CrackWater
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,46 +131,10 @@ class CrackWaterData:
         return np.unique(self.y[self.level[pattern] != 0])
 
 
-def _check_level(cw, y: np.ndarray, item: str) -> None:
-    """A given water level must be above the lowest CFE of the joint: below it the crack is
-    dry (p_c = 0 everywhere), and where the joint opened the crack water would *replace* the
-    uplift by nothing — the opening would close again at once, and a heel would open and
-    close at one load factor without end."""
-    if cw.level is None or cw.pressure is not None or not len(y):
-        return
-    lo, hi = float(y.min()), float(y.max())
-    if cw.level <= lo:
-        raise ModelError(f"{item}.level", f"is {cw.level:g} m, at or below the whole joint "
-                         f"(its CFEs lie at y = {lo:g} … {hi:g} m): the crack would hold no "
-                         "water and an opening would lose its uplift; give the elevation of "
-                         f"the water surface that reaches the joint (above y = {lo:g} m), or "
-                         "no crack water")
-
-
-def _check_entries(points: np.ndarray, x: np.ndarray, item: str) -> None:
-    """Every entry point lies on the joint: within one CFE spacing of a CFE (``x``: the
-    joint's CFEs in order along it, m).  An entry elsewhere would be moved to the nearest
-    CFE, which may be the wrong end of the joint: the crack would fill from there, or not at
-    all, and the dam slide later than it should."""
-    if not len(x):
-        return
-    seg = np.hypot(*np.diff(x, axis=0).T) if len(x) > 1 else np.zeros(0)
-    extent = float(np.ptp(x, axis=0).max()) if len(x) > 1 else 0.0
-    tol = max(float(seg.max()) if seg.size else 0.0, 1e-9 * max(extent, 1.0))
-    for pt in points:
-        d = np.hypot(*(x - pt).T)
-        if d.min() > tol:
-            lo, hi = x.min(axis=0), x.max(axis=0)
-            raise ModelError(item, f"({pt[0]:g}, {pt[1]:g}) is {d.min():.3g} m from the "
-                             f"joint, which spans x = {lo[0]:g} … {hi[0]:g} m, y = "
-                             f"{lo[1]:g} … {hi[1]:g} m: water enters a crack at a point of "
-                             "its joint (e.g. the heel); give that point")
-
-
 def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
     """The crack water of ``model`` (None if it has none) for its CFEs ``cfe``; ``levels``:
     the level patterns of the assembly (their factor is the water level)."""
-    from stepcontact.model.water import CrackWater, Uplift
+    from stepcontact.model.water import Uplift
 
     items = [(p.name, ld) for p in model.patterns for ld in p.loads
              if isinstance(ld, CrackWater)]
@@ -190,7 +155,7 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
             known = ", ".join(repr(n) for n in names) or "none"
             raise ModelError(item, f"no such interface with CFEs (known: {known})")
         ks = np.flatnonzero(cfe.interface == names.index(cw.name))
-        _check_level(cw, y[ks], item)
+        cw.check_level(y[ks], item)
         wettable[ks] = True
         if cw.name in entries and entries[cw.name] != cw.entry:
             raise ModelError(item, "the joint's crack water is given twice with different "
@@ -213,7 +178,8 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
         order = ks[np.argsort(cfe.s[ks], kind="stable")]
         points = np.atleast_2d(np.asarray(entry, float))
         at = np.array([int(np.argmin(np.hypot(*(cfe.x[order] - pt).T))) for pt in points])
-        _check_entries(points, cfe.x[order], f"crack water in interface '{name}'.entry")
+        CrackWater.check_entries(points, cfe.x[order],
+                                 f"crack water in interface '{name}'.entry")
         runs.append((order, at))
     # in the crack, the crack pressure replaces the uplift given for the joint
     for p in model.patterns:

@@ -1808,36 +1808,13 @@ class _Builder:
         patterns = []
         for pname, pat in spec.patterns.items():
             loads: list[object] = []
-            for ld in pat.loads:
-                if isinstance(ld, GravityLoad):
-                    loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
-                elif isinstance(ld, UpliftLoadSpec):
-                    found = [i for i in interfaces if i.name == ld.interface]
-                    if found:
-                        loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
-                elif isinstance(ld, CrackWaterSpec):
-                    found = [i for i in interfaces if i.name == ld.interface]
-                    if found:
-                        loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
-                                                None if ld.entry is None else tuple(ld.entry),
-                                                ld.pressure))
-                elif isinstance(ld, ObstacleMotionLoad):
-                    if ld.obstacle in obstacles:
-                        loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,
-                                                    ld.rotation, ld.about))
-                elif not have(ld.nodes):
-                    continue
-                elif isinstance(ld, WaterLoadSpec):
-                    loads.append(WaterLoad(sets[ld.nodes], ld.level, ld.unit_weight))
-                elif isinstance(ld, NodalLoadSpec):
-                    loads.append(NodalLoad(sets[ld.nodes], ld.fx, ld.fy, ld.mz))
-                elif isinstance(ld, PressureLoad):
-                    loads.append(EdgeLoad(sets[ld.nodes], ld.normal, ld.tangential,
-                                          None if ld.traction is None else tuple(ld.traction)))
-                elif isinstance(ld, EdgeForceLoad):
-                    loads.append(EdgeForce(sets[ld.nodes], ld.fx, ld.fy))
-                else:
-                    loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
+            for j, ld in enumerate(pat.loads):
+                try:
+                    self._load(ld, loads, interfaces, obstacles)
+                except ModelError as e:  # e.g. a negative crack pressure
+                    field = e.item.rpartition(".")[2] if "." in e.item else ""
+                    path = _path(["patterns", pname, "loads", j])
+                    p.add(f"{path}.{field}" if field else path, e.problem)
             patterns.append(LoadPattern(pname, tuple(loads)))
         program = [seg for s in spec.program for seg in _segments(s)]
         # stages whose names are wrong (reported) are left out: the model would repeat it
@@ -1863,6 +1840,39 @@ class _Builder:
         except ModelError as e:
             p.add(e.item, e.problem)
             return None
+
+    def _load(self, ld: Any, loads: list, interfaces: list, obstacles: dict) -> None:
+        """Append the load of the file's entry ``ld`` to ``loads`` (nothing where an item it
+        needs is missing: that problem is reported already)."""
+        if isinstance(ld, GravityLoad):
+            loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
+        elif isinstance(ld, UpliftLoadSpec):
+            found = [i for i in interfaces if i.name == ld.interface]
+            if found:
+                loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
+        elif isinstance(ld, CrackWaterSpec):
+            found = [i for i in interfaces if i.name == ld.interface]
+            if found:
+                loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
+                                        None if ld.entry is None else tuple(ld.entry),
+                                        ld.pressure))
+        elif isinstance(ld, ObstacleMotionLoad):
+            if ld.obstacle in obstacles:
+                loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,
+                                            ld.rotation, ld.about))
+        elif ld.nodes not in self.sets:
+            return
+        elif isinstance(ld, WaterLoadSpec):
+            loads.append(WaterLoad(self.sets[ld.nodes], ld.level, ld.unit_weight))
+        elif isinstance(ld, NodalLoadSpec):
+            loads.append(NodalLoad(self.sets[ld.nodes], ld.fx, ld.fy, ld.mz))
+        elif isinstance(ld, PressureLoad):
+            loads.append(EdgeLoad(self.sets[ld.nodes], ld.normal, ld.tangential,
+                                  None if ld.traction is None else tuple(ld.traction)))
+        elif isinstance(ld, EdgeForceLoad):
+            loads.append(EdgeForce(self.sets[ld.nodes], ld.fx, ld.fy))
+        else:
+            loads.append(PrescribedDisplacement(self.sets[ld.nodes], ld.dof, ld.value))
 
     def _stages(self, p: _Problems, pattern_names: set[str]) -> tuple[Stage, ...]:
         """The construction stages of the file (their names were checked by
@@ -2213,6 +2223,11 @@ def validation_report(path: str | Path) -> Validation:
         try:
             system = assemble(model)
             model.segments_resolved()
+            from stepcontact.model.consistency import check_consistency, program_warnings
+
+            check_consistency(model)  # what run refuses, seen in the model itself
+            for item, text in program_warnings(model):
+                problems.warn(item, text)
             out.ndof, out.n_cfes = int(system.dofs.ndof), int(system.cfe.m)
             from stepcontact.fem.loadcheck import zero_patterns
 

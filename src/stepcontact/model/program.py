@@ -24,7 +24,6 @@ import numpy as np
 from stepcontact.errors import ModelError
 from stepcontact.model.items import Segment
 
-
 #: the most cycles a cyclic program may have (two load segments each): a program beyond it
 #: would take hours to days to run and gigabytes to hold (each segment has its own events and
 #: states); split a longer history into runs, or give the cycles that matter

@@ -439,6 +439,42 @@ class CrackWater:
                      else tuple((float(x), float(y)) for x, y in e))
             object.__setattr__(self, "entry", entry)
 
+    def check_level(self, y: np.ndarray, item: str) -> None:
+        """A given water level must be above the lowest point ``y`` (m) of the joint: below
+        it the crack is dry (p_c = 0 everywhere), and where the joint opened the crack water
+        would *replace* the uplift by nothing — the opening would close again at once, and a
+        heel would open and close at one load factor without end."""
+        if self.level is None or self.pressure is not None or not len(y):
+            return
+        lo, hi = float(np.min(y)), float(np.max(y))
+        if self.level <= lo:
+            raise ModelError(f"{item}.level", f"is {self.level:g} m, at or below the whole "
+                             f"joint (its CFEs lie at y = {lo:g} … {hi:g} m): the crack would "
+                             "hold no water and an opening would lose its uplift; give the "
+                             "elevation of the water surface that reaches the joint (above "
+                             f"y = {lo:g} m), or no crack water")
+
+    @staticmethod
+    def check_entries(points: np.ndarray, x: np.ndarray, item: str) -> None:
+        """Every entry point lies on the joint: within one CFE spacing of a CFE (``x``: the
+        joint's CFEs in order along it, m).  An entry elsewhere would be moved to the nearest
+        CFE, which may be the wrong end of the joint: the crack would fill from there, or not
+        at all, and the dam slide later than it should."""
+        x = np.asarray(x, dtype=float).reshape(-1, 2)
+        if not len(x):
+            return
+        seg = np.hypot(*np.diff(x, axis=0).T) if len(x) > 1 else np.zeros(0)
+        extent = float(np.ptp(x, axis=0).max()) if len(x) > 1 else 0.0
+        tol = max(float(seg.max()) if seg.size else 0.0, 1e-9 * max(extent, 1.0))
+        for pt in np.atleast_2d(points):
+            d = np.hypot(*(x - pt).T)
+            if d.min() > tol:
+                lo, hi = x.min(axis=0), x.max(axis=0)
+                raise ModelError(item, f"({pt[0]:g}, {pt[1]:g}) is {d.min():.3g} m from the "
+                                 f"joint, which spans x = {lo[0]:g} … {hi[0]:g} m, y = "
+                                 f"{lo[1]:g} … {hi[1]:g} m: water enters a crack at a point of "
+                                 "its joint (e.g. the heel); give that point")
+
     @property
     def entries(self) -> np.ndarray:
         """The entry points as an array (k, 2), m (empty: no entry, every open CFE is wet)."""

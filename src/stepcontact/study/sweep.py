@@ -734,6 +734,6 @@ def _run_dask(func: Callable, todo: list[Case], retries: int, executor: Any,
 
 
 __all__ = [
-    "MAX_CASES", "Case", "Outcome", "StudyError", "case_id", "case_path", "cases_from_list", "collect",
-    "current_case", "grid", "is_done", "pin_threads", "run_sweep", "to_grid",
+    "MAX_CASES", "Case", "Outcome", "StudyError", "case_id", "case_path", "cases_from_list",
+    "collect", "current_case", "grid", "is_done", "pin_threads", "run_sweep", "to_grid",
 ]
