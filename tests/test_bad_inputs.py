@@ -733,3 +733,56 @@ def test_two_sweep_cases_with_one_id_are_refused(tmp_path):
     result = runner.invoke(app, ["sweep", str(study), "--serial"])
     assert_one_line_error(result, "cases[1].id: 'soft' is also the id of cases[0]: give every "
                           "case its own id")
+
+
+# --------------------------------------------------------------------------------------------
+# validate and run agree: the mutations of benchmarks/bad_input_mutations.py that validate
+# passed and run rejected (or that hung); each is now refused by both, before solving, with
+# the same error naming the stage or item
+# --------------------------------------------------------------------------------------------
+def _mutations():
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import bad_input_mutations
+
+    return bad_input_mutations
+
+
+#: (model, mutation, the item the error names): validate passed these and run refused them
+#: (or both hung), before the checks of model/consistency.py, crack water and cycles
+VALIDATE_PASSED_RUN_REJECTED = [
+    ("staged_wall", "body_built_under_displacement", "stage 'second lift': body 'upper' is "
+     "built while pattern 'jack' prescribes displacements of its nodes at factor 1"),
+    ("staged_shock", "stage_dynamics_without_mass", "stage 'struck'.dynamics: body 'block' "
+     "has no mass"),
+    ("staged_shock", "stage_dynamics_on_first_stage_without_mass", "stage 'struck'.dynamics: "
+     "body 'block' has no mass"),
+    ("staged_shock", "gravity_on_massless", "stage 'struck'.dynamics: body 'block' has no "
+     "mass"),
+    ("staged_shock", "level_pattern_mixed", "stage 'struck'.dynamics.loads['push']: pattern "
+     "'push' has the water level as its factor: a dynamic interval cannot move it"),
+    ("demo", "level_pattern_mixed", "program segment 1 ('push'): the water level starts at 0 "
+     "m, where it already loads the structure (its wetted faces reach down to y = -2 m)"),
+    ("staged_shock", "crack_water_negative_pressure", "patterns.weight.loads[1].pressure: is "
+     "-10000 Pa: water in a crack pushes its faces apart"),
+    ("staged_wall", "cycles_huge", "stages[3].program[0].cycles: is 1,000,000,000"),
+    ("staged_shock", "cycles_huge", "stages[2].program[0].cycles: is 1,000,000,000"),
+    ("gmsh_block", "cycles_huge", "program[1].cycles: is 1,000,000,000"),
+    ("demo", "cycles_huge", "program[1].cycles: is 1,000,000,000"),
+]
+
+
+@pytest.mark.parametrize(("model", "mutation", "fragment"), VALIDATE_PASSED_RUN_REJECTED,
+                         ids=[f"{m}-{k}" for m, k, _ in VALIDATE_PASSED_RUN_REJECTED])
+def test_validate_and_run_agree(tmp_path, no_solver, model, mutation, fragment):
+    path = _mutations().write_case(model, mutation, tmp_path)
+    assert path is not None, f"{mutation} does not apply to {model}"
+    errors = []
+    for command in ("validate", "run"):
+        result = runner.invoke(app, [command, str(path), *(["--no-plot"] * (command == "run"))])
+        assert_one_line_error(result, fragment)
+        errors.append(result.stderr.strip().removeprefix(f"error: {path}: ")
+                      .removeprefix("error: "))
+    v, r = errors  # the same error (validate may count several: "N errors, the first: …")
+    assert v.endswith(r) or r.endswith(v) or fragment in v and fragment in r, (v, r)

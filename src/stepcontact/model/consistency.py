@@ -80,6 +80,15 @@ def check_level_segments(model: Model) -> None:
     levels = _level_patterns(model)
     if not levels:
         return
+    for st in model.stages[:-1]:  # a dynamic interval before the last stage moves a factor
+        dyn = getattr(st, "dynamics", None)
+        for name, _g in () if dyn is None else dyn.loads:
+            if name in levels:
+                raise ModelError(f"stage '{st.name}'.dynamics.loads['{name}']", f"pattern "
+                                 f"'{name}' has the water level as its factor: a dynamic "
+                                 "interval cannot move it (its time function would scale the "
+                                 "water's pressures, not the level); give the interval a "
+                                 "pattern of its own")
     resolved = model.segments_resolved()
     moved: set[str] = set()
     jumps = model.dynamic_jumps()
