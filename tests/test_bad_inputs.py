@@ -637,21 +637,25 @@ def test_damping_ratio_in_percent_warns_in_a_model_file(tmp_path, no_solver):
                "did you mean 0.05" in t for t in texts), texts
 
 
-@pytest.mark.parametrize("command", ["validate", "run"])
-def test_tension_cut_off_beyond_the_mohr_coulomb_apex_is_refused(tmp_path, no_solver, command):
+def test_tension_cut_off_beyond_the_mohr_coulomb_apex_warns(tmp_path, no_solver):
     """c = 100 kPa, φ = 35°: the apex c·cot φ = 1e5 / tan 35° = 142 815 Pa (hand); a cut-off of
-    10 MPa beyond it is refused, one at 100 kPa is accepted."""
+    10 MPa beyond it never acts and is warned about; one at 100 kPa is not."""
     bond = ('friction = 0.6\nbond = { cohesion = 1e5, tensile_strength = SIGMA, '
             'friction_angle = 35.0 }')
     path = tiny(tmp_path, ("friction = 0.6", bond.replace("SIGMA", "1e7")))
-    result = runner.invoke(app, [command, str(path)])
-    assert_one_line_error(result, "interface 'joint'.bond.tensile: the tension cut-off 1e+07 Pa "
-                          "at CFE 0 (0, 0) is beyond the apex of the Mohr–Coulomb envelope, "
-                          "c·cot φ = 142815 Pa (c = 100000 Pa, φ = 35°)")
-    if command == "validate":
-        ok = tiny(tmp_path, ("friction = 0.6", bond.replace("SIGMA", "1e5")), name="ok.toml")
-        result = runner.invoke(app, [command, str(ok)])
-        assert result.exit_code == 0, result.output
+    result = runner.invoke(app, ["validate", "--json", str(path)])
+    problems = json.loads(result.stdout)["problems"]
+    assert [(p["severity"], p["item"]) for p in problems] == [
+        ("warning", "interfaces[0].bond.tensile_strength")]
+    assert problems[0]["message"].startswith("1e+07 Pa is beyond the apex of the Mohr–Coulomb "
+                                             "envelope, c·cot φ = 142815 Pa (c = 100000 Pa, "
+                                             "φ = 35°)")
+    with pytest.warns(PlausibilityWarning, match=r"bond.tensile_strength = 2e\+06 Pa is beyond "
+                      r"the apex .* c·cot φ = 1e\+06 Pa"):
+        sc.Bond.mohr_coulomb(1e6, 2e6, 45.0)
+    ok = tiny(tmp_path, ("friction = 0.6", bond.replace("SIGMA", "1e5")), name="ok.toml")
+    result = runner.invoke(app, ["validate", "--json", str(ok)])
+    assert json.loads(result.stdout)["problems"] == [], result.output
 
 
 # --------------------------------------------------------------------------------------------

@@ -1694,15 +1694,23 @@ class _Builder:
         for i, f in enumerate(spec.frames):
             p.implausible("E", f.E, f"frames[{i}].E")
             p.implausible("density", f.density, f"frames[{i}].density")
+        from stepcontact.model.bond import apex_problem
+
+        def bond(path: str, b: BondSpec) -> None:
+            if b.friction is not None:
+                p.implausible("friction", b.friction, f"{path}.friction")
+            if b.cohesion is not None:
+                text = apex_problem(b.cohesion, b.tensile_strength, b.friction_angle)
+                if text is not None:
+                    p.warn(f"{path}.tensile_strength", text, plausible.PlausibilityWarning)
+
         for i, itf in enumerate(spec.interfaces):
             p.implausible("friction", itf.friction, f"interfaces[{i}].friction")
-            if itf.bond is not None and itf.bond.friction is not None:
-                p.implausible("friction", itf.bond.friction, f"interfaces[{i}].bond.friction")
+            if itf.bond is not None:
+                bond(f"interfaces[{i}].bond", itf.bond)
         for k, st in enumerate(spec.stages):
-            for name, bond in st.grout.items():
-                if bond.friction is not None:
-                    p.implausible("friction", bond.friction,
-                                  f"{_path(['stages', k, 'grout', name])}.friction")
+            for name, b in st.grout.items():
+                bond(_path(["stages", k, "grout", name]), b)
         for pname, pat in spec.patterns.items():
             for j, ld in enumerate(pat.loads):
                 path = _path(["patterns", pname, "loads", j])

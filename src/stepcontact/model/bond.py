@@ -24,6 +24,7 @@ on.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -107,6 +108,12 @@ class Bond:
             raise ModelError("bond.friction_angle", f"must be in [0, 90) degrees, got "
                              f"{friction_angle}")
         tan = math.tan(math.radians(friction_angle))
+        text = apex_problem(cohesion, tensile_strength, friction_angle)
+        if text is not None:
+            from stepcontact.model import plausible
+
+            warnings.warn(plausible.PlausibilityWarning(f"bond.tensile_strength = {text}"),
+                          stacklevel=2)
         return cls(tensile=tensile_strength, shear=cohesion, alpha=tan, tension_alpha=math.inf,
                    friction=tan if residual_friction is None else residual_friction,
                    residual_cohesion=residual_cohesion)
@@ -136,27 +143,25 @@ class Bond:
         out[:, 2] = self.alpha
         at = self.alpha if self.tension_alpha is None else self.tension_alpha
         out[:, 3] = 0.0 if math.isinf(at) else 1.0 / at
-        if math.isinf(at) and self.alpha > 0:
-            self._check_apex(out, x, area, item)
         return out
 
-    def _check_apex(self, out: np.ndarray, x: np.ndarray, area: np.ndarray, item: str) -> None:
-        """A tension cut-off σ_R (eq. (12) with α_t = ∞) must not lie beyond the apex of the
-        shear facets |Q| ≤ Q_R − α_R N, at N = Q_R / α_R (Mohr–Coulomb: σ_t ≤ c·cot φ): the
-        joint can carry no more tension than the apex, so a cut-off beyond it never acts and
-        its facet only meets the others outside the strength domain."""
-        apex = out[:, 1] / self.alpha
-        beyond = out[:, 0] > apex * (1 + 1e-9) + 1e-300
-        if not beyond.any():
-            return
-        k = int(np.flatnonzero(beyond)[0])
-        phi = math.degrees(math.atan(self.alpha))
-        raise ModelError(
-            f"{item}.bond.tensile", f"the tension cut-off {out[k, 0] / area[k]:g} Pa at CFE "
-            f"{k} ({x[k, 0]:g}, {x[k, 1]:g}) is beyond the apex of the Mohr–Coulomb envelope, "
-            f"c·cot φ = {apex[k] / area[k]:g} Pa (c = {out[k, 1] / area[k]:g} Pa, φ = "
-            f"{phi:.4g}°): the joint can carry no more tension than that, so the cut-off never "
-            "acts; give a tensile strength ≤ c·cot φ (Pa)")
+
+def apex_problem(cohesion, tensile_strength, friction_angle: float) -> str | None:
+    """Why a Mohr–Coulomb tension cut-off σ_t (Pa) lies beyond the apex of the envelope,
+    c·cot φ (c in Pa, φ in degrees), where the shear strength c − σ tan φ reaches zero: the
+    joint can carry no more tension than the apex, and the cut-off never acts.  None when it
+    does not (or when c or σ_t vary along the joint)."""
+    tan = math.tan(math.radians(friction_angle))
+    c, t = cohesion, tensile_strength
+    if not (tan > 0 and all(isinstance(v, int | float) and not isinstance(v, bool)
+                            for v in (c, t))):
+        return None
+    apex = c / tan
+    if t <= apex * (1 + 1e-9):
+        return None
+    return (f"{t:g} Pa is beyond the apex of the Mohr–Coulomb envelope, c·cot φ = {apex:g} "
+            f"Pa (c = {c:g} Pa, φ = {friction_angle:g}°): the joint can carry no more tension "
+            "than that, so the cut-off never acts; give a tensile strength ≤ c·cot φ (Pa)")
 
 
-__all__ = ["Bond"]
+__all__ = ["Bond", "apex_problem"]
