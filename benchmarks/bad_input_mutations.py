@@ -83,14 +83,109 @@ def stage_removes_every_support(d):
     return True
 
 
+def _lowest_set(d: dict) -> str | None:
+    """The node set of a rectangle body at the lowest y (by its ``y`` or the body's corner)."""
+    best, low = None, float("inf")
+    bodies = {b.get("name"): b for b in d.get("bodies", [])}
+    for n, ns in (d.get("node_sets") or {}).items():
+        y = ns.get("y")
+        b = bodies.get(ns.get("body"))
+        if y is None or b is None or "corner0" not in b:
+            continue
+        if y < low:
+            best, low = n, y
+    return best
+
+
 def level_pattern_starts_high(d):
-    """a water level pattern whose first segment starts above its wetted faces"""
-    face = next((n for n, s in (d.get("node_sets") or {}).items() if "body" in s
-                 and "x" in s), None)
-    if face is None or not d.get("program"):
+    """a water-level pattern on faces below y = 0, raised from level 0 (already wet there)"""
+    face = _lowest_set(d)
+    if face is None or not d.get("program") or d["node_sets"][face]["y"] >= 0:
         return False
     d["patterns"]["reservoir"] = {"loads": [{"type": "water", "nodes": face}]}
-    d["program"].append({"pattern": "reservoir", "start": 50.0, "end": 60.0})
+    d["program"].append({"pattern": "reservoir", "end": 5.0})
+    return True
+
+
+def level_pattern_two_rates(d):
+    """a water-level pattern moved together with another pattern by a segment with rates"""
+    face = _lowest_set(d)
+    segs = d.get("program")
+    if face is None or not segs:
+        return False
+    other = segs[0]["pattern"]
+    d["patterns"]["reservoir"] = {"loads": [{"type": "water", "nodes": face}]}
+    segs.append({"pattern": "flood", "end": 1.0, "rates": {"reservoir": 1.0, other: 0.1}})
+    return True
+
+
+def _dynamics(d: dict) -> dict | None:
+    """The model's dynamic interval (a stage's, or a top-level one added to a model with
+    neither)."""
+    dyn = d.get("dynamics") or next((s["dynamics"] for s in d.get("stages", [])
+                                     if "dynamics" in s), None)
+    if dyn is None and not d.get("stages"):
+        dyn = d["dynamics"] = {"dt": 1e-3, "duration": 0.01}
+    return dyn
+
+
+def dynamics_moves_level_pattern(d):
+    """a dynamic interval whose time function multiplies a water-level pattern"""
+    face = _lowest_set(d)
+    dyn = _dynamics(d)
+    if face is None or dyn is None:
+        return False
+    d["patterns"]["reservoir"] = {"loads": [{"type": "water", "nodes": face}]}
+    dyn.setdefault("loads", []).append({"pattern": "reservoir", "type": "constant",
+                                        "amplitude": 1.0})
+    return True
+
+
+def dynamics_moves_prescribed_displacement(d):
+    """a dynamic interval whose time function multiplies a prescribed displacement"""
+    ns = _lowest_set(d) or next(iter(d.get("node_sets") or {}), None)
+    dyn = _dynamics(d)
+    if ns is None or dyn is None:
+        return False
+    d["patterns"]["jack"] = {"loads": [{"type": "displacement", "nodes": ns, "dof": "x",
+                                        "value": 1e-4}]}
+    dyn.setdefault("loads", []).append({"pattern": "jack", "type": "pulse", "duration": 0.005})
+    return True
+
+
+def dynamics_moves_obstacle(d):
+    """a dynamic interval whose time function moves a rigid obstacle"""
+    obs = [i["obstacle"] for i in d.get("interfaces", []) if "obstacle" in i]
+    dyn = _dynamics(d)
+    if not obs or dyn is None:
+        return False
+    d["patterns"]["quake"] = {"loads": [{"type": "obstacle_motion", "obstacle": obs[0],
+                                         "dx": 1e-3}]}
+    dyn.setdefault("loads", []).append({"pattern": "quake", "type": "pulse", "duration": 0.005})
+    return True
+
+
+def damped_bonded_joint_with_dynamics(d):
+    """a bonded joint with a damped contact layer in a model with a dynamic interval"""
+    itf = _first_interface(d)
+    dyn = _dynamics(d)
+    if itf is None or dyn is None:
+        return False
+    itf.pop("gap", None)
+    itf["layer"] = {"kn": 1e12, "kt": 1e12, "damping": 1e6}
+    itf["bond"] = {"tensile": 1e7, "shear": 1e7, "alpha": 0.7}
+    return True
+
+
+def top_dynamics_without_mass(d):
+    """a top-level dynamic interval on bodies without density"""
+    if d.get("stages") or _dynamics(d) is None:
+        return False
+    for m in _materials(d):
+        m["density"] = 0.0
+    for p in _patterns(d).values():
+        p["loads"] = [ld for ld in p.get("loads", []) if ld.get("type") != "gravity"] or [
+            {"type": "nodal", "nodes": next(iter(d["node_sets"])), "fy": -1e3}]
     return True
 
 
@@ -106,9 +201,9 @@ def residual_cohesion_with_dynamics(d):
 
 
 def displacement_standing_before_dynamics(d):
-    """a prescribed displacement at a nonzero factor when the last dynamic interval starts"""
+    """a prescribed displacement at a nonzero factor when a stage's dynamic interval starts"""
     stages = d.get("stages") or []
-    if not stages or "dynamics" not in stages[-1] or not d.get("supports", True):
+    if not any("dynamics" in st for st in stages):
         return False
     ns = next(iter(d.get("node_sets") or {}), None)
     d["patterns"]["settle"] = {"loads": [{"type": "displacement", "nodes": ns, "dof": "x",
@@ -118,16 +213,23 @@ def displacement_standing_before_dynamics(d):
 
 
 def last_stage_dynamics(d):
-    """the dynamic interval moved to the last stage with a prescribed displacement standing"""
+    """the dynamic interval on the last stage with a prescribed displacement standing"""
     stages = d.get("stages") or []
-    dyn = next((s.pop("dynamics") for s in stages if "dynamics" in s), None)
-    if dyn is None:
+    k = next((k for k, s in enumerate(stages) if "dynamics" in s), None)
+    if k is None or k == len(stages) - 1:
         return False
+    dyn = stages[k].pop("dynamics")
+    if not stages[k].get("program"):
+        del stages[k]
+    for st in stages:
+        for seg in st.get("program", []):
+            seg.pop("start", None)
     stages[-1]["dynamics"] = dyn
     ns = next(iter(d.get("node_sets") or {}), None)
     d["patterns"]["settle"] = {"loads": [{"type": "displacement", "nodes": ns, "dof": "x",
                                           "value": 1e-4}]}
     stages[0].setdefault("program", []).append({"pattern": "settle", "end": 1.0})
+    stages[-1]["program"] = [{"pattern": "settle", "end": 2.0}]
     return True
 
 
@@ -459,6 +561,9 @@ def bond_tension_beyond_apex(d):
 
 
 MUTATIONS: dict[str, Mutation] = {f.__name__: f for f in (
+    level_pattern_two_rates, dynamics_moves_level_pattern,
+    dynamics_moves_prescribed_displacement, dynamics_moves_obstacle,
+    damped_bonded_joint_with_dynamics, top_dynamics_without_mass,
     level_pattern_starts_high, residual_cohesion_with_dynamics,
     displacement_standing_before_dynamics, last_stage_dynamics, body_built_under_displacement,
     grout_weaker_than_its_forces,

@@ -11,7 +11,8 @@ pattern or body concerned:
   ``level=None``) is moved by segments of its own, not by a segment with rates, and its first
   segment starts with the level at or below the lowest point of its wetted faces (else the
   water would load the structure at once, before the first state);
-* a bond with a residual cohesion cannot be followed through a dynamic interval;
+* a bond with a residual cohesion cannot be followed through a dynamic interval, nor a
+  bonded joint with a damped contact layer;
 * the strengths of a bond are ≥ 0 and a tension cut-off is not beyond the apex c·cot φ;
 * crack water enters its joint at a point of it, and a given level is above the joint;
 * a dynamic interval does not follow a prescribed displacement that stands at a nonzero
@@ -130,9 +131,11 @@ def check_dynamic_bonds(model: Model) -> None:
                              "with one is not supported yet (give residual_cohesion = 0)")
 
 
-def _factors_after(model: Model, n: int | None = None) -> dict[str, float]:
+def _factors_after(model: Model, n: int | None = None, jump: bool = True
+                   ) -> dict[str, float]:
     """The factor of every pattern after the first ``n`` segments of the load program (all
-    when None) and the dynamic intervals of the stages they belong to."""
+    when None) and the dynamic intervals of the stages they belong to (``jump`` False: not
+    that of the stage the ``n``-th segment ends)."""
     current: dict[str, float] = {}
     jumps = model.dynamic_jumps()
     resolved = model.segments_resolved()
@@ -146,25 +149,46 @@ def _factors_after(model: Model, n: int | None = None) -> dict[str, float]:
         else:
             for name, rate in seg.rates:
                 current[name] = current.get(name, 0.0) + rate * (b - a)
-    for name, dg in jumps.get(n, {}).items():
+    for name, dg in jumps.get(n, {}).items() if jump else ():
         current[name] = current.get(name, 0.0) + dg
     return current
 
 
 def check_dynamic_displacements(model: Model) -> None:
-    """A staged model's last dynamic interval does not start with a prescribed displacement
-    at a nonzero factor."""
-    if not model.stages or model.dynamics is None:
-        return
-    factors = _factors_after(model)
-    for p in model.patterns:
-        if not factors.get(p.name, 0.0):
+    """No dynamic interval of a stage starts with a prescribed displacement at a nonzero
+    factor."""
+    n = 0
+    for st in model.stages:
+        n += len(st.program)
+        if getattr(st, "dynamics", None) is None:
             continue
-        if any(isinstance(ld, PrescribedDisplacement) and ld.value != 0 for ld in p.loads):
-            raise ModelError(f"pattern '{p.name}'", "prescribes nonzero displacements at the "
-                             f"end of the stages (factor {factors[p.name]:g}): a dynamic "
-                             "interval does not follow prescribed displacements (place the "
-                             "support before its body moves, or let the pattern return to 0)")
+        factors = _factors_after(model, n, jump=False)
+        for p in model.patterns:
+            if not factors.get(p.name, 0.0):
+                continue
+            if any(isinstance(ld, PrescribedDisplacement) and ld.value != 0 for ld in p.loads):
+                raise ModelError(f"pattern '{p.name}'", "prescribes nonzero displacements when "
+                                 f"the dynamic interval of stage '{st.name}' starts (factor "
+                                 f"{factors[p.name]:g}): a dynamic interval does not follow "
+                                 "prescribed displacements (place the support before its body "
+                                 "moves, or let the pattern return to 0)")
+
+
+def check_damped_bonds(model: Model) -> None:
+    """A bonded joint with a damped contact layer (Kelvin–Voigt, c_n > 0) cannot go through
+    the model's last dynamic interval (one before the last stage refuses any damped layer:
+    the static stages cannot follow it): refused unless the layer has no damping."""
+    if model.dynamics is None:
+        return
+    grouted = {name for st in model.stages for name in st.grout}
+    for itf in model.interfaces:
+        if itf.layer is None or not itf.layer.damping > 0:
+            continue
+        if itf.bond is not None or itf.name in grouted:
+            raise ModelError(f"interface '{itf.name}'.bond", "a bonded joint with a damped "
+                             "contact layer (Kelvin–Voigt, c_n > 0) is not supported in a "
+                             "dynamic interval (it is refused when the interval starts with "
+                             "its bond intact): give the layer no damping")
 
 
 def check_built_bodies(model: Model) -> None:
@@ -235,6 +259,7 @@ def check_consistency(model: Model) -> None:
     check_level_segments(model)
     check_dynamic_bonds(model)
     check_dynamic_displacements(model)
+    check_damped_bonds(model)
 
 
 def program_warnings(model: Model) -> list[tuple[str, str]]:
@@ -248,5 +273,5 @@ def program_warnings(model: Model) -> list[tuple[str, str]]:
 
 
 __all__ = ["check_bonds", "check_built_bodies", "check_consistency", "check_crack_water",
-           "check_dynamic_bonds", "check_dynamic_displacements", "check_level_segments",
-           "check_stage_mass", "program_warnings"]
+           "check_damped_bonds", "check_dynamic_bonds", "check_dynamic_displacements",
+           "check_level_segments", "check_stage_mass", "program_warnings"]
