@@ -1370,6 +1370,10 @@ def solve_static(
     system = model if isinstance(model, System) else assemble(model)
     if not system.model.effective_program and not getattr(system.model, "stages", ()):
         raise ModelError("model.program", "is empty: give at least one load segment")
+    if isinstance(system.model, Model):  # what validate checks too, before any work
+        from stepcontact.model.consistency import check_consistency
+
+        check_consistency(system.model)
     writer = None
     if output is not None:
         from stepcontact.results.file import ResultWriter
