@@ -115,9 +115,10 @@ def check_level_segments(model: Model) -> None:
 
 
 def check_dynamic_bonds(model: Model) -> None:
-    """No bond with a residual cohesion in a model with a dynamic interval."""
-    if model.dynamics is None and not any(getattr(st, "dynamics", None) is not None
-                                          for st in model.stages):
+    """No bond with a residual cohesion in a model with a dynamic interval after its program
+    (one of a stage before the last is refused by the stage plan,
+    :class:`~stepcontact.solver.staging.StagePlan`, which validate builds too)."""
+    if model.dynamics is None:
         return
     bonds = [(f"interface '{i.name}'.bond", i.bond) for i in model.interfaces
              if i.bond is not None]
