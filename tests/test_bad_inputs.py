@@ -790,8 +790,8 @@ VALIDATE_PASSED_RUN_REJECTED = [
     ("demo_uplift", "damped_bonded_joint_with_dynamics", "interface 'joint'.bond: a bonded "
      "joint with a damped contact layer"),
     # these runs lost equilibrium before the segment that the solver refuses (or fails on
-    # with a KeyError: a level pattern moved by one rate), or left the water of a level
-    # pattern out of a dynamic interval without a word, so the script saw no gap
+    # with a KeyError: a level pattern moved by one rate), or ran a level pattern in a dynamic
+    # interval without a word, so the script saw no gap
     ("staged_shock", "dynamics_moves_level_pattern", "stage 'struck'.dynamics.loads"
      "['reservoir']: pattern 'reservoir' has the water level as its factor"),
     ("demo_uplift", "level_pattern_two_rates", "program segment 2 ('flood'): pattern "

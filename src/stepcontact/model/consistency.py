@@ -87,10 +87,9 @@ def check_level_segments(model: Model) -> None:
             if name in levels:
                 raise ModelError(f"stage '{st.name}'.dynamics.loads['{name}']", f"pattern "
                                  f"'{name}' has the water level as its factor: a dynamic "
-                                 "interval cannot move it (its water pressures were silently "
-                                 "left out, and the static stages after it could not go on "
-                                 "from a time function's value as a level); give the interval "
-                                 "a pattern of its own")
+                                 "interval cannot move it (a time function's value is not a "
+                                 "water level, and the static stages after it could not go on "
+                                 "from it); give the interval a pattern of its own")
     resolved = model.segments_resolved()
     moved: set[str] = set()
     jumps = model.dynamic_jumps()
