@@ -69,9 +69,9 @@ RANGES: dict[str, Range] = {
         "", slip_low=((1e9, "the value in GPa"), (1e6, "the value in MPa")), text="≥ 1e5 Pa",
         typical=(1e6, 1.2e12)),
     "friction": Range(
-        "friction coefficient", "–", 0.0, 5.0, "",
+        "friction coefficient", "–", 0.0, 10.0, "",
         "is above any real friction coefficient (rock and concrete 0.5 … 1.5, rubber up to "
-        "~3); a joint that must not slip needs a bond, not friction", text="0 … 5"),
+        "~3); a joint that must not slip needs a bond, not friction", text="0 … 10"),
     "gravity": Range(
         "acceleration |g|", "m/s²", 0.0, 100.0, "",
         "is more than 10 g", slip_high=((1e-3, "the value in mm/s²"),), text="≤ 100 m/s²"),
