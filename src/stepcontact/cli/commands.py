@@ -138,11 +138,19 @@ def _fail(message: str, as_json: bool) -> typer.Exit:
 
 
 def _load(path: Path) -> Model:
-    """Load a model file; errors name the file."""
+    """Load a model file; errors name the file; its warnings (implausible values,
+    deprecations) are printed as ``warning: …`` lines on stderr."""
+    import warnings
+
     from stepcontact.io.modelfile import load_model
 
     try:
-        return load_model(path)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            model = load_model(path)
+        _warn([str(w.message) for w in caught
+               if issubclass(w.category, UserWarning | FutureWarning)])
+        return model
     except FileNotFoundError as e:
         raise _Failure(f"model file not found: {e.filename or path}") from None
     except (StepContactError, tomllib.TOMLDecodeError) as e:
@@ -446,6 +454,7 @@ def _analyse(
     :class:`~stepcontact.results.file.ResultWriter` of ``result_path`` (its interval and
     attributes; default: one with the default interval)."""
     from stepcontact.fem.loadcheck import zero_patterns
+    from stepcontact.model.consistency import check_consistency, program_warnings
     from stepcontact.results.checks import displacement_warnings
     from stepcontact.results.file import ResultWriter
 
@@ -455,7 +464,9 @@ def _analyse(
     _check_plot_path(plot_path)
     _check_lams(model, lams)
     _check_dynamic_mass(model)
+    check_consistency(model)  # what validate finds too, before any work
     warnings = [text for _, text in zero_patterns(model)]
+    warnings += [f"{item}: {text}" for item, text in program_warnings(model)]
     _warn(warnings)
     result_path.parent.mkdir(parents=True, exist_ok=True)
     res = _solve(model, slip=slip, eps_p=eps_p, max_events=max_events,
@@ -942,6 +953,10 @@ def sweep(
         bool, typer.Option("--quiet", "-q", help="No progress bar and no table.")
     ] = False,
     as_json: JsonOption = False,
+    force: Annotated[
+        bool, typer.Option("--force", help="Run a sweep of more than 10 000 cases (refused "
+                           "without it).")
+    ] = False,
 ) -> None:
     """Run a parameter sweep of a model file: every case of a grid (or list) of parameter
     values, on a local process pool or a dask cluster. See docs/sweeps.md.
@@ -972,8 +987,10 @@ def sweep(
     try:
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
+        err = Console(stderr=True, soft_wrap=True, highlight=False)
+        announce = None if quiet or as_json else (lambda text: err.print(Text(text)))
         try:
-            study = load_study(study_file)
+            study = load_study(study_file, force=force, announce=announce)
         except StudyError as e:
             raise _Failure(_error_text(e)) from None
         executor = "serial" if serial else scheduler if scheduler is not None else "process"
@@ -1140,6 +1157,10 @@ def study(
         changes = {k: v for k, v in (("E0", E0), ("h_kr", h_kr), ("amplitude", amplitude),
                                      ("friction", friction), ("gap_pressure", gap_pressure))
                    if v is not None}
+        if friction is not None:
+            from stepcontact.model.plausible import message
+
+            _warn([w for w in (message("friction", friction, "--friction"),) if w])
         if positions:
             changes["positions"] = tuple(positions)
         if durations:
@@ -1157,10 +1178,18 @@ def study(
             raise _Failure(_error_text(e)) from None
     except _Failure as e:
         raise _fail(str(e), False) from None
-    from stepcontact.study.report import write_report
+    from stepcontact.study.report import all_failed, failure_reasons, write_report
 
     files = write_report(ds, st, output / "report")
     failed = [i for i, cs in enumerate(ds["case_status"].values) if cs != "ok"]
+    if all_failed(ds):
+        for f in files.values():
+            console.print(Text(f"written: {f}", style="green"))
+        reasons = failure_reasons(ds)
+        msg, k, cid = reasons[0]
+        more = f" ({len(reasons) - 1} other reason(s) in the report)" if len(reasons) > 1 else ""
+        raise _fail(f"all {ds.sizes['case']} cases of the {name} study failed; {k} of them "
+                    f"(e.g. {cid}): {msg}{more}", False)
     if not quiet:
         console.print(sweep_table(ds, ["h_limit", "h_ratio", "mode", "when", "runs"],
                                   f"slab study: {ds.sizes['case']} cases (h in m, h_kr = "

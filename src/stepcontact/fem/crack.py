@@ -28,6 +28,7 @@ import numpy as np
 
 from stepcontact.contact.laws import OPEN
 from stepcontact.errors import ModelError
+from stepcontact.model.water import CrackWater
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,7 +134,7 @@ class CrackWaterData:
 def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
     """The crack water of ``model`` (None if it has none) for its CFEs ``cfe``; ``levels``:
     the level patterns of the assembly (their factor is the water level)."""
-    from stepcontact.model.water import CrackWater, Uplift
+    from stepcontact.model.water import Uplift
 
     items = [(p.name, ld) for p in model.patterns for ld in p.loads
              if isinstance(ld, CrackWater)]
@@ -154,6 +155,7 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
             known = ", ".join(repr(n) for n in names) or "none"
             raise ModelError(item, f"no such interface with CFEs (known: {known})")
         ks = np.flatnonzero(cfe.interface == names.index(cw.name))
+        cw.check_level(y[ks], item)
         wettable[ks] = True
         if cw.name in entries and entries[cw.name] != cw.entry:
             raise ModelError(item, "the joint's crack water is given twice with different "
@@ -176,6 +178,8 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
         order = ks[np.argsort(cfe.s[ks], kind="stable")]
         points = np.atleast_2d(np.asarray(entry, float))
         at = np.array([int(np.argmin(np.hypot(*(cfe.x[order] - pt).T))) for pt in points])
+        CrackWater.check_entries(points, cfe.x[order],
+                                 f"crack water in interface '{name}'.entry")
         runs.append((order, at))
     # in the crack, the crack pressure replaces the uplift given for the joint
     for p in model.patterns:

@@ -60,6 +60,10 @@ def rayleigh_coefficients(zeta1: float, f1: float, zeta2: float, f2: float
             raise ModelError(f"rayleigh damping.{key}", f"must be {what} and finite, got {v}")
     if f1 == f2:
         raise ModelError("rayleigh damping", f"the two frequencies must differ (both {f1} Hz)")
+    from stepcontact.model import plausible
+
+    for key in ("zeta1", "zeta2"):
+        plausible.warn("damping_ratio", vals[key], f"rayleigh damping.{key}")
     w1, w2 = 2 * np.pi * f1, 2 * np.pi * f2
     d = w2**2 - w1**2
     a0 = 2 * w1 * w2 * (zeta1 * w2 - zeta2 * w1) / d

@@ -108,7 +108,7 @@ from pydantic import (
 
 from stepcontact.errors import ModelError, StepContactError
 from stepcontact.io.meshfile import GROUP_KINDS, MeshFile, read_mesh
-from stepcontact.model import meshcheck
+from stepcontact.model import meshcheck, plausible
 from stepcontact.model.bond import Bond
 from stepcontact.model.items import (
     E_RANGE,
@@ -1140,13 +1140,24 @@ class _Problems:
     def __init__(self) -> None:
         self.items: list[tuple[str, str]] = []
         self.warnings: list[tuple[str, str]] = []
+        #: the warning class of each warning (default: FutureWarning, a deprecation)
+        self.category: dict[tuple[str, str], type[Warning]] = {}
 
     def add(self, path: str, problem: str) -> None:
         if (path, problem) not in self.items:
             self.items.append((path, problem))
 
-    def warn(self, path: str, problem: str) -> None:
+    def warn(self, path: str, problem: str, category: type[Warning] = FutureWarning) -> None:
         self.warnings.append((path, problem))
+        self.category[(path, problem)] = category
+
+    def implausible(self, quantity: str, value: float, path: str) -> None:
+        """A warning when ``value`` is outside the plausible range of ``quantity``
+        (:data:`stepcontact.model.plausible.RANGES`)."""
+        text = plausible.message(quantity, value, path)
+        if text is not None:
+            self.warn(path, text.removeprefix(f"{path} = ").strip(),
+                      plausible.PlausibilityWarning)
 
     def raise_if_any(self) -> None:
         if self.items:
@@ -1666,9 +1677,76 @@ class _Builder:
                     "use NAME here")
             self._group_set(group, None, group, path, hint)
 
+    # ---- plausible values -----------------------------------------------------------------
+    def check_plausible(self) -> None:
+        """Values outside what any real structure has (:mod:`stepcontact.model.plausible`):
+        warnings with the field path (the Python objects built from the file warn with their
+        own names; those warnings are silenced while the file is built)."""
+        spec, p = self.spec, self.p
+
+        def material(path: str, m: MaterialSpec) -> None:
+            p.implausible("E", m.E, f"{path}.E")
+            p.implausible("density", m.density, f"{path}.density")
+
+        for name, m in spec.materials.items():
+            material(_path(["materials", name]), m)
+        for i, b in enumerate(spec.bodies):
+            if isinstance(b.material, MaterialSpec):
+                material(f"bodies[{i}].material", b.material)
+        for i, f in enumerate(spec.frames):
+            p.implausible("E", f.E, f"frames[{i}].E")
+            p.implausible("density", f.density, f"frames[{i}].density")
+        from stepcontact.model.bond import apex_problem
+
+        def bond(path: str, b: BondSpec) -> None:
+            if b.friction is not None:
+                p.implausible("friction", b.friction, f"{path}.friction")
+            if b.cohesion is not None:
+                text = apex_problem(b.cohesion, b.tensile_strength, b.friction_angle)
+                if text is not None:
+                    p.warn(f"{path}.tensile_strength", text, plausible.PlausibilityWarning)
+
+        for i, itf in enumerate(spec.interfaces):
+            p.implausible("friction", itf.friction, f"interfaces[{i}].friction")
+            if itf.bond is not None:
+                bond(f"interfaces[{i}].bond", itf.bond)
+        for k, st in enumerate(spec.stages):
+            for name, b in st.grout.items():
+                bond(_path(["stages", k, "grout", name]), b)
+        for pname, pat in spec.patterns.items():
+            for j, ld in enumerate(pat.loads):
+                path = _path(["patterns", pname, "loads", j])
+                if isinstance(ld, GravityLoad):
+                    p.implausible("gravity", math.hypot(*ld.g), f"{path}.g")
+                if isinstance(ld, WaterLoadSpec | UpliftLoadSpec | CrackWaterSpec):
+                    p.implausible("unit_weight_water", ld.unit_weight, f"{path}.unit_weight")
+                if isinstance(ld, UpliftLoadSpec):
+                    key, value = (("head", ld.head) if ld.head is not None else
+                                  ("pressure", ld.pressure))
+                    values = ([pt[2] for pt in value.points]
+                              if isinstance(value, LinearProfile) else [value])
+                    for v in values:
+                        p.implausible("head" if key == "head" else "water_pressure", v,
+                                      f"{path}.{key}")
+                if isinstance(ld, CrackWaterSpec) and ld.pressure is not None:
+                    p.implausible("water_pressure", ld.pressure, f"{path}.pressure")
+        dyns = [("dynamics", spec.dynamics)] + [(f"stages[{k}].dynamics", st.dynamics)
+                                                for k, st in enumerate(spec.stages)]
+        for where, dyn in dyns:
+            if dyn is not None and dyn.damping.ratios is not None:
+                for j, z in enumerate(dyn.damping.ratios):
+                    p.implausible("damping_ratio", z, f"{where}.damping.ratios[{j}]")
+
     # ---- the model ------------------------------------------------------------------------
     def model(self) -> Model | None:
-        """The model (None when it cannot be made); problems are in ``self.p``."""
+        """The model (None when it cannot be made); problems are in ``self.p``.  Warnings of
+        implausible values are listed with their field paths (:meth:`check_plausible`)."""
+        self.check_plausible()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", plausible.PlausibilityWarning)
+            return self._model()
+
+    def _model(self) -> Model | None:
         self.read_mesh()
         self.check_references()
         self.build_bodies()
@@ -1740,36 +1818,13 @@ class _Builder:
         patterns = []
         for pname, pat in spec.patterns.items():
             loads: list[object] = []
-            for ld in pat.loads:
-                if isinstance(ld, GravityLoad):
-                    loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
-                elif isinstance(ld, UpliftLoadSpec):
-                    found = [i for i in interfaces if i.name == ld.interface]
-                    if found:
-                        loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
-                elif isinstance(ld, CrackWaterSpec):
-                    found = [i for i in interfaces if i.name == ld.interface]
-                    if found:
-                        loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
-                                                None if ld.entry is None else tuple(ld.entry),
-                                                ld.pressure))
-                elif isinstance(ld, ObstacleMotionLoad):
-                    if ld.obstacle in obstacles:
-                        loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,
-                                                    ld.rotation, ld.about))
-                elif not have(ld.nodes):
-                    continue
-                elif isinstance(ld, WaterLoadSpec):
-                    loads.append(WaterLoad(sets[ld.nodes], ld.level, ld.unit_weight))
-                elif isinstance(ld, NodalLoadSpec):
-                    loads.append(NodalLoad(sets[ld.nodes], ld.fx, ld.fy, ld.mz))
-                elif isinstance(ld, PressureLoad):
-                    loads.append(EdgeLoad(sets[ld.nodes], ld.normal, ld.tangential,
-                                          None if ld.traction is None else tuple(ld.traction)))
-                elif isinstance(ld, EdgeForceLoad):
-                    loads.append(EdgeForce(sets[ld.nodes], ld.fx, ld.fy))
-                else:
-                    loads.append(PrescribedDisplacement(sets[ld.nodes], ld.dof, ld.value))
+            for j, ld in enumerate(pat.loads):
+                try:
+                    self._load(ld, loads, interfaces, obstacles)
+                except ModelError as e:  # e.g. a negative crack pressure
+                    field = e.item.rpartition(".")[2] if "." in e.item else ""
+                    path = _path(["patterns", pname, "loads", j])
+                    p.add(f"{path}.{field}" if field else path, e.problem)
             patterns.append(LoadPattern(pname, tuple(loads)))
         program = [seg for s in spec.program for seg in _segments(s)]
         # stages whose names are wrong (reported) are left out: the model would repeat it
@@ -1795,6 +1850,39 @@ class _Builder:
         except ModelError as e:
             p.add(e.item, e.problem)
             return None
+
+    def _load(self, ld: Any, loads: list, interfaces: list, obstacles: dict) -> None:
+        """Append the load of the file's entry ``ld`` to ``loads`` (nothing where an item it
+        needs is missing: that problem is reported already)."""
+        if isinstance(ld, GravityLoad):
+            loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
+        elif isinstance(ld, UpliftLoadSpec):
+            found = [i for i in interfaces if i.name == ld.interface]
+            if found:
+                loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
+        elif isinstance(ld, CrackWaterSpec):
+            found = [i for i in interfaces if i.name == ld.interface]
+            if found:
+                loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
+                                        None if ld.entry is None else tuple(ld.entry),
+                                        ld.pressure))
+        elif isinstance(ld, ObstacleMotionLoad):
+            if ld.obstacle in obstacles:
+                loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,
+                                            ld.rotation, ld.about))
+        elif ld.nodes not in self.sets:
+            return
+        elif isinstance(ld, WaterLoadSpec):
+            loads.append(WaterLoad(self.sets[ld.nodes], ld.level, ld.unit_weight))
+        elif isinstance(ld, NodalLoadSpec):
+            loads.append(NodalLoad(self.sets[ld.nodes], ld.fx, ld.fy, ld.mz))
+        elif isinstance(ld, PressureLoad):
+            loads.append(EdgeLoad(self.sets[ld.nodes], ld.normal, ld.tangential,
+                                  None if ld.traction is None else tuple(ld.traction)))
+        elif isinstance(ld, EdgeForceLoad):
+            loads.append(EdgeForce(self.sets[ld.nodes], ld.fx, ld.fy))
+        else:
+            loads.append(PrescribedDisplacement(self.sets[ld.nodes], ld.dof, ld.value))
 
     def _stages(self, p: _Problems, pattern_names: set[str]) -> tuple[Stage, ...]:
         """The construction stages of the file (their names were checked by
@@ -2004,8 +2092,10 @@ def model_from_dict(d: dict[str, Any], base_dir: str | Path | None = None) -> Mo
     model = _Builder(spec, base, problems).model()
     problems.raise_if_any()
     assert model is not None
-    for path, message in problems.warnings:  # deprecations (validate lists them too)
-        warnings.warn(f"{path}: {message}", FutureWarning, stacklevel=2)
+    for path, message in problems.warnings:  # deprecations, implausible values (validate
+        # lists them too)
+        category = problems.category.get((path, message), FutureWarning)
+        warnings.warn(f"{path}: {message}", category, stacklevel=2)
     return model
 
 
@@ -2144,6 +2234,11 @@ def validation_report(path: str | Path) -> Validation:
         try:
             system = assemble(model)
             model.segments_resolved()
+            from stepcontact.model.consistency import check_consistency, program_warnings
+
+            check_consistency(model)  # what run refuses, seen in the model itself
+            for item, text in program_warnings(model):
+                problems.warn(item, text)
             out.ndof, out.n_cfes = int(system.dofs.ndof), int(system.cfe.m)
             from stepcontact.fem.loadcheck import zero_patterns
 

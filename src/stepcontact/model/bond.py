@@ -24,6 +24,7 @@ on.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -84,6 +85,10 @@ class Bond:
         if self.friction is not None and not (np.isfinite(self.friction)
                                               and self.friction >= 0):
             raise ModelError(f"{item}.friction", f"must be ≥ 0, got {self.friction}")
+        if self.friction is not None:
+            from stepcontact.model import plausible
+
+            plausible.warn("friction", self.friction, f"{item}.friction", stacklevel=4)
         rc = self.residual_cohesion
         if np.ndim(rc) == 0 and not callable(rc) and not float(rc) >= 0:
             raise ModelError(f"{item}.residual_cohesion", f"must be ≥ 0 Pa, got {rc}")
@@ -103,6 +108,12 @@ class Bond:
             raise ModelError("bond.friction_angle", f"must be in [0, 90) degrees, got "
                              f"{friction_angle}")
         tan = math.tan(math.radians(friction_angle))
+        text = apex_problem(cohesion, tensile_strength, friction_angle)
+        if text is not None:
+            from stepcontact.model import plausible
+
+            warnings.warn(plausible.PlausibilityWarning(f"bond.tensile_strength = {text}"),
+                          stacklevel=2)
         return cls(tensile=tensile_strength, shear=cohesion, alpha=tan, tension_alpha=math.inf,
                    friction=tan if residual_friction is None else residual_friction,
                    residual_cohesion=residual_cohesion)
@@ -135,4 +146,22 @@ class Bond:
         return out
 
 
-__all__ = ["Bond"]
+def apex_problem(cohesion, tensile_strength, friction_angle: float) -> str | None:
+    """Why a Mohr–Coulomb tension cut-off σ_t (Pa) lies beyond the apex of the envelope,
+    c·cot φ (c in Pa, φ in degrees), where the shear strength c − σ tan φ reaches zero: the
+    joint can carry no more tension than the apex, and the cut-off never acts.  None when it
+    does not (or when c or σ_t vary along the joint)."""
+    tan = math.tan(math.radians(friction_angle))
+    c, t = cohesion, tensile_strength
+    if not (tan > 0 and all(isinstance(v, int | float) and not isinstance(v, bool)
+                            for v in (c, t))):
+        return None
+    apex = c / tan
+    if t <= apex * (1 + 1e-9):
+        return None
+    return (f"{t:g} Pa is beyond the apex of the Mohr–Coulomb envelope, c·cot φ = {apex:g} "
+            f"Pa (c = {c:g} Pa, φ = {friction_angle:g}°): the joint can carry no more tension "
+            "than that, so the cut-off never acts; give a tensile strength ≤ c·cot φ (Pa)")
+
+
+__all__ = ["Bond", "apex_problem"]

@@ -22,6 +22,7 @@ from typing import Literal
 import numpy as np
 
 from stepcontact.errors import ModelError
+from stepcontact.model import plausible
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.timefunction import MAX_STEPS, check_interval
 
@@ -72,6 +73,8 @@ class Material:
             raise ModelError(item, f"Poisson's ratio nu must lie in (-1, 0.5), got {self.nu}")
         if not np.isfinite(self.density) or self.density < 0:
             raise ModelError(item, f"density must be >= 0, got {self.density}")
+        plausible.warn("E", self.E, f"{item}.E", stacklevel=4)
+        plausible.warn("density", self.density, f"{item}.density", stacklevel=4)
 
 
 @dataclass(frozen=True, eq=False)
@@ -181,6 +184,8 @@ class Frame:
         unused = np.setdiff1d(np.arange(len(pts)), cells.ravel())
         if unused.size:
             raise ModelError(f"{item} node {unused[0]}", "belongs to no element")
+        plausible.warn("E", self.E, f"{item}.E", stacklevel=4)
+        plausible.warn("density", self.density, f"{item}.density", stacklevel=4)
 
     @property
     def n_nodes(self) -> int:
@@ -441,6 +446,13 @@ class BodyForce:
     g: tuple[float, float] = (0.0, -9.81)
     bodies: tuple[str, ...] = ()
 
+    def __post_init__(self):
+        g = np.asarray(self.g, dtype=float)
+        if g.shape != (2,) or not np.all(np.isfinite(g)):
+            raise ModelError("body force.g", f"must be a finite vector (gx, gy), m/s², got "
+                             f"{self.g!r}")
+        plausible.warn("gravity", float(np.hypot(*g)), "body force |g|", stacklevel=4)
+
 
 @dataclass(frozen=True, eq=False)
 class PrescribedDisplacement:
@@ -629,6 +641,7 @@ class Interface:
                                             "(pairs = true joins nodes node to node)")
         if not np.isfinite(self.friction) or self.friction < 0:
             raise ModelError(f"{item}.friction", f"must be >= 0, got {self.friction}")
+        plausible.warn("friction", self.friction, f"{item}.friction", stacklevel=4)
         if isinstance(self.plus, RigidObstacle):
             raise ModelError(f"{item}.plus", f"is obstacle '{self.plus.name}': an obstacle is "
                              "the minus side (S−) of an interface, the body's nodes are plus")

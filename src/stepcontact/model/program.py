@@ -24,6 +24,11 @@ import numpy as np
 from stepcontact.errors import ModelError
 from stepcontact.model.items import Segment
 
+#: the most cycles a cyclic program may have (two load segments each): a program beyond it
+#: would take hours to days to run and gigabytes to hold (each segment has its own events and
+#: states); split a longer history into runs, or give the cycles that matter
+MAX_CYCLES = 10_000
+
 
 def _number(value: object, item: str) -> float:
     """``value`` as a finite float, else a ModelError naming ``item``."""
@@ -74,6 +79,10 @@ def cycle_amplitudes(amplitude: float | Sequence[float], n: int | None,
                              f"must be a whole number of cycles, got {n!r}") from None
         if number < 1:
             raise ModelError(f"{item}.{count}", f"must be ≥ 1, got {number}")
+        if number > MAX_CYCLES:
+            raise ModelError(f"{item}.{count}", f"is {number:,}: that many cycles are "
+                             f"{2 * number:,} load segments, more than a run can hold; at most "
+                             f"{MAX_CYCLES:,} cycles ({2 * MAX_CYCLES:,} segments)")
         if not per_cycle:
             amps = amps * number
         elif len(amps) != number:
@@ -87,6 +96,9 @@ def cycle_amplitudes(amplitude: float | Sequence[float], n: int | None,
             raise ModelError(where, f"is {a:g} but the first cycle's is {amps[0]:g}: the "
                              "amplitudes must have one sign (its sign sets the direction of "
                              "the first half-cycle)")
+    if len(amps) > MAX_CYCLES:
+        raise ModelError(f"{item}.amplitude", f"gives {len(amps):,} cycles: at most "
+                         f"{MAX_CYCLES:,} ({2 * MAX_CYCLES:,} load segments)")
     return amps
 
 
@@ -160,4 +172,4 @@ def cycles(
     return tuple(out)
 
 
-__all__ = ["cycle_amplitudes", "cycles"]
+__all__ = ["MAX_CYCLES", "cycle_amplitudes", "cycles"]

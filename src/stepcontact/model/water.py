@@ -39,10 +39,26 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.errors import ModelError
+from stepcontact.model import plausible
 from stepcontact.model.items import EdgeLoad, Interface, Model, NodeSet
 
 #: unit weight of fresh water γ_w = ρ_w g, N/m³
 UNIT_WEIGHT_WATER = 9810.0
+
+
+def _given_values(spec) -> list[float]:
+    """The numbers a pressure or head spec gives: the constant, or the values of the points
+    of a profile (none for a function of (x, y))."""
+    if isinstance(spec, LinearProfile):
+        return [p[2] for p in spec.points]
+    if callable(spec) or spec is None:
+        return []
+    if np.ndim(spec) == 0:
+        return [float(spec)]
+    try:
+        return [float(p[2]) for p in spec]
+    except (TypeError, ValueError, IndexError):
+        return []
 
 
 def _finite(v: float, item: str, *, positive: bool = False) -> float:
@@ -246,6 +262,8 @@ class WaterLoad:
         if self.level is not None:
             _finite(self.level, "water load.level")
         _finite(self.unit_weight, "water load.unit_weight", positive=True)
+        plausible.warn("unit_weight_water", self.unit_weight, "water load.unit_weight",
+                       stacklevel=4)
 
     @property
     def follows_level(self) -> bool:
@@ -309,6 +327,13 @@ class Uplift:
         if self.through not in ("faces", "cfes"):
             raise ModelError(f"{item}.through", f"'{self.through}' is not 'faces' or 'cfes'")
         self.function()  # checks the spec
+        plausible.warn("unit_weight_water", self.unit_weight, f"{item}.unit_weight",
+                       stacklevel=4)
+        key, spec = ("head", self.head) if self.head is not None else ("pressure",
+                                                                       self.pressure)
+        quantity = "head" if key == "head" else "water_pressure"
+        for v in _given_values(spec):
+            plausible.warn(quantity, v, f"{item}.{key}", stacklevel=4)
 
     @property
     def name(self) -> str:
@@ -388,11 +413,19 @@ class CrackWater:
             _finite(self.level, f"{item}.level")
         if self.pressure is not None:
             _finite(self.pressure, f"{item}.pressure")
+            if self.pressure < 0:
+                raise ModelError(f"{item}.pressure", f"is {self.pressure:g} Pa: water in a "
+                                 "crack pushes its faces apart, a negative pressure (suction) "
+                                 "would pull them together; give a pressure ≥ 0 Pa per unit "
+                                 "factor")
+            plausible.warn("water_pressure", self.pressure, f"{item}.pressure", stacklevel=4)
             if self.level is not None:
                 raise ModelError(item, "give the water level or the pressure in the crack, "
                                  "not both")
             object.__setattr__(self, "pressure", float(self.pressure))
         _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
+        plausible.warn("unit_weight_water", self.unit_weight, f"{item}.unit_weight",
+                       stacklevel=4)
         if self.entry is not None:
             try:
                 e = np.asarray(self.entry, dtype=float)
@@ -405,6 +438,42 @@ class CrackWater:
             entry = ((float(e[0]), float(e[1])) if e.ndim == 1
                      else tuple((float(x), float(y)) for x, y in e))
             object.__setattr__(self, "entry", entry)
+
+    def check_level(self, y: np.ndarray, item: str) -> None:
+        """A given water level must be above the lowest point ``y`` (m) of the joint: below
+        it the crack is dry (p_c = 0 everywhere), and where the joint opened the crack water
+        would *replace* the uplift by nothing — the opening would close again at once, and a
+        heel would open and close at one load factor without end."""
+        if self.level is None or self.pressure is not None or not len(y):
+            return
+        lo, hi = float(np.min(y)), float(np.max(y))
+        if self.level <= lo:
+            raise ModelError(f"{item}.level", f"is {self.level:g} m, at or below the whole "
+                             f"joint (its CFEs lie at y = {lo:g} … {hi:g} m): the crack would "
+                             "hold no water and an opening would lose its uplift; give the "
+                             "elevation of the water surface that reaches the joint (above "
+                             f"y = {lo:g} m), or no crack water")
+
+    @staticmethod
+    def check_entries(points: np.ndarray, x: np.ndarray, item: str) -> None:
+        """Every entry point lies on the joint: within one CFE spacing of a CFE (``x``: the
+        joint's CFEs in order along it, m).  An entry elsewhere would be moved to the nearest
+        CFE, which may be the wrong end of the joint: the crack would fill from there, or not
+        at all, and the dam slide later than it should."""
+        x = np.asarray(x, dtype=float).reshape(-1, 2)
+        if not len(x):
+            return
+        seg = np.hypot(*np.diff(x, axis=0).T) if len(x) > 1 else np.zeros(0)
+        extent = float(np.ptp(x, axis=0).max()) if len(x) > 1 else 0.0
+        tol = max(float(seg.max()) if seg.size else 0.0, 1e-9 * max(extent, 1.0))
+        for pt in np.atleast_2d(points):
+            d = np.hypot(*(x - pt).T)
+            if d.min() > tol:
+                lo, hi = x.min(axis=0), x.max(axis=0)
+                raise ModelError(item, f"({pt[0]:g}, {pt[1]:g}) is {d.min():.3g} m from the "
+                                 f"joint, which spans x = {lo[0]:g} … {hi[0]:g} m, y = "
+                                 f"{lo[1]:g} … {hi[1]:g} m: water enters a crack at a point of "
+                                 "its joint (e.g. the heel); give that point")
 
     @property
     def entries(self) -> np.ndarray:

@@ -1388,10 +1388,12 @@ def solve_static(
     system = model if isinstance(model, System) else assemble(model)
     if not system.model.effective_program and not getattr(system.model, "stages", ()):
         raise ModelError("model.program", "is empty: give at least one load segment")
-    import contextlib
+    if isinstance(system.model, Model):  # what validate checks too, before any work
+        from stepcontact.model.consistency import check_consistency
 
+        check_consistency(system.model)
     writer = None
-    lock = contextlib.nullcontext()
+    lock: contextlib.AbstractContextManager = contextlib.nullcontext()
     if output is not None:  # (xarray is imported only for a result file)
         from stepcontact.io.atomic import output_lock
         from stepcontact.results.file import ResultWriter

@@ -629,6 +629,31 @@ def _failed(ds: xr.Dataset, study: BasinStudy) -> list[_Block]:
             _List(items)]
 
 
+def all_failed(ds: xr.Dataset) -> bool:
+    """True when no case of the study has a result (every one failed or is missing)."""
+    return not np.any(_strings(ds, "case_status", "ok") == "ok")
+
+
+def failure_reasons(ds: xr.Dataset) -> list[tuple[str, int, str]]:
+    """The distinct reasons the cases failed: (message, how many cases, the first case's
+    id), most frequent first."""
+    status, message = _strings(ds, "case_status", "ok"), _strings(ds, "case_message")
+    reasons: dict[str, list[str]] = {}
+    for cid, st, msg in zip(ds["case"].values, status, message, strict=True):
+        if st != "ok":
+            reasons.setdefault(str(msg) or f"{st} (no message: not run)", []).append(str(cid))
+    return sorted(((m, len(ids), ids[0]) for m, ids in reasons.items()),
+                  key=lambda r: -r[1])
+
+
+def _all_failed(ds: xr.Dataset) -> list[_Block]:
+    n = ds.sizes["case"]
+    items = [f"{k} case(s), e.g. {cid}: {msg}" for msg, k, cid in failure_reasons(ds)]
+    return [_Heading(2, "All cases failed"),
+            _Para(f"All {n} cases of the study failed: there is no limit thickness and no "
+                  "figure. The reasons:"), _List(items)]
+
+
 def _caveats(study: BasinStudy) -> list[_Block]:
     along, through = study.cells
     return [_Heading(2, "Caveats"), _List([
@@ -652,6 +677,8 @@ def _report_blocks(ds: xr.Dataset, study: BasinStudy) -> tuple[str, list[_Block]
     blocks: list[_Block] = [_Para(f"Date: {date}. Source: stepcontact.study.basin "
                                   "(method.md §7, the article's Figs. 4–5).")]
     blocks += _inputs(study) + _hydraulics(study) + _formulas(study) + _method(study)
+    if all_failed(ds):
+        return title, blocks + _all_failed(ds) + _caveats(study)
     blocks += _results(ds, study) + _failed(ds, study) + _caveats(study)
     return title, blocks
 
@@ -732,8 +759,15 @@ def write_report(ds: xr.Dataset, study: BasinStudy, out_dir: str | os.PathLike[s
     """Write the study's report into ``out_dir``: ``report.md``, ``report.html`` (self-
     contained, inline CSS) and the figures ``figures/limits.png`` (:func:`plot_limits`) and
     ``figures/edge_stresses.png`` (:func:`plot_edge_stresses`) at ``dpi``, all atomically.
-    Returns their paths: keys ``markdown``, ``html``, ``limits``, ``edge_stresses``."""
+    Returns their paths: keys ``markdown``, ``html``, ``limits``, ``edge_stresses``.  When
+    every case failed, only the report is written: it says so and lists the reasons."""
     out = Path(out_dir)
+    if all_failed(ds):  # no figure: the report says that and why
+        title, blocks = _report_blocks(ds, study)
+        paths = {"markdown": out / "report.md", "html": out / "report.html"}
+        _write_text(paths["markdown"], _to_markdown(title, blocks))
+        _write_text(paths["html"], _to_html(title, blocks))
+        return paths
     paths = {key: out / rel for key, rel in FIGURES.items()}
     plot_limits(ds, study, paths["limits"], dpi=dpi)
     plot_edge_stresses(ds, study, paths["edge_stresses"], dpi=dpi)

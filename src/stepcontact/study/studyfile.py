@@ -15,7 +15,7 @@ import os
 import re
 import threading
 from collections import OrderedDict
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -24,6 +24,7 @@ import numpy as np
 
 from stepcontact.errors import StepContactError
 from stepcontact.study.sweep import (
+    MAX_CASES,
     Case,
     Output,
     Scalar,
@@ -389,13 +390,31 @@ def _study_schema():
     return StudyFile
 
 
-def load_study(path: str | os.PathLike[str]) -> Study:
+#: from this many cases on, ``load_study`` announces their number before checking them
+ANNOUNCE_CASES = 1000
+
+
+def _case_count(spec: Any) -> tuple[int, str]:
+    """The number of cases of a study file and how it comes about (before making them)."""
+    if spec.grid is not None:
+        n = math.prod(len(v) for v in spec.grid.values())
+        return n, " × ".join(f"{len(v)} values of {k}" for k, v in spec.grid.items())
+    return len(spec.cases or []), "[[cases]] tables"
+
+
+def load_study(path: str | os.PathLike[str], *, force: bool = False,
+               announce: Callable[[str], None] | None = None) -> Study:
     """Read and validate a study file (TOML): ``[study]`` (``model``, ``name``, ``output``,
     ``outputs``, ``slip``, ``eps_p``, ``max_events``, ``precision``) and either ``[grid]``
     ({dotted key = [values]}, their Cartesian product) or ``[[cases]]`` (one table of
     {dotted key = value} per case, optional ``id``).  Every case's parameters are applied to
     the base model file and checked against its schema here, so that a wrong key or value is
-    a :class:`StudyError` naming it before anything runs."""
+    a :class:`StudyError` naming it before anything runs.
+
+    A study of more than :data:`~stepcontact.study.sweep.MAX_CASES` cases is refused (with
+    their count) unless ``force``; ``announce`` (e.g. a print to stderr) is told the number
+    of cases before they are made and checked, when there are more than
+    :data:`ANNOUNCE_CASES` (the sweep's progress bar counts them as they run)."""
     import tomllib
 
     from pydantic import ValidationError
@@ -423,6 +442,14 @@ def load_study(path: str | os.PathLike[str]) -> Study:
         doc = _read_toml(model_path)
     except StepContactError as e:
         raise StudyError(f"{path}: study.model: {' '.join(str(e).split())}") from None
+    n, how = _case_count(spec)
+    if n > MAX_CASES and not force:
+        raise StudyError(f"{path}: {n:,} cases ({how}): more than {MAX_CASES:,}, which would "
+                         "run for hours or days; give fewer values, or --force (force=True) "
+                         "to run them all")
+    if announce is not None and n > ANNOUNCE_CASES:  # their checks take a while
+        announce(f"sweep '{s.name or path.stem}': {n:,} cases ({how}); checking their "
+                 "parameters")
     try:
         cases = grid(spec.grid) if spec.grid is not None else cases_from_list(spec.cases or [])
         for c in cases:

@@ -59,6 +59,9 @@ Output = float | int | str | bool | None | np.ndarray
 
 #: ids longer than this are shortened to a readable prefix and a hash
 MAX_ID_LENGTH = 64
+#: a sweep of more cases is refused unless forced (``stepcontact sweep --force``): at a
+#: second or more per case it would run for hours to days and hold a dataset of that size
+MAX_CASES = 10_000
 #: environment variables that hold BLAS/OpenMP to one thread in a worker
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS",
                     "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
@@ -182,6 +185,7 @@ def cases_from_list(rows: Iterable[Mapping[str, Scalar]]) -> list[Case]:
     keys = list(dict.fromkeys(k for r in rows for k in r if k != "id"))
     short = _short_keys(keys)
     cases = []
+    named: dict[str, int] = {}  # an id the user gave -> the first case that has it
     for i, r in enumerate(rows):
         given = r.pop("id", None)
         params = {k: _check_scalar(k, v) for k, v in r.items()}
@@ -189,6 +193,12 @@ def cases_from_list(rows: Iterable[Mapping[str, Scalar]]) -> list[Case]:
             cid = _UNSAFE.sub("_", str(given)).strip("._")
             if not cid:
                 raise StudyError(f"cases[{i}].id: {given!r} is not a usable file name")
+            if cid in named:  # two cases the user named alike: not renamed behind their back
+                j = named[cid]
+                same = "" if cid == str(given) else f" (as a file name: '{cid}')"
+                raise StudyError(f"cases[{i}].id: {given!r}{same} is also the id of "
+                                 f"cases[{j}]: give every case its own id")
+            named[cid] = i
         else:
             cid = case_id(params, short)
         cases.append(Case(cid, params))
@@ -785,6 +795,6 @@ def _run_dask(func: Callable, todo: list[Case], retries: int, executor: Any,
 
 
 __all__ = [
-    "Case", "Outcome", "StudyError", "case_id", "case_path", "cases_from_list", "collect",
-    "current_case", "grid", "is_done", "pin_threads", "run_sweep", "to_grid",
+    "MAX_CASES", "Case", "Outcome", "StudyError", "case_id", "case_path", "cases_from_list",
+    "collect", "current_case", "grid", "is_done", "pin_threads", "run_sweep", "to_grid",
 ]
