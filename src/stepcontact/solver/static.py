@@ -17,6 +17,7 @@ Slip treatment ``"exact"`` writes Q = σ f (−N) into the scheme, so events are
 
 from __future__ import annotations
 
+import contextlib
 import time
 import warnings
 from collections.abc import Callable, Sequence
