@@ -611,9 +611,87 @@ def _dual_mortar(model: Model, itf: Interface, on_plus: bool, tol: float) -> dic
     x = X[order[k]]
     seg, t, _ = _project(x, a, b)
     x_other = a[seg] + t[:, None] * (b - a)[seg]
-    gap = np.einsum("ij,ij->i", x - x_other, nrm[k]) * (1.0 if on_plus else -1.0)
-    return dict(node=order[k], D=D[k], cols=cols[k], w=wts[k], normal=nrm[k], x=x,
+    if itf.normal is None:
+        nrm = _common_normals(mbody, obody, medges, oedges, ne, e, f, w.sum(axis=1),
+                              order[k], nrm[k], seg, t)
+    else:
+        nrm = nrm[k]
+    gap = np.einsum("ij,ij->i", x - x_other, nrm) * (1.0 if on_plus else -1.0)
+    return dict(node=order[k], D=D[k], cols=cols[k], w=wts[k], normal=nrm, x=x,
                 x_other=x_other, seg=seg, t=t, gap=gap)
+
+
+def _nodal_normals(body: Body | Frame, edges: np.ndarray, edge_n: np.ndarray):
+    """Unit normals and curvatures of a curve at its nodes, by body node id (0 elsewhere).
+
+    The normal at an end node is the length-weighted mean of the normals ``edge_n`` of the
+    edges meeting there (a mid-side node: its edge's).  The curvature is |κ| = ψ / ((L₁ + L₂)/2)
+    (1/m) at a node between two edges turned by ψ, that of its neighbour at an end of the
+    curve (0 for a lone edge), and the mean of its edge's ends at a mid-side node.
+    """
+    n_nodes = body.n_nodes
+    ends = edges[:, :2]
+    L = np.linalg.norm(body.points[ends[:, 1]] - body.points[ends[:, 0]], axis=1)
+    nn = np.zeros((n_nodes, 2))
+    turn = np.zeros((n_nodes, 2))
+    length = np.zeros(n_nodes)
+    for c in (0, 1):
+        np.add.at(nn, ends[:, c], L[:, None] * edge_n)
+        np.add.at(turn, ends[:, c], edge_n)
+        np.add.at(length, ends[:, c], L)
+    deg = np.bincount(ends.ravel(), minlength=n_nodes)
+    kappa = np.zeros(n_nodes)
+    two = deg == 2  # ψ = 2 arccos(|n₁ + n₂| / 2)
+    psi = 2.0 * np.arccos(np.clip(np.linalg.norm(turn[two], axis=1) / 2.0, 0.0, 1.0))
+    kappa[two] = psi / (length[two] / 2.0)
+    lone = np.flatnonzero(deg == 1)
+    if lone.size:  # the curve's ends: the neighbour's curvature
+        which = np.isin(ends, lone)
+        e_of, side = np.nonzero(which)
+        kappa[ends[e_of, side]] = kappa[ends[e_of, 1 - side]]
+    if edges.shape[1] == 3:
+        nn[edges[:, 2]] = edge_n
+        kappa[edges[:, 2]] = 0.5 * (kappa[ends[:, 0]] + kappa[ends[:, 1]])
+    used = np.unique(edges)
+    nn[used] /= np.linalg.norm(nn[used], axis=1)[:, None]
+    return nn, kappa
+
+
+def _common_normals(mbody, obody, medges, oedges, ne, pair_e, pair_f, share, nodes, n_m,
+                    seg, t) -> np.ndarray:
+    """Unit normals (S− → S+) of the CFEs at the M ``nodes``: the curvature-weighted mean
+
+        n_k = (|κ_O| n_M + |κ_M| n_O) / (|κ_M| + |κ_O|)        (n_M + n_O where both are 0)
+
+    of the M normal ``n_m`` at the node and the O normal n_O at the point opposite (O edge
+    ``seg`` at ξ = ``t``), κ the curvatures of the two curves there (:func:`_nodal_normals`).
+    It is the same whichever side carries the CFEs, and it is the normal of the plane that two
+    bodies touch in: a curved body on a flat one gets the flat one's normal; two equal
+    cylinders their common tangent's (x/R₁ − x/R₂ tilts cancel for any radii).  The normal of
+    one side alone would tilt the friction cone by the angle between the two faces, x/R at a
+    distance x from the first contact point: under the Hertz pressure a stuck joint would hold
+    a shear p·x/R (a third of f p at the edge of the contact for f = 0.3, a/R = 0.1), and the
+    stick zone of a cylinder sheared after pressing would come out shifted.
+    """
+    # the O edge normals, turned to agree with the M normals (S− → S+) of the edges they face
+    d = obody.points[oedges[:, 1]] - obody.points[oedges[:, 0]]
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    no = np.column_stack([-d[:, 1], d[:, 0]])
+    agree = np.zeros(len(oedges))
+    np.add.at(agree, pair_f, share * np.einsum("ij,ij->i", no[pair_f], ne[pair_e]))
+    mean = (share[:, None] * ne[pair_e]).sum(axis=0)
+    agree = np.where(agree == 0, no @ mean, agree)  # O edges facing no M edge
+    no *= np.where(agree < 0, -1.0, 1.0)[:, None]
+    _, k_m = _nodal_normals(mbody, medges, ne)
+    nn_o, k_o = _nodal_normals(obody, oedges, no)
+    a, b = oedges[seg, 0], oedges[seg, 1]
+    n_o = (1 - t)[:, None] * nn_o[a] + t[:, None] * nn_o[b]
+    n_o /= np.linalg.norm(n_o, axis=1)[:, None]
+    km, ko = k_m[nodes], (1 - t) * k_o[a] + t * k_o[b]
+    flat = km + ko == 0
+    wm = np.where(flat, 0.5, ko / np.where(flat, 1.0, km + ko))
+    n = wm[:, None] * n_m + (1 - wm)[:, None] * n_o
+    return n / np.linalg.norm(n, axis=1)[:, None]
 
 
 def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
