@@ -8,7 +8,9 @@ with n_k the unit normal pointing from S− to S+, t_k = (n_y, −n_x) (n turned
 +x for an interface whose normal is +y), g_k⁰ ≥ 0 the initial gap.
 So u_n ≤ 0 means no interpenetration and u_n < 0 is an open gap (article sign convention).
 Its end on S− may lie inside a boundary edge and is then interpolated from that edge's nodes
-(node-to-segment); the meshes of the two sides need not match.
+(node-to-segment); the meshes of the two sides need not match.  Mortar CFEs sit on the nodes of
+the coarser side, S+ or S−, their other end a weighted combination of the nodes opposite
+(:func:`_mortar_elements`): the kinematics above do not depend on which side is called S+.
 
 Forces: N_k (normal, ≤ 0 in compression) and Q_k (tangential) with |Q_k| ≤ −f_k N_k, eq. (1).
 """
@@ -558,13 +560,15 @@ def _dual_mortar(model: Model, itf: Interface, on_plus: bool, tol: float) -> dic
     eta = (xi - xa[:, None]) / (xb - xa)[:, None]
     phi = _shape(xi.ravel(), medges.shape[1] == 3).reshape(*xi.shape, -1)
     psi = _shape(eta.ravel(), oedges.shape[1] == 3).reshape(*eta.shape, -1)
+    ne_, n_m = len(medges), medges.shape[1]
+    phi, dropped = _lump_beyond_ends(medges, e, lo, hi, phi, tol / Lm)
 
     # dual (biorthogonal) weights on each M edge: ψ_i = Σ_j A_ij φ_j, A = D M⁻¹ with
     # M_ij = ∫ φ_i φ_j and D = diag(∫ φ_i) over the part of the edge that faces O, so that
     # ∫ ψ_i φ_j = δ_ij ∫ φ_i: the M end of CFE k is node k itself, as in the article's CFE
-    ne_, n_m = len(medges), medges.shape[1]
     Me = np.zeros((ne_, n_m, n_m))
     np.add.at(Me, e, np.einsum("pg,pgi,pgj->pij", w, phi, phi))
+    Me += np.eye(n_m)[None] * dropped[:, :, None]  # lumped functions: decoupled, D = 0
     De = np.zeros((ne_, n_m))
     np.add.at(De, e, np.einsum("pg,pgi->pi", w, phi))
     faced = np.unique(e)
@@ -694,6 +698,34 @@ def _common_normals(mbody, obody, medges, oedges, ne, pair_e, pair_f, share, nod
     return n / np.linalg.norm(n, axis=1)[:, None]
 
 
+def _lump_beyond_ends(medges, pair_e, lo, hi, phi, tol_xi):
+    """Shape functions φ̃ of the M edges (Gauss values ``phi``, (pairs, points, n)) with the
+    functions of the nodes that lie beyond the ends of O lumped into the nearest node of the
+    same edge that faces O, and which (edge, node) functions were lumped, (edges, n) bool.
+
+    A node faces O when an overlap piece [ξ_lo, ξ_hi] of one of its edges covers its ξ (0, 1,
+    ½ at a mid-side node).  An M edge that reaches beyond O (a foundation wider than the
+    structure on it) keeps a partition of unity on the part that faces O, so the patch test
+    holds there, and no CFE is made beyond O, where it would act at a point outside the
+    contact (Wohlmuth's modification of the multiplier space at the end of the interface).
+    An edge none of whose nodes faces O (O shorter than one M edge) is left as it is.
+    """
+    n = medges.shape[1]
+    xi_node = np.array([0.0, 1.0, 0.5])[:n]
+    t = tol_xi[:, None]
+    cover = (lo[:, None] <= xi_node + t) & (hi[:, None] >= xi_node - t)  # (pairs, n)
+    faces = np.zeros(int(medges.max()) + 1, dtype=bool)
+    faces[medges[pair_e][cover]] = True
+    keep = faces[medges]  # (edges, n)
+    keep[~keep.any(axis=1)] = True  # no node faces O: leave the edge alone
+    gap = np.abs(xi_node[:, None] - xi_node[None])  # (i, j) distances in ξ
+    dist = np.where(keep[:, None, :], gap[None], np.inf)
+    target = np.where(keep, np.arange(n)[None], np.argmin(dist, axis=2))  # (edges, n)
+    T = np.zeros((len(medges), n, n))
+    np.put_along_axis(T, target[:, :, None], 1.0, axis=2)
+    return np.einsum("pgi,pij->pgj", phi, T[pair_e]), ~keep
+
+
 def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
     """Segment-to-segment (mortar) CFEs, one per node k of the multiplier side M.
 
@@ -724,8 +756,10 @@ def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
     u_τ = t·(u⁺ − u⁻) and u_n = −n·(u⁺ − u⁻) − g⁰ do not change when S+ and S− are swapped
     (n, t and u⁺ − u⁻ all change sign), both orientations give the same CFEs, the same
     operator B and the same N, Q, u_n, u_τ; only the CFE's reported point (``x``, ``s``) is
-    on the side the user called S+: with M = S− it is the point of S+ opposite node k (its
-    closest point), and the CFEs are numbered along S+.
+    on the side the user called S+: with M = S− it is the point Σ_l w_kl x_l of its S+ end
+    (where its forces act on S+, so that moments of the CFE forces about any point are exact),
+    ``s`` the arc length of its closest point on S+, and the CFEs are numbered along S+.
+    M nodes beyond the ends of O get no CFE (:func:`_lump_beyond_ends`).
     """
     bp = model.body(itf.plus.body)
     on_plus = multipliers_on_plus(model, itf)
@@ -739,16 +773,21 @@ def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
         own[:, 0] = r["node"] + model.node_offsets[bp.name]
         return _finish(model, itf, order[k], xp[k], r["x_other"], r["normal"], s[k], r["D"],
                        r["cols"], r["w"], tol, scale, plus=(own, one), geo_gap=r["gap"])
-    # M = S−: each CFE's S+ end is the weighted combination of S+ nodes, reported at the
-    # point of S+ opposite its S− node, at that point's arc length along S+
+    # M = S−: each CFE's S+ end is the weighted combination Σ_l w_l x_l of S+ nodes, reported
+    # at that point (the point its forces on S+ act at: their moment is exact) and at the arc
+    # length along S+ of its closest point
     bm = model.body(itf.minus.body)
     own[:, 0] = r["node"] + model.node_offsets[bm.name]
+    valid = r["cols"] >= 0
+    pts = model.points[np.where(valid, r["cols"], 0)]
+    x_plus = np.einsum("kl,klc->kc", np.where(valid, r["w"], 0.0), pts)
     pe = curve_edges(bp, itf.plus)
+    seg, t, _ = _project(x_plus, bp.points[pe[:, 0]], bp.points[pe[:, 1]])
     s_node = np.zeros(bp.n_nodes)
     s_node[order] = s
-    s_x = (1 - r["t"]) * s_node[pe[r["seg"], 0]] + r["t"] * s_node[pe[r["seg"], 1]]
+    s_x = (1 - t) * s_node[pe[seg, 0]] + t * s_node[pe[seg, 1]]
     o = np.argsort(s_x, kind="stable")
-    return _finish(model, itf, r["node"][o], r["x_other"][o], r["x"][o], r["normal"][o],
+    return _finish(model, itf, r["node"][o], x_plus[o], r["x"][o], r["normal"][o],
                    s_x[o], r["D"][o], own[o], one[o], tol, scale, plus=(r["cols"][o], r["w"][o]),
                    geo_gap=r["gap"][o])
 
