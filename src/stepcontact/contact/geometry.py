@@ -519,6 +519,8 @@ def multipliers_on_plus(model: Model, itf: Interface) -> bool:
     """
     bp, bm = model.body(itf.plus.body), model.body(itf.minus.body)
     pe, me = curve_edges(bp, itf.plus), curve_edges(bm, itf.minus)
+    if len(pe) == 0 or len(me) == 0:
+        return True
     P, M = bp.points, bm.points
     scale = max(1.0, float(np.ptp(model.points, axis=0).max()))
     h = _mean_edge_lengths(P[pe[:, 0]], P[pe[:, 1]], M[me[:, 0]], M[me[:, 1]], 1e-9 * scale)
