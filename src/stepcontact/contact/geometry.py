@@ -563,12 +563,14 @@ def _dual_mortar(model: Model, itf: Interface, on_plus: bool, tol: float) -> dic
     phi = _shape(xi.ravel(), medges.shape[1] == 3).reshape(*xi.shape, -1)
     psi = _shape(eta.ravel(), oedges.shape[1] == 3).reshape(*eta.shape, -1)
     ne_, n_m = len(medges), medges.shape[1]
+    phi, dropped = _lump_beyond_ends(medges, e, lo, hi, phi, tol / Lm)
 
     # dual (biorthogonal) weights on each M edge: ψ_i = Σ_j A_ij φ_j, A = D M⁻¹ with
     # M_ij = ∫ φ_i φ_j and D = diag(∫ φ_i) over the part of the edge that faces O, so that
     # ∫ ψ_i φ_j = δ_ij ∫ φ_i: the M end of CFE k is node k itself, as in the article's CFE
     Me = np.zeros((ne_, n_m, n_m))
     np.add.at(Me, e, np.einsum("pg,pgi,pgj->pij", w, phi, phi))
+    Me += np.eye(n_m)[None] * dropped[:, :, None]  # lumped functions: decoupled, D = 0
     De = np.zeros((ne_, n_m))
     np.add.at(De, e, np.einsum("pg,pgi->pi", w, phi))
     faced = np.unique(e)
@@ -605,10 +607,8 @@ def _dual_mortar(model: Model, itf: Interface, on_plus: bool, tol: float) -> dic
     rr, cc = r_o.ravel()[keep], c_o.ravel()[keep]
     cols, wts = _pad_rows(_sparse((W.ravel()[keep] / D[rr], (rr, cc)), m, model.points.shape[0]))
 
-    # M nodes whose edges face no part of O (an overhang) get no CFE: there is no surface
-    # opposite them for a mutual displacement to be measured against.  A node beyond an end of
-    # O whose edge faces O in part keeps its CFE (its multiplier restrains what the edge
-    # carries: without it a body standing on one node of a coarser face could turn)
+    # M nodes whose edges face no part of O, or that lie beyond its ends (lumped), get no CFE:
+    # there is no surface opposite them for a mutual displacement to be measured against
     k = np.flatnonzero(mortar)
     # the initial gap at the node (its distance to O along n_k), not its weighted mean: two
     # curved bodies touching at a node are then in contact from the start, where the weighted
@@ -700,6 +700,41 @@ def _common_normals(mbody, obody, medges, oedges, ne, pair_e, pair_f, share, nod
     return n / np.linalg.norm(n, axis=1)[:, None]
 
 
+def _lump_beyond_ends(medges, pair_e, lo, hi, phi, tol_xi):
+    """Shape functions φ̃ of the M edges (Gauss values ``phi``, (pairs, points, n)) with the
+    functions of the nodes that lie beyond the ends of O lumped into the nearest node of the
+    same edge that faces O, and which (edge, node) functions were lumped, (edges, n) bool.
+
+    A node faces O when an overlap piece [ξ_lo, ξ_hi] of one of its edges covers its ξ (0, 1,
+    ½ at a mid-side node).  An M edge that reaches beyond O (a foundation wider than the
+    structure on it) keeps a partition of unity on the part that faces O, so the patch test
+    holds there, and no CFE is made beyond O, where it would act at a point outside the
+    contact (Wohlmuth's modification of the multiplier space at the end of the interface).
+    An edge none of whose nodes faces O (O shorter than one M edge) is left as it is, and so
+    is every edge when fewer than two nodes of M face O: the lumped functions would then be
+    constants only, which carry no moment (a body standing on one node of a coarser face
+    could turn).  Lumping also keeps the dual weights bounded: on a sliver of an edge the
+    functions of its nodes are nearly dependent and their dual weights large (round-off of
+    1e-8 relative in the contact conditions on quadratic edges facing O over a sixth).
+    """
+    n = medges.shape[1]
+    xi_node = np.array([0.0, 1.0, 0.5])[:n]
+    t = tol_xi[:, None]
+    cover = (lo[:, None] <= xi_node + t) & (hi[:, None] >= xi_node - t)  # (pairs, n)
+    faces = np.zeros(int(medges.max()) + 1, dtype=bool)
+    faces[medges[pair_e][cover]] = True
+    keep = faces[medges]  # (edges, n)
+    if faces.sum() < 2:
+        keep[:] = True
+    keep[~keep.any(axis=1)] = True  # no node faces O: leave the edge alone
+    gap = np.abs(xi_node[:, None] - xi_node[None])  # (i, j) distances in ξ
+    dist = np.where(keep[:, None, :], gap[None], np.inf)
+    target = np.where(keep, np.arange(n)[None], np.argmin(dist, axis=2))  # (edges, n)
+    T = np.zeros((len(medges), n, n))
+    np.put_along_axis(T, target[:, :, None], 1.0, axis=2)
+    return np.einsum("pgi,pij->pgj", phi, T[pair_e]), ~keep
+
+
 def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
     """Segment-to-segment (mortar) CFEs, one per node k of the multiplier side M.
 
@@ -717,8 +752,8 @@ def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
     the combination (1/D_k) Σ_l (∫ψ_k φ_l ds) u_l of the O nodes.  The normal n_k is the
     curvature-weighted mean of the two faces' normals there, pointing from S− to S+
     (:func:`_common_normals`: the same whichever side is M), and the initial gap the node's
-    distance to O along n_k.  M nodes whose edges face no O edge get no CFE.  Returns None
-    when no edge of M faces O.
+    distance to O along n_k.  M nodes whose edges face no O edge, or that lie beyond the ends
+    of O, get no CFE (:func:`_lump_beyond_ends`).  Returns None when no edge of M faces O.
 
     Why the coarser side: the constraints u_nk ≥ 0 hold for the weighted means over the M
     nodes.  On the finer side there are more of them than the coarser side has nodes to
@@ -732,9 +767,8 @@ def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
     (n, t and u⁺ − u⁻ all change sign), both orientations give the same CFEs, the same
     operator B and the same N, Q, u_n, u_τ; only the CFE's reported point (``x``, ``s``) is
     on the side the user called S+: with M = S− it is the point Σ_l w_kl x_l of its S+ end
-    (where its forces act on S+, so that moments of the CFE forces about any point are exact;
-    beyond an end of S+ for an S− node there whose edge faces S+ in part), ``s`` the arc
-    length of its closest point on S+, and the CFEs are numbered along S+.
+    (where its forces act on S+, so that moments of the CFE forces about any point are exact),
+    ``s`` the arc length of its closest point on S+, and the CFEs are numbered along S+.
 
     The choice is exact (no threshold: the finer side never carries the CFEs, on a tie
     either may) and robust (each side is a plain dual mortar discretisation; the patch test
