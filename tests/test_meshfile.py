@@ -479,7 +479,7 @@ def test_cli_validate_good_file(model_dir):
     result = runner.invoke(app, ["validate", str(model_dir / "model.toml"), "--json"])
     data = json.loads(result.stdout)
     assert data["status"] == "ok" and data["problems"] == []
-    assert data["summary"]["cfes"] == 9
+    assert data["summary"]["cfes"] == 5
     result = runner.invoke(app, ["check", str(model_dir / "model.toml")])  # hidden alias
     assert result.exit_code == 0 and "model OK" in result.stdout
 
