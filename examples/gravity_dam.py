@@ -63,8 +63,10 @@ fs_slide = f * (W - U) / H
 fs_over = W * x_w / (H * h_d / 3 + U * 2 * B / 3)
 safety = res.interface_safety("base")
 sN, sQ = abs(safety.normal_force[i]), abs(safety.shear_force[i])
-# the normal resultant's lever about the toe gives the net moment, M_r − M_o = ΣN·e_toe
-e_toe = B - safety.position[i]
+# the normal resultant's lever about the toe gives the net moment, M_r − M_o = ΣN·e_toe (its
+# point, from the CFE forces where they act on the dam: the CFEs sit on the coarser rock's
+# nodes, the first and last CFE points 0.3 m inside the heel and the toe)
+e_toe = B - safety.point[i][0]
 fs_over_fe = W * x_w / (W * x_w - sN * e_toe)
 print(f"at h_d = {h_d} m (state {i}, level {res.lam[i]:g}): ΣN = {sN:.1f} N (hand W − U = "
       f"{W - U:.1f}), ΣQ = {sQ:.1f} N (hand H = {H:.1f})")

@@ -158,10 +158,10 @@ def test_unloading_to_zero_and_reloading(P0):
 
 
 def test_elastic_block_shakes_down_to_a_repeating_cycle():
-    """The example's elastic block on its base (11 CFEs, f = 0.5) under push cycles of
-    ±20 000 N (85 % of f W): partial slip from the heel and the toe; from the second cycle on
-    every cycle repeats the same events at the same loads and the same corner displacements
-    (no ratcheting), and the run stays in equilibrium (residual, violation ≤ 1e-9)."""
+    """The example's elastic block on its base (9 CFEs, on the coarser base; f = 0.5) under push
+    cycles of ±20 000 N (85 % of f W): partial slip from the heel and the toe; from the second
+    cycle on every cycle repeats the same events at the same loads and the same corner
+    displacements (no ratcheting), and the run stays in equilibrium (residual, violation ≤ 1e-9)."""
     spec = importlib.util.spec_from_file_location(
         "block_on_base", Path(__file__).resolve().parents[1] / "examples" / "block_on_base.py")
     assert spec is not None and spec.loader is not None
@@ -180,7 +180,7 @@ def test_elastic_block_shakes_down_to_a_repeating_cycle():
 
     for a, b in ((3, 5), (4, 6)):  # cycle 2 = cycle 3, half-cycle by half-cycle
         (ka, la), (kb, lb) = events(a), events(b)
-        assert ka == kb and len(ka) >= 8
+        assert ka == kb and len(ka) >= 6
         np.testing.assert_allclose(la, lb, rtol=RTOL)
     ux = res.node_history(point=(1.0, 2.0), body="block")
     ends = np.flatnonzero(res.kind == "segment_end")

@@ -423,7 +423,8 @@ material = "steel"
 def test_validate_reports_overlap_and_touching_is_fine(model_dir):
     assert validate_model_file(model_dir / "model.toml") == []
     report = validation_report(model_dir / "model.toml")
-    assert report.ok and report.n_cfes == 9 and report.summary()["bodies"] == 2
+    # mortar CFEs on the coarser foundation (0.4 m cells): its 5 nodes under the block [1, 3]
+    assert report.ok and report.n_cfes == 5 and report.summary()["bodies"] == 2
     text = model_text() + LID.replace('"steel"', '"concrete"')
     path = model_dir / "model.toml"
     path.write_text(text, encoding="utf-8")
@@ -474,11 +475,11 @@ def test_cli_validate_good_file(model_dir):
     result = runner.invoke(app, ["validate", str(model_dir / "model.toml")])
     assert result.exit_code == 0, result.output
     assert "model OK" in result.stdout
-    assert "2 bodies, 99 nodes" in result.stdout and "9 CFEs" in result.stdout
+    assert "2 bodies, 99 nodes" in result.stdout and "5 CFEs" in result.stdout
     result = runner.invoke(app, ["validate", str(model_dir / "model.toml"), "--json"])
     data = json.loads(result.stdout)
     assert data["status"] == "ok" and data["problems"] == []
-    assert data["summary"]["cfes"] == 9
+    assert data["summary"]["cfes"] == 5
     result = runner.invoke(app, ["check", str(model_dir / "model.toml")])  # hidden alias
     assert result.exit_code == 0 and "model OK" in result.stdout
 

@@ -623,7 +623,7 @@ def test_demo_command(tmp_path, fake_solver):
 def test_check_and_schema_commands(model_file, tmp_path):
     result = runner.invoke(app, ["check", str(model_file)])
     assert result.exit_code == 0, result.output
-    assert "398 DOFs" in result.stdout and "11 CFEs" in result.stdout
+    assert "398 DOFs" in result.stdout and "7 CFEs" in result.stdout  # on the coarser face
     bad = tmp_path / "bad.toml"
     bad.write_text(DEMO.read_text(encoding="utf-8").replace("friction = 0.6", "friction = nan"),
                    encoding="utf-8")

@@ -42,12 +42,13 @@ def _engine(model, max_rank):
     return EventEngine(SchemeSolver(cond.G, cond.d, max_rank=max_rank), [law], system.w0), cond
 
 
-@pytest.mark.parametrize("max_rank", [2, 48])
+@pytest.mark.parametrize("max_rank", [4, 48])
 @pytest.mark.parametrize("model", ["stack", "compliant"])
 def test_woodbury_updates_equal_dense_solves(model, max_rank):
     """40 random schemes in a row (each CFE open, stuck or slipping either way): the rates
     from the base LU with Woodbury row updates (or a refactorisation, every few schemes with
-    max_rank = 2) equal a dense solve of the scheme's full matrix to 1e-9; singular schemes are
+    max_rank = 4: the stack has 6 CFEs, whose random schemes differ from the base by more than
+    2 rows every time) equal a dense solve of the scheme's full matrix to 1e-9; singular schemes are
     reported as mechanisms by both."""
     mdl = (vm.random_frictional_model("stack", (0.4, 0.6), [(0, -1)] * 3, [(0, -1)] * 3)
            if model == "stack" else vm.spring_held_block(0.5))
@@ -90,7 +91,7 @@ def test_woodbury_updates_equal_dense_solves(model, max_rank):
     assert n_checked >= 10
     counters = eng.schemes.counters
     assert counters["scheme_updates"] > 0
-    if max_rank == 2:
+    if max_rank == 4:
         assert counters["scheme_factorizations"] > 1
 
 

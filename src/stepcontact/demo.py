@@ -3,7 +3,7 @@
 Both are a concrete block (2 m × 1 m, E = 30 GPa, ν = 0.2, 2400 kg/m³) resting on an elastic
 foundation block (6 m × 2 m, E = 10 GPa, ν = 0.25, fixed at its base) through a rigid joint
 with Coulomb friction f = 0.6; the meshes of the two faces of the joint do not match.  About
-400 degrees of freedom and 11 CFEs, so a run takes seconds.
+400 degrees of freedom and 7 CFEs (mortar, on the coarser foundation), so a run takes seconds.
 
 * :func:`demo_model` (``demo.toml``): self-weight, then a pressure on the block's left face
   growing until the block slides off (equilibrium lost near λ ≈ 2.83 of 5).

@@ -37,5 +37,5 @@ class ContactHeldWarning(UserWarning):
 
 class ContactMeshWarning(UserWarning):
     """The meshes of an interface give a correct but less accurate contact pressure than they
-    could (e.g. mortar CFEs on the finer of the two sides: the pressure oscillates about the
-    right mean); the message says what to change."""
+    could; the message says what to change.  (Mortar CFEs no longer warn about the finer side:
+    they sit on the coarser side whichever one is S+.)"""

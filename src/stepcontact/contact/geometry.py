@@ -8,19 +8,20 @@ with n_k the unit normal pointing from S− to S+, t_k = (n_y, −n_x) (n turned
 +x for an interface whose normal is +y), g_k⁰ ≥ 0 the initial gap.
 So u_n ≤ 0 means no interpenetration and u_n < 0 is an open gap (article sign convention).
 Its end on S− may lie inside a boundary edge and is then interpolated from that edge's nodes
-(node-to-segment); the meshes of the two sides need not match.
+(node-to-segment); the meshes of the two sides need not match.  Mortar CFEs sit on the nodes of
+the coarser side, S+ or S−, their other end a weighted combination of the nodes opposite
+(:func:`_mortar_elements`): the kinematics above do not depend on which side is called S+.
 
 Forces: N_k (normal, ≤ 0 in compression) and Q_k (tangential) with |Q_k| ≤ −f_k N_k, eq. (1).
 """
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.errors import ContactMeshWarning, ModelError
+from stepcontact.errors import ModelError
 from stepcontact.model import Body, Frame, Interface, Model, NodeSet, RigidObstacle
 
 MAX_END_NODES = 3
@@ -330,7 +331,7 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
         if kind == "node-to-node" or (np.all(match >= 0) and _conforming(bp, bm, itf, tol)):
             return _node_to_node(model, itf, order, xp, s, trib, match, tol, scale)
     if kind in ("auto", "mortar") and len(curve_edges(bp, itf.plus)):
-        out = _mortar_elements(model, itf, order, xp, s, trib, medges, tol, scale)
+        out = _mortar_elements(model, itf, order, xp, s, tol, scale)
         if out is not None:
             return out
     if kind == "mortar":
@@ -430,28 +431,31 @@ def _gauss01(n: int) -> tuple[np.ndarray, np.ndarray]:
 MORTAR_GAUSS = 4
 
 
-def _edge_normals(model: Model, itf: Interface, pedges, medges, pair_e, pair_f, h):
-    """Unit normals (S− → S+) of the S+ edges: −(outward normal of S+) for a continuum S+;
-    for a frame S+ the outward normal of the S− edge it faces, or the side S+ lies on."""
-    bp, bm = model.body(itf.plus.body), model.body(itf.minus.body)
-    pts = bp.points
-    d = pts[pedges[:, 1]] - pts[pedges[:, 0]]
+def _edge_normals(mbody: Body | Frame, obody: Body | Frame, medges, oedges, pair_e, pair_f, h,
+                  where: str):
+    """Unit normals of the edges of the multiplier side M pointing from the other side O
+    towards M: −(outward normal of M) for a continuum M; for a frame M the outward normal of
+    the O edge it faces, or (two frames) the side M lies on.  ``where`` names M's edges in
+    the error raised when the side cannot be told."""
+    pts = mbody.points
+    d = pts[medges[:, 1]] - pts[medges[:, 0]]
     d /= np.linalg.norm(d, axis=1)[:, None]
     n = np.column_stack([-d[:, 1], d[:, 0]])
-    out_p = _outward_normals(bp, pedges)
-    if out_p is not None:
-        return -out_p
-    sign = np.zeros(len(pedges))
-    out_m = _outward_normals(bm, medges)
+    out_m = _outward_normals(mbody, medges)
     if out_m is not None:
-        np.add.at(sign, pair_e, np.einsum("ij,ij->i", n[pair_e], out_m[pair_f]))
-    else:  # two frames: S+ lies on the side the gap points to
+        return -out_m
+    sign = np.zeros(len(medges))
+    out_o = _outward_normals(obody, oedges)
+    if out_o is not None:
+        np.add.at(sign, pair_e, np.einsum("ij,ij->i", n[pair_e], out_o[pair_f]))
+    else:  # two frames: M lies on the side opposite to the gap
         np.add.at(sign, pair_e, -h)
-    if np.any(sign == 0):
-        e = int(np.flatnonzero(sign == 0)[0])
-        raise ModelError(f"interface '{itf.name}'.normal",
-                         f"cannot tell which side of S+ edge {e} faces S-: give the normal")
-    return n * np.sign(sign)[:, None]
+    faced = np.unique(pair_e)
+    if np.any(sign[faced] == 0):
+        e = int(faced[np.flatnonzero(sign[faced] == 0)[0]])
+        raise ModelError(f"{where}.normal", f"cannot tell which side of edge {e} faces the "
+                         "other side of the interface: give the normal")
+    return n * np.where(sign == 0, 1.0, np.sign(sign))[:, None]
 
 
 def _mortar_pairs(pa, pb, ma, mb, tol):
@@ -492,125 +496,322 @@ def _mortar_pairs(pa, pb, ma, mb, tol):
     return out[np.lexsort((out[:, 1], out[:, 0]))]  # by S+ edge, then S− edge
 
 
-def _mortar_elements(model: Model, itf: Interface, order, xp, s, trib, medges, tol, scale):
-    """Segment-to-segment (mortar) CFEs, one per S+ node k.
+def _mean_edge_lengths(pa, pb, ma, mb, tol) -> tuple[float, float] | None:
+    """Mean edge lengths (m) of S+ [pa, pb] and S− [ma, mb] where they face each other, each
+    weighted by the length of the overlap pieces (the pieces of :func:`_mortar_pairs` seen
+    from S+); None when no S+ edge faces S−."""
+    pairs = _mortar_pairs(pa, pb, ma, mb, tol)
+    if pairs is None:
+        return None
+    e, f = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
+    Lp = np.linalg.norm(pb - pa, axis=1)[e]
+    Lm = np.linalg.norm(mb - ma, axis=1)[f]
+    share = (pairs[:, 3] - pairs[:, 2]) * Lp
+    return float(share @ Lp / share.sum()), float(share @ Lm / share.sum())
 
-    The mutual displacement of CFE k is the S+ shape function φ_k-weighted mean over the
-    overlap Γ_k of S+ and S− (exact clipping of the segments, projected along the S+ edge
-    normals, and Gauss integration on each overlap piece):
+
+def multipliers_on_plus(model: Model, itf: Interface) -> bool:
+    """Do the mortar CFEs of ``itf`` sit on S+ (True) or on S− (False)?
+
+    On the coarser side of the two, whichever the user called S+: the overlap-weighted mean
+    edge lengths (:func:`_mean_edge_lengths`) decide, S+ on a tie (equal within 1e-9).  See
+    :func:`_mortar_elements` for why.
+    """
+    bp, bm = model.body(itf.plus.body), model.body(itf.minus.body)
+    pe, me = curve_edges(bp, itf.plus), curve_edges(bm, itf.minus)
+    if len(pe) == 0 or len(me) == 0:
+        return True
+    P, M = bp.points, bm.points
+    scale = max(1.0, float(np.ptp(model.points, axis=0).max()))
+    h = _mean_edge_lengths(P[pe[:, 0]], P[pe[:, 1]], M[me[:, 0]], M[me[:, 1]], 1e-9 * scale)
+    return h is None or h[0] >= h[1] * (1.0 - 1e-9)
+
+
+def _dual_mortar(model: Model, itf: Interface, on_plus: bool, tol: float) -> dict | None:
+    """Dual mortar CFEs with the multiplier side M = S+ (``on_plus``) or S−, one per node k of
+    M that faces the other side O (see :func:`_mortar_elements`).
+
+    Returns None when no M edge faces O, else a dict of arrays over those nodes, in their
+    order along M: ``node`` (local ids on M), ``D`` (∫φ_k ds over the faced part, m),
+    ``cols``, ``w`` (global O nodes and their weights ∫ψ_k φ_l ds / D_k, padded with −1, 0),
+    ``normal`` (unit, S− → S+), ``x`` (node k), ``x_other`` (its closest point on O), ``seg``,
+    ``t`` (that point's O edge and position ξ on it) and ``gap`` (the signed distance
+    (x⁺ − x⁻)·n between the two).
+    """
+    mset, oset = (itf.plus, itf.minus) if on_plus else (itf.minus, itf.plus)
+    mbody, obody = model.body(mset.body), model.body(oset.body)
+    medges, oedges = curve_edges(mbody, mset), curve_edges(obody, oset)
+    X, Y = mbody.points, obody.points
+    pairs = _mortar_pairs(X[medges[:, 0]], X[medges[:, 1]], Y[oedges[:, 0]], Y[oedges[:, 1]],
+                          tol)
+    if pairs is None:
+        return None
+    order, _ = chain_order(mbody, mset)
+    trib = tributary_lengths(mbody, mset)[order]
+    e, f = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
+    lo, hi, xa, xb, h = pairs[:, 2:].T
+    m = len(order)
+    pos = np.full(mbody.n_nodes, -1, dtype=np.int64)
+    pos[order] = np.arange(m)
+
+    # Gauss points of every overlap piece, on the M edge (ξ) and on the O edge (η)
+    tg, wg = _gauss01(MORTAR_GAUSS)
+    Lm = np.linalg.norm(X[medges[:, 1]] - X[medges[:, 0]], axis=1)[e]
+    xi = lo[:, None] + (hi - lo)[:, None] * tg[None]
+    w = ((hi - lo) * Lm)[:, None] * wg[None]
+    eta = (xi - xa[:, None]) / (xb - xa)[:, None]
+    phi = _shape(xi.ravel(), medges.shape[1] == 3).reshape(*xi.shape, -1)
+    psi = _shape(eta.ravel(), oedges.shape[1] == 3).reshape(*eta.shape, -1)
+    ne_, n_m = len(medges), medges.shape[1]
+    phi, dropped = _lump_beyond_ends(medges, e, lo, hi, phi, tol / Lm)
+
+    # dual (biorthogonal) weights on each M edge: ψ_i = Σ_j A_ij φ_j, A = D M⁻¹ with
+    # M_ij = ∫ φ_i φ_j and D = diag(∫ φ_i) over the part of the edge that faces O, so that
+    # ∫ ψ_i φ_j = δ_ij ∫ φ_i: the M end of CFE k is node k itself, as in the article's CFE
+    Me = np.zeros((ne_, n_m, n_m))
+    np.add.at(Me, e, np.einsum("pg,pgi,pgj->pij", w, phi, phi))
+    Me += np.eye(n_m)[None] * dropped[:, :, None]  # lumped functions: decoupled, D = 0
+    De = np.zeros((ne_, n_m))
+    np.add.at(De, e, np.einsum("pg,pgi->pi", w, phi))
+    faced = np.unique(e)
+    A = np.zeros_like(Me)
+    A[faced] = np.linalg.solve(Me[faced], np.eye(n_m)[None] * De[faced][:, :, None])
+    A = np.swapaxes(A, 1, 2)  # solve gave M⁻¹ D (M symmetric); A = D M⁻¹ is its transpose
+    dual = np.einsum("pij,pgj->pgi", A[e], phi)
+
+    rows = pos[medges[e]]  # (pairs, n_m): the CFE of each M node of the pair's edge
+    D = np.zeros(m)
+    np.add.at(D, pos[medges[faced]], De[faced])
+    W = np.einsum("pg,pgi,pgl->pil", w, dual, psi)
+    n_o = oedges.shape[1]
+    r_o = np.repeat(rows[:, :, None], n_o, 2)
+    c_o = np.repeat(oedges[f][:, None, :], n_m, 1) + model.node_offsets[obody.name]
+
+    mortar = D > 1e-9 * trib  # M nodes that face O
+    if not np.any(mortar):
+        return None
+    # the M edge normals, oriented O → M, averaged at the nodes with the overlap weights, and
+    # turned to point S− → S+
+    side = "plus" if on_plus else "minus"
+    ne = _edge_normals(mbody, obody, medges, oedges, e, f, h, f"interface '{itf.name}'.{side}")
+    if not on_plus:
+        ne = -ne
+    if itf.normal is not None:
+        nrm = np.tile(np.asarray(itf.normal, float) / np.linalg.norm(itf.normal), (m, 1))
+    else:
+        nrm = np.zeros((m, 2))
+        np.add.at(nrm, pos[medges[faced]], De[faced][..., None] * ne[faced][:, None, :])
+        nrm[mortar] /= np.linalg.norm(nrm[mortar], axis=1)[:, None]
+
+    keep = mortar[r_o.ravel()]
+    rr, cc = r_o.ravel()[keep], c_o.ravel()[keep]
+    cols, wts = _pad_rows(_sparse((W.ravel()[keep] / D[rr], (rr, cc)), m, model.points.shape[0]))
+
+    # M nodes whose edges face no part of O, or that lie beyond its ends (lumped), get no CFE:
+    # there is no surface opposite them for a mutual displacement to be measured against
+    k = np.flatnonzero(mortar)
+    # the initial gap at the node (its distance to O along n_k), not its weighted mean: two
+    # curved bodies touching at a node are then in contact from the start, where the weighted
+    # mean would open every CFE by O(h²/R) and leave the bodies floating
+    a, b = Y[oedges[:, 0]], Y[oedges[:, 1]]
+    x = X[order[k]]
+    seg, t, _ = _project(x, a, b)
+    x_other = a[seg] + t[:, None] * (b - a)[seg]
+    if itf.normal is None:
+        nrm = _common_normals(mbody, obody, medges, oedges, ne, e, f, w.sum(axis=1),
+                              order[k], nrm[k], seg, t)
+    else:
+        nrm = nrm[k]
+    gap = np.einsum("ij,ij->i", x - x_other, nrm) * (1.0 if on_plus else -1.0)
+    return dict(node=order[k], D=D[k], cols=cols[k], w=wts[k], normal=nrm, x=x,
+                x_other=x_other, seg=seg, t=t, gap=gap)
+
+
+def _nodal_normals(body: Body | Frame, edges: np.ndarray, edge_n: np.ndarray):
+    """Unit normals and curvatures of a curve at its nodes, by body node id (0 elsewhere).
+
+    The normal at an end node is the length-weighted mean of the normals ``edge_n`` of the
+    edges meeting there (a mid-side node: its edge's).  The curvature is |κ| = ψ / ((L₁ + L₂)/2)
+    (1/m) at a node between two edges turned by ψ, that of its neighbour at an end of the
+    curve (0 for a lone edge), and the mean of its edge's ends at a mid-side node.
+    """
+    n_nodes = body.n_nodes
+    ends = edges[:, :2]
+    L = np.linalg.norm(body.points[ends[:, 1]] - body.points[ends[:, 0]], axis=1)
+    nn = np.zeros((n_nodes, 2))
+    turn = np.zeros((n_nodes, 2))
+    length = np.zeros(n_nodes)
+    for c in (0, 1):
+        np.add.at(nn, ends[:, c], L[:, None] * edge_n)
+        np.add.at(turn, ends[:, c], edge_n)
+        np.add.at(length, ends[:, c], L)
+    deg = np.bincount(ends.ravel(), minlength=n_nodes)
+    kappa = np.zeros(n_nodes)
+    two = deg == 2  # ψ = 2 arccos(|n₁ + n₂| / 2)
+    psi = 2.0 * np.arccos(np.clip(np.linalg.norm(turn[two], axis=1) / 2.0, 0.0, 1.0))
+    kappa[two] = psi / (length[two] / 2.0)
+    lone = np.flatnonzero(deg == 1)
+    if lone.size:  # the curve's ends: the neighbour's curvature
+        which = np.isin(ends, lone)
+        e_of, side = np.nonzero(which)
+        kappa[ends[e_of, side]] = kappa[ends[e_of, 1 - side]]
+    if edges.shape[1] == 3:
+        nn[edges[:, 2]] = edge_n
+        kappa[edges[:, 2]] = 0.5 * (kappa[ends[:, 0]] + kappa[ends[:, 1]])
+    used = np.unique(edges)
+    nn[used] /= np.linalg.norm(nn[used], axis=1)[:, None]
+    return nn, kappa
+
+
+def _common_normals(mbody, obody, medges, oedges, ne, pair_e, pair_f, share, nodes, n_m,
+                    seg, t) -> np.ndarray:
+    """Unit normals (S− → S+) of the CFEs at the M ``nodes``: the curvature-weighted mean
+
+        n_k = (|κ_O| n_M + |κ_M| n_O) / (|κ_M| + |κ_O|)        (n_M + n_O where both are 0)
+
+    of the M normal ``n_m`` at the node and the O normal n_O at the point opposite (O edge
+    ``seg`` at ξ = ``t``), κ the curvatures of the two curves there (:func:`_nodal_normals`).
+    It is the same whichever side carries the CFEs, and it is the normal of the plane that two
+    bodies touch in: a curved body on a flat one gets the flat one's normal; two equal
+    cylinders their common tangent's (x/R₁ − x/R₂ tilts cancel for any radii).  The normal of
+    one side alone would tilt the friction cone by the angle between the two faces, x/R at a
+    distance x from the first contact point: under the Hertz pressure a stuck joint would hold
+    a shear p·x/R (a third of f p at the edge of the contact for f = 0.3, a/R = 0.1), and the
+    stick zone of a cylinder sheared after pressing would come out shifted.
+    """
+    # the O edge normals, turned to agree with the M normals (S− → S+) of the edges they face
+    d = obody.points[oedges[:, 1]] - obody.points[oedges[:, 0]]
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    no = np.column_stack([-d[:, 1], d[:, 0]])
+    agree = np.zeros(len(oedges))
+    np.add.at(agree, pair_f, share * np.einsum("ij,ij->i", no[pair_f], ne[pair_e]))
+    mean = (share[:, None] * ne[pair_e]).sum(axis=0)
+    agree = np.where(agree == 0, no @ mean, agree)  # O edges facing no M edge
+    no *= np.where(agree < 0, -1.0, 1.0)[:, None]
+    _, k_m = _nodal_normals(mbody, medges, ne)
+    nn_o, k_o = _nodal_normals(obody, oedges, no)
+    a, b = oedges[seg, 0], oedges[seg, 1]
+    n_o = (1 - t)[:, None] * nn_o[a] + t[:, None] * nn_o[b]
+    n_o /= np.linalg.norm(n_o, axis=1)[:, None]
+    km, ko = k_m[nodes], (1 - t) * k_o[a] + t * k_o[b]
+    flat = km + ko == 0
+    wm = np.where(flat, 0.5, ko / np.where(flat, 1.0, km + ko))
+    n = wm[:, None] * n_m + (1 - wm)[:, None] * n_o
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
+def _lump_beyond_ends(medges, pair_e, lo, hi, phi, tol_xi):
+    """Shape functions φ̃ of the M edges (Gauss values ``phi``, (pairs, points, n)) with the
+    functions of the nodes that lie beyond the ends of O lumped into the nearest node of the
+    same edge that faces O, and which (edge, node) functions were lumped, (edges, n) bool.
+
+    A node faces O when an overlap piece [ξ_lo, ξ_hi] of one of its edges covers its ξ (0, 1,
+    ½ at a mid-side node).  An M edge that reaches beyond O (a foundation wider than the
+    structure on it) keeps a partition of unity on the part that faces O, so the patch test
+    holds there, and no CFE is made beyond O, where it would act at a point outside the
+    contact (Wohlmuth's modification of the multiplier space at the end of the interface).
+    An edge none of whose nodes faces O (O shorter than one M edge) is left as it is, and so
+    is every edge when fewer than two nodes of M face O: the lumped functions would then be
+    constants only, which carry no moment (a body standing on one node of a coarser face
+    could turn).  Lumping also keeps the dual weights bounded: on a sliver of an edge the
+    functions of its nodes are nearly dependent and their dual weights large (round-off of
+    1e-8 relative in the contact conditions on quadratic edges facing O over a sixth).
+    """
+    n = medges.shape[1]
+    xi_node = np.array([0.0, 1.0, 0.5])[:n]
+    t = tol_xi[:, None]
+    cover = (lo[:, None] <= xi_node + t) & (hi[:, None] >= xi_node - t)  # (pairs, n)
+    faces = np.zeros(int(medges.max()) + 1, dtype=bool)
+    faces[medges[pair_e][cover]] = True
+    keep = faces[medges]  # (edges, n)
+    if faces.sum() < 2:
+        keep[:] = True
+    keep[~keep.any(axis=1)] = True  # no node faces O: leave the edge alone
+    gap = np.abs(xi_node[:, None] - xi_node[None])  # (i, j) distances in ξ
+    dist = np.where(keep[:, None, :], gap[None], np.inf)
+    target = np.where(keep, np.arange(n)[None], np.argmin(dist, axis=2))  # (edges, n)
+    T = np.zeros((len(medges), n, n))
+    np.put_along_axis(T, target[:, :, None], 1.0, axis=2)
+    return np.einsum("pgi,pij->pgj", phi, T[pair_e]), ~keep
+
+
+def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
+    """Segment-to-segment (mortar) CFEs, one per node k of the multiplier side M.
+
+    M is the **coarser** of S+ and S− (:func:`multipliers_on_plus`), whichever the user
+    called S+; the other side is O.  The mutual displacement of CFE k is the M shape function
+    φ_k-weighted mean over the overlap Γ_k of M and O (exact clipping of the segments,
+    projected along the M edge normals, and Gauss integration on each overlap piece):
 
         u_k⁺ − u_k⁻ = (1/D_k) ∫_Γk φ_k (u⁺ − u⁻) ds,        D_k = ∫_Γk φ_k ds,
 
     so that u_τk and u_nk are the slip and the gap in the sense of a weighted average, and the
     forces N_k, Q_k act on both sides through the same weights (a uniform contact pressure p
-    is N_k = p D_k × thickness on every CFE: the contact patch test).  The normal n_k is the
-    mean of the normals of the S+ edges at node k (weighted by ∫φ_k) and the initial gap the
-    node's distance to S− along n_k.  S+ nodes whose edges face no S− edge get no
-    CFE (an overhang of S+ beyond S−).  Returns None when no S+ edge faces S−.
+    is N_k = p D_k × thickness on every CFE: the contact patch test, in either orientation).
+    With the dual (biorthogonal) weights ψ_k the M end of CFE k is node k itself and its O end
+    the combination (1/D_k) Σ_l (∫ψ_k φ_l ds) u_l of the O nodes.  The normal n_k is the
+    curvature-weighted mean of the two faces' normals there, pointing from S− to S+
+    (:func:`_common_normals`: the same whichever side is M), and the initial gap the node's
+    distance to O along n_k.  M nodes whose edges face no O edge, or that lie beyond the ends
+    of O, get no CFE (:func:`_lump_beyond_ends`).  Returns None when no edge of M faces O.
+
+    Why the coarser side: the constraints u_nk ≥ 0 hold for the weighted means over the M
+    nodes.  On the finer side there are more of them than the coarser side has nodes to
+    follow: where the joint is closed, the finer side is forced onto the dual projection of
+    the coarser side's piecewise-polynomial trace, which wiggles at the coarser side's nodes,
+    and the pressures oscillate from CFE to CFE (±2–4 % of the peak in the Hertz test at a
+    ratio 1.6), so that a joint near its opening limit opens early (8 % at 1.25) and a stick
+    zone comes out too small.  On the coarser side the constraints are the coarser side's
+    means of the finer side's trace, which the finer side meets without a wiggle.  Since
+    u_τ = t·(u⁺ − u⁻) and u_n = −n·(u⁺ − u⁻) − g⁰ do not change when S+ and S− are swapped
+    (n, t and u⁺ − u⁻ all change sign), both orientations give the same CFEs, the same
+    operator B and the same N, Q, u_n, u_τ; only the CFE's reported point (``x``, ``s``) is
+    on the side the user called S+: with M = S− it is the point Σ_l w_kl x_l of its S+ end
+    (where its forces act on S+, so that moments of the CFE forces about any point are exact),
+    ``s`` the arc length of its closest point on S+, and the CFEs are numbered along S+.
+
+    The choice is exact (no threshold: the finer side never carries the CFEs, on a tie
+    either may) and robust (each side is a plain dual mortar discretisation; the patch test
+    holds in both orientations).  A segment-to-segment formulation on the common refinement,
+    with one constraint per piece, would over-constrain a rigid joint (more constraints than
+    the coarser side has nodes) and make the contact forces non-unique.
     """
-    bp, bm = model.body(itf.plus.body), model.body(itf.minus.body)
-    off = model.node_offsets
-    pedges = curve_edges(bp, itf.plus)
-    P, M = bp.points, bm.points
-    pairs = _mortar_pairs(P[pedges[:, 0]], P[pedges[:, 1]], M[medges[:, 0]], M[medges[:, 1]],
-                          tol)
-    if pairs is None:
+    bp = model.body(itf.plus.body)
+    on_plus = multipliers_on_plus(model, itf)
+    r = _dual_mortar(model, itf, on_plus, tol)
+    if r is None:
         return None
-    e, f = pairs[:, 0].astype(np.int64), pairs[:, 1].astype(np.int64)
-    lo, hi, xa, xb, h = pairs[:, 2:].T
-    m = len(order)
-    pos = np.full(bp.n_nodes, -1, dtype=np.int64)
-    pos[order] = np.arange(m)
-
-    # Gauss points of every overlap piece, on the S+ edge (ξ) and on the S− edge (η)
-    tg, wg = _gauss01(MORTAR_GAUSS)
-    Lp = np.linalg.norm(P[pedges[:, 1]] - P[pedges[:, 0]], axis=1)[e]
-    xi = lo[:, None] + (hi - lo)[:, None] * tg[None]
-    w = ((hi - lo) * Lp)[:, None] * wg[None]
-    eta = (xi - xa[:, None]) / (xb - xa)[:, None]
-    phi = _shape(xi.ravel(), pedges.shape[1] == 3).reshape(*xi.shape, -1)
-    psi = _shape(eta.ravel(), medges.shape[1] == 3).reshape(*eta.shape, -1)
-
-    # dual (biorthogonal) weights on each S+ edge: ψ_i = Σ_j A_ij φ_j, A = D M⁻¹ with
-    # M_ij = ∫ φ_i φ_j and D = diag(∫ φ_i) over the part of the edge that faces S−, so that
-    # ∫ ψ_i φ_j = δ_ij ∫ φ_i: the S+ end of CFE k is node k itself, as in the article's CFE
-    ne_, n_plus = len(pedges), pedges.shape[1]
-    Me = np.zeros((ne_, n_plus, n_plus))
-    np.add.at(Me, e, np.einsum("pg,pgi,pgj->pij", w, phi, phi))
-    De = np.zeros((ne_, n_plus))
-    np.add.at(De, e, np.einsum("pg,pgi->pi", w, phi))
-    faced = np.unique(e)
-    A = np.zeros_like(Me)
-    A[faced] = np.linalg.solve(Me[faced], np.eye(n_plus)[None] * De[faced][:, :, None])
-    A = np.swapaxes(A, 1, 2)  # solve gave M⁻¹ D (M symmetric); A = D M⁻¹ is its transpose
-    dual = np.einsum("pij,pgj->pgi", A[e], phi)
-
-    rows = pos[pedges[e]]  # (pairs, n+): the CFE of each S+ node of the pair's edge
-    D = np.zeros(m)
-    np.add.at(D, pos[pedges[faced]], De[faced])
-    Wm = np.einsum("pg,pgi,pgl->pil", w, dual, psi)
-    n_minus = medges.shape[1]
-    r_m = np.repeat(rows[:, :, None], n_minus, 2)
-    c_m = np.repeat(medges[f][:, None, :], n_plus, 1) + off[bm.name]
-
-    mortar = D > 1e-9 * trib  # S+ nodes that face S−
-    if not np.any(mortar):
-        return None
-    _check_plus_coarser(itf, Lp, np.linalg.norm(M[medges[f, 1]] - M[medges[f, 0]], axis=1),
-                        hi - lo)
-    # the S+ edge normals, oriented S− → S+, averaged at the nodes with the overlap weights
-    ne = _edge_normals(model, itf, pedges, medges, e, f, h)
-    if itf.normal is not None:
-        nrm = np.tile(np.asarray(itf.normal, float) / np.linalg.norm(itf.normal), (m, 1))
-    else:
-        nrm = np.zeros((m, 2))
-        np.add.at(nrm, pos[pedges[faced]], De[faced][..., None] * ne[faced][:, None, :])
-        nrm[mortar] /= np.linalg.norm(nrm[mortar], axis=1)[:, None]
-
-    keep = mortar[r_m.ravel()]
-    rr, cc = r_m.ravel()[keep], c_m.ravel()[keep]
-    n_m, wm = _pad_rows(_sparse((Wm.ravel()[keep] / D[rr], (rr, cc)), m, model.points.shape[0]))
-    n_p = np.full((m, 1), -1, dtype=np.int64)
-    n_p[:, 0] = order + off[bp.name]
-    wp = np.ones((m, 1))
-
-    # S+ nodes whose edges face no part of S− (S+ overhangs S−) get no CFE: there is no
-    # surface opposite them for a mutual displacement to be measured against
-    k = np.flatnonzero(mortar)
-    # the initial gap at the node (its distance to S− along n_k), not its weighted mean: two
-    # curved bodies touching at a node are then in contact from the start, where the weighted
-    # mean would open every CFE by O(h²/R) and leave the bodies floating
-    a, b = M[medges[:, 0]], M[medges[:, 1]]
-    seg, t, _ = _project(xp[k], a, b)
-    xm = a[seg] + t[:, None] * (b - a)[seg]
-    geo_gap = np.einsum("ij,ij->i", xp[k] - xm, nrm[k])
-    return _finish(model, itf, order[k], xp[k], xm, nrm[k], s[k], D[k], n_m[k], wm[k],
-                   tol, scale, plus=(n_p[k], wp[k]), geo_gap=geo_gap)
+    own = np.full((len(r["node"]), 1), -1, dtype=np.int64)
+    one = np.ones((len(r["node"]), 1))
+    if on_plus:
+        k = _positions(order, r["node"])
+        own[:, 0] = r["node"] + model.node_offsets[bp.name]
+        return _finish(model, itf, order[k], xp[k], r["x_other"], r["normal"], s[k], r["D"],
+                       r["cols"], r["w"], tol, scale, plus=(own, one), geo_gap=r["gap"])
+    # M = S−: each CFE's S+ end is the weighted combination Σ_l w_l x_l of S+ nodes, reported
+    # at that point (the point its forces on S+ act at: their moment is exact) and at the arc
+    # length along S+ of its closest point
+    bm = model.body(itf.minus.body)
+    own[:, 0] = r["node"] + model.node_offsets[bm.name]
+    valid = r["cols"] >= 0
+    pts = model.points[np.where(valid, r["cols"], 0)]
+    x_plus = np.einsum("kl,klc->kc", np.where(valid, r["w"], 0.0), pts)
+    pe = curve_edges(bp, itf.plus)
+    seg, t, _ = _project(x_plus, bp.points[pe[:, 0]], bp.points[pe[:, 1]])
+    s_node = np.zeros(bp.n_nodes)
+    s_node[order] = s
+    s_x = (1 - t) * s_node[pe[seg, 0]] + t * s_node[pe[seg, 1]]
+    o = np.argsort(s_x, kind="stable")
+    return _finish(model, itf, r["node"][o], x_plus[o], r["x"][o], r["normal"][o],
+                   s_x[o], r["D"][o], own[o], one[o], tol, scale, plus=(r["cols"][o], r["w"][o]),
+                   geo_gap=r["gap"][o])
 
 
-#: S+ finer than S− by more than this factor (mean edge lengths over the overlap): warn.
-#: The oscillation of the pressures is a few per cent of the peak at 1.6 (the Hertz test), but
-#: where a joint is near opening it decides where it opens: a slab on soil under a uniform net
-#: load opened 8 % too early with S+ 1.25 times finer and at any thickness with 1.6.  (The
-#: built-in demo and block_on_base have S+ 1.7 and 1.25 times finer, which is why the limit is
-#: not lower yet.)
-PLUS_FINER_WARN = 3.0
-
-
-def _check_plus_coarser(itf: Interface, Lp: np.ndarray, Lm: np.ndarray, share: np.ndarray):
-    """Warn when the mortar CFEs sit on the finer side.  Their pressures are then right on
-    average (the patch test holds) but oscillate from CFE to CFE (by ±2–4 % of the peak in
-    the Hertz test with S+ 1.6 times finer), which opens a joint near its opening limit where
-    it should not; on the coarser side they do not."""
-    hp = float(np.sum(share * Lp) / np.sum(share))  # overlap-weighted mean edge lengths
-    hm = float(np.sum(share * Lm) / np.sum(share))
-    if hm > PLUS_FINER_WARN * hp:
-        warnings.warn(ContactMeshWarning(
-            f"interface '{itf.name}': S+ ('{itf.plus.body}', edges ≈ {hp:.3g} m) is finer "
-            f"than S- ('{itf.minus.body}', ≈ {hm:.3g} m, {hm / hp:.2g} times); mortar "
-            "contact pressures then oscillate from CFE to CFE and a joint near its opening "
-            "limit may open where it should not: swap plus and minus (S+ on the coarser "
-            "side)"), stacklevel=4)
+def _positions(order: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """Index in ``order`` of each of ``nodes`` (all present)."""
+    pos = np.full(int(max(order.max(), nodes.max())) + 1, -1, dtype=np.int64)
+    pos[order] = np.arange(len(order))
+    return pos[nodes]
 
 
 def _sparse(data, m: int, n: int):

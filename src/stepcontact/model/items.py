@@ -566,13 +566,16 @@ CFE_KINDS: tuple[str, ...] = ("auto", "mortar", "node-to-segment", "node-to-node
 class Interface:
     """A pair of boundary curves joined by frame-type contact finite elements (CFEs).
 
-    One CFE is made at every node of ``plus`` (S+).  How it joins S− (``cfe``):
+    One CFE is made at every node of ``plus`` (S+) (mortar: of the coarser face).  How it joins
+    S− (``cfe``):
 
     * ``"node-to-node"``: to the S− node at the same place (matching meshes);
     * ``"mortar"`` (segment-to-segment): its mutual displacements are the gap and slip
-      weighted by the S+ shape function of its node and integrated over the overlap of the S+
-      and S− edges; its forces act on both sides through the same weights.  A uniform contact
-      pressure is reproduced exactly on meshes that do not match (the contact patch test);
+      weighted by the shape function of a node of the coarser face (S+ or S−) and integrated
+      over the overlap of the S+ and S− edges; its forces act on both sides through the same
+      weights.  A uniform contact pressure is reproduced exactly on meshes that do not match
+      (the contact patch test), and swapping S+ and S− changes nothing but the face on which
+      the CFEs' points are reported (:func:`stepcontact.contact.geometry._mortar_elements`);
     * ``"node-to-segment"`` (the article's CFE): to the closest point of S−, interpolated from
       that edge's nodes; on meshes that do not match the pressure errs by a few per cent;
     * ``"auto"`` (default): node-to-node where the meshes match, mortar otherwise.
@@ -603,8 +606,9 @@ class Interface:
         The normal is then ``normal`` or, when not given, the direction from the S− node to the
         S+ node (an error if they coincide).
     area : float or None
-        Contact area of every CFE, m² (default: tributary length along S+ × thickness, the
-        part of it facing S− for mortar CFEs; for a single isolated node, 1 m × thickness).
+        Contact area of every CFE, m² (default: tributary length along S+ × thickness; for
+        mortar CFEs along the coarser face, the part of it facing the other; for a single
+        isolated node, 1 m × thickness).
     cfe : str
         ``"auto"``, ``"mortar"``, ``"node-to-segment"`` or ``"node-to-node"`` (see above).
     bond : Bond or None

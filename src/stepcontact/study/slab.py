@@ -165,8 +165,8 @@ class Slab:
     pressure on the top and in the joint, Pa (a number, a pair (upstream, downstream), or a
     function of the distance x from the upstream edge).  ``cells``: the slab's mesh (along,
     through); the foundation's cells are ``soil_ratio`` times the slab's (non-matching
-    meshes; below 1 so that the slab, the S+ side of the mortar CFEs, is the coarser side —
-    with S+ finer the mortar pressures oscillate, see the user guide).
+    meshes; the mortar CFEs sit on the coarser of the two faces whichever is S+, see the
+    user guide).
     ``water_depth``: depth of water above the slab taken as added mass (m; 0: none).
 
     The slab's top stays at its level as the thickness changes (the basin's floor is set by
