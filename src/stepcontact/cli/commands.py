@@ -463,8 +463,8 @@ def _analyse(
 
     _check_plot_path(plot_path)
     _check_lams(model, lams)
-    _check_dynamic_mass(model)
     check_consistency(model)  # what validate finds too, before any work
+    _check_dynamic_mass(model)  # (a free body without density: needs the assembled DOFs)
     warnings = [text for _, text in zero_patterns(model)]
     warnings += [f"{item}: {text}" for item, text in program_warnings(model)]
     _warn(warnings)
