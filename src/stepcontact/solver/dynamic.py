@@ -1568,6 +1568,16 @@ def solve_dynamic(
     n_impacts = 0
     zero_restarts = 0
     end_time = float(duration)
+    def jump_at_break(F_left, u_, v_, t_now: float, step: int):
+        """The load's jump at a break of its time functions, t_now: (F, a) after it — the
+        contact forces and accelerations follow the jump (without CFEs, M a = F − K u − C v)."""
+        F_new = force_at(t_now)
+        if m:
+            return F_new, load_jump(F_new - F_left, t_now, step)
+        a_new = np.zeros(ndof)
+        a_new[free] = M_lu.solve(F_new[free] - (Kx(u_))[free] - (Cx(v_))[free])
+        return F_new, a_new
+
     def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states, F_i=None,
             part="cut"):
         """The state at t + frac·Δt of the step under the scheme before an event (eq. (8):
@@ -1884,13 +1894,7 @@ def solve_dynamic(
                 a[free] = M_lu.solve(F_i[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
             t = t_i
             if lands and at_break:  # the load jumps here: the contact forces with it
-                F_left = F
-                F = force_at(t)
-                if m:
-                    a = load_jump(F - F_left, t, n)
-                else:
-                    a = np.zeros(ndof)
-                    a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free])
+                F, a = jump_at_break(F, u, v, t, n)
             if crack is not None and settle_water(t, n):
                 F = force_at(t)
             record(t, "event" if len(rec.events) > n_events or not landing else "step", 0.0)
@@ -1935,13 +1939,7 @@ def solve_dynamic(
         u, v, a = u_new, v_new, a_new
         t = t1
         if at_break:  # the load jumps here: the contact forces and accelerations with it
-            F_left = F
-            F = force_at(t)
-            if m:
-                a = load_jump(F - F_left, t, n)
-            else:
-                a = np.zeros(ndof)
-                a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free])
+            F, a = jump_at_break(F, u, v, t, n)
         if crack is not None and settle_water(t, n):  # (a catch-all: a wet set that moved
             F = force_at(t)                             # at the step's start is settled there)
             step_events += 1
