@@ -52,13 +52,13 @@ libblas.so.3 (e.g. Debian's OpenBLAS, ``apt-get install libopenblas0-pthread``) 
 when there is one, else the bundled one (``--blas``); the one used is printed.
 
 Protocol: per size, ``--pairs`` alternating pairs of runs (stepcontact, then OpenSees), medians
-of each; the times are the process's CPU time (``time.process_time``: both programs run in
-this process, and a loaded machine's waits do not count).  Printed per size: DOFs, CFEs,
-stepcontact events, OpenSees converged push steps and Newton iterations (all steps: the self-weight's and the last, failed one included), both median
-times, both programs' first slip / first opening / limit (N) against the reference values with
-relative errors; last, the speed ratios T_OpenSees / T_stepcontact (target: ≥ 20 at 13k and 50k
-DOFs).  ``os.getloadavg()`` is printed at the start and the end
-(the machine may be shared; hence the alternation and the medians).
+of each; the times are the process's CPU time (``time.process_time``: both programs run in this
+process, and a loaded machine's waits do not count). Printed per size: DOFs, CFEs, stepcontact
+events, OpenSees converged push steps and Newton iterations (all steps: the self-weight's and
+the last, failed one included), both median times, both programs' first slip / first opening /
+limit (N) against the reference values with relative errors; last, the speed ratios T_OpenSees
+/ T_stepcontact (target: ≥ 20 at 13k and 50k DOFs). ``os.getloadavg()`` is printed at the start
+and the end (the machine may be shared; hence the alternation and the medians).
 
 Run:  python benchmarks/vs_opensees.py --sizes 2 4 8 16 --pairs 3
 Needs openseespy (``pip install openseespy``).
