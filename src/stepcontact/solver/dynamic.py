@@ -82,8 +82,13 @@ Energy ledger (exact for this Newmark: the trapezoidal rule of every work term):
 by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
 impacts' velocity jumps, released by broken bonds ("fracture": the elastic energy ½ s²/C a
 compliant bonded layer loses with the force it drops; a rigid bond stores none), and by the
-integrator itself ("numerical": what the interpolation (8) of cut steps adds or removes;
-Newmark's whole steps conserve energy); the balance error is what is left (round-off).
+integrator itself ("numerical": what the interpolation of cut steps removes; Newmark's whole
+steps conserve energy); the balance error is what is left (round-off).  A cut at θ of a step
+books θ times the works of the whole step under the old scheme: its state is the same convex
+combination of the step's ends, whose energy (convex) lies below — the cut removes
+½ θ (1 − θ) of the energy norm of the step's increment and never adds (the trapezoids over
+the part step would miss the curvature of the contact forces' work along it: a friction
+force that falls to zero at the cut, where a CFE opens, booked as a gain of energy).
 """
 
 from __future__ import annotations
@@ -1578,11 +1583,12 @@ def solve_dynamic(
         a_new[free] = M_lu.solve(F_new[free] - (Kx(u_))[free] - (Cx(v_))[free])
         return F_new, a_new
 
-    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states, F_i=None,
+    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states, F_end, F_i=None,
             part="cut"):
         """The state at t + frac·Δt of the step under the scheme before an event (eq. (8):
         ü linear in time over the step, with the step's end under that scheme), the works of
-        the part step in the ledger (the integrator's share in ``parts[part]``).  ``F_i``:
+        the part step in the ledger — frac times the whole step's (load ``F_end`` at its
+        end), as the state is — (the integrator's share in ``parts[part]``).  ``F_i``:
         the load there (default F(t + frac·Δt); a break's left limit for a landing).
         Returns (u, v, s, w, F) there."""
         if frac == 0.0 and mu == 0.0:  # a restart at the step's start: nothing moved
@@ -1601,14 +1607,24 @@ def solve_dynamic(
         v_i = v + frac * (v_end - v)
         s_i = eng.s + (frac - mu) * ds_o
         F_i = force_at(t + tau) if F_i is None else F_i
-        du = u_i - u
         w_i = system.B @ u_i + system.w0
         x_i = layers.at(run_states, w_i, frac) if layers else None
-        diss = 0.5 * (s_start + s_i) * (system.B @ du) - (layer_energy(s_i, x_i)
-                                                            - layer_energy(s_start, x_start))
+        # the works of the part step: the share frac of the whole step's (the state is the
+        # same convex combination of the step's ends; a Newmark step's works are its energy
+        # change, so the state's energy, convex, lies below them: the interpolation removes
+        # ½ frac (1 − frac) of the energy norm of the step's increment, never adds).  (The
+        # trapezoid over the part step instead misses the curvature of the contact forces'
+        # work along the step — a CFE that unloads to its limit: its friction force falls —
+        # which the linear state does not follow: a gain where that work is front-loaded.)
+        du_w = u_end - u
+        x_end = (layers.at(run_states, system.B @ u_end + system.w0, 1.0) if layers
+                 else None)
+        diss = frac * (0.5 * (s_start + s_end) * (system.B @ du_w)
+                       - (layer_energy(s_end, x_end) - layer_energy(s_start, x_start)))
         contact = book_contact(diss)
-        works = {"external": float(du @ (0.5 * (F + F_i))),
-                 "damping": float(du @ (C @ (0.5 * (v + v_i)))) + contact["damping"],
+        works = {"external": frac * float(du_w @ (0.5 * (F + F_end))),
+                 "damping": frac * float(du_w @ (C @ (0.5 * (v + v_end))))
+                 + contact["damping"],
                  "friction": contact["friction"], "impact": contact["impact"]}
         for key, val in works.items():
             ledger[key] += val
@@ -1819,7 +1835,7 @@ def solve_dynamic(
             lands = (land < 1.0 or at_break) and t + frac * dt >= t1 - 1e-9 * dt0
             n_events = len(rec.events)
             u_i, v_i, s_i, w_i, F_i = cut(frac, mu_r, ds_o, dw_o, drift, Fhat, s_start,
-                                          x_start, old, F_land if lands else None,
+                                          x_start, old, F1, F_land if lands else None,
                                           "short_steps" if landing else "cut")
             t_i = t1 if lands else t + frac * dt
             closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & rigid_n)
