@@ -108,7 +108,7 @@ from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
-from stepcontact.solver.static import result_geometry
+from stepcontact.solver.static import VIOLATION_LIMIT, result_geometry
 
 #: the energy ledger's columns (J per metre of thickness in plane strain)
 ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "fracture",
@@ -1268,8 +1268,8 @@ def solve_dynamic(
             free_now = np.zeros(m, bool)  # closed CFEs without force at this instant
             for _ in range(2 * m + 2):  # active set: a stuck CFE beyond its cone slips
                 trial = np.where(free_now | soft_cfe, OPEN, states)
-                try:
-                    s_new, _ = ea.rates(trial, (hM, np.zeros(2 * m)), article=False)
+                try:  # (redundant constraints: the indeterminate split by capacity)
+                    s_new, _ = ea.rates_any(trial, (hM, np.zeros(2 * m)), absolute=True)
                 except MechanismError:
                     break  # a free mode in accelerations: keep the interpolated forces
                 Q, p = s_new[:m], s_new[m:]
@@ -1503,10 +1503,14 @@ def solve_dynamic(
         W_t = water_at(t, c)
         p_t = (np.where(water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
                if crack is not None else W_t)
+        viol = eng.violation()
         i = rec.append(lam=t, segment=0, kind=kind, factors=[c.get(n, 0.0) for n in names],
                        s=eng.s, w=eng.w, state=eng.states, residual=residual,
-                       violation=eng.violation(), reactions=np.zeros(0),
+                       violation=viol, reactions=np.zeros(0),
                        water=W_t, pressure=p_t)
+        broken = _broken_conditions(viol, residual, t)
+        if broken and status_box[0] == Status.COMPLETED:
+            status_box[:] = [Status.VIOLATION, broken]
         for k, arr in (("u", u), ("v", v), ("a", a)):
             extra[k].append(arr)
         for k in ENERGY_TERMS:
@@ -1536,6 +1540,7 @@ def solve_dynamic(
             mult[key] = t_ev
 
     status, message = Status.COMPLETED, "time interval completed"
+    status_box = [status, message]  # a state recorded with its conditions broken sets it
     first = True
     deferred = np.zeros(m, bool)
     if m and initial is not None:
@@ -1560,8 +1565,13 @@ def solve_dynamic(
         a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
     if crack is not None and initial is not None and settle_water(0.0, 0):
         F = force_at(0.0)
-    record(0.0, "start", 0.0)
     rigid_n = ~np.isfinite(cfe.kn)
+    # a closed rigid CFE is on the obstacle: the round-off of the start's gap (a static
+    # solution's, judged closed there to its own scale; or closed at u0 within 1e-9,
+    # _state_at_u0) is not a violation of u_n = 0 (a rigid body at rest has no displacement
+    # scale to judge it against)
+    eng.w[m:][(eng.states != OPEN) & rigid_n & ~law.inert] = 0.0
+    record(0.0, "start", 0.0)
     t_run = time.perf_counter()
     t = 0.0
     n = 0
@@ -1619,6 +1629,8 @@ def solve_dynamic(
            else []) + [np.zeros(0)]))
     breaks = breaks[(breaks > 0) & (breaks < end_time)]
     while t < end_time - 1e-6 * dt0:
+        if status_box[0] != Status.COMPLETED:  # conditions broken at a recorded state
+            break
         n += 1
         # the step: Δt; one that would pass a break of a load (a pulse's end) or the end
         # lands there: a whole step under the load's rate continued, its state at the break
@@ -1956,6 +1968,8 @@ def solve_dynamic(
         for hk in hooks:
             if hasattr(hk, "after_step"):
                 hk.after_step(n, t, end_time)
+    if status == Status.COMPLETED and status_box[0] != Status.COMPLETED:
+        status, message = status_box
     n_steps = n
     if status != Status.COMPLETED:
         mult["equilibrium_lost"] = t if status == Status.EQUILIBRIUM_LOST else None
@@ -1992,6 +2006,19 @@ def solve_dynamic(
             "stage_cfes": stage_arrays["stage_cfes"],
             "stage_bodies": stage_arrays["stage_bodies"]}),
     )
+
+
+def _broken_conditions(violation: float, residual: float, t: float) -> str:
+    """Why a recorded dynamic state is not a solution, or "": its relative violation of the
+    contact conditions (1) (or its residual of equilibrium) beyond
+    :data:`~stepcontact.solver.static.VIOLATION_LIMIT`, the static solver's limit — a run
+    that reaches such a state ends with status ``violation`` there, never "completed"."""
+    for what, val in (("the contact conditions are violated", violation),
+                      ("equilibrium is violated (residual)", residual)):
+        if not val <= VIOLATION_LIMIT:
+            return (f"{what} by {val:.2e} (relative, limit {VIOLATION_LIMIT:.0e}) at "
+                    f"t = {t:.6g} s; the run stops here")
+    return ""
 
 
 def _impulse_arrays(log: list[tuple[int, float, int, float, float]]) -> dict[str, np.ndarray]:

@@ -168,6 +168,109 @@ class EventEngine:
         w_hat = h - self.schemes.product(t)
         return t + self.schemes.d * w_hat, w_hat + e
 
+    def self_stress(self, states) -> np.ndarray:
+        """Self-stress modes of the scheme ``states`` (columns, 2m × k): the force changes
+        Δs ≠ 0 with Bᵀ Δs = 0 that its relations leave free — redundant constraints (a rigid
+        body stuck on two corners: the split of the tangential force between them is
+        indeterminate).  They change no displacement (Δŵ = −G Δt = 0); empty for a regular
+        scheme or a mechanism without redundancy."""
+        key = ("self_stress", states.tobytes())
+        hit = self._relations.get(key)
+        if hit is not None:
+            return hit
+        import scipy.linalg as sla
+
+        rel = self.relations(states, article=False)
+        A, _ = self.schemes.dense(rel)
+        A = np.asarray(A, float)
+        m2 = 2 * self.m
+        out = np.zeros((m2, 0))
+        if m2:
+            _, sv, Vt = sla.svd(A, check_finite=False)
+            tol = max(1e-10, 100 * np.finfo(float).eps) * max(float(sv[0]), 1e-300)
+            T = Vt[sv <= tol].T  # null vectors in t = s − D ŵ
+            if T.size:
+                Gt = self.schemes.product(T)
+                # combinations with no displacement, G Δt = 0: the self-stresses (not the
+                # free modes of a mechanism)
+                if self.schemes.shifted:  # (float32 G, large interfaces: not resolved)
+                    self._relations[key] = out
+                    return out
+                gs = float(np.abs(self.schemes.G).max(initial=0.0))
+                _, sg, Ct = np.linalg.svd(Gt, full_matrices=True)
+                sg = np.r_[sg, np.zeros(Ct.shape[0] - len(sg))]
+                keep = Ct[sg <= 1e-9 * max(gs, 1e-300)].T
+                if keep.size:
+                    Tk = T @ keep
+                    dS = Tk - self.schemes.d[:, None] * self.schemes.product(Tk)
+                    out = np.linalg.qr(dS)[0]
+        self._relations[key] = out
+        return out
+
+    def rates_redundant(self, states, forcing, *, absolute: bool = False):
+        """Rates of a singular scheme that the load does not drive, with the indeterminate
+        part of the forces (its self-stresses, :meth:`self_stress`) resolved:
+
+        * along a path (default): the stuck frictional CFEs that share a self-stress reach
+          their friction facet together — their margins g_k = f p_k + C ∓ Q_k change at rates
+          proportional to themselves, g_k' = κ g_k (one κ for all; the facet ∓ whose common
+          root −1/κ comes first), so the group slips as one CFE would, at the instant its
+          total friction force reaches Σ (f p_k + C), never one corner first by an arbitrary
+          split;
+        * ``absolute`` (the rates *are* the forces, the problem in accelerations): the split
+          of least Σ Q_k² / (f p_k + C) (Q_k proportional to each CFE's friction capacity),
+          the other components least squares.
+
+        Without self-stress: the minimum-norm rates of :meth:`rates_singular`."""
+        ds, dw = self.rates_singular(states, forcing)
+        Z = self.self_stress(states)
+        if Z.shape[1] == 0:
+            return ds, dw
+        m = self.m
+        cap = np.zeros(m)
+        grip = np.zeros(m, bool)
+        for law, c, _Q, p, _ut, _un in self._parts(self.s if not absolute else ds, self.w):
+            cap[c] = law.friction_limit(p, states[c])
+            grip[c] = (states[c] != OPEN) & (states[c] != SLIP_POS) & (states[c] != SLIP_NEG) \
+                & law.frictional
+        ZQ, Zp = Z[:m], Z[m:]
+        grp = grip & (np.abs(ZQ).max(axis=1, initial=0.0) > 1e-9)
+        if not grp.any():
+            return ds, dw
+        if absolute:
+            wgt = np.ones(2 * m)
+            wgt[:m][grp] = 1.0 / np.maximum(cap[grp], 1e-12 * max(float(cap.max()), 1e-300))
+            # least Σ w_j (ds_j + Z c)_j²: (Zᵀ W Z) c = −Zᵀ W ds
+            c = np.linalg.lstsq(Z.T @ (wgt[:, None] * Z), -(Z.T @ (wgt * ds)), rcond=None)[0]
+            return ds + Z @ c, dw
+        Q, p = self.s[:m], self.s[m:]
+        f = np.zeros(m)
+        for law, c, *_ in self._parts(self.s, self.w):
+            f[c] = law.f
+        best = None
+        for sg in (1.0, -1.0):
+            g = (cap - sg * Q)[grp]  # margins of the facet sg
+            rhs = -(f * ds[m:] - sg * ds[:m])[grp]
+            # (f Zp − sg ZQ) c − κ g = −(f dp − sg dQ) on the group
+            Mx = np.c_[(f[:, None] * Zp - sg * ZQ)[grp], -g]
+            sol = np.linalg.lstsq(Mx, rhs, rcond=None)[0]
+            kappa = float(sol[-1])
+            root = -1.0 / kappa if kappa < 0 else np.inf
+            if best is None or root < best[0]:
+                best = (root, sol[:-1])
+        return ds + Z @ best[1], dw
+
+    def rates_any(self, states, forcing, *, absolute: bool = False):
+        """Rates of the scheme ``states``: the unique ones, or those of a singular scheme that
+        the load does not drive (:meth:`rates_redundant`); raises :class:`MechanismError`
+        when the load drives its mechanism."""
+        try:
+            return self.rates(states, forcing, article=False)
+        except MechanismError:
+            if self.drives(states, forcing):
+                raise
+            return self.rates_redundant(states, forcing, absolute=absolute)
+
     def drives(self, states, forcing) -> bool:
         """Does the load drive the mechanism of the singular scheme ``states``?  True when the
         scheme's equations have no solution for the load rates: the right-hand side is not
@@ -356,18 +459,9 @@ class EventEngine:
         else:
             out = None
             new = guess
-            try:
-                ds, dw = self.rates(new, forcing, article=False)
-            except MechanismError as exc:
-                if not self.drives(new, forcing):
-                    from stepcontact.enums import Status
-                    from stepcontact.solver.rate import RateProblemFailure
-
-                    raise RateProblemFailure(
-                        Status.RATE_PROBLEM, np.zeros(0, np.int64),
-                        "the working scheme is singular but the load does no work on its "
-                        "free modes") from exc
-                raise
+            # a singular scheme that the load does not drive (redundant constraints: the
+            # indeterminate forces resolved, :meth:`rates_redundant`); a driven one raises
+            ds, dw = self.rates_any(new, forcing)
         self.states = new
         return Decision(old, new, ds, dw, out)
 
