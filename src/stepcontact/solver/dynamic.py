@@ -1571,6 +1571,10 @@ def solve_dynamic(
     # _state_at_u0) is not a violation of u_n = 0 (a rigid body at rest has no displacement
     # scale to judge it against)
     eng.w[m:][(eng.states != OPEN) & rigid_n & ~law.inert] = 0.0
+    # the scales the start's conditions are judged against (as every step's: forces, loads)
+    eng.update_scales()
+    eng.F_scale = max(eng.F_scale, float(np.abs(F).max(initial=0.0)),
+                      float(np.abs(F_held).max(initial=0.0)))
     record(0.0, "start", 0.0)
     t_run = time.perf_counter()
     t = 0.0
