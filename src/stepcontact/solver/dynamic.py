@@ -1568,9 +1568,14 @@ def solve_dynamic(
     rigid_n = ~np.isfinite(cfe.kn)
     # a closed rigid CFE is on the obstacle: the round-off of the start's gap (a static
     # solution's, judged closed there to its own scale; or closed at u0 within 1e-9,
-    # _state_at_u0) is not a violation of u_n = 0 (a rigid body at rest has no displacement
-    # scale to judge it against)
-    eng.w[m:][(eng.states != OPEN) & rigid_n & ~law.inert] = 0.0
+    # _state_at_u0) is projected away with the fields (in the metric of M, as after a cut:
+    # the first step's constraint would otherwise remove it, seeding the alternating
+    # accelerations of Newmark's constrained DOFs), not left as a violation of u_n = 0 (a
+    # rigid body at rest has no displacement scale to judge it against)
+    on0 = (eng.states != OPEN) & rigid_n & ~law.inert
+    if on0.any():
+        u, v = _project(system, cond, minv, u, v, eng.states, law, rigid_n)
+        eng.w[m:][on0] = 0.0
     # the scales the start's conditions are judged against (as every step's: forces, loads)
     eng.update_scales()
     eng.F_scale = max(eng.F_scale, float(np.abs(F).max(initial=0.0)),
