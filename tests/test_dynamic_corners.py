@@ -190,20 +190,26 @@ def test_broken_conditions_are_named_with_the_static_limit():
 
 def test_a_run_whose_conditions_hold_completes_and_one_that_breaks_them_does_not():
     """A run completes only when every recorded state meets the static limit: the two-corner
-    block (violation ≤ 1e-9 everywhere: completed), and a run whose start breaks the contact
-    conditions — a static state of the block taken with its normal forces scaled by 0.5, so
-    that it is not in equilibrium with its recorded contact forces; the friction force of one
-    corner beyond its cone (|Q| = 2 f p) — ends with status ``violation`` at t = 0, its
-    message naming the violation and the limit, and records nothing after that state."""
+    block (violation ≤ 1e-9 everywhere: completed); and a run that starts from a static state
+    of the one-CFE block (pushed by 0.2 W) whose friction force was doubled beyond its cone
+    (|Q| = 2 f p, relative violation 0.5) ends with status ``violation`` at t = 0, its message
+    naming the violation and the limit, with nothing recorded after that state (before: it
+    "completed", its first state's violation 2e304 against an unset force scale)."""
     res = pushed(corners(), 1e-3, np.diag([MASS, MASS, J]), duration=0.03)
     assert res.status == Status.COMPLETED
     assert res.violation.max() <= VIOLATION_LIMIT
-    st = sc.solve_static(corners(push=0.2 * W))
+    dm = sc.DiscreteModel(np.zeros((2, 2)), [[0, 1]], [[1, 0]],
+                          loads={"weight": [0, -W], "push": [1.0, 0]}, friction=F,
+                          dof_names=("ux", "uy"),
+                          program=[sc.Segment("weight", 1.0), sc.Segment("push", 0.2 * W)])
+    st = sc.solve_static(dm)
+    assert st.status == Status.COMPLETED
     bad = st.Q.copy()
-    bad[-1, 0] = 2 * F * -st.N[-1, 0]  # beyond its cone: |Q| > f p
+    bad[-1, 0] = 2 * F * -st.N[-1, 0]  # beyond its cone: |Q| = 2 f p
     st.Q = bad
-    res = sc.solve_dynamic(corners(push=0.2 * W), dt=1e-3, duration=0.01, initial=st,
-                           mass=np.diag([MASS, MASS, J]))
+    res = sc.solve_dynamic(dm, dt=1e-3, duration=0.01, initial=st, mass=np.diag([MASS, MASS]))
     assert res.status == Status.VIOLATION
     assert "contact conditions are violated" in res.message
-    assert res.n_states == 1 and res.violation[0] > VIOLATION_LIMIT
+    assert f"{VIOLATION_LIMIT:.0e}" in res.message
+    assert res.n_states == 1
+    assert res.violation[0] == pytest.approx(0.5, rel=1e-9)
