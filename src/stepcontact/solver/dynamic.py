@@ -504,7 +504,7 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     if ks.size == 0:
         return {}
     try:
-        ds_o, dw_o = eng.rates(old, forcing, article=False)
+        ds_o, dw_o = eng.rates_any(old, forcing)
     except MechanismError:
         return {}
     v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law)
@@ -1768,7 +1768,7 @@ def solve_dynamic(
                 # its velocity vanishes; the other changes happen at t
                 if times and min(times.values()) > t + 1e-9 * dt:
                     try:
-                        ds_o, dw_o = eng.rates(old, forcing, article=False)
+                        ds_o, dw_o = eng.rates_any(old, forcing)
                     except MechanismError:
                         ds_o = None
                     if ds_o is not None:

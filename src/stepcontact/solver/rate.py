@@ -117,7 +117,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     # the guessed scheme is kept when its rates are consistent (the common case, one solve)
     kept = None
     try:
-        ds, dw = eng.rates_any(guess, forcing)
+        ds, dw = eng.rates(guess, forcing, article=False)
         if np.array_equal(eng.consistent(guess, L, ds, dw, normal_lim, two_sided), guess[L]):
             kept = RateOutcome(guess, ds, dw, "the current scheme stays consistent", L)
     except MechanismError:
