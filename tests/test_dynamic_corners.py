@@ -44,11 +44,12 @@ def closed_form():
     return ts, x1 + v1**2 / (2 * F * G), TP + v1 / (F * G)
 
 
-def corners(push: float = 0.0):
-    """The block on two corners (3 DOFs); the static program puts on the weight (and a push
-    along x, N)."""
+def corners(push: float = 0.0, n: int = 2):
+    """The block on n CFEs along its base, at x = −b … b (n = 2: its two corners; 3 DOFs);
+    the static program puts on the weight (and a push along x, N)."""
     program = [sc.Segment("weight", 1.0)] + ([sc.Segment("push", push)] if push else [])
-    return sc.DiscreteModel(np.zeros((3, 3)), [[0, 1, -B], [0, 1, B]], [[1, 0, H], [1, 0, H]],
+    x = np.linspace(-B, B, n)
+    return sc.DiscreteModel(np.zeros((3, 3)), [[0, 1, xk] for xk in x], [[1, 0, H]] * n,
                             loads={"weight": [0, -W, 0], "push": [1.0, 0, 0]}, friction=F,
                             dof_names=("ux", "uy", "th"), program=program)
 
@@ -67,29 +68,33 @@ def pushed(dm, dt, mass, duration=0.2):
                             loads={"push": Pulse(A * MASS, 0.0, TP, "half_sine")})
 
 
-def test_a_block_on_two_corners_sticks_slides_and_stops_as_one_cfe():
+@pytest.mark.parametrize("n", [2, 3])
+def test_a_block_on_two_corners_sticks_slides_and_stops_as_one_cfe(n):
     """Both corners start to slip at one instant and stop at one instant, and nothing else
     happens (no corner opens, no zero-duration pairs): 4 events.  Against the closed form:
     slip start within 0.05 Δt (measured 0.003 Δt at Δt = 1 ms, 0.0004 Δt at 0.5 ms), stop
     within 0.05 Δt (measured 0.014, 0.004), slide to 1e-3 (measured 7.0e-4 and 1.4e-4: the
-    error falls by 4.9 as Δt halves, second order; asserted ≥ 3).  The normal forces while
-    stuck are those of the moment balance, p₁,₂ = W/2 ∓ h P/(2b), to 1e-6 W (measured
-    3.7e-7 W: Newmark's accelerations of the held DOFs alternate about zero by a bounded
-    amount the pulse's initial slope sets, M ü ≠ 0 in the balance); the rotation
-    stays at round-off (≤ 1e-12 rad); after the stop, with no load, the total friction force
-    is zero to 1e-8 f W and each corner's to 1e-6 f W (measured 3e-9 and 1.6e-7 f W at
-    Δt = 0.5 ms: round-off at the stop that Newmark's alternating accelerations of the held
-    rotation carry on, growing linearly with the steps).  Every state satisfies the contact
-    conditions (violation ≤ 1e-9) and the run completes."""
+    error falls by 4.9 as Δt halves, second order; asserted ≥ 3).  While stuck the friction
+    force is the push and the normal forces those of the moment balance,
+    p₁,₂ = W/2 ∓ h P/(2b), to 1e-9 W (measured 4e-14 W); the rotation stays at round-off
+    (≤ 1e-12 rad); after the stop, with no load, the total friction force is zero to
+    1e-8 f W and each CFE's to 1e-6 f W (measured 3e-9 and 1.7e-7 f W at Δt = 0.5 ms:
+    round-off at the stop that Newmark's alternating accelerations of the held DOFs carry
+    on, growing with the steps).  Every state satisfies the contact conditions
+    (violation ≤ 1e-9) and the run completes.  With a third CFE at mid-base (n = 3) the
+    normal rows are redundant too (the split of N indeterminate): the same events and
+    times, the normal forces' sum W and moment h P about the centre (their split, a least-
+    squares one, is linear along the base)."""
     ts, slide, t_stop = closed_form()
+    x = np.linspace(-B, B, n)
     errors = []
     for dt in (1e-3, 5e-4):
-        res = pushed(corners(), dt, np.diag([MASS, MASS, J]))
+        res = pushed(corners(n=n), dt, np.diag([MASS, MASS, J]))
         assert res.status == Status.COMPLETED, res.message
         assert res.violation.max() <= 1e-9
         ev = [(e.cfe, e.transition) for e in res.events]
-        assert sorted(ev) == sorted([(0, Transition.SLIP_POS), (1, Transition.SLIP_POS),
-                                     (0, Transition.STUCK), (1, Transition.STUCK)])
+        assert sorted(ev) == sorted([(k, tr) for k in range(n)
+                                     for tr in (Transition.SLIP_POS, Transition.STUCK)])
         start = {e.lam for e in res.events if e.transition == Transition.SLIP_POS}
         stop = {e.lam for e in res.events if e.transition == Transition.STUCK}
         assert len(start) == 1 and len(stop) == 1  # each pair at one instant
@@ -103,8 +108,11 @@ def test_a_block_on_two_corners_sticks_slides_and_stops_as_one_cfe():
         stuck = np.all(res.state == 1, axis=1) & (res.lam < ts)
         P = A * MASS * np.sin(np.pi * res.lam[stuck] / TP)
         p = -res.N[stuck]
-        np.testing.assert_allclose(p[:, 0], W / 2 - H * P / (2 * B), rtol=0, atol=1e-6 * W)
-        np.testing.assert_allclose(p[:, 1], W / 2 + H * P / (2 * B), rtol=0, atol=1e-6 * W)
+        np.testing.assert_allclose(res.Q[stuck].sum(axis=1), P, rtol=0, atol=1e-9 * W)
+        np.testing.assert_allclose(p.sum(axis=1), W, rtol=0, atol=1e-9 * W)
+        np.testing.assert_allclose(p @ x, H * P, rtol=0, atol=1e-9 * W)
+        if n == 2:
+            np.testing.assert_allclose(p[:, 0], W / 2 - H * P / (2 * B), rtol=0, atol=1e-9 * W)
         after = res.lam > t_s + 1e-9
         assert np.abs(res.Q[after].sum(axis=1)).max() <= 1e-8 * F * W
         assert np.abs(res.Q[after]).max() <= 1e-6 * F * W

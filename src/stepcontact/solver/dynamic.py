@@ -1575,6 +1575,7 @@ def solve_dynamic(
     on0 = (eng.states != OPEN) & rigid_n & ~law.inert
     if on0.any():
         u, v = _project(system, cond, minv, u, v, eng.states, law, rigid_n)
+        eng.w = system.B @ u + system.w0  # (the kinematics of the projected fields)
         eng.w[m:][on0] = 0.0
     # the scales the start's conditions are judged against (as every step's: forces, loads)
     eng.update_scales()

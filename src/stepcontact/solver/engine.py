@@ -216,10 +216,11 @@ class EventEngine:
           proportional to themselves, g_k' = κ g_k (one κ for all; the facet ∓ whose common
           root −1/κ comes first), so the group slips as one CFE would, at the instant its
           total friction force reaches Σ (f p_k + C), never one corner first by an arbitrary
-          split;
-        * ``absolute`` (the rates *are* the forces, the problem in accelerations): the split
-          of least Σ Q_k² / (f p_k + C) (Q_k proportional to each CFE's friction capacity),
-          the other components least squares.
+          split; margins within the force tolerance are 0 (those CFEs stay on the facet);
+        * where no facet is approached (κ ≥ 0 on both, or the whole group on the facet), and
+          with ``absolute`` (the rates *are* the forces, the problem in accelerations): the
+          split of least Σ Q_k'² / (f p_k + C) (proportional to each CFE's friction
+          capacity), the other components least squares.
 
         Without self-stress: the minimum-norm rates of :meth:`rates_singular`."""
         ds, dw = self.rates_singular(states, forcing)
@@ -236,26 +237,35 @@ class EventEngine:
         grp = grip & (np.abs(ZQ).max(axis=1, initial=0.0) > 1e-9)
         if not grp.any():
             return ds, dw
+        # the split of least Σ Q_k² / (f p_k + C) (Q_k proportional to each CFE's capacity),
+        # the other components least squares: least Σ w_j (ds + Z c)_j²
+        tf, _ = self.tolerances()
+        wgt = np.ones(2 * m)
+        cref = float(cap[grp].max())
+        if cref > tf:  # (without normal force, e.g. a path from zero: equal shares)
+            wgt[:m][grp] = cref / np.maximum(cap[grp], 1e-3 * cref)
+        c_w = np.linalg.lstsq(Z.T @ (wgt[:, None] * Z), -(Z.T @ (wgt * ds)), rcond=None)[0]
         if absolute:
-            wgt = np.ones(2 * m)
-            wgt[:m][grp] = 1.0 / np.maximum(cap[grp], 1e-12 * max(float(cap.max()), 1e-300))
-            # least Σ w_j (ds_j + Z c)_j²: (Zᵀ W Z) c = −Zᵀ W ds
-            c = np.linalg.lstsq(Z.T @ (wgt[:, None] * Z), -(Z.T @ (wgt * ds)), rcond=None)[0]
-            return ds + Z @ c, dw
-        Q, p = self.s[:m], self.s[m:]
+            return ds + Z @ c_w, dw
+        Q = self.s[:m]
         f = np.zeros(m)
         for law, c, *_ in self._parts(self.s, self.w):
             f[c] = law.f
-        best = None
+        best = (np.inf, c_w)  # no facet approached: the split of the rates by capacity
         for sg in (1.0, -1.0):
-            g = (cap - sg * Q)[grp]  # margins of the facet sg
+            g = (cap - sg * Q)[grp]  # margins of the facet sg (at the facet within tf: 0)
+            g = np.where(g > tf, g, 0.0)
+            if not g.any():
+                continue  # the whole group on this facet: nothing to synchronise
             rhs = -(f * ds[m:] - sg * ds[:m])[grp]
-            # (f Zp − sg ZQ) c − κ g = −(f dp − sg dQ) on the group
-            Mx = np.c_[(f[:, None] * Zp - sg * ZQ)[grp], -g]
+            # (f Zp − sg ZQ) c − κ g = −(f dp − sg dQ) on the group (g in units of its
+            # largest: κ of the order of the rates)
+            gs = float(g.max())
+            Mx = np.c_[(f[:, None] * Zp - sg * ZQ)[grp], -g / gs]
             sol = np.linalg.lstsq(Mx, rhs, rcond=None)[0]
-            kappa = float(sol[-1])
+            kappa = float(sol[-1]) / gs
             root = -1.0 / kappa if kappa < 0 else np.inf
-            if best is None or root < best[0]:
+            if root < best[0]:
                 best = (root, sol[:-1])
         return ds + Z @ best[1], dw
 
