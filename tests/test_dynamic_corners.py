@@ -72,7 +72,7 @@ def pushed(dm, dt, mass, duration=0.2):
 def test_a_block_on_two_corners_sticks_slides_and_stops_as_one_cfe(n):
     """Both corners start to slip at one instant and stop at one instant, and nothing else
     happens (no corner opens, no zero-duration pairs): 4 events.  Against the closed form:
-    slip start within 0.05 Δt (measured 0.003 Δt at Δt = 1 ms, 0.0004 Δt at 0.5 ms), stop
+    slip start within 0.05 Δt (measured 0.003 Δt at Δt = 1 ms, 0.0001 Δt at 0.5 ms), stop
     within 0.05 Δt (measured 0.014, 0.004), slide to 1e-3 (measured 7.0e-4 and 1.4e-4: the
     error falls by 4.9 as Δt halves, second order; asserted ≥ 3).  While stuck the friction
     force is the push and the normal forces those of the moment balance,

@@ -283,13 +283,8 @@ class EventEngine:
     def drives(self, states, forcing) -> bool:
         """Does the load drive the mechanism of the singular scheme ``states``?  True when the
         scheme's equations have no solution for the load rates: the right-hand side is not
-        orthogonal to the left null space of the scheme matrix (Fredholm).  A load whose
-        rates are round-off of the path's displacement scale (a body at rest after it
-        stopped: ĥ, e ~ 1e-19 m) drives nothing (normalised, its round-off would)."""
+        orthogonal to the left null space of the scheme matrix (Fredholm)."""
         h, e = forcing
-        if max(float(np.abs(h).max(initial=0.0)), float(np.abs(e).max(initial=0.0))) <= (
-                self.rtol * self.W_scale):
-            return False
         rel = self.relations(states, article=False)
         A, scale = self.schemes.dense(rel)
         f = lu(A)
