@@ -1677,12 +1677,9 @@ def solve_dynamic(
         layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
         x_start = layers.x.copy()
         forcing = (h_end - h0, -drift)
-        if max(float(np.abs(forcing[0]).max(initial=0.0)), float(np.abs(drift).max(
-                initial=0.0))) <= rtol * w_scale[0]:
-            # a body at rest (after a stop, no load): the step's load is round-off of the
-            # displacements (1e-19 m), which would "drive" a redundant scheme's free modes
-            # (normalised, round-off has a direction): nothing moves
-            forcing = (np.zeros(2 * m), np.zeros(2 * m))
+        # a body at rest (after a stop, no load): a step's load at round-off of the
+        # displacements (1e-19 m) drives no mechanism of a singular scheme (EventEngine.drives)
+        eng.rest_scale = rtol * w_scale[0]
         # the scale of forces: the contact forces, the loads, and the force that would stop
         # the motion within a step (|M u̇| / Δt: before any contact force, an impact's scale)
         eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),

@@ -100,6 +100,10 @@ class EventEngine:
         self.counters = {"rate_solves": 0, "pivots": 0, "corrections": 0, "lemke": 0,
                          "lemke_fallbacks": 0}
         self._relations: dict[tuple, Relations] = {}
+        self._self_stress: dict[bytes, np.ndarray] = {}
+        #: load rates at or below this (absolute, m) are round-off: they drive nothing
+        #: (:meth:`drives`; set by the dynamic driver per step, −1 on a static path)
+        self.rest_scale = -1.0
 
     # ---- scales and tolerances ---------------------------------------------------------------
     def update_scales(self, ds=None, dw=None, span: float = 1.0) -> None:
@@ -177,8 +181,8 @@ class EventEngine:
         body stuck on two corners: the split of the tangential force between them is
         indeterminate).  They change no displacement (Δŵ = −G Δt = 0); empty for a regular
         scheme or a mechanism without redundancy."""
-        key = ("self_stress", states.tobytes())
-        hit = self._relations.get(key)
+        key = states.tobytes()
+        hit = self._self_stress.get(key)
         if hit is not None:
             return hit
         import scipy.linalg as sla
@@ -204,7 +208,9 @@ class EventEngine:
                     Tk = T @ keep
                     dS = Tk - self.schemes.d[:, None] * self.schemes.product(Tk)
                     out = np.linalg.qr(dS)[0]
-        self._relations[key] = out
+        self._self_stress[key] = out
+        if len(self._self_stress) > 8:
+            del self._self_stress[next(iter(self._self_stress))]
         return out
 
     def rates_redundant(self, states, forcing, *, absolute: bool = False):
@@ -283,8 +289,14 @@ class EventEngine:
     def drives(self, states, forcing) -> bool:
         """Does the load drive the mechanism of the singular scheme ``states``?  True when the
         scheme's equations have no solution for the load rates: the right-hand side is not
-        orthogonal to the left null space of the scheme matrix (Fredholm)."""
+        orthogonal to the left null space of the scheme matrix (Fredholm).  A load whose
+        rates are at most ``rest_scale`` (the dynamic driver's round-off of the displacements
+        over a step: a body at rest after it stopped, ĥ, e ~ 1e-19 m) drives nothing
+        (normalised, its round-off would have a direction)."""
         h, e = forcing
+        if max(float(np.abs(h).max(initial=0.0)), float(np.abs(e).max(initial=0.0))) <= (
+                self.rest_scale):
+            return False
         rel = self.relations(states, article=False)
         A, scale = self.schemes.dense(rel)
         f = lu(A)
