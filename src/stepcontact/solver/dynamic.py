@@ -113,7 +113,7 @@ from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
-from stepcontact.solver.static import result_geometry
+from stepcontact.solver.static import VIOLATION_LIMIT, result_geometry
 
 #: the energy ledger's columns (J per metre of thickness in plane strain)
 ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "fracture",
@@ -509,7 +509,7 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     if ks.size == 0:
         return {}
     try:
-        ds_o, dw_o = eng.rates(old, forcing, article=False)
+        ds_o, dw_o = eng.rates_any(old, forcing)
     except MechanismError:
         return {}
     v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law)
@@ -1273,8 +1273,8 @@ def solve_dynamic(
             free_now = np.zeros(m, bool)  # closed CFEs without force at this instant
             for _ in range(2 * m + 2):  # active set: a stuck CFE beyond its cone slips
                 trial = np.where(free_now | soft_cfe, OPEN, states)
-                try:
-                    s_new, _ = ea.rates(trial, (hM, np.zeros(2 * m)), article=False)
+                try:  # (redundant constraints: the indeterminate split by capacity)
+                    s_new, _ = ea.rates_any(trial, (hM, np.zeros(2 * m)), absolute=True)
                 except MechanismError:
                     break  # a free mode in accelerations: keep the interpolated forces
                 Q, p = s_new[:m], s_new[m:]
@@ -1508,10 +1508,14 @@ def solve_dynamic(
         W_t = water_at(t, c)
         p_t = (np.where(water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
                if crack is not None else W_t)
+        viol = eng.violation()
         i = rec.append(lam=t, segment=0, kind=kind, factors=[c.get(n, 0.0) for n in names],
                        s=eng.s, w=eng.w, state=eng.states, residual=residual,
-                       violation=eng.violation(), reactions=np.zeros(0),
+                       violation=viol, reactions=np.zeros(0),
                        water=W_t, pressure=p_t)
+        broken = _broken_conditions(viol, residual, t)
+        if broken and status_box[0] == Status.COMPLETED:
+            status_box[:] = [Status.VIOLATION, broken]
         for k, arr in (("u", u), ("v", v), ("a", a)):
             extra[k].append(arr)
         for k in ENERGY_TERMS:
@@ -1541,6 +1545,7 @@ def solve_dynamic(
             mult[key] = t_ev
 
     status, message = Status.COMPLETED, "time interval completed"
+    status_box = [status, message]  # a state recorded with its conditions broken sets it
     first = True
     deferred = np.zeros(m, bool)
     if m and initial is not None:
@@ -1565,8 +1570,23 @@ def solve_dynamic(
         a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
     if crack is not None and initial is not None and settle_water(0.0, 0):
         F = force_at(0.0)
-    record(0.0, "start", 0.0)
     rigid_n = ~np.isfinite(cfe.kn)
+    # a closed rigid CFE is on the obstacle: the round-off of the start's gap (a static
+    # solution's, judged closed there to its own scale; or closed at u0 within 1e-9,
+    # _state_at_u0) is projected away with the fields (in the metric of M, as after a cut:
+    # the first step's constraint would otherwise remove it, seeding the alternating
+    # accelerations of Newmark's constrained DOFs), not left as a violation of u_n = 0 (a
+    # rigid body at rest has no displacement scale to judge it against)
+    on0 = (eng.states != OPEN) & rigid_n & ~law.inert
+    if on0.any():
+        u, v = _project(system, cond, minv, u, v, eng.states, law, rigid_n)
+        eng.w = system.B @ u + system.w0  # (the kinematics of the projected fields)
+        eng.w[m:][on0] = 0.0
+    # the scales the start's conditions are judged against (as every step's: forces, loads)
+    eng.update_scales()
+    eng.F_scale = max(eng.F_scale, float(np.abs(F).max(initial=0.0)),
+                      float(np.abs(F_held).max(initial=0.0)))
+    record(0.0, "start", 0.0)
     t_run = time.perf_counter()
     t = 0.0
     n = 0
@@ -1645,6 +1665,8 @@ def solve_dynamic(
            else []) + [np.zeros(0)]))
     breaks = breaks[(breaks > 0) & (breaks < end_time)]
     while t < end_time - 1e-6 * dt0:
+        if status_box[0] != Status.COMPLETED:  # conditions broken at a recorded state
+            break
         n += 1
         # the step: Δt; one that would pass a break of a load (a pulse's end) or the end
         # lands there: a whole step under the load's rate continued, its state at the break
@@ -1681,6 +1703,9 @@ def solve_dynamic(
         layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
         x_start = layers.x.copy()
         forcing = (h_end - h0, -drift)
+        # a body at rest (after a stop, no load): a step's load at round-off of the
+        # displacements (1e-19 m) drives no mechanism of a singular scheme (EventEngine.drives)
+        eng.rest_scale = rtol * w_scale[0]
         # the scale of forces: the contact forces, the loads, and the force that would stop
         # the motion within a step (|M u̇| / Δt: before any contact force, an impact's scale)
         eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),
@@ -1773,7 +1798,7 @@ def solve_dynamic(
                 # its velocity vanishes; the other changes happen at t
                 if times and min(times.values()) > t + 1e-9 * dt:
                     try:
-                        ds_o, dw_o = eng.rates(old, forcing, article=False)
+                        ds_o, dw_o = eng.rates_any(old, forcing)
                     except MechanismError:
                         ds_o = None
                     if ds_o is not None:
@@ -1970,6 +1995,8 @@ def solve_dynamic(
         for hk in hooks:
             if hasattr(hk, "after_step"):
                 hk.after_step(n, t, end_time)
+    if status == Status.COMPLETED and status_box[0] != Status.COMPLETED:
+        status, message = status_box
     n_steps = n
     if status != Status.COMPLETED:
         mult["equilibrium_lost"] = t if status == Status.EQUILIBRIUM_LOST else None
@@ -2006,6 +2033,19 @@ def solve_dynamic(
             "stage_cfes": stage_arrays["stage_cfes"],
             "stage_bodies": stage_arrays["stage_bodies"]}),
     )
+
+
+def _broken_conditions(violation: float, residual: float, t: float) -> str:
+    """Why a recorded dynamic state is not a solution, or "": its relative violation of the
+    contact conditions (1) (or its residual of equilibrium) beyond
+    :data:`~stepcontact.solver.static.VIOLATION_LIMIT`, the static solver's limit — a run
+    that reaches such a state ends with status ``violation`` there, never "completed"."""
+    for what, val in (("the contact conditions are violated", violation),
+                      ("equilibrium is violated (residual)", residual)):
+        if not val <= VIOLATION_LIMIT:
+            return (f"{what} by {val:.2e} (relative, limit {VIOLATION_LIMIT:.0e}) at "
+                    f"t = {t:.6g} s; the run stops here")
+    return ""
 
 
 def _impulse_arrays(log: list[tuple[int, float, int, float, float]]) -> dict[str, np.ndarray]:

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, Relations
+from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, Relations
 from stepcontact.solver.rate import RateOutcome, solve_rate_problem
 from stepcontact.solver.schemes import (
     MechanismError,
@@ -43,6 +43,9 @@ from stepcontact.solver.schemes import (
 #: limit, so this bounds the violation of conditions (1) that a reported state can carry.
 LIMIT_TOL = 10.0
 _INF = np.inf
+#: the self-stresses of a singular scheme are found (by an SVD, O((2m)³)) up to this many
+#: contact unknowns; beyond, a redundant scheme takes the minimum-norm rates
+SELF_STRESS_MAX = 2000
 
 
 @dataclass
@@ -97,6 +100,10 @@ class EventEngine:
         self.counters = {"rate_solves": 0, "pivots": 0, "corrections": 0, "lemke": 0,
                          "lemke_fallbacks": 0}
         self._relations: dict[tuple, Relations] = {}
+        self._self_stress: dict[bytes, np.ndarray] = {}
+        #: load rates at or below this (absolute, m) are round-off: they drive nothing
+        #: (:meth:`drives`; set by the dynamic driver per step, −1 on a static path)
+        self.rest_scale = -1.0
 
     # ---- scales and tolerances ---------------------------------------------------------------
     def update_scales(self, ds=None, dw=None, span: float = 1.0) -> None:
@@ -168,15 +175,132 @@ class EventEngine:
         w_hat = h - self.schemes.product(t)
         return t + self.schemes.d * w_hat, w_hat + e
 
+    def self_stress(self, states) -> np.ndarray:
+        """Self-stress modes of the scheme ``states`` (columns, 2m × k): the force changes
+        Δs ≠ 0 with Bᵀ Δs = 0 that its relations leave free — redundant constraints (a rigid
+        body stuck on two corners: the split of the tangential force between them is
+        indeterminate).  They change no displacement (Δŵ = −G Δt = 0); empty for a regular
+        scheme or a mechanism without redundancy."""
+        key = states.tobytes()
+        hit = self._self_stress.get(key)
+        if hit is not None:
+            return hit
+        import scipy.linalg as sla
+
+        rel = self.relations(states, article=False)
+        A, _ = self.schemes.dense(rel)
+        A = np.asarray(A, float)
+        m2 = 2 * self.m
+        out = np.zeros((m2, 0))
+        if 0 < m2 <= SELF_STRESS_MAX and not self.schemes.shifted:  # (float32 G: large)
+            _, sv, Vt = sla.svd(A, check_finite=False)
+            tol = max(1e-10, 100 * np.finfo(float).eps) * max(float(sv[0]), 1e-300)
+            T = Vt[sv <= tol].T  # null vectors in t = s − D ŵ
+            if T.size:
+                Gt = self.schemes.product(T)
+                # combinations with no displacement, G Δt = 0: the self-stresses (not the
+                # free modes of a mechanism)
+                gs = float(np.abs(self.schemes.G).max(initial=0.0))
+                _, sg, Ct = np.linalg.svd(Gt, full_matrices=True)
+                sg = np.r_[sg, np.zeros(Ct.shape[0] - len(sg))]
+                keep = Ct[sg <= 1e-9 * max(gs, 1e-300)].T
+                if keep.size:
+                    Tk = T @ keep
+                    dS = Tk - self.schemes.d[:, None] * self.schemes.product(Tk)
+                    out = np.linalg.qr(dS)[0]
+        self._self_stress[key] = out
+        if len(self._self_stress) > 8:
+            del self._self_stress[next(iter(self._self_stress))]
+        return out
+
+    def rates_redundant(self, states, forcing, *, absolute: bool = False):
+        """Rates of a singular scheme that the load does not drive, with the indeterminate
+        part of the forces (its self-stresses, :meth:`self_stress`) resolved:
+
+        * along a path (default): the stuck frictional CFEs that share a self-stress reach
+          their friction facet together — their margins g_k = f p_k + C ∓ Q_k change at rates
+          proportional to themselves, g_k' = κ g_k (one κ for all; the facet ∓ whose common
+          root −1/κ comes first), so the group slips as one CFE would, at the instant its
+          total friction force reaches Σ (f p_k + C), never one corner first by an arbitrary
+          split; margins within the force tolerance are 0 (those CFEs stay on the facet);
+        * where no facet is approached (κ ≥ 0 on both, or the whole group on the facet), and
+          with ``absolute`` (the rates *are* the forces, the problem in accelerations): the
+          split of least Σ Q_k'² / (f p_k + C) (proportional to each CFE's friction
+          capacity), the other components least squares.
+
+        Without self-stress: the minimum-norm rates of :meth:`rates_singular`."""
+        ds, dw = self.rates_singular(states, forcing)
+        Z = self.self_stress(states)
+        if Z.shape[1] == 0:
+            return ds, dw
+        m = self.m
+        cap = np.zeros(m)
+        grip = np.zeros(m, bool)
+        for law, c, _Q, p, _ut, _un in self._parts(self.s if not absolute else ds, self.w):
+            cap[c] = law.friction_limit(p, states[c])
+            grip[c] = (states[c] == STICK) & law.frictional
+        ZQ, Zp = Z[:m], Z[m:]
+        grp = grip & (np.abs(ZQ).max(axis=1, initial=0.0) > 1e-9)
+        if not grp.any():
+            return ds, dw
+        # the split of least Σ Q_k² / (f p_k + C) (Q_k proportional to each CFE's capacity),
+        # the other components least squares: least Σ w_j (ds + Z c)_j²
+        tf, _ = self.tolerances()
+        wgt = np.ones(2 * m)
+        cref = float(cap[grp].max())
+        if cref > tf:  # (without normal force, e.g. a path from zero: equal shares)
+            wgt[:m][grp] = cref / np.maximum(cap[grp], 1e-3 * cref)
+        c_w = np.linalg.lstsq(Z.T @ (wgt[:, None] * Z), -(Z.T @ (wgt * ds)), rcond=None)[0]
+        if absolute:
+            return ds + Z @ c_w, dw
+        Q = self.s[:m]
+        f = np.zeros(m)
+        for law, c, *_ in self._parts(self.s, self.w):
+            f[c] = law.f
+        best = (np.inf, c_w)  # no facet approached: the split of the rates by capacity
+        for sg in (1.0, -1.0):
+            g = (cap - sg * Q)[grp]  # margins of the facet sg (at the facet within tf: 0)
+            g = np.where(g > tf, g, 0.0)
+            if not g.any():
+                continue  # the whole group on this facet: nothing to synchronise
+            rhs = -(f * ds[m:] - sg * ds[:m])[grp]
+            # (f Zp − sg ZQ) c − κ g = −(f dp − sg dQ) on the group (g in units of its
+            # largest: κ of the order of the rates)
+            gs = float(g.max())
+            Mx = np.c_[(f[:, None] * Zp - sg * ZQ)[grp], -g / gs]
+            sol = np.linalg.lstsq(Mx, rhs, rcond=None)[0]
+            kappa = float(sol[-1]) / gs
+            root = -1.0 / kappa if kappa < 0 else np.inf
+            if root < best[0]:
+                best = (root, sol[:-1])
+        return ds + Z @ best[1], dw
+
+    def rates_any(self, states, forcing, *, absolute: bool = False):
+        """Rates of the scheme ``states``: the unique ones, or those of a singular scheme that
+        the load does not drive (:meth:`rates_redundant`); raises :class:`MechanismError`
+        when the load drives its mechanism."""
+        try:
+            return self.rates(states, forcing, article=False)
+        except MechanismError:
+            if self.drives(states, forcing):
+                raise
+            return self.rates_redundant(states, forcing, absolute=absolute)
+
     def drives(self, states, forcing) -> bool:
         """Does the load drive the mechanism of the singular scheme ``states``?  True when the
         scheme's equations have no solution for the load rates: the right-hand side is not
-        orthogonal to the left null space of the scheme matrix (Fredholm)."""
+        orthogonal to the left null space of the scheme matrix (Fredholm).  A load whose
+        rates are at most ``rest_scale`` (the dynamic driver's round-off of the displacements
+        over a step: a body at rest after it stopped, ĥ, e ~ 1e-19 m) drives nothing
+        (normalised, its round-off would have a direction)."""
+        h, e = forcing
+        if max(float(np.abs(h).max(initial=0.0)), float(np.abs(e).max(initial=0.0))) <= (
+                self.rest_scale):
+            return False
         rel = self.relations(states, article=False)
         A, scale = self.schemes.dense(rel)
         f = lu(A)
         Y = null_modes(A, f, trans=1, apply=self.schemes.exact_apply(rel, scale, trans=1))
-        h, e = forcing
         b = scale * scheme_rhs(self.schemes.d, rel, h, e, np.zeros(2 * self.m))
         # a row of A that is exactly zero has a huge scale: normalise before the norm (its
         # squares would overflow)
@@ -356,18 +480,9 @@ class EventEngine:
         else:
             out = None
             new = guess
-            try:
-                ds, dw = self.rates(new, forcing, article=False)
-            except MechanismError as exc:
-                if not self.drives(new, forcing):
-                    from stepcontact.enums import Status
-                    from stepcontact.solver.rate import RateProblemFailure
-
-                    raise RateProblemFailure(
-                        Status.RATE_PROBLEM, np.zeros(0, np.int64),
-                        "the working scheme is singular but the load does no work on its "
-                        "free modes") from exc
-                raise
+            # a singular scheme that the load does not drive (redundant constraints: the
+            # indeterminate forces resolved, :meth:`rates_redundant`); a driven one raises
+            ds, dw = self.rates_any(new, forcing)
         self.states = new
         return Decision(old, new, ds, dw, out)
 
@@ -399,4 +514,4 @@ class EventEngine:
                     for law, c, Q, p, _ut, un in self._parts(self.s, self.w)), default=0.0)
 
 
-__all__ = ["LIMIT_TOL", "Decision", "EventEngine", "norm2", "null_modes"]
+__all__ = ["LIMIT_TOL", "SELF_STRESS_MAX", "Decision", "EventEngine", "norm2", "null_modes"]

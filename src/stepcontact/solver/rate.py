@@ -266,14 +266,30 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
     for k in cfes:
         law = next(lw for lw in eng.laws if k in lw.cfes)
         j = int(np.searchsorted(law.cfes, k))
-        opts = [OPEN, int(law.closed_state()[j])]
+        # (a closed CFE opens only from its normal limit, N = 0)
+        opts = ([OPEN] if normal_lim[k] or guess[k] == OPEN else []) + [
+            int(law.closed_state()[j])]
         if law.frictional[j]:
             opts += [SLIP_POS, SLIP_NEG]
         if guess[k] == BONDED:  # a bond holds (its break is the driver's)
             opts = [BONDED]
         options.append(opts)
     driven = None
-    for combo in itertools.product(*options):
+    # the schemes closest to the guess first (a non-unique point continues the current scheme
+    # with the natural transitions where it can: a rigid body stuck on two corners whose
+    # friction is exhausted slips; it does not open a corner)
+    # and the CFEs that share a self-stress (redundant rows: their relative motion is held by
+    # the others) in one state before any split of them (one corner slipping at a zero rate
+    # while the other sticks is admissible, but only an artefact of the indeterminate split)
+    groups = _redundant_groups(eng, L, guess, cfes)
+
+    def order(cb):
+        cb = np.asarray(cb)
+        mixed = sum(len(set(cb[g].tolist())) > 1 for g in groups)
+        return mixed, int(np.sum(cb != guess[cfes]))
+
+    combos = sorted(itertools.product(*options), key=order)
+    for combo in combos:
         trial = guess.copy()
         trial[cfes] = combo
         try:
@@ -282,13 +298,33 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
             if eng.drives(trial, forcing):
                 driven = trial if driven is None else driven
                 continue
-            ds, dw = eng.rates_singular(trial, forcing)
+            ds, dw = eng.rates_redundant(trial, forcing)
         if np.array_equal(eng.consistent(trial, L, ds, dw, normal_lim, two_sided), trial[L]):
             return RateOutcome(trial, ds, dw, "enumeration of the schemes of a singular point", L)
     if driven is not None:
         raise MechanismError(None, None, _admissible(eng, L, driven, forcing, normal_lim))
     raise RateProblemFailure(Status.RATE_PROBLEM, L, "no consistent scheme at a point whose "
                              "stuck scheme is singular")
+
+
+def _redundant_groups(eng, L, guess, cfes) -> list[np.ndarray]:
+    """Positions in ``cfes`` of the CFEs that share a self-stress of the point's stuck scheme
+    (:meth:`EventEngine.self_stress`), one array per group of two or more."""
+    base = guess.copy()
+    for law in eng.laws:
+        inl = np.isin(law.cfes, L)
+        base[law.cfes[inl]] = law.base_state(base[law.cfes])[inl]
+    Z = eng.self_stress(base)
+    if Z.shape[1] == 0:
+        return []
+    m = eng.m
+    on = (np.abs(Z[:m]) + np.abs(Z[m:]))[cfes] > 1e-9  # (len(cfes), k)
+    label = np.arange(len(cfes))
+    for col in on.T:  # union of the supports of the modes (connected components)
+        idx = np.flatnonzero(col)
+        if idx.size > 1:
+            label[np.isin(label, label[idx])] = label[idx].min()
+    return [g for g in (np.flatnonzero(label == v) for v in np.unique(label)) if g.size > 1]
 
 
 def _check_mechanism(eng, states, forcing) -> None:
