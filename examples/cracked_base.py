@@ -52,7 +52,9 @@ def dam_model(crack_water: bool, *, bond: sc.Bond | None = None,
                            [(0, ys[k]), (xs[k], ys[k]), (xs[k + 1], ys[k + 1]), (0, ys[k + 1])],
                            18, round(ys[k + 1] - ys[k]), concrete) for k in range(len(ys) - 1)]
     names = tuple(d.name for d in dams)
-    rock_body = sc.rectangle("rock", (-21, -20), (39, 0), 40, 14, rock)  # 1.5 m cells, nodes at heel and toe
+    # 1.5 m cells (coarser than the dam's: the base's mortar CFEs sit on the rock's nodes),
+    # with nodes at the heel (x = 0) and the toe (x = 18 m)
+    rock_body = sc.rectangle("rock", (-21, -20), (39, 0), 40, 14, rock)
     m = sc.Model(bodies=[rock_body, *dams], name="cracked-base" if bond is None else
                  "bonded-dam")
     base = sc.Interface("base", plus=m.select(names[0], y=0), minus=m.select("rock", y=0),
