@@ -538,7 +538,11 @@ FAULTS_SECTION = [
     "writes every state finished (status `incomplete`, message `interrupted`), prints "
     "`error: interrupted by SIGTERM: 'RUN.nc' holds the N states finished …` and exits with "
     "128 + the signal's number (143, 130). A signal that arrives during a write waits until "
-    "the file is whole. `sweep` stops its workers at once, keeps every finished case "
+    "the file is whole. In the model's dynamic interval the signal ends the integration "
+    "after its current step: `MODEL-dynamic.nc` gets the interval's states up to there "
+    "(status `incomplete`; the static result is already written) and the message names "
+    "both files and the time reached; `kill -9` during the interval keeps the static "
+    "result only. `sweep` stops its workers at once, keeps every finished case "
     "(`STORE/cases/`) and exits the same way; run it again to resume. The workers of a "
     "local pool also die with their parent when it is killed outright (`kill -9`).",
     "- **One output, one run.** `run` holds an exclusive lock on its result file for the "

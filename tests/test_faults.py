@@ -479,3 +479,37 @@ def test_export_of_a_dynamic_result_finds_its_model(tmp_path):
     f.write_text(DYN_FILE, encoding="utf-8")  # as it was: found again
     r = runner.invoke(app, ["export", str(moved), "--vtu", str(tmp_path / "v2")])
     assert r.exit_code == 0, r.output
+
+
+@pytest.mark.slow
+def test_sigterm_in_the_dynamic_interval_writes_its_states_so_far(tmp_path):
+    """SIGTERM while `run` integrates the model's dynamic interval: the step under way ends,
+    the interval's states so far are written to MODEL-dynamic.nc (status incomplete, its last
+    time before the end), the static result stays as written, exit 143 with one line naming
+    both files.  The states written are solutions: the contact conditions hold to 1e-9 and
+    the energy ledger balances to 1e-9 of the work (its own closed check)."""
+    from test_dynamics import DYN_FILE
+
+    f = tmp_path / "dyn.toml"  # the same block and pulse, integrated for 2 000 s of steps
+    f.write_text(DYN_FILE.replace("duration = 0.1\n", "duration = 2000.0\nmax_steps = 3000000\n"),
+                 encoding="utf-8")
+    static, dyn = tmp_path / "dyn.nc", tmp_path / "dyn-dynamic.nc"
+    p = None
+    try:
+        p = _cli("run", str(f), "--no-plot", "-q")
+        _until(lambda: _states_in(static), 25, "the static result (the interval then starts)")
+        time.sleep(1.5)
+        p.send_signal(signal.SIGTERM)
+        _, err = p.communicate(timeout=20)
+    finally:
+        _kill(p)
+    assert p.returncode == 128 + signal.SIGTERM, err
+    assert "Traceback" not in err
+    assert "in the dynamic interval at t =" in err and str(dyn) in err and str(static) in err
+    res = load_result(dyn)
+    assert res.status == sc.Status.INCOMPLETE and "interrupted at t =" in res.message
+    assert 0.0 < res.time[-1] < 2000.0 and res.n_states > 10
+    assert res.violation.max() < 1e-9
+    e = res.energy
+    assert abs(e["error"]).max() <= 1e-9 * max(abs(e["external"]).max(), 1e-300)
+    assert load_result(static).status == sc.Status.COMPLETED

@@ -242,16 +242,19 @@ class _TimeProgress:
                              description=f"dynamics t = {t:.4g} s")
 
 
-def _solve_dynamics(model: Model, static_res: StaticResult, *, progress_bar: bool) -> Any:
+def _solve_dynamics(model: Model, static_res: StaticResult, *, progress_bar: bool,
+                    stop: Any = None) -> Any:
     """The model's dynamic interval from the static state (a DynamicResult), with a progress
-    bar in simulated time on stderr."""
+    bar in simulated time on stderr; ``stop``: a
+    :class:`~stepcontact.io.interrupt.StopRequest` polled before every step."""
     from stepcontact.solver.dynamic import solve_dynamic
 
     with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                   console=Console(stderr=True), transient=True,
                   disable=not progress_bar) as progress:
         task = progress.add_task("dynamics", total=model.dynamics.duration)
-        hooks = (_TimeProgress(progress, task),) if progress_bar else ()
+        hooks = ((_TimeProgress(progress, task),) if progress_bar else ()) + \
+            (() if stop is None else (stop,))
         return solve_dynamic(model, initial=static_res if model.effective_program else None,
                              hooks=hooks)
 
@@ -260,10 +263,24 @@ def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
               plot_path: Path | None, progress_bar: bool, console: Console,
               as_json: bool, attrs: dict[str, str] | None = None) -> dict[str, Any]:
     """The model's dynamic interval from the static state: run it with a progress bar in
-    simulated time, write MODEL-dynamic.nc (and the energy ledger's figure), report."""
-    dres = _solve_dynamics(model, static_res, progress_bar=progress_bar)
-    return _dynamic_report(dres, model.dynamics, result_path=result_path,
-                           plot_path=plot_path, console=console, as_json=as_json, attrs=attrs)
+    simulated time, write MODEL-dynamic.nc (and the energy ledger's figure), report.
+
+    SIGTERM or Ctrl-C during the interval ends it after its current step: the states so far
+    are written (status ``incomplete``), then :class:`~stepcontact.io.interrupt.Terminated`
+    is raised with the file's name (``dynamic_file``) for the run's exit."""
+    from stepcontact.io.interrupt import StopRequest, Terminated, signals_stop
+
+    stop = StopRequest()
+    with signals_stop(stop):
+        dres = _solve_dynamics(model, static_res, progress_bar=progress_bar, stop=stop)
+    summary = _dynamic_report(dres, model.dynamics, result_path=result_path,
+                              plot_path=None if stop.stop_requested else plot_path,
+                              console=console, as_json=as_json, attrs=attrs)
+    if stop.stop_requested and stop.signum is not None:
+        exc = Terminated(stop.signum)
+        exc.dynamic_file = (summary["result_file"], float(dres.time[-1]))
+        raise exc
+    return summary
 
 
 def _stage_file_tag(name: str) -> str:
@@ -591,7 +608,12 @@ def _interrupted(e: BaseException, writer: ResultWriter | None, as_json: bool) -
     name = e.name if isinstance(e, Terminated) else "SIGINT"
     code = e.exit_code if isinstance(e, Terminated) else 130
     written = None if writer is None else writer.written
-    if written is None:
+    dyn = getattr(e, "dynamic_file", None)
+    if dyn is not None:
+        text = (f"interrupted by {name} in the dynamic interval at t = {dyn[1]:.6g} s: "
+                f"'{dyn[0]}' holds its states up to there (status incomplete), "
+                f"'{writer.path}' the static program's result")
+    elif written is None:
         text = f"interrupted by {name} before the run wrote anything: no result file written"
     elif written[1] == Status.INCOMPLETE.value:
         text = (f"interrupted by {name}: '{writer.path}' holds the {written[0]} states "

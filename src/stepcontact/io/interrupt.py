@@ -86,4 +86,37 @@ def signals_interrupt(signals: tuple[int, ...] = SIGNALS) -> Iterator[None]:
             signal.signal(s, h)
 
 
-__all__ = ["SIGNALS", "Terminated", "deferred", "signals_interrupt"]
+class StopRequest:
+    """A solver hook that asks a time integration to stop at the end of its current step:
+    :func:`signals_stop` sets ``stop_requested`` (and ``signum``) on SIGTERM or SIGINT, and
+    :func:`~stepcontact.solve_dynamic` polls it before every step, ending with status
+    ``incomplete`` and every state up to there (which the caller then writes)."""
+
+    def __init__(self) -> None:
+        self.stop_requested = False
+        self.signum: int | None = None
+
+
+@contextmanager
+def signals_stop(request: StopRequest, signals: tuple[int, ...] = SIGNALS) -> Iterator[None]:
+    """While the block runs, SIGTERM and SIGINT only set ``request.stop_requested`` (main
+    thread only; elsewhere the block runs unchanged): the solver finishes its step and
+    returns what it has, instead of losing it to an exception; the previous handlers are
+    restored after it."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def _ask(signum: int, frame) -> None:  # noqa: ARG001 - the signal module's signature
+        request.stop_requested, request.signum = True, int(signum)
+
+    old = {s: signal.signal(s, _ask) for s in signals}
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+__all__ = ["SIGNALS", "StopRequest", "Terminated", "deferred", "signals_interrupt",
+           "signals_stop"]

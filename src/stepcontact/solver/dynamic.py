@@ -974,7 +974,10 @@ def solve_dynamic(
     record_every : int
         Record every k-th step (events and the last step always).
     hooks : sequence
-        Objects with an optional ``after_step(step, t, end)`` (progress in simulated time).
+        Objects with an optional ``after_step(step, t, end)`` (progress in simulated time)
+        and an optional ``stop_requested`` flag, polled before every step: once true the run
+        ends there with status ``incomplete`` and the states so far
+        (:class:`~stepcontact.io.interrupt.StopRequest`: SIGTERM or Ctrl-C in the CLI).
     stage : int or str, optional
         A run in stages: the stage (index or name) whose dynamic interval this is (default:
         the last).  The interval of an earlier stage is run by
@@ -1666,6 +1669,11 @@ def solve_dynamic(
     breaks = breaks[(breaks > 0) & (breaks < end_time)]
     while t < end_time - 1e-6 * dt0:
         if status_box[0] != Status.COMPLETED:  # conditions broken at a recorded state
+            break
+        if any(getattr(hk, "stop_requested", False) for hk in hooks):  # SIGTERM, Ctrl-C
+            status = Status.INCOMPLETE
+            message = (f"interrupted at t = {t:.6g} s of {end_time:g} s: the states up to "
+                       "there are complete")
             break
         n += 1
         # the step: Δt; one that would pass a break of a load (a pulse's end) or the end
