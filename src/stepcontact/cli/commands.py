@@ -261,7 +261,8 @@ def _solve_dynamics(model: Model, static_res: StaticResult, *, progress_bar: boo
 
 def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
               plot_path: Path | None, progress_bar: bool, console: Console,
-              as_json: bool, attrs: dict[str, str] | None = None) -> dict[str, Any]:
+              as_json: bool, attrs: dict[str, str] | None = None,
+              table: bool = False) -> dict[str, Any]:
     """The model's dynamic interval from the static state: run it with a progress bar in
     simulated time, write MODEL-dynamic.nc (and the energy ledger's figure), report.
 
@@ -275,7 +276,7 @@ def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
         dres = _solve_dynamics(model, static_res, progress_bar=progress_bar, stop=stop)
     summary = _dynamic_report(dres, model.dynamics, result_path=result_path,
                               plot_path=None if stop.stop_requested else plot_path,
-                              console=console, as_json=as_json, attrs=attrs)
+                              console=console, as_json=as_json, attrs=attrs, table=table)
     if stop.stop_requested and stop.signum is not None:
         exc = Terminated(stop.signum)
         exc.dynamic_file = (summary["result_file"], float(dres.time[-1]))
@@ -292,10 +293,10 @@ def _stage_file_tag(name: str) -> str:
 
 def _dynamic_report(dres: Any, spec: Any, *, result_path: Path, plot_path: Path | None,
                     console: Console, as_json: bool, stage: str | None = None,
-                    attrs: dict[str, str] | None = None) -> dict[str, Any]:
+                    attrs: dict[str, str] | None = None, table: bool = False) -> dict[str, Any]:
     """Write a dynamic result to MODEL-dynamic.nc (the interval of an earlier ``stage``:
     MODEL-dynamic-STAGE.nc; ``attrs``: the model file of the run) with the energy ledger's
-    figure, and report it."""
+    figure, and report it (``table``: with its events and the impulses of its impacts)."""
     from stepcontact.io.interrupt import deferred
     from stepcontact.results.file import save_result
 
@@ -320,6 +321,8 @@ def _dynamic_report(dres: Any, spec: Any, *, result_path: Path, plot_path: Path 
         "energy_J": {k: float(v[-1]) for k, v in e.items()}, "result_file": str(path),
     }
     if not as_json:
+        if table and dres.events:
+            console.print(events_table(dres), crop=False)
         console.print(Text(
             ("dynamics" if stage is None else f"dynamics of stage '{stage}'") +
             f": {dres.message} at t = {dres.time[-1]:.6g} s; {len(dres.events)} "
@@ -332,12 +335,16 @@ def _dynamic_report(dres: Any, spec: Any, *, result_path: Path, plot_path: Path 
 
 
 def events_table(res: StaticResult, max_rows: int = TABLE_ROWS) -> Table:
-    """The event log as a rich table (forces in kN); the first and last events when long."""
+    """The event log as a rich table (forces in kN; the impulses of impacts in kN·s where a
+    dynamic run has any); the first and last events when long."""
     events = list(res.events)
+    impulses = any(getattr(e, "impulse_n", 0.0) or getattr(e, "impulse_t", 0.0)
+                   for e in events)
     table = Table(title=f"events ({len(events)})", title_justify="left", box=box.SIMPLE_HEAD,
                   show_edge=False, pad_edge=False, collapse_padding=True)
-    for name in ("step", "pattern", "λ", "interface", "s (m)", "CFE", "transition", "N (kN)",
-                 "Q (kN)"):
+    for name in ("step", "pattern", "t (s)" if res.path_axis == "time" else "λ", "interface",
+                 "s (m)", "CFE", "transition", "N (kN)", "Q (kN)",
+                 *(("impulse N (kN·s)", "impulse Q (kN·s)") if impulses else ())):
         left = name in ("pattern", "interface", "transition")
         table.add_column(name, justify="left" if left else "right", no_wrap=True)
     if len(events) > max_rows:
@@ -351,7 +358,8 @@ def events_table(res: StaticResult, max_rows: int = TABLE_ROWS) -> Table:
         shown = events
     for e in shown:
         if e is None:
-            table.add_row("…", "", "", f"{len(events) - max_rows} more", "", "", "", "", "")
+            table.add_row("…", "", "", f"{len(events) - max_rows} more",
+                          *[""] * (len(table.columns) - 4))
             continue
         table.add_row(
             str(e.step),
@@ -363,6 +371,7 @@ def events_table(res: StaticResult, max_rows: int = TABLE_ROWS) -> Table:
             e.transition.value,
             _kN(e.N),
             _kN(e.Q),
+            *((f"{e.impulse_n / 1e3:.4g}", f"{e.impulse_t / 1e3:.4g}") if impulses else ()),
         )
     return table
 
@@ -513,13 +522,14 @@ def _analyse(
         summary["stage_dynamics"] = {
             name: _dynamic_report(dres, specs[name], result_path=result_path,
                                   plot_path=plot_path, console=console, as_json=as_json,
-                                  stage=name, attrs=writer.attrs)
+                                  stage=name, attrs=writer.attrs, table=not quiet)
             for name, dres in res.dynamics.items()}
     if model.dynamics is not None and res.status == Status.COMPLETED:
         summary["dynamics"] = _dynamics(model, res, result_path=result_path,
                                         plot_path=plot_path,
                                         progress_bar=not quiet and not as_json,
-                                        console=console, as_json=as_json, attrs=writer.attrs)
+                                        console=console, as_json=as_json, attrs=writer.attrs,
+                                        table=not quiet)
     not_run = _dynamics_not_run(model, res)
     if not_run:  # asked for, not run: said on stderr, in the summary, and by the exit code
         err = Console(stderr=True, soft_wrap=True, highlight=False)
