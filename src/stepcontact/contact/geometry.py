@@ -798,6 +798,7 @@ def _mortar_elements(model: Model, itf: Interface, order, xp, s, tol, scale):
     x_plus = np.einsum("kl,klc->kc", np.where(valid, r["w"], 0.0), pts)
     pe = curve_edges(bp, itf.plus)
     seg, t, _ = _project(x_plus, bp.points[pe[:, 0]], bp.points[pe[:, 1]])
+    t = np.where(t < 1e-12, 0.0, np.where(t > 1.0 - 1e-12, 1.0, t))  # at a node: its s
     s_node = np.zeros(bp.n_nodes)
     s_node[order] = s
     s_x = (1 - t) * s_node[pe[seg, 0]] + t * s_node[pe[seg, 1]]
