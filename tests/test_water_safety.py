@@ -335,8 +335,9 @@ def test_cli_info_and_plot_show_the_safety(sliding_run, tmp_path):
     out = runner.invoke(app, ["info", str(nc), "--design", "1.0"])
     assert out.exit_code == 0, out.output
     s = res.interface_safety("base", 1.0)
-    for text in ("interface 'base' at the last state", "sliding factor", "in the kern",
-                 f"{s.lam_sliding:.6g}", "FS sliding"):
+    for text in ("interface 'base' at the last state", "friction-only factor", "in the kern",
+                 f"{s.lam_sliding:.6g}", "margin: λ at sliding / design λ",
+                 "shear-friction factor", "overturning factor"):
         assert text in out.stdout, text
     out = runner.invoke(app, ["info", str(nc), "--json"])
     (got,) = json.loads(out.stdout)["interface_safety"]

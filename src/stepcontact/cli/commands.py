@@ -1632,9 +1632,11 @@ def plot(
 
 
 def result_info(res: StaticResult, path: Path | None = None,
-                design: float | None = None) -> dict[str, Any]:
+                design: float | None = None, cohesion: float | None = None) -> dict[str, Any]:
     """What ``stepcontact info --json`` prints: :func:`result_summary` plus the model size,
-    the segments with their λ ranges and multipliers, residuals and units."""
+    the segments with their λ ranges and multipliers, residuals and units, and the safety of
+    every joint (at the design value ``design`` of the last segment's parameter, with the
+    design ``cohesion`` in Pa if given)."""
     import numpy as np
 
     geo = res.geometry or {}
@@ -1669,23 +1671,105 @@ def result_info(res: StaticResult, path: Path | None = None,
                               zip(res.reaction_labels, res.reactions[-1], strict=True)}
         if res.n_states and len(res.reaction_labels) else {},
         units=dict(res.units),
-        interface_safety=_interface_safety(res, design),
+        interface_safety=_interface_safety(res, design, cohesion),
     )
 
 
-def _interface_safety(res: StaticResult, design: float | None = None) -> list[dict[str, Any]]:
-    """Safety of every interface at the last state (:meth:`StaticResult.interface_safety`;
-    factors of safety λ_limit / ``design`` when the design load factor is given)."""
+def _interface_safety(res: StaticResult, design: float | None = None,
+                      cohesion: float | None = None) -> list[dict[str, Any]]:
+    """Safety of every interface at the last state (:meth:`StaticResult.interface_safety`)
+    and, with the design value ``design`` of the parameter, at the design state
+    (``design_state``: the engineers' factors) with the load margins λ_limit / λ_d."""
     if not res.n_states:
         return []
     out = []
     for name in res.interface_names:
         try:
-            sf = res.interface_safety(name, design).at(-1)
-            out.append({k: _jsonable(v) for k, v in sf.items()})
+            s = res.interface_safety(name, design, cohesion=cohesion)
         except ValueError:  # an interface without CFEs
             continue
+        row = {k: _jsonable(v) for k, v in s.at(-1).items()}
+        row["cohesion_source"] = s.cohesion_source
+        row["overturning_note"] = s.overturning_note
+        if design is not None:
+            row["design_state"] = {k: [_jsonable(x) for x in v] if isinstance(v, list)
+                                   else _jsonable(v) for k, v in s.design_values().items()}
+        out.append(row)
     return out
+
+
+def _safety_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
+    """The tables of one joint's safety (:func:`_interface_safety`): at the last state, and
+    at the design state with the load margins."""
+    level = bool(sf.get("parameter_is_level"))
+    unit = " m" if level else ""
+    tab = Table(title=f"interface '{sf['interface']}' at the last state (λ = "
+                f"{sf['lam']:.6g}, segment {sf['segment']})", show_header=False, **opts)
+    tab.add_column(justify="left", no_wrap=True)
+    tab.add_column(justify="right")
+    ecc = sf["eccentricity"]
+    for label, value in (
+        ("ΣN, ΣQ (N)", f"{_info_fmt(sf['normal_force'])}, {_info_fmt(sf['shear_force'])}"),
+        ("normal resultant from the heel CFE (m)", _info_fmt(sf["position"])),
+        ("eccentricity e (m), CFE span B", f"{_info_fmt(ecc)} (e/B = "
+         f"{_info_fmt(None if ecc is None else ecc / sf['length'] if sf['length'] else None)}"
+         f"), B = {_info_fmt(sf['length'])}"),
+        ("in the kern (|e| ≤ B/6)", "yes" if sf["in_kern"] else "no"),
+        ("σn heel, toe (Pa)", f"{_info_fmt(sf['sigma_heel'])}, {_info_fmt(sf['sigma_toe'])}"),
+        ("friction-only factor N'·tanφ/H", _info_fmt(sf["friction_only_factor"])),
+        ("shear-friction factor (c·A_c + N'·tanφ)/H", _info_fmt(sf["shear_friction_factor"])),
+        ("overturning factor ΣM_r/ΣM_o about the toe", _info_fmt(sf["overturning_factor"])),
+        ("open length (m)", _info_fmt(sf["open_length"])),
+        (f"{'level' if level else 'λ'} at sliding, at overturning{unit and ' (m)'}",
+         f"{_info_fmt(sf['lam_sliding'])}, {_info_fmt(sf['lam_overturning'])}"),
+    ):
+        tab.add_row(label, value)
+    tables = [tab]
+    d = sf.get("design_state")
+    if not d:
+        return tables
+    what = (f"the design level h = {d['design']:.6g} m" if level
+            else f"the design λ_d = {d['design']:.6g}")
+    where = (f"state {d['state']}" if d.get("state") is not None else
+             f"interpolated between states {d['between_states'][0]} and "
+             f"{d['between_states'][1]}" if d.get("between_states") else "no state")
+    des = Table(title=f"interface '{sf['interface']}' at {what} of '{d['pattern']}' ({where})",
+                show_header=False, **opts)
+    des.add_column(justify="left", no_wrap=True)
+    des.add_column(justify="right")
+    if "normal_force" in d:
+        coh, third = d["cohesion"], d["in_middle_third"]
+        for label, value in (
+            ("ΣN, ΣQ (N)", f"{_info_fmt(d['normal_force'])}, {_info_fmt(d['shear_force'])}"),
+            ("compressed length (m)", f"{_info_fmt(d['compressed_length'])} of "
+             f"{_info_fmt(d['joint_length'])}"),
+            ("cohesion c (Pa)", _info_fmt(coh if coh is not None else 0.0)),
+            ("cohesion from", d["cohesion_source"]),
+            ("shear-friction factor (c·A_c + N'·tanφ)/H", _info_fmt(d["shear_friction_factor"])),
+            ("friction-only factor N'·tanφ/H", _info_fmt(d["friction_only_factor"])),
+            ("overturning factor ΣM_r/ΣM_o about the toe", _info_fmt(d["overturning_factor"])),
+            ("ΣM_r, ΣM_o about the toe (N·m)",
+             f"{_info_fmt(d['resisting_moment'])}, {_info_fmt(d['overturning_moment'])}"),
+            ("resultant from the toe (m)", _info_fmt(d["resultant_from_toe"])),
+            ("e/B, in the middle third", f"{_info_fmt(d['e_over_B'])}, "
+             f"{'—' if third is None else 'yes' if third else 'no'}"),
+        ):
+            des.add_row(label, value)
+    name = "level" if level else "λ"
+    for kind in ("sliding", "overturning"):
+        lim, margin = sf[f"lam_{kind}"], sf[f"margin_{kind}"]
+        des.add_row(f"margin: {name} at {kind} / design {name}",
+                    "—" if margin is None else
+                    f"{lim:.6g}{unit} / {d['design']:.6g}{unit} = {margin:.4g}")
+    tables.append(des)
+    if d.get("notes"):
+        notes = Table(title=f"notes on interface '{sf['interface']}' at the design state",
+                      show_header=False, **opts)
+        notes.add_column(justify="left")
+        for note in d["notes"]:
+            notes.add_row(f"— {note}")
+        tables.append(notes)
+    return tables
 
 
 def _state_list(states: Sequence[int], limit: int = 8, count: bool = True) -> str:
@@ -1758,29 +1842,7 @@ def _info_tables(info: dict[str, Any]) -> list[Table]:
             trans.add_row(t, str(n))
     tables = [size, segs, mult, trans]
     for sf in info.get("interface_safety", []):
-        tab = Table(title=f"interface '{sf['interface']}' at the last state (λ = "
-                    f"{sf['lam']:.6g}, segment {sf['segment']})", show_header=False, **opts)
-        tab.add_column(justify="left")
-        tab.add_column(justify="right")
-        ecc = sf["eccentricity"]
-        for label, value in (
-            ("ΣN, ΣQ (N)", f"{_info_fmt(sf['normal_force'])}, {_info_fmt(sf['shear_force'])}"),
-            ("normal resultant from the heel (m)", _info_fmt(sf["position"])),
-            ("eccentricity e (m), joint length B", f"{_info_fmt(ecc)} (e/B = "
-             f"{_info_fmt(None if ecc is None else ecc / sf['length'] if sf['length'] else None)}"
-             f"), B = {_info_fmt(sf['length'])}"),
-            ("in the kern (|e| ≤ B/6)", "yes" if sf["in_kern"] else "no"),
-            ("σn heel, toe (Pa)", f"{_info_fmt(sf['sigma_heel'])}, {_info_fmt(sf['sigma_toe'])}"),
-            ("sliding factor f·|ΣN|/|ΣQ|", _info_fmt(sf["sliding_factor"])),
-            ("open length (m)", _info_fmt(sf["open_length"])),
-            ("λ sliding, λ overturning", f"{_info_fmt(sf['lam_sliding'])}, "
-             f"{_info_fmt(sf['lam_overturning'])}"),
-            *([(f"FS sliding, overturning (λ_d = {sf['design']:.6g})",
-                f"{_info_fmt(sf['fs_sliding'])}, {_info_fmt(sf['fs_overturning'])}")]
-              if sf.get("design") is not None else []),
-        ):
-            tab.add_row(label, value)
-        tables.append(tab)
+        tables += _safety_tables(sf, opts)
     if info.get("reactions_last_state"):
         reac = Table(title="support reactions on the structure at the last state (N; N·m for rz)",
                      **opts)
@@ -1800,8 +1862,16 @@ def info(
     as_json: JsonOption = False,
     design: Annotated[
         float | None,
-        typer.Option("--design", help="Design load factor λ_d: the joints' factors of safety "
-                     "against sliding and overturning are λ_limit / λ_d."),
+        typer.Option("--design", help="Design value of the last segment's parameter (a load "
+                     "factor λ_d, or a water level in m): the joints' shear-friction, "
+                     "friction-only and overturning factors at that state, and the load margins "
+                     "λ_limit / λ_d."),
+    ] = None,
+    cohesion: Annotated[
+        float | None,
+        typer.Option("--cohesion", min=0.0, help="Design cohesion c of the joints, Pa, on the "
+                     "compressed length (replaces the joint's own: its bond's τ_R or residual "
+                     "C_r)."),
     ] = None,
 ) -> None:
     """Summarise a result file: status, model size, segments, events, multipliers, and the
@@ -1813,6 +1883,8 @@ def info(
 
         stepcontact info run.nc --design 1.0
 
+        stepcontact info dam.nc --design 40 --cohesion 200e3
+
         stepcontact info run.nc --json | jq .multipliers
     """
     try:
@@ -1821,7 +1893,9 @@ def info(
         raise _fail(str(e), as_json) from None
     if design is not None and not (math.isfinite(design) and design != 0):
         raise _fail(f"--design {design}: give a finite, non-zero design load factor", as_json)
-    summary = result_info(res, result_file, design)
+    if cohesion is not None and not math.isfinite(cohesion):
+        raise _fail(f"--cohesion {cohesion}: give a finite cohesion ≥ 0 Pa", as_json)
+    summary = result_info(res, result_file, design, cohesion)
     if as_json:
         typer.echo(json.dumps(summary, indent=2, ensure_ascii=False))
         return

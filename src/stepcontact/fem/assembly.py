@@ -427,6 +427,56 @@ def load_resultants(system: System) -> dict[str, np.ndarray]:
             for name, lv in system.loads.items()}
 
 
+#: the columns of :func:`load_moments`: the force resultant, the first-moment tensor
+#: S_ab = Σ x_a f_b of the nodal forces and the sum of the nodal moments of frames
+LOAD_MOMENT_COMPONENTS = ("Fx", "Fy", "Sxx", "Sxy", "Syx", "Syy", "Mz_nodal")
+
+
+def load_moments(system: System) -> np.ndarray:
+    """(n_patterns, n_bodies, 7) the loads of every pattern per unit λ on every body, in the
+    order of ``system.loads`` and ``system.model.bodies`` (:data:`LOAD_MOMENT_COMPONENTS`):
+
+    F = Σ_i f_i (N), the first-moment tensor S = Σ_i x_i ⊗ f_i (N·m; S_ab = Σ x_a f_b) of the
+    nodal forces f_i at the nodes x_i of the body, and the sum of its nodal moments m_z (N·m,
+    frames).  With them the moment of a body's loads about any point x_0, of their component
+    along any unit direction d, is
+
+        M_d = Σ_i ((x_i − x_0) × d)(f_i · d) = (S d) × d − (x_0 × d)(F · d)
+
+    (a × b = a_x b_y − a_y b_x); M_z about x_0 is S_xy − S_yx − x_0 × F + Σ m_z.  A DOF shared
+    by tied nodes counts once (for the body of its first node).  Prescribed displacements are
+    not forces and do not count.
+    """
+    model, dofs = system.model, system.dofs
+    bodies = list(model.bodies)
+    out = np.zeros((len(system.loads), len(bodies), len(LOAD_MOMENT_COMPONENTS)))
+    if not bodies:
+        return out
+    has = dofs.of >= 0
+    node, comp = np.nonzero(has)
+    d, first = np.unique(dofs.of[has], return_index=True)
+    node, comp = node[first], comp[first]
+    starts = np.array([model.node_offsets[b.name] for b in bodies])
+    ends = starts + np.array([b.n_nodes for b in bodies])
+    order = np.argsort(starts)
+    j = np.searchsorted(starts[order], node, side="right") - 1
+    body = order[np.clip(j, 0, None)]
+    inside = (j >= 0) & (node < ends[body])
+    node, comp, d, body = node[inside], comp[inside], d[inside], body[inside]
+    xy = model.points[node]
+    nb = len(bodies)
+    for p, lv in enumerate(system.loads.values()):
+        fd = np.asarray(lv.f, dtype=float)[d]
+        for c in (0, 1):  # the force component c: F_c and the column S_·c
+            on = comp == c
+            out[p, :, c] = np.bincount(body[on], fd[on], nb)
+            out[p, :, 2 + c] = np.bincount(body[on], xy[on, 0] * fd[on], nb)
+            out[p, :, 4 + c] = np.bincount(body[on], xy[on, 1] * fd[on], nb)
+        on = comp == 2
+        out[p, :, 6] = np.bincount(body[on], fd[on], nb)
+    return out
+
+
 def contact_operator(cfe: ContactElements, dofs: DofMap) -> tuple[sp.csr_matrix, np.ndarray]:
     """B (2m × ndof) with rows [u_τ; u_n] and w0 = [0; −g⁰] (see the geometry module)."""
     m = cfe.m

@@ -23,6 +23,10 @@ Dimensions
     Geometry for drawing and export (``points``, ``dof_of``, ``cells__<body>``).
 ``resultant_component``
     ``load_resultant`` (pattern × Fx, Fy, Mz): each pattern's force resultant per unit λ.
+``load_body``, ``load_moment_component``
+    ``load_moments`` (pattern × body × Fx, Fy, Sxx, Sxy, Syx, Syy, Mz_nodal): each pattern's
+    forces per unit λ on each body, their first-moment tensor S_ab = Σ x_a f_b about the
+    origin and nodal moments (the overturning factor's moments; absent in older files).
 ``impulse``
     A dynamic result's impulses of its impacts, one entry per CFE and impact
     (``impulse_state``, ``impulse_time``, ``impulse_cfe``, ``impulse_normal``,
@@ -60,6 +64,7 @@ import xarray as xr
 
 from stepcontact import enums as _enums
 from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.fem.assembly import LOAD_MOMENT_COMPONENTS
 from stepcontact.io.atomic import write_netcdf
 from stepcontact.results.result import Event, Multipliers, StaticResult
 
@@ -313,6 +318,21 @@ def result_to_dataset(res: StaticResult) -> xr.Dataset:
             ("pattern", "resultant_component"), R, "N",
             "resultant of the pattern's forces per unit load factor: Fx, Fy in N, Mz about "
             "the origin in N m",
+        )
+
+    LM = None if res.load_moments is None else np.asarray(res.load_moments, float)
+    bodies = [str(b["name"]) for b in (res.geometry or {}).get("bodies", [])]
+    if LM is not None and LM.shape == (len(res.pattern_names), len(bodies),
+                                       len(LOAD_MOMENT_COMPONENTS)) and bodies:
+        coords["load_body"] = _var(("load_body",), _str_array(bodies), "1",
+                                   "body the loads act on")
+        coords["load_moment_component"] = _var(
+            ("load_moment_component",), np.array(LOAD_MOMENT_COMPONENTS), "1",
+            "Fx, Fy (N); first-moment tensor S_ab = sum x_a f_b (N m); nodal moments (N m)")
+        dv["load_moments"] = _var(
+            ("pattern", "load_body", "load_moment_component"), LM, "N",
+            "the pattern's forces per unit load factor on each body: resultant, first-moment "
+            "tensor about the origin and nodal moments (N m for the moments)",
         )
 
     # ---- CFE geometry --------------------------------------------------------------------------
@@ -754,6 +774,7 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
         reaction_labels=tuple(strs("reaction")) if "reaction" in ds.coords else (),
         load_resultants=(arr("load_resultant") if "load_resultant" in ds
                          else np.zeros((0, 3))),
+        load_moments=arr("load_moments") if "load_moments" in ds else None,
         water=arr("water") if "water" in ds else None,
         **dyn,
         crack_pressure=arr("crack_pressure") if "crack_pressure" in ds else None,

@@ -180,6 +180,14 @@ class StaticResult:
     reactions: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     reaction_labels: tuple[str, ...] = ()
     load_resultants: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    #: (n_patterns, n_bodies, 7) or None: the loads of every pattern per unit λ on every body
+    #: (bodies in the order of ``geometry["bodies"]``), columns
+    #: :data:`~stepcontact.fem.assembly.LOAD_MOMENT_COMPONENTS`: F_x, F_y (N), the first-moment
+    #: tensor S_ab = Σ x_a f_b (N·m) and the nodal moments Σ m_z (N·m) — the moment of a body's
+    #: loads about any point along any direction (the overturning factor of
+    #: :meth:`interface_safety`).  None: a discrete model, or a result written before it was
+    #: stored
+    load_moments: np.ndarray | None = None
     units: dict[str, str] = field(
         default_factory=lambda: {
             "lam": "1", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
@@ -922,18 +930,26 @@ class StaticResult:
         )
 
     # ---- safety of a joint (implemented in stepcontact.results.safety) ---------------------
-    def interface_safety(self, interface: str, design: float | None = None, *, heel=None):
-        """Safety of ``interface`` along the path: ΣN, ΣQ, the normal resultant's position,
-        eccentricity and kern check, the stresses at heel and toe, the sliding factor
-        f·|ΣN|/|ΣQ|, the open length, and the factors of safety against sliding and
-        overturning λ_limit / ``design`` (see :mod:`stepcontact.results.safety`).
+    def interface_safety(self, interface: str, design: float | None = None, *, heel=None,
+                         cohesion: float | None = None, pattern: str | None = None):
+        """Safety of ``interface`` along the path: ΣN, ΣQ, the normal resultant's position
+        (from the heel and the toe), eccentricity and kern check, the stresses at heel and
+        toe, the compressed length, the shear-friction factor (c·A_c + N'·tan φ)/H, the
+        friction-only factor f·|ΣN|/|ΣQ|, the overturning factor ΣM_r/ΣM_o about the toe,
+        the open length, and at the design value ``design`` of the parameter (the factor of
+        ``pattern``, default the last segment's: a load factor or a water level, m) the design
+        state's factors and the load margins λ_limit / λ_d (see
+        :mod:`stepcontact.results.safety`).
 
         Returns an :class:`~stepcontact.results.safety.InterfaceSafety` (plain arrays along
-        the path).  ``heel``: a point (x, y) near the heel (default: the first CFE).
+        the path; ``design_values()`` at the design state).  ``heel``: a point (x, y) near the
+        heel (default: the first CFE); ``cohesion``: a design cohesion, Pa, replacing the
+        joint's own.
         """
         from stepcontact.results.safety import interface_safety
 
-        return interface_safety(self, interface, design, heel=heel)
+        return interface_safety(self, interface, design, heel=heel, cohesion=cohesion,
+                                pattern=pattern)
 
     # ---- I/O (implemented in stepcontact.results.file) ------------------------------------
     def to_dataset(self):

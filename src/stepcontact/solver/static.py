@@ -28,7 +28,7 @@ import numpy as np
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
 from stepcontact.errors import ContactHeldWarning, ModelError
-from stepcontact.fem.assembly import System, assemble, load_resultants
+from stepcontact.fem.assembly import System, assemble, load_moments, load_resultants
 from stepcontact.model import DiscreteModel, Model
 from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import Event, Multipliers, StaticResult
@@ -450,7 +450,7 @@ class StaticSolver:
             states[grouted & law.has_bond] = BONDED
         eng.states = states
         self.bonds = bool(law.has_bond.any())
-        self._load_resultants = None
+        self._load_resultants = self._load_moments = None
         self.fields.add(k, self.cond)
 
     def _dynamic_interval(self, seg: int, pattern: str, t0: float) -> bool:
@@ -511,7 +511,7 @@ class StaticSolver:
         eng.schemes = self.schemes
         eng._relations = {}
         self.fields.add(k, self.cond)
-        self._load_resultants = None
+        self._load_resultants = self._load_moments = None
         self._record(1.0, seg, "dynamics")  # (its field is u to round-off)
         return self.status == Status.COMPLETED
 
@@ -1240,6 +1240,18 @@ class StaticSolver:
             self._load_resultants = np.array([r[n] for n in self.c]).reshape(len(self.c), 3)
         return self._load_resultants
 
+    def _moments(self) -> np.ndarray | None:
+        """(n_patterns, n_bodies, 7) every pattern's force resultant, first-moment tensor and
+        nodal moments per unit λ on every body (:func:`~stepcontact.fem.assembly.load_moments`),
+        computed once; None for a discrete model (DOFs without coordinates)."""
+        if getattr(self, "_load_moments", None) is None:
+            if self.sys.discrete is not None:
+                return None
+            names = list(self.sys.loads)
+            lm = load_moments(self.sys)
+            self._load_moments = lm[[names.index(n) for n in self.c]]
+        return self._load_moments
+
     def result(self, elapsed: float, partial: bool = False) -> StaticResult:
         if not partial:  # the last state of the run (where it ended or stopped) has its field
             self._store_field(len(self.rec) - 1)
@@ -1282,6 +1294,7 @@ class StaticSolver:
             mechanism=self.mechanism, geometry=geometry, reactions=r["reactions"],
             reaction_labels=tuple(self.sys.reaction_labels),
             load_resultants=self._resultants(),
+            load_moments=self._moments(),
             nonunique=list(self.rec.nonunique),
             water=None if self.crack is None else r["water"],
             crack_pressure=None if self.crack is None else r["pressure"],
