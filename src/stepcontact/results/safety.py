@@ -374,9 +374,32 @@ class _Joint:
     part_note: str | None
 
 
-def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water) -> tuple:
+def _load_weights(res: StaticResult, part: np.ndarray, factors: np.ndarray,
+                  index: np.ndarray, LM: np.ndarray) -> np.ndarray:
+    """(n, P, n_bodies) the factor of every pattern's loads on every body of the part at the
+    reported states ``index`` (0 on bodies not built yet).  A construction stage ramps the
+    weight of its new bodies in with an automatic pattern "<stage>: loads on <bodies>" equal to
+    minus their loads at its start, factor 1 → 0: its loads are counted as (1 − its factor)
+    times the other patterns' loads on those bodies, so that each load keeps its own pattern
+    (its direction) in the moment split."""
+    names = [str(b["name"]) for b in (res.geometry or {}).get("bodies", [])]
+    built = np.array([[b in res.active_bodies(int(i)) for b in names] for i in index],
+                     dtype=bool).reshape(len(index), len(names))
+    w = factors[:, :, None] * (built & part)[:, None, :]
+    ramps = [p for p, name in enumerate(res.pattern_names)
+             if any(name.startswith(f"{st}: loads on ") for st in res.stage_names)]
+    for r in ramps:
+        on = np.abs(LM[r]).max(axis=1) > 0  # the bodies the ramp acts on
+        w[:, :, on] *= (1.0 - factors[:, r])[:, None, None]
+        w[:, r, :] = 0.0
+    return w
+
+
+def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water,
+             index: np.ndarray) -> tuple:
     """ΣM_r, ΣM_o about the toe of the loads on the part above the joint (n,), N·m, and the
-    imbalance of the part's moments with the joint's forces (n,), relative; or Nones and why."""
+    imbalance of the part's moments with the joint's forces (n,), relative; or Nones and why.
+    Rows of reported states ``index``: the bodies built at each (construction stages)."""
     LM = res.load_moments
     n = len(N)
     if jt.part is None:
@@ -388,8 +411,8 @@ def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water) ->
     LM = np.asarray(LM, dtype=float)
     if LM.shape[:2] != (len(res.pattern_names), len(jt.part)):
         return None, None, None, "the stored load moments do not match the result's patterns"
-    on = LM[:, jt.part].sum(axis=1)  # (P, 7) the loads on the part per unit factor
-    F, S, mz = on[:, 0:2], on[:, 2:6].reshape(-1, 2, 2), on[:, 6]
+    on = np.einsum("npb,pbc->npc", _load_weights(res, jt.part, factors, index, LM), LM)
+    F, S, mz = on[..., 0:2], on[..., 2:6].reshape(n, -1, 2, 2), on[..., 6]  # (n, P, ...)
     T = jt.toe
     nrm = jt.axis / np.linalg.norm(jt.axis)
     tng = np.array([-nrm[1], nrm[0]])
@@ -401,9 +424,7 @@ def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water) ->
     for d in (nrm, tng):  # M_d = (S d) × d − (x_0 × d)(F · d) per pattern
         items.append(cross(S @ d, d) - cross(T, d) * (F @ d))
     items.append(mz)
-    per_pattern = np.stack(items, axis=1)  # (P, 3)
-    M = factors[:, :, None] * per_pattern[None]  # (n, P, 3)
-    M = M.reshape(n, -1)
+    M = np.stack(items, axis=-1).reshape(n, -1)  # (n, P × 3): the items of every pattern
     lever = jt.x - T
     if water is not None:  # the crack water pushes the joint's faces apart, along n_k
         M = np.concatenate([M, (water * cross(lever, jt.normal)).sum(axis=1)[:, None]], axis=1)
@@ -413,8 +434,9 @@ def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water) ->
         return None, None, None, "the joint has no length"
     M_o = np.clip(sense * M, 0.0, None).sum(axis=1)
     M_r = np.clip(-sense * M, 0.0, None).sum(axis=1)
-    # the joint's forces on the part: (−N n − Q t) at x_k (+ the crack water W n)
-    pn = -N + (0.0 if water is None else water)
+    # the joint's contact forces on the part, −N n − Q t at x_k, balance the loads (the crack
+    # water among them)
+    pn = -N
     M_joint = (pn * cross(lever, jt.normal) - Q * cross(lever, jt.tangent)).sum(axis=1)
     scale = M_r + M_o + np.abs(pn * cross(lever, jt.normal)).sum(axis=1) + np.abs(
         Q * cross(lever, jt.tangent)).sum(axis=1)
@@ -446,7 +468,7 @@ def _factors(res: StaticResult, jt: _Joint, N, Q, states, index, factors, water,
     with np.errstate(divide="ignore", invalid="ignore"):
         point = np.where((sN != 0)[:, None], (N @ jt.x) / sN[:, None], np.nan)
     from_toe = (point - jt.toe) @ u
-    M_r, M_o, imbalance, note = _moments(res, jt, factors, N, Q, water)
+    M_r, M_o, imbalance, note = _moments(res, jt, factors, N, Q, water, index)
     if M_r is None:
         over = np.full(len(N), np.nan)
         M_r = M_o = over
