@@ -1677,15 +1677,15 @@ def result_info(res: StaticResult, path: Path | None = None,
 
 def _interface_safety(res: StaticResult, design: float | None = None,
                       cohesion: float | None = None) -> list[dict[str, Any]]:
-    """Safety of every interface at the last state (:meth:`StaticResult.interface_safety`)
-    and, with the design value ``design`` of the parameter, at the design state
+    """Safety of every interface at the last state (:meth:`StaticResult.interface_safety`;
+    the heel at the end the loads push away from) and, with the design value ``design`` of the parameter, at the design state
     (``design_state``: the engineers' factors) with the load margins λ_limit / λ_d."""
     if not res.n_states:
         return []
     out = []
     for name in res.interface_names:
         try:
-            s = res.interface_safety(name, design, cohesion=cohesion)
+            s = res.interface_safety(name, design, cohesion=cohesion, heel="auto")
         except ValueError:  # an interface without CFEs
             continue
         row = {k: _jsonable(v) for k, v in s.at(-1).items()}

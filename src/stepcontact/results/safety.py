@@ -254,6 +254,19 @@ def _bodies_of_nodes(res: StaticResult, nodes: np.ndarray) -> set[str]:
     return out
 
 
+def _upstream_end(res: StaticResult, k: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The end of the joint the loads push away from (the heel of a dam): the loads on the part
+    above the joint push it along ΣQ t (its contact forces are −N n − Q t), at the state of the
+    largest |ΣQ|; the first CFE if there is no shear."""
+    Q = np.asarray(res.Q, dtype=float)[:, k]
+    t = np.asarray(res.cfe.get("tangent", np.tile([1.0, 0.0], (res.m, 1))), float)[k]
+    if Q.size == 0:
+        return x[0]
+    i = int(np.argmax(np.abs(Q.sum(axis=1))))
+    push = Q[i] @ t  # the loads' push along the joint
+    return x[-1] if float(push @ (x[-1] - x[0])) < 0 else x[0]
+
+
 def _joint_ends(res: StaticResult, k: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The heel and toe ends of the joint: the extreme S+ nodes of its CFEs projected on the
     line from the first to the last CFE point (the first and last CFE points when the result
@@ -593,9 +606,10 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
     design : float, optional
         Design value λ_d of the parameter (the factor of ``pattern``: a load factor, or a
         water level in m): the design state's factors, and the load margins λ_limit / λ_d.
-    heel : (x, y), optional
-        A point near the heel: the end of the joint nearest to it is the heel.  Default: the
-        first CFE along the interface.
+    heel : (x, y) or "auto", optional
+        A point near the heel: the end of the joint nearest to it is the heel; "auto": the end
+        the loads push away from (along the joint's shear at the state of the largest |ΣQ|).
+        Default: the first CFE along the interface.
     cohesion : float, optional
         Design cohesion c, Pa, on every compressed CFE: replaces the joint's own (its bond's
         τ_R or residual C_r) in the shear-friction factor.
@@ -624,6 +638,10 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
     s = np.asarray(res.cfe["s"], dtype=float)[k]
     k, s = k[np.argsort(s, kind="stable")], np.sort(s)
     x = np.asarray(res.cfe["x"], dtype=float).reshape(-1, 2)[k]
+    if isinstance(heel, str):
+        if heel != "auto":
+            raise ValueError(f"heel={heel!r}: give a point (x, y) or 'auto'")
+        heel = _upstream_end(res, k, x)
     if heel is not None:
         h = np.asarray(heel, dtype=float)
         if np.linalg.norm(x[-1] - h) < np.linalg.norm(x[0] - h):
