@@ -22,8 +22,10 @@ level h is the load parameter) with
 
 The output gives the level at which the heel first cracks, the crack length against the level
 (cascades at one level are listed in their order), the level at which the dam fails and how,
-and at the design level h_d = 28 m the sliding factor (shear friction: the bonded part's
-cohesion plus friction over the thrust) and the overturning factor, from the joint's forces.
+and at the design level h_d = 28 m the safety output (``interface_safety(..., design=h_d)``):
+the shear-friction factor (the cohesion of the bonded, compressed part plus friction over the
+thrust), the friction-only factor, the overturning factor about the toe (the crack water
+counted), the resultant's position and the load margin, checked against the joint's forces.
 The same dam built at once (both lifts cast together) is run beside it: building in stages locks
 the first lift's weight in before the second lift stiffens it.  A figure shows the crack front
 against the level (``bonded_dam_crack.png``).
@@ -104,15 +106,17 @@ h_once = crack(once)[0].lam, once.multipliers[-1].equilibrium_lost
 print(f"built at once: first cracking at h = {h_once[0]:.4f} m, failure at h = {h_once[1]:.4f} m"
       f" (building in stages: {h_crack - h_once[0]:+.4f} m and {h_fail - h_once[1]:+.4f} m)")
 
-# ---- the design level: shear friction and overturning factors from the joint's forces -------
-design = [k for k, (name, _, end) in enumerate(res.segments) if name == "reservoir"
-          and end == H_DESIGN][0]
-i = int(np.flatnonzero((res.segment == design) & (res.kind == "segment_end"))[0])
+# ---- the design level: the safety output, against the joint's forces and the hand statics --
+safety = res.interface_safety("base", design=H_DESIGN)
+d = safety.design_values()
+i = d["state"]  # the state recorded at the end of the segment to h_d
 h = res.lam[i]
 bonded = res.state[i][base] == int(sc.ContactState.BONDED)
 N, Q = -res.N[i][base], res.Q[i][base]  # compression > 0
 tan = np.tan(np.radians(PHI))
-fs_slide = (COHESION * A[bonded].sum() + tan * N.sum()) / abs(Q.sum())
+# by hand from the CFE forces: the cohesion c = τ_R on the bonded CFEs in compression (an intact
+# bond in tension adds no cohesion), tan φ on the whole normal force
+fs_slide = (COHESION * A[bonded & (N > 0)].sum() + tan * N.sum()) / abs(Q.sum())
 W = concrete.density * 9.81 * (B + CREST) / 2 * HEIGHT
 x_w = (CREST * HEIGHT * CREST / 2 + (B - CREST) * HEIGHT / 2 * (CREST + (B - CREST) / 3)) / (
     (B + CREST) / 2 * HEIGHT)  # centroid from the heel
@@ -123,14 +127,26 @@ M_r = W * (B - x_w)
 M_o = M_r - float((N * (B - x_cfe)).sum())  # what the base's forces do not resist
 print(f"\nat the design level h = {h:g} m: bonds broken over {A[~bonded].sum():.2f} m, water "
       f"in the crack over {A[res.crack_pressure[i][base] > 0].sum():.2f} m, bonded "
-      f"{A[bonded].sum():.2f} m of {A.sum():.2f} m")
-print(f"  shear friction factor (c·A_bonded + tan φ ΣN)/ΣQ = {fs_slide:.3f}")
-print(f"  overturning factor M_r/M_o about the toe = {M_r / M_o:.3f}")
+      f"{A[bonded].sum():.2f} m of {A.sum():.2f} m; compressed length "
+      f"{d['compressed_length']:.2f} m")
+print(f"  shear-friction factor (c·A_c + N'·tanφ)/H = {d['shear_friction_factor']:.4f} (by hand "
+      f"from the CFE forces {fs_slide:.4f}; cohesion {d['cohesion'] / 1e3:.1f} kPa on average "
+      f"over the compressed length: {d['cohesion_source']})")
+print(f"  friction-only factor N'·tanφ/H = {d['friction_only_factor']:.4f}")
+print(f"  overturning factor ΣM_r/ΣM_o about the toe = {d['overturning_factor']:.4f} (hand "
+      f"W lever / the moment the base's forces do not resist: {M_r / M_o:.4f})")
+print(f"  resultant {d['resultant_from_toe']:.3f} m from the toe, e/B = {d['e_over_B']:.3f}, "
+      f"in the middle third: {d['in_middle_third']}")
+print(f"  load margin: level at failure / design level = {safety.lam_sliding:.4f} m / "
+      f"{H_DESIGN:g} m = {safety.margin_sliding:.4f}")
 # hand statics of the base's resultants
 print(f"  ΣN = {N.sum() / 1e3:.1f} kN (W − U − ΣW_crack = {(W - U - Wc) / 1e3:.1f}), "
       f"ΣQ = {Q.sum() / 1e3:.1f} kN (γ_w h²/2 = {Hh / 1e3:.1f})")
 assert abs(N.sum() - (W - U - Wc)) < 1e-6 * W
 assert abs(abs(Q.sum()) - Hh) < 1e-6 * W
+assert abs(d["shear_friction_factor"] / fs_slide - 1) < 1e-9
+assert abs(d["overturning_factor"] / (M_r / M_o) - 1) < 1e-6  # W's lever: to the hand's 1e-6
+assert abs(d["resultant_from_toe"] - (M_r - M_o) / N.sum()) < 1e-6 * B
 assert res.status == sc.Status.EQUILIBRIUM_LOST and h_crack < H_DESIGN < h_fail
 assert res.stage_names == ("lift 1", "lift 2", "impounding")
 assert abs(h_crack - h_once[0]) < 0.01 * h_crack  # the base's forces hardly depend on it

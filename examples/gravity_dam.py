@@ -12,9 +12,11 @@ with it.  Events are located in h exactly (the load is a polynomial in h between
 
 Hand statics (W = γ_c A, H = γ_w h²/2, U = γ_w h B/2, levers about the toe):
 * sliding when H = f (W − U):  γ_w h²/2 + f γ_w B h/2 − f W = 0;
-* at the design level h_d = 10 m: the sliding factor f (W − U)/H and the overturning factor
-  M_resisting / M_overturning = W·x_W / (H·h/3 + U·2B/3) — checked against the interface's
-  safety output (resultants of the CFE forces) at the state recorded at h_d.
+* at the design level h_d = 10 m: the friction-only factor f (W − U)/H (the shear-friction
+  factor without cohesion), the overturning factor M_resisting / M_overturning about the toe
+  = W·x_W / (H·h/3 + U·2B/3) and the resultant's distance from the toe (M_r − M_o)/(W − U) —
+  checked against the interface's safety output (``interface_safety(..., design=h_d)``) at
+  the state recorded at h_d; the load margin against sliding h_slide / h_d.
 Run:  python examples/gravity_dam.py
 """
 
@@ -61,19 +63,29 @@ i = int(np.flatnonzero((res.segment == 1) & (res.kind == "segment_end"))[0])
 H, U = GAMMA_W * h_d**2 / 2, GAMMA_W * h_d * B / 2
 fs_slide = f * (W - U) / H
 fs_over = W * x_w / (H * h_d / 3 + U * 2 * B / 3)
-safety = res.interface_safety("base")
-sN, sQ = abs(safety.normal_force[i]), abs(safety.shear_force[i])
-# the normal resultant's lever about the toe gives the net moment, M_r − M_o = ΣN·e_toe (its
-# point, from the CFE forces where they act on the dam: the CFEs sit on the coarser rock's
-# nodes, the first and last CFE points 0.3 m inside the heel and the toe)
-e_toe = B - safety.point[i][0]
-fs_over_fe = W * x_w / (W * x_w - sN * e_toe)
-print(f"at h_d = {h_d} m (state {i}, level {res.lam[i]:g}): ΣN = {sN:.1f} N (hand W − U = "
-      f"{W - U:.1f}), ΣQ = {sQ:.1f} N (hand H = {H:.1f})")
-print(f"sliding factor f·ΣN/ΣQ = {safety.sliding_factor[i]:.9f}; hand f(W − U)/H = "
+# the safety output at the design level (the state recorded at h_d): the engineers' factors
+safety = res.interface_safety("base", design=h_d)
+d = safety.design_values()
+sN, sQ = abs(d["normal_force"]), abs(d["shear_force"])
+M_r, M_o = W * x_w, H * h_d / 3 + U * 2 * B / 3
+print(f"at h_d = {h_d} m (state {d['state']}, level {d['lam']:g}): ΣN = {sN:.1f} N (hand W − U "
+      f"= {W - U:.1f}), ΣQ = {sQ:.1f} N (hand H = {H:.1f})")
+print(f"friction-only factor N'·tanφ/H = {d['friction_only_factor']:.9f}; hand f(W − U)/H = "
       f"{fs_slide:.9f}")
-print(f"overturning factor from the contact resultant {fs_over_fe:.9f}; hand M_r/M_o = "
-      f"{fs_over:.9f}")
+print(f"shear-friction factor (c·A_c + N'·tanφ)/H = {d['shear_friction_factor']:.9f} ("
+      f"cohesion: {d['cohesion_source']})")
+print(f"overturning factor ΣM_r/ΣM_o about the toe = {d['overturning_factor']:.9f}; hand "
+      f"W·x_W/(H·h/3 + U·2B/3) = {fs_over:.9f}")
+print(f"resultant {d['resultant_from_toe']:.6f} m from the toe (hand (M_r − M_o)/(W − U) = "
+      f"{(M_r - M_o) / (W - U):.6f}), e/B = {d['e_over_B']:.4f}, in the middle third: "
+      f"{d['in_middle_third']}; compressed length {d['compressed_length']:g} m of {B:g}")
+print(f"load margin against sliding: level at sliding / design level = "
+      f"{safety.lam_sliding:.6g} m / {h_d:g} m = {safety.margin_sliding:.4f}")
+assert d["state"] == i
 assert abs(lam / h_slide - 1) < 1e-9
-assert abs(safety.sliding_factor[i] / fs_slide - 1) < 1e-9
-assert abs(fs_over_fe / fs_over - 1) < 1e-9
+assert abs(d["friction_only_factor"] / fs_slide - 1) < 1e-9
+assert abs(d["shear_friction_factor"] / fs_slide - 1) < 1e-9  # no cohesion
+assert abs(d["overturning_factor"] / fs_over - 1) < 1e-9
+assert abs(d["resultant_from_toe"] - (M_r - M_o) / (W - U)) < 1e-9 * B
+assert abs(d["compressed_length"] - B) < 1e-9 * B and d["in_middle_third"]
+assert abs(safety.margin_sliding - h_slide / h_d) < 1e-9

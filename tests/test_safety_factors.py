@@ -139,11 +139,12 @@ def test_residual_cohesion_of_the_joint(residual):
     assert lost.any() and not lost.all()  # the heel opened before the dam slid
     assert_allclose(s.shear_friction_factor[-1], 1.0, rtol=RTOL)
     assert s.friction_only_factor[-1] < 1.0  # the cohesion carries part of the shear
-    # the compressed length excludes the opened CFEs: the tributary lengths of N < 0
-    N = residual.N[-1][k]
+    # the compressed length excludes the opened CFEs: the tributary lengths of the closed CFEs
+    # with N < 0
+    N, closed = residual.N[-1][k], residual.state[-1][k] != int(sc.ContactState.OPEN)
     x = residual.cfe["x"][k, 0]
     trib = np.where((x == 0.0) | (x == B), 0.5, 1.0)
-    assert_allclose(s.compressed_length[-1], trib[N < 0].sum(), rtol=RTOL)
+    assert_allclose(s.compressed_length[-1], trib[(N < 0) & closed].sum(), rtol=RTOL)
     assert s.compressed_length[-1] < B
 
 
@@ -196,7 +197,7 @@ def test_interpolated_state_with_a_partly_open_base(block):
     """λ_d = 2 of the water pattern lies between two events: the state is interpolated
     (linear path).  The resultant lies outside the kern, the heel is open: the cohesion counts
     on the compressed CFEs only.  Hand: ΣN = W − 2U, SFF = (c L_c + f ΣN)/(2H) with L_c the
-    tributary lengths of the CFEs with N < 0 (from StaticResult.interpolate), overturning
+    tributary lengths of the closed CFEs with N < 0 (StaticResult.interpolate), overturning
     W (B/2) / (2 (H D/3 + U 2B/3)), resultant from the toe (M_r − M_o)/ΣN; 1e-9."""
     lam, c = 2.0, 100e3
     s = block.interface_safety("base", design=lam, cohesion=c)
@@ -205,10 +206,11 @@ def test_interpolated_state_with_a_partly_open_base(block):
     assert not np.any(np.abs(block.lam[block.segment == 1] - lam) < 1e-9)
     seg = int(np.flatnonzero([p == "water" for p, _, _ in block.segments])[0])
     k = block.cfe["interface"] == 0
-    N = block.interpolate(lam, seg)["N"][k]
+    at = block.interpolate(lam, seg)
+    N, closed = at["N"][k], at["state"][k] != int(sc.ContactState.OPEN)
     x = block.cfe["x"][k, 0]
     trib = np.where((x == 0.0) | (x == BR), 0.5, 1.0)
-    L_c = trib[N < 0].sum()
+    L_c = trib[(N < 0) & closed].sum()
     assert 0 < L_c < BR  # partly open
     sN = WR - lam * UW
     M_r, M_o = WR * BR / 2, lam * (HW * D / 3 + UW * 2 * BR / 3)

@@ -1678,8 +1678,9 @@ def result_info(res: StaticResult, path: Path | None = None,
 def _interface_safety(res: StaticResult, design: float | None = None,
                       cohesion: float | None = None) -> list[dict[str, Any]]:
     """Safety of every interface at the last state (:meth:`StaticResult.interface_safety`;
-    the heel at the end the loads push away from) and, with the design value ``design`` of the parameter, at the design state
-    (``design_state``: the engineers' factors) with the load margins λ_limit / λ_d."""
+    the heel at the end the loads push away from) and, with the design value ``design`` of
+    the parameter, at the design state (``design_state``: the engineers' factors) with the
+    load margins λ_limit / λ_d."""
     if not res.n_states:
         return []
     out = []

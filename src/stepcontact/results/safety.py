@@ -9,8 +9,9 @@ and the stored loads of the result — no new solve):
   lies in the middle third (|e| ≤ B/6); its distance from the joint's toe and heel (the ends of
   the joint's face S+, which may lie beyond the first and last CFE of a mortar joint);
 * the normal stress σ_n = N/A of the CFE at each end (heel and toe, Pa);
-* the compressed area A_c = Σ_{N_k<0} A_k (m²) and length L_c = L A_c / ΣA_k (m; L the length
-  of the joint between its ends), and the open length (the open CFEs' share);
+* the compressed area A_c = Σ_{N_k<0} A_k over the closed CFEs (m²) and length
+  L_c = L A_c / ΣA_k (m; L the length of the joint between its ends), and the open length (the
+  open CFEs' share);
 * the **shear-friction factor** (c·A_c + N'·tan φ)/H, per CFE
 
       SFF = (Σ_{N_k<0} c_k A_k + Σ_k tanφ_k (−N_k)) / |ΣQ|
@@ -464,7 +465,7 @@ def _factors(res: StaticResult, jt: _Joint, N, Q, states, index, factors, water,
     ``states``, reported-state ``index`` (n,), pattern ``factors`` (n, P) and crack ``water``
     (n, K) or None: arrays (n,)."""
     sN, sQ = N.sum(axis=1), Q.sum(axis=1)
-    comp = N < 0
+    comp = (N < 0) & (states != int(ContactState.OPEN))  # (an open CFE's N is 0 to round-off)
     A_c = comp @ jt.area if N.size else np.zeros(len(N))
     L = float(np.linalg.norm(jt.toe - jt.heel))
     c_force, tan, source = _cohesion_per_cfe(res, jt.k, jt.area, jt.fric, states, index,
