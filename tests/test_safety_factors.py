@@ -50,18 +50,21 @@ def hand(h: float, c: float, f: float = F) -> dict[str, float]:
             "overturning": M_r / M_o, "from_toe": (M_r - M_o) / (W - U), "M_r": M_r, "M_o": M_o}
 
 
-def dam(bond: sc.Bond | None = None, levels=(H_D, 20.0)) -> sc.Model:
+def dam(bond: sc.Bond | None = None, levels=(H_D, 20.0), friction: float = F,
+        crack_water: bool = False) -> sc.Model:
     dam_body = sc.quad_region("dam", [(0, 0), (B, 0), (CREST, HEIGHT), (0, HEIGHT)], 8, 12,
                               CONCRETE)
     rock = sc.rectangle("rock", (-10, -8), (18, 0), 28, 4, ROCK)
     m = sc.Model(bodies=[rock, dam_body], name="trapezoid-dam")
     base = sc.Interface("base", plus=m.select("dam", y=0), minus=m.select("rock", y=0),
-                        friction=F, bond=bond)
+                        friction=friction, bond=bond)
+    crack = [sc.CrackWater(base, level=None, entry=(0.0, 0.0))] if crack_water else []
     return m.add(
         sc.Support("deep rock", m.select("rock", y=-8), "xy"), base,
         sc.LoadPattern("weight", [sc.BodyForce(bodies=("dam",))]),
         sc.LoadPattern("reservoir", [sc.WaterLoad(m.select("dam", x=0.0), level=None),
-                                     sc.Uplift(base, head=[(0.0, 0.0, 1.0), (B, 0.0, 0.0)])]),
+                                     sc.Uplift(base, head=[(0.0, 0.0, 1.0), (B, 0.0, 0.0)]),
+                                     *crack]),
         sc.Segment("weight", 1.0), *(sc.Segment("reservoir", h) for h in levels))
 
 
@@ -156,6 +159,32 @@ def test_intact_bond_gives_tau_r_and_alpha_r():
     assert np.all(res.state[d["state"]][k] == int(sc.ContactState.BONDED))
     assert_allclose(d["shear_friction_factor"], hand(H_D, 300e3)["sff"], rtol=RTOL)
     assert_allclose(d["compressed_length"], B, rtol=RTOL)
+
+
+def test_crack_water_counts_in_the_overturning_moment():
+    """f = 1.2 and crack water entering at the heel (sc.CrackWater): the heel opens above the
+    crest level and the water in the crack lifts the dam.  At the last state (the level h
+    above the 12 m face, the crack open over part of the base), about the toe: M_r = W x_W,
+    M_o = H y_H + U 2B/3 + Σ W_k (B − x_k), with the face load a trapezoid of pressures
+    γ_w (h − 12) … γ_w h over 12 m (resultant H at y_H above the base), U = γ_w h B/2 and W_k
+    the crack water's force on each CFE beyond the uplift (res.water); ΣN = W − U − ΣW_k.
+    The crack water is a state-dependent load: it must be in M_o (1e-9)."""
+    res = sc.solve_static(dam(levels=(11.0, 12.0, 20.0), friction=1.2, crack_water=True))
+    k = res.cfe["interface"] == 0
+    Wk, x = res.water[-1][k], res.cfe["x"][k, 0]
+    assert Wk.sum() > 0.05 * W  # the crack holds water
+    h = res.lam[-1]
+    top, bot = GAMMA_W * (h - HEIGHT), GAMMA_W * h
+    H = (top + bot) / 2 * HEIGHT
+    y_H = HEIGHT * (2 * top + bot) / (3 * (top + bot))
+    U = GAMMA_W * h * B / 2
+    M_r, M_o = W * X_W, H * y_H + U * 2 * B / 3 + (Wk * (B - x)).sum()
+    s = res.interface_safety("base")
+    assert s.overturning_note is None
+    assert_allclose(-s.normal_force[-1], W - U - Wk.sum(), rtol=RTOL)
+    assert_allclose([s.resisting_moment[-1], s.overturning_moment[-1]], [M_r, M_o], rtol=RTOL)
+    assert_allclose(s.overturning_factor[-1], M_r / M_o, rtol=RTOL)
+    assert_allclose(s.from_toe[-1], (M_r - M_o) / (W - U - Wk.sum()), rtol=1e-8)
 
 
 def test_level_without_a_state_at_the_design_level(coulomb):

@@ -303,11 +303,20 @@ def _part_above(res: StaticResult, j: int) -> tuple[np.ndarray | None, str | Non
         b = body[n[n < len(body)]]
         return np.unique(b[b >= 0])
 
+    def body_of_cfe(nodes: np.ndarray) -> np.ndarray:
+        """(m,) the body of each CFE's first valid node on one face (−1: none)."""
+        ok = (nodes >= 0) & (nodes < len(body))
+        b = np.where(ok, body[np.where(ok, nodes, 0)], -1)
+        first = np.argmax(b >= 0, axis=1)
+        return b[np.arange(len(b)), first]
+
     nb = len(names)
     link = np.eye(nb, dtype=bool)
-    for c in np.flatnonzero(iface != j):  # the CFEs of the other joints join their bodies
-        bb = np.union1d(bodies(plus[c]), bodies(minus[c]) if minus.size else [])
-        link[np.ix_(bb, bb)] = True
+    if minus.size:  # the CFEs of the other joints join their bodies
+        other = iface != j
+        a, b = body_of_cfe(plus[other]), body_of_cfe(minus[other])
+        ok = (a >= 0) & (b >= 0)
+        link[a[ok], b[ok]] = link[b[ok], a[ok]] = True
     dof_of = np.asarray((res.geometry or {}).get("dof_of", np.zeros((0, 3), int)))
     if dof_of.size and len(dof_of) == len(body):  # tied nodes share DOFs
         dofs = [set(np.unique(dof_of[(body == b)][dof_of[body == b] >= 0]).tolist())
@@ -397,8 +406,12 @@ def _load_weights(res: StaticResult, part: np.ndarray, factors: np.ndarray,
     times the other patterns' loads on those bodies, so that each load keeps its own pattern
     (its direction) in the moment split."""
     names = [str(b["name"]) for b in (res.geometry or {}).get("bodies", [])]
-    built = np.array([[b in res.active_bodies(int(i)) for b in names] for i in index],
-                     dtype=bool).reshape(len(index), len(names))
+    if res.stage is None:
+        built = np.ones((len(index), len(names)), dtype=bool)
+    else:  # the bodies built at each stage, at the stage of every state
+        per_stage = np.array([[b in set(bs) for b in names] for bs in res.stage_bodies],
+                             dtype=bool).reshape(-1, len(names))
+        built = per_stage[np.asarray(res.stage, np.int64)[index]]
     w = factors[:, :, None] * (built & part)[:, None, :]
     ramps = [p for p, name in enumerate(res.pattern_names)
              if any(name.startswith(f"{st}: loads on ") for st in res.stage_names)]
