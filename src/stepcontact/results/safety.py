@@ -431,6 +431,9 @@ def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water,
     n = len(N)
     if jt.part is None:
         return None, None, None, jt.part_note
+    if res.units.get("lam") == "s":  # a DynamicResult: its path axis is the time
+        return None, None, None, ("a dynamic result: inertia forces act on the part, the "
+                                  "moments of its loads alone do not balance the joint's")
     if LM is None:
         return None, None, None, (
             "the result does not store the loads' first moments (a discrete model, or a "
@@ -548,7 +551,8 @@ def _design_row(res: StaticResult, pattern: str | None, design: float, is_level:
 def _design_state(res, jt, design, pattern, is_level, cohesion, N, Q, water, info) -> dict:
     """The design state's values (plain numbers; None where not computable)."""
     out: dict[str, object] = {"design": design, "pattern": pattern,
-                              "parameter": "water level (m)" if is_level else "load factor"}
+                              "parameter": "water level (m)" if is_level else "time (s)"
+                              if res.units.get("lam") == "s" else "load factor"}
     row, why = _design_row(res, pattern, design, is_level)
     if row is None:
         return out | {"state": None, "notes": [why]}
