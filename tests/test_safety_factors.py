@@ -51,13 +51,14 @@ def hand(h: float, c: float, f: float = F) -> dict[str, float]:
 
 
 def dam(bond: sc.Bond | None = None, levels=(H_D, 20.0), friction: float = F,
-        crack_water: bool = False) -> sc.Model:
+        crack_water: bool = False, swap: bool = False) -> sc.Model:
     dam_body = sc.quad_region("dam", [(0, 0), (B, 0), (CREST, HEIGHT), (0, HEIGHT)], 8, 12,
                               CONCRETE)
     rock = sc.rectangle("rock", (-10, -8), (18, 0), 28, 4, ROCK)
     m = sc.Model(bodies=[rock, dam_body], name="trapezoid-dam")
-    base = sc.Interface("base", plus=m.select("dam", y=0), minus=m.select("rock", y=0),
-                        friction=friction, bond=bond)
+    faces = (m.select("dam", y=0), m.select("rock", y=0))
+    plus, minus = faces[::-1] if swap else faces  # swap: S+ is the rock's face
+    base = sc.Interface("base", plus=plus, minus=minus, friction=friction, bond=bond)
     crack = [sc.CrackWater(base, level=None, entry=(0.0, 0.0))] if crack_water else []
     return m.add(
         sc.Support("deep rock", m.select("rock", y=-8), "xy"), base,
@@ -185,6 +186,20 @@ def test_crack_water_counts_in_the_overturning_moment():
     assert_allclose([s.resisting_moment[-1], s.overturning_moment[-1]], [M_r, M_o], rtol=RTOL)
     assert_allclose(s.overturning_factor[-1], M_r / M_o, rtol=RTOL)
     assert_allclose(s.from_toe[-1], (M_r - M_o) / (W - U - Wk.sum()), rtol=1e-8)
+
+
+def test_the_part_may_be_on_the_minus_side(coulomb):
+    """The same dam with the rock's face as S+ and the dam's as S−: the part the joint holds
+    is found on the S− side (the rock is supported); every factor as before (1e-9) — the
+    heel chosen as the end the loads push away from."""
+    res = sc.solve_static(dam(levels=(H_D,), swap=True))
+    d = res.interface_safety("base", design=H_D, cohesion=150e3, heel="auto").design_values()
+    ref = hand(H_D, 150e3)
+    assert d["notes"] == []
+    for key, value in (("shear_friction_factor", ref["sff"]), ("overturning_factor",
+                       ref["overturning"]), ("resultant_from_toe", ref["from_toe"]),
+                       ("compressed_length", B)):
+        assert_allclose(d[key], value, rtol=RTOL, err_msg=key)
 
 
 def test_level_without_a_state_at_the_design_level(coulomb):

@@ -255,27 +255,28 @@ def _bodies_of_nodes(res: StaticResult, nodes: np.ndarray) -> set[str]:
     return out
 
 
-def _upstream_end(res: StaticResult, k: np.ndarray, x: np.ndarray) -> np.ndarray:
+def _upstream_end(res: StaticResult, k: np.ndarray, x: np.ndarray, side: int = 1) -> np.ndarray:
     """The end of the joint the loads push away from (the heel of a dam): the loads on the part
-    above the joint push it along ΣQ t (its contact forces are −N n − Q t), at the state of the
-    largest |ΣQ|; the first CFE if there is no shear."""
+    above the joint push it along ±ΣQ t (its contact forces are ±(−N n − Q t); + for a part on
+    S+, − on S−), at the state of the largest |ΣQ|; the first CFE if there is no shear."""
     Q = np.asarray(res.Q, dtype=float)[:, k]
     t = np.asarray(res.cfe.get("tangent", np.tile([1.0, 0.0], (res.m, 1))), float)[k]
     if Q.size == 0:
         return x[0]
     i = int(np.argmax(np.abs(Q.sum(axis=1))))
-    push = Q[i] @ t  # the loads' push along the joint
+    push = side * (Q[i] @ t)  # the loads' push along the joint
     return x[-1] if float(push @ (x[-1] - x[0])) < 0 else x[0]
 
 
-def _joint_ends(res: StaticResult, k: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The heel and toe ends of the joint: the extreme S+ nodes of its CFEs projected on the
-    line from the first to the last CFE point (the first and last CFE points when the result
-    has no node coordinates)."""
+def _joint_ends(res: StaticResult, k: np.ndarray, x: np.ndarray,
+                face: str = "plus") -> tuple[np.ndarray, np.ndarray]:
+    """The heel and toe ends of the joint: the extreme nodes of its CFEs on ``face`` ("plus"
+    or "minus") projected on the line from the first to the last CFE point (the first and last
+    CFE points when the result has no node coordinates)."""
     e = x[-1] - x[0]
     size = float(np.linalg.norm(e))
     pts = np.asarray((res.geometry or {}).get("points", np.zeros((0, 2))), dtype=float)
-    nodes = np.asarray(res.cfe.get("plus_nodes", np.zeros((0, 0), int)))
+    nodes = np.asarray(res.cfe.get(f"{face}_nodes", np.zeros((0, 0), int)))
     if size == 0 or pts.size == 0 or nodes.size == 0:
         return x[0].copy(), x[-1].copy()
     e = e / size
@@ -286,9 +287,24 @@ def _joint_ends(res: StaticResult, k: np.ndarray, x: np.ndarray) -> tuple[np.nda
     return x[0] + lo * e, x[0] + hi * e
 
 
-def _part_above(res: StaticResult, j: int) -> tuple[np.ndarray | None, str | None]:
-    """(n_bodies,) bool: the bodies on the S+ side of interface ``j`` and those joined to
-    them by other joints or shared DOFs — the part the joint holds; or None and why."""
+def _face_points(res: StaticResult, k: np.ndarray, x: np.ndarray, face: str) -> np.ndarray:
+    """(K, 2) the points where the CFEs ``k`` act on ``face``: x on S+; on S− the weighted
+    mean of the S− nodes (it differs from x by an initial gap), m."""
+    pts = np.asarray((res.geometry or {}).get("points", np.zeros((0, 2))), dtype=float)
+    nodes = np.asarray(res.cfe.get(f"{face}_nodes", np.zeros((0, 0), int)))
+    w = np.asarray(res.cfe.get(f"{face}_w", np.zeros((0, 0))), dtype=float)
+    if face == "plus" or pts.size == 0 or nodes.size == 0 or w.shape != nodes.shape:
+        return x
+    nodes, w = nodes[k], w[k]
+    ok = (nodes >= 0) & (nodes < len(pts))
+    return np.einsum("kj,kjc->kc", np.where(ok, w, 0.0), pts[np.where(ok, nodes, 0)])
+
+
+def _part_above(res: StaticResult, j: int,
+                side: int = 1) -> tuple[np.ndarray | None, str | None]:
+    """(n_bodies,) bool: the bodies on the S+ side (``side`` −1: the S− side) of interface
+    ``j`` and those joined to them by other joints or shared DOFs — the part the joint holds;
+    or None and why."""
     names, body = _body_of_nodes(res)
     if not names:
         return None, "the result has no bodies with node coordinates (a discrete model)"
@@ -327,13 +343,14 @@ def _part_above(res: StaticResult, j: int) -> tuple[np.ndarray | None, str | Non
                     link[a, b] = link[b, a] = True
     mine = iface == j
     part = np.zeros(nb, bool)
-    part[bodies(plus[mine].ravel())] = True
+    seed, other_side = (plus, minus) if side > 0 else (minus, plus)
+    part[bodies(seed[mine].ravel())] = True
     while True:  # the connected component of the S+ bodies
         grown = part | link[part].any(axis=0)
         if (grown == part).all():
             break
         part = grown
-    below = bodies(minus[mine].ravel()) if minus.size else np.zeros(0, int)
+    below = bodies(other_side[mine].ravel()) if other_side.size else np.zeros(0, int)
     if below.size and part[below].any():
         return None, (f"the bodies on both sides of the joint are joined by other joints "
                       f"({', '.join(names[b] for b in below if part[b])}): the joint does not "
@@ -395,6 +412,8 @@ class _Joint:
     toe: np.ndarray
     part: np.ndarray | None
     part_note: str | None
+    side: int = 1  # the part is on S+ (1) or S− (−1)
+    at: np.ndarray | None = None  # (K, 2) where the CFE forces act on the part (x on S+)
 
 
 def _load_weights(res: StaticResult, part: np.ndarray, factors: np.ndarray,
@@ -455,19 +474,20 @@ def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water,
         items.append(cross(S @ d, d) - cross(T, d) * (F @ d))
     items.append(mz)
     M = np.stack(items, axis=-1).reshape(n, -1)  # (n, P × 3): the items of every pattern
-    lever = jt.x - T
-    if water is not None:  # the crack water pushes the joint's faces apart, along n_k
-        M = np.concatenate([M, (water * cross(lever, jt.normal)).sum(axis=1)[:, None]], axis=1)
-    # the overturning sense: the one that lifts the heel (rotation about the toe)
-    sense = np.sign(cross(jt.heel - T, nrm))
+    lever = (jt.x if jt.at is None else jt.at) - T
+    if water is not None:  # the crack water pushes the joint's faces apart, along ±n_k
+        M = np.concatenate([M, jt.side * (water * cross(lever, jt.normal)).sum(axis=1)[:, None]],
+                           axis=1)
+    # the overturning sense: the one that lifts the heel off the other face (about the toe)
+    sense = np.sign(cross(jt.heel - T, jt.side * nrm))
     if sense == 0:
         return None, None, None, "the joint has no length"
     M_o = np.clip(sense * M, 0.0, None).sum(axis=1)
     M_r = np.clip(-sense * M, 0.0, None).sum(axis=1)
-    # the joint's contact forces on the part, −N n − Q t at x_k, balance the loads (the crack
-    # water among them)
+    # the joint's contact forces on the part, ±(−N n − Q t) at x_k (+ on S+), balance the
+    # loads (the crack water among them)
     pn = -N
-    M_joint = (pn * cross(lever, jt.normal) - Q * cross(lever, jt.tangent)).sum(axis=1)
+    M_joint = jt.side * (pn * cross(lever, jt.normal) - Q * cross(lever, jt.tangent)).sum(axis=1)
     scale = M_r + M_o + np.abs(pn * cross(lever, jt.normal)).sum(axis=1) + np.abs(
         Q * cross(lever, jt.tangent)).sum(axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -611,6 +631,38 @@ def _design_state(res, jt, design, pattern, is_level, cohesion, N, Q, water, inf
     }
 
 
+def _held_part(res: StaticResult, j: int, k: np.ndarray, x: np.ndarray,
+               water: np.ndarray | None, cohesion: float | None,
+               sides=(1, -1)) -> tuple[_Joint, dict]:
+    """The joint ``j`` (its CFEs ``k`` in order, at ``x``) and its factors along the path
+    (:func:`_factors`), for the part it holds: the bodies on its S+ side, else on its S− side
+    (the side whose loads the joint's forces balance alone; the S+ side's reason if none)."""
+    normals = np.asarray(res.cfe.get("normal", np.tile([0.0, 1.0], (res.m, 1))), float)[k]
+    tangents = np.asarray(res.cfe.get("tangent", np.tile([1.0, 0.0], (res.m, 1))), float)[k]
+    area = np.asarray(res.cfe["area"], dtype=float)[k]
+    fric = np.asarray(res.cfe["friction"], dtype=float)[k]
+    N = np.asarray(res.N, dtype=float)[:, k]
+    Q = np.asarray(res.Q, dtype=float)[:, k]
+    states = np.asarray(res.state)[:, k]
+    factors = np.asarray(res.factors, dtype=float)
+    index = np.arange(len(N))
+    wk = None if water is None else water[:, k]
+    first = None
+    for side in sides:
+        face = "plus" if side > 0 else "minus"
+        j_heel, j_toe = _joint_ends(res, k, x, face)
+        part, part_note = _part_above(res, j, side)
+        jt = _Joint(k=k, x=x, area=area, fric=fric, normal=normals, tangent=tangents,
+                    axis=normals.mean(axis=0), heel=j_heel, toe=j_toe, part=part,
+                    part_note=part_note, side=side, at=_face_points(res, k, x, face))
+        vals = _factors(res, jt, N, Q, states, index, factors, wk, cohesion)
+        if first is None:
+            first = (jt, vals)
+        if vals["note"] is None:
+            return jt, vals
+    return first
+
+
 def interface_safety(res: StaticResult, interface: str, design: float | None = None,
                      heel=None, *, cohesion: float | None = None,
                      pattern: str | None = None) -> InterfaceSafety:
@@ -656,10 +708,12 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
     s = np.asarray(res.cfe["s"], dtype=float)[k]
     k, s = k[np.argsort(s, kind="stable")], np.sort(s)
     x = np.asarray(res.cfe["x"], dtype=float).reshape(-1, 2)[k]
+    water = None if res.water is None else np.asarray(res.water, dtype=float)
+    jt, vals = _held_part(res, j, k, x, water, cohesion)
     if isinstance(heel, str):
         if heel != "auto":
             raise ValueError(f"heel={heel!r}: give a point (x, y) or 'auto'")
-        heel = _upstream_end(res, k, x)
+        heel = _upstream_end(res, k, x, jt.side)
     if heel is not None:
         h = np.asarray(heel, dtype=float)
         if np.linalg.norm(x[-1] - h) < np.linalg.norm(x[0] - h):
@@ -670,7 +724,6 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
     fric = np.asarray(res.cfe["friction"], dtype=float)[k]
     N = np.asarray(res.N, dtype=float)[:, k]
     Q = np.asarray(res.Q, dtype=float)[:, k]
-    water = None if res.water is None else np.asarray(res.water, dtype=float)[:, k]
     sN, sQ = N.sum(axis=1), Q.sum(axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         loaded = sN != 0
@@ -686,16 +739,9 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
     open_length = length * (is_open @ area) / area.sum() if area.sum() > 0 else 0.0 * sN
     lam = np.asarray(res.lam, dtype=float)
 
-    j_heel, j_toe = _joint_ends(res, k, x)
-    normals = np.asarray(res.cfe.get("normal", np.tile([0.0, 1.0], (res.m, 1))), float)[k]
-    tangents = np.asarray(res.cfe.get("tangent", np.tile([1.0, 0.0], (res.m, 1))), float)[k]
-    part, part_note = _part_above(res, j)
-    jt = _Joint(k=k, x=x, area=area, fric=fric, normal=normals, tangent=tangents,
-                axis=normals.mean(axis=0), heel=j_heel, toe=j_toe, part=part,
-                part_note=part_note)
-    states = np.asarray(res.state)[:, k]
-    vals = _factors(res, jt, N, Q, states, np.arange(len(lam)),
-                    np.asarray(res.factors, dtype=float), water, cohesion)
+    if jt.k[0] != k[0]:  # the heel chosen at the other end: the factors in this order
+        jt, vals = _held_part(res, j, k, x, water, cohesion, sides=(jt.side,))
+    water = None if water is None else water[:, k]
 
     lam_sliding = lam_overturning = None
     mechanism = None
@@ -735,7 +781,7 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
         overturning_moment=vals["overturning_moment"],
         overturning_factor=vals["overturning_factor"], overturning_note=vals["note"],
         from_toe=vals["from_toe"], from_heel=vals["from_heel"],
-        joint_length=vals["joint_length"], joint_heel=j_heel, joint_toe=j_toe,
+        joint_length=vals["joint_length"], joint_heel=jt.heel, joint_toe=jt.toe,
         cohesion=None if cohesion is None else float(cohesion),
         cohesion_source=vals["cohesion_source"], pattern=pattern, is_level=is_level,
         design_state=design_state,
