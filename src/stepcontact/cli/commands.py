@@ -1744,7 +1744,7 @@ def _safety_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
             ("ΣN, ΣQ (N)", f"{_info_fmt(d['normal_force'])}, {_info_fmt(d['shear_force'])}"),
             ("compressed length (m)", f"{_info_fmt(d['compressed_length'])} of "
              f"{_info_fmt(d['joint_length'])}"),
-            ("cohesion c (Pa)", _info_fmt(coh if coh is not None else 0.0)),
+            ("cohesion c (Pa)", _info_fmt(coh)),
             ("cohesion from", d["cohesion_source"]),
             ("shear-friction factor (c·A_c + N'·tanφ)/H", _info_fmt(d["shear_friction_factor"])),
             ("friction-only factor N'·tanφ/H", _info_fmt(d["friction_only_factor"])),

@@ -528,7 +528,7 @@ def _factors(res: StaticResult, jt: _Joint, N, Q, states, index, factors, water,
         over = np.where(bad, np.nan, over)
         M_r, M_o = np.where(bad, np.nan, M_r), np.where(bad, np.nan, M_o)
         if bad.any():
-            worst = int(np.nanargmax(np.where(bad, imbalance, -1.0)))
+            worst = int(np.argmax(np.where(bad, np.nan_to_num(imbalance, nan=np.inf), -1.0)))
             note = (f"the loads on the part above the joint are not held by the joint alone "
                     f"(a support, spring or other joint on it, or loads that change with the "
                     f"state): their moment about the toe and the joint's differ by "
