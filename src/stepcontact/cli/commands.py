@@ -1706,7 +1706,7 @@ def _safety_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
     unit = " m" if level else ""
     tab = Table(title=f"interface '{sf['interface']}' at the last state (λ = "
                 f"{sf['lam']:.6g}, segment {sf['segment']})", show_header=False, **opts)
-    tab.add_column(justify="left", no_wrap=True)
+    tab.add_column(justify="left", no_wrap=True, min_width=42)
     tab.add_column(justify="right")
     ecc = sf["eccentricity"]
     for label, value in (
@@ -1736,7 +1736,7 @@ def _safety_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
              f"{d['between_states'][1]}" if d.get("between_states") else "no state")
     des = Table(title=f"interface '{sf['interface']}' at {what} of '{d['pattern']}' ({where})",
                 show_header=False, **opts)
-    des.add_column(justify="left", no_wrap=True)
+    des.add_column(justify="left", no_wrap=True, min_width=44)
     des.add_column(justify="right")
     if "normal_force" in d:
         coh, third = d["cohesion"], d["in_middle_third"]

@@ -125,6 +125,8 @@ class InterfaceSafety:
     pattern : the load pattern whose factor is the parameter (the last segment's)
     is_level : whether that factor is a water level (m)
     design_state : the design state's values (:meth:`design_values`)
+    limit_patterns : {"sliding", "overturning": the pattern of the segment where the limit was
+        found} (a margin needs the parameter's pattern)
     """
 
     interface: str
@@ -166,22 +168,30 @@ class InterfaceSafety:
     pattern: str | None = None
     is_level: bool = False
     design_state: dict = field(default_factory=dict)
+    limit_patterns: dict = field(default_factory=dict)
 
     @property
     def friction_only_factor(self) -> np.ndarray:
         """Friction-only factor N'·tan φ / H = Σ f_k (−N_k) / |ΣQ| (``sliding_factor``)."""
         return self.sliding_factor
 
+    def _margin(self, kind: str) -> float | None:
+        lim = getattr(self, f"lam_{kind}")
+        if self.limit_patterns.get(kind, self.pattern) != self.pattern:
+            return None  # reached in a segment of another pattern: not a λ of the parameter
+        return _ratio(lim, self.design)
+
     @property
     def margin_sliding(self) -> float | None:
         """Load margin against sliding, λ_sliding / λ_d (a level: level at sliding / design
-        level); None if either is unknown.  Not a factor of safety."""
-        return _ratio(self.lam_sliding, self.design)
+        level); None if either is unknown, or the joint slid in a segment of another pattern
+        than the parameter's.  Not a factor of safety."""
+        return self._margin("sliding")
 
     @property
     def margin_overturning(self) -> float | None:
-        """Load margin against overturning, λ_overturning / λ_d."""
-        return _ratio(self.lam_overturning, self.design)
+        """Load margin against overturning, λ_overturning / λ_d (as ``margin_sliding``)."""
+        return self._margin("overturning")
 
     #: former names of the margins (kept for existing callers)
     fs_sliding = margin_sliding
@@ -384,9 +394,8 @@ def _cohesion_per_cfe(res: StaticResult, k: np.ndarray, area: np.ndarray, fric: 
         return np.broadcast_to(cohesion * area, states.shape).copy(), tan, (
             f"design cohesion {cohesion:.6g} Pa (given)")
     if has_bond:
-        return force, tan, ("the joint's bond: τ_R where intact, the residual cohesion C_r "
-                            "where broken and not opened since")
-    return force, tan, "none (the joint has no cohesion)"
+        return force, tan, "the joint's bond (τ_R intact; C_r broken, until it opens)"
+    return force, tan, "none: the joint has no cohesion"
 
 
 def _zero_to(a: np.ndarray, b: np.ndarray, scale: np.ndarray) -> np.ndarray:
@@ -745,6 +754,9 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
 
     lam_sliding = lam_overturning = None
     mechanism = None
+    seg_pattern = [res.segments[g][0] if 0 <= g < len(res.segments) else None
+                   for g in np.asarray(res.segment, dtype=np.int64).tolist()]
+    found: dict[str, str | None] = {}  # the pattern whose λ each limit is
     mech = res.mechanism if res.status == Status.EQUILIBRIUM_LOST else None
     if mech:
         nodes = np.concatenate([np.asarray(res.cfe[key])[k].ravel()
@@ -753,16 +765,24 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
         modes = [str(b["mode"]) for b in mech.get("bodies", []) if str(b["body"]) in mine]
         if modes:
             mechanism = modes[0]
-            if mechanism == "sliding":
+            kind = ("sliding" if mechanism == "sliding" else "overturning"
+                    if mechanism.startswith("rotation") else None)
+            if kind == "sliding":
                 lam_sliding = float(mech["lam"])
-            elif mechanism.startswith("rotation"):
+            elif kind == "overturning":
                 lam_overturning = float(mech["lam"])
+            if kind:
+                found[kind] = seg_pattern[-1]
+    # a joint that carries a normal force (not the round-off of a joint just made)
+    pressed = sN < -1e-9 * float(np.abs(sN).max(initial=0.0))
     if lam_sliding is None:  # every CFE in contact slips: the joint's own shear friction = 1
-        hit = np.flatnonzero((sN < 0) & (vals["own_sff"] <= 1.0 + SLIDING_RTOL))
+        hit = np.flatnonzero(pressed & (vals["own_sff"] <= 1.0 + SLIDING_RTOL))
         lam_sliding = float(lam[hit[0]]) if hit.size else None
+        found["sliding"] = seg_pattern[hit[0]] if hit.size else None
     if lam_overturning is None and length > 0:
-        hit = np.flatnonzero((sN < 0) & (np.abs(np.nan_to_num(ecc)) >= 0.5 * length - tol))
+        hit = np.flatnonzero(pressed & (np.abs(np.nan_to_num(ecc)) >= 0.5 * length - tol))
         lam_overturning = float(lam[hit[0]]) if hit.size else None
+        found["overturning"] = seg_pattern[hit[0]] if hit.size else None
     design_state = {} if design is None else _design_state(
         res, jt, float(design), pattern, is_level, cohesion, N, Q, water,
         vals)
@@ -784,7 +804,7 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
         joint_length=vals["joint_length"], joint_heel=jt.heel, joint_toe=jt.toe,
         cohesion=None if cohesion is None else float(cohesion),
         cohesion_source=vals["cohesion_source"], pattern=pattern, is_level=is_level,
-        design_state=design_state,
+        design_state=design_state, limit_patterns=found,
     )
 
 
