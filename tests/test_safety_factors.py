@@ -122,6 +122,14 @@ def test_margins_are_level_ratios_and_keep_their_old_names(coulomb):
     assert s.fs_sliding == s.margin_sliding and s.fs_overturning == s.margin_overturning
     assert s.margin_overturning is None
     assert_allclose(s.friction_only_factor[-1], 1.0, rtol=RTOL)  # every CFE slips
+    # the weight's λ as the parameter: the dam slid in a segment of another pattern (no
+    # margin); at λ = 1 of the weight alone there is no overturning moment
+    w = coulomb.interface_safety("base", design=1.0, pattern="weight")
+    assert w.margin_sliding is None and not w.is_level
+    d = w.design_values()
+    assert_allclose(-d["normal_force"], W, rtol=RTOL)
+    assert d["overturning_factor"] is None  # the weight's nodal forces have no x component
+    assert any("no overturning moment" in n for n in d["notes"])
 
 
 def test_residual_cohesion_of_the_joint(residual):
