@@ -513,12 +513,12 @@ def design_table(study: BasinStudy, ds=None) -> list[tuple[str, float, str]]:
     cp, cm = hy.extreme_coefficients(10.0)
     rows.append(("Fiorotto & Rinaldo (1992), Ω = 0.15",
                  hy.fiorotto_rinaldo_thickness(jump.V1, 0.15, float(cp), float(cm), gamma_c=gc),
-                 f"C⁺p + C⁻p = {float(cp + cm):.2f} at 10 h1 [RECALLED defaults]"))
+                 f"C⁺p + C⁻p = {float(cp + cm):.2f} at 10 h1 (defaults {hy.RECALLED})"))
     rows.append(("Fiorotto & Rinaldo (1992), Ω = 0.15, C⁺p + C⁻p = 0.8",
                  hy.fiorotto_rinaldo_thickness(jump.V1, 0.15, 0.4, 0.4, gamma_c=gc),
                  "the reference case of docs/slab-hydraulics.md"))
     rows.append(("Dombrovsky, t = 0.15 V1 √h1", hy.dombrovsky_thickness(jump.V1, jump.h1),
-                 "[RECALLED]"))
+                 hy.RECALLED))
     q0 = float(net[0])
     rows.append(("kern rule, rigid slab on a Winkler bed, deficit of the mean profile",
                  hy.kern_liftoff_thickness(q0, L, L, q1=float(net[-1]), gamma_c=gc),
