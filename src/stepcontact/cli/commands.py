@@ -1109,7 +1109,8 @@ def study(
     ] = Path("slab-study"),
     quick: Annotated[
         bool, typer.Option("--quick", help="A coarse version (three positions, one duration, "
-                           "a coarse mesh and tolerance): minutes instead of an hour.")
+                           "a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on 40 × 4): "
+                           "under a minute on two cores instead of several minutes.")
     ] = False,
     E0: Annotated[
         float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
