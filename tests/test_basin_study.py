@@ -173,6 +173,9 @@ def test_the_study_command(tiny, tmp_path, monkeypatch):
     for case in ds["case"].values:  # the table of cases
         assert str(case) in r.output
     assert "Fiorotto & Rinaldo" in r.output
+    chk = B.MeshCheck.of(ds)
+    assert (f"mesh check (up-t0.2-x0.5): h_p {chk.h[0]:.3f} m on 10 × 2, {chk.h[1]:.3f} m on "
+            f"20 × 4: {chk.h[1] - chk.h[0]:+.3f} m") in r.output
     assert (store / "report" / "report.md").is_file()
     assert (store / "report" / "report.html").is_file()
     assert (store / "report" / "figures" / "limits.png").stat().st_size > 0

@@ -1234,6 +1234,9 @@ def study(
         for label, h, note in basin.design_table(st, ds):
             table.add_row(label, f"{h:.2f}", f"{h / st.h_kr:.2f}", note)
         console.print(table)
+        chk = basin.MeshCheck.of(ds)
+        if chk is not None:
+            console.print(chk.summary())
     err = Console(stderr=True, soft_wrap=True, highlight=False)
     for i in failed:
         err.print(Text(f"failed: {ds['case'].values[i]}: {ds['case_message'].values[i]}",

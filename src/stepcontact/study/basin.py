@@ -317,6 +317,8 @@ def governing(ds) -> str | None:
     """The id of the study's governing case: the impulse case with the largest limit
     thickness (the top of the envelope), else the static case; None when no case has a
     limit."""
+    if "kind" not in ds.variables or "h_ratio" not in ds.variables:
+        return None  # no case has a limit (e.g. every case failed)
     kind = np.asarray(ds["kind"].values).astype(str)
     ratio = np.asarray(ds["h_ratio"].values, float)
     for sel in (kind == "impulse", kind == "static"):
@@ -339,17 +341,21 @@ def mesh_info(study: BasinStudy, thickness: float) -> dict:
     ``bodies`` ({name: (cells along x, cells along y, cell width m, cell height m,
     elements, nodes)}), ``cfes`` (CFEs of the joint), ``cfe_length`` (m, the length of an
     inner CFE), ``dofs`` (degrees of freedom of the assembled model)."""
+    import warnings
+
     from stepcontact.fem.assembly import assemble
     from stepcontact.study.slab import slab_model
 
-    model = slab_model(study.slab(thickness))
+    with warnings.catch_warnings():  # the study's runs warn about its inputs, not this count
+        warnings.simplefilter("ignore")
+        model = slab_model(study.slab(thickness))
+        system = assemble(model)
     bodies = {}
     for b in model.bodies:
         xs, ys = (np.unique(np.round(b.points[:, k], 9)) for k in (0, 1))
         nx, ny = len(xs) - 1, len(ys) - 1
         bodies[b.name] = (nx, ny, float(np.ptp(xs)) / nx, float(np.ptp(ys)) / ny,
                           int(len(b.cells)), int(b.n_nodes))
-    system = assemble(model)
     k = np.flatnonzero(system.cfe.interface == list(system.cfe.names).index(JOINT))
     area = np.asarray(system.cfe.area)[k] / model.thickness
     return {"element": model.bodies[0].element, "bodies": bodies,
@@ -400,6 +406,17 @@ class MeshCheck:
         d = abs(self.difference)
         return bool(np.isfinite(d) and (d <= self.tol * (1 + 1e-9)
                                         or d <= MESH_RELATIVE * abs(self.h[1])))
+
+    def summary(self) -> str:
+        """One line: the governing case's limit on both meshes, the difference and the
+        verdict (:attr:`acceptable`)."""
+        (a, b), (c, d) = self.cells
+        head = f"mesh check ({self.case}): h_p {self.h[0]:.3f} m on {a} × {b}"
+        if self.status != "ok":
+            return f"{head}; the run on {c} × {d} failed: {self.message or self.status}"
+        verdict = "acceptable" if self.acceptable else "NOT acceptable: refine the mesh"
+        return (f"{head}, {self.h[1]:.3f} m on {c} × {d}: {self.difference:+.3f} m "
+                f"({100 * self.relative:+.1f} %), {verdict}")
 
     def to_json(self) -> str:
         import json

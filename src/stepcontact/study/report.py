@@ -740,12 +740,12 @@ def _case_values(ds: xr.Dataset, name: str) -> list[str]:
 def _software(ds: xr.Dataset) -> list[_Block]:
     """Section 'Software and run': the software that wrote the report and computed the
     cases, the versions of Python, NumPy and SciPy, and the dates."""
-    from stepcontact.study.provenance import provenance
+    from stepcontact.study.provenance import NOT_A_CHECKOUT, provenance
 
     now = provenance()
     dirty = {True: "yes: the tracked files differ from the commit",
-             False: "no", None: "unknown" if now["commit"] != "not a git checkout"
-             else "— (not a git checkout)"}[now["dirty"]]
+             False: "no", None: "unknown" if now["commit"] != NOT_A_CHECKOUT
+             else f"— ({NOT_A_CHECKOUT})"}[now["dirty"]]
     computed = sorted(_case_values(ds, "computed"))
     by = _case_values(ds, "software")
     rows = [("stepcontact version", str(now["version"])),
