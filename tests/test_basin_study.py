@@ -113,6 +113,14 @@ def test_the_report_of_a_run_states_the_software_and_the_mesh_check(tiny, tmp_pa
     d = float(diff.split(" m")[0])
     assert d == pytest.approx(float(fine) - float(coarse), abs=1.5e-3)
     assert ("Acceptable:" in md) == (abs(d) <= st.tol or abs(d) <= 0.05 * chk.h[1])
+    # the figures of the run: readable, Fig. 2's zoom around the impulse's first opening
+    from figure_checks import assert_readable
+
+    assert_readable(R.plot_limits(ds, st))
+    fig = R.plot_edge_stresses(ds, st)
+    assert_readable(fig)
+    lo, hi = fig.axes[2].get_xlim()
+    assert lo < chk.x_open[0] < hi
 
 
 def test_the_design_table_beside_the_formulas():
