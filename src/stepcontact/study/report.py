@@ -7,8 +7,12 @@ article's Figs. 4–5, method.md §7).
   base just before its first opening, for the static case and the governing impulse case;
 * :func:`case_table` — the rows of the table of all cases;
 * :func:`write_report` — ``report.md`` and a self-contained ``report.html`` (inline CSS, the
-  figures as ``figures/*.png`` beside them): inputs, hydraulics, formulas and their sources,
-  method, figures, tables, failed cases and caveats.
+  figures as ``figures/*.png`` beside them): the software and run (version, git commit,
+  Python/NumPy/SciPy, dates), inputs, hydraulics, formulas and their sources, assumptions,
+  method, the mesh and its convergence check (:class:`~stepcontact.study.basin.MeshCheck`,
+  kept in the dataset by :func:`~stepcontact.study.basin.run_basin`), figures, tables, why
+  the limits differ from the design formulas, failed cases, the coefficients and whether they
+  were checked against their sources, and caveats.
 
 Input: the dataset of :func:`stepcontact.study.basin.run_basin` (one row per case along
 ``case``) and the :class:`~stepcontact.study.basin.BasinStudy` that produced it.  Units are SI
@@ -1093,7 +1097,9 @@ def write_report(ds: xr.Dataset, study: BasinStudy, out_dir: str | os.PathLike[s
     contained, inline CSS) and the figures ``figures/limits.png`` (:func:`plot_limits`) and
     ``figures/edge_stresses.png`` (:func:`plot_edge_stresses`) at ``dpi``, all atomically.
     Returns their paths: keys ``markdown``, ``html``, ``limits``, ``edge_stresses``.  When
-    every case failed, only the report is written: it says so and lists the reasons."""
+    every case failed, only the report is written: it says so and lists the reasons.  The
+    mesh check is the dataset's (``ds.attrs["mesh_check"]``, :func:`run_basin
+    <stepcontact.study.basin.run_basin>`); without one the report says that none was run."""
     out = Path(out_dir)
     if all_failed(ds):  # no figure: the report says that and why
         title, blocks = _report_blocks(ds, study)
