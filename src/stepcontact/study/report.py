@@ -959,8 +959,9 @@ def _differences(ds: xr.Dataset, study: BasinStudy) -> list[_Block]:
         "rigid slab whose submerged weight balances the fluctuating net pressure averaged "
         "over its area (Ω < 1 for the non-simultaneity of the extremes), with no mean "
         f"uplift. The study's impulse ({study.amplitude:g} ρ_w V1²/2 over a "
-        f"{study.footprint:g} m strip, {study.footprint / L:.0%} of the slab) is not "
-        f"averaged (Ω = 1 over the strip: {fr_study:.2f} m by their formula), acts on top of "
+        f"{study.footprint:g} m strip, {100 * study.footprint / L:.0f} % of the slab) is not "
+        f"averaged (their formula with Ω (C⁺p + C⁻p) = {study.amplitude:g}, the study's "
+        f"amplitude, gives {fr_study:.2f} m), acts on top of "
         "the static loads and is resisted by the slab's bending and weight: the study's "
         f"envelope is {_num(impulse, '.2f', 'm')} ({ratio(impulse, fr)} × their value). "
         "The amplitude, footprint and Ω are the inputs to revisit.",
