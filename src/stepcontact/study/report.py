@@ -859,17 +859,20 @@ def _mesh(ds: xr.Dataset, study: BasinStudy) -> list[_Block]:
                      f"{info['cfes']} (length {info['cfe_length']:.2f} m)", f"{info['dofs']}"))
     blocks: list[_Block] = [
         _Heading(2, "Mesh and its convergence"),
-        _Para(f"Elements: 4-node bilinear quadrilaterals (quad4, 2 × 2 Gauss points), plane "
-              f"strain, in the slab and the soil, with non-matching meshes on the joint; the "
+        _Para(f"Elements: 4-node bilinear quadrilaterals (quad4, full integration: 3 × 3 "
+              f"Gauss points), plane strain, in the slab and the soil, with non-matching "
+              f"meshes on the joint; the "
               f"CFEs are mortar CFEs on the slab's face, one per slab node (the end ones half "
-              f"as long). The sizes below are for the slab thickness h = {h_ref:.2f} m "
-              "(the cells through the slab scale with h)."),
+              f"as long). Fully integrated bilinear elements are too stiff in bending with few "
+              f"cells through the thickness (shear locking): the check below halves the "
+              f"cells through the slab as well as along it. The sizes below are for the slab "
+              f"thickness h = {h_ref:.2f} m (the cells through the slab scale with h)."),
         _Table(("mesh", "slab cells (along × through)", "cells per body", "CFEs of the joint",
                 "DOFs"), rows)]
     if chk is None:
         blocks.append(_Para("No mesh-convergence check was run for this dataset (run_basin "
-                            "with mesh_check=False, or no case has a limit): the limits "
-                            "below are those of one mesh only."))
+                            "with mesh_check=False, or no case has a limit): the study's "
+                            "limits are those of one mesh only."))
         return blocks
     d, rel = chk.difference, chk.relative
     crows = [("limit thickness h_p (m)", _num(chk.h[0], ".3f"), _num(chk.h[1], ".3f"),
