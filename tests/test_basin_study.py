@@ -56,10 +56,71 @@ def test_the_study_finds_each_cases_limit_and_the_impulse_needs_more(tiny):
 
 def test_a_second_run_of_the_study_runs_nothing_again(tiny):
     st, store, ds = tiny
-    stamps = {p: p.stat().st_mtime_ns for p in (store / "cases").glob("*.nc")}
+    files = [*(store / "cases").glob("*.nc"), *(store / "mesh-check" / "cases").glob("*.nc")]
+    assert len(files) == len(ds["case"]) + 1  # the cases and the mesh check's one
+    stamps = {p: p.stat().st_mtime_ns for p in files}
     again = B.run_basin(st, store, executor="serial", progress=False)
-    assert {p: p.stat().st_mtime_ns for p in (store / "cases").glob("*.nc")} == stamps
+    assert {p: p.stat().st_mtime_ns for p in files} == stamps
     assert np.array_equal(again["h_limit"].values, ds["h_limit"].values)
+    assert B.MeshCheck.of(again) == B.MeshCheck.of(ds)
+
+
+def test_the_mesh_check_solves_the_governing_case_again_on_a_finer_mesh(tiny):
+    """The governing case (the impulse case: the largest limit) on the 20 × 4 mesh: its
+    bracket checked independently — the slab of the fine limit passes and the thickest
+    failing one fails (slab.check on the refined model) — and an independent search from the
+    default start (halving/doubling instead of the check's steps from the coarse limit)
+    lands within the tolerance.  The coarse values are the dataset's own."""
+    from stepcontact.study import slab as S
+
+    st, store, ds = tiny
+    chk = B.MeshCheck.of(ds)
+    ids = list(ds["case"].values)
+    i = ids.index("up-t0.2-x0.5")
+    assert chk.case == "up-t0.2-x0.5" == B.governing(ds) and chk.status == "ok"
+    assert chk.cells == ((10, 2), (20, 4))
+    assert chk.h[0] == float(ds["h_limit"].values[i])
+    assert chk.x_open[0] == float(ds["x_open"].values[i])
+    fine = B.refined(st)
+    imp = fine.impulse(0.5, "up", 0.2)
+    opts = dict(dt=0.2 / fine.steps, duration=1.5 * 0.2)
+    assert S.check(fine.slab(chk.h[1]), imp, **opts).passes
+    failed = S.check(fine.slab(chk.h_failing[1]), imp, keep=True, **opts)
+    assert not failed.passes and failed.lifted
+    assert 0 < chk.h[1] - chk.h_failing[1] <= st.tol + 1e-12
+    assert chk.x_open[1] == B.first_opening(failed.result)
+    alone = S.limit_thickness(fine.slab(0.5 * st.h_kr), imp, tol=st.tol, **opts)
+    assert abs(alone.thickness - chk.h[1]) <= st.tol  # two brackets of width ≤ tol
+    assert chk.difference == chk.h[1] - chk.h[0]
+
+
+def test_the_report_of_a_run_states_the_software_and_the_mesh_check(tiny, tmp_path):
+    """The report written from the run: the version equal to stepcontact.__version__, every
+    case computed by the software that wrote it, and the mesh check's two limits with the
+    difference equal to their subtraction (to the printed 1 mm)."""
+    import stepcontact
+    from stepcontact.study import report as R
+
+    st, store, ds = tiny
+    md = R.write_report(ds, st, tmp_path, dpi=50)["markdown"].read_text(encoding="utf-8")
+    assert f"| stepcontact version | {stepcontact.__version__} |" in md
+    assert "Every case was computed by the software that wrote this report." in md
+    chk = B.MeshCheck.of(ds)
+    (row,) = [ln for ln in md.splitlines() if ln.startswith("| limit thickness h_p (m) |")]
+    coarse, fine, diff = (c.strip() for c in row.strip("|").split(" | ")[1:4])
+    assert float(coarse) == pytest.approx(float(ds["h_limit"].values[1]), abs=5e-4)
+    assert float(fine) == pytest.approx(chk.h[1], abs=5e-4)
+    d = float(diff.split(" m")[0])
+    assert d == pytest.approx(float(fine) - float(coarse), abs=1.5e-3)
+    assert ("Acceptable:" in md) == (abs(d) <= st.tol or abs(d) <= 0.05 * chk.h[1])
+    # the figures of the run: readable, Fig. 2's zoom around the impulse's first opening
+    from figure_checks import assert_readable
+
+    assert_readable(R.plot_limits(ds, st))
+    fig = R.plot_edge_stresses(ds, st)
+    assert_readable(fig)
+    lo, hi = fig.axes[2].get_xlim()
+    assert lo < chk.x_open[0] < hi
 
 
 def test_the_design_table_beside_the_formulas():
@@ -120,9 +181,14 @@ def test_the_study_command(tiny, tmp_path, monkeypatch):
     for case in ds["case"].values:  # the table of cases
         assert str(case) in r.output
     assert "Fiorotto & Rinaldo" in r.output
+    chk = B.MeshCheck.of(ds)
+    assert (f"mesh check (up-t0.2-x0.5): h_p {chk.h[0]:.3f} m on 10 × 2, {chk.h[1]:.3f} m on "
+            f"20 × 4: {chk.h[1] - chk.h[0]:+.3f} m") in r.output
     assert (store / "report" / "report.md").is_file()
     assert (store / "report" / "report.html").is_file()
     assert (store / "report" / "figures" / "limits.png").stat().st_size > 0
+    md = (store / "report" / "report.md").read_text(encoding="utf-8")
+    assert "## Mesh and its convergence" in md and "No mesh-convergence check" not in md
     bad = runner.invoke(app, ["study", "dam", "-o", str(tmp_path / "x")])
     assert bad.exit_code == 2
     assert "unknown study 'dam'" in bad.output and "Traceback" not in bad.output

@@ -369,3 +369,69 @@ def test_docs_worked_example_prints_what_the_page_shows():
     with contextlib.redirect_stdout(buf):
         exec(compile(m.group(1), "slab-hydraulics.md", "exec"), {})
     assert buf.getvalue() == m.group(2)
+
+
+# ------------------------------------------------------- the coefficients and their sources ---
+
+def _coefficient(name: str) -> hy.Coefficient:
+    (c,) = [c for c in hy.COEFFICIENTS if c.name == name]
+    return c
+
+
+def test_the_quoted_coefficients_are_those_the_code_uses():
+    """Each coefficient the slab report lists (hydraulics.COEFFICIENTS) is the number the
+    functions compute with: recovered from their results on made-up inputs (to 1e-12)."""
+    from stepcontact.study.basin import BasinStudy
+
+    h1, h2, Fr1 = 0.8, 7.5, 6.0
+    (usbr,) = _coefficient("USBR jump length").values
+    assert hy.jump_length(h1, h2, Fr1, "usbr") == pytest.approx(usbr * h2, rel=1e-12)
+    (ru,) = _coefficient("Russian jump length").values
+    assert hy.jump_length(h1, h2, Fr1, "russian") == pytest.approx(ru * (h2 - h1), rel=1e-12)
+    a, b = _coefficient("Pavlovsky jump length").values
+    assert hy.jump_length(h1, h2, Fr1, "pavlovsky") == pytest.approx(a * (b * h2 - h1),
+                                                                     rel=1e-12)
+    a, n = _coefficient("Chertousov jump length").values
+    assert hy.jump_length(h1, h2, Fr1, "chertousov") == pytest.approx(
+        a * h1 * (Fr1 - 1) ** n, rel=1e-12)
+    a, b, c = _coefficient("Hager roller length").values
+    L_r = h1 * (a + b * math.tanh(Fr1 / c))
+    assert hy.jump_length(h1, h2, Fr1, "hager") == pytest.approx(L_r, rel=1e-12)
+    (k,) = _coefficient("Hager mean surface profile").values
+    jump = hy.hydraulic_jump()
+    x = 0.3 * jump.roller_length
+    y = jump.h1 + (jump.h2 - jump.h1) * math.tanh(k * x / jump.roller_length)
+    assert float(hy.mean_depth(jump, x)) == pytest.approx(y, rel=1e-12)
+    peak, x_peak, shape = _coefficient("rms pressure coefficient C′p").values
+    assert float(hy.cp_rms(x_peak)) == pytest.approx(peak, rel=1e-12)
+    assert float(hy.cp_rms(2 * x_peak)) == pytest.approx(
+        peak * 2**shape * math.exp(-shape), rel=1e-12)
+    n_plus, n_minus = _coefficient("extreme-value factors N⁺, N⁻").values
+    cp, cm = hy.extreme_coefficients(x_peak)
+    assert (float(cp), float(cm)) == pytest.approx((n_plus * peak, n_minus * peak), rel=1e-12)
+    (d,) = _coefficient("Dombrovsky thickness").values
+    assert hy.dombrovsky_thickness(20.0, 1.0) == pytest.approx(d * 20.0, rel=1e-12)
+    assert tuple(hy.USACE_FLOTATION_REQUIRED.values()) == \
+        _coefficient("USACE required flotation factors").values
+    assert tuple(hy.LANE_RATIOS.values()) == \
+        _coefficient("Lane's weighted-creep ratios C_w").values
+    study = BasinStudy()
+    assert (study.h_kr, study.phi, study.amplitude, study.friction) == (
+        _coefficient("critical depth of the design discharge h_kr (m)").values[0],
+        _coefficient("velocity coefficient of the inflow φ").values[0],
+        _coefficient("impulse amplitude").values[0],
+        _coefficient("friction of concrete on sand f").values[0])
+    assert {c.status for c in hy.COEFFICIENTS} <= {hy.CHECKED, hy.SEEN, hy.RECALLED}
+    assert all(bool(c.against) == (c.status == hy.CHECKED) for c in hy.COEFFICIENTS)
+
+
+def test_the_checked_coefficient_is_in_its_source():
+    """The only coefficient marked checked, h_kr = 3.48 m, is in the article's text (its
+    §7) when that text is at hand (the project's seed copy)."""
+    seed = Path("/work/shared/seed/lukashevich-rozin-2013.txt")
+    if not seed.is_file():
+        pytest.skip("the article's text is not on this machine")
+    text = seed.read_text(encoding="utf-8")
+    checked = [c for c in hy.COEFFICIENTS if c.status == hy.CHECKED]
+    assert [c.name for c in checked] == ["critical depth of the design discharge h_kr (m)"]
+    assert re.search(r"h_\{кр\} = 3,48\s*\$?\s*м", text)

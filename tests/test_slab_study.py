@@ -206,3 +206,24 @@ def test_with_the_joints_pressure_in_the_gap_an_impulse_at_the_upstream_joint_li
     assert not any(waters[n] for n in ("weight", "top"))
     with pytest.raises(ModelError, match="slab.gap_pressure"):
         dataclasses.replace(base, gap_pressure="tailwater")
+
+
+def test_a_search_near_a_known_limit_steps_from_it():
+    """limit_thickness(step=…): moving by step, 2 step, … from h0 instead of halving or
+    doubling.  A uniform net uplift floats the slab at Δp/(γ_c − γ_w) (closed form): started
+    0.05 m above it with step = tol = 0.01 m, the search brackets the closed form within tol
+    in 4 bracket trials and a short bisection (halving from h0 would need more); a bad step
+    names itself."""
+    dp = 25.5e3
+    slab = Slab(length=20.0, thickness=2.0, concrete=CONCRETE,
+                soil=sc.Material(200e6, 0.3, 2000.0), cells=(10, 2), uplift=dp)
+    exact = dp / (2400.0 * 9.81 - GAMMA_W)
+    lim = limit_thickness(slab, tol=0.01, h0=exact + 0.05, step=0.01, criterion="separation")
+    # (at exactly the closed-form thickness the slab just floats: a failing trial)
+    assert lim.failing <= exact + 1e-12 and exact < lim.passing
+    assert lim.passing - lim.failing <= 0.01 + 1e-12
+    # h0 = exact + 0.05 passes, then − 0.01, − 0.02 pass, − 0.04 fails: 4 trials, then the
+    # bracket of 0.04 m bisected to 0.01 m in 2 (3 with the round-off of 0.01 > tol)
+    assert len(lim.trials) <= 7
+    with pytest.raises(ModelError, match="step"):
+        limit_thickness(slab, tol=0.01, step=-1.0)

@@ -1109,7 +1109,8 @@ def study(
     ] = Path("slab-study"),
     quick: Annotated[
         bool, typer.Option("--quick", help="A coarse version (three positions, one duration, "
-                           "a coarse mesh and tolerance): minutes instead of an hour.")
+                           "a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on 40 × 4): "
+                           "under a minute on two cores instead of several minutes.")
     ] = False,
     E0: Annotated[
         float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
@@ -1233,6 +1234,9 @@ def study(
         for label, h, note in basin.design_table(st, ds):
             table.add_row(label, f"{h:.2f}", f"{h / st.h_kr:.2f}", note)
         console.print(table)
+        chk = basin.MeshCheck.of(ds)
+        if chk is not None:
+            console.print(chk.summary())
     err = Console(stderr=True, soft_wrap=True, highlight=False)
     for i in failed:
         err.print(Text(f"failed: {ds['case'].values[i]}: {ds['case_message'].values[i]}",

@@ -195,24 +195,42 @@ class BasinCase:
         return hashlib.blake2b(repr(self.study).encode(), digest_size=8).hexdigest()
 
     def __call__(self, params: dict) -> dict:
+        """The case's outputs (SI): ``h_limit``, ``h_ratio``, ``h_failing``, ``runs``,
+        ``mode``, ``when``, the stresses ``x``, ``sigma_n``, ``tau`` and ``before`` of
+        :func:`edge_stresses`, ``x_open`` (m: where the joint first opens at the failing
+        thickness, NaN if it slides), ``seconds`` (wall time) and ``software``/``computed``
+        (:func:`~stepcontact.study.provenance.provenance`).  A parameter ``h0`` (m) starts the
+        search there, moving by the study's ``tol`` (a search near a known limit: the mesh
+        check)."""
+        import time
+
+        from stepcontact.study.provenance import provenance
         from stepcontact.study.sweep import current_case
 
+        t0 = time.perf_counter()
         st = self.study
-        slab = st.slab(st.h0 if st.h0 is not None else 0.5 * st.h_kr)
+        near = params.get("h0")
+        h0 = float(near) if near is not None else st.h0 if st.h0 is not None \
+            else 0.5 * st.h_kr
+        slab = st.slab(h0)
         imp = None
         opts: dict = {"criterion": st.criterion, "no_slip": st.no_slip, "alpha": st.alpha}
         if params["kind"] == "impulse":
             imp = st.impulse(params["position"], params["direction"], params["duration"])
             opts["dt"] = imp.duration / st.steps
             opts["duration"] = imp.start + 1.5 * imp.duration
-        lim = limit_thickness(slab, imp, tol=st.tol, **opts)
+        lim = limit_thickness(slab, imp, tol=st.tol, step=st.tol if near is not None else None,
+                              **opts)
         failing = check(slab.with_thickness(lim.failing), imp, keep=True, **opts) \
             if lim.failing > 0 else None
+        info = provenance()
         out = {"h_limit": lim.thickness, "h_ratio": lim.thickness / st.h_kr,
                "h_failing": lim.failing, "runs": len(lim.trials),
                "mode": "", "when": np.nan, "x": np.full(slab.cells[0] + 1, np.nan),
                "sigma_n": np.full(slab.cells[0] + 1, np.nan),
-               "tau": np.full(slab.cells[0] + 1, np.nan), "before": np.nan}
+               "tau": np.full(slab.cells[0] + 1, np.nan), "before": np.nan,
+               "x_open": np.nan, "software": str(info["software"]),
+               "computed": str(info["date"])}
         if failing is not None and failing.result is not None:
             res = failing.result
             out["mode"] = "lift-off" if failing.lifted else "sliding"
@@ -221,11 +239,31 @@ class BasinCase:
             n = min(len(x), len(out["x"]))
             out["x"][:n], out["sigma_n"][:n], out["tau"][:n] = x[:n], sn[:n], tau[:n]
             out["before"] = before
+            out["x_open"] = first_opening(res)
             case = current_case()
             if self.results is not None and case is not None:
                 Path(self.results).mkdir(parents=True, exist_ok=True)
                 res.save(Path(self.results) / f"{case.id}.nc")
+        out["seconds"] = time.perf_counter() - t0
         return out
+
+
+def _first_opened(res):
+    """The first OPENED event of the joint in a run (the earliest segment and parameter),
+    or None."""
+    opened = [e for e in res.events if e.interface == JOINT and e.transition.name == "OPENED"]
+    return min(opened, key=lambda e: (e.segment, e.lam)) if opened else None
+
+
+def first_opening(res) -> float:
+    """x (m from the slab's upstream edge) of the CFE of the joint that opens first in a run
+    (the smallest x of those opening at the same event point); NaN if none opens."""
+    e0 = _first_opened(res)
+    if e0 is None:
+        return float("nan")
+    same = [e for e in res.events if e.interface == JOINT and e.transition.name == "OPENED"
+            and e.segment == e0.segment and e.lam == e0.lam]
+    return float(min(e.x for e in same))
 
 
 def edge_stresses(res) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
@@ -235,9 +273,8 @@ def edge_stresses(res) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     k = np.flatnonzero(res.cfe["interface"] == list(res.interface_names).index(JOINT))
     order = np.argsort(res.cfe["x"][k, 0])
     k = k[order]
-    opened = [e for e in res.events if e.interface == JOINT and e.transition.name == "OPENED"]
-    if opened:
-        e0 = min(opened, key=lambda e: (e.segment, e.lam))
+    e0 = _first_opened(res)
+    if e0 is not None:
         i = max(int(e0.state) - 1, 0)
         while i > 0 and (res.segment[i] == e0.segment and res.lam[i] >= e0.lam):
             i -= 1
@@ -248,17 +285,203 @@ def edge_stresses(res) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
 
 
 def run_basin(study: BasinStudy, store: str | Path, *, executor="process",
-              workers: int | None = None, progress: bool = True, rerun: bool = False):
+              workers: int | None = None, progress: bool = True, rerun: bool = False,
+              mesh_check: bool = True):
     """Run every case of ``study`` (limit thicknesses) into ``store`` and return the
     collected dataset (:func:`stepcontact.study.sweep.collect`; one row per case: ``kind``,
     ``position``, ``direction``, ``duration``, ``h_limit`` (m), ``h_ratio`` (h/h_kr),
-    ``mode``, ``when``, the edge stresses ``x``, ``sigma_n``, ``tau`` (Pa))."""
+    ``mode``, ``when``, the edge stresses ``x``, ``sigma_n``, ``tau`` (Pa), ``x_open`` (m)).
+
+    With ``mesh_check`` (default), the governing case is then solved again on a mesh twice
+    as fine (:func:`check_mesh`, stored under ``store/mesh-check``, resumable like the cases)
+    and the :class:`MeshCheck` is kept as the dataset's attribute ``mesh_check`` (JSON; read
+    it with :meth:`MeshCheck.of`), also in ``store/sweep.nc``."""
+    from stepcontact.io.atomic import write_netcdf
     from stepcontact.study.sweep import run_sweep
 
     store = Path(store)
     func = BasinCase(study, str(store / "results"))
-    return run_sweep(study.cases(), func, store, executor=executor, workers=workers,
-                     progress=progress, rerun=rerun, name="slab study")
+    ds = run_sweep(study.cases(), func, store, executor=executor, workers=workers,
+                   progress=progress, rerun=rerun, name="slab study")
+    if not mesh_check:
+        return ds
+    chk = check_mesh(study, ds, store / "mesh-check", executor=executor, progress=progress,
+                     rerun=rerun)
+    if chk is not None:
+        ds.attrs["mesh_check"] = chk.to_json()
+        write_netcdf(ds, store / "sweep.nc")
+    return ds
+
+
+def governing(ds) -> str | None:
+    """The id of the study's governing case: the impulse case with the largest limit
+    thickness (the top of the envelope), else the static case; None when no case has a
+    limit."""
+    if "kind" not in ds.variables or "h_ratio" not in ds.variables:
+        return None  # no case has a limit (e.g. every case failed)
+    kind = np.asarray(ds["kind"].values).astype(str)
+    ratio = np.asarray(ds["h_ratio"].values, float)
+    for sel in (kind == "impulse", kind == "static"):
+        r = np.where(sel, ratio, np.nan)
+        if np.any(np.isfinite(r)):
+            return str(ds["case"].values[int(np.nanargmax(r))])
+    return None
+
+
+def refined(study: BasinStudy, factor: int = 2) -> BasinStudy:
+    """The study on a mesh ``factor`` times as fine: the slab's cells along and through the
+    slab multiplied by ``factor`` (the foundation's cells follow the slab's along the
+    joint, :class:`~stepcontact.study.slab.Slab`), everything else the same."""
+    nx, ny = study.cells
+    return dataclasses.replace(study, cells=(factor * nx, factor * ny))
+
+
+def mesh_info(study: BasinStudy, thickness: float) -> dict:
+    """The mesh of the study's model for a slab ``thickness`` (m): ``element`` (type),
+    ``bodies`` ({name: (cells along x, cells along y, cell width m, cell height m,
+    elements, nodes)}), ``cfes`` (CFEs of the joint), ``cfe_length`` (m, the length of an
+    inner CFE), ``dofs`` (degrees of freedom of the assembled model)."""
+    import warnings
+
+    from stepcontact.fem.assembly import assemble
+    from stepcontact.study.slab import slab_model
+
+    with warnings.catch_warnings():  # the study's runs warn about its inputs, not this count
+        warnings.simplefilter("ignore")
+        model = slab_model(study.slab(thickness))
+        system = assemble(model)
+    bodies = {}
+    for b in model.bodies:
+        xs, ys = (np.unique(np.round(b.points[:, k], 9)) for k in (0, 1))
+        nx, ny = len(xs) - 1, len(ys) - 1
+        bodies[b.name] = (nx, ny, float(np.ptp(xs)) / nx, float(np.ptp(ys)) / ny,
+                          int(len(b.cells)), int(b.n_nodes))
+    k = np.flatnonzero(system.cfe.interface == list(system.cfe.names).index(JOINT))
+    area = np.asarray(system.cfe.area)[k] / model.thickness
+    return {"element": model.bodies[0].element, "bodies": bodies,
+            "cfes": int(k.size), "cfe_length": float(np.median(area)),
+            "dofs": int(system.ndof)}
+
+
+#: a mesh check is acceptable when the two limits differ by at most this fraction ...
+MESH_RELATIVE = 0.05
+
+
+@dataclass(frozen=True)
+class MeshCheck:
+    """The governing case solved on two meshes (:func:`check_mesh`).
+
+    ``case``: its id; ``cells``: the slab's cells (along, through) of the study's mesh and of
+    the finer one; ``h``: the limit thickness on each (m, NaN if the fine run failed),
+    ``h_failing``: the thickest failing trial on each (m); ``x_open``: where the joint first
+    opens on each (m from the upstream edge, NaN when the slab slides); ``mode`` on each;
+    ``tol``: the bisection tolerance (m); ``runs``, ``seconds``: trials and wall time of the
+    fine search; ``status``/``message`` of the fine run ("ok" or "failed")."""
+
+    case: str
+    cells: tuple[tuple[int, int], tuple[int, int]]
+    h: tuple[float, float]
+    h_failing: tuple[float, float]
+    x_open: tuple[float, float]
+    mode: tuple[str, str]
+    tol: float
+    runs: int = 0
+    seconds: float = float("nan")
+    status: str = "ok"
+    message: str = ""
+
+    @property
+    def difference(self) -> float:
+        """h on the fine mesh minus h on the study's mesh, m."""
+        return self.h[1] - self.h[0]
+
+    @property
+    def relative(self) -> float:
+        """:attr:`difference` over the fine mesh's h."""
+        return self.difference / self.h[1] if self.h[1] else float("nan")
+
+    @property
+    def acceptable(self) -> bool:
+        """|Δh| within the bisection's tolerance, or within :data:`MESH_RELATIVE` of h."""
+        d = abs(self.difference)
+        return bool(np.isfinite(d) and (d <= self.tol * (1 + 1e-9)
+                                        or d <= MESH_RELATIVE * abs(self.h[1])))
+
+    def summary(self) -> str:
+        """One line: the governing case's limit on both meshes, the difference and the
+        verdict (:attr:`acceptable`)."""
+        (a, b), (c, d) = self.cells
+        head = f"mesh check ({self.case}): h_p {self.h[0]:.3f} m on {a} × {b}"
+        if self.status != "ok":
+            return f"{head}; the run on {c} × {d} failed: {self.message or self.status}"
+        verdict = "acceptable" if self.acceptable else "NOT acceptable: refine the mesh"
+        return (f"{head}, {self.h[1]:.3f} m on {c} × {d}: {self.difference:+.3f} m "
+                f"({100 * self.relative:+.1f} %), {verdict}")
+
+    def to_json(self) -> str:
+        import json
+
+        return json.dumps(dataclasses.asdict(self), allow_nan=True)
+
+    @classmethod
+    def from_json(cls, text: str) -> MeshCheck:
+        import json
+
+        d = json.loads(text)
+        d["cells"] = tuple(tuple(int(v) for v in c) for c in d["cells"])
+        for key in ("h", "h_failing", "x_open", "mode"):
+            d[key] = tuple(d[key])
+        return cls(**d)
+
+    @classmethod
+    def of(cls, ds) -> MeshCheck | None:
+        """The check kept in a study's dataset (:func:`run_basin`), or None."""
+        text = ds.attrs.get("mesh_check")
+        return None if not text else cls.from_json(str(text))
+
+
+def check_mesh(study: BasinStudy, ds, store: str | Path, *, executor="serial",
+               progress: bool = False, rerun: bool = False,
+               factor: int = 2) -> MeshCheck | None:
+    """Solve the governing case of ``ds`` (:func:`governing`) again on the mesh ``factor``
+    times as fine (:func:`refined`), starting the search at its limit on the study's mesh
+    and moving by ``tol`` (two trials when the limit does not change by more than ``tol``).
+    A one-case sweep in ``store`` (resumable: a rerun with the same limit runs nothing).
+    Returns the :class:`MeshCheck`, or None when no case has a limit."""
+    from stepcontact.study.sweep import cases_from_list, run_sweep
+
+    gov = governing(ds)
+    if gov is None:
+        return None
+    ids = [str(c) for c in ds["case"].values]
+    i = ids.index(gov)
+
+    def val(name, default=np.nan):
+        return ds[name].values[i] if name in ds.variables else default
+
+    h0 = float(val("h_limit"))
+    params = {"id": gov, "kind": str(val("kind")), "position": float(val("position")),
+              "direction": str(val("direction")), "duration": float(val("duration")),
+              "h0": h0}
+    fine = refined(study, factor)
+    out = run_sweep(cases_from_list([params]), BasinCase(fine), store, executor=executor,
+                    workers=1, progress=progress, rerun=rerun, name="mesh check")
+    ok = str(out["case_status"].values[0]) == "ok"
+
+    def fine_val(name):
+        return out[name].values[0] if ok and name in out.variables else np.nan
+
+    x0 = float(val("x_open"))
+    mode0 = str(val("mode", ""))
+    return MeshCheck(
+        case=gov, cells=(tuple(study.cells), tuple(fine.cells)),
+        h=(h0, float(fine_val("h_limit"))),
+        h_failing=(float(val("h_failing")), float(fine_val("h_failing"))),
+        x_open=(x0, float(fine_val("x_open"))),
+        mode=(mode0, str(out["mode"].values[0]) if ok else ""),
+        tol=study.tol, runs=int(fine_val("runs")) if ok else 0,
+        seconds=float(fine_val("seconds")), status=str(out["case_status"].values[0]),
+        message=str(out["case_message"].values[0]))
 
 
 def envelope(ds) -> dict[str, np.ndarray]:
@@ -307,12 +530,12 @@ def design_table(study: BasinStudy, ds=None) -> list[tuple[str, float, str]]:
     cp, cm = hy.extreme_coefficients(10.0)
     rows.append(("Fiorotto & Rinaldo (1992), Ω = 0.15",
                  hy.fiorotto_rinaldo_thickness(jump.V1, 0.15, float(cp), float(cm), gamma_c=gc),
-                 f"C⁺p + C⁻p = {float(cp + cm):.2f} at 10 h1 [RECALLED defaults]"))
+                 f"C⁺p + C⁻p = {float(cp + cm):.2f} at 10 h1 (defaults {hy.RECALLED})"))
     rows.append(("Fiorotto & Rinaldo (1992), Ω = 0.15, C⁺p + C⁻p = 0.8",
                  hy.fiorotto_rinaldo_thickness(jump.V1, 0.15, 0.4, 0.4, gamma_c=gc),
                  "the reference case of docs/slab-hydraulics.md"))
     rows.append(("Dombrovsky, t = 0.15 V1 √h1", hy.dombrovsky_thickness(jump.V1, jump.h1),
-                 "[RECALLED]"))
+                 hy.RECALLED))
     q0 = float(net[0])
     rows.append(("kern rule, rigid slab on a Winkler bed, deficit of the mean profile",
                  hy.kern_liftoff_thickness(q0, L, L, q1=float(net[-1]), gamma_c=gc),
@@ -321,14 +544,16 @@ def design_table(study: BasinStudy, ds=None) -> list[tuple[str, float, str]]:
 
 
 def quick(**changes) -> BasinStudy:
-    """A coarse version of the study (a few minutes on one core): three positions, one
-    duration, a coarse mesh and tolerance."""
+    """A coarse version of the study (under a minute on two cores, with the mesh check of
+    :func:`run_basin` on a 40 × 4 mesh): three positions, one duration, a 20 × 2 slab mesh
+    and a tolerance of 5 cm."""
     base = dict(cells=(20, 2), positions=(0.1, 0.5, 0.9), durations=(0.5,), tol=0.05,
                 steps=30)
     base.update(changes)
     return dataclasses.replace(BasinStudy(), **base)
 
 
-__all__ = ["BasinCase", "BasinStudy", "design_table", "edge_stresses", "envelope", "quick",
-           "run_basin"]
+__all__ = ["MESH_RELATIVE", "BasinCase", "BasinStudy", "MeshCheck", "check_mesh", "design_table",
+           "edge_stresses", "envelope", "first_opening", "governing", "mesh_info", "quick",
+           "refined", "run_basin"]
 

@@ -82,6 +82,81 @@ USACE_FLOTATION_REQUIRED: Mapping[str, float] = MappingProxyType(
     {"usual": 1.3, "unusual": 1.2, "extreme": 1.1})
 
 
+#: how far a quoted coefficient was checked (:class:`Coefficient`), in the reports' words
+CHECKED = "checked against the source"
+SEEN = "read in a source when the code was written (not available here to check again)"
+RECALLED = "recalled, not checked against the source"
+
+
+@dataclass(frozen=True)
+class Coefficient:
+    """A coefficient the slab study quotes: ``name``, its ``values`` (numbers, in the order
+    of ``formula``), the ``formula`` it enters, its ``source``, ``status`` (:data:`CHECKED`,
+    :data:`SEEN` or :data:`RECALLED`) and, when checked, what it was checked ``against``."""
+
+    name: str
+    values: tuple[float, ...]
+    formula: str
+    source: str
+    status: str
+    against: str = ""
+
+
+#: The coefficients of this module and of the slab study's defaults, with their sources.
+#: Only the article's own h_kr could be checked against a source text available to the
+#: project (the article, Lukashevich & Rozin 2013, §7); the papers and codes below were not
+#: available: what was read in them when the code was written is marked SEEN, the rest
+#: RECALLED (docs/slab-hydraulics.md keeps the same marks).
+COEFFICIENTS: tuple[Coefficient, ...] = (
+    Coefficient("critical depth of the design discharge h_kr (m)", (3.48,), "h_kr = 3.48 m",
+                "Lukashevich & Rozin (2013), §7 (the Volga scheme's slab)", CHECKED,
+                "the article's text, §7: “h_кр = 3,48 м – критическая глубина”"),
+    Coefficient("velocity coefficient of the inflow φ", (0.95,),
+                "E0 = h1 + q²/(2 g φ² h1²)", "usual value for a spillway face", RECALLED),
+    Coefficient("USBR jump length", (6.1,), "L_j = 6.1 h2",
+                "USBR Engineering Monograph 25 (Peterka), type-I jump (a textbook's “≈ 6 y2 "
+                "for 4 < Fr1 < 20” was read)", RECALLED),
+    Coefficient("Russian jump length", (6.0,), "L_j = 6 (h2 − h1)",
+                "Russian teaching practice, (5–6)(h″ − h′)", SEEN),
+    Coefficient("Pavlovsky jump length", (2.5, 1.9), "L_j = 2.5 (1.9 h2 − h1)", "Pavlovsky",
+                RECALLED),
+    Coefficient("Chertousov jump length", (10.3, 0.81), "L_j = 10.3 h1 (Fr1 − 1)^0.81",
+                "Chertousov", RECALLED),
+    Coefficient("Hager roller length", (-12.0, 160.0, 20.0),
+                "L_r = h1 (−12 + 160 tanh(Fr1/20))", "Hager (1990)", RECALLED),
+    Coefficient("Hager mean surface profile", (1.5,),
+                "(y − h1)/(h2 − h1) = tanh(1.5 x/L_r)", "Hager (1990)", RECALLED),
+    Coefficient("slab length factor", (1.0, 1.25, 0.8, 1.0),
+                "L_p = (1–1.25) L_j without baffles, (0.8–1) L_j with them",
+                "Russian teaching practice", SEEN),
+    Coefficient("rms pressure coefficient C′p", (0.08, 10.0, 0.5),
+                "C′p = 0.08 (X/10)^0.5 exp(0.5 (1 − X/10)), X = x/h1 (a smooth stand-in for "
+                "measured maxima 0.05–0.10 at 5–20 h1)",
+                "Toso & Bowers (1988), J. Hydraul. Eng. 114(8); Lopardo", RECALLED),
+    Coefficient("extreme-value factors N⁺, N⁻", (4.0, 3.0), "C±p = N± C′p",
+                "≈ the 99.9 %/0.1 % points of the pressure distribution", RECALLED),
+    Coefficient("Fiorotto–Rinaldo reduction Ω and C⁺p + C⁻p", (0.15, 0.8),
+                "s = Ω (C⁺p + C⁻p) V1²/2g · γ_w/(γ_c − γ_w), Ω = 0.15 (range 0.1–0.25), "
+                "C⁺p + C⁻p = 0.8 (each 0.3–0.6)",
+                "Fiorotto & Rinaldo (1992a), J. Hydraul. Eng. 118(4) 578–596", RECALLED),
+    Coefficient("USACE required flotation factors", (1.3, 1.2, 1.1),
+                "SF = 1.3 usual, 1.2 unusual, 1.1 extreme",
+                "USACE ETL 1110-2-307 (1987), as in EM 1110-2-2100 (the formula "
+                "SF = (W_s + W_c + S)/(U − W_G) was read)", RECALLED),
+    Coefficient("Dombrovsky thickness", (0.15,), "t = 0.15 V1 √h1 (m, m/s)",
+                "Dombrovsky, Russian empirical rule", RECALLED),
+    Coefficient("impulse amplitude", (0.4,), "0.4 ρ_w V1²/2 (extremes near the toe "
+                "0.3–0.6 ρ_w V1²/2)", "the pulsation's extremes of Toso & Bowers (1988) and "
+                "Fiorotto & Rinaldo (1992b)", RECALLED),
+    Coefficient("friction of concrete on sand f", (0.6,), "f = 0.6 (range 0.45–0.7)",
+                "usual design range", RECALLED),
+    Coefficient("Lane's weighted-creep ratios C_w", tuple(LANE_RATIOS.values()),
+                "L_w = ΣL_v + ΣL_h/3 ≥ C_w ΔH, C_w = 8.5 (very fine sand) … 1.6 (very hard "
+                "clay)", "Lane (1935), Trans. ASCE 100, as tabulated in two public codes",
+                SEEN),
+)
+
+
 # --------------------------------------------------------------------------------- checks ---
 
 def _num(v, item: str, *, positive: bool = False, nonnegative: bool = False) -> float:
@@ -625,6 +700,7 @@ def kern_liftoff_thickness(q0: float, a: float, L: float, q1: float = 0.0,
 
 
 __all__ = [
+    "CHECKED", "COEFFICIENTS", "RECALLED", "SEEN", "Coefficient",
     "G", "GAMMA_C", "GAMMA_W", "JUMP_LENGTH_FORMULAS", "LANE_RATIOS", "RHO_W",
     "USACE_FLOTATION_REQUIRED", "Jump", "base_uplift", "conjugate_depth", "contracted_depth",
     "cp_rms", "deficit_pressure", "dombrovsky_thickness", "extreme_coefficients",

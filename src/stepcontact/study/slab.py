@@ -421,15 +421,35 @@ class Limit:
 
 
 def limit_thickness(slab: Slab, impulse: Impulse | None = None, *, tol: float = 0.01,
-                    h0: float | None = None, h_max: float = 50.0,
+                    h0: float | None = None, h_max: float = 50.0, step: float | None = None,
                     progress: Callable[[Outcome], None] | None = None, **kwargs) -> Limit:
     """The smallest slab thickness (m) that meets the criterion (:func:`check`; ``kwargs``
     pass to it), by bracketing from ``h0`` (default: the slab's thickness) and bisection to
     ``tol`` m.  Assumes a thicker slab is safer (heavier); a slab that still fails at
-    ``h_max`` is a :class:`ModelError`."""
+    ``h_max`` is a :class:`ModelError`.
+
+    The bracket halves or doubles the trial thickness; with ``step`` (m) it moves from ``h0``
+    by ``step``, 2 ``step``, 4 ``step``, … instead — for a search that starts near the
+    answer (e.g. from another mesh's limit): a limit within ``step`` of ``h0`` then costs two
+    trials (and the bisection)."""
     if not (tol > 0):
         raise ModelError("tol", f"must be positive (m), got {tol}")
+    if step is not None and not (np.isfinite(step) and step > 0):
+        raise ModelError("step", f"must be positive (m), got {step}")
     trials: list[Outcome] = []
+    moves = [0]  # bracket moves so far
+
+    def down(h: float) -> float:
+        if step is None:
+            return h / 2.0
+        moves[0] += 1
+        return max(h - step * 2.0 ** (moves[0] - 1), h / 2.0)
+
+    def up(h: float) -> float:
+        if step is None:
+            return 2.0 * h
+        moves[0] += 1
+        return h + step * 2.0 ** (moves[0] - 1)
 
     def run(h: float) -> bool:
         o = check(slab.with_thickness(h), impulse, **kwargs)
@@ -442,7 +462,7 @@ def limit_thickness(slab: Slab, impulse: Impulse | None = None, *, tol: float = 
     if run(h):
         passing, failing = h, None
         while failing is None:
-            h = h / 2.0
+            h = down(h)
             if h < tol:
                 return Limit(passing if passing <= tol else tol, 0.0, passing, trials)
             if run(h):
@@ -452,7 +472,7 @@ def limit_thickness(slab: Slab, impulse: Impulse | None = None, *, tol: float = 
     else:
         failing, passing = h, None
         while passing is None:
-            h = 2.0 * h
+            h = up(h)
             if h > h_max:
                 raise ModelError("h_max", f"the slab still fails at {failing:g} m "
                                  f"(limit {h_max:g} m): no thickness up to it passes")
