@@ -253,3 +253,73 @@ def test_index_links_every_document():
     for doc in DOC_FILES:
         if doc.name != "index.md":
             assert f"]({doc.name})" in text, f"index.md does not link {doc.name}"
+
+
+# --------------------------------------------------------------------------------------------
+# dotted names of stepcontact in the docs, the examples and pyproject.toml
+# --------------------------------------------------------------------------------------------
+NAME_FILES = sorted(
+    [*DOCS.glob("*.md"), ROOT / "README.md", ROOT / "pyproject.toml",
+     *(p for p in (ROOT / "examples").rglob("*") if p.is_file()
+       and p.suffix in {".py", ".toml", ".geo", ".md", ".txt"})]
+)
+#: file endings after a dotted name that make it a file name, not a Python name
+_FILE_ENDINGS = {"json", "toml", "nc", "png", "pdf", "svg", "py", "msh", "geo", "vtu", "pvd",
+                 "xdmf", "csv", "md", "txt", "h5"}
+
+
+def dotted_names(text: str) -> set[str]:
+    """``stepcontact.X.Y`` names and the names of ``from stepcontact.X import a, b`` lines."""
+    names = set()
+    for m in re.finditer(r"(?<![\w./-])stepcontact(?:\.[A-Za-z_]\w*)+", text):
+        name = m.group(0)
+        if name.rsplit(".", 1)[-1] in _FILE_ENDINGS:
+            continue
+        names.add(name)
+    for m in re.finditer(r"from[ \t]+(stepcontact(?:\.\w+)*)[ \t]+import[ \t]+"
+                         r"(\(([^)]*)\)|[\w \t,]+)", text):
+        listed = m.group(3) if m.group(3) is not None else m.group(2)
+        for n in listed.split(","):
+            n = n.split("#")[0].split(" as ")[0].strip()
+            if n.isidentifier():
+                names.add(f"{m.group(1)}.{n}")
+    return names
+
+
+def resolve(name: str) -> object:
+    """Import the longest importable module prefix of ``name``, then get the attributes."""
+    import importlib
+
+    parts = name.split(".")
+    for k in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:k]))
+        except ModuleNotFoundError:
+            continue
+        for attr in parts[k:]:
+            obj = getattr(obj, attr)  # AttributeError: the name does not exist
+        return obj
+    raise ModuleNotFoundError(name)
+
+
+def test_dotted_names_are_found():
+    """The scanner finds the names it must (a regression guard for the test below)."""
+    text = ("see stepcontact.io.meshfile.mesh_geo and stepcontact schema > "
+            "stepcontact.schema.json; from stepcontact.io.modelfile import load_model, schema")
+    assert dotted_names(text) == {"stepcontact.io.meshfile.mesh_geo", "stepcontact.io.modelfile",
+                                  "stepcontact.io.modelfile.load_model",
+                                  "stepcontact.io.modelfile.schema"}
+    with pytest.raises((ModuleNotFoundError, AttributeError)):
+        resolve("stepcontact.meshfile.mesh_geo")
+
+
+@pytest.mark.parametrize("path", NAME_FILES, ids=_ids(NAME_FILES))
+def test_dotted_names_resolve(path):
+    """Every ``stepcontact.X.Y`` a document, example or pyproject.toml names imports."""
+    bad = []
+    for name in sorted(dotted_names(path.read_text(encoding="utf-8"))):
+        try:
+            resolve(name)
+        except (ImportError, AttributeError) as e:
+            bad.append(f"{name} ({type(e).__name__}: {e})")
+    assert not bad, f"{path.relative_to(ROOT)} names what does not exist: {'; '.join(bad)}"
