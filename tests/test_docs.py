@@ -179,6 +179,114 @@ def test_toml_model_in_docs_is_valid(block):
 
 
 # --------------------------------------------------------------------------------------------
+# (b2) models in the documentation whose results the text states: run and compared
+# --------------------------------------------------------------------------------------------
+#: what a ``run:`` marker may compare: the multipliers of the last segment reached, or a
+#: support's or obstacle's reaction at the last state (``reaction NAME DOF``)
+MULTIPLIERS = ("first_slip", "first_opening", "first_closing", "equilibrium_lost")
+
+
+@dataclass(frozen=True)
+class Stated:
+    """One result a document states, from a ``run:`` marker: ``KEY = VALUE (rtol R)``."""
+
+    key: str
+    text: str  # the value as written (it must appear in the text before the block)
+    value: float
+    rtol: float
+
+
+def _number(text: str) -> float:
+    """A number or a quotient of two (``1/3``), as the docs write it."""
+    a, _, b = text.partition("/")
+    return float(a) / float(b) if b else float(a)
+
+
+def stated_results(marker: str) -> list[Stated]:
+    """The results a ``<!-- … run: KEY = VALUE (rtol R), … -->`` marker states."""
+    m = re.search(r"run:(.*?)-->", marker)
+    if not m:
+        return []
+    out = []
+    for item in re.finditer(r"([\w ]+?)\s*=\s*([-+\d.e/]+)\s*\(rtol\s+([\d.e+-]+)\)",
+                            m.group(1)):
+        key, text, rtol = item.group(1).strip(), item.group(2), float(item.group(3))
+        out.append(Stated(key, text, _number(text), rtol))
+    assert out, f"unreadable run marker: {marker}"
+    return out
+
+
+def _merged(base: dict, fragment: dict, marker: str) -> dict:
+    """A fragment applied to the model above it: the tables the marker says it replaces
+    (``replaces [patterns.water]``) are removed, then its tables are merged one level deep
+    and its arrays (``[[program]]``) replace the model's."""
+    import copy
+
+    data = copy.deepcopy(base)
+    for dotted in re.findall(r"\[([\w.]+)\]", marker.split("run:")[0]):
+        *parents, last = dotted.split(".")
+        table = data
+        for k in parents:
+            table = table[k]
+        del table[last]
+    for key, value in fragment.items():
+        if isinstance(value, dict) and isinstance(data.get(key), dict):
+            data[key].update(value)
+        else:
+            data[key] = value
+    return data
+
+
+RUN_BLOCKS = [b for b in MODEL_BLOCKS if "run:" in b.marker]
+
+
+def _model_of(block: Block) -> dict:
+    data = tomllib.loads(block.text)
+    if block.marker.startswith("<!-- fragment"):
+        above = [b for b in MODEL_BLOCKS if b.path == block.path and b.line < block.line
+                 and not b.marker.startswith("<!-- fragment")]
+        assert above, f"{block.id}: a fragment with results needs a complete model above it"
+        data = _merged(tomllib.loads(above[-1].text), data, block.marker)
+    return data
+
+
+def _prose_before(block: Block, lines: int = 14) -> str:
+    text = block.path.read_text(encoding="utf-8").splitlines()
+    return " ".join(text[max(0, block.line - 1 - lines):block.line - 1])
+
+
+def test_docs_state_results_of_their_models():
+    """The documents do state results of their models (a guard for the test below)."""
+    assert {b.path.name for b in RUN_BLOCKS} >= {"model-file.md", "user-guide.md"}
+    assert stated_results("<!-- run: a = 1/3 (rtol 1e-9), reaction g y = 4e5 (rtol 1e-6) -->") \
+        == [Stated("a", "1/3", 1 / 3, 1e-9), Stated("reaction g y", "4e5", 4e5, 1e-6)]
+
+
+@pytest.mark.parametrize("block", RUN_BLOCKS, ids=[b.id for b in RUN_BLOCKS])
+def test_stated_results_of_a_docs_model(block):
+    """Each result a document states for one of its TOML models (its ``run:`` marker: the
+    value as the text writes it and a relative tolerance) is what the model gives; the
+    value appears in the text just before the block, so the marker and the prose agree."""
+    import stepcontact as sc
+
+    stated = stated_results(block.marker)
+    prose = _prose_before(block)
+    for s in stated:
+        assert s.text in prose, f"{block.id}: the text before the block does not state {s.text}"
+    res = sc.solve_static(model_from_dict(_model_of(block)))
+    for s in stated:
+        if s.key in MULTIPLIERS:
+            got = getattr(res.multipliers[-1], s.key)
+        else:
+            what, name, dof = s.key.split()
+            assert what == "reaction", f"{block.id}: unknown result '{s.key}'"
+            got = res.reaction(name, dof)[-1]
+        assert got is not None, f"{block.id}: {s.key} did not happen (stated {s.text})"
+        assert abs(got - s.value) <= s.rtol * abs(s.value), (
+            f"{block.id}: {s.key} is {got!r}, the document states {s.text} (rtol {s.rtol})")
+
+
+# --------------------------------------------------------------------------------------------
 # (c) Python snippets of the user guide
 # --------------------------------------------------------------------------------------------
 def test_user_guide_has_snippets():
