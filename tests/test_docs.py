@@ -3,13 +3,23 @@
 * the generated references (docs/model-file-reference.md, docs/cli.md) are up to date;
 * every complete TOML model in docs/*.md (one with a ``[[program]]`` or ``[[stages]]``) is
   valid, and every TOML block parses;
-* the Python snippets of docs/user-guide.md run, in order, as one session;
+* the results the text states for a TOML model (``run:`` markers) are what the model gives;
+* the Python snippets of docs/user-guide.md run, in order, as one session, and print what the
+  guide shows after them (the text, and every number to its last shown digit);
+* an example's output shown in the docs (``output:`` markers) is what the example prints;
 * the example model files validate against the JSON schema and load;
+* every ``stepcontact.X.Y`` named in docs/, examples/ and pyproject.toml resolves;
 * relative links between the documents point to existing files.
 
 Markers (HTML comments on the line before a code block, invisible when rendered):
 ``<!-- norun -->`` — a Python block that is not run (only compiled);
-``<!-- fragment: reason -->`` — a TOML block that is an overview, not a complete model.
+``<!-- fragment: reason -->`` — a TOML block that is an overview, not a complete model;
+``<!-- run: KEY = VALUE (rtol R), … -->`` — a TOML model whose results the text just before
+it states: KEY is a multiplier of the last segment (``equilibrium_lost``, ``first_slip``,
+``first_opening``, ``first_closing``) or ``reaction NAME DOF`` at the last state; on a
+fragment (``<!-- fragment: replaces [patterns.water] … of the model above; run: … -->``) the
+fragment is applied to the complete model above it;
+``<!-- output: examples/X.py -->`` — a ``text`` block that is what that example prints.
 """
 
 from __future__ import annotations
@@ -287,6 +297,77 @@ def test_stated_results_of_a_docs_model(block):
 
 
 # --------------------------------------------------------------------------------------------
+# (b3) printed output the documents show: the same text, the same numbers
+# --------------------------------------------------------------------------------------------
+_NUMBER = re.compile(r"[-+−]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def _ulp(text: str) -> float:
+    """One unit in the last printed digit of a number as written (1e-4 for 1.8738, 1 for
+    23544, 1e-15 for 2.44e-15)."""
+    mant, _, exp = text.lower().lstrip("+-−").partition("e")
+    decimals = len(mant.partition(".")[2])
+    return 10.0 ** (int(exp or 0) - decimals)
+
+
+def output_differences(shown: str, printed: str, rtol: float = 1e-9,
+                       roundoff: float = 1e-9) -> list[str]:
+    """Where ``printed`` (what the code prints) differs from ``shown`` (what a document shows):
+    the text between the numbers must be the same (whitespace aside), and each number equal
+    within one unit of its last shown digit or ``rtol``; numbers below ``roundoff`` in both
+    (equilibrium residuals, violations: round-off, machine-dependent) are not compared."""
+    def split(text):
+        return _NUMBER.split(" ".join(text.split())), _NUMBER.findall(" ".join(text.split()))
+
+    (words_s, nums_s), (words_p, nums_p) = split(shown), split(printed)
+    if words_s != words_p or len(nums_s) != len(nums_p):
+        for a, b in zip(shown.splitlines(), printed.splitlines(), strict=False):
+            if _NUMBER.sub("#", " ".join(a.split())) != _NUMBER.sub("#", " ".join(b.split())):
+                return [f"line shown {a!r}, printed {b!r}"]
+        return [f"shown {len(shown.splitlines())} lines, printed {len(printed.splitlines())}"]
+    bad = []
+    for a, b in zip(nums_s, nums_p, strict=True):
+        x, y = float(a.replace("−", "-")), float(b.replace("−", "-"))
+        if abs(x) < roundoff and abs(y) < roundoff:
+            continue
+        if abs(x - y) > max(_ulp(a) * 1.0000001, rtol * abs(x)):
+            bad.append(f"{a} shown, {b} printed")
+    return bad
+
+
+def test_output_comparison_catches_a_changed_number():
+    assert output_differences("slides at λ = 1.8738 (f·W)", "slides at λ = 1.8738 (f·W)") == []
+    assert output_differences("residual 2.44e-15, λ = 23544", "residual 3.1e-16, λ = 23544") == []
+    assert output_differences("λ = 1.8738", "λ = 1.8739") == []  # the last digit may flip
+    assert output_differences("λ = 1.8738", "λ = 1.7009") == ["1.8738 shown, 1.7009 printed"]
+    assert output_differences("slides at", "lifts at")
+
+
+OUTPUT_BLOCKS = [b for p in DOC_FILES for b in code_blocks(p)
+                 if b.marker.startswith("<!-- output:")]
+
+
+def test_docs_show_example_outputs():
+    assert any(b.path == GUIDE for b in OUTPUT_BLOCKS)
+
+
+@pytest.mark.parametrize("block", OUTPUT_BLOCKS, ids=[b.id for b in OUTPUT_BLOCKS])
+def test_example_output_shown_in_the_docs(block, tmp_path, monkeypatch, capsys):
+    """A ``<!-- output: examples/X.py -->`` block is what the example prints (its own
+    assertions run too): the text, and every number to its last shown digit."""
+    import runpy
+
+    script = ROOT / block.marker.removeprefix("<!-- output:").removesuffix("-->").strip()
+    assert script.is_file(), f"{block.id}: no such example {script}"
+    monkeypatch.chdir(tmp_path)
+    capsys.readouterr()
+    runpy.run_path(str(script), run_name="__main__")
+    printed = capsys.readouterr().out
+    bad = output_differences(block.text, printed)
+    assert not bad, f"docs/{block.id} does not show what {script.name} prints: {bad[:5]}"
+
+
+# --------------------------------------------------------------------------------------------
 # (c) Python snippets of the user guide
 # --------------------------------------------------------------------------------------------
 def test_user_guide_has_snippets():
@@ -298,21 +379,47 @@ def test_user_guide_snippet_compiles(block):
     compile(block.text, block.id, "exec")
 
 
+def shown_output(block: Block) -> Block | None:
+    """The ``text`` block right after a Python block (blank lines between), if any: what the
+    document says the snippet prints."""
+    blocks = code_blocks(block.path)
+    k = blocks.index(block)
+    if k + 1 == len(blocks) or blocks[k + 1].lang != "text":
+        return None
+    after = block.line + block.text.count("\n") + 1  # the closing fence's line
+    lines = block.path.read_text(encoding="utf-8").splitlines()
+    gap = lines[after:blocks[k + 1].line - 1]
+    return blocks[k + 1] if not any(s.strip() for s in gap) else None
+
+
 def test_user_guide_snippets_run(tmp_path, monkeypatch, capsys):
     """The snippets build on each other (as in a notebook): run them in order in one
-    namespace, in a temporary directory; ``<!-- norun -->`` blocks are skipped."""
+    namespace, in a temporary directory; ``<!-- norun -->`` blocks are skipped.  Where the
+    guide shows a snippet's output (a ``text`` block right after it), the snippet prints that
+    text, every number to its last shown digit (:func:`output_differences`)."""
     monkeypatch.chdir(tmp_path)
     namespace: dict[str, object] = {"__name__": "__user_guide__"}
     t0 = time.perf_counter()
+    compared, wrong = 0, []
     for block in PYTHON_BLOCKS:
         if block.marker == "<!-- norun -->":
             continue
+        capsys.readouterr()
         try:
             exec(compile(block.text, block.id, "exec"), namespace)
         except Exception as exc:
             raise AssertionError(f"the snippet at docs/{block.id} fails: {exc!r}") from exc
+        shown = shown_output(block)
+        if shown is not None:
+            compared += 1
+            bad = output_differences(shown.text, capsys.readouterr().out)
+            if bad:
+                wrong.append(f"docs/{shown.id}: {bad[:3]}")
     elapsed = time.perf_counter() - t0
     capsys.readouterr()
+    assert compared >= 15, compared
+    assert not wrong, "the guide shows another output than its snippets print: " + "; ".join(
+        wrong)
     if elapsed > SNIPPET_BUDGET:  # keep them fast; not a failure (machines differ)
         print(f"user-guide snippets took {elapsed:.1f} s (budget {SNIPPET_BUDGET} s)")
 
