@@ -443,6 +443,10 @@ def _gmsh_polygon(name: str, P: np.ndarray, size: float, quads: bool):
     return _counter_clockwise(mesh)
 
 
+#: nodes per cell of a large mesh (vertices and mid-side nodes shared by the neighbours)
+_NODES_PER_CELL = {"tri3": 0.5, "tri6": 2.0, "quad4": 1.0, "quad8": 3.0, "quad9": 4.0}
+
+
 def polygon_region(
     name: str,
     vertices,
@@ -491,18 +495,23 @@ def polygon_region(
         raise ModelError(f"{item}.size", f"must be a positive cell size in m, got {size!r}")
     quads = element.startswith("quad")
     edges = np.hypot(*(np.roll(P, -1, axis=0) - P).T)
+    from stepcontact.model.size import check_size
+
     if len(P) == 3:
         if n is None:
             n = max(1, int(np.ceil(edges.max() / float(size) - 1e-9)))
         n = n + n % 2 if quads else n
-        from stepcontact.model.size import check_size
-
         cells = 3 * (n // 2) ** 2 if quads else n * n
-        nodes = cells * (4 if element in ("quad9", "tri6") else 2)
+        nodes = int(cells * _NODES_PER_CELL[element]) + n + 1
         check_size(2 * nodes, item, f"the {element} mesh of body '{name}' ({cells:.3g} cells)")
         mesh = _triangle_mesh(P, n, quads)
     else:
         h = float(size) if size is not None else float(edges.sum()) / (n * len(P))
+        area = 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
+        cells = area / (np.sqrt(3) / 4 * h * h)  # equilateral triangles of side h, about
+        nodes = cells * _NODES_PER_CELL[element]
+        check_size(int(2 * nodes), item, f"the {element} mesh of body '{name}' (about "
+                   f"{cells:.3g} cells of size {h:.3g} m)")
         mesh = _gmsh_polygon(name, P, h, quads)
     return Body.from_mesh(name, mesh, element, material)
 
