@@ -202,3 +202,9 @@ def test_model_file_polygon_errors_name_the_field(change, path, fragment, tmp_pa
     file.write_text(MODEL.replace(change, bad), encoding="utf-8")
     problems = validate_model_file(file)
     assert any(p.item == path and fragment in p.message for p in problems), problems
+
+
+def test_a_mesh_too_large_is_refused_before_it_is_made():
+    """10⁷ cells along each edge: 10¹⁴ triangles, beyond any machine's memory."""
+    with pytest.raises(sc.ModelError, match="too large"):
+        sc.polygon_region("dam", DAM, CONCRETE, "tri3", n=10**7)
