@@ -671,3 +671,15 @@ def test_demo_writes_into_its_output_folder_only(tmp_path, monkeypatch, fake_sol
         check = subprocess.run(["git", "-C", str(root), "check-ignore", "-q", "--no-index",
                                 name], check=False)
         assert check.returncode == 0, f"{name} is not ignored by .gitignore"
+
+
+def test_run_writes_its_figure_beside_the_result_file(model_file, fake_solver, tmp_path):
+    """``run MODEL.toml -o out/r.nc``: the figure is out/r.png; nothing is written beside the
+    model file (a model in a checkout is left alone)."""
+    before = sorted(p.name for p in model_file.parent.iterdir())
+    out = tmp_path / "runs" / "r.nc"
+    result = runner.invoke(app, ["run", str(model_file), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert fake_solver["plot"] == [{"path": out.with_suffix(".png"), "lams": None}]
+    assert sorted(p.name for p in out.parent.iterdir()) == ["r.nc", "r.png"]
+    assert sorted(p.name for p in model_file.parent.iterdir()) == sorted([*before, "runs"])

@@ -714,7 +714,7 @@ def run(
     plot: Annotated[
         Path | None,
         typer.Option("--plot", help="Figure of the contact stresses (.png, .pdf or .svg). "
-                     "Default: MODEL.png."),
+                     "Default: beside the result file, RESULT.png (MODEL.png without -o)."),
     ] = None,
     no_plot: Annotated[bool, typer.Option("--no-plot", help="Do not draw the figure.")] = False,
     lam: Annotated[
@@ -771,7 +771,7 @@ def run(
                 summary = _analyse(
                     model,
                     result_path=result_path,
-                    plot_path=None if no_plot else (plot or model_file.with_suffix(".png")),
+                    plot_path=None if no_plot else (plot or result_path.with_suffix(".png")),
                     lams=lam,
                     slip=slip,
                     eps_p=eps_p,
