@@ -1110,8 +1110,8 @@ def study(
     quick: Annotated[
         bool, typer.Option("--quick", help="A coarse version (7 cases: three positions, one "
                            "duration, a 20 × 2 mesh, a coarse tolerance): about 20 s on two "
-                           "cores, against about 6.5 min for the full study (29 cases) with "
-                           "--workers 2.")
+                           "idle cores (the full study, 29 cases: about 6.5 min with "
+                           "--workers 2).")
     ] = False,
     E0: Annotated[
         float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
