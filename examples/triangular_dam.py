@@ -165,7 +165,7 @@ if __name__ == "__main__":
     print(f"   {res.message}")
     print(f"   at failure: ΣQ = {saf.shear_force[last] / 1e3:.3f} kN (H_w = {Hw_f / 1e3:.3f}), "
           f"ΣN = {-saf.normal_force[last] / 1e3:.3f} kN (W − U − ΣW_crack = "
-          f"{(W - U_f - crack) / 1e3:.3f}), crack water over {saf.open_length[last]:.0f} m at "
+          f"{(W - U_f - crack) / 1e3:.3f}), crack water over {saf.open_length[last]:.1f} m at "
           f"{res.crack_pressure[last][wet].max() / 1e3:.2f} kPa at the heel (γ_w h = "
           f"{GAMMA_W * h_f / 1e3:.2f})")
     assert res.status == sc.Status.EQUILIBRIUM_LOST
