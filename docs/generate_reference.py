@@ -561,8 +561,9 @@ FAULTS_SECTION = [
     "- **The model of a result.** `run` records the model file's path and a SHA-256 hash of "
     "its content in the result files. `export` and `plot` of a dynamic result "
     "(`RUN-dynamic.nc`) use that file, or `RUN.toml` beside it, when its content still has "
-    "that hash; a static result uses `RESULT.toml` beside it (checked against the stored "
-    "fields). `--model` names another.",
+    "that hash; a static result uses that file when its content still has that hash, else "
+    "`RESULT.toml` beside the result file (either checked against the stored fields). "
+    "`--model` names another.",
     "",
 ]
 

@@ -316,10 +316,14 @@ def test_cli_export_and_plot_recompute_from_the_model_file(tmp_path):
     assert info["model_file"] == str(model_file)
     assert info["recomputed"] == [i for i in range(res.n_states) if i not in res.fields]
     check_frames(read_pvd(tmp_path / "a" / "demo.pvd"), full)
-    # elsewhere, without the model: the stored states, and how to get the others
+    # elsewhere, without the model (not beside it, and not where the run recorded it): the
+    # stored states, and how to get the others
     other = tmp_path / "elsewhere"
     other.mkdir()
     (other / "run.nc").write_bytes(nc.read_bytes())
+    kept = tmp_path / "kept"
+    kept.mkdir()
+    model_file = model_file.rename(kept / model_file.name)
     out = runner.invoke(app, ["export", str(other / "run.nc"), "--vtu", str(tmp_path / "b")])
     assert out.exit_code == 0, out.output
     assert "skipped" in out.stdout and "--model MODEL.toml" in out.stdout

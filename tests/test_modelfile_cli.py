@@ -645,3 +645,41 @@ def test_run_without_a_physical_answer_exits_3(model_file):
 
     res = load_result(out)
     assert res.status == Status.MAX_EVENTS and res.to_dataset().attrs["complete"] == 1
+
+
+def test_demo_writes_into_its_output_folder_only(tmp_path, monkeypatch, fake_solver):
+    """``stepcontact demo`` run in a checkout's working directory (default ``-o``): every file
+    it writes is inside ``stepcontact-demo/``, and git ignores that folder (its .png and .toml
+    were left untracked)."""
+    import shutil
+    import subprocess
+
+    work = tmp_path / "checkout"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    result = runner.invoke(app, ["demo", "--quiet"])
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in work.iterdir()) == ["stepcontact-demo"]
+    written = sorted(p.relative_to(work).as_posix() for p in work.rglob("*") if p.is_file())
+    assert written == [f"stepcontact-demo/{n}" for n in (
+        "demo.nc", "demo.png", "demo.toml", "demo_uplift.nc", "demo_uplift.png",
+        "demo_uplift.toml")]
+    root = Path(__file__).resolve().parents[1]
+    if shutil.which("git") is None or not (root / ".git").exists():
+        pytest.skip("not a git checkout")
+    for name in written:  # --no-index: the rules of .gitignore, whether or not the file exists
+        check = subprocess.run(["git", "-C", str(root), "check-ignore", "-q", "--no-index",
+                                name], check=False)
+        assert check.returncode == 0, f"{name} is not ignored by .gitignore"
+
+
+def test_run_writes_its_figure_beside_the_result_file(model_file, fake_solver, tmp_path):
+    """``run MODEL.toml -o out/r.nc``: the figure is out/r.png; nothing is written beside the
+    model file (a model in a checkout is left alone)."""
+    before = sorted(p.name for p in model_file.parent.iterdir())
+    out = tmp_path / "runs" / "r.nc"
+    result = runner.invoke(app, ["run", str(model_file), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert fake_solver["plot"] == [{"path": out.with_suffix(".png"), "lams": None}]
+    assert sorted(p.name for p in out.parent.iterdir()) == ["r.nc", "r.png"]
+    assert sorted(p.name for p in model_file.parent.iterdir()) == sorted([*before, "runs"])

@@ -4,7 +4,7 @@
 // different mesh sizes, so the two meshes do not match along the joint: the contact finite
 // elements are mortar (segment-to-segment).  Mesh it (gmsh Python package) with
 //
-//   python -c "from stepcontact.meshfile import mesh_geo; mesh_geo('gmsh_block.geo')"
+//   python -c "from stepcontact.io.meshfile import mesh_geo; mesh_geo('gmsh_block.geo')"
 //
 // which writes gmsh_block.msh next to this file.  Units: m.
 

@@ -36,7 +36,14 @@ from stepcontact.model import (
     Tie,
 )
 from stepcontact.model.bond import Bond
-from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
+from stepcontact.model.mesh import (
+    half_disc,
+    polygon_region,
+    quad_region,
+    rectangle,
+    rotate,
+    translate,
+)
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
@@ -118,6 +125,7 @@ __all__ = [
     "rectangle",
     "quad_region",
     "half_disc",
+    "polygon_region",
     "rotate",
     "translate",
     "Bond",

@@ -714,7 +714,7 @@ def run(
     plot: Annotated[
         Path | None,
         typer.Option("--plot", help="Figure of the contact stresses (.png, .pdf or .svg). "
-                     "Default: MODEL.png."),
+                     "Default: beside the result file, RESULT.png (MODEL.png without -o)."),
     ] = None,
     no_plot: Annotated[bool, typer.Option("--no-plot", help="Do not draw the figure.")] = False,
     lam: Annotated[
@@ -771,7 +771,7 @@ def run(
                 summary = _analyse(
                     model,
                     result_path=result_path,
-                    plot_path=None if no_plot else (plot or model_file.with_suffix(".png")),
+                    plot_path=None if no_plot else (plot or result_path.with_suffix(".png")),
                     lams=lam,
                     slip=slip,
                     eps_p=eps_p,
@@ -1108,9 +1108,10 @@ def study(
                            "result files, the dataset, the figures and the report.")
     ] = Path("slab-study"),
     quick: Annotated[
-        bool, typer.Option("--quick", help="A coarse version (three positions, one duration, "
-                           "a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on 40 × 4): "
-                           "under a minute on two cores instead of several minutes.")
+        bool, typer.Option("--quick", help="A coarse version (7 cases: three positions, one "
+                           "duration, a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on "
+                           "40 × 4): about 30 s on two idle cores (the full study, 29 cases "
+                           "and its mesh check: about 7 min with --workers 2).")
     ] = False,
     E0: Annotated[
         float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
@@ -1300,7 +1301,8 @@ ModelOption = Annotated[
     Path | None,
     typer.Option("--model", "-m", metavar="MODEL.toml",
                  help="Model file of the run: the states whose fields the result file does not "
-                 "store are recomputed exactly from it (one factorisation). Default: "
+                 "store are recomputed exactly from it (one factorisation). Default: the "
+                 "model file the run recorded in the result file, if it is unchanged, else "
                  "RESULT.toml next to the result file, if there is one. It must be the run's "
                  "model: a stored field recomputed from it agrees to 1e-6, or (an "
                  "ill-conditioned model) satisfies its equilibrium to 1e-8."),
@@ -1336,26 +1338,28 @@ def _attach_model(res: StaticResult, result_file: Path, model_file: Path | None)
 
 
 def _default_model_files(result_file: Path, res: StaticResult) -> list[Path]:
-    """The model files a result file may come from, most likely first: RESULT.toml beside
-    it; for a dynamic result (MODEL-dynamic.nc, MODEL-dynamic-STAGE.nc), whose model is not
-    checked otherwise, the model file it records (``run`` stores its path and a SHA-256 hash
-    of its content) and MODEL.toml beside it, each used only when its content has the
-    recorded hash (files written before the hash was recorded: any)."""
+    """The model files a result file may come from, most likely first: the model file it
+    records (``run`` stores its path and a SHA-256 hash of its content), RESULT.toml beside
+    it and, for a dynamic result (MODEL-dynamic.nc, MODEL-dynamic-STAGE.nc), MODEL.toml
+    beside it; each used only when its content has the recorded hash (files written before
+    the hash was recorded: any) — for a static result, whose model is checked against its
+    stored fields (:meth:`StaticResult.recover_fields`), RESULT.toml whatever its hash."""
     import hashlib
     import re
 
     from stepcontact.results.file import result_attrs
 
     out = [result_file.with_suffix(".toml")]
-    sha = None
-    if getattr(res, "path_axis", "lam") == "time":
-        try:
-            attrs = result_attrs(result_file)
-        except (OSError, ValueError):
-            attrs = {}
-        sha = attrs.get("model_sha256")
-        if attrs.get("model_file"):
-            out.insert(0, Path(attrs["model_file"]))
+    try:
+        attrs = result_attrs(result_file)
+    except (OSError, ValueError):
+        attrs = {}
+    sha = attrs.get("model_sha256")
+    recorded = Path(attrs["model_file"]) if attrs.get("model_file") else None
+    if recorded is not None:
+        out.insert(0, recorded)
+    dynamic = getattr(res, "path_axis", "lam") == "time"
+    if dynamic:
         stem = re.fullmatch(r"(.+)-dynamic(-[A-Za-z0-9_-]+)?", result_file.stem)
         if stem:
             out.append(result_file.with_name(stem.group(1) + ".toml"))
@@ -1364,7 +1368,8 @@ def _default_model_files(result_file: Path, res: StaticResult) -> list[Path]:
         try:
             if not p.is_file() or any(p.samefile(q) for q in kept):
                 continue
-            if sha and hashlib.sha256(p.read_bytes()).hexdigest() != sha:
+            hashed = dynamic or p == recorded
+            if hashed and sha and hashlib.sha256(p.read_bytes()).hexdigest() != sha:
                 continue
         except OSError:
             continue
@@ -1576,8 +1581,8 @@ def plot(
 
     The deformed shape and the load–displacement curve need displacement fields: those the
     result file does not store (by default it stores the start, the segment starts and ends
-    and the last state) are recomputed exactly from the model file (--model, or RESULT.toml
-    beside the result file).
+    and the last state) are recomputed exactly from the model file (--model; by default the
+    model file the run recorded, if unchanged, or RESULT.toml beside the result file).
     """
     console = Console(highlight=False, soft_wrap=True)
     skipped: list[str] = []
@@ -1974,8 +1979,9 @@ def export(
 
     A result file stores displacement fields and stresses at the start, the segment starts and
     ends and the last state (every state if solved with store_fields='all'); the other states
-    are recomputed exactly from the model file of the run (--model, or RESULT.toml beside the
-    result file): one factorisation, then one multi-right-hand-side solve.
+    are recomputed exactly from the model file of the run (--model; by default the model file
+    the run recorded, if unchanged, or RESULT.toml beside the result file): one
+    factorisation, then one multi-right-hand-side solve.
     """
     from stepcontact.io.export import export_vtu, export_xdmf, select_states
 

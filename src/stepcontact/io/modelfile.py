@@ -132,7 +132,7 @@ from stepcontact.model.items import (
     _parse_dofs,
     select_nodes,
 )
-from stepcontact.model.mesh import half_disc, quad_region, rectangle
+from stepcontact.model.mesh import half_disc, polygon_region, quad_region, rectangle
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.program import cycle_amplitudes, cycles
 from stepcontact.model.size import check_size
@@ -146,6 +146,7 @@ _TAGS = {
     "kind=mesh",
     "kind=quad",
     "kind=half_disc",
+    "kind=polygon",
     "type=gravity",
     "type=nodal",
     "type=pressure",
@@ -292,6 +293,32 @@ class HalfDiscSpec(_Spec):
                                   "an inline table `{E, nu, density}`")
 
 
+class PolygonSpec(_Spec):
+    """``[[bodies]]`` with ``kind = "polygon"``: a simple polygon, every vertex a node
+    (:func:`stepcontact.polygon_region`).  A triangle is meshed without gmsh: ``n`` cells
+    along every edge (or ``size``), n² triangles similar to it, or three four-sided regions of
+    quads; a polygon of more vertices is meshed by gmsh (the optional dependency)."""
+
+    name: str = Field(description="unique body name")
+    kind: Literal["polygon"]
+    vertices: list[Point] = Field(
+        min_length=3, description="the vertices in order (either way round), m; a triangular "
+        "dam section: [[0, 0], [B, 0], [0, H]]")
+    n: int | None = Field(None, ge=1, description="cells along every edge of a triangle "
+                          "(polygons: the perimeter / (n × vertices) is the cell size)")
+    size: float | None = Field(None, gt=0, description="cell size, m (instead of n)")
+    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] = Field(
+        "tri3", description="element kind (linear or quadratic triangles and quads)")
+    material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
+                                  "an inline table `{E, nu, density}`")
+
+    @model_validator(mode="after")
+    def _n_or_size(self) -> PolygonSpec:
+        if (self.n is None) == (self.size is None):
+            raise ValueError("give either n (cells along an edge) or size (m), not both")
+        return self
+
+
 class MeshBodySpec(_Spec):
     """``[[bodies]]`` with ``kind = "mesh"``: the cells of one physical surface of ``[mesh]``.
 
@@ -338,21 +365,24 @@ def _body_tag(v: Any) -> str | None:
         kind = v.get("kind")
         if kind is None or "mesh" in v:
             kind = "mesh" if ("group" in v or "mesh" in v) else "rectangle"
-        return (f"kind={kind}" if kind in ("rectangle", "mesh", "quad", "half_disc")
+        return (f"kind={kind}" if kind in ("rectangle", "mesh", "quad", "half_disc", "polygon")
                 else None)
-    if isinstance(v, RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec):
+    if isinstance(v, RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec
+                  | PolygonSpec):
         return f"kind={v.kind}"
     return None
 
 
 BodySpec = _tagged_union(
-    _body_tag, "body_kind", "kind must be 'rectangle', 'quad', 'half_disc' or 'mesh'",
+    _body_tag, "body_kind",
+    "kind must be 'rectangle', 'quad', 'half_disc', 'polygon' or 'mesh'",
     **{"kind=rectangle": RectangleSpec, "kind=quad": QuadRegionSpec,
-       "kind=half_disc": HalfDiscSpec, "kind=mesh": MeshBodySpec},
+       "kind=half_disc": HalfDiscSpec, "kind=polygon": PolygonSpec, "kind=mesh": MeshBodySpec},
 )
 
 
-def _body_name(b: RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec) -> str:
+def _body_name(b: RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec
+               | PolygonSpec) -> str:
     return b.body_name if isinstance(b, MeshBodySpec) else b.name
 
 
@@ -1602,6 +1632,16 @@ class _Builder:
                 if isinstance(b, QuadRegionSpec):
                     self.bodies[name] = quad_region(b.name, b.corners, b.nx, b.ny, mat,
                                                     b.element, grading=b.grading)
+                    continue
+                if isinstance(b, PolygonSpec):
+                    try:
+                        self.bodies[name] = polygon_region(b.name, b.vertices, mat, b.element,
+                                                           n=b.n, size=b.size)
+                    except ModelError as e:  # the field at fault: bodies[i].vertices, …
+                        field = e.item.removeprefix(f"body '{b.name}'")
+                        self.failed.add(name)
+                        self.p.add(f"bodies[{i}]{field if field.startswith('.') else ''}",
+                                   e.problem)
                     continue
                 if isinstance(b, HalfDiscSpec):
                     self.bodies[name] = half_disc(

@@ -23,12 +23,20 @@ from stepcontact.model.items import (
     iter_loads,
     select_nodes,
 )
-from stepcontact.model.mesh import half_disc, quad_region, rectangle, rotate, translate
+from stepcontact.model.mesh import (
+    half_disc,
+    polygon_region,
+    quad_region,
+    rectangle,
+    rotate,
+    translate,
+)
 
 __all__ = [
     "Body", "BodyForce", "ContactLayer", "DynamicInterval", "EdgeForce", "EdgeLoad", "Frame",
     "Interface", "LoadPattern", "Material", "Model", "NodalLoad", "NodeSet",
     "PrescribedDisplacement", "Segment", "Spring", "Support", "Tie", "half_disc", "iter_loads",
+    "polygon_region",
     "quad_region", "rectangle", "rotate", "select_nodes", "translate",
 ]
 

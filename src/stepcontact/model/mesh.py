@@ -5,6 +5,8 @@
   towards an edge or a corner;
 * :func:`half_disc` — a half disc (flat face on top) refined towards the lowest point of its
   arc, for Hertz-type contact;
+* :func:`polygon_region` — a triangle (structured: a triangular dam section) or any simple
+  polygon (meshed by gmsh);
 * :func:`rotate`, :func:`translate` — a body, a frame or a whole model moved rigidly.
 
 Any other scikit-fem ``MeshTri``/``MeshQuad`` (or a meshio mesh converted with
@@ -17,6 +19,9 @@ import dataclasses
 from collections.abc import Mapping
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
 from skfem import MeshQuad, MeshTri
 
 from stepcontact.errors import ModelError
@@ -264,11 +269,250 @@ def quad_region(
     ny = _check_count(name, "ny", ny)
     P = _corners(name, corners)
     s, t = _parameters(name, grading, nx, ny)
-    unit = (MeshTri if element.startswith("tri") else MeshQuad).init_tensor(s, t)
+    mesh = _mapped(P, s, t, MeshTri if element.startswith("tri") else MeshQuad)
+    return Body.from_mesh(name, mesh, element, material)
+
+
+def _mapped(P: np.ndarray, s: np.ndarray, t: np.ndarray, cls):
+    """The tensor grid (s, t) on the unit square mapped bilinearly onto the quadrilateral P
+    (the map of :func:`quad_region`), cells counter-clockwise."""
+    unit = cls.init_tensor(s, t)
     S, T = unit.doflocs
     X = (np.outer(P[0], (1 - S) * (1 - T)) + np.outer(P[1], S * (1 - T))
          + np.outer(P[2], S * T) + np.outer(P[3], (1 - S) * T))
-    mesh = _counter_clockwise(dataclasses.replace(unit, doflocs=X))
+    return _counter_clockwise(dataclasses.replace(unit, doflocs=X))
+
+
+# --------------------------------------------------------------------------------------------
+# polygons: a structured triangle, or any simple polygon by gmsh
+# --------------------------------------------------------------------------------------------
+def _segments_cross(P: np.ndarray) -> tuple[int, int] | None:
+    """The first pair of non-adjacent edges of the closed polygon P that touch or cross
+    (edge i joins vertices i and i+1), or None."""
+    k = len(P)
+    A, B = P, np.roll(P, -1, axis=0)
+    scale = float(np.ptp(P, axis=0).max())
+
+    def orient(a, b, c):
+        v = (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) \
+            - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
+        return np.where(np.abs(v) <= 1e-12 * scale**2, 0.0, np.sign(v))
+
+    i, j = np.triu_indices(k, 2)
+    keep = ~((i == 0) & (j == k - 1))  # the first and last edges are adjacent
+    i, j = i[keep], j[keep]
+    o1, o2 = orient(A[i], B[i], A[j]), orient(A[i], B[i], B[j])
+    o3, o4 = orient(A[j], B[j], A[i]), orient(A[j], B[j], B[i])
+    proper = (o1 * o2 < 0) & (o3 * o4 < 0)
+
+    def on(a, b, c, o):  # c on the segment ab (collinear and inside its box)
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        return (o == 0) & np.all((c >= lo - 1e-12 * scale) & (c <= hi + 1e-12 * scale), axis=1)
+
+    touch = (on(A[i], B[i], A[j], o1) | on(A[i], B[i], B[j], o2) | on(A[j], B[j], A[i], o3)
+             | on(A[j], B[j], B[i], o4))
+    bad = np.flatnonzero(proper | touch)
+    return None if bad.size == 0 else (int(i[bad[0]]), int(j[bad[0]]))
+
+
+def _polygon(name: str, vertices) -> np.ndarray:
+    """The vertices of a simple polygon with a positive area, counter-clockwise (a clockwise
+    list is reversed, keeping its first vertex first)."""
+    item = f"body '{name}'.vertices"
+    try:
+        P = np.asarray(vertices, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError(item, "must be a list of points (x, y), m") from None
+    if P.ndim != 2 or P.shape[1:] != (2,) or len(P) < 3:
+        raise ModelError(item, f"must be at least three points (x, y), m; got shape {P.shape}")
+    if not np.all(np.isfinite(P)):
+        raise ModelError(item, "must be finite")
+    scale = float(np.ptp(P, axis=0).max())
+    gap = np.hypot(*(np.roll(P, -1, axis=0) - P).T)
+    if scale == 0 or np.any(gap <= 1e-12 * scale):
+        k = int(np.argmin(gap))
+        raise ModelError(item, f"vertices {k} and {(k + 1) % len(P)} coincide")
+    area2 = float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
+    cross = _segments_cross(P)
+    if cross is not None:
+        i, j = cross
+        raise ModelError(item, f"the polygon crosses itself: edge {i} (vertices {i}–"
+                               f"{(i + 1) % len(P)}) meets edge {j} (vertices {j}–"
+                               f"{(j + 1) % len(P)})")
+    if abs(area2) <= 1e-12 * scale**2:
+        raise ModelError(item, "the polygon has no area (its vertices are on one line)")
+    return P if area2 > 0 else np.r_[P[:1], P[:0:-1]]
+
+
+def _triangle_mesh(P: np.ndarray, n: int, quads: bool):
+    """The triangle P (counter-clockwise) meshed with ``n`` cells along every edge.
+
+    Triangles: the points A + (i/n)(B − A) + (j/n)(C − A), i + j ≤ n, joined into n² triangles
+    all similar to ABC (the uniform refinement of ABC).  Quads (n even): the triangle cut at
+    its centroid G and the mid-points of its edges into three convex quadrilaterals
+    (vertex, mid-point, G, mid-point), each meshed n/2 × n/2 by :func:`_mapped`.
+    """
+    if quads:
+        m = n // 2
+        G = P.mean(axis=0)
+        M = 0.5 * (P + np.roll(P, -1, axis=0))  # M[i]: the middle of edge i → i+1
+        u = np.linspace(0.0, 1.0, m + 1)
+        parts = [_mapped(np.array([P[i], M[i], G, M[i - 1]]), u, u, MeshQuad) for i in range(3)]
+        points = np.hstack([q.p for q in parts])
+        offsets = np.cumsum([0] + [q.nvertices for q in parts])
+        cells = np.hstack([q.t + o for q, o in zip(parts, offsets[:-1], strict=True)])
+        # merge the nodes the three parts share, keeping the coordinates of the first copy
+        tol = 1e-9 * float(np.ptp(P, axis=0).max()) / n
+        pairs = cKDTree(points.T).query_pairs(tol, output_type="ndarray")
+        N = points.shape[1]
+        graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(N, N))
+        _, label = connected_components(graph, directed=False)
+        first = np.full(label.max() + 1, N)
+        np.minimum.at(first, label, np.arange(N))
+        keep = np.sort(first)
+        new = np.empty(label.max() + 1, dtype=np.int64)
+        new[np.argsort(first)] = np.arange(len(keep))
+        return MeshQuad(np.ascontiguousarray(points[:, keep]), new[label][cells])
+    i, j = np.nonzero(np.add.outer(np.arange(n + 1), np.arange(n + 1)) <= n)
+    index = np.full((n + 2, n + 2), -1)
+    index[i, j] = np.arange(len(i))
+    X = P[0][:, None] + np.outer(P[1] - P[0], i / n) + np.outer(P[2] - P[0], j / n)
+    X[:, index[n, 0]], X[:, index[0, n]] = P[1], P[2]  # the vertices exactly
+    a, b = np.nonzero(np.add.outer(np.arange(n), np.arange(n)) < n)
+    up = np.stack([index[a, b], index[a + 1, b], index[a, b + 1]])
+    a, b = np.nonzero(np.add.outer(np.arange(n), np.arange(n)) < n - 1)
+    down = np.stack([index[a + 1, b], index[a + 1, b + 1], index[a, b + 1]])
+    return MeshTri(X, np.hstack([up, down]), sort_t=False)
+
+
+def _gmsh_polygon(name: str, P: np.ndarray, size: float, quads: bool):
+    """A simple polygon meshed by gmsh (frontal Delaunay; quads recombined), cell size
+    ``size``; its vertices are nodes."""
+    from stepcontact.io.meshfile import _gmsh
+
+    try:
+        gmsh = _gmsh()
+    except ModelError as e:
+        raise ModelError(f"body '{name}'.vertices",
+                         f"a polygon of {len(P)} vertices is meshed by gmsh, which is not "
+                         f"available ({e}); install it (pip install \"stepcontact[gmsh]\"), or "
+                         "build the body from triangles and four-sided regions "
+                         "(sc.polygon_region with three vertices, sc.quad_region)") from None
+    started = not gmsh.isInitialized()
+    if started:
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+    # quads: recombined and then subdivided once (every cell a quad), from cells twice as large
+    options = {"General.Terminal": 0.0, "Mesh.RecombineAll": 1.0 if quads else 0.0,
+               "Mesh.SubdivisionAlgorithm": 1.0 if quads else 0.0, "Mesh.Algorithm": 6.0,
+               "Mesh.MeshSizeMax": float(size) * (2.0 if quads else 1.0),
+               "Mesh.MeshSizeMin": 0.0, "Mesh.MeshSizeFromPoints": 0.0,
+               "Mesh.MeshSizeExtendFromBoundary": 1.0}
+    saved = {k: gmsh.option.getNumber(k) for k in options}
+    try:
+        gmsh.model.add(f"stepcontact-polygon-{name}")
+        for k, v in options.items():
+            gmsh.option.setNumber(k, v)
+        tags = [gmsh.model.geo.addPoint(x, y, 0.0) for x, y in P]
+        lines = [gmsh.model.geo.addLine(tags[i], tags[(i + 1) % len(P)]) for i in range(len(P))]
+        loop = gmsh.model.geo.addCurveLoop(lines)
+        gmsh.model.geo.addPlaneSurface([loop])
+        gmsh.model.geo.synchronize()
+        gmsh.model.mesh.generate(2)
+        node_tags, xyz, _ = gmsh.model.mesh.getNodes()
+        # gmsh element types: 2 triangle, 3 quadrangle
+        _, cell_nodes = gmsh.model.mesh.getElementsByType(3 if quads else 2)
+        others = len(gmsh.model.mesh.getElementsByType(2 if quads else 3)[0])
+        gmsh.model.remove()
+    finally:
+        if started:
+            gmsh.finalize()
+        else:
+            for k, v in saved.items():
+                gmsh.option.setNumber(k, v)
+    if others:
+        raise ModelError(f"body '{name}'.vertices", "gmsh left cells of another shape in the "
+                         "mesh of the polygon; use triangles (element = 'tri3' or 'tri6')")
+    order = np.argsort(node_tags)
+    points = xyz.reshape(-1, 3)[order, :2].T  # by node tag
+    used, cells = np.unique(np.searchsorted(node_tags[order], cell_nodes), return_inverse=True)
+    points = points[:, used]  # only the nodes of the surface's cells
+    # the vertices exactly (gmsh places its nodes on the geometry's points)
+    points[:, np.argmin(np.hypot(*(points[:, :, None] - P.T[:, None, :])), axis=0)] = P.T
+    points, cells = np.ascontiguousarray(points), cells.reshape(-1, 4 if quads else 3).T
+    mesh = MeshQuad(points, cells) if quads else MeshTri(points, cells, sort_t=False)
+    return _counter_clockwise(mesh)
+
+
+#: nodes per cell of a large mesh (vertices and mid-side nodes shared by the neighbours)
+_NODES_PER_CELL = {"tri3": 0.5, "tri6": 2.0, "quad4": 1.0, "quad8": 3.0, "quad9": 4.0}
+
+
+def polygon_region(
+    name: str,
+    vertices,
+    material: Material,
+    element: str = "tri3",
+    *,
+    n: int | None = None,
+    size: float | None = None,
+) -> Body:
+    """A body filling the simple polygon ``vertices`` (m); every vertex is a node, so
+    supports, loads and interfaces can select it.
+
+    * **A triangle** (three vertices) is meshed without gmsh: ``n`` cells along every edge
+      (or ``size``, m: n = ⌈longest edge / size⌉).  Triangles (``tri3``, ``tri6``): the uniform
+      refinement of the triangle, n² cells all similar to it (its shape is their quality).
+      Quads (``quad4``, ``quad8``, ``quad9``): the triangle cut at its centroid and the
+      mid-points of its edges into three convex four-sided regions, each meshed n/2 × n/2
+      (n rounded up to even).  A triangular dam section: ``polygon_region("dam", [(0, 0),
+      (B, 0), (0, H)], concrete, n=12)``.
+    * **Any other simple polygon** (no edge crosses another; convex or not) is meshed by gmsh
+      (the optional dependency, ``pip install "stepcontact[gmsh]"``) with cells of about
+      ``size`` (m; or the perimeter / (n × vertices)), quads recombined from triangles.
+
+    The vertices may be listed either way round (clockwise lists are reversed); a polygon
+    that crosses itself, repeats a vertex or has no area is a ``ModelError`` naming
+    ``vertices``.  Quadratic elements put their mid-side nodes on the straight edges
+    (:meth:`Body.from_mesh`), so the area and the centroid are the polygon's exactly.
+
+    Example
+    -------
+    >>> from stepcontact import Material
+    >>> from stepcontact.model.mesh import polygon_region
+    >>> dam = polygon_region("dam", [(0, 0), (8, 0), (0, 10)], Material(30e9, 0.2, 2400), n=4)
+    >>> dam.n_nodes, len(dam.cells)
+    (15, 16)
+    """
+    item = f"body '{name}'"
+    _check_element(name, element)
+    P = _polygon(name, vertices)
+    if (n is None) == (size is None):
+        raise ModelError(f"{item}.n", "give either n (cells along an edge) or size (m)")
+    if n is not None:
+        n = _check_count(name, "n", n)
+    elif isinstance(size, bool) or not isinstance(size, int | float | np.floating | np.integer) \
+            or not np.isfinite(size) or size <= 0:
+        raise ModelError(f"{item}.size", f"must be a positive cell size in m, got {size!r}")
+    quads = element.startswith("quad")
+    edges = np.hypot(*(np.roll(P, -1, axis=0) - P).T)
+    from stepcontact.model.size import check_size
+
+    if len(P) == 3:
+        if n is None:
+            n = max(1, int(np.ceil(edges.max() / float(size) - 1e-9)))
+        n = n + n % 2 if quads else n
+        cells = 3 * (n // 2) ** 2 if quads else n * n
+        nodes = int(cells * _NODES_PER_CELL[element]) + n + 1
+        check_size(2 * nodes, item, f"the {element} mesh of body '{name}' ({cells:.3g} cells)")
+        mesh = _triangle_mesh(P, n, quads)
+    else:
+        h = float(size) if size is not None else float(edges.sum()) / (n * len(P))
+        area = 0.5 * float(np.sum(P[:, 0] * np.roll(P[:, 1], -1) - np.roll(P[:, 0], -1) * P[:, 1]))
+        cells = area / (np.sqrt(3) / 4 * h * h)  # equilateral triangles of side h, about
+        nodes = cells * _NODES_PER_CELL[element]
+        check_size(int(2 * nodes), item, f"the {element} mesh of body '{name}' (about "
+                   f"{cells:.3g} cells of size {h:.3g} m)")
+        mesh = _gmsh_polygon(name, P, h, quads)
     return Body.from_mesh(name, mesh, element, material)
 
 

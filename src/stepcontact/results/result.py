@@ -246,12 +246,15 @@ class StaticResult:
         the field recomputed at a stored state equal to the stored one to
         :data:`RECOVERY_RTOL`, or else the stored field in this model's equilibrium with the
         stored contact forces to :data:`RECOVERY_RESIDUAL` (a tolerance scaled to the model:
-        its conditioning does not enter); otherwise ValueError.
+        its conditioning does not enter); otherwise ValueError.  A result that stores the
+        field of every state (a staged run) needs no recovery: nothing is done.
         """
         from stepcontact.fem.assembly import System, assemble
         from stepcontact.solver.condensation import Condensed
         from stepcontact.solver.static import FieldRecovery
 
+        if self.fields and all(i in self.fields for i in range(self.n_states)):
+            return  # every field is stored (a staged run stores them all): nothing to recover
         system = model if isinstance(model, System) else assemble(model)
         if system.m != self.m:
             raise ValueError(f"the model has {system.m} CFEs, the result {self.m}")
@@ -265,7 +268,7 @@ class StaticResult:
         cond = Condensed.from_system(system)
         recovery = FieldRecovery.of_result(cond, self)
         if self.fields:  # the same structure: a stored field is recomputed exactly
-            i = max(self.fields, key=lambda k: float(np.abs(self.fields[k]).max(initial=0)))
+            i = self._check_state()
             ref = np.asarray(self.fields[i], dtype=float)
             u = recovery(i)
             scale = max(float(np.abs(ref).max(initial=0)), float(np.abs(u).max(initial=0)))
@@ -281,6 +284,24 @@ class StaticResult:
                         f"equilibrium by {res:.1e} (relative; the run's own: "
                         f"{self._run_residual(i):.1e}, allowed {tol:.1e})")
         self._recover = recovery
+
+    def _check_state(self) -> int:
+        """The stored state whose field :meth:`recover_fields` recomputes to check the model:
+        the largest stored field, leaving out the last state of a run that stopped (lost
+        equilibrium, cycling, …) unless no other stored field is nonzero.  A run can stop
+        while broken bonds still transmit part of their forces (eq. (12): the release at fixed
+        λ, followed from event to event): its last field carries those forces, which are not
+        among the recorded contact forces, so it is not recomputed from them (the stored field
+        is the one used for that state)."""
+        def size(k: int) -> float:
+            return float(np.abs(self.fields[k]).max(initial=0))
+
+        last = self.n_states - 1
+        stopped = self.status not in (Status.COMPLETED, Status.INCOMPLETE)
+        states = [k for k in self.fields if not (stopped and k == last)]
+        if not states or max(size(k) for k in states) == 0.0:
+            states = list(self.fields)
+        return max(states, key=size)
 
     def _run_residual(self, i: int) -> float:
         r = getattr(self, "residual", None)

@@ -544,7 +544,7 @@ def design_table(study: BasinStudy, ds=None) -> list[tuple[str, float, str]]:
 
 
 def quick(**changes) -> BasinStudy:
-    """A coarse version of the study (under a minute on two cores, with the mesh check of
+    """A coarse version of the study (about 30 s on two cores, with the mesh check of
     :func:`run_basin` on a 40 × 4 mesh): three positions, one duration, a 20 × 2 slab mesh
     and a tolerance of 5 cm."""
     base = dict(cells=(20, 2), positions=(0.1, 0.5, 0.9), durations=(0.5,), tol=0.05,
