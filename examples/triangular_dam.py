@@ -184,11 +184,28 @@ if __name__ == "__main__":
     assert abs(h_dry / h_s - 1) < 1e-9
 
     # ---- safety output (res.interface_safety, as `stepcontact info --design 28` prints it) -----
-    safety = res.interface_safety("base", design=H_DESIGN)
-    print(f"\nsafety of 'base' (design level {H_DESIGN:g} m):")
-    print(f"   sliding level {safety.lam_sliding:.4f} m, level / design level "
-          f"{safety.fs_sliding:.3f}")
-    print(f"   at the design level: sliding factor f·ΣN/ΣQ = {safety.sliding_factor[i_d]:.4f} "
-          f"(hand f (W − U)/H_w = {F * N_d / Q_d:.4f}), e/B = "
-          f"{safety.eccentricity[i_d] / safety.length:+.4f}")
-    assert abs(safety.sliding_factor[i_d] / (F * N_d / Q_d) - 1) < 1e-9
+    # the engineers' factors at the design level, with the joint as it is (no cohesion) and
+    # with a design cohesion of 300 kPa on the compressed length; moments about the toe
+    C_DESIGN = 300e3  # Pa
+    safety = res.interface_safety("base", design=H_DESIGN, heel="auto")
+    d = safety.design_values()
+    dc = res.interface_safety("base", design=H_DESIGN, heel="auto",
+                              cohesion=C_DESIGN).design_values()
+    M_r = W * 2 * B / 3  # the weight's moment about the toe
+    M_o = Hw_d * H_DESIGN / 3 + U_d * (B - xU_d)  # the water's thrust and the uplift
+    print(f"\nsafety of 'base' at the design level h = {d['lam']:g} m (state {d['state']}):")
+    print(f"   friction-only factor f·N'/H = {d['friction_only_factor']:.6f} (hand f (W − U)/H_w "
+          f"= {F * N_d / Q_d:.6f})")
+    print(f"   shear-friction factor (c·A_c + N'·tan φ)/H with c = {C_DESIGN / 1e3:g} kPa on "
+          f"{dc['compressed_length']:.1f} m: {dc['shear_friction_factor']:.6f} (hand "
+          f"(c B + f (W − U))/H_w = {(C_DESIGN * B + F * N_d) / Q_d:.6f})")
+    print(f"   overturning factor ΣM_r/ΣM_o about the toe = {d['overturning_factor']:.6f} (hand "
+          f"W·2B/3 / (H_w h/3 + U (B − x_U)) = {M_r / M_o:.6f})")
+    print(f"   resultant {d['resultant_from_toe']:.4f} m from the toe, e/B = "
+          f"{d['e_over_B']:+.4f}, in the middle third: {d['in_middle_third']}")
+    print(f"   load margin: the dam slides at h = {safety.lam_sliding:.4f} m, level at sliding / "
+          f"design level = {safety.margin_sliding:.4f}")
+    assert abs(d["friction_only_factor"] / (F * N_d / Q_d) - 1) < 1e-9
+    assert abs(dc["shear_friction_factor"] / ((C_DESIGN * B + F * N_d) / Q_d) - 1) < 1e-9
+    assert abs(d["overturning_factor"] / (M_r / M_o) - 1) < 1e-9
+    assert abs(d["resultant_from_toe"] - (B - x_d)) < 1e-9 * B

@@ -450,6 +450,19 @@ def _load_weights(res: StaticResult, part: np.ndarray, factors: np.ndarray,
     return w
 
 
+def _load_groups(res: StaticResult) -> np.ndarray:
+    """(P, G) indicator of the loads the moment split keeps apart: every pattern on its own,
+    except the virtual patterns of a water level (:mod:`stepcontact.fem.level`), which are
+    pieces of one pressure — their basis functions of the level have either sign, so split one
+    by one they would put parts of the water's thrust among the resisting moments."""
+    virtual = {v: p for p, vs in res.level_patterns.items() for v in vs}
+    keys = [virtual[n] + " (water)" if n in virtual else n for n in res.pattern_names]
+    uniq = list(dict.fromkeys(keys))
+    ind = np.zeros((len(keys), len(uniq)))
+    ind[np.arange(len(keys)), [uniq.index(k) for k in keys]] = 1.0
+    return ind
+
+
 def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water,
              index: np.ndarray) -> tuple:
     """ΣM_r, ΣM_o about the toe of the loads on the part above the joint (n,), N·m, and the
@@ -470,6 +483,7 @@ def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water,
     if LM.shape[:2] != (len(res.pattern_names), len(jt.part)):
         return None, None, None, "the stored load moments do not match the result's patterns"
     on = np.einsum("npb,pbc->npc", _load_weights(res, jt.part, factors, index, LM), LM)
+    on = np.einsum("npc,pg->ngc", on, _load_groups(res))
     F, S, mz = on[..., 0:2], on[..., 2:6].reshape(n, -1, 2, 2), on[..., 6]  # (n, P, ...)
     T = jt.toe
     nrm = jt.axis / np.linalg.norm(jt.axis)
