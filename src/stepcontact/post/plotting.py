@@ -237,21 +237,48 @@ def _pattern_of(res: StaticResult, seg: int) -> str:
     return "?"
 
 
+def _is_level(res: StaticResult, seg: int) -> bool:
+    """Whether the parameter of segment ``seg`` is a water level h, m (its pattern's factor
+    is a level: :attr:`StaticResult.level_patterns`), not a load factor λ."""
+    return (getattr(res, "path_axis", "lam") != "time"
+            and _pattern_of(res, seg) in getattr(res, "level_patterns", {}))
+
+
 def _at_text(res: StaticResult, seg: int, v: float, short: bool = False) -> str:
-    """Where on the path a value is: ``'push' λ = 23 544`` (``push λ=23 544`` short), or
+    """Where on the path a value is: ``'push' λ = 23 544`` (``push λ=23 544`` short),
+    ``'reservoir' h = 28 m`` (``reservoir h=28 m``) when the parameter is a water level, or
     ``t = 0.035 s`` for a result in time (a dynamic run)."""
     if getattr(res, "path_axis", "lam") == "time":
         return f"t={v:.6g} s" if short else f"t = {v:.6g} s"
+    if _is_level(res, seg):
+        return (f"{_pattern_of(res, seg)} h={_lam_text(v)} m" if short
+                else f"'{_pattern_of(res, seg)}' h = {v:.4g} m")
     if short:
         return f"{_pattern_of(res, seg)} λ={_lam_text(v)}"
     return f"'{_pattern_of(res, seg)}' λ = {v:.4g}"
 
 
 def _axis_text(res: StaticResult, seg: int) -> str:
-    """The label of a path axis: ``λ of 'push'``, or ``time t, s`` for a dynamic result."""
+    """The label of a path axis: ``λ of 'push'``, ``water level h of 'reservoir', m`` when
+    the parameter is a level, or ``time t, s`` for a dynamic result."""
     if getattr(res, "path_axis", "lam") == "time":
         return "time t, s"
+    if _is_level(res, seg):
+        return f"water level h of '{_pattern_of(res, seg)}', m"
     return f"λ of '{_pattern_of(res, seg)}'"
+
+
+def _legend_below(fig: Figure, handles: list, ncol: int, **kw):
+    """A figure legend below the axes (``outside lower center``) in at most ``ncol`` columns,
+    fewer when its width would pass the figure's (a legend clipped on both sides)."""
+    renderer = fig.canvas.get_renderer()
+    ncol = max(1, min(int(ncol), len(handles)))
+    while True:
+        leg = fig.legend(handles=handles, loc="outside lower center", ncol=ncol, **kw)
+        if ncol == 1 or leg.get_window_extent(renderer).width <= 0.98 * fig.bbox.width:
+            return leg
+        leg.remove()
+        ncol -= 1
 
 
 def _lam_text(v: float) -> str:
@@ -1000,29 +1027,37 @@ def _draw_stress(fig: Figure, ax, polys: list[np.ndarray], values: np.ndarray,
     fig.colorbar(pc, ax=ax, label=f"{label}, {unit}", shrink=0.9)
 
 
+def _body_centroid(b: dict, xy: np.ndarray) -> np.ndarray:
+    """Centroid (2,) of one body of ``geometry["bodies"]`` at node positions ``xy`` (m):
+    area-weighted over the cells (the centre of mass of a body of uniform density); frames:
+    the mean of the element mid-points weighted by length."""
+    cells = np.asarray(b["cells"], dtype=np.int64)
+    if str(b.get("kind")) == "frame" or cells.shape[1] == 2:
+        ends = xy[cells[:, :2]]
+        w = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+        mid = ends.mean(axis=1)
+    else:
+        ring, _ = _ring(str(b.get("element", "")), cells.shape[1])
+        poly = xy[cells[:, ring]]
+        nxt = np.roll(poly, -1, axis=1)
+        cross = poly[..., 0] * nxt[..., 1] - nxt[..., 0] * poly[..., 1]
+        w = 0.5 * cross.sum(axis=1)  # signed areas of the cells
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mid = np.einsum("cr,crk->ck", cross, poly + nxt) / (6.0 * w[:, None])
+    ok = np.isfinite(mid).all(axis=1) & (np.abs(w) > 0)
+    return (np.average(mid[ok], axis=0, weights=np.abs(w[ok])) if ok.any()
+            else xy[np.unique(cells)].mean(axis=0))
+
+
 def _label_bodies(ax, bodies: list[dict], xy: np.ndarray, only: set[str] | None = None
                   ) -> None:
-    """Each body's name at its centroid (area-weighted over the cells; frames: the mean of
-    the element mid-points weighted by length), positions ``xy`` (m); ``only`` these bodies."""
+    """Each body's name at its centroid (:func:`_body_centroid`), positions ``xy`` (m);
+    ``only`` these bodies."""
     for j, b in enumerate(bodies):
         cells = np.asarray(b["cells"], dtype=np.int64)
         if not cells.size or (only is not None and str(b["name"]) not in only):
             continue
-        if str(b.get("kind")) == "frame" or cells.shape[1] == 2:
-            ends = xy[cells[:, :2]]
-            w = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
-            mid = ends.mean(axis=1)
-        else:
-            ring, _ = _ring(str(b.get("element", "")), cells.shape[1])
-            poly = xy[cells[:, ring]]
-            nxt = np.roll(poly, -1, axis=1)
-            cross = poly[..., 0] * nxt[..., 1] - nxt[..., 0] * poly[..., 1]
-            w = 0.5 * cross.sum(axis=1)  # signed areas of the cells
-            with np.errstate(invalid="ignore", divide="ignore"):
-                mid = np.einsum("cr,crk->ck", cross, poly + nxt) / (6.0 * w[:, None])
-        ok = np.isfinite(mid).all(axis=1) & (np.abs(w) > 0)
-        c = (np.average(mid[ok], axis=0, weights=np.abs(w[ok])) if ok.any()
-             else xy[np.unique(cells)].mean(axis=0))
+        c = _body_centroid(b, xy)
         ax.text(c[0], c[1], str(b["name"]), ha="center", va="center", fontsize=9,
                 fontweight="bold", color=f"C{j % 10}", zorder=6, gid="body_label",
                 bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.75})
@@ -1041,12 +1076,51 @@ def _nodal_forces(f: np.ndarray, dof_of: np.ndarray) -> np.ndarray:
     return out
 
 
+def _body_force_parts(system, pattern: str) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The body forces (:class:`~stepcontact.model.BodyForce`, self-weight) of load pattern
+    ``pattern`` of an assembled ``system``, per unit λ, one entry per continuum body:
+    (body name, its global node ids (k,), its consistent nodal forces (k, 2), N) — the
+    vectors the assembly adds (:func:`stepcontact.fem.continuum.body_force`).  Frames keep
+    their weight among the distributed loads (their consistent loads carry end moments)."""
+    from stepcontact.fem import continuum as _fem
+    from stepcontact.model import Body, BodyForce
+
+    model = getattr(system, "model", None)
+    if model is None or not any(p.name == pattern for p in model.patterns):
+        return []  # (a discrete model, or a pattern of a construction stage)
+    loads = model.pattern(pattern).loads
+    off = model.node_offsets
+    out: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for ld in loads:
+        if not isinstance(ld, BodyForce):
+            continue
+        for bn in ld.bodies or tuple(b.name for b in model.bodies):
+            b = model.body(bn)
+            if not isinstance(b, Body):
+                continue
+            fb = np.asarray(_fem.body_force(b, ld.g, model.thickness), float).reshape(-1, 2)
+            ids = off[b.name] + np.arange(b.n_nodes)
+            prev = out.get(b.name, (ids, np.zeros_like(fb)))[1]
+            out[b.name] = (ids, prev + fb)
+    return [(name, ids, fb) for name, (ids, fb) in out.items()]
+
+
 def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
                  size: float, shown: np.ndarray | None = None) -> list[dict]:
     """Arrows of the load patterns at state ``i`` (factor ≠ 0): for each, ``name``, ``lam``
     (its factor; None for a water level), ``at`` (k, 2) arrow tips and ``vec`` (k, 2) arrow
-    vectors (m, scaled for visibility), ``F`` (F_x, F_y), N, and ``nodal`` (from the
-    assembled load vectors, else one arrow on the line of action of the resultant).
+    vectors (m, scaled for visibility) of its distributed loads, ``F`` (F_x, F_y), N, the
+    pattern's resultant, ``nodal`` (from the assembled load vectors, else one arrow on the
+    line of action of the resultant), and its body forces (self-weight) as one resultant
+    arrow per body: ``body`` a list of (body name, centroid (2,) at ``xy``, resultant (2,),
+    N) and ``body_vec`` (j, 2) those arrows' vectors (m; tails at the centroids).
+
+    With the assembled load vectors (an in-memory result, or one given its model with
+    ``res.recover_fields(model)``), a pattern's body forces are split from its other loads:
+    each body's weight W = Σ of its consistent nodal forces (= ρ g A t exactly) is drawn at
+    the body's centroid (its centre of mass, the centroid of a uniform body force), the rest
+    (water pressure, tractions, nodal forces) as nodal arrows.  Without them, one arrow per
+    pattern on the line of action x F_y − y F_x = M_z of its stored resultant.
     ``shown``: (n_nodes,) bool, the nodal forces at the other nodes (of bodies not yet built
     at a construction stage, which carry no load) are left out."""
     names = list(res.pattern_names)
@@ -1060,6 +1134,7 @@ def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
     nodal = isinstance(loads, dict) and all(n in loads for n in names)
     R = np.asarray(res.load_resultants, dtype=float)
     centre = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+    geo_bodies = {str(b["name"]): b for b in (res.geometry or {}).get("bodies", [])}
     out = []
     for name, idx in groups.items():
         if not np.any(factors[idx] != 0):
@@ -1070,14 +1145,29 @@ def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
                     for j in idx)
             if shown is not None:
                 F = np.where(shown[:, None], F, 0.0)
+            total = F.sum(axis=0)
+            body = []
+            if lam is not None:  # self-weight: one resultant per body, at its centroid
+                for bname, ids, fb in _body_force_parts(system, name):
+                    if (shown is not None and not shown[ids].all()) or bname not in geo_bodies:
+                        continue
+                    F[ids] -= lam * fb  # what remains: the pattern's other loads
+                    body.append((bname, _body_centroid(geo_bodies[bname], xy),
+                                 lam * fb.sum(axis=0)))
             mag = np.linalg.norm(F, axis=1)
             big = float(mag.max(initial=0.0))
-            keep = np.flatnonzero(mag > 1e-9 * big) if big > 0 else np.zeros(0, int)
-            if not keep.size:
+            keep = (np.flatnonzero(mag > 1e-9 * max(big, float(np.linalg.norm(total))))
+                    if big > 0 else np.zeros(0, int))
+            if body:  # round-off of the subtraction is no load
+                keep = keep[mag[keep] > 1e-9 * max(np.linalg.norm(w) for _, _, w in body)]
+            if not keep.size and not body:
                 continue
+            peak = max((float(np.linalg.norm(w)) for _, _, w in body), default=0.0)
+            bvec = (np.array([w for _, _, w in body]) * (0.15 * size / peak) if peak > 0
+                    else np.zeros((0, 2)))
             out.append({"name": name, "lam": lam, "at": xy[keep],
-                        "vec": F[keep] * (0.1 * size / big), "F": F.sum(axis=0),
-                        "nodal": True})
+                        "vec": F[keep] * (0.1 * size / big) if keep.size else np.zeros((0, 2)),
+                        "F": total, "nodal": True, "body": body, "body_vec": bvec})
             continue
         if R.shape != (len(names), 3):
             continue  # a result written before the resultants were stored
@@ -1092,28 +1182,46 @@ def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
             at = centre
         vec = np.array([Fx, Fy]) * (0.15 * size / math.sqrt(F2))
         out.append({"name": name, "lam": lam, "at": at[None, :], "vec": vec[None, :],
-                    "F": np.array([Fx, Fy]), "nodal": False})
+                    "F": np.array([Fx, Fy]), "nodal": False, "body": [],
+                    "body_vec": np.zeros((0, 2))})
     return out
 
 
+def _force_text(F: np.ndarray) -> str:
+    """``(0, -1.41264) MN``: a force (F_x, F_y), N, in N, kN or MN to 6 significant digits."""
+    F = np.asarray(F, dtype=float)
+    F = np.where(np.abs(F) <= 1e-12 * np.abs(F).max(initial=0.0), 0.0, F)  # round-off: 0
+    div, unit = _force_scale(F, 0)
+    return f"({F[0] / div:.6g}, {F[1] / div:.6g}) {unit}"
+
+
 def _draw_load_arrows(ax, arrows: list[dict]) -> list:
-    """The arrows of :func:`_load_arrows` (tips at the points of application) and their
-    legend handles: pattern, λ and the resultant (F_x, F_y)."""
+    """The arrows of :func:`_load_arrows` (distributed loads: tips at the points of
+    application; body forces: tails at the bodies' centroids, gid ``body force:<pattern>``)
+    and their legend handles: pattern, λ and the resultant (F_x, F_y)."""
     from matplotlib.lines import Line2D
 
     handles = []
     for j, a in enumerate(arrows):
         color = _LOAD_COLORS[j % len(_LOAD_COLORS)]
-        ax.quiver(a["at"][:, 0], a["at"][:, 1], a["vec"][:, 0], a["vec"][:, 1],
-                  angles="xy", scale_units="xy", scale=1.0, pivot="tip", color=color,
-                  width=0.004 if a["nodal"] else 0.007, zorder=5, gid=f"load:{a['name']}")
-        div, unit = _force_scale(np.asarray(a["F"]), 0)
-        at = "" if a["lam"] is None else f" at λ = {_lam_text(a['lam'])}"
+        if len(a["at"]):
+            ax.quiver(a["at"][:, 0], a["at"][:, 1], a["vec"][:, 0], a["vec"][:, 1],
+                      angles="xy", scale_units="xy", scale=1.0, pivot="tip", color=color,
+                      width=0.004 if a["nodal"] else 0.007, zorder=5, gid=f"load:{a['name']}")
+        if a["body"]:
+            at = np.array([c for _, c, _ in a["body"]])
+            ax.quiver(at[:, 0], at[:, 1], a["body_vec"][:, 0], a["body_vec"][:, 1],
+                      angles="xy", scale_units="xy", scale=1.0, pivot="tail", color=color,
+                      width=0.008, zorder=5.5, gid=f"body force:{a['name']}")
+        lam = "" if a["lam"] is None else f" at λ = {_lam_text(a['lam'])}"
         where = "" if a["nodal"] else " (its line of action)"
+        if a["body"]:
+            where = (", self-weight as one arrow per body at its centre of mass"
+                     if len(a["body"]) > 1 else
+                     f", self-weight of '{a['body'][0][0]}' at its centre of mass")
         handles.append(Line2D(
             [], [], color=color, lw=2.0, marker=">", ms=6,
-            label=f"'{a['name']}'{at}: resultant F = ({a['F'][0] / div:.4g}, "
-                  f"{a['F'][1] / div:.4g}) {unit}{where}"))
+            label=f"'{a['name']}'{lam}: resultant F = {_force_text(a['F'])}{where}"))
     return handles
 
 
@@ -1205,7 +1313,10 @@ def plot_deformed(
         cells_stress = _cell_stress(drawn, per_body, xy, component[0])
     arrows = _load_arrows(res, i, xy, dof_of, size, shown) if loads else []
 
-    tips = [xy[shown]] + [np.r_[a["at"], a["at"] - a["vec"]] for a in arrows]
+    tips = [xy[shown]] + [np.concatenate([
+        a["at"], a["at"] - a["vec"],
+        np.reshape([c + v for (_, c, _), v in zip(a["body"], a["body_vec"], strict=True)],
+                   (-1, 2))]) for a in arrows]
     lo = np.minimum(points[shown].min(0), np.min([v.min(0) for v in tips], axis=0))
     hi = np.maximum(points[shown].max(0), np.max([v.max(0) for v in tips], axis=0))
     w, h = np.maximum(hi - lo, 1e-3 * size)
@@ -1237,17 +1348,21 @@ def plot_deformed(
     if handles:
         ax.legend(handles=handles, title="CFE state", fontsize=8, title_fontsize=8, loc="best")
     if load_handles:
-        fig.legend(handles=load_handles, loc="outside lower center", fontsize=8,
-                   title="loads (arrows scaled for visibility)", title_fontsize=8,
-                   frameon=False, ncol=1 if len(load_handles) > 2 else len(load_handles))
+        _legend_below(fig, load_handles, 1 if len(load_handles) > 2 else len(load_handles),
+                      fontsize=8, title="loads (arrows scaled for visibility)",
+                      title_fontsize=8, frameon=False)
     seg = int(res.segment[i])
     built = ("" if only is None else f"\n{_stage_text(res, stage)}: bodies built "
              + ", ".join(str(b["name"]) for b in bodies if str(b["name"]) in only))
     fig.suptitle(
         f"Deformed shape at state {i} ({res.kind[i]}, "
-        f"{_at_text(res, seg, float(res.lam[i]))}) — displacements × {scale:g}, "
+        f"{_at_text(res, seg, float(res.lam[i]))})\ndisplacements × {scale:g}, "
         f"max |u| = {umax:.3g} m{built}"
     )
+    # the equal aspect shrinks the axes after the constrained layout placed the labels and
+    # the legend below: one draw settles the layout (else the first one, a saved file's,
+    # may put the x label on the legend)
+    fig.draw_without_rendering()
     save_figure(fig, out, dpi)
     return fig
 
