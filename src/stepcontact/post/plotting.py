@@ -298,7 +298,8 @@ NOT_BUILT = "not yet built"
 #: the corner peak of a contact-stress diagram: the end CFE of an interface at a body corner
 #: carrying more than this times the mean |σ_n| of its next two CFEs
 CORNER_RATIO = 2.0
-CORNER_NOTE = "corner singularity: refines with the mesh, not a physical value"
+#: (two lines: one would be wider than a narrow panel)
+CORNER_NOTE = "corner singularity: refines with the mesh,\nnot a physical value"
 
 
 def _body_corners(res: StaticResult) -> np.ndarray:
@@ -508,6 +509,7 @@ def plot_interfaces(
                 for st, t in zip(stages, rows, strict=True)]
 
     axes = fig.subplots(3, ncol, squeeze=False, sharex="col", height_ratios=[3, 3, 1.2])
+    any_residual = False
     for c, name in enumerate(names):
         k = np.flatnonzero(iface == c)
         ax_n, ax_t, ax_s = axes[0, c], axes[1, c], axes[2, c]
@@ -553,13 +555,10 @@ def plot_interfaces(
         _note_corner_peaks(ax_n, [snap["N"][k] / area[k] for (_, _, snap), a
                                   in zip(snaps, acts, strict=True) if a[k].all()], s,
                            xc[k], corners, scale)
+        any_residual |= bool(residual[k].any())
         ax_n.set_ylabel(rf"$\sigma_n$ = N/A, {unit} (compression < 0)"
                         + (";\nwater in the crack −p dotted" if wet else ""))
-        ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed"
-                        + (";\n" + r"bonded: $\pm(\tau_R - \alpha_R \sigma_n)$"
-                           if bond is not None else "")
-                        + (r", broken: $\pm(f|\sigma_n| + c_r)$" if residual[k].any()
-                           else ""))
+        ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit}")
 
         # state strip: one row per λ, one cell per CFE between mid-points
         if s.size > 1:
@@ -587,6 +586,14 @@ def plot_interfaces(
             ax_s.set_ylabel("state")
 
     handles = [Line2D([], [], color=colors[j], lw=1.6, label=labels[j]) for j in range(len(snaps))]
+    # what the dashed and dotted lines are (in the legend: axis labels stay short, so that
+    # those of the σ_n and τ panels do not run into each other or the state strip's rows)
+    limits = r"$\tau$ limits dashed: $\pm f|\sigma_n|$"
+    if bond is not None:
+        limits += r"; bonded $\pm(\tau_R - \alpha_R \sigma_n)$"
+    if any_residual:
+        limits += r"; broken, closed $\pm(f|\sigma_n| + c_r)$"
+    handles.append(Line2D([], [], color="0.3", ls="--", lw=0.9, label=limits))
     shown = {int(v) for (_, _, snap), a in zip(snaps, acts, strict=True)
              for v in np.asarray(snap["state"])[a]}
     handles += [
@@ -597,18 +604,21 @@ def plot_interfaces(
     if not all(a.all() for a in acts):
         handles.append(Patch(facecolor="white", edgecolor="0.75", hatch="////",
                              label=NOT_BUILT))
-    fig.legend(handles=handles, loc="outside lower center",
-               ncol=min(len(handles), max(4, 3 * ncol)), fontsize=8, frameon=False)
-    by_pattern: dict[str, list[str]] = {}
+    _legend_below(fig, handles, min(len(handles), max(4, 3 * ncol)), fontsize=8,
+                  frameon=False)
+    by_pattern: dict[tuple[str, bool], list[str]] = {}
     for sg, v, _ in snaps:
-        by_pattern.setdefault(_pattern_of(res, sg), []).append(f"{v:.4g}")
+        by_pattern.setdefault((_pattern_of(res, sg), _is_level(res, sg)), []).append(
+            f"{v:.4g}")
     if getattr(res, "path_axis", "lam") == "time":
         fig.suptitle("Contact stresses at t = "
                      + ", ".join(f"{v:.4g}" for _, v, _ in snaps) + " s")
     else:
         fig.suptitle(
             "Contact stresses at "
-            + ";\n".join(f"pattern '{p}' λ = {', '.join(v)}" for p, v in by_pattern.items())
+            + ";\n".join(f"pattern '{p}' h = {', '.join(v)} m" if level
+                         else f"pattern '{p}' λ = {', '.join(v)}"
+                         for (p, level), v in by_pattern.items())
         )
     save_figure(fig, out, dpi)
     return fig
@@ -1583,8 +1593,8 @@ def plot_load_displacement(
         axes[0].legend(fontsize=8, loc="best")
     axes[-1].set_xlabel(xlabel)
     if seen:
-        fig.legend(handles=_transition_handles(seen), loc="outside lower center",
-                   ncol=len(set(seen)), fontsize=8, frameon=False, title="events")
+        _legend_below(fig, _transition_handles(seen), len(set(seen)), fontsize=8,
+                      frameon=False, title="events")
     what = "reaction" if reaction is not None else "displacement"
     fig.suptitle(f"Load–{what} — {res.status.value}, {len(res.events)} events")
     save_figure(fig, out, dpi)
@@ -1690,8 +1700,7 @@ def plot_event_timeline(
     handles = _state_handles(st.ravel() if made is None else st[made], bars=True)
     handles += _transition_handles(
         [e.transition for e in res.events], prefix="→ ")
-    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 6),
-               fontsize=8, frameon=False)
+    _legend_below(fig, handles, 6, fontsize=8, frameon=False)
     save_figure(fig, out, dpi)
     return fig
 
