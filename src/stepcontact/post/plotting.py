@@ -1708,6 +1708,46 @@ def plot_event_timeline(
 # --------------------------------------------------------------------------------------------
 # safety of the joints
 # --------------------------------------------------------------------------------------------
+#: at most this many panels (groups of segments) side by side in :func:`plot_safety`
+MAX_SAFETY_PANELS = 6
+
+
+def _segment_groups(res: StaticResult, segs: Sequence[int]) -> list[list[int]]:
+    """Consecutive segments that continue one another on one parameter axis: the same
+    pattern, each starting where the previous one ended, in the same direction (the level
+    raised 0 → 28 m then 28 → 60 m is one axis; the weight 0 → 1 before it another)."""
+    groups: list[list[int]] = []
+    for sg in segs:
+        if groups and 0 <= sg < len(res.segments):
+            prev = groups[-1][-1]
+            if 0 <= prev < len(res.segments):
+                (p0, a0, b0), (p1, a1, b1) = res.segments[prev], res.segments[sg]
+                if p0 == p1 and a1 == b0 and (b0 - a0) * (b1 - a1) > 0:
+                    groups[-1].append(sg)
+                    continue
+        groups.append([sg])
+    return groups
+
+
+def _limit_text(res: StaticResult, sf, what: str, v: float, margin: float | None,
+                built: np.ndarray) -> str | None:
+    """``slides at h = 11.67 m (h/h_d = 1.17)``: a limit of :class:`InterfaceSafety` in the
+    unit of the segment where it is reached, and its load margin over the design value;
+    None when it is reached only at states where the interface is not built (``built``:
+    (n_states,) bool)."""
+    hit = np.flatnonzero(np.asarray(sf.lam) == v)
+    if hit.size and not built[hit].any():
+        return None
+    hit = hit[built[hit]]
+    seg = int(res.segment[hit[0]]) if hit.size else int(res.segment[-1])
+    if _pattern_of(res, seg) != _pattern_of(res, int(res.segment[-1])):
+        margin = None  # the design value is one of the last segment's parameter
+    level = _is_level(res, seg)
+    at = f"h = {v:.4g} m" if level else f"λ = {v:.4g}"
+    ratio = "h/h_d" if level else "λ/λ_d"
+    return f"{what} at {at}" + ("" if margin is None else f" ({ratio} = {margin:.3g})")
+
+
 def plot_safety(
     res: StaticResult,
     interfaces: Sequence[str] | None = None,
@@ -1717,9 +1757,18 @@ def plot_safety(
     design: float | None = None,
     dpi: float = DPI,
 ) -> Figure:
-    """Safety of the joints against λ: eccentricity of the normal resultant (over the joint's
-    length B, with the kern |e| ≤ B/6 shaded), sliding factor f·|ΣN|/|ΣQ| (1: the joint
-    slides) and open length (m), for the states of one segment (default the last reached).
+    """Safety of the joints along the whole load path: eccentricity of the normal resultant
+    (over the joint's length B, with the kern |e| ≤ B/6 shaded), sliding factor f·|ΣN|/|ΣQ|
+    (1: the joint slides) and open length (m).
+
+    Every segment reached is drawn against its own parameter, one column of panels per run
+    of segments that continue one another (the same pattern, in the same direction): a load
+    factor λ, or the water level h in m when the pattern's factor is a level — e.g. the
+    weight λ = 0 → 1 in a narrow column, then the reservoir h = 0 → 40 m in a wide one on a
+    level axis.  The rows share their y axes.  The limits (the λ or level at which each
+    joint slides or its body overturns) and their load margins over ``design`` are in the
+    legend; ``design`` is drawn as a vertical line in the columns of the last segment's
+    pattern.  At most :data:`MAX_SAFETY_PANELS` columns (the last ones) are drawn.
 
     See :meth:`~stepcontact.results.result.StaticResult.interface_safety`.
 
@@ -1731,15 +1780,19 @@ def plot_safety(
     path : str or PathLike, optional
         Save the figure there (``.png``, ``.pdf`` or ``.svg``).
     segment : int, optional
-        The segment whose λ is the x axis (default the last one reached).
+        Draw only this segment (default every segment reached).
     design : float, optional
-        Design load factor λ_d, drawn as a vertical line (FS = λ_limit / λ_d in the legend).
+        Design value of the last segment's parameter (λ_d, or the design level h_d in m),
+        drawn as a vertical line (the load margin λ_limit / λ_d in the legend).
     dpi : float
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     out = figure_path(path, dpi)
     names = list(res.interface_names if interfaces is None else interfaces)
     for name in names:
@@ -1747,49 +1800,99 @@ def plot_safety(
             raise ValueError(f"no interface '{name}' (interfaces: "
                              f"{', '.join(map(repr, res.interface_names)) or 'none'})")
     segs = _segments_reached(res)
-    seg = segs[-1] if segment is None and segs else segment
-    fig = new_figure(figsize=(7.5, 7.5))
-    axes = fig.subplots(3, 1, sharex=True)
-    if not names or seg is None or seg not in segs:
-        for ax in axes:
-            ax.set_axis_off()
-        axes[0].text(0.5, 0.5, "no contact interfaces" if not names else
-                     f"segment {seg} was not reached", ha="center", va="center")
+    if segment is not None and segment not in segs:
+        raise ValueError(f"segment={segment}: not reached (segments reached: "
+                         f"{_ranges(segs) or 'none'})")
+    groups = _segment_groups(res, [segment] if segment is not None else segs)
+    cut = len(groups) > MAX_SAFETY_PANELS
+    groups = groups[-MAX_SAFETY_PANELS:]
+    if not names or not groups:
+        fig = new_figure(figsize=(7.5, 7.5))
+        ax = fig.add_subplot()
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "no contact interfaces" if not names else "no state reported",
+                ha="center", va="center")
         save_figure(fig, out, dpi)
         return fig
-    idx, lam = _segment_chain(res, seg)
+    # wide columns for the levels and the last run of segments, narrow ones for the others
+    wide = [_is_level(res, g[0]) or j == len(groups) - 1 for j, g in enumerate(groups)]
+    ratios = [3.0 if w else 1.0 for w in wide]
+    fig = new_figure(figsize=(min(5.5 + 2.0 * sum(ratios[:-1]), 16.0), 8.0))
+    axes = fig.subplots(3, len(groups), squeeze=False, sharey="row", sharex="col",
+                        width_ratios=ratios)
+    last = groups[-1][-1]
+    pattern = _pattern_of(res, last)
+    safety = [res.interface_safety(name, design) for name in names]
+    made = _made(res)  # construction stages: no values where an interface is not built
+    iface = np.asarray(res.cfe["interface"])
+    built = [np.ones(res.n_states, bool) if made is None
+             else made[:, iface == res.interface_names.index(n)].any(axis=1) for n in names]
     peak = 1.0
-    for c, name in enumerate(names):
-        sf = res.interface_safety(name, design)
-        color = f"C{c % 10}"
-        limits = [f"{what} at λ = {v:.4g}" + ("" if fs is None else f" (FS {fs:.3g})")
-                  for what, v, fs in (("slides", sf.lam_sliding, sf.fs_sliding),
-                                      ("overturns", sf.lam_overturning, sf.fs_overturning))
-                  if v is not None]
-        label = f"'{name}'" + (": " + ", ".join(limits) if limits else "")
-        B = sf.length if sf.length > 0 else 1.0
-        axes[0].plot(lam, sf.eccentricity[idx] / B, color=color, marker=".", ms=4, label=label)
-        sliding = np.where(np.isfinite(sf.sliding_factor[idx]), sf.sliding_factor[idx], np.nan)
-        axes[1].plot(lam, sliding, color=color, marker=".", ms=4)
-        peak = max(peak, float(np.nanmax(sliding, initial=1.0)))
-        axes[2].plot(lam, sf.open_length[idx], color=color, marker=".", ms=4,
-                     drawstyle="steps-post")  # the open set holds until the next state
-    axes[0].axhspan(-1 / 6, 1 / 6, color="0.9", zorder=0, label="kern |e| ≤ B/6")
-    axes[0].axhline(0.0, color="k", lw=0.5)
-    axes[0].set_ylabel("eccentricity e / B")
-    axes[1].axhline(1.0, color="k", lw=0.8, ls="--")
-    axes[1].set_ylabel("sliding factor f·|ΣN|/|ΣQ|")
-    axes[1].set_ylim(0.0, min(max(2.0, 1.1 * peak), 10.0))
-    axes[2].set_ylabel("open length, m")
-    axes[2].set_xlabel(_axis_text(res, seg))
-    for ax in axes:
-        ax.grid(True, alpha=0.3)
-        if design is not None:
-            ax.axvline(design, color="0.4", lw=0.8, ls=":")
-    if 0 <= seg < len(res.segments) and res.segments[seg][2] < res.segments[seg][1]:
-        axes[-1].invert_xaxis()
-    axes[0].legend(fontsize=8, loc="best")
-    fig.suptitle(f"Joint safety — segment {seg} '{_pattern_of(res, seg)}', {res.status.value}")
+    for col, group in enumerate(groups):
+        chains = [_segment_chain(res, sg) for sg in group]
+        idx = np.concatenate([c[0] for c in chains])
+        lam = np.concatenate([c[1] for c in chains])
+        ax_e, ax_s, ax_o = axes[:, col]
+        for c, sf in enumerate(safety):
+            color = f"C{c % 10}"
+            B = sf.length if sf.length > 0 else 1.0
+            on = built[c][idx]
+            ax_e.plot(lam, np.where(on, sf.eccentricity[idx] / B, np.nan), color=color,
+                      marker=".", ms=4)
+            sliding = np.where(np.isfinite(sf.sliding_factor[idx]) & on,
+                               sf.sliding_factor[idx], np.nan)
+            ax_s.plot(lam, sliding, color=color, marker=".", ms=4)
+            if np.isfinite(sliding).any():
+                peak = max(peak, float(np.nanmax(sliding)))
+            ax_o.plot(lam, np.where(on, sf.open_length[idx], np.nan), color=color,
+                      marker=".", ms=4, drawstyle="steps-post")  # open until the next state
+        ax_e.axhspan(-1 / 6, 1 / 6, color="0.9", zorder=0)
+        ax_e.axhline(0.0, color="k", lw=0.5)
+        ax_s.axhline(1.0, color="k", lw=0.8, ls="--")
+        for ax in (ax_e, ax_s, ax_o):
+            ax.grid(True, alpha=0.3)
+            if design is not None and _pattern_of(res, group[0]) == pattern:
+                ax.axvline(design, color="0.3", lw=1.0, ls=":", gid="design")
+        stage = _segment_stage(res, group[0])
+        what = (f"segment {group[0]}" if len(group) == 1
+                else f"segments {group[0]}–{group[-1]}")
+        span = (_at_text(res, group[0], float(lam[0]), short=True) + " → "
+                + (f"{_lam_text(lam[-1])} m" if _is_level(res, group[0])
+                   else _lam_text(lam[-1])))
+        title = f"{what}:\n{span}" if not wide[col] else f"{what}: {span}"
+        if stage is not None:
+            title = f"{_stage_text(res, stage)}\n{title}"
+        ax_e.set_title(title, fontsize=8)
+        ax_o.set_xlabel(_axis_text(res, group[0]) if wide[col]
+                        else _axis_text(res, group[0]).replace(" of ", "\nof ", 1))
+        if 0 <= group[0] < len(res.segments) and (
+                res.segments[group[0]][2] < res.segments[group[0]][1]):
+            ax_o.invert_xaxis()
+    axes[0, 0].set_ylabel("eccentricity e / B")
+    axes[1, 0].set_ylabel("sliding factor f·|ΣN|/|ΣQ|")
+    axes[1, 0].set_ylim(0.0, min(max(2.0, 1.1 * peak), 10.0))
+    axes[2, 0].set_ylabel("open length, m")
+
+    handles = []
+    for c, sf in enumerate(safety):
+        limits = [t for what, v, margin in (("slides", sf.lam_sliding, sf.fs_sliding),
+                                            ("overturns", sf.lam_overturning,
+                                             sf.fs_overturning))
+                  if v is not None
+                  and (t := _limit_text(res, sf, what, v, margin, built[c])) is not None]
+        handles.append(Line2D([], [], color=f"C{c % 10}", marker=".", ms=4,
+                              label=f"'{sf.interface}'"
+                              + (": " + ", ".join(limits) if limits else "")))
+    handles.append(Patch(facecolor="0.9", label="kern |e| ≤ B/6"))
+    if design is not None:
+        level = _is_level(res, last)
+        handles.append(Line2D([], [], color="0.3", lw=1.0, ls=":",
+                              label=f"design level h_d = {design:g} m" if level
+                              else f"design λ_d = {design:g} of '{pattern}'"))
+    _legend_below(fig, handles, 2, fontsize=8, frameon=False)
+    fig.suptitle("Joint safety along the load path"
+                 + (f" (the last {len(groups)} runs of segments)" if cut else "")
+                 + f" — {res.status.value}")
     save_figure(fig, out, dpi)
     return fig
 
