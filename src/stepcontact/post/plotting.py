@@ -2071,6 +2071,10 @@ def plot_time_history(res, dofs: Sequence | None = None,
     * or, as before, ``dofs``: a discrete model's DOF names or global DOF indices (the
       displacement and velocity of each).
 
+    Default (none of these): the node that moves most (the largest |u_x| or |u_y| over the
+    run).  Displacements are drawn in m, mm or µm, whichever reads best (the axis label
+    says which).
+
     The nodes are found by :meth:`StaticResult.node_ids` and their values read by
     :meth:`StaticResult.node_history` (the same curves).  Every curve is named by its node
     set, node, coordinates and direction, e.g. ``crest (node 412, x = 0, y = 12 m): u_x``;
@@ -2087,8 +2091,10 @@ def plot_time_history(res, dofs: Sequence | None = None,
     if dofs is not None and (point is not None or nodes is not None):
         raise ValueError("give either dofs (DOF names or indices) or point/nodes, not both")
     if dofs is None and point is None and nodes is None:
-        raise ValueError("choose what to plot: point=(x, y), nodes=<node set name or node "
-                         "id>, or dofs=<DOF names or indices>")
+        if "points" not in (res.geometry or {}):
+            raise ValueError("choose what to plot: dofs=<DOF names or indices>")
+        peak = np.abs(np.asarray(res.u)).max(axis=0, initial=0.0)  # |u| of every DOF
+        nodes, _ = _most_moving(res, None, body, -1, peak)  # the node that moves most
     if dofs is not None:
         curves = _dof_curves(res, dofs)
     else:
@@ -2097,16 +2103,22 @@ def plot_time_history(res, dofs: Sequence | None = None,
     fig = new_figure(figsize=(8.5, 2.4 * len(panels) + 2.0))
     axes = np.atleast_1d(fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0])
     t = np.asarray(res.time)
+    # displacements in m, mm or µm (whichever reads best; not with rotations, in rad)
+    u_all = [c[1] for c in curves if c[0] == "u"]
+    rotation = any(c[0] == "u" and len(c[3]) == 2 and c[3][1] == 2 for c in curves)
+    div, unit = (1.0, "m") if rotation or not u_all else _length_scale(np.concatenate(u_all))
     color: dict[tuple, str] = {}  # one colour per node and direction, in every panel
     for q, values, label, key in curves:
         color.setdefault(key, f"C{len(color) % 10}")
-        axes[panels.index(q)].plot(t, values, lw=1.3, color=color[key], label=label)
+        axes[panels.index(q)].plot(t, values / (div if q == "u" else 1.0), lw=1.3,
+                                   color=color[key], label=label)
     handles = [ln for ax in axes for ln in ax.get_lines()]
     seen = []
     for ax, q in zip(axes, panels, strict=True):
         seen = _mark_events(ax, res)
         ax.grid(True, alpha=0.3)
-        ax.set_ylabel(_HISTORY_PANELS[q][1])
+        ax.set_ylabel(f"displacement, {unit}" + (" (rad for φ_z)" if rotation else "")
+                      if q == "u" else _HISTORY_PANELS[q][1])
     axes[-1].set_xlabel("time t, s")
     _legend_below(fig, [*handles, *_transition_handles(seen, "event: ")], 2,
                   fontsize=8, frameon=False)
