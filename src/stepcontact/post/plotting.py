@@ -222,12 +222,21 @@ def _mark_stages(res: StaticResult, ax, axes_lines: Sequence) -> None:
     if stage is None:
         return
     stage = np.asarray(stage, int)
+    # stages a few states apart: their names on staggered rows (estimated widths, 8 pt text
+    # about 0.6 em a character, over the axes' width)
+    width = max(float(ax.get_position().width * ax.figure.get_figwidth()) * 72.0, 1.0)
+    span = max(len(stage), 1)
+    ends: list[float] = []  # right end of the last name on each row, in states
     for k in dict.fromkeys(stage.tolist()):
         first = int(np.flatnonzero(stage == k)[0])
         if first > 0:
             for a in axes_lines:
                 a.axvline(first - 0.5, color="0.25", lw=1.0)
-        ax.text(first - 0.5, 0.98, f" {_stage_text(res, k)}", transform=ax.get_xaxis_transform(),
+        text = f" {_stage_text(res, k)}"
+        row = next((r for r, e in enumerate(ends) if e <= first - 0.5), len(ends))
+        end = first - 0.5 + 1.1 * len(text) * 0.6 * 8.0 / width * span
+        ends[row:row + 1] = [end]
+        ax.text(first - 0.5, 0.98 - 0.07 * row, text, transform=ax.get_xaxis_transform(),
                 ha="left", va="top", fontsize=8, color="0.25", gid="stage_label")
 
 
@@ -1939,7 +1948,7 @@ def _dof_curves(res, dofs) -> list[tuple[str, np.ndarray, str, tuple]]:
 #: the dynamic result, axis label (m, m/s, m/s²; rad, rad/s, rad/s² for rotations)
 _HISTORY_PANELS = {"u": ("u", "displacement, m"), "v": ("v", "velocity, m/s"),
                    "a": ("a", "acceleration, m/s²")}
-_COMPONENTS = {"x": 0, "y": 1, "rz": 2, "z": 2}
+_COMPONENTS = {"x": 0, "y": 1, "rz": 2}
 _COMPONENT_TEXT = ("x", "y", "rz")
 
 
