@@ -221,14 +221,19 @@ def test_staged_bonded_dam_figures_are_readable(staged_bonded):
 
 
 def test_load_path_and_load_displacement_are_readable(dam):
+    """Both readable; the level named as such (in m) on the axes and at the loss of
+    equilibrium (the run's sliding level, 5 significant digits)."""
     _, res = dam
-    assert_readable(plotting.plot_load_path(res))
+    fig = plotting.plot_load_path(res)
+    assert_readable(fig)
+    assert fig.axes[0].get_ylabel().endswith("(water level h in m for 'reservoir')")
     fig = plotting.plot_load_displacement(res)
     assert_readable(fig)
     # one panel per segment, the reservoir's on the level axis in m
     assert [ax.get_ylabel() for ax in fig.axes] == [
         "λ of 'weight'", "water level h of 'reservoir', m", "water level h of 'reservoir', m"]
-    assert "equilibrium lost" in " ".join(t.get_text() for t in fig.axes[-1].texts)
+    h = res.multipliers[-1].equilibrium_lost
+    assert f"equilibrium lost, h = {h:.5g} m" in [t.get_text() for t in fig.axes[-1].texts]
 
 
 def legend_inside(fig) -> None:

@@ -691,7 +691,10 @@ def plot_load_path(
         for t in seen
     ]
     ax_l.legend(handles=seg_handles + ev_handles, fontsize=8, loc="best")
-    ax_l.set_ylabel("load factor λ of the active pattern")
+    levels = sorted({_pattern_of(res, sg) for sg in _segments_reached(res) if _is_level(res, sg)})
+    ax_l.set_ylabel("load factor λ of the active pattern"
+                    + (f"\n(water level h in m for {', '.join(map(repr, levels))})"
+                       if levels else ""))
     ax_l.grid(True, alpha=0.3)
     n_ev = np.array([sum(1 for e in res.events if e.state <= k) for k in i])
     if res.n_states:
@@ -1463,11 +1466,13 @@ def _most_moving(res: StaticResult, node: int | Sequence[float] | None, body: st
     return best[1], best[2]
 
 
-def _mark_equilibrium_lost(ax, x: float, y: float, lam: float) -> None:
-    """The star and text "equilibrium lost, λ = …" at (x, y) of a λ–u curve."""
+def _mark_equilibrium_lost(ax, x: float, y: float, lam: float, level: bool = False) -> None:
+    """The star and text "equilibrium lost, λ = …" (``h = … m`` when the parameter is a
+    water level) at (x, y) of a λ–u curve."""
     ax.plot([x], [y], ls="none", marker="*", ms=15, mfc="gold", mec="k", mew=0.6, zorder=5,
             gid="equilibrium_lost")
-    ax.annotate(f"equilibrium lost, λ = {_lam_text(lam)}", (x, y), xytext=(0.98, 0.04),
+    at = f"h = {_lam_text(lam)} m" if level else f"λ = {_lam_text(lam)}"
+    ax.annotate(f"equilibrium lost, {at}", (x, y), xytext=(0.98, 0.04),
                 textcoords="axes fraction", ha="right", va="bottom", fontsize=8,
                 arrowprops={"arrowstyle": "->", "color": "0.4", "lw": 0.7},
                 bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.6", "alpha": 0.9})
@@ -1593,7 +1598,7 @@ def plot_load_displacement(
                      if mu.segment == s and mu.equilibrium_lost is not None), None)
         if lost is not None and idx.size:
             _mark_equilibrium_lost(ax, u[idx[-1]] / div, lost if axis == "lam" else lam[-1],
-                                   lost)
+                                   lost, _is_level(res, s))
     for ax in axes:
         ax.grid(True, alpha=0.3)
         ax.axvline(0.0, color="k", lw=0.5)
