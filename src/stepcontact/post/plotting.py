@@ -1275,8 +1275,11 @@ def plot_deformed(
     are drawn as arrows, one colour per pattern, each pattern scaled for visibility (its
     longest arrow 10 % of the model size), its resultant (F_x, F_y) in the legend below: the
     nodal forces of the assembled load vectors when the model is available (an in-memory
-    result, or after ``res.recover_fields(model)``), else one arrow per pattern on the line
-    of action of its stored resultant (:meth:`StaticResult.load_resultant`).
+    result, or after ``res.recover_fields(model)``) — a body force (self-weight,
+    :class:`~stepcontact.model.BodyForce`) as one arrow per body from its centroid (its
+    centre of mass), of length 15 % of the model size for the heaviest body, the other loads
+    (water pressure, tractions, nodal forces) at their nodes — else one arrow per pattern on
+    the line of action of its stored resultant (:meth:`StaticResult.load_resultant`).
 
     Parameters
     ----------
