@@ -166,6 +166,31 @@ def test_deformed_weight_of_one_body(dam):
     assert "self-weight of 'dam' at its centre of mass" in legend_texts(fig)[-1]
 
 
+def test_deformed_weight_of_tied_bodies():
+    """Two blocks 2 m × 0.5 m tied along y = 0.5 (their nodes there share DOFs): one weight
+    arrow each, at (1, 0.25) and (1, 0.75) m (1e-6 m), no weight left over as nodal arrows
+    at the tied nodes, the resultant 2 · 2400 · 9.81 · 1 = 47 088 N (1e-9 relative)."""
+    mat = sc.Material(30e9, 0.2, 2400.0)
+    m = sc.Model(bodies=[sc.rectangle("base", (-1, -1), (3, 0), 8, 2, mat),
+                         sc.rectangle("lower", (0, 0), (2, 0.5), 4, 1, mat),
+                         sc.rectangle("upper", (0, 0.5), (2, 1.0), 4, 1, mat)])
+    m = m.add(sc.Support("bed", m.select("base", y=-1.0)),
+              sc.Tie("glue", m.select("upper", y=0.5), m.select("lower", y=0.5)),
+              sc.Interface("joint", m.select("lower", y=0.0), m.select("base", y=0.0),
+                           friction=0.6),
+              sc.LoadPattern("weight", [sc.BodyForce(bodies=("lower", "upper"))]),
+              sc.Segment("weight", 1.0))
+    fig = plotting.plot_deformed(sc.solve_static(m), scale=1e-6)
+    assert_readable(fig)
+    arrows = quivers(fig.axes[0])
+    assert set(arrows) == {"body force:weight"}
+    assert_allclose(arrows["body force:weight"].get_offsets(), [(1.0, 0.25), (1.0, 0.75)],
+                    atol=1e-6)
+    (entry,) = legend_texts(fig)
+    fy, unit = re.search(r"F = \(0, ([-\d.e+]+)\) (\w+)", entry).groups()
+    assert float(fy) * UNITS[unit] == pytest.approx(-2 * 2400 * 9.81 * 1.0, rel=1e-9)
+
+
 # --------------------------------------------------------------------------------------------
 # interfaces, load path, load–displacement, timeline
 # --------------------------------------------------------------------------------------------

@@ -1163,19 +1163,26 @@ def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
             continue
         lam = None if name in res.level_patterns else float(factors[idx[0]])
         if nodal:
-            F = sum(factors[j] * _nodal_forces(np.asarray(loads[names[j]].f, float), dof_of)
-                    for j in idx)
+            f = sum(factors[j] * np.asarray(loads[names[j]].f, float) for j in idx)
+            F = _nodal_forces(f, dof_of)
             if shown is not None:
                 F = np.where(shown[:, None], F, 0.0)
             total = F.sum(axis=0)
             body = []
             if lam is not None:  # self-weight: one resultant per body, at its centroid
+                rest = np.array(f, dtype=float)
                 for bname, ids, fb in _body_force_parts(system, name):
                     if (shown is not None and not shown[ids].all()) or bname not in geo_bodies:
                         continue
-                    F[ids] -= lam * fb  # what remains: the pattern's other loads
+                    # what remains: the pattern's other loads (in DOFs, as the assembly adds
+                    # it: tied nodes share theirs)
+                    np.add.at(rest, dof_of[ids][:, :2].ravel(), -lam * fb.ravel())
                     body.append((bname, _body_centroid(geo_bodies[bname], xy),
                                  lam * fb.sum(axis=0)))
+                if body:
+                    F = _nodal_forces(rest, dof_of)
+                    if shown is not None:
+                        F = np.where(shown[:, None], F, 0.0)
             mag = np.linalg.norm(F, axis=1)
             big = float(mag.max(initial=0.0))
             keep = (np.flatnonzero(mag > 1e-9 * max(big, float(np.linalg.norm(total))))
