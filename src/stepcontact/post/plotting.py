@@ -1753,6 +1753,14 @@ def _segment_groups(res: StaticResult, segs: Sequence[int]) -> list[list[int]]:
     return groups
 
 
+def _loaded(sf) -> np.ndarray:
+    """(n_states,) bool: the joint carries a normal force beyond round-off (|ΣN| above
+    1e-9 of its largest along the path): its eccentricity and sliding factor mean
+    something."""
+    n = np.abs(np.asarray(sf.normal_force, dtype=float))
+    return n > 1e-9 * float(n.max(initial=0.0))
+
+
 def _limit_text(res: StaticResult, sf, what: str, v: float, margin: float | None,
                 built: np.ndarray) -> str | None:
     """``slides at h = 11.67 m (h/h_d = 1.17)``: a limit of :class:`InterfaceSafety` in the
@@ -1763,6 +1771,8 @@ def _limit_text(res: StaticResult, sf, what: str, v: float, margin: float | None
     if hit.size and not built[hit].any():
         return None
     hit = hit[built[hit]]
+    if hit.size and not _loaded(sf)[hit].any():
+        return None  # a "limit" of round-off forces (a joint just made, stress-free)
     seg = int(res.segment[hit[0]]) if hit.size else int(res.segment[-1])
     if _pattern_of(res, seg) != _pattern_of(res, int(res.segment[-1])):
         margin = None  # the design value is one of the last segment's parameter
@@ -1792,7 +1802,10 @@ def plot_safety(
     level axis.  The rows share their y axes.  The limits (the λ or level at which each
     joint slides or its body overturns) and their load margins over ``design`` are in the
     legend; ``design`` is drawn as a vertical line in the columns of the last segment's
-    pattern.  At most :data:`MAX_SAFETY_PANELS` columns (the last ones) are drawn.
+    pattern.  At most :data:`MAX_SAFETY_PANELS` columns (the last ones) are drawn.  States
+    where a joint is not built, or carries only round-off forces (|ΣN| ≤ 1e-9 of its largest,
+    e.g. a lift joint just made stress-free), have no eccentricity or sliding factor drawn,
+    and no limit is read there.
 
     See :meth:`~stepcontact.results.result.StaticResult.interface_safety`.
 
@@ -1861,9 +1874,10 @@ def plot_safety(
             color = f"C{c % 10}"
             B = sf.length if sf.length > 0 else 1.0
             on = built[c][idx]
-            ax_e.plot(lam, np.where(on, sf.eccentricity[idx] / B, np.nan), color=color,
+            loaded = on & _loaded(sf)[idx]  # e and the sliding factor of round-off: none
+            ax_e.plot(lam, np.where(loaded, sf.eccentricity[idx] / B, np.nan), color=color,
                       marker=".", ms=4)
-            sliding = np.where(np.isfinite(sf.sliding_factor[idx]) & on,
+            sliding = np.where(np.isfinite(sf.sliding_factor[idx]) & loaded,
                                sf.sliding_factor[idx], np.nan)
             ax_s.plot(lam, sliding, color=color, marker=".", ms=4)
             if np.isfinite(sliding).any():
