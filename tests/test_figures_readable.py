@@ -286,6 +286,11 @@ def test_event_timeline_legend_inside_the_figure(dam, pulse):
         legend_inside(fig)
         assert_readable(fig)
     assert len(fig.legends[0].get_texts()) >= 8  # every state and transition still named
+    # the static dam's columns: the reservoir's segments titled by the level in m
+    h = dam[1].multipliers[-1].equilibrium_lost
+    titles = [ax.get_title() for ax in plotting.plot_event_timeline(dam[1]).axes]
+    assert titles == ["segment 0: weight λ=0 → 1", "segment 1: reservoir h=0 → 10 m",
+                      f"segment 2: reservoir h=10 → {h:.5g} m"]
 
 
 # --------------------------------------------------------------------------------------------

@@ -1712,6 +1712,8 @@ def plot_event_timeline(
             if r == 0 and lam.size:
                 span = (f"t = {lam[0]:.6g} → {lam[-1]:.6g} s"
                         if getattr(res, "path_axis", "lam") == "time" else
+                        f"segment {s}: {_pattern_of(res, s)} h={_lam_text(lam[0])} → "
+                        f"{_lam_text(lam[-1])} m" if _is_level(res, s) else
                         f"segment {s}: {_pattern_of(res, s)} λ={_lam_text(lam[0])} → "
                         f"{_lam_text(lam[-1])}")
                 stage = _segment_stage(res, s)
