@@ -127,17 +127,21 @@ def test_body_labels_at_centroids(pushed):
 
 
 def test_load_arrows_from_assembled_vectors(pushed):
+    """The push as nodal arrows parallel to the assembled nodal forces; the weight (a body
+    force) as one arrow at the block's centroid (2, 1.5) m (displaced by at most the largest
+    drawn displacement), its resultant W = ρ g A = 2400 · 9.81 · 2 · 1 = 47 088 N per metre
+    in the legend (6 significant digits: exact here)."""
     model, res = pushed
     i = res.n_states - 1
     fig = plot_deformed(res)
     ax = fig.axes[0]
     arrows = {c.get_gid(): c for c in ax.collections if type(c).__name__ == "Quiver"}
-    assert set(arrows) == {"load:weight", "load:push"}
+    assert set(arrows) == {"body force:weight", "load:push"}
     system = assemble(model)
     dof_of = np.asarray(res.geometry["dof_of"])
     pts = np.asarray(res.geometry["points"])
     size = np.ptp(pts, axis=0).max()
-    for name in ("weight", "push"):
+    for name in ("push",):
         lam = res.factors[i, res.pattern_names.index(name)]
         f = lam * system.loads[name].f
         F = np.where(dof_of[:, :2] >= 0, f[np.maximum(dof_of[:, :2], 0)], 0.0)
@@ -156,10 +160,17 @@ def test_load_arrows_from_assembled_vectors(pushed):
         entry = next(t for t in legend_texts(fig) if t.startswith(f"'{name}'"))
         assert f"λ = {_lam_text(lam)}" in entry
         fx, fy, unit = re.search(r"F = \(([-\d.e+]+), ([-\d.e+]+)\) (\w+)", entry).groups()
-        assert_allclose([float(fx), float(fy)], R / UNITS[unit], rtol=1e-3, atol=1e-9)
+        assert_allclose([float(fx), float(fy)], R / UNITS[unit], rtol=1e-5, atol=1e-9)
+    q = arrows["body force:weight"]
+    (at,) = q.get_offsets()
+    umax = np.abs(res.displacement(i)).max() * float(
+        re.search(r"× ([\d.e+]+)", fig.get_suptitle()).group(1))
+    assert_allclose(at, (2.0, 1.5), atol=umax + 1e-9)
+    assert q.U[0] == pytest.approx(0.0, abs=1e-12) and q.V[0] == pytest.approx(-0.15 * size)
     W = 2400 * 9.81 * 2.0 * 1.0  # the block's weight, N
-    assert "'weight' at λ = 1: resultant F = (0, -47.09) kN" in legend_texts(fig)
     assert W == pytest.approx(47088.0)
+    assert ("'weight' at λ = 1: resultant F = (0, -47.088) kN, self-weight of 'block' at its "
+            "centre of mass") in legend_texts(fig)
     assert not [c for c in plot_deformed(res, loads=False).axes[0].collections
                 if type(c).__name__ == "Quiver"]
 

@@ -368,7 +368,7 @@ def check_interfaces_figure(fig, res: StaticResult, snaps: list[dict]) -> None:
         ax_n, ax_t, ax_s = fig.axes[c], fig.axes[ncol + c], fig.axes[2 * ncol + c]
         assert ax_n.get_title() == f"interface '{name}'"
         assert ax_n.get_ylabel() == rf"$\sigma_n$ = N/A, {unit} (compression < 0)"
-        assert ax_t.get_ylabel() == rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed"
+        assert ax_t.get_ylabel() == rf"$\tau$ = Q/A, {unit}"  # the dashed limits: legend
         assert ax_s.get_xlabel() == "position s along the interface, m"
         k = np.flatnonzero(np.asarray(res.cfe["interface"]) == c)
         k = k[np.argsort(pos[k], kind="stable")]
@@ -404,9 +404,12 @@ def check_interfaces_figure(fig, res: StaticResult, snaps: list[dict]) -> None:
     for j, handle in enumerate(legend.legend_handles[:len(snaps)]):
         assert rgba(handle.get_color()) == rgba(f"C{j}")
     by_label = {cs.label: cs for cs in ContactState}
-    shown = labels[len(snaps):]
+    limits = labels[len(snaps)]  # what the dashed lines are
+    assert limits == r"$\tau$ limits dashed: $\pm f|\sigma_n|$"
+    assert legend.legend_handles[len(snaps)].get_linestyle() == "--"
+    shown = labels[len(snaps) + 1:]
     assert {"open", "stick", "slip+", "slip-"} <= set(shown)
-    for label, handle in zip(shown, legend.legend_handles[len(snaps):], strict=True):
+    for label, handle in zip(shown, legend.legend_handles[len(snaps) + 1:], strict=True):
         assert handle.get_facecolor() == rgba(STATE_COLORS[by_label[label]])
 
 
@@ -482,7 +485,7 @@ def test_plot_interfaces_default(tmp_path):
     check_interfaces_figure(fig, res, snaps)  # 3 rows × 2 interfaces
     assert "kPa" in fig.axes[0].get_ylabel()  # the stresses are O(1e5) Pa
     # the frictionless-contact and bonded states are in the legend only when drawn
-    assert [t.get_text() for t in fig.legends[0].get_texts()][2:] == [
+    assert [t.get_text() for t in fig.legends[0].get_texts()][3:] == [
         "open", "stick", "slip+", "slip-"]
 
 

@@ -348,7 +348,9 @@ def test_cli_info_and_plot_show_the_safety(sliding_run, tmp_path):
     assert out.exit_code == 0, out.output
     assert (tmp_path / "s.png").read_bytes()[:4] == b"\x89PNG"
     fig = sc.plot_safety(res, design=1.0)
-    assert len(fig.axes) == 3
+    # the whole path: 3 rows × a column per segment (weight, then water), each on its own λ
+    assert len(fig.axes) == 3 * 2
+    assert [ax.get_xlabel() for ax in fig.axes[4:]] == ["λ\nof 'weight'", "λ of 'water'"]
 
 
 # --------------------------------------------------------------------------------------------

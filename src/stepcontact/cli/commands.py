@@ -1278,7 +1278,10 @@ __all__ = ["ProgressHook", "app", "events_table", "result_summary"]
 # --------------------------------------------------------------------------------------------
 # plot and info: figures and a summary of a result file
 # --------------------------------------------------------------------------------------------
-PLOT_KINDS = ("deformed", "stresses", "load-displacement", "timeline", "safety", "energy")
+PLOT_KINDS = ("deformed", "stresses", "load-displacement", "timeline", "safety", "energy",
+              "history")
+#: the kinds that need a dynamic result (MODEL-dynamic.nc)
+_DYNAMIC_KINDS = ("energy", "history")
 _NEEDS_FIELDS = ("deformed", "load-displacement")
 
 
@@ -1416,12 +1419,17 @@ def _plot_targets(result_file: Path, kinds: Sequence[str], output: Path | None,
 
 def _check_plot_options(kinds: Sequence[str], lam: Sequence[float] | None,
                         state: Sequence[int] | None, node: str | None,
-                        reaction: str | None = None, stress: str | None = None) -> None:
+                        reaction: str | None = None, stress: str | None = None,
+                        node_set: str | None = None) -> None:
     if lam and "stresses" not in kinds:
         raise _Failure("--lam and --time apply to --kind stresses (use --state for the "
                        "deformed shape)")
-    if node is not None and "load-displacement" not in kinds:
-        raise _Failure("--node applies to --kind load-displacement")
+    if node is not None and not {"load-displacement", "history"} & set(kinds):
+        raise _Failure("--node applies to --kind load-displacement and history")
+    if node_set is not None and "history" not in kinds:
+        raise _Failure("--node-set applies to --kind history")
+    if node_set is not None and node is not None:
+        raise _Failure("give either --node or --node-set, not both")
     if reaction is not None and "load-displacement" not in kinds:
         raise _Failure("--reaction applies to --kind load-displacement")
     if stress is not None and "deformed" not in kinds:
@@ -1453,6 +1461,13 @@ def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any])
             plotting.plot_safety(res, path=path, dpi=opts["dpi"])
         elif kind == "energy":
             plotting.plot_energy(res, path=path, dpi=opts["dpi"])
+        elif kind == "history":
+            node = opts["node"]
+            plotting.plot_time_history(
+                res, path=path, dpi=opts["dpi"], body=opts["body"],
+                point=node if isinstance(node, tuple) else None,
+                nodes=opts.get("node_set") if node is None or isinstance(node, tuple) else node,
+                direction=opts["dof"] or ("x", "y"))
         else:
             plotting.plot_event_timeline(res, path=path, dpi=opts["dpi"])
     except ValueError as e:
@@ -1483,8 +1498,9 @@ def plot(
         str,
         typer.Option("--kind", "-k", help="deformed, stresses, load-displacement, timeline, "
                      "safety (eccentricity, sliding factor and open length of the joints "
-                     "against λ), energy (the energy ledger of a dynamic result) or all "
-                     "(one file per kind)."),
+                     "along the path), energy (the energy ledger of a dynamic result), "
+                     "history (displacements and velocities of a node of a dynamic result "
+                     "against time) or all (one file per kind)."),
     ] = "stresses",
     lam: Annotated[
         list[float] | None,
@@ -1506,18 +1522,26 @@ def plot(
     ] = None,
     node: Annotated[
         str | None,
-        typer.Option("--node", help="load-displacement: node X,Y in m (the nearest node) or "
-                     "its index, e.g. --node 3,2. Default: the node that moves most."),
+        typer.Option("--node", help="load-displacement, history: node X,Y in m (the nearest "
+                     "node) or its index, e.g. --node 3,2. Default: the node that moves "
+                     "most."),
+    ] = None,
+    node_set: Annotated[
+        str | None,
+        typer.Option("--node-set", help="history: the nodes of this named node set of the "
+                     "model (at most 12), e.g. --node-set crest."),
     ] = None,
     dof: Annotated[
         str | None,
         typer.Option("--dof", help="load-displacement: x, y or rz. Default: the direction "
-                     "(x or y) that moves most over the path (y for --reaction)."),
+                     "(x or y) that moves most over the path (y for --reaction). history: "
+                     "x, y, rz (displacement and velocity) or one of ux, uy, vx, vy, ax, ay "
+                     "(u displacement, v velocity, a acceleration); default x and y."),
     ] = None,
     body: Annotated[
         str | None,
-        typer.Option("--body", help="load-displacement: body of --node when bodies share "
-                     "the point."),
+        typer.Option("--body", help="load-displacement, history: body of --node when bodies "
+                     "share the point."),
     ] = None,
     reaction: Annotated[
         str | None,
@@ -1575,6 +1599,10 @@ def plot(
 
         stepcontact plot run-dynamic.nc --kind energy
 
+        stepcontact plot run-dynamic.nc --kind history --node 2,0 --body slab --dof uy
+
+        stepcontact plot run-dynamic.nc --kind history --node-set crest
+
         stepcontact plot run.nc --kind all -o figures/ --format pdf
 
         stepcontact plot run.nc --kind load-displacement --model dam.toml
@@ -1592,10 +1620,10 @@ def plot(
         kinds = list(PLOT_KINDS) if kind == "all" else [kind]
         if at_time and lam:
             raise _Failure("give either --lam (a static result) or --time (a dynamic one)")
-        _check_plot_options(kinds, lam or at_time, state, node, reaction, stress)
+        _check_plot_options(kinds, lam or at_time, state, node, reaction, stress, node_set)
         opts = {"lam": lam, "segment": segment, "state": state, "node": _parse_node(node),
                 "dof": dof, "body": body, "scale": scale, "dpi": dpi, "reaction": reaction,
-                "stress": stress}
+                "stress": stress, "node_set": node_set}
         targets = _plot_targets(result_file, kinds, output, fmt)
         res = _load_result_file(result_file)
         dynamic = getattr(res, "path_axis", "lam") == "time"
@@ -1606,10 +1634,11 @@ def plot(
             raise _Failure("this result is in time: give --time t (s), not --lam")
         if at_time:
             opts["lam"] = at_time
-        if kind == "energy" and not dynamic:
-            raise _Failure("--kind energy needs a dynamic result (MODEL-dynamic.nc)")
+        if kind in _DYNAMIC_KINDS and not dynamic:
+            raise _Failure(f"--kind {kind} needs a dynamic result (MODEL-dynamic.nc)")
         if kind == "all" and not dynamic:
-            targets.pop("energy", None)
+            for k in _DYNAMIC_KINDS:
+                targets.pop(k, None)
         used_model = None
         if any(_plot_missing_fields(res, k, state, reaction) for k in kinds):
             used_model = _attach_model(res, result_file, model)

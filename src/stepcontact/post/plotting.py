@@ -222,12 +222,21 @@ def _mark_stages(res: StaticResult, ax, axes_lines: Sequence) -> None:
     if stage is None:
         return
     stage = np.asarray(stage, int)
+    # stages a few states apart: their names on staggered rows (estimated widths, 8 pt text
+    # about 0.6 em a character, over the axes' width)
+    width = max(float(ax.get_position().width * ax.figure.get_figwidth()) * 72.0, 1.0)
+    span = max(len(stage), 1)
+    ends: list[float] = []  # right end of the last name on each row, in states
     for k in dict.fromkeys(stage.tolist()):
         first = int(np.flatnonzero(stage == k)[0])
         if first > 0:
             for a in axes_lines:
                 a.axvline(first - 0.5, color="0.25", lw=1.0)
-        ax.text(first - 0.5, 0.98, f" {_stage_text(res, k)}", transform=ax.get_xaxis_transform(),
+        text = f" {_stage_text(res, k)}"
+        row = next((r for r, e in enumerate(ends) if e <= first - 0.5), len(ends))
+        end = first - 0.5 + 1.1 * len(text) * 0.6 * 8.0 / width * span
+        ends[row:row + 1] = [end]
+        ax.text(first - 0.5, 0.98 - 0.07 * row, text, transform=ax.get_xaxis_transform(),
                 ha="left", va="top", fontsize=8, color="0.25", gid="stage_label")
 
 
@@ -237,21 +246,48 @@ def _pattern_of(res: StaticResult, seg: int) -> str:
     return "?"
 
 
+def _is_level(res: StaticResult, seg: int) -> bool:
+    """Whether the parameter of segment ``seg`` is a water level h, m (its pattern's factor
+    is a level: :attr:`StaticResult.level_patterns`), not a load factor λ."""
+    return (getattr(res, "path_axis", "lam") != "time"
+            and _pattern_of(res, seg) in getattr(res, "level_patterns", {}))
+
+
 def _at_text(res: StaticResult, seg: int, v: float, short: bool = False) -> str:
-    """Where on the path a value is: ``'push' λ = 23 544`` (``push λ=23 544`` short), or
+    """Where on the path a value is: ``'push' λ = 23 544`` (``push λ=23 544`` short),
+    ``'reservoir' h = 28 m`` (``reservoir h=28 m``) when the parameter is a water level, or
     ``t = 0.035 s`` for a result in time (a dynamic run)."""
     if getattr(res, "path_axis", "lam") == "time":
         return f"t={v:.6g} s" if short else f"t = {v:.6g} s"
+    if _is_level(res, seg):
+        return (f"{_pattern_of(res, seg)} h={_lam_text(v)} m" if short
+                else f"'{_pattern_of(res, seg)}' h = {v:.4g} m")
     if short:
         return f"{_pattern_of(res, seg)} λ={_lam_text(v)}"
     return f"'{_pattern_of(res, seg)}' λ = {v:.4g}"
 
 
 def _axis_text(res: StaticResult, seg: int) -> str:
-    """The label of a path axis: ``λ of 'push'``, or ``time t, s`` for a dynamic result."""
+    """The label of a path axis: ``λ of 'push'``, ``water level h of 'reservoir', m`` when
+    the parameter is a level, or ``time t, s`` for a dynamic result."""
     if getattr(res, "path_axis", "lam") == "time":
         return "time t, s"
+    if _is_level(res, seg):
+        return f"water level h of '{_pattern_of(res, seg)}', m"
     return f"λ of '{_pattern_of(res, seg)}'"
+
+
+def _legend_below(fig: Figure, handles: list, ncol: int, **kw):
+    """A figure legend below the axes (``outside lower center``) in at most ``ncol`` columns,
+    fewer when its width would pass the figure's (a legend clipped on both sides)."""
+    renderer = fig.canvas.get_renderer()
+    ncol = max(1, min(int(ncol), len(handles)))
+    while True:
+        leg = fig.legend(handles=handles, loc="outside lower center", ncol=ncol, **kw)
+        if ncol == 1 or leg.get_window_extent(renderer).width <= 0.98 * fig.bbox.width:
+            return leg
+        leg.remove()
+        ncol -= 1
 
 
 def _lam_text(v: float) -> str:
@@ -271,7 +307,8 @@ NOT_BUILT = "not yet built"
 #: the corner peak of a contact-stress diagram: the end CFE of an interface at a body corner
 #: carrying more than this times the mean |σ_n| of its next two CFEs
 CORNER_RATIO = 2.0
-CORNER_NOTE = "corner singularity: refines with the mesh, not a physical value"
+#: (two lines: one would be wider than a narrow panel)
+CORNER_NOTE = "corner singularity: refines with the mesh,\nnot a physical value"
 
 
 def _body_corners(res: StaticResult) -> np.ndarray:
@@ -481,6 +518,7 @@ def plot_interfaces(
                 for st, t in zip(stages, rows, strict=True)]
 
     axes = fig.subplots(3, ncol, squeeze=False, sharex="col", height_ratios=[3, 3, 1.2])
+    any_residual = False
     for c, name in enumerate(names):
         k = np.flatnonzero(iface == c)
         ax_n, ax_t, ax_s = axes[0, c], axes[1, c], axes[2, c]
@@ -526,13 +564,10 @@ def plot_interfaces(
         _note_corner_peaks(ax_n, [snap["N"][k] / area[k] for (_, _, snap), a
                                   in zip(snaps, acts, strict=True) if a[k].all()], s,
                            xc[k], corners, scale)
+        any_residual |= bool(residual[k].any())
         ax_n.set_ylabel(rf"$\sigma_n$ = N/A, {unit} (compression < 0)"
                         + (";\nwater in the crack −p dotted" if wet else ""))
-        ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit};  $\pm f|\sigma_n|$ dashed"
-                        + (";\n" + r"bonded: $\pm(\tau_R - \alpha_R \sigma_n)$"
-                           if bond is not None else "")
-                        + (r", broken: $\pm(f|\sigma_n| + c_r)$" if residual[k].any()
-                           else ""))
+        ax_t.set_ylabel(rf"$\tau$ = Q/A, {unit}")
 
         # state strip: one row per λ, one cell per CFE between mid-points
         if s.size > 1:
@@ -560,6 +595,14 @@ def plot_interfaces(
             ax_s.set_ylabel("state")
 
     handles = [Line2D([], [], color=colors[j], lw=1.6, label=labels[j]) for j in range(len(snaps))]
+    # what the dashed and dotted lines are (in the legend: axis labels stay short, so that
+    # those of the σ_n and τ panels do not run into each other or the state strip's rows)
+    limits = r"$\tau$ limits dashed: $\pm f|\sigma_n|$"
+    if bond is not None:
+        limits += r"; bonded $\pm(\tau_R - \alpha_R \sigma_n)$"
+    if any_residual:
+        limits += r"; broken, closed $\pm(f|\sigma_n| + c_r)$"
+    handles.append(Line2D([], [], color="0.3", ls="--", lw=0.9, label=limits))
     shown = {int(v) for (_, _, snap), a in zip(snaps, acts, strict=True)
              for v in np.asarray(snap["state"])[a]}
     handles += [
@@ -570,18 +613,21 @@ def plot_interfaces(
     if not all(a.all() for a in acts):
         handles.append(Patch(facecolor="white", edgecolor="0.75", hatch="////",
                              label=NOT_BUILT))
-    fig.legend(handles=handles, loc="outside lower center",
-               ncol=min(len(handles), max(4, 3 * ncol)), fontsize=8, frameon=False)
-    by_pattern: dict[str, list[str]] = {}
+    _legend_below(fig, handles, min(len(handles), max(4, 3 * ncol)), fontsize=8,
+                  frameon=False)
+    by_pattern: dict[tuple[str, bool], list[str]] = {}
     for sg, v, _ in snaps:
-        by_pattern.setdefault(_pattern_of(res, sg), []).append(f"{v:.4g}")
+        by_pattern.setdefault((_pattern_of(res, sg), _is_level(res, sg)), []).append(
+            f"{v:.4g}")
     if getattr(res, "path_axis", "lam") == "time":
         fig.suptitle("Contact stresses at t = "
                      + ", ".join(f"{v:.4g}" for _, v, _ in snaps) + " s")
     else:
         fig.suptitle(
             "Contact stresses at "
-            + ";\n".join(f"pattern '{p}' λ = {', '.join(v)}" for p, v in by_pattern.items())
+            + ";\n".join(f"pattern '{p}' h = {', '.join(v)} m" if level
+                         else f"pattern '{p}' λ = {', '.join(v)}"
+                         for (p, level), v in by_pattern.items())
         )
     save_figure(fig, out, dpi)
     return fig
@@ -645,7 +691,10 @@ def plot_load_path(
         for t in seen
     ]
     ax_l.legend(handles=seg_handles + ev_handles, fontsize=8, loc="best")
-    ax_l.set_ylabel("load factor λ of the active pattern")
+    levels = sorted({_pattern_of(res, sg) for sg in _segments_reached(res) if _is_level(res, sg)})
+    ax_l.set_ylabel("load factor λ of the active pattern"
+                    + (f"\n(water level h in m for {', '.join(map(repr, levels))})"
+                       if levels else ""))
     ax_l.grid(True, alpha=0.3)
     n_ev = np.array([sum(1 for e in res.events if e.state <= k) for k in i])
     if res.n_states:
@@ -1000,29 +1049,37 @@ def _draw_stress(fig: Figure, ax, polys: list[np.ndarray], values: np.ndarray,
     fig.colorbar(pc, ax=ax, label=f"{label}, {unit}", shrink=0.9)
 
 
+def _body_centroid(b: dict, xy: np.ndarray) -> np.ndarray:
+    """Centroid (2,) of one body of ``geometry["bodies"]`` at node positions ``xy`` (m):
+    area-weighted over the cells (the centre of mass of a body of uniform density); frames:
+    the mean of the element mid-points weighted by length."""
+    cells = np.asarray(b["cells"], dtype=np.int64)
+    if str(b.get("kind")) == "frame" or cells.shape[1] == 2:
+        ends = xy[cells[:, :2]]
+        w = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+        mid = ends.mean(axis=1)
+    else:
+        ring, _ = _ring(str(b.get("element", "")), cells.shape[1])
+        poly = xy[cells[:, ring]]
+        nxt = np.roll(poly, -1, axis=1)
+        cross = poly[..., 0] * nxt[..., 1] - nxt[..., 0] * poly[..., 1]
+        w = 0.5 * cross.sum(axis=1)  # signed areas of the cells
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mid = np.einsum("cr,crk->ck", cross, poly + nxt) / (6.0 * w[:, None])
+    ok = np.isfinite(mid).all(axis=1) & (np.abs(w) > 0)
+    return (np.average(mid[ok], axis=0, weights=np.abs(w[ok])) if ok.any()
+            else xy[np.unique(cells)].mean(axis=0))
+
+
 def _label_bodies(ax, bodies: list[dict], xy: np.ndarray, only: set[str] | None = None
                   ) -> None:
-    """Each body's name at its centroid (area-weighted over the cells; frames: the mean of
-    the element mid-points weighted by length), positions ``xy`` (m); ``only`` these bodies."""
+    """Each body's name at its centroid (:func:`_body_centroid`), positions ``xy`` (m);
+    ``only`` these bodies."""
     for j, b in enumerate(bodies):
         cells = np.asarray(b["cells"], dtype=np.int64)
         if not cells.size or (only is not None and str(b["name"]) not in only):
             continue
-        if str(b.get("kind")) == "frame" or cells.shape[1] == 2:
-            ends = xy[cells[:, :2]]
-            w = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
-            mid = ends.mean(axis=1)
-        else:
-            ring, _ = _ring(str(b.get("element", "")), cells.shape[1])
-            poly = xy[cells[:, ring]]
-            nxt = np.roll(poly, -1, axis=1)
-            cross = poly[..., 0] * nxt[..., 1] - nxt[..., 0] * poly[..., 1]
-            w = 0.5 * cross.sum(axis=1)  # signed areas of the cells
-            with np.errstate(invalid="ignore", divide="ignore"):
-                mid = np.einsum("cr,crk->ck", cross, poly + nxt) / (6.0 * w[:, None])
-        ok = np.isfinite(mid).all(axis=1) & (np.abs(w) > 0)
-        c = (np.average(mid[ok], axis=0, weights=np.abs(w[ok])) if ok.any()
-             else xy[np.unique(cells)].mean(axis=0))
+        c = _body_centroid(b, xy)
         ax.text(c[0], c[1], str(b["name"]), ha="center", va="center", fontsize=9,
                 fontweight="bold", color=f"C{j % 10}", zorder=6, gid="body_label",
                 bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.75})
@@ -1041,12 +1098,51 @@ def _nodal_forces(f: np.ndarray, dof_of: np.ndarray) -> np.ndarray:
     return out
 
 
+def _body_force_parts(system, pattern: str) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The body forces (:class:`~stepcontact.model.BodyForce`, self-weight) of load pattern
+    ``pattern`` of an assembled ``system``, per unit λ, one entry per continuum body:
+    (body name, its global node ids (k,), its consistent nodal forces (k, 2), N) — the
+    vectors the assembly adds (:func:`stepcontact.fem.continuum.body_force`).  Frames keep
+    their weight among the distributed loads (their consistent loads carry end moments)."""
+    from stepcontact.fem import continuum as _fem
+    from stepcontact.model import Body, BodyForce
+
+    model = getattr(system, "model", None)
+    if model is None or not any(p.name == pattern for p in model.patterns):
+        return []  # (a discrete model, or a pattern of a construction stage)
+    loads = model.pattern(pattern).loads
+    off = model.node_offsets
+    out: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for ld in loads:
+        if not isinstance(ld, BodyForce):
+            continue
+        for bn in ld.bodies or tuple(b.name for b in model.bodies):
+            b = model.body(bn)
+            if not isinstance(b, Body):
+                continue
+            fb = np.asarray(_fem.body_force(b, ld.g, model.thickness), float).reshape(-1, 2)
+            ids = off[b.name] + np.arange(b.n_nodes)
+            prev = out.get(b.name, (ids, np.zeros_like(fb)))[1]
+            out[b.name] = (ids, prev + fb)
+    return [(name, ids, fb) for name, (ids, fb) in out.items()]
+
+
 def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
                  size: float, shown: np.ndarray | None = None) -> list[dict]:
     """Arrows of the load patterns at state ``i`` (factor ≠ 0): for each, ``name``, ``lam``
     (its factor; None for a water level), ``at`` (k, 2) arrow tips and ``vec`` (k, 2) arrow
-    vectors (m, scaled for visibility), ``F`` (F_x, F_y), N, and ``nodal`` (from the
-    assembled load vectors, else one arrow on the line of action of the resultant).
+    vectors (m, scaled for visibility) of its distributed loads, ``F`` (F_x, F_y), N, the
+    pattern's resultant, ``nodal`` (from the assembled load vectors, else one arrow on the
+    line of action of the resultant), and its body forces (self-weight) as one resultant
+    arrow per body: ``body`` a list of (body name, centroid (2,) at ``xy``, resultant (2,),
+    N) and ``body_vec`` (j, 2) those arrows' vectors (m; tails at the centroids).
+
+    With the assembled load vectors (an in-memory result, or one given its model with
+    ``res.recover_fields(model)``), a pattern's body forces are split from its other loads:
+    each body's weight W = Σ of its consistent nodal forces (= ρ g A t exactly) is drawn at
+    the body's centroid (its centre of mass, the centroid of a uniform body force), the rest
+    (water pressure, tractions, nodal forces) as nodal arrows.  Without them, one arrow per
+    pattern on the line of action x F_y − y F_x = M_z of its stored resultant.
     ``shown``: (n_nodes,) bool, the nodal forces at the other nodes (of bodies not yet built
     at a construction stage, which carry no load) are left out."""
     names = list(res.pattern_names)
@@ -1060,24 +1156,47 @@ def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
     nodal = isinstance(loads, dict) and all(n in loads for n in names)
     R = np.asarray(res.load_resultants, dtype=float)
     centre = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+    geo_bodies = {str(b["name"]): b for b in (res.geometry or {}).get("bodies", [])}
     out = []
     for name, idx in groups.items():
         if not np.any(factors[idx] != 0):
             continue
         lam = None if name in res.level_patterns else float(factors[idx[0]])
         if nodal:
-            F = sum(factors[j] * _nodal_forces(np.asarray(loads[names[j]].f, float), dof_of)
-                    for j in idx)
+            f = sum(factors[j] * np.asarray(loads[names[j]].f, float) for j in idx)
+            F = _nodal_forces(f, dof_of)
             if shown is not None:
                 F = np.where(shown[:, None], F, 0.0)
+            total = F.sum(axis=0)
+            body = []
+            if lam is not None:  # self-weight: one resultant per body, at its centroid
+                rest = np.array(f, dtype=float)
+                for bname, ids, fb in _body_force_parts(system, name):
+                    if (shown is not None and not shown[ids].all()) or bname not in geo_bodies:
+                        continue
+                    # what remains: the pattern's other loads (in DOFs, as the assembly adds
+                    # it: tied nodes share theirs)
+                    np.add.at(rest, dof_of[ids][:, :2].ravel(), -lam * fb.ravel())
+                    body.append((bname, _body_centroid(geo_bodies[bname], xy),
+                                 lam * fb.sum(axis=0)))
+                if body:
+                    F = _nodal_forces(rest, dof_of)
+                    if shown is not None:
+                        F = np.where(shown[:, None], F, 0.0)
             mag = np.linalg.norm(F, axis=1)
             big = float(mag.max(initial=0.0))
-            keep = np.flatnonzero(mag > 1e-9 * big) if big > 0 else np.zeros(0, int)
-            if not keep.size:
+            keep = (np.flatnonzero(mag > 1e-9 * max(big, float(np.linalg.norm(total))))
+                    if big > 0 else np.zeros(0, int))
+            if body:  # round-off of the subtraction is no load
+                keep = keep[mag[keep] > 1e-9 * max(np.linalg.norm(w) for _, _, w in body)]
+            if not keep.size and not body:
                 continue
+            peak = max((float(np.linalg.norm(w)) for _, _, w in body), default=0.0)
+            bvec = (np.array([w for _, _, w in body]) * (0.15 * size / peak) if peak > 0
+                    else np.zeros((0, 2)))
             out.append({"name": name, "lam": lam, "at": xy[keep],
-                        "vec": F[keep] * (0.1 * size / big), "F": F.sum(axis=0),
-                        "nodal": True})
+                        "vec": F[keep] * (0.1 * size / big) if keep.size else np.zeros((0, 2)),
+                        "F": total, "nodal": True, "body": body, "body_vec": bvec})
             continue
         if R.shape != (len(names), 3):
             continue  # a result written before the resultants were stored
@@ -1092,28 +1211,46 @@ def _load_arrows(res: StaticResult, i: int, xy: np.ndarray, dof_of: np.ndarray,
             at = centre
         vec = np.array([Fx, Fy]) * (0.15 * size / math.sqrt(F2))
         out.append({"name": name, "lam": lam, "at": at[None, :], "vec": vec[None, :],
-                    "F": np.array([Fx, Fy]), "nodal": False})
+                    "F": np.array([Fx, Fy]), "nodal": False, "body": [],
+                    "body_vec": np.zeros((0, 2))})
     return out
 
 
+def _force_text(F: np.ndarray) -> str:
+    """``(0, -1.41264) MN``: a force (F_x, F_y), N, in N, kN or MN to 6 significant digits."""
+    F = np.asarray(F, dtype=float)
+    F = np.where(np.abs(F) <= 1e-12 * np.abs(F).max(initial=0.0), 0.0, F)  # round-off: 0
+    div, unit = _force_scale(F, 0)
+    return f"({F[0] / div:.6g}, {F[1] / div:.6g}) {unit}"
+
+
 def _draw_load_arrows(ax, arrows: list[dict]) -> list:
-    """The arrows of :func:`_load_arrows` (tips at the points of application) and their
-    legend handles: pattern, λ and the resultant (F_x, F_y)."""
+    """The arrows of :func:`_load_arrows` (distributed loads: tips at the points of
+    application; body forces: tails at the bodies' centroids, gid ``body force:<pattern>``)
+    and their legend handles: pattern, λ and the resultant (F_x, F_y)."""
     from matplotlib.lines import Line2D
 
     handles = []
     for j, a in enumerate(arrows):
         color = _LOAD_COLORS[j % len(_LOAD_COLORS)]
-        ax.quiver(a["at"][:, 0], a["at"][:, 1], a["vec"][:, 0], a["vec"][:, 1],
-                  angles="xy", scale_units="xy", scale=1.0, pivot="tip", color=color,
-                  width=0.004 if a["nodal"] else 0.007, zorder=5, gid=f"load:{a['name']}")
-        div, unit = _force_scale(np.asarray(a["F"]), 0)
-        at = "" if a["lam"] is None else f" at λ = {_lam_text(a['lam'])}"
+        if len(a["at"]):
+            ax.quiver(a["at"][:, 0], a["at"][:, 1], a["vec"][:, 0], a["vec"][:, 1],
+                      angles="xy", scale_units="xy", scale=1.0, pivot="tip", color=color,
+                      width=0.004 if a["nodal"] else 0.007, zorder=5, gid=f"load:{a['name']}")
+        if a["body"]:
+            at = np.array([c for _, c, _ in a["body"]])
+            ax.quiver(at[:, 0], at[:, 1], a["body_vec"][:, 0], a["body_vec"][:, 1],
+                      angles="xy", scale_units="xy", scale=1.0, pivot="tail", color=color,
+                      width=0.008, zorder=5.5, gid=f"body force:{a['name']}")
+        lam = "" if a["lam"] is None else f" at λ = {_lam_text(a['lam'])}"
         where = "" if a["nodal"] else " (its line of action)"
+        if a["body"]:
+            where = (", self-weight as one arrow per body at its centre of mass"
+                     if len(a["body"]) > 1 else
+                     f", self-weight of '{a['body'][0][0]}' at its centre of mass")
         handles.append(Line2D(
             [], [], color=color, lw=2.0, marker=">", ms=6,
-            label=f"'{a['name']}'{at}: resultant F = ({a['F'][0] / div:.4g}, "
-                  f"{a['F'][1] / div:.4g}) {unit}{where}"))
+            label=f"'{a['name']}'{lam}: resultant F = {_force_text(a['F'])}{where}"))
     return handles
 
 
@@ -1145,8 +1282,11 @@ def plot_deformed(
     are drawn as arrows, one colour per pattern, each pattern scaled for visibility (its
     longest arrow 10 % of the model size), its resultant (F_x, F_y) in the legend below: the
     nodal forces of the assembled load vectors when the model is available (an in-memory
-    result, or after ``res.recover_fields(model)``), else one arrow per pattern on the line
-    of action of its stored resultant (:meth:`StaticResult.load_resultant`).
+    result, or after ``res.recover_fields(model)``) — a body force (self-weight,
+    :class:`~stepcontact.model.BodyForce`) as one arrow per body from its centroid (its
+    centre of mass), of length 15 % of the model size for the heaviest body, the other loads
+    (water pressure, tractions, nodal forces) at their nodes — else one arrow per pattern on
+    the line of action of its stored resultant (:meth:`StaticResult.load_resultant`).
 
     Parameters
     ----------
@@ -1205,7 +1345,10 @@ def plot_deformed(
         cells_stress = _cell_stress(drawn, per_body, xy, component[0])
     arrows = _load_arrows(res, i, xy, dof_of, size, shown) if loads else []
 
-    tips = [xy[shown]] + [np.r_[a["at"], a["at"] - a["vec"]] for a in arrows]
+    tips = [xy[shown]] + [np.concatenate([
+        a["at"], a["at"] - a["vec"],
+        np.reshape([c + v for (_, c, _), v in zip(a["body"], a["body_vec"], strict=True)],
+                   (-1, 2))]) for a in arrows]
     lo = np.minimum(points[shown].min(0), np.min([v.min(0) for v in tips], axis=0))
     hi = np.maximum(points[shown].max(0), np.max([v.max(0) for v in tips], axis=0))
     w, h = np.maximum(hi - lo, 1e-3 * size)
@@ -1237,17 +1380,21 @@ def plot_deformed(
     if handles:
         ax.legend(handles=handles, title="CFE state", fontsize=8, title_fontsize=8, loc="best")
     if load_handles:
-        fig.legend(handles=load_handles, loc="outside lower center", fontsize=8,
-                   title="loads (arrows scaled for visibility)", title_fontsize=8,
-                   frameon=False, ncol=1 if len(load_handles) > 2 else len(load_handles))
+        _legend_below(fig, load_handles, 1 if len(load_handles) > 2 else len(load_handles),
+                      fontsize=8, title="loads (arrows scaled for visibility)",
+                      title_fontsize=8, frameon=False)
     seg = int(res.segment[i])
     built = ("" if only is None else f"\n{_stage_text(res, stage)}: bodies built "
              + ", ".join(str(b["name"]) for b in bodies if str(b["name"]) in only))
     fig.suptitle(
         f"Deformed shape at state {i} ({res.kind[i]}, "
-        f"{_at_text(res, seg, float(res.lam[i]))}) — displacements × {scale:g}, "
+        f"{_at_text(res, seg, float(res.lam[i]))})\ndisplacements × {scale:g}, "
         f"max |u| = {umax:.3g} m{built}"
     )
+    # the equal aspect shrinks the axes after the constrained layout placed the labels and
+    # the legend below: one draw settles the layout (else the first one, a saved file's,
+    # may put the x label on the legend)
+    fig.draw_without_rendering()
     save_figure(fig, out, dpi)
     return fig
 
@@ -1329,11 +1476,13 @@ def _most_moving(res: StaticResult, node: int | Sequence[float] | None, body: st
     return best[1], best[2]
 
 
-def _mark_equilibrium_lost(ax, x: float, y: float, lam: float) -> None:
-    """The star and text "equilibrium lost, λ = …" at (x, y) of a λ–u curve."""
+def _mark_equilibrium_lost(ax, x: float, y: float, lam: float, level: bool = False) -> None:
+    """The star and text "equilibrium lost, λ = …" (``h = … m`` when the parameter is a
+    water level) at (x, y) of a λ–u curve."""
     ax.plot([x], [y], ls="none", marker="*", ms=15, mfc="gold", mec="k", mew=0.6, zorder=5,
             gid="equilibrium_lost")
-    ax.annotate(f"equilibrium lost, λ = {_lam_text(lam)}", (x, y), xytext=(0.98, 0.04),
+    at = f"h = {_lam_text(lam)} m" if level else f"λ = {_lam_text(lam)}"
+    ax.annotate(f"equilibrium lost, {at}", (x, y), xytext=(0.98, 0.04),
                 textcoords="axes fraction", ha="right", va="bottom", fontsize=8,
                 arrowprops={"arrowstyle": "->", "color": "0.4", "lw": 0.7},
                 bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.6", "alpha": 0.9})
@@ -1459,7 +1608,7 @@ def plot_load_displacement(
                      if mu.segment == s and mu.equilibrium_lost is not None), None)
         if lost is not None and idx.size:
             _mark_equilibrium_lost(ax, u[idx[-1]] / div, lost if axis == "lam" else lam[-1],
-                                   lost)
+                                   lost, _is_level(res, s))
     for ax in axes:
         ax.grid(True, alpha=0.3)
         ax.axvline(0.0, color="k", lw=0.5)
@@ -1468,8 +1617,8 @@ def plot_load_displacement(
         axes[0].legend(fontsize=8, loc="best")
     axes[-1].set_xlabel(xlabel)
     if seen:
-        fig.legend(handles=_transition_handles(seen), loc="outside lower center",
-                   ncol=len(set(seen)), fontsize=8, frameon=False, title="events")
+        _legend_below(fig, _transition_handles(seen), len(set(seen)), fontsize=8,
+                      frameon=False, title="events")
     what = "reaction" if reaction is not None else "displacement"
     fig.suptitle(f"Load–{what} — {res.status.value}, {len(res.events)} events")
     save_figure(fig, out, dpi)
@@ -1563,6 +1712,8 @@ def plot_event_timeline(
             if r == 0 and lam.size:
                 span = (f"t = {lam[0]:.6g} → {lam[-1]:.6g} s"
                         if getattr(res, "path_axis", "lam") == "time" else
+                        f"segment {s}: {_pattern_of(res, s)} h={_lam_text(lam[0])} → "
+                        f"{_lam_text(lam[-1])} m" if _is_level(res, s) else
                         f"segment {s}: {_pattern_of(res, s)} λ={_lam_text(lam[0])} → "
                         f"{_lam_text(lam[-1])}")
                 stage = _segment_stage(res, s)
@@ -1575,8 +1726,7 @@ def plot_event_timeline(
     handles = _state_handles(st.ravel() if made is None else st[made], bars=True)
     handles += _transition_handles(
         [e.transition for e in res.events], prefix="→ ")
-    fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 6),
-               fontsize=8, frameon=False)
+    _legend_below(fig, handles, 6, fontsize=8, frameon=False)
     save_figure(fig, out, dpi)
     return fig
 
@@ -1584,6 +1734,56 @@ def plot_event_timeline(
 # --------------------------------------------------------------------------------------------
 # safety of the joints
 # --------------------------------------------------------------------------------------------
+#: at most this many panels (groups of segments) side by side in :func:`plot_safety`
+MAX_SAFETY_PANELS = 6
+
+
+def _segment_groups(res: StaticResult, segs: Sequence[int]) -> list[list[int]]:
+    """Consecutive segments that continue one another on one parameter axis: the same
+    pattern, each starting where the previous one ended, in the same direction (the level
+    raised 0 → 28 m then 28 → 60 m is one axis; the weight 0 → 1 before it another)."""
+    groups: list[list[int]] = []
+    for sg in segs:
+        if groups and 0 <= sg < len(res.segments):
+            prev = groups[-1][-1]
+            if 0 <= prev < len(res.segments):
+                (p0, a0, b0), (p1, a1, b1) = res.segments[prev], res.segments[sg]
+                if p0 == p1 and a1 == b0 and (b0 - a0) * (b1 - a1) > 0:
+                    groups[-1].append(sg)
+                    continue
+        groups.append([sg])
+    return groups
+
+
+def _loaded(sf) -> np.ndarray:
+    """(n_states,) bool: the joint carries a normal force beyond round-off (|ΣN| above
+    1e-9 of its largest along the path): its eccentricity and sliding factor mean
+    something."""
+    n = np.abs(np.asarray(sf.normal_force, dtype=float))
+    return n > 1e-9 * float(n.max(initial=0.0))
+
+
+def _limit_text(res: StaticResult, sf, what: str, v: float, margin: float | None,
+                built: np.ndarray) -> str | None:
+    """``slides at h = 11.67 m (h/h_d = 1.17)``: a limit of :class:`InterfaceSafety` in the
+    unit of the segment where it is reached, and its load margin over the design value;
+    None when it is reached only at states where the interface is not built (``built``:
+    (n_states,) bool)."""
+    hit = np.flatnonzero(np.asarray(sf.lam) == v)
+    if hit.size and not built[hit].any():
+        return None
+    hit = hit[built[hit]]
+    if hit.size and not _loaded(sf)[hit].any():
+        return None  # a "limit" of round-off forces (a joint just made, stress-free)
+    seg = int(res.segment[hit[0]]) if hit.size else int(res.segment[-1])
+    if _pattern_of(res, seg) != _pattern_of(res, int(res.segment[-1])):
+        margin = None  # the design value is one of the last segment's parameter
+    level = _is_level(res, seg)
+    at = f"h = {v:.4g} m" if level else f"λ = {v:.4g}"
+    ratio = "h/h_d" if level else "λ/λ_d"
+    return f"{what} at {at}" + ("" if margin is None else f" ({ratio} = {margin:.3g})")
+
+
 def plot_safety(
     res: StaticResult,
     interfaces: Sequence[str] | None = None,
@@ -1593,9 +1793,21 @@ def plot_safety(
     design: float | None = None,
     dpi: float = DPI,
 ) -> Figure:
-    """Safety of the joints against λ: eccentricity of the normal resultant (over the joint's
-    length B, with the kern |e| ≤ B/6 shaded), sliding factor f·|ΣN|/|ΣQ| (1: the joint
-    slides) and open length (m), for the states of one segment (default the last reached).
+    """Safety of the joints along the whole load path: eccentricity of the normal resultant
+    (over the joint's length B, with the kern |e| ≤ B/6 shaded), sliding factor f·|ΣN|/|ΣQ|
+    (1: the joint slides) and open length (m).
+
+    Every segment reached is drawn against its own parameter, one column of panels per run
+    of segments that continue one another (the same pattern, in the same direction): a load
+    factor λ, or the water level h in m when the pattern's factor is a level — e.g. the
+    weight λ = 0 → 1 in a narrow column, then the reservoir h = 0 → 40 m in a wide one on a
+    level axis.  The rows share their y axes.  The limits (the λ or level at which each
+    joint slides or its body overturns) and their load margins over ``design`` are in the
+    legend; ``design`` is drawn as a vertical line in the columns of the last segment's
+    pattern.  At most :data:`MAX_SAFETY_PANELS` columns (the last ones) are drawn.  States
+    where a joint is not built, or carries only round-off forces (|ΣN| ≤ 1e-9 of its largest,
+    e.g. a lift joint just made stress-free), have no eccentricity or sliding factor drawn,
+    and no limit is read there.
 
     See :meth:`~stepcontact.results.result.StaticResult.interface_safety`.
 
@@ -1607,15 +1819,19 @@ def plot_safety(
     path : str or PathLike, optional
         Save the figure there (``.png``, ``.pdf`` or ``.svg``).
     segment : int, optional
-        The segment whose λ is the x axis (default the last one reached).
+        Draw only this segment (default every segment reached).
     design : float, optional
-        Design load factor λ_d, drawn as a vertical line (FS = λ_limit / λ_d in the legend).
+        Design value of the last segment's parameter (λ_d, or the design level h_d in m),
+        drawn as a vertical line (the load margin λ_limit / λ_d in the legend).
     dpi : float
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     out = figure_path(path, dpi)
     names = list(res.interface_names if interfaces is None else interfaces)
     for name in names:
@@ -1623,49 +1839,100 @@ def plot_safety(
             raise ValueError(f"no interface '{name}' (interfaces: "
                              f"{', '.join(map(repr, res.interface_names)) or 'none'})")
     segs = _segments_reached(res)
-    seg = segs[-1] if segment is None and segs else segment
-    fig = new_figure(figsize=(7.5, 7.5))
-    axes = fig.subplots(3, 1, sharex=True)
-    if not names or seg is None or seg not in segs:
-        for ax in axes:
-            ax.set_axis_off()
-        axes[0].text(0.5, 0.5, "no contact interfaces" if not names else
-                     f"segment {seg} was not reached", ha="center", va="center")
+    if segment is not None and segment not in segs:
+        raise ValueError(f"segment={segment}: not reached (segments reached: "
+                         f"{_ranges(segs) or 'none'})")
+    groups = _segment_groups(res, [segment] if segment is not None else segs)
+    cut = len(groups) > MAX_SAFETY_PANELS
+    groups = groups[-MAX_SAFETY_PANELS:]
+    if not names or not groups:
+        fig = new_figure(figsize=(7.5, 7.5))
+        ax = fig.add_subplot()
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "no contact interfaces" if not names else "no state reported",
+                ha="center", va="center")
         save_figure(fig, out, dpi)
         return fig
-    idx, lam = _segment_chain(res, seg)
+    # wide columns for the levels and the last run of segments, narrow ones for the others
+    wide = [_is_level(res, g[0]) or j == len(groups) - 1 for j, g in enumerate(groups)]
+    ratios = [3.0 if w else 1.0 for w in wide]
+    fig = new_figure(figsize=(min(5.5 + 2.0 * sum(ratios[:-1]), 16.0), 8.0))
+    axes = fig.subplots(3, len(groups), squeeze=False, sharey="row", sharex="col",
+                        width_ratios=ratios)
+    last = groups[-1][-1]
+    pattern = _pattern_of(res, last)
+    safety = [res.interface_safety(name, design) for name in names]
+    made = _made(res)  # construction stages: no values where an interface is not built
+    iface = np.asarray(res.cfe["interface"])
+    built = [np.ones(res.n_states, bool) if made is None
+             else made[:, iface == res.interface_names.index(n)].any(axis=1) for n in names]
     peak = 1.0
-    for c, name in enumerate(names):
-        sf = res.interface_safety(name, design)
-        color = f"C{c % 10}"
-        limits = [f"{what} at λ = {v:.4g}" + ("" if fs is None else f" (FS {fs:.3g})")
-                  for what, v, fs in (("slides", sf.lam_sliding, sf.fs_sliding),
-                                      ("overturns", sf.lam_overturning, sf.fs_overturning))
-                  if v is not None]
-        label = f"'{name}'" + (": " + ", ".join(limits) if limits else "")
-        B = sf.length if sf.length > 0 else 1.0
-        axes[0].plot(lam, sf.eccentricity[idx] / B, color=color, marker=".", ms=4, label=label)
-        sliding = np.where(np.isfinite(sf.sliding_factor[idx]), sf.sliding_factor[idx], np.nan)
-        axes[1].plot(lam, sliding, color=color, marker=".", ms=4)
-        peak = max(peak, float(np.nanmax(sliding, initial=1.0)))
-        axes[2].plot(lam, sf.open_length[idx], color=color, marker=".", ms=4,
-                     drawstyle="steps-post")  # the open set holds until the next state
-    axes[0].axhspan(-1 / 6, 1 / 6, color="0.9", zorder=0, label="kern |e| ≤ B/6")
-    axes[0].axhline(0.0, color="k", lw=0.5)
-    axes[0].set_ylabel("eccentricity e / B")
-    axes[1].axhline(1.0, color="k", lw=0.8, ls="--")
-    axes[1].set_ylabel("sliding factor f·|ΣN|/|ΣQ|")
-    axes[1].set_ylim(0.0, min(max(2.0, 1.1 * peak), 10.0))
-    axes[2].set_ylabel("open length, m")
-    axes[2].set_xlabel(_axis_text(res, seg))
-    for ax in axes:
-        ax.grid(True, alpha=0.3)
-        if design is not None:
-            ax.axvline(design, color="0.4", lw=0.8, ls=":")
-    if 0 <= seg < len(res.segments) and res.segments[seg][2] < res.segments[seg][1]:
-        axes[-1].invert_xaxis()
-    axes[0].legend(fontsize=8, loc="best")
-    fig.suptitle(f"Joint safety — segment {seg} '{_pattern_of(res, seg)}', {res.status.value}")
+    for col, group in enumerate(groups):
+        chains = [_segment_chain(res, sg) for sg in group]
+        idx = np.concatenate([c[0] for c in chains])
+        lam = np.concatenate([c[1] for c in chains])
+        ax_e, ax_s, ax_o = axes[:, col]
+        for c, sf in enumerate(safety):
+            color = f"C{c % 10}"
+            B = sf.length if sf.length > 0 else 1.0
+            on = built[c][idx]
+            loaded = on & _loaded(sf)[idx]  # e and the sliding factor of round-off: none
+            ax_e.plot(lam, np.where(loaded, sf.eccentricity[idx] / B, np.nan), color=color,
+                      marker=".", ms=4)
+            sliding = np.where(np.isfinite(sf.sliding_factor[idx]) & loaded,
+                               sf.sliding_factor[idx], np.nan)
+            ax_s.plot(lam, sliding, color=color, marker=".", ms=4)
+            if np.isfinite(sliding).any():
+                peak = max(peak, float(np.nanmax(sliding)))
+            ax_o.plot(lam, np.where(on, sf.open_length[idx], np.nan), color=color,
+                      marker=".", ms=4, drawstyle="steps-post")  # open until the next state
+        ax_e.axhspan(-1 / 6, 1 / 6, color="0.9", zorder=0)
+        ax_e.axhline(0.0, color="k", lw=0.5)
+        ax_s.axhline(1.0, color="k", lw=0.8, ls="--")
+        for ax in (ax_e, ax_s, ax_o):
+            ax.grid(True, alpha=0.3)
+            if design is not None and _pattern_of(res, group[0]) == pattern:
+                ax.axvline(design, color="0.3", lw=1.0, ls=":", gid="design")
+        stage = _segment_stage(res, group[0])
+        what = (f"segment {group[0]}" if len(group) == 1
+                else f"segments {group[0]}–{group[-1]}")
+        span = (_at_text(res, group[0], float(lam[0]), short=True) + " → "
+                + (f"{_lam_text(lam[-1])} m" if _is_level(res, group[0])
+                   else _lam_text(lam[-1])))
+        title = f"{what}:\n{span}" if not wide[col] else f"{what}: {span}"
+        if stage is not None:
+            title = f"{_stage_text(res, stage)}\n{title}"
+        ax_e.set_title(title, fontsize=8)
+        ax_o.set_xlabel(_axis_text(res, group[0]) if wide[col]
+                        else _axis_text(res, group[0]).replace(" of ", "\nof ", 1))
+        if 0 <= group[0] < len(res.segments) and (
+                res.segments[group[0]][2] < res.segments[group[0]][1]):
+            ax_o.invert_xaxis()
+    axes[0, 0].set_ylabel("eccentricity e / B")
+    axes[1, 0].set_ylabel("sliding factor f·|ΣN|/|ΣQ|")
+    axes[1, 0].set_ylim(0.0, min(max(2.0, 1.1 * peak), 10.0))
+    axes[2, 0].set_ylabel("open length, m")
+
+    handles = []
+    for c, sf in enumerate(safety):
+        limits = [t for what, v, margin in (("slides", sf.lam_sliding, sf.fs_sliding),
+                                            ("overturns", sf.lam_overturning,
+                                             sf.fs_overturning))
+                  if v is not None
+                  and (t := _limit_text(res, sf, what, v, margin, built[c])) is not None]
+        handles.append(Line2D([], [], color=f"C{c % 10}", marker=".", ms=4,
+                              label=f"'{sf.interface}'"
+                              + (": " + ", ".join(limits) if limits else "")))
+    handles.append(Patch(facecolor="0.9", label="kern |e| ≤ B/6"))
+    if design is not None:
+        level = _is_level(res, last)
+        handles.append(Line2D([], [], color="0.3", lw=1.0, ls=":",
+                              label=f"design level h_d = {design:g} m" if level
+                              else f"design λ_d = {design:g} of '{pattern}'"))
+    _legend_below(fig, handles, 2, fontsize=8, frameon=False)
+    fig.suptitle("Joint safety along the load path"
+                 + (f" (the last {len(groups)} runs of segments)" if cut else "")
+                 + f" — {res.status.value}")
     save_figure(fig, out, dpi)
     return fig
 
@@ -1674,17 +1941,133 @@ def plot_safety(
 # dynamics: time histories and the energy ledger
 # --------------------------------------------------------------------------------------------
 def _dof_index(res, dof) -> tuple[int, str]:
-    """A DOF of a dynamic result: a discrete model's DOF name or a global DOF index."""
+    """A DOF of a dynamic result: a discrete model's DOF name or a global DOF index; its
+    label names the node and direction for a finite-element model (:func:`_dof_label`)."""
     names = list(np.asarray(res.geometry.get("dof_names", []), dtype=str))
     if isinstance(dof, str):
         if dof not in names:
             raise ValueError(f"unknown DOF '{dof}' (known: {', '.join(names) or 'none'}; "
-                             "give a global DOF index for a finite-element model)")
+                             "give a global DOF index for a finite-element model, or choose "
+                             "a node by point=(x, y), nodes=<node set or node id>)")
         return names.index(dof), dof
     i = int(dof)
     if not 0 <= i < res.u.shape[1]:
         raise ValueError(f"DOF {i} does not exist: the result has DOFs 0..{res.u.shape[1] - 1}")
-    return i, (names[i] if i < len(names) else f"DOF {i}")
+    if i < len(names):
+        return i, names[i]
+    return i, f"DOF {i}"
+
+
+def _dof_curves(res, dofs) -> list[tuple[str, np.ndarray, str, tuple]]:
+    """The curves of :func:`plot_time_history` for DOF names or indices (its old input): the
+    displacement and velocity of each, labelled by the DOF's node and direction for a
+    finite-element model (``node 5 (x = 2, y = 0 m): u_y``), by its name for a discrete
+    one."""
+    dof_of = np.asarray(res.geometry.get("dof_of", np.zeros((0, 3))), dtype=np.int64)
+    out = []
+    for i, name in [_dof_index(res, d) for d in ([dofs] if isinstance(dofs, str | int)
+                                                  else dofs)]:
+        node, comp = np.nonzero(dof_of == i)
+        for q in ("u", "v"):
+            label = (_node_label(res, int(node[0]), int(comp[0]), q) if node.size
+                     else name)
+            out.append((q, np.asarray(getattr(res, q))[:, i], label, (i,)))
+    return out
+
+
+#: the quantities of a time history: displacement, velocity, acceleration — attribute of
+#: the dynamic result, axis label (m, m/s, m/s²; rad, rad/s, rad/s² for rotations)
+_HISTORY_PANELS = {"u": ("u", "displacement, m"), "v": ("v", "velocity, m/s"),
+                   "a": ("a", "acceleration, m/s²")}
+_COMPONENTS = {"x": 0, "y": 1, "rz": 2}
+_COMPONENT_TEXT = ("x", "y", "rz")
+
+
+def _node_sets_of(res, node: int) -> list[str]:
+    """The named node sets (:attr:`StaticResult.node_sets`) that hold ``node``."""
+    return [name for name, ids in res.node_sets.items() if node in set(np.asarray(ids).tolist())]
+
+
+def _node_label(res, node: int, comp: int, what: str, node_set: str | None = None) -> str:
+    """``crest (node 412, x = 0, y = 12 m): u_x`` — the node set (``node_set``, else the
+    first named set holding the node), the node, its coordinates and the quantity."""
+    pts = np.asarray(res.geometry["points"], dtype=float)
+    sets = [node_set] if node_set else _node_sets_of(res, node)[:1]
+    where = f"node {node}, x = {pts[node, 0]:.4g}, y = {pts[node, 1]:.4g} m"
+    sub = "φ_z" if comp == 2 else f"{what}_{_COMPONENT_TEXT[comp]}"
+    if comp == 2 and what != "u":
+        sub = {"v": "dφ_z/dt", "a": "d²φ_z/dt²"}[what]
+    if not sets:
+        return f"node {node} (x = {pts[node, 0]:.4g}, y = {pts[node, 1]:.4g} m): {sub}"
+    return f"{sets[0]} ({where}): {sub}"
+
+
+def _history_requests(direction) -> list[tuple[str | None, int]]:
+    """(quantity "u"/"v"/"a" or None for every panel, component 0/1/2) of ``direction``:
+    ``"x"``, ``"y"``, ``"rz"`` (each panel), or ``"ux"``, ``"vy"``, ``"ax"``, ``"rz"`` …
+    (one quantity)."""
+    items = [direction] if isinstance(direction, str) else list(direction)
+    out = []
+    for d in items:
+        key = str(d).strip().lower().replace("_", "")
+        if key in _COMPONENTS:
+            out.append((None, _COMPONENTS[key]))
+        elif key[:1] in _HISTORY_PANELS and key[1:] in _COMPONENTS:
+            out.append((key[0], _COMPONENTS[key[1:]]))
+        else:
+            raise ValueError(f"direction={d!r}: use x, y or rz (displacement and velocity), or "
+                             "ux, uy, vx, vy, ax, ay (u: displacement, v: velocity, a: "
+                             "acceleration)")
+    if not out:
+        raise ValueError("direction: give at least one of x, y, ux, uy, vx, vy, ax, ay")
+    return out
+
+
+def _node_histories(res, nodes, point, body, direction) -> list[tuple]:
+    """(quantity, values (n_states,), label, (node, component)) of the nodes chosen by
+    ``nodes`` (a node-set name, a node id or ids, a NodeSet) or ``point`` (the nearest
+    node), in ``direction``: the nodes found by :meth:`StaticResult.node_ids`, the
+    displacements and velocities read by :meth:`StaticResult.node_history` (the
+    accelerations from the same DOFs of ``a``)."""
+    try:
+        ids = res.node_ids(nodes, point=point, body=body)
+    except (KeyError, IndexError, TypeError) as e:
+        raise ValueError(str(e.args[0]) if e.args else str(e)) from None
+    if len(ids) > MAX_HISTORY_NODES:
+        what = f"node set '{nodes}'" if isinstance(nodes, str) else "the selection"
+        raise ValueError(f"{what} has {len(ids)} nodes: at most {MAX_HISTORY_NODES} curves "
+                         "per direction; choose one node by point=(x, y) or its id")
+    set_name = nodes if isinstance(nodes, str) else None
+    dof_of = np.asarray(res.geometry["dof_of"], dtype=np.int64)
+    out = []
+    for what, comp in _history_requests(direction):
+        for q in ([what] if what else ["u", "v"]):
+            name = ("u", "v", "a").index(q)
+            if q == "a":
+                if np.size(getattr(res, "a", ())) == 0:
+                    raise ValueError("this result has no accelerations")
+                d = dof_of[ids, comp]
+                if np.any(d < 0):
+                    raise ValueError(f"node {int(ids[d < 0][0])} has no DOF "
+                                     f"{_COMPONENT_TEXT[comp]}")
+                values = np.asarray(res.a)[:, d]
+            else:
+                quantity = ("u", "v")[name] if comp < 2 else ("rz", "vrz")[name]
+                if comp < 2:
+                    quantity += _COMPONENT_TEXT[comp]
+                try:
+                    values = np.asarray(res.node_history(ids, quantity)).reshape(len(res.lam),
+                                                                                 -1)
+                except (KeyError, IndexError) as e:
+                    raise ValueError(str(e.args[0])) from None
+            for j, k in enumerate(ids):
+                out.append((q, values[:, j], _node_label(res, int(k), comp, q, set_name),
+                            (int(k), comp)))
+    return out
+
+
+#: the most nodes a time history draws (per direction): a larger node set is an error
+MAX_HISTORY_NODES = 12
 
 
 def _mark_events(ax, res) -> list:
@@ -1705,31 +2088,80 @@ def _mark_events(ax, res) -> list:
     return seen
 
 
-def plot_time_history(res, dofs: Sequence, path: str | os.PathLike[str] | None = None, *,
+def plot_time_history(res, dofs: Sequence | None = None,
+                      path: str | os.PathLike[str] | None = None, *,
+                      point: Sequence[float] | None = None, nodes=None,
+                      direction: str | Sequence[str] = ("x", "y"), body: str | None = None,
                       dpi: float = DPI) -> Figure:
-    """Displacements (top) and velocities (bottom) of chosen DOFs against time, with every
+    """Displacements, velocities (and accelerations) of chosen nodes against time, with every
     contact event marked by a vertical line in its transition's colour (a dynamic result,
-    :func:`~stepcontact.solve_dynamic`).  ``dofs``: a discrete model's DOF names or global
-    DOF indices.  Units: m, m/s, s."""
+    :func:`~stepcontact.solve_dynamic`).  Units: m, m/s, m/s², s (rad … for rotations).
+
+    Choose what to plot by
+
+    * ``point=(x, y)``: the node nearest the point, m (``body`` chooses among coincident nodes
+      of different bodies);
+    * ``nodes``: the name of a named node set of the model (``res.node_sets``: those its
+      supports, loads, springs, ties and interfaces use; at most
+      :data:`MAX_HISTORY_NODES` nodes), a global node id or a sequence of them, or a
+      :class:`~stepcontact.model.NodeSet`;
+    * ``direction``: ``"x"``, ``"y"``, ``"rz"`` (the displacement and the velocity, one panel
+      each), or one quantity ``"ux"``, ``"uy"``, ``"vx"``, ``"vy"``, ``"ax"``, ``"ay"`` (u:
+      displacement, v: velocity, a: acceleration), or a sequence of these;
+    * or, as before, ``dofs``: a discrete model's DOF names or global DOF indices (the
+      displacement and velocity of each).
+
+    Default (none of these): the node that moves most (the largest |u_x| or |u_y| over the
+    run).  Displacements are drawn in m, mm or µm, whichever reads best (the axis label
+    says which).
+
+    The nodes are found by :meth:`StaticResult.node_ids` and their values read by
+    :meth:`StaticResult.node_history` (the same curves).  Every curve is named by its node
+    set, node, coordinates and direction, e.g. ``crest (node 412, x = 0, y = 12 m): u_x``;
+    the legend is below the panels.
+
+    Example
+    -------
+    >>> plot_time_history(res, point=(2.0, 0.0), direction="uy")   # doctest: +SKIP
+    >>> plot_time_history(res, nodes="crest", direction=("x", "ax"))  # doctest: +SKIP
+    """
     out = figure_path(path, dpi)
     if not hasattr(res, "v"):
         raise ValueError("plot_time_history needs a dynamic result (sc.solve_dynamic)")
-    picked = [_dof_index(res, d) for d in ([dofs] if isinstance(dofs, str | int) else dofs)]
-    fig = new_figure(figsize=(8.5, 6.0))
-    ax_u, ax_v = fig.subplots(2, 1, sharex=True)
+    if dofs is not None and (point is not None or nodes is not None):
+        raise ValueError("give either dofs (DOF names or indices) or point/nodes, not both")
+    if dofs is None and point is None and nodes is None:
+        if "points" not in (res.geometry or {}):
+            raise ValueError("choose what to plot: dofs=<DOF names or indices>")
+        peak = np.abs(np.asarray(res.u)).max(axis=0, initial=0.0)  # |u| of every DOF
+        nodes, _ = _most_moving(res, None, body, -1, peak)  # the node that moves most
+    if dofs is not None:
+        curves = _dof_curves(res, dofs)
+    else:
+        curves = _node_histories(res, nodes, point, body, direction)
+    panels = [q for q in ("u", "v", "a") if any(c[0] == q for c in curves)]
+    fig = new_figure(figsize=(8.5, 2.4 * len(panels) + 2.0))
+    axes = np.atleast_1d(fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0])
     t = np.asarray(res.time)
-    for i, name in picked:
-        ax_u.plot(t, res.u[:, i], lw=1.3, label=name)
-        ax_v.plot(t, res.v[:, i], lw=1.3, label=name)
+    # displacements in m, mm or µm (whichever reads best; not with rotations, in rad)
+    u_all = [c[1] for c in curves if c[0] == "u"]
+    rotation = any(c[0] == "u" and len(c[3]) == 2 and c[3][1] == 2 for c in curves)
+    div, unit = (1.0, "m") if rotation or not u_all else _length_scale(np.concatenate(u_all))
+    color: dict[tuple, str] = {}  # one colour per node and direction, in every panel
+    for q, values, label, key in curves:
+        color.setdefault(key, f"C{len(color) % 10}")
+        axes[panels.index(q)].plot(t, values / (div if q == "u" else 1.0), lw=1.3,
+                                   color=color[key], label=label)
+    handles = [ln for ax in axes for ln in ax.get_lines()]
     seen = []
-    for ax in (ax_u, ax_v):
+    for ax, q in zip(axes, panels, strict=True):
         seen = _mark_events(ax, res)
         ax.grid(True, alpha=0.3)
-    ax_u.set_ylabel("displacement, m")
-    ax_v.set_ylabel("velocity, m/s")
-    ax_v.set_xlabel("time t, s")
-    ax_u.legend(handles=ax_u.get_lines()[: len(picked)] + _transition_handles(seen, "event: "),
-                fontsize=8, loc="best")
+        ax.set_ylabel(f"displacement, {unit}" + (" (rad for φ_z)" if rotation else "")
+                      if q == "u" else _HISTORY_PANELS[q][1])
+    axes[-1].set_xlabel("time t, s")
+    _legend_below(fig, [*handles, *_transition_handles(seen, "event: ")], 2,
+                  fontsize=8, frameon=False)
     fig.suptitle(f"Time history ({len(res.events)} contact events, Δt = {res.dt:g} s)")
     save_figure(fig, out, dpi)
     return fig
