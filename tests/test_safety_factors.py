@@ -371,3 +371,31 @@ def test_cli_info_prints_the_engineers_factors(residual, tmp_path):
     assert "end a segment at 10.5 m" in " ".join(out.stdout.split())
     out = runner.invoke(app, ["info", str(nc), "--design", "10", "--cohesion", "-1"])
     assert out.exit_code != 0
+
+
+def test_a_lift_joint_inside_a_sliding_body_is_not_where_it_slides():
+    """Two blocks stacked on a foundation (lift joint f = 0.9 between them, base f = 0.5),
+    weight, then a push on the lower block: both slide together on the base at
+    P = 0.5 (W₁ + W₂) (hand statics, 1e-9).  The mechanism moves both blocks alike, so it is
+    the base's sliding, not the lift joint's (whose faces do not move relative to each other)."""
+    mat = sc.Material(E=30e9, nu=0.2, density=2400)
+    m = sc.Model(bodies=[sc.rectangle("ground", (-2, -1), (4, 0), 6, 2, mat),
+                         sc.rectangle("lower", (0, 0), (2, 1), 4, 2, mat),
+                         sc.rectangle("upper", (0, 1), (2, 2), 4, 2, mat)])
+    W = 2 * 2400 * 9.81 * 2.0  # both blocks, N per metre
+    m = m.add(
+        sc.Support("fixed", m.select("ground", y=-1), "xy"),
+        sc.Interface("base", plus=m.select("lower", y=0), minus=m.select("ground", y=0),
+                     friction=0.5),
+        sc.Interface("lift", plus=m.select("upper", y=1), minus=m.select("lower", y=1),
+                     friction=0.9),
+        sc.LoadPattern("weight", [sc.BodyForce(bodies=("lower", "upper"))]),
+        sc.LoadPattern("push", [sc.EdgeLoad(m.select("lower", x=0), traction=(1.0, 0.0))]),
+        sc.Segment("weight", 1.0), sc.Segment("push", 2 * W),
+    )
+    res = sc.solve_static(m)
+    assert res.status == sc.Status.EQUILIBRIUM_LOST
+    base, lift = (res.interface_safety(n, heel="auto") for n in ("base", "lift"))
+    assert base.mechanism == "sliding"
+    assert_allclose(base.lam_sliding, 0.5 * W, rtol=RTOL)  # traction 1 Pa on a 1 m face
+    assert lift.mechanism is None and lift.lam_sliding is None

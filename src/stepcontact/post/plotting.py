@@ -1861,7 +1861,7 @@ def plot_safety(
                         width_ratios=ratios)
     last = groups[-1][-1]
     pattern = _pattern_of(res, last)
-    safety = [res.interface_safety(name, design) for name in names]
+    safety = [res.interface_safety(name, design, heel="auto") for name in names]
     made = _made(res)  # construction stages: no values where an interface is not built
     iface = np.asarray(res.cfe["interface"])
     built = [np.ones(res.n_states, bool) if made is None
@@ -1915,9 +1915,9 @@ def plot_safety(
 
     handles = []
     for c, sf in enumerate(safety):
-        limits = [t for what, v, margin in (("slides", sf.lam_sliding, sf.fs_sliding),
+        limits = [t for what, v, margin in (("slides", sf.lam_sliding, sf.margin_sliding),
                                             ("overturns", sf.lam_overturning,
-                                             sf.fs_overturning))
+                                             sf.margin_overturning))
                   if v is not None
                   and (t := _limit_text(res, sf, what, v, margin, built[c])) is not None]
         handles.append(Line2D([], [], color=f"C{c % 10}", marker=".", ms=4,

@@ -773,10 +773,14 @@ def interface_safety(res: StaticResult, interface: str, design: float | None = N
     found: dict[str, str | None] = {}  # the pattern whose λ each limit is
     mech = res.mechanism if res.status == Status.EQUILIBRIUM_LOST else None
     if mech:
-        nodes = np.concatenate([np.asarray(res.cfe[key])[k].ravel()
-                                for key in ("plus_nodes", "minus_nodes") if key in res.cfe])
-        mine = _bodies_of_nodes(res, nodes)
-        modes = [str(b["mode"]) for b in mech.get("bodies", []) if str(b["body"]) in mine]
+        moving = {str(b["body"]): str(b["mode"]) for b in mech.get("bodies", [])}
+        sides = [{moving.get(b) for b in _bodies_of_nodes(res, np.asarray(res.cfe[key])[k])}
+                 for key in ("plus_nodes", "minus_nodes") if key in res.cfe]
+        # the mechanism slips or opens this joint when its two faces do not move alike (a
+        # lift joint inside a dam that slides as one body is not where it slides)
+        modes = sorted(m for m in set().union(*sides) if m) if sides else []
+        if len(sides) == 2 and sides[0] == sides[1]:
+            modes = []
         if modes:
             mechanism = modes[0]
             kind = ("sliding" if mechanism == "sliding" else "overturning"
