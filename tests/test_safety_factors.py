@@ -359,7 +359,10 @@ def test_cli_info_prints_the_engineers_factors(residual, tmp_path):
     assert f"{residual.interface_safety('base').lam_sliding:.6g} m / 10 m" in text
     out = runner.invoke(app, ["info", str(nc), "--design", "10", "--cohesion", "2e5", "--json"])
     assert out.exit_code == 0, out.output
-    (got,) = json.loads(out.stdout)["interface_safety"]
+    info = json.loads(out.stdout)
+    (got,) = info["interface_safety"]
+    # the user's patterns, not the level's internal pieces
+    assert info["model"]["patterns"] == ["weight", "reservoir"]
     d = got["design_state"]
     assert_allclose(d["shear_friction_factor"], hand(H_D, 2e5)["sff"], rtol=RTOL)
     assert_allclose(d["overturning_factor"], ref["overturning"], rtol=RTOL)

@@ -1694,7 +1694,7 @@ def result_info(res: StaticResult, path: Path | None = None,
              "element": str(b.get("element", "")), "elements": int(len(b["cells"]))}
             for b in geo.get("bodies", [])
         ],
-        "patterns": list(res.pattern_names),
+        "patterns": [p for p in res.pattern_names if not is_virtual(p)],
     }
     return result_summary(
         res,
