@@ -402,3 +402,13 @@ def test_a_lift_joint_inside_a_sliding_body_is_not_where_it_slides():
     assert base.mechanism == "sliding"
     assert_allclose(base.lam_sliding, 0.5 * W, rtol=RTOL)  # traction 1 Pa on a 1 m face
     assert lift.mechanism is None and lift.lam_sliding is None
+
+
+def test_info_shows_the_round_off_of_an_open_end_as_zero():
+    """An open heel's σn is 0 up to the round-off of the sum of the CFE forces (here 3e-13 Pa
+    beside 1.3 MPa at the toe): info prints 0, and keeps a real small stress."""
+    from stepcontact.cli.commands import _clean_pair
+
+    assert _clean_pair(3.3e-13, -1.32e6) == (0.0, -1.32e6)
+    assert _clean_pair(-5.0, -1.32e6) == (-5.0, -1.32e6)
+    assert _clean_pair(0.0, 0.0) == (0.0, 0.0)

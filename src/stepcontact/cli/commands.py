@@ -1754,7 +1754,8 @@ def _safety_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
          f"{_info_fmt(None if ecc is None else ecc / sf['length'] if sf['length'] else None)}"
          f"), B = {_info_fmt(sf['length'])}"),
         ("in the kern (|e| ≤ B/6)", "yes" if sf["in_kern"] else "no"),
-        ("σn heel, toe (Pa)", f"{_info_fmt(sf['sigma_heel'])}, {_info_fmt(sf['sigma_toe'])}"),
+        ("σn heel, toe (Pa)", ", ".join(_info_fmt(v) for v in _clean_pair(
+            sf["sigma_heel"], sf["sigma_toe"]))),
         ("friction-only factor N'·tanφ/H", _info_fmt(sf["friction_only_factor"])),
         ("shear-friction factor (c·A_c + N'·tanφ)/H", _info_fmt(sf["shear_friction_factor"])),
         ("overturning factor ΣM_r/ΣM_o about the toe", _info_fmt(sf["overturning_factor"])),
@@ -1829,6 +1830,12 @@ def _state_list(states: Sequence[int], limit: int = 8, count: bool = True) -> st
 
 def _info_fmt(v: Any) -> str:
     return "—" if v is None else f"{v:.6g}" if isinstance(v, float) else str(v)
+
+
+def _clean_pair(a: float, b: float) -> tuple[float, float]:
+    """Two stresses with the round-off of an open end (below 1e-9 of the larger) shown as 0."""
+    big = max(abs(a), abs(b))
+    return tuple(0.0 if abs(v) <= 1e-9 * big else v for v in (a, b))
 
 
 def _info_sci(v: float | None) -> str:
