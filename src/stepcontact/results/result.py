@@ -246,15 +246,15 @@ class StaticResult:
         the field recomputed at a stored state equal to the stored one to
         :data:`RECOVERY_RTOL`, or else the stored field in this model's equilibrium with the
         stored contact forces to :data:`RECOVERY_RESIDUAL` (a tolerance scaled to the model:
-        its conditioning does not enter); otherwise ValueError.  A result that stores the
-        field of every state (a staged run) needs no recovery: nothing is done.
+        its conditioning does not enter); otherwise ValueError.  A staged run stores the field of
+        every state and needs no recovery: nothing is done.
         """
         from stepcontact.fem.assembly import System, assemble
         from stepcontact.solver.condensation import Condensed
         from stepcontact.solver.static import FieldRecovery
 
-        if self.fields and all(i in self.fields for i in range(self.n_states)):
-            return  # every field is stored (a staged run stores them all): nothing to recover
+        if self.stage is not None and all(i in self.fields for i in range(self.n_states)):
+            return  # a staged run stores every field (its stages' systems differ): nothing to do
         system = model if isinstance(model, System) else assemble(model)
         if system.m != self.m:
             raise ValueError(f"the model has {system.m} CFEs, the result {self.m}")
