@@ -47,6 +47,7 @@ import numpy as np
 
 from stepcontact.errors import ModelError
 from stepcontact.model import Body, Material, NodeSet
+from stepcontact.model.gmsh_api import gmsh_module as _gmsh
 from stepcontact.model.mesh import REVERSED_NODE_ORDER
 
 #: gmsh (meshio) cell type -> stepcontact element kind
@@ -577,25 +578,6 @@ def _skfem_mesh(kind: str, pts: np.ndarray, cells: np.ndarray):
 # --------------------------------------------------------------------------------------------
 # meshing with gmsh
 # --------------------------------------------------------------------------------------------
-def _gmsh():
-    try:
-        import gmsh
-    except ImportError:  # pragma: no cover - depends on the environment
-        raise ModelError(
-            "gmsh",
-            "the gmsh Python package is needed to mesh .geo files: `pip install gmsh` "
-            "(or `pip install stepcontact[gmsh]`), or give the .msh file instead",
-        ) from None
-    except OSError as e:  # pragma: no cover - the wheel's library needs system libraries
-        raise ModelError(
-            "gmsh",
-            f"the gmsh package is installed but its library cannot be loaded ({e}); install "
-            "the system libraries it needs (e.g. libglu1-mesa, libxcursor1, libxft2, "
-            "libxinerama1) or give the .msh file instead",
-        ) from None
-    return gmsh
-
-
 def mesh_geo(
     path: str | os.PathLike,
     order: int = 1,

@@ -388,7 +388,7 @@ def _triangle_mesh(P: np.ndarray, n: int, quads: bool):
 def _gmsh_polygon(name: str, P: np.ndarray, size: float, quads: bool):
     """A simple polygon meshed by gmsh (frontal Delaunay; quads recombined), cell size
     ``size``; its vertices are nodes."""
-    from stepcontact.io.meshfile import _gmsh
+    from stepcontact.model.gmsh_api import gmsh_module as _gmsh
 
     try:
         gmsh = _gmsh()
