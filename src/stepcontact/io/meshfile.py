@@ -47,7 +47,7 @@ import numpy as np
 
 from stepcontact.errors import ModelError
 from stepcontact.model import Body, Material, NodeSet
-from stepcontact.model.gmsh_api import gmsh_module as _gmsh
+from stepcontact.model.gmsh_api import gmsh_session
 from stepcontact.model.mesh import REVERSED_NODE_ORDER
 
 #: gmsh (meshio) cell type -> stepcontact element kind
@@ -618,36 +618,25 @@ def mesh_geo(
         raise ModelError(f"mesh '{path}'", f"size must be > 0, got {size}")
     if path.suffix == ".py":
         return _run_script(path, out)
-    gmsh = _gmsh()
-    started = not gmsh.isInitialized()
-    if started:
-        gmsh.initialize(readConfigFiles=False, interruptible=False)
     options = {"General.Terminal": 0.0, "Mesh.SecondOrderIncomplete": 0.0,
                "Mesh.MshFileVersion": 4.1, "Mesh.Binary": 0.0}
     if element == "quad":
         options["Mesh.RecombineAll"] = 1.0
     if size is not None:
         options["Mesh.MeshSizeMax"] = float(size)
-    saved = {k: gmsh.option.getNumber(k) for k in options}
-    try:
+    with gmsh_session(options, set_now=False) as gmsh:
         gmsh.option.setNumber("General.Terminal", 0)
         try:
             gmsh.open(str(path))  # a new model (a running session keeps its others)
         except Exception as e:
             raise ModelError(f"mesh '{path}'", f"gmsh cannot read it: {e}") from None
-        for k, v in options.items():
+        for k, v in options.items():  # over the file's own
             gmsh.option.setNumber(k, v)
         gmsh.model.mesh.generate(2)
         if order == 2:
             gmsh.model.mesh.setOrder(2)
         out.parent.mkdir(parents=True, exist_ok=True)
         gmsh.write(str(out))
-    finally:
-        if started:
-            gmsh.finalize()
-        else:
-            for k, v in saved.items():
-                gmsh.option.setNumber(k, v)
     return out
 
 

@@ -6,6 +6,9 @@ files)."""
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
+
 from stepcontact.errors import ModelError
 
 
@@ -27,3 +30,27 @@ def gmsh_module():
             "libxinerama1) or give the .msh file instead",
         ) from None
     return gmsh
+
+
+@contextlib.contextmanager
+def gmsh_session(options: dict[str, float], gmsh=None, *, set_now: bool = True
+                 ) -> Iterator[object]:
+    """The gmsh module with ``options`` set (``set_now=False``: the caller sets them, e.g.
+    after opening a file whose own options they override).  A session started here is
+    finalised on exit; in a session the caller had running, the options are set back to what
+    they were."""
+    gmsh = gmsh_module() if gmsh is None else gmsh
+    started = not gmsh.isInitialized()
+    if started:
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+    saved = {k: gmsh.option.getNumber(k) for k in options}
+    try:
+        for k, v in options.items() if set_now else ():
+            gmsh.option.setNumber(k, v)
+        yield gmsh
+    finally:
+        if started:
+            gmsh.finalize()
+        else:
+            for k, v in saved.items():
+                gmsh.option.setNumber(k, v)

@@ -388,30 +388,24 @@ def _triangle_mesh(P: np.ndarray, n: int, quads: bool):
 def _gmsh_polygon(name: str, P: np.ndarray, size: float, quads: bool):
     """A simple polygon meshed by gmsh (frontal Delaunay; quads recombined), cell size
     ``size``; its vertices are nodes."""
-    from stepcontact.model.gmsh_api import gmsh_module as _gmsh
+    from stepcontact.model.gmsh_api import gmsh_module, gmsh_session
 
     try:
-        gmsh = _gmsh()
+        gmsh = gmsh_module()
     except ModelError as e:
         raise ModelError(f"body '{name}'.vertices",
                          f"a polygon of {len(P)} vertices is meshed by gmsh, which is not "
                          f"available ({e}); install it (pip install \"stepcontact[gmsh]\"), or "
                          "build the body from triangles and four-sided regions "
                          "(sc.polygon_region with three vertices, sc.quad_region)") from None
-    started = not gmsh.isInitialized()
-    if started:
-        gmsh.initialize(readConfigFiles=False, interruptible=False)
     # quads: recombined and then subdivided once (every cell a quad), from cells twice as large
     options = {"General.Terminal": 0.0, "Mesh.RecombineAll": 1.0 if quads else 0.0,
                "Mesh.SubdivisionAlgorithm": 1.0 if quads else 0.0, "Mesh.Algorithm": 6.0,
                "Mesh.MeshSizeMax": float(size) * (2.0 if quads else 1.0),
                "Mesh.MeshSizeMin": 0.0, "Mesh.MeshSizeFromPoints": 0.0,
                "Mesh.MeshSizeExtendFromBoundary": 1.0}
-    saved = {k: gmsh.option.getNumber(k) for k in options}
-    try:
+    with gmsh_session(options, gmsh):
         gmsh.model.add(f"stepcontact-polygon-{name}")
-        for k, v in options.items():
-            gmsh.option.setNumber(k, v)
         tags = [gmsh.model.geo.addPoint(x, y, 0.0) for x, y in P]
         lines = [gmsh.model.geo.addLine(tags[i], tags[(i + 1) % len(P)]) for i in range(len(P))]
         loop = gmsh.model.geo.addCurveLoop(lines)
@@ -423,12 +417,6 @@ def _gmsh_polygon(name: str, P: np.ndarray, size: float, quads: bool):
         _, cell_nodes = gmsh.model.mesh.getElementsByType(3 if quads else 2)
         others = len(gmsh.model.mesh.getElementsByType(2 if quads else 3)[0])
         gmsh.model.remove()
-    finally:
-        if started:
-            gmsh.finalize()
-        else:
-            for k, v in saved.items():
-                gmsh.option.setNumber(k, v)
     if others:
         raise ModelError(f"body '{name}'.vertices", "gmsh left cells of another shape in the "
                          "mesh of the polygon; use triangles (element = 'tri3' or 'tri6')")
