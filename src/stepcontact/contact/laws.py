@@ -234,9 +234,10 @@ class CoulombLaw:
                                 QR + self.alpha * p - Q, QR + self.alpha * p + Q])
 
     def broken_state(self, Q, p, tf: float = 0.0) -> np.ndarray:
-        """The Coulomb state a CFE takes when its bond breaks at forces (Q, p): open where it
-        is in tension (p ≤ tf), else stuck or slipping (|Q| > f p + C: in the direction of Q),
-        or closed where it is frictionless."""
+        """The Coulomb state a CFE takes when its bond breaks at forces (Q, p) (eq. (12)
+        holds no more; eqs. (1), (11) from then on): open where it is in tension (p ≤ tf),
+        else stuck or slipping (|Q| > f p + C: in the direction of Q), or closed where it is
+        frictionless."""
         slip = np.where(Q > 0, SLIP_POS, SLIP_NEG)
         closed = np.where(self.frictional,
                           np.where(np.abs(Q) > self.friction_limit(p) + tf, slip, STICK), CLOSED)
@@ -245,7 +246,7 @@ class CoulombLaw:
     def released(self, states, Q, p) -> tuple[np.ndarray, np.ndarray]:
         """The part (ΔQ, Δp) of the forces (Q, p) that the relations of Coulomb ``states``
         cannot carry (open: all of it; slipping: Q − σ (f p + C); frictionless: Q): what a
-        broken bond (or a lost residual cohesion) releases."""
+        broken bond (eq. (12)) or a lost residual cohesion releases."""
         op = states == OPEN
         sig = np.where(states == SLIP_POS, 1.0, -1.0)
         dQ = np.where(op | (states == CLOSED), Q,
@@ -255,7 +256,9 @@ class CoulombLaw:
 
     # ---- relations (eqs. (1), (11), (12)) ------------------------------------------------------
     def relations(self, states: np.ndarray, rel: Relations, m: int, article: bool = False) -> None:
-        """Write the relation rows of this law's CFEs in ``states`` into ``rel``.
+        """Write the relation rows of this law's CFEs in ``states`` into ``rel``: the
+        working-scheme form of conditions (1), of the compliant layer (eq. (11)) and of an
+        intact bond (eq. (12)).
 
         Open: both forces zero (FREE).  Stick and bonded: tangential fixed (or spring C_τ),
         normal fixed (or spring C_n).  Closed frictionless: Q = 0, normal as stick.  Slip
@@ -278,7 +281,10 @@ class CoulombLaw:
 
     # ---- event functions (eqs. (2), (3), (12)) ------------------------------------------------
     def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray:
-        """φ (k, 8) of the CFEs in ``states`` (``+inf`` where a function does not apply).
+        """φ (k, 8) of the CFEs in ``states`` (``+inf`` where a function does not apply):
+        the event functions of eqs. (2), (3) and (12) — columns 1, 2 stick → slip (eq. (2)),
+        0 and 7 contact → open and open → contact (eq. (3)), 3–6 the bond's facets (eq. (12));
+        the class docstring lists them.
 
         With ``affine=False`` the constant part is dropped, which turns values into rates
         when (Q, p, u_n) are rates: φ' = event_values(states, Q', p', u_n', affine=False).
@@ -432,7 +438,8 @@ class CoulombLaw:
         """Right-hand side (r_τ, r_n) that moves the state onto the relations of ``states`` at
         a fixed load: open → N = Q = 0; closed rigid (and bonded) → u_n = 0; compliant →
         p = C_n u_n; slipping → Q = σ (f p + C) (in article mode this is the compensating
-        correction δQ of eq. (4)); closed frictionless → Q = 0."""
+        correction δQ of eq. (4), which the engine applies as the compensating forces of
+        eq. (6)); closed frictionless → Q = 0."""
         closed = (states != OPEN) & ~self.inert
         r_t = np.where(~closed | (states == CLOSED), -Q, 0.0)
         r_n = np.where(~closed, -p, 0.0)

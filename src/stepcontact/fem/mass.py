@@ -47,8 +47,8 @@ def continuum_mass(body, thickness: float, lumped: bool = False) -> sp.csr_matri
 
 def rayleigh_coefficients(zeta1: float, f1: float, zeta2: float, f2: float
                           ) -> tuple[float, float]:
-    """(a₀, a₁) of Rayleigh damping C = a₀ M + a₁ K with the damping ratios ζ₁ at the
-    frequency f₁ and ζ₂ at f₂ (Hz): ζ(ω) = a₀ / (2ω) + a₁ ω / 2, so
+    """(a₀, a₁) of Rayleigh damping C = a₀ M + a₁ K (the damping matrix of eq. (7)) with the
+    damping ratios ζ₁ at the frequency f₁ and ζ₂ at f₂ (Hz): ζ(ω) = a₀ / (2ω) + a₁ ω / 2, so
 
         a₀ = 2 ω₁ ω₂ (ζ₁ ω₂ − ζ₂ ω₁) / (ω₂² − ω₁²),   a₁ = 2 (ζ₂ ω₂ − ζ₁ ω₁) / (ω₂² − ω₁²)
 
@@ -71,8 +71,8 @@ def rayleigh_coefficients(zeta1: float, f1: float, zeta2: float, f2: float
 
 
 def mass(model, dofs, lumped: bool = False) -> sp.csr_matrix:
-    """Global mass matrix of the model's bodies (continua: consistent or HRZ-lumped; frames:
-    lumped translations), kg, on the DOFs of ``dofs``."""
+    """Global mass matrix M of eq. (7) of the model's bodies (continua: consistent or
+    HRZ-lumped; frames: lumped translations), kg, on the DOFs of ``dofs``."""
     from stepcontact.model import Body
 
     rows, cols, vals = [], [], []

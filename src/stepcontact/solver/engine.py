@@ -326,7 +326,9 @@ class EventEngine:
         return tol
 
     def next_event(self, ds, dw, remaining: float, group: float) -> tuple[float, float, np.ndarray]:
-        """Earliest root of all event functions along the rates (ds, dw).
+        """Earliest root of all event functions along the rates (ds, dw): the event load
+        factors of eqs. (2), (3) (and of a bond's facets, eq. (12)); along the μ ∈ [0, 1] of a
+        time step, the event times of eq. (10), t̂ = t + μ̂ Δt.
 
         Returns (Δμ, Δμ of the earliest event (inf if none), fired mask (m,)): CFEs whose
         functions reach zero within ``group`` of the earliest root form one event point."""
@@ -487,7 +489,9 @@ class EventEngine:
         return Decision(old, new, ds, dw, out)
 
     def snap(self) -> None:
-        """Move the state onto the relations of the current scheme at the fixed point."""
+        """Move the state onto the relations of the current scheme at the fixed point (in the
+        article's slip treatment: the corrected tangential forces of eq. (4), applied as the
+        compensating forces of eq. (6))."""
         m = self.m
         r = np.zeros(2 * m)
         for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
