@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepcontact.io.atomic import write_text
-from stepcontact.post.plotting import DPI, figure_path, new_figure, save_figure
+from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
 from stepcontact.study import hydraulics as hy
 from stepcontact.study.basin import (
     MESH_RELATIVE,
