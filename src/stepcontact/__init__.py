@@ -53,6 +53,7 @@ from stepcontact.results.file import load_result
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, condense
 from stepcontact.solver.dynamic import DynamicResult, solve_dynamic
+from stepcontact.solver.program import ProgramResult, run
 from stepcontact.solver.static import StepInfo, solve_static
 
 _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",
@@ -136,6 +137,8 @@ __all__ = [
     "assemble",
     "solve_static",
     "solve_dynamic",
+    "run",
+    "ProgramResult",
     "DynamicInterval",
     "DynamicResult",
     "rayleigh_coefficients",

@@ -22,6 +22,7 @@ Example
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import re
@@ -49,7 +50,7 @@ if TYPE_CHECKING:
     from stepcontact.model import Model
     from stepcontact.results.file import ResultWriter
     from stepcontact.results.result import StaticResult
-    from stepcontact.solver.condensation import Condensation
+    from stepcontact.solver.program import ProgramResult
 
 EXIT_ERROR = 2  #: exit code for bad input (model errors, missing files, solver errors)
 #: exit code of a run that stopped without a physical answer: the contact conditions could not
@@ -202,33 +203,10 @@ class ProgressHook:
         self.progress.update(self.task, completed=self.done)
 
 
-def _solve(
-    model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool,
-    output: Path | ResultWriter | None = None, precision: str = "auto",
-    condensation: Condensation | None = None,
-) -> StaticResult:
-    """Run :func:`stepcontact.solver.static.solve_static` with a progress bar on stderr
-    (``condensation``: a shared one, e.g. from a sweep worker's cache; ``output``: the result
-    file, or the :class:`~stepcontact.results.file.ResultWriter` that writes it)."""
-    from stepcontact.solver import static
-
-    segments = model.segments_resolved()
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TimeElapsedColumn(),
-        console=Console(stderr=True),
-        transient=True,
-        disable=not progress_bar,
-    ) as progress:
-        task = progress.add_task(f"running '{escape(model.name)}'",
-                                 total=max(len(segments), 1))
-        hooks = (ProgressHook(progress, task, segments),) if progress_bar else ()
-        return static.solve_static(
-            model, slip=slip.value, eps_p=eps_p, max_events=max_events, hooks=hooks,
-            output=output, precision=precision,
-            **({} if condensation is None else {"condensation": condensation}),
-        )
+def _progress_bar(progress_bar: bool) -> Progress:
+    """A transient progress bar on stderr (disabled: shows nothing)."""
+    return Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+                    console=Console(stderr=True), transient=True, disable=not progress_bar)
 
 
 class _TimeProgress:
@@ -242,38 +220,59 @@ class _TimeProgress:
                              description=f"dynamics t = {t:.4g} s")
 
 
-def _solve_dynamics(model: Model, static_res: StaticResult, *, progress_bar: bool,
-                    stop: Any = None) -> Any:
-    """The model's dynamic interval from the static state (a DynamicResult), with a progress
-    bar in simulated time on stderr; ``stop``: a
-    :class:`~stepcontact.io.interrupt.StopRequest` polled before every step."""
-    from stepcontact.solver.dynamic import solve_dynamic
+def _run_program(
+    model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool,
+    output: Path | ResultWriter | None = None, precision: str = "auto",
+    after_static: Any = None, stop: Any = None,
+) -> ProgramResult:
+    """Run the whole program of the model (:func:`stepcontact.run`) with a progress bar on
+    stderr: one unit per load segment, then the final dynamic interval in simulated time.
+    ``after_static(res)``: called when the static program ends (its bar gone), before the
+    final interval; ``stop``: a :class:`~stepcontact.io.interrupt.StopRequest` that SIGTERM
+    and Ctrl-C set during the final interval (polled before every step) instead of raising."""
+    from stepcontact.io.interrupt import signals_stop
+    from stepcontact.solver.program import run as run_program
 
-    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
-                  console=Console(stderr=True), transient=True,
-                  disable=not progress_bar) as progress:
-        task = progress.add_task("dynamics", total=model.dynamics.duration)
-        hooks = ((_TimeProgress(progress, task),) if progress_bar else ()) + \
-            (() if stop is None else (stop,))
-        return solve_dynamic(model, initial=static_res if model.effective_program else None,
-                             hooks=hooks)
+    segments = model.segments_resolved()
+    static_bar = _progress_bar(progress_bar)
+    task = static_bar.add_task(f"running '{escape(model.name)}'", total=max(len(segments), 1))
+    hooks = (ProgressHook(static_bar, task, segments),) if progress_bar else ()
+    dynamic_bar = _progress_bar(progress_bar)
+    dynamic_hooks: tuple = () if stop is None else (stop,)
+    if model.dynamics is not None:
+        dtask = dynamic_bar.add_task("dynamics", total=model.dynamics.duration)
+        dynamic_hooks = ((_TimeProgress(dynamic_bar, dtask),) if progress_bar else ()) + \
+            dynamic_hooks
+    with contextlib.ExitStack() as stack, contextlib.ExitStack() as static_part:
+        static_part.enter_context(static_bar)
+
+        def static_done(res: StaticResult) -> None:
+            static_part.close()  # (the bar goes before the report)
+            if after_static is not None:
+                after_static(res)
+
+        def dynamics_start() -> None:
+            if stop is not None:
+                stack.enter_context(signals_stop(stop))
+            stack.enter_context(dynamic_bar)
+
+        return run_program(model, slip=slip.value, eps_p=eps_p, max_events=max_events,
+                           hooks=hooks, output=output, precision=precision,
+                           dynamic_hooks=dynamic_hooks, after_static=static_done,
+                           before_dynamics=dynamics_start)
 
 
-def _dynamics(model: Model, static_res: StaticResult, *, result_path: Path,
-              plot_path: Path | None, progress_bar: bool, console: Console,
-              as_json: bool, attrs: dict[str, str] | None = None,
-              table: bool = False) -> dict[str, Any]:
-    """The model's dynamic interval from the static state: run it with a progress bar in
-    simulated time, write MODEL-dynamic.nc (and the energy ledger's figure), report.
+def _final_dynamics(model: Model, dres: Any, stop: Any, *, result_path: Path,
+                    plot_path: Path | None, console: Console, as_json: bool,
+                    attrs: dict[str, str] | None = None, table: bool = False) -> dict[str, Any]:
+    """The model's dynamic interval after the static program, as run: write
+    MODEL-dynamic.nc (and the energy ledger's figure), report.
 
-    SIGTERM or Ctrl-C during the interval ends it after its current step: the states so far
-    are written (status ``incomplete``), then :class:`~stepcontact.io.interrupt.Terminated`
-    is raised with the file's name (``dynamic_file``) for the run's exit."""
-    from stepcontact.io.interrupt import StopRequest, Terminated, signals_stop
+    When SIGTERM or Ctrl-C ended it after a step (``stop``), the states so far are written
+    (status ``incomplete``, no figure), then :class:`~stepcontact.io.interrupt.Terminated` is
+    raised with the file's name (``dynamic_file``) for the run's exit."""
+    from stepcontact.io.interrupt import Terminated
 
-    stop = StopRequest()
-    with signals_stop(stop):
-        dres = _solve_dynamics(model, static_res, progress_bar=progress_bar, stop=stop)
     summary = _dynamic_report(dres, model.dynamics, result_path=result_path,
                               plot_path=None if stop.stop_requested else plot_path,
                               console=console, as_json=as_json, attrs=attrs, table=table)
@@ -478,11 +477,14 @@ def _analyse(
     The arguments are checked before solving; warnings (an empty or zero load pattern,
     displacements larger than the model) go to stderr, one line each.  ``writer``: the
     :class:`~stepcontact.results.file.ResultWriter` of ``result_path`` (its interval and
-    attributes; default: one with the default interval)."""
+    attributes; default: one with the default interval).  The static program is reported,
+    drawn and its stages' dynamic intervals written as soon as it ends, before the final
+    dynamic interval runs."""
     from stepcontact.fem.loadcheck import zero_patterns
+    from stepcontact.io.interrupt import StopRequest
     from stepcontact.model.consistency import check_consistency, program_warnings
-    from stepcontact.results.checks import displacement_warnings
     from stepcontact.results.file import ResultWriter
+    from stepcontact.solver.program import check_dynamic_mass
 
     if writer is None:
         writer = ResultWriter(result_path, min_interval=1.0)
@@ -490,14 +492,48 @@ def _analyse(
     _check_plot_path(plot_path)
     _check_lams(model, lams)
     check_consistency(model)  # what validate finds too, before any work
-    _check_dynamic_mass(model)  # (a free body without density: needs the assembled DOFs)
+    check_dynamic_mass(model)  # (a free body without density: needs the assembled DOFs)
     warnings = [text for _, text in zero_patterns(model)]
     warnings += [f"{item}: {text}" for item, text in program_warnings(model)]
     _warn(warnings)
     result_path.parent.mkdir(parents=True, exist_ok=True)
-    res = _solve(model, slip=slip, eps_p=eps_p, max_events=max_events,
-                 progress_bar=not quiet and not as_json, output=writer,
-                 precision=precision)
+    summaries: list[dict[str, Any]] = []
+
+    def static_done(res: StaticResult) -> None:
+        summaries.append(_static_report(model, res, result_path=result_path,
+                                        plot_path=plot_path, lams=lams, quiet=quiet,
+                                        as_json=as_json, console=console, warnings=warnings,
+                                        attrs=writer.attrs))
+
+    stop = StopRequest()
+    out = _run_program(model, slip=slip, eps_p=eps_p, max_events=max_events,
+                       progress_bar=not quiet and not as_json, output=writer,
+                       precision=precision, after_static=static_done, stop=stop)
+    (summary,) = summaries
+    if out.dynamic is not None:
+        summary["dynamics"] = _final_dynamics(model, out.dynamic, stop,
+                                              result_path=result_path, plot_path=plot_path,
+                                              console=console, as_json=as_json,
+                                              attrs=writer.attrs, table=not quiet)
+    not_run = [asdict(item) for item in out.not_run]
+    if not_run:  # asked for, not run: said on stderr, in the summary, and by the exit code
+        err = Console(stderr=True, soft_wrap=True, highlight=False)
+        for item in not_run:
+            err.print(Text(f"{item['interval']} not run: {item['reason']}", style="red"))
+        summary["dynamics_not_run"] = not_run
+        if model.dynamics is not None and "dynamics" not in summary:
+            summary["dynamics"] = {"status": "not_run", "reason": not_run[-1]["reason"]}
+    return summary
+
+
+def _static_report(model: Model, res: StaticResult, *, result_path: Path,
+                   plot_path: Path | None, lams: Sequence[float] | None, quiet: bool,
+                   as_json: bool, console: Console, warnings: list[str],
+                   attrs: dict[str, str] | None) -> dict[str, Any]:
+    """Report the static program's result, warn of large displacements, draw the figure,
+    write the dynamic intervals of its stages; the JSON summary so far."""
+    from stepcontact.results.checks import displacement_warnings
+
     if not as_json:
         _report(res, console, title=f"stepcontact: {model.name}", table=not quiet)
     late = displacement_warnings(res)
@@ -522,54 +558,9 @@ def _analyse(
         summary["stage_dynamics"] = {
             name: _dynamic_report(dres, specs[name], result_path=result_path,
                                   plot_path=plot_path, console=console, as_json=as_json,
-                                  stage=name, attrs=writer.attrs, table=not quiet)
+                                  stage=name, attrs=attrs, table=not quiet)
             for name, dres in res.dynamics.items()}
-    if model.dynamics is not None and res.status == Status.COMPLETED:
-        summary["dynamics"] = _dynamics(model, res, result_path=result_path,
-                                        plot_path=plot_path,
-                                        progress_bar=not quiet and not as_json,
-                                        console=console, as_json=as_json, attrs=writer.attrs,
-                                        table=not quiet)
-    not_run = _dynamics_not_run(model, res)
-    if not_run:  # asked for, not run: said on stderr, in the summary, and by the exit code
-        err = Console(stderr=True, soft_wrap=True, highlight=False)
-        for item in not_run:
-            err.print(Text(f"{item['interval']} not run: {item['reason']}", style="red"))
-        summary["dynamics_not_run"] = not_run
-        if model.dynamics is not None and "dynamics" not in summary:
-            summary["dynamics"] = {"status": "not_run", "reason": not_run[-1]["reason"]}
     return summary
-
-
-def _check_dynamic_mass(model: Model) -> None:
-    """A model with a dynamic interval needs mass on every body that can move: checked before
-    the static run (:func:`stepcontact.fem.mass.check_mass`; ModelError naming the body)."""
-    stages = [st for st in model.stages if st.dynamics is not None]
-    if model.dynamics is None and not stages:
-        return
-    if all(float(b.material.density if hasattr(b, "material") else b.density) > 0
-           for b in model.bodies):
-        return  # (no body without density: nothing to assemble for the check)
-    from stepcontact.fem.assembly import assemble
-    from stepcontact.fem.mass import check_mass
-
-    check_mass(assemble(model), "dynamics" if not stages else
-               f"stage '{stages[0].name}'.dynamics")
-
-
-def _dynamics_not_run(model: Model, res: StaticResult) -> list[dict[str, str]]:
-    """The dynamic intervals the model asks for that the run did not reach (the static
-    program stopped before them: lost equilibrium, or no answer), each with the reason."""
-    why = (f"the load program before it stopped ({res.status.value}: {res.message}); the "
-           "dynamic interval starts from the program's completed last state")
-    out = []
-    done = set(res.dynamics or {})
-    for st in model.stages[:-1]:
-        if st.dynamics is not None and st.name not in done:
-            out.append({"interval": f"dynamics of stage '{st.name}'", "reason": why})
-    if model.dynamics is not None and res.status != Status.COMPLETED:
-        out.append({"interval": "dynamics", "reason": why})
-    return out
 
 
 def _warn(texts: Sequence[str]) -> None:

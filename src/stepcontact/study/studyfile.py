@@ -239,7 +239,7 @@ def _finite(v: float | None) -> float:
 class ModelCase:
     """The case function of a model-file sweep (picklable): apply the case's parameters to a
     deep copy of the model file's TOML dict, build and validate the model, run it as
-    ``stepcontact run`` does (the CLI's own solve functions: the static program, then the
+    ``stepcontact run`` does (:func:`stepcontact.run`: the static program, then the
     ``[dynamics]`` interval when the file has one), write ``results_dir/<id>.nc`` (and
     ``<id>-dynamic.nc``) at the end of the case when ``save_results``, and return the scalar
     ``outputs`` (:data:`MODEL_OUTPUTS`).
@@ -270,9 +270,8 @@ class ModelCase:
         return hashlib.blake2b(blob.encode(), digest_size=8).hexdigest()
 
     def __call__(self, params: dict[str, Scalar]) -> dict[str, Output]:
-        from stepcontact.cli import commands
-        from stepcontact.enums import SlipTreatment, Status
         from stepcontact.io.modelfile import model_from_dict
+        from stepcontact.solver.program import run
 
         case = current_case()
         cid = case.id if case is not None else case_id(params)
@@ -290,11 +289,14 @@ class ModelCase:
             misses = condensation_cache_info()["misses"]
             condensation = cached_condensation(model, self.precision)
             built = condensation_cache_info()["misses"] - misses  # 1: factorised for the case
-        res = commands._solve(model, slip=SlipTreatment(self.slip), eps_p=self.eps_p,
-                              max_events=self.max_events, progress_bar=False,
-                              precision=self.precision, condensation=condensation)
-        if self.save_results:
-            res.save(result_path)
+
+        def save(res) -> None:  # (written before the final dynamic interval runs)
+            if self.save_results:
+                res.save(result_path)
+
+        out = run(model, slip=self.slip, eps_p=self.eps_p, max_events=self.max_events,
+                  precision=self.precision, condensation=condensation, after_static=save)
+        res = out.static
         mu = res.multipliers[-1] if res.multipliers else None
         a_un, a_N, a_Q = (np.abs(getattr(res, n)) for n in ("un", "N", "Q"))
         values: dict[str, Output] = {
@@ -312,8 +314,8 @@ class ModelCase:
             "dynamic_status": "", "dynamic_events": 0,
             "dynamic_first_opening": math.nan, "dynamic_max_un": math.nan,
         }
-        if model.dynamics is not None and res.status == Status.COMPLETED:
-            dres = commands._solve_dynamics(model, res, progress_bar=False)
+        if out.dynamic is not None:
+            dres = out.dynamic
             if self.save_results:
                 dres.save(dyn_path)
             dmu = dres.multipliers[-1] if dres.multipliers else None
