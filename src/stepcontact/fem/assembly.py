@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from stepcontact.contact.geometry import ContactElements, build_contact, chain_order
+from stepcontact.contact.boundary import chain_order, continuum_edges, edge_facets
+from stepcontact.contact.geometry import ContactElements, build_contact
 from stepcontact.errors import ModelError
 from stepcontact.fem import continuum as _fem
 from stepcontact.fem.discrete import assemble_discrete
@@ -226,10 +227,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                     raise ModelError(item, "moment on a node without rotation (not a frame node)")
                 np.add.at(f, d, v)
         elif isinstance(ld, EdgeLoad | EdgeForce):
-            from stepcontact.contact.geometry import _edge_to_facet, continuum_edges
-
             b, edges = continuum_edges(model, ld.nodes, item, "edge loads")
-            facets = _edge_to_facet(b, edges)
+            facets = edge_facets(b, edges)
             if isinstance(ld, EdgeForce):
                 # the total force as a uniform traction F / (L · thickness) over the edges
                 if not (np.isfinite(ld.fx) and np.isfinite(ld.fy)):

@@ -24,6 +24,7 @@ import numpy as np
 from stepcontact.errors import ModelError
 from stepcontact.model import plausible
 from stepcontact.model.bond import Bond
+from stepcontact.model.elements import body_arrays
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.timefunction import MAX_STEPS, check_interval
 
@@ -118,8 +119,6 @@ class Body:
     @classmethod
     def from_mesh(cls, name: str, mesh, element: str, material: Material) -> Body:
         """Build a body from a scikit-fem mesh (``MeshTri``/``MeshQuad`` or their P2 variants)."""
-        from stepcontact.fem.continuum import body_arrays
-
         if element not in ELEMENT_KINDS:
             raise ModelError(f"body '{name}'", f"unknown element '{element}', use {ELEMENT_KINDS}")
         material.check(f"body '{name}'.material")
