@@ -49,9 +49,9 @@ from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
-from stepcontact.results.result import DynamicResult, Event, Multipliers, StaticResult, load_result
+from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
 from stepcontact.solver.condensation import Condensation, condense
-from stepcontact.solver.dynamic import solve_dynamic
+from stepcontact.solver.dynamic import DynamicResult, solve_dynamic
 from stepcontact.solver.static import StepInfo, solve_static
 
 _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",
