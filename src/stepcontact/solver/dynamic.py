@@ -118,7 +118,7 @@ from stepcontact.results.result import (
 from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.rate import RateProblemFailure
-from stepcontact.solver.recovery import Stresses
+from stepcontact.solver.recovery import Stresses as _Stresses
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
 from stepcontact.solver.static import VIOLATION_LIMIT, result_geometry
 
@@ -1935,7 +1935,7 @@ def solve_dynamic(
         u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
         energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
         impulses=_impulse_arrays(impulse_log),
-        _recover=None if system.discrete is not None else Stresses(system),
+        _recover=None if system.discrete is not None else _Stresses(system),
         **({} if stage_arrays is None else {
             "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
             "stage_names": stage_arrays["stage_names"],
