@@ -41,7 +41,9 @@ import numpy as np
 from stepcontact.errors import ModelError
 from stepcontact.model import plausible
 from stepcontact.model.items import EdgeLoad, Interface, Model, NodeSet
-from stepcontact.model.profile import LinearProfile, as_function, finite
+from stepcontact.model.profile import LinearProfile
+from stepcontact.model.profile import as_function as _as_function
+from stepcontact.model.profile import finite as _finite
 
 #: unit weight of fresh water γ_w = ρ_w g, N/m³
 UNIT_WEIGHT_WATER = 9810.0
@@ -156,8 +158,8 @@ class WaterLoad:
 
     def __post_init__(self):
         if self.level is not None:
-            finite(self.level, "water load.level")
-        finite(self.unit_weight, "water load.unit_weight", positive=True)
+            _finite(self.level, "water load.level")
+        _finite(self.unit_weight, "water load.unit_weight", positive=True)
         plausible.warn("unit_weight_water", self.unit_weight, "water load.unit_weight",
                        stacklevel=4)
 
@@ -219,7 +221,7 @@ class Uplift:
         item = f"uplift on interface '{name}'"
         if (self.head is None) == (self.pressure is None):
             raise ModelError(item, "give either head (m of water) or pressure (Pa)")
-        finite(self.unit_weight, f"{item}.unit_weight", positive=True)
+        _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
         if self.through not in ("faces", "cfes"):
             raise ModelError(f"{item}.through", f"'{self.through}' is not 'faces' or 'cfes'")
         self.function()  # checks the spec
@@ -239,8 +241,8 @@ class Uplift:
         """The uplift pressure p(x, y), Pa."""
         item = f"uplift on interface '{self.name}'"
         if self.head is not None:
-            return as_function(self.head, f"{item}.head", float(self.unit_weight))
-        return as_function(self.pressure, f"{item}.pressure", 1.0)
+            return _as_function(self.head, f"{item}.head", float(self.unit_weight))
+        return _as_function(self.pressure, f"{item}.pressure", 1.0)
 
     def edge_loads(self, model: Model | None = None) -> tuple[EdgeLoad, ...]:
         """The load as edge pressures on the S+ and S− faces (what the assembly integrates)."""
@@ -306,9 +308,9 @@ class CrackWater:
     def __post_init__(self):
         item = f"crack water in interface '{self.name}'"
         if self.level is not None:
-            finite(self.level, f"{item}.level")
+            _finite(self.level, f"{item}.level")
         if self.pressure is not None:
-            finite(self.pressure, f"{item}.pressure")
+            _finite(self.pressure, f"{item}.pressure")
             if self.pressure < 0:
                 raise ModelError(f"{item}.pressure", f"is {self.pressure:g} Pa: water in a "
                                  "crack pushes its faces apart, a negative pressure (suction) "
@@ -319,7 +321,7 @@ class CrackWater:
                 raise ModelError(item, "give the water level or the pressure in the crack, "
                                  "not both")
             object.__setattr__(self, "pressure", float(self.pressure))
-        finite(self.unit_weight, f"{item}.unit_weight", positive=True)
+        _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
         plausible.warn("unit_weight_water", self.unit_weight, f"{item}.unit_weight",
                        stacklevel=4)
         if self.entry is not None:
