@@ -386,7 +386,7 @@ def test_run_lam_is_checked_before_solving(tmp_path, no_solver, value, fragment)
 def test_plot_refuses_an_absurd_dpi(tiny_result, tmp_path, monkeypatch):
     nc = tmp_path / "run.nc"  # the result as loaded from it (reading files is tested elsewhere)
     nc.write_bytes(b"")
-    monkeypatch.setattr("stepcontact.results.file.load_result", lambda path: tiny_result)
+    monkeypatch.setattr("stepcontact.results.result.load_result", lambda path: tiny_result)
     out = tmp_path / "big.png"
     result = runner.invoke(app, ["plot", str(nc), "--dpi", "100000", "-o", str(out)])
     assert_one_line_error(result, "plot stresses: dpi=100000: a 850000 × 750000 pixel figure "

@@ -107,7 +107,7 @@ def test_tables_never_truncate_numbers_at_80_columns(tmp_path):
     (formatted as the CLI formats them: λ to 6 digits, forces in kN to 3 decimals); no cell
     ends in '…' after a digit."""
     from stepcontact.cli.commands import _kN
-    from stepcontact.results.file import load_result
+    from stepcontact.results.result import load_result
 
     long_joint = "the joint between the lower and the upper lift"
     text = (STAGED.read_text(encoding="utf-8").replace('"lift joint"', f'"{long_joint}"')

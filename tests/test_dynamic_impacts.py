@@ -186,7 +186,7 @@ def test_a_static_result_file_without_impulse_columns_still_loads(tmp_path):
     """Files written before the impulse columns existed load with impulses 0."""
     res = drop(0.0, duration=0.15)
     ds = res.to_dataset().drop_vars(["event_impulse_n", "event_impulse_t"])
-    from stepcontact.results.file import dataset_to_result
+    from stepcontact.results.result import dataset_to_result
 
     back = dataset_to_result(ds.load())
     assert [e.impulse_n for e in back.events] == [0.0] * len(res.events)

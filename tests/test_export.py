@@ -21,7 +21,7 @@ import verification_models as vm
 from cli_checks import assert_one_line_error
 from stepcontact.cli import app
 from stepcontact.io import export as ex
-from stepcontact.results.file import load_result
+from stepcontact.results.result import load_result
 
 MAT = sc.Material(1e9, 0.25, 2000.0)
 STRESS = ("sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz")

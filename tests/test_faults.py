@@ -26,10 +26,11 @@ from typer.testing import CliRunner
 
 import stepcontact as sc
 from cli_checks import assert_one_line_error
+from stepcontact import atomic
 from stepcontact.cli import app
-from stepcontact.io import atomic
 from stepcontact.io.atomic import OutputLockedError, WriteError, output_lock
-from stepcontact.results.file import ResultWriter, load_result, save_result
+from stepcontact.results.file import ResultWriter, save_result
+from stepcontact.results.result import load_result
 
 SRC = Path(sc.__file__).resolve().parents[1]
 DATA = Path(__file__).resolve().parents[1] / "examples" / "data"

@@ -25,7 +25,7 @@ import verification_models as vm
 from stepcontact.cli import app
 from stepcontact.demo import demo_text
 from stepcontact.io.modelfile import load_model
-from stepcontact.results.file import load_result
+from stepcontact.results.result import load_result
 
 G = 9.81
 RTOL = 1e-10

@@ -22,11 +22,10 @@ from stepcontact.results.file import (
     _EVENT_SPEC,
     _MULT_SPEC,
     ResultWriter,
-    load_result,
     result_to_dataset,
     save_result,
 )
-from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
 
 OPEN, STICK, SP, SN = (int(c) for c in (ContactState.OPEN, ContactState.STICK,
                                           ContactState.SLIP_POS, ContactState.SLIP_NEG))

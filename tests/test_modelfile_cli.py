@@ -641,7 +641,7 @@ def test_run_without_a_physical_answer_exits_3(model_file):
     result = runner.invoke(app, ["run", str(model_file), "--max-events", "1", "--no-plot", "-q"])
     assert result.exit_code == 3, result.output
     assert "status: max_events" in result.stdout
-    from stepcontact.results.file import load_result
+    from stepcontact.results.result import load_result
 
     res = load_result(out)
     assert res.status == Status.MAX_EVENTS and res.to_dataset().attrs["complete"] == 1

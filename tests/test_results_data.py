@@ -11,7 +11,7 @@ import pytest
 
 import stepcontact as sc
 import verification_models as vm
-from stepcontact.results.file import load_result
+from stepcontact.results.result import load_result
 
 
 def test_result_pickles_without_the_factorisation():

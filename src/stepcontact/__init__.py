@@ -49,8 +49,7 @@ from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
-from stepcontact.results.file import load_result
-from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
 from stepcontact.solver.condensation import Condensation, condense
 from stepcontact.solver.dynamic import DynamicResult, solve_dynamic
 from stepcontact.solver.program import ProgramResult, run

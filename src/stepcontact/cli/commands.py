@@ -1278,7 +1278,7 @@ _NEEDS_FIELDS = ("deformed", "load-displacement")
 
 def _load_result_file(path: Path) -> StaticResult:
     """Load a result file; errors are one line naming the file."""
-    from stepcontact.results.file import load_result
+    from stepcontact.results.result import load_result
 
     if not path.is_file():
         raise _Failure(f"result file not found: {path}")

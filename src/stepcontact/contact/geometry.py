@@ -21,8 +21,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from stepcontact.contact.boundary import (
+    chain_order,
+    curve_edges,
+    edge_shape,
+    outward_normals,
+    tributary_lengths,
+)
 from stepcontact.errors import ModelError
-from stepcontact.model import Body, Frame, Interface, Model, NodeSet, RigidObstacle
+from stepcontact.model import Body, Frame, Interface, Model, RigidObstacle
 
 MAX_END_NODES = 3
 
@@ -119,132 +126,6 @@ class ContactElements:
         )
 
 
-# --------------------------------------------------------------------------------------------
-# curves on bodies
-# --------------------------------------------------------------------------------------------
-def curve_edges(body: Body | Frame, ns: NodeSet) -> np.ndarray:
-    """Edges (local node ids; ends first, then mid-side) of a body whose nodes all lie in ``ns``.
-
-    For a continuum these are boundary edges; for a frame, its bars.
-    """
-    edges = body.boundary if isinstance(body, Body) else body.cells
-    inset = np.zeros(body.n_nodes, dtype=bool)
-    inset[ns.index] = True
-    return edges[np.all(inset[edges], axis=1)]
-
-
-def continuum_edges(model: Model, ns: NodeSet, item: str, what: str) -> tuple[Body, np.ndarray]:
-    """The continuum body of node set ``ns`` and its boundary edges in the set (see
-    :func:`curve_edges`), for loads that act on edges (``what``: "edge loads", "water
-    loads", …); a frame or a set with no edge is a ModelError naming ``item``."""
-    b = model.body(ns.body)
-    if not isinstance(b, Body):
-        raise ModelError(item, f"{what} need a continuum body, '{b.name}' is a frame")
-    edges = curve_edges(b, ns)
-    if len(edges) == 0:
-        raise ModelError(f"{item} ({ns.label})", "contains no boundary edge")
-    return b, edges
-
-
-def chain_order(body: Body | Frame, ns: NodeSet) -> tuple[np.ndarray, np.ndarray]:
-    """Nodes of ``ns`` ordered along the curve they form, and their arc length from the start.
-
-    The curve starts at the end nearest to the set's first node.  Nodes of the set that lie on
-    no edge of the set are appended in given order (arc length by straight distance).
-    """
-    edges = curve_edges(body, ns)
-    pts = body.points
-    if len(edges) == 0:
-        idx = ns.index
-        d = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts[idx], axis=0), axis=1))]
-        return idx, d
-    # walk the graph of edge ends (mid-side nodes are placed between their ends)
-    ends = edges[:, :2]
-    adj: dict[int, list[int]] = {}
-    for e, (a, b) in enumerate(ends.tolist()):
-        adj.setdefault(a, []).append(e)
-        adj.setdefault(b, []).append(e)
-    degree_one = [n for n, es in adj.items() if len(es) == 1]
-    first = int(ns.index[0])
-    if degree_one:
-        start = min(degree_one, key=lambda n: np.linalg.norm(pts[n] - pts[first]))
-    else:
-        start = int(ends[0, 0])
-    order = [start]
-    used = np.zeros(len(edges), dtype=bool)
-    cur = start
-    while True:
-        nxt = [e for e in adj[cur] if not used[e]]
-        if not nxt:
-            break
-        e = nxt[0]
-        used[e] = True
-        a, b = ends[e]
-        other = int(b if a == cur else a)
-        if edges.shape[1] > 2:
-            order.append(int(edges[e, 2]))
-        order.append(other)
-        cur = other
-    order_arr = np.array(order, dtype=np.int64)
-    if np.unique(order_arr).size < order_arr.size:  # closed loop: drop the repeated start
-        order_arr = order_arr[:-1]
-    rest = np.setdiff1d(ns.index, order_arr, assume_unique=False)
-    order_arr = np.r_[order_arr, rest[np.argsort([np.flatnonzero(ns.index == r)[0] for r in rest])]]
-    d = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts[order_arr], axis=0), axis=1))]
-    return order_arr, d
-
-
-def tributary_lengths(body: Body | Frame, ns: NodeSet) -> np.ndarray:
-    """∫ φ_i ds over the edges of the set for every body node (0 off the set), m.
-
-    Straight edges: L/2 at each end of a linear edge; L/6, L/6, 2L/3 for a quadratic one.
-    """
-    edges = curve_edges(body, ns)
-    out = np.zeros(body.n_nodes)
-    if len(edges) == 0:
-        return out
-    pts = body.points
-    L = np.linalg.norm(pts[edges[:, 1]] - pts[edges[:, 0]], axis=1)
-    if edges.shape[1] == 2:
-        np.add.at(out, edges[:, 0], L / 2)
-        np.add.at(out, edges[:, 1], L / 2)
-    else:
-        np.add.at(out, edges[:, 0], L / 6)
-        np.add.at(out, edges[:, 1], L / 6)
-        np.add.at(out, edges[:, 2], 2 * L / 3)
-    return out
-
-
-def _outward_normals(body: Body | Frame, edges: np.ndarray) -> np.ndarray | None:
-    """Outward unit normals of continuum boundary edges (None for frames)."""
-    pts = body.points
-    d = pts[edges[:, 1]] - pts[edges[:, 0]]
-    d /= np.linalg.norm(d, axis=1)[:, None]
-    n = np.column_stack([d[:, 1], -d[:, 0]])
-    if not isinstance(body, Body):
-        return None
-    # orient with the centroid of the element owning the edge
-    mesh = body.mesh
-    fac_of_edge = _edge_to_facet(body, edges)
-    elem = mesh.f2t[0, fac_of_edge]
-    centroid = mesh.p[:, mesh.t[:, elem]].mean(axis=1).T
-    mid = 0.5 * (pts[edges[:, 0]] + pts[edges[:, 1]])
-    flip = np.einsum("ij,ij->i", mid - centroid, n) < 0
-    n[flip] *= -1
-    return n
-
-
-def _edge_to_facet(body: Body, edges: np.ndarray) -> np.ndarray:
-    key_b = np.sort(body.boundary[:, :2], axis=1)
-    key_e = np.sort(edges[:, :2], axis=1)
-    nn = body.n_nodes
-    kb = key_b[:, 0] * nn + key_b[:, 1]
-    ke = key_e[:, 0] * nn + key_e[:, 1]
-    order = np.argsort(kb)
-    pos = order[np.searchsorted(kb[order], ke)]
-    return body.boundary_facets[pos]
-
-
 def _to_segments(x: np.ndarray, a: np.ndarray, b: np.ndarray, j: np.ndarray):
     """Closest points of x[i] on the segments [a_j, b_j], j = j[i]: (ξ in [0, 1], distance)."""
     ab = b[j] - a[j]
@@ -284,13 +165,6 @@ def _project(x: np.ndarray, a: np.ndarray, b: np.ndarray):
     first = np.searchsorted(rows[order], np.arange(len(x)))
     pick = order[first]
     return cols[pick], t[pick], d[pick]
-
-
-def _shape(xi: np.ndarray, quadratic: bool) -> np.ndarray:
-    """Edge shape functions at ξ ∈ [0,1]: ends first, then mid-side."""
-    if not quadratic:
-        return np.column_stack([1 - xi, xi])
-    return np.column_stack([(1 - xi) * (1 - 2 * xi), xi * (2 * xi - 1), 4 * xi * (1 - xi)])
 
 
 def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
@@ -344,7 +218,7 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
     L = np.linalg.norm(b - a, axis=1)[seg]
     xi = np.where(xi * L <= tol, 0.0, np.where((1 - xi) * L <= tol, 1.0, xi))
     quad = medges.shape[1] == 3
-    w_m = _shape(xi, quad)
+    w_m = edge_shape(xi, quad)
     n_m = np.zeros((m, MAX_END_NODES), dtype=np.int64) - 1
     n_m[:, : medges.shape[1]] = medges[seg] + off[bm.name]
     wm = np.zeros((m, MAX_END_NODES))
@@ -354,7 +228,7 @@ def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
     if itf.normal is not None:
         nrm = np.tile(np.asarray(itf.normal, float) / np.linalg.norm(itf.normal), (m, 1))
     else:
-        nout = _outward_normals(bm, medges)
+        nout = outward_normals(bm, medges)
         if nout is None:  # frame: orient towards the S+ point
             d = xp - xm
             dist = np.linalg.norm(d, axis=1)
@@ -412,7 +286,7 @@ def _nodal_normals_of_minus(model: Model, itf: Interface, xp: np.ndarray, tol: f
     bm = model.body(itf.minus.body)
     medges = curve_edges(bm, itf.minus)
     seg, _, dist = _project(xp, bm.points[medges[:, 0]], bm.points[medges[:, 1]])
-    nout = _outward_normals(bm, medges)
+    nout = outward_normals(bm, medges)
     if nout is not None:
         return nout[seg]
     k = int(np.argmin(dist))
@@ -441,11 +315,11 @@ def _edge_normals(mbody: Body | Frame, obody: Body | Frame, medges, oedges, pair
     d = pts[medges[:, 1]] - pts[medges[:, 0]]
     d /= np.linalg.norm(d, axis=1)[:, None]
     n = np.column_stack([-d[:, 1], d[:, 0]])
-    out_m = _outward_normals(mbody, medges)
+    out_m = outward_normals(mbody, medges)
     if out_m is not None:
         return -out_m
     sign = np.zeros(len(medges))
-    out_o = _outward_normals(obody, oedges)
+    out_o = outward_normals(obody, oedges)
     if out_o is not None:
         np.add.at(sign, pair_e, np.einsum("ij,ij->i", n[pair_e], out_o[pair_f]))
     else:  # two frames: M lies on the side opposite to the gap
@@ -560,8 +434,8 @@ def _dual_mortar(model: Model, itf: Interface, on_plus: bool, tol: float) -> dic
     xi = lo[:, None] + (hi - lo)[:, None] * tg[None]
     w = ((hi - lo) * Lm)[:, None] * wg[None]
     eta = (xi - xa[:, None]) / (xb - xa)[:, None]
-    phi = _shape(xi.ravel(), medges.shape[1] == 3).reshape(*xi.shape, -1)
-    psi = _shape(eta.ravel(), oedges.shape[1] == 3).reshape(*eta.shape, -1)
+    phi = edge_shape(xi.ravel(), medges.shape[1] == 3).reshape(*xi.shape, -1)
+    psi = edge_shape(eta.ravel(), oedges.shape[1] == 3).reshape(*eta.shape, -1)
     ne_, n_m = len(medges), medges.shape[1]
     phi, dropped = _lump_beyond_ends(medges, e, lo, hi, phi, tol / Lm)
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from stepcontact.contact.geometry import _edge_to_facet, continuum_edges
+from stepcontact.contact.boundary import continuum_edges, edge_facets
 from stepcontact.errors import ModelError
 from stepcontact.fem import continuum as _fem
 from stepcontact.model import Body, EdgeLoad, Model
@@ -62,7 +62,7 @@ def edge_pressure_forces(model: Model, el: EdgeLoad, item: str) -> tuple[Body, n
     """Consistent nodal forces (body-local vector DOFs, N) of the normal pressure of ``el``,
     exact on edges where the pressure has kinks it declares (``el.normal.breaks``)."""
     b, edges = continuum_edges(model, el.nodes, item, "water loads")
-    facets = _edge_to_facet(b, edges)
+    facets = edge_facets(b, edges)
     p = el.normal
     a, c = b.points[edges[:, 0]], b.points[edges[:, 1]]
     brk = p.breaks(a, c) if hasattr(p, "breaks") else [np.zeros(0)] * len(edges)

@@ -11,15 +11,16 @@ w = B u + w⁰ with rows 0..m-1 = u_τ and rows m..2m-1 = u_n
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 import scipy.sparse as sp
 
-from stepcontact.contact.geometry import ContactElements, build_contact, chain_order
+from stepcontact.contact.boundary import chain_order, continuum_edges, edge_facets
+from stepcontact.contact.geometry import ContactElements, build_contact
 from stepcontact.errors import ModelError
 from stepcontact.fem import continuum as _fem
+from stepcontact.fem.discrete import assemble_discrete
 from stepcontact.fem.level import is_level_pattern, level_basis
+from stepcontact.fem.system import DofMap, LoadVectors, System, reaction_rows
 from stepcontact.model import (
     Body,
     BodyForce,
@@ -34,91 +35,6 @@ from stepcontact.model import (
 )
 
 _DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
-
-
-@dataclass(frozen=True, eq=False)
-class DofMap:
-    """Global DOF numbers: ``of[node, c]`` for c = x, y, rz (−1 where the node has none)."""
-
-    of: np.ndarray
-    ndof: int
-
-    def nodes(self, nodes: np.ndarray, c: int) -> np.ndarray:
-        return self.of[nodes, c]
-
-    def node_of(self) -> np.ndarray:
-        """The node of every DOF (ndof,)."""
-        out = np.full(self.ndof, -1)
-        has = self.of >= 0
-        out[self.of[has]] = np.nonzero(has)[0]
-        return out
-
-
-@dataclass(frozen=True, eq=False)
-class LoadVectors:
-    """A load pattern as vectors: forces ``f`` (N, per unit λ) and prescribed displacements
-    ``u`` (m, per unit λ, nonzero only on prescribed DOFs listed in ``dofs``)."""
-
-    f: np.ndarray
-    u: np.ndarray
-    dofs: np.ndarray
-
-
-@dataclass(frozen=True, eq=False)
-class System:
-    """The assembled linear system of a model (input to the solvers).
-
-    Attributes
-    ----------
-    model : Model
-    dofs : DofMap
-    K : csr_matrix (ndof, ndof)
-        Stiffness of bodies, frames and springs, N/m.
-    fixed : (ndof,) bool
-        DOFs with a support or a prescribed displacement.
-    loads : dict[str, LoadVectors]
-    cfe : ContactElements
-    B : csr_matrix (2m, ndof)
-        Contact operator, w = B u + w0, rows [u_τ; u_n].
-    w0 : (2m,) float
-        [0; −g⁰].
-    reaction_rows : csr_matrix (n_r, ndof)
-        Row r sums the DOFs of one reaction resultant (a support's x, y or rz DOFs; the DOFs a
-        load pattern prescribes): R = reaction_rows · (K u + Bᵀ s − f).
-    reaction_labels : tuple of str
-        ``"support:x"``, ``"support:y"``, ``"support:rz"``, ``"pattern (prescribed):x"`` …
-    levels : dict[str, LevelBasis]
-        Patterns whose factor is a water level, with their virtual patterns (which ``loads``
-        also holds, see :mod:`stepcontact.fem.level`).
-    discrete : DiscreteModel or None
-        The discrete model a system was built from (:mod:`stepcontact.fem.discrete`): then
-        ``model`` has no bodies (only its load patterns and program), the DOFs belong to no
-        node and the CFEs have no geometry.
-    crack : CrackWaterData or None
-        Water in the opened parts of joints (:mod:`stepcontact.fem.crack`), None without.
-    """
-
-    model: Model
-    dofs: DofMap
-    K: sp.csr_matrix
-    fixed: np.ndarray
-    loads: dict
-    cfe: ContactElements
-    B: sp.csr_matrix
-    w0: np.ndarray
-    reaction_rows: sp.csr_matrix | None = None
-    reaction_labels: tuple[str, ...] = ()
-    levels: dict = field(default_factory=dict)
-    discrete: object | None = None
-    crack: object | None = None
-
-    @property
-    def ndof(self) -> int:
-        return self.dofs.ndof
-
-    @property
-    def m(self) -> int:
-        return self.cfe.m
 
 
 def scatter(rows: np.ndarray, cols: np.ndarray, vals: np.ndarray, shape) -> sp.csr_matrix:
@@ -311,10 +227,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                     raise ModelError(item, "moment on a node without rotation (not a frame node)")
                 np.add.at(f, d, v)
         elif isinstance(ld, EdgeLoad | EdgeForce):
-            from stepcontact.contact.geometry import _edge_to_facet, continuum_edges
-
             b, edges = continuum_edges(model, ld.nodes, item, "edge loads")
-            facets = _edge_to_facet(b, edges)
+            facets = edge_facets(b, edges)
             if isinstance(ld, EdgeForce):
                 # the total force as a uniform traction F / (L · thickness) over the edges
                 if not (np.isfinite(ld.fx) and np.isfinite(ld.fy)):
@@ -503,8 +417,6 @@ def assemble(model: Model | DiscreteModel) -> System:
     :class:`~stepcontact.model.DiscreteModel` is taken as it is
     (:func:`stepcontact.fem.discrete.assemble_discrete`)."""
     if isinstance(model, DiscreteModel):
-        from stepcontact.fem.discrete import assemble_discrete
-
         return assemble_discrete(model)
     if not model.bodies:
         raise ModelError("model", "has no body")
@@ -561,7 +473,7 @@ def assemble(model: Model | DiscreteModel) -> System:
     if not fixed.any() and cfe.m == 0 and not any(sp_.b is None for sp_ in model.springs):
         raise ModelError("model", "has no supports and no contact: it is free to move")
     _check_restrained(model, dofs, K, B, fixed, cfe)
-    rows, labels = _reaction_rows(groups, dofs.ndof)
+    rows, labels = reaction_rows(groups, dofs.ndof)
     from stepcontact.fem.crack import crack_water
 
     crack = crack_water(model, cfe, levels)
@@ -578,25 +490,6 @@ def uplift_through_cfes(cfe, B: sp.csr_matrix, ld) -> np.ndarray:
         raise ModelError(f"uplift on interface '{ld.name}'", "pressure function gives NaN "
                          "or inf")
     return -(B[cfe.m + k].T @ (cfe.area[k] * p))
-
-
-def _reaction_rows(groups: list[tuple[str, np.ndarray]], ndof: int):
-    """0/1 rows summing each group's DOFs; a DOF in several groups counts in the first only."""
-    seen = np.zeros(ndof, dtype=bool)
-    r, c, labels = [], [], []
-    for label, d in groups:
-        d = np.unique(d[~seen[d]])
-        if d.size == 0:
-            continue
-        seen[d] = True
-        r.append(np.full(d.size, len(labels)))
-        c.append(d)
-        labels.append(label)
-    if not labels:
-        return sp.csr_matrix((0, ndof)), ()
-    r_all, c_all = np.concatenate(r), np.concatenate(c)
-    rows = sp.csr_matrix((np.ones(r_all.size), (r_all, c_all)), shape=(len(labels), ndof))
-    return rows, tuple(labels)
 
 
 def _check_restrained(model: Model, dofs: DofMap, K, B, fixed,

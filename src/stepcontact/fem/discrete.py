@@ -1,5 +1,5 @@
 """Assembly of a :class:`~stepcontact.model.discrete.DiscreteModel`: its matrices as a
-:class:`~stepcontact.fem.assembly.System`, the input of the same solvers.
+:class:`~stepcontact.fem.system.System`, the input of the same solvers.
 
 The contact operator stacks the rows as w = B u + w⁰ with B = [T; −A] (T the tangent rows, A
 the normal rows) and w⁰ = [0; −g⁰], so u_τ = T u and u_n = −A u − g⁰ as for the CFEs of a
@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from stepcontact.contact.geometry import ContactElements
-from stepcontact.fem.assembly import DofMap, LoadVectors, System, _reaction_rows
+from stepcontact.fem.system import DofMap, LoadVectors, System, reaction_rows
 from stepcontact.model.discrete import DiscreteModel
 
 
@@ -57,6 +57,6 @@ def assemble_discrete(dm: DiscreteModel) -> System:
         loads[p] = LoadVectors(f, u, dofs)
     B = sp.vstack([dm.tangent_rows, -dm.normal_rows]).tocsr() if m else sp.csr_matrix((0, n))
     w0 = np.r_[np.zeros(m), -dm.gaps]
-    rows, labels = _reaction_rows(groups, n)
+    rows, labels = reaction_rows(groups, n)
     return System(dm.as_model(), DofMap(np.zeros((0, 3), dtype=np.int64), n), dm.K.copy(),
                   fixed, loads, discrete_contact(dm), B, w0, rows, labels, discrete=dm)

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.contact.geometry import _outward_normals, _shape, continuum_edges
+from stepcontact.contact.boundary import continuum_edges, edge_shape, outward_normals
 from stepcontact.model import LoadPattern, Model
 
 #: Gauss–Legendre points on the wetted part of an edge: the integrand φ_i (h − y) has degree
@@ -110,7 +110,7 @@ class LevelBasis:
             if sel.size == 0:
                 continue
             e = self.edge[sel]
-            phi = _shape(t[e].ravel(), quad).reshape(len(sel), t.shape[1], -1)
+            phi = edge_shape(t[e].ravel(), quad).reshape(len(sel), t.shape[1], -1)
             phi_i = phi[np.arange(len(sel)), :, self.node[sel]]
             out[sel] = np.einsum("pq,pq->p", w[e] * head[e], phi_i)
         return out
@@ -148,7 +148,7 @@ def level_basis(model: Model, dofs, pattern: LoadPattern) -> LevelBasis:
         if not getattr(ld, "follows_level", False):
             continue  # proportional to the level: the pattern's own load vector
         b, edges = continuum_edges(model, ld.nodes, item, "water loads")
-        nout = _outward_normals(b, edges)
+        nout = outward_normals(b, edges)
         pts = b.points
         L = np.linalg.norm(pts[edges[:, 1]] - pts[edges[:, 0]], axis=1)
         k = edges.shape[1]

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.errors import ModelError
+from stepcontact.model.profile import as_function
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,9 +122,7 @@ class Bond:
     def function(self, key: str):
         """The strength ``key`` ("tensile", "shear" or "residual_cohesion") as a function
         v(x, y), Pa."""
-        from stepcontact.model.water import _as_function
-
-        return _as_function(getattr(self, key), f"bond.{key}", 1.0)
+        return as_function(getattr(self, key), f"bond.{key}", 1.0)
 
     def arrays(self, x: np.ndarray, area: np.ndarray, item: str) -> np.ndarray:
         """The law's bond columns (k, 5) — N_R, Q_R (N), α_R, 1/α_t, C_r A (N) — of CFEs at

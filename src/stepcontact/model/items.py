@@ -23,6 +23,8 @@ import numpy as np
 
 from stepcontact.errors import ModelError
 from stepcontact.model import plausible
+from stepcontact.model.bond import Bond
+from stepcontact.model.elements import body_arrays
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.timefunction import MAX_STEPS, check_interval
 
@@ -117,8 +119,6 @@ class Body:
     @classmethod
     def from_mesh(cls, name: str, mesh, element: str, material: Material) -> Body:
         """Build a body from a scikit-fem mesh (``MeshTri``/``MeshQuad`` or their P2 variants)."""
-        from stepcontact.fem.continuum import body_arrays
-
         if element not in ELEMENT_KINDS:
             raise ModelError(f"body '{name}'", f"unknown element '{element}', use {ELEMENT_KINDS}")
         material.check(f"body '{name}'.material")
@@ -633,8 +633,6 @@ class Interface:
     def __post_init__(self):
         item = f"interface '{self.name}'"
         if self.bond is not None:
-            from stepcontact.model.bond import Bond
-
             if not isinstance(self.bond, Bond):
                 raise ModelError(f"{item}.bond", f"must be a Bond, got {type(self.bond).__name__}")
         if self.cfe not in CFE_KINDS:
@@ -834,9 +832,9 @@ class Model:
     # ---- construction -----------------------------------------------------------------------
     def add(self, *items) -> Model:
         """Return a new model with ``items`` added (bodies, frames, supports, ties, springs,
-        interfaces, load patterns, segments, stages), dispatched on their type."""
-        from stepcontact.model.stages import Stage
-
+        interfaces, load patterns, segments, stages), dispatched on their type: one of this
+        module's, or a type that names its field of the model in ``model_field`` (a
+        :class:`~stepcontact.model.Stage`, whose module builds on this one)."""
         groups: dict[str, list] = {
             k: list(getattr(self, k))
             for k in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program",
@@ -851,10 +849,9 @@ class Model:
             Interface: "interfaces",
             LoadPattern: "patterns",
             Segment: "program",
-            Stage: "stages",
         }
         for it in items:
-            key = kinds.get(type(it))
+            key = kinds.get(type(it)) or getattr(type(it), "model_field", None)
             if isinstance(it, RigidObstacle | ObstacleMotion):
                 raise ModelError("model.add", f"obstacle '{it.name}' enters a model as the minus "
                                  "side of an Interface (and its motion as a load of a "

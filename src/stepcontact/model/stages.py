@@ -11,8 +11,11 @@ the zero of the CFEs made at once (:mod:`stepcontact.solver.staging`).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 from stepcontact.errors import ModelError
+from stepcontact.model.bond import Bond
+from stepcontact.model.items import DynamicInterval, Segment
 
 
 @dataclass(frozen=True, eq=False)
@@ -60,11 +63,10 @@ class Stage:
     remove_supports: tuple[str, ...] = ()
     grout: dict = field(default_factory=dict)
     dynamics: object = None
+    #: the field of :class:`~stepcontact.model.Model` a stage goes into (``Model.add``)
+    model_field: ClassVar[str] = "stages"
 
     def __post_init__(self):
-        from stepcontact.model.bond import Bond
-        from stepcontact.model.items import DynamicInterval, Segment
-
         item = f"stage '{self.name}'"
         for key in ("program", "bodies", "interfaces", "contacts", "supports",
                     "remove_supports"):

@@ -63,10 +63,16 @@ import numpy as np
 import xarray as xr
 
 from stepcontact import enums as _enums
+from stepcontact.atomic import write_netcdf
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.fem.assembly import LOAD_MOMENT_COMPONENTS
-from stepcontact.io.atomic import write_netcdf
-from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.interrupt import deferred
+from stepcontact.results.events import Event, Multipliers
+
+#: a :class:`~stepcontact.results.result.StaticResult` or a
+#: :class:`~stepcontact.results.result.DynamicResult`, read here through its attributes (the
+#: result types build on this module for their ``save``, ``load`` and ``to_dataset``)
+Result = Any
 
 FORMAT = "stepcontact-static-result"
 FORMAT_VERSION = 1
@@ -234,7 +240,7 @@ def _flag_attrs(dtype: np.dtype) -> dict[str, Any]:
     }
 
 
-def result_to_dataset(res: StaticResult) -> xr.Dataset:
+def result_to_dataset(res: Result) -> xr.Dataset:
     """The result as an :class:`xarray.Dataset` (the content of a result file).
 
     Parameters
@@ -659,10 +665,11 @@ def _dynamic_parts(ds: xr.Dataset) -> dict[str, Any]:
             **({"impulses": impulses} if impulses else {})}
 
 
-def dataset_to_result(ds: xr.Dataset) -> StaticResult:
-    """Inverse of :func:`result_to_dataset` (``ds`` must be loaded in memory).  A dataset
-    whose arrays do not fit together raises a ValueError naming the variable
-    (:func:`check_dataset`)."""
+def dataset_arguments(ds: xr.Dataset) -> tuple[bool, dict[str, Any]]:
+    """Whether ``ds`` holds a dynamic result, and the keyword arguments of its result type
+    (:func:`stepcontact.results.result.dataset_to_result`, the inverse of
+    :func:`result_to_dataset`; ``ds`` must be loaded in memory).  A dataset whose arrays do
+    not fit together raises a ValueError naming the variable (:func:`check_dataset`)."""
     if ds.attrs.get("format") != FORMAT:
         raise ValueError("not a stepcontact static result (attribute 'format' missing)")
     if int(ds.attrs["format_version"]) > FORMAT_VERSION:
@@ -736,13 +743,7 @@ def dataset_to_result(ds: xr.Dataset) -> StaticResult:
             geometry[key] = geo_extra[key]
 
     dyn = _dynamic_parts(ds)
-    if dyn:
-        from stepcontact.solver.dynamic import DynamicResult
-
-        cls = DynamicResult
-    else:
-        cls = StaticResult
-    return cls(
+    return bool(dyn), dict(
         pattern_names=tuple(strs("pattern")),
         segments=segments,
         cfe=cfe,
@@ -796,13 +797,13 @@ def _stage_fields(ds, arr) -> dict:
 # --------------------------------------------------------------------------------------------
 # files
 # --------------------------------------------------------------------------------------------
-def save_result(res: StaticResult, path: str | os.PathLike[str],
+def save_result(res: Result, path: str | os.PathLike[str],
                 attrs: dict[str, str] | None = None) -> Path:
     """Write ``res`` to ``path`` (netCDF4/HDF5, engine ``h5netcdf``) atomically.
 
     The file is made in memory, the free space checked for it, then written to a temporary
     file next to ``path`` which replaces ``path`` with :func:`os.replace`; if writing fails
-    (a full disk: :class:`~stepcontact.io.atomic.WriteError` naming the file) the temporary
+    (a full disk: :class:`~stepcontact.atomic.WriteError` naming the file) the temporary
     file is removed and an existing file at ``path`` is left untouched.  Parent directories
     are created.  ``attrs``: extra attributes of the file (strings, e.g. ``model_file``).
 
@@ -820,16 +821,16 @@ def save_result(res: StaticResult, path: str | os.PathLike[str],
     return path
 
 
-def load_result(path: str | os.PathLike[str]) -> StaticResult:
-    """Load a result written by :func:`save_result` (exact inverse; ``_recover`` is None)."""
+def read_dataset(path: str | os.PathLike[str]) -> xr.Dataset:
+    """The dataset of a result file written by :func:`save_result`, loaded in memory (the
+    result: :func:`stepcontact.results.result.load_result`)."""
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"path '{path}': no such result file")
     with xr.open_dataset(
         path, engine="h5netcdf", decode_times=False, decode_timedelta=False
     ) as ds:
-        ds = ds.load()
-    return dataset_to_result(ds)
+        return ds.load()
 
 
 def result_attrs(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -849,7 +850,7 @@ class ResultWriter:
     """Solver hook that writes the result as the run goes (atomically each time).
 
     The file holds every state finished so far, with status ``incomplete`` until the run ends;
-    an interrupted run (Ctrl-C, SIGTERM under :func:`stepcontact.io.interrupt.signals_interrupt`)
+    an interrupted run (Ctrl-C, SIGTERM under :func:`stepcontact.interrupt.signals_interrupt`)
     writes what it has.  Writes come at segment ends and, within a long segment, after the
     event at which ``interval`` seconds of wall time have passed since the last write
     (:meth:`checkpoint_due`): a run killed outright loses at most about ``interval`` seconds
@@ -901,7 +902,7 @@ class ResultWriter:
         self._final: tuple | None = None  # (states, events, status, message) of a final write
 
     @staticmethod
-    def _key(result: StaticResult) -> tuple:
+    def _key(result: Result) -> tuple:
         return len(result.lam), len(result.events), str(result.status), result.message
 
     def _wait(self) -> float:
@@ -911,9 +912,7 @@ class ResultWriter:
         share = self._cost * (1.0 - self.max_share) / self.max_share
         return max(self.min_interval, min(share, self.interval))
 
-    def _write(self, result: StaticResult) -> None:
-        from stepcontact.io.interrupt import deferred
-
+    def _write(self, result: Result) -> None:
         t0 = time.monotonic()
         with deferred():  # a SIGTERM waits until the file is whole
             save_result(result, self.path, **({"attrs": self.attrs} if self.attrs else {}))
@@ -924,7 +923,7 @@ class ResultWriter:
             final = Status(result.status) != Status.INCOMPLETE
             self._final = self._key(result) if final else None
 
-    def after_segment(self, result: StaticResult) -> None:
+    def after_segment(self, result: Result) -> None:
         """Save ``result`` (the run up to the end of the segment just finished)."""
         final = Status(result.status) != Status.INCOMPLETE
         if final or time.monotonic() - self._last >= self._wait():
@@ -935,15 +934,15 @@ class ResultWriter:
         :meth:`checkpoint` with the run so far)."""
         return time.monotonic() - max(self._last, self._start) >= self._wait()
 
-    def checkpoint(self, result: StaticResult) -> None:
+    def checkpoint(self, result: Result) -> None:
         """Save ``result`` (the run up to the last event, status ``incomplete``)."""
         self._write(result)
 
-    def interrupted(self, result: StaticResult) -> None:
+    def interrupted(self, result: Result) -> None:
         """The run was interrupted: keep what it has."""
         self._write(result)
 
-    def finish(self, result: StaticResult) -> None:
+    def finish(self, result: Result) -> None:
         """The run has ended: write the complete result (unless the last segment's hook has
         written it already: the same states, events, status and message)."""
         if self._final != self._key(result):
@@ -960,8 +959,9 @@ class ResultWriter:
 __all__ = [
     "WRITE_INTERVAL",
     "ResultWriter",
-    "dataset_to_result",
-    "load_result",
+    "check_dataset",
+    "dataset_arguments",
+    "read_dataset",
     "result_attrs",
     "result_to_dataset",
     "save_result",

@@ -18,6 +18,14 @@ import numpy as np
 
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.fem.level import VIRTUAL, is_virtual
+from stepcontact.results.events import Event, Multipliers
+from stepcontact.results.file import (
+    dataset_arguments,
+    read_dataset,
+    result_to_dataset,
+    save_result,
+)
+from stepcontact.results.safety import interface_safety
 
 #: a model is the one of a result when a stored displacement field, recomputed from its contact
 #: unknowns, agrees to this (relative to the largest displacement) ...
@@ -30,70 +38,24 @@ RECOVERY_RTOL = 1e-6
 RECOVERY_RESIDUAL = 1e-8
 
 
-@dataclass(frozen=True)
-class Event:
-    """One CFE changing state.
-
-    Attributes
-    ----------
-    step : int
-        Number of the main step (event point) in the run, from 1.
-    state : int
-        Index of the reported state at this event point.
-    segment : int
-        Load-program segment.
-    pattern : str
-        Load pattern of that segment.
-    lam : float
-        Load factor of that pattern at the event.
-    cfe : int
-        Global CFE index.
-    interface : str
-        Interface name.
-    local : int
-        Index of the CFE along its interface.
-    position : float
-        Arc length along the interface, m.
-    x, y : float
-        Coordinates of the CFE's S+ end, m.
-    transition : Transition
-    N, Q : float
-        Normal and tangential force at the event, N (N ≤ 0 compression).
-    impulse_n, impulse_t : float
-        Normal and tangential impulse of an impact on the CFE at the event (dynamics, rigid
-        contact closing), N·s (per metre of thickness in plane strain), in the sign
-        convention of N and Q (impulse_n ≤ 0 compressive); 0 at other events.
-    """
-
-    step: int
-    state: int
-    segment: int
-    pattern: str
-    lam: float
-    cfe: int
-    interface: str
-    local: int
-    position: float
-    x: float
-    y: float
-    transition: Transition
-    N: float
-    Q: float
-    impulse_n: float = 0.0
-    impulse_t: float = 0.0
+#: the solver's field recovery, ``recover(result, model)``: results know no solver, the solver
+#: provides it (:func:`stepcontact.solver.recovery.recover_fields`, given here by
+#: :func:`provide_field_recovery` when :mod:`stepcontact.solver` is imported, as
+#: ``import stepcontact`` does)
+_FIELD_RECOVERY: list[Callable] = []
 
 
-@dataclass(frozen=True)
-class Multipliers:
-    """Stability multipliers of one load segment (load factors of its pattern, None if the
-    thing did not happen in the segment)."""
+def provide_field_recovery(recover: Callable) -> None:
+    """Make ``recover(result, model)`` the field recovery of :meth:`StaticResult.recover_fields`
+    (the solver's: :mod:`stepcontact.solver.recovery`)."""
+    _FIELD_RECOVERY[:] = [recover]
 
-    segment: int
-    pattern: str
-    first_slip: float | None = None
-    first_opening: float | None = None
-    first_closing: float | None = None
-    equilibrium_lost: float | None = None
+
+def field_recovery() -> Callable:
+    """The field recovery the solver provided (:func:`provide_field_recovery`)."""
+    if not _FIELD_RECOVERY:
+        raise RuntimeError("no field recovery: import stepcontact (its solver recovers fields)")
+    return _FIELD_RECOVERY[0]
 
 
 @dataclass
@@ -213,7 +175,7 @@ class StaticResult:
     stage_bodies: tuple[tuple[str, ...], ...] = ()
     #: the dynamic intervals of stages before the last (:class:`~stepcontact.model.Stage`
     #: ``dynamics``), by stage name: each a
-    #: :class:`~stepcontact.solver.dynamic.DynamicResult` (time axis, velocities, energy
+    #: :class:`DynamicResult` (time axis, velocities, energy
     #: ledger, its events located in time).  The path of this result holds the state where
     #: each interval ends (kind ``dynamics``) in the segment ``"<stage>: settle after
     #: dynamics"`` that follows it.  In memory (the CLI writes each to its own file)
@@ -247,81 +209,13 @@ class StaticResult:
         :data:`RECOVERY_RTOL`, or else the stored field in this model's equilibrium with the
         stored contact forces to :data:`RECOVERY_RESIDUAL` (a tolerance scaled to the model:
         its conditioning does not enter); otherwise ValueError.  A staged run stores the field of
-        every state and needs no recovery: nothing is done.
+        every state and needs no recovery: nothing is done.  A :class:`DynamicResult` stores
+        the displacements of every state: its model gives the stresses.
+
+        Recovering fields is the solver's: this is
+        :func:`stepcontact.solver.recovery.recover_fields` (``recover_fields(res, model)``).
         """
-        from stepcontact.fem.assembly import System, assemble
-        from stepcontact.solver.condensation import Condensed
-        from stepcontact.solver.static import FieldRecovery
-
-        if self.stage is not None and all(i in self.fields for i in range(self.n_states)):
-            return  # a staged run stores every field (its stages' systems differ): nothing to do
-        system = model if isinstance(model, System) else assemble(model)
-        if system.m != self.m:
-            raise ValueError(f"the model has {system.m} CFEs, the result {self.m}")
-        if set(system.loads) != set(self.pattern_names):
-            raise ValueError(f"the model's load patterns ({', '.join(system.loads) or 'none'}) "
-                             f"are not the result's ({', '.join(self.pattern_names) or 'none'})")
-        if self.fields:
-            ndof = len(next(iter(self.fields.values())))
-            if system.ndof != ndof:
-                raise ValueError(f"the model has {system.ndof} DOFs, the result's fields {ndof}")
-        cond = Condensed.from_system(system)
-        recovery = FieldRecovery.of_result(cond, self)
-        if self.fields:  # the same structure: a stored field is recomputed exactly
-            i = self._check_state()
-            ref = np.asarray(self.fields[i], dtype=float)
-            u = recovery(i)
-            scale = max(float(np.abs(ref).max(initial=0)), float(np.abs(u).max(initial=0)))
-            err = float(np.abs(u - ref).max(initial=0)) / scale if scale > 0 else 0.0
-            if err > RECOVERY_RTOL:
-                res = self._stored_residual(cond, recovery, i, ref)
-                tol = self._residual_tolerance(i)
-                if not res <= tol:
-                    raise ValueError(
-                        f"the model is not the one of this result: the displacement field "
-                        f"recomputed at state {i} differs from the stored one by {err:.1e} "
-                        f"(relative), and the stored field is out of this model's "
-                        f"equilibrium by {res:.1e} (relative; the run's own: "
-                        f"{self._run_residual(i):.1e}, allowed {tol:.1e})")
-        self._recover = recovery
-
-    def _check_state(self) -> int:
-        """The stored state whose field :meth:`recover_fields` recomputes to check the model:
-        the largest stored field, leaving out the last state of a run that stopped (lost
-        equilibrium, cycling, …) unless no other stored field is nonzero.  A run can stop
-        while broken bonds still transmit part of their forces (eq. (12): the release at fixed
-        λ, followed from event to event): its last field carries those forces, which are not
-        among the recorded contact forces, so it is not recomputed from them (the stored field
-        is the one used for that state)."""
-        def size(k: int) -> float:
-            return float(np.abs(self.fields[k]).max(initial=0))
-
-        last = self.n_states - 1
-        stopped = self.status not in (Status.COMPLETED, Status.INCOMPLETE)
-        states = [k for k in self.fields if not (stopped and k == last)]
-        if not states or max(size(k) for k in states) == 0.0:
-            states = list(self.fields)
-        return max(states, key=size)
-
-    def _run_residual(self, i: int) -> float:
-        r = getattr(self, "residual", None)
-        return float(r[i]) if r is not None and len(r) > i and np.isfinite(r[i]) else 0.0
-
-    def _residual_tolerance(self, i: int) -> float:
-        """The residual a stored field may show in the model of its run: 100 × the run's own
-        residual at that state (the round-off of that model's factorisation), at least
-        :data:`RECOVERY_RESIDUAL`."""
-        return max(RECOVERY_RESIDUAL, 100.0 * self._run_residual(i))
-
-    def _stored_residual(self, cond, recovery, i: int, u: np.ndarray) -> float:
-        """Relative equilibrium residual ‖K u + Bᵀ s − f‖ / max(‖K u‖, ‖Bᵀ s‖, ‖f‖) of the
-        stored field ``u`` of state ``i`` with its stored contact forces, in the model of
-        ``cond`` (:meth:`Condensed.check`): a backward error, free of the model's
-        conditioning."""
-        factors, s, w = recovery.unknowns(np.array([i]))
-        c = {n: float(np.asarray(v).ravel()[0]) for n, v in factors.items()}
-        res, _ = cond.check(c, np.asarray(s)[0], np.asarray(w)[0], u)
-        return res
+        field_recovery()(self, model)
 
     # ---- convenience -----------------------------------------------------------------------
     #: the path axis of the states: the load factor of the active segment here; a time (s) or
@@ -967,29 +861,22 @@ class StaticResult:
         heel (default: the first CFE); ``cohesion``: a design cohesion, Pa, replacing the
         joint's own.
         """
-        from stepcontact.results.safety import interface_safety
-
         return interface_safety(self, interface, design, heel=heel, cohesion=cohesion,
                                 pattern=pattern)
 
     # ---- I/O (implemented in stepcontact.results.file) ------------------------------------
     def to_dataset(self):
         """The result as an :class:`xarray.Dataset` (what is written to the result file)."""
-        from stepcontact.results.file import result_to_dataset
-
         return result_to_dataset(self)
 
     def save(self, path) -> None:
         """Write the result atomically to a netCDF4/HDF5 file."""
-        from stepcontact.results.file import save_result
-
         save_result(self, path)
 
     @classmethod
     def load(cls, path) -> StaticResult:
-        """Load a result written by :meth:`save`."""
-        from stepcontact.results.file import load_result
-
+        """Load a result written by :meth:`save` (a :class:`DynamicResult` for a dynamic
+        run)."""
         return load_result(path)
 
     def cfe_history(self, *, as_frame: bool = False):
@@ -1081,6 +968,92 @@ _HISTORY_NAMES = {
 }
 
 
+#: the energy ledger's columns (J per metre of thickness in plane strain)
+ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "fracture",
+                "numerical", "error")
+
+
+@dataclass
+class DynamicResult(StaticResult):
+    """A dynamic run: a :class:`StaticResult` whose path axis ``lam`` is the time t (s).
+
+    Extra attributes: ``u``, ``v``, ``a`` (n_states, ndof) displacements, velocities and
+    accelerations at every reported state (m, m/s, m/s²); ``energy`` {term: (n_states,)} the
+    energy ledger (J; :data:`ENERGY_TERMS`); ``dt`` the time step (s); ``impulses`` the
+    impulses of the impacts, one entry per CFE and impact: {"state", "time" (s), "cfe",
+    "normal", "tangential" (N·s per metre of thickness; the sign convention of N and Q:
+    normal ≤ 0 compressive)} — the CFEs that close at the impact carry theirs on their
+    events too (``Event.impulse_n``, ``impulse_t``), the others (closed before) only here;
+    :meth:`impacts` sums them per impact.  :meth:`extremes` gives the largest values of
+    the recorded quantities (u, v, a of every DOF, N, Q …) and their times."""
+
+    u: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    v: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    a: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    energy: dict[str, np.ndarray] = field(default_factory=dict)
+    dt: float = 0.0
+    impulses: dict[str, np.ndarray] = field(default_factory=lambda: {
+        "state": np.zeros(0, np.int64), "time": np.zeros(0), "cfe": np.zeros(0, np.int64),
+        "normal": np.zeros(0), "tangential": np.zeros(0)})
+
+    #: the path axis of the states is the time (s)
+    path_axis = "time"
+
+    @property
+    def time(self) -> np.ndarray:
+        """Time of every state, s."""
+        return self.lam
+
+    def velocities(self, states=None) -> np.ndarray:
+        idx = np.arange(self.n_states) if states is None else np.asarray(states)
+        return self.v[idx]
+
+    def impacts(self):
+        """The impacts of the run, one row per impact (a :class:`pandas.DataFrame`):
+        ``time`` (s), ``state`` (the reported state after it), ``cfes`` (how many CFEs took
+        an impulse), ``normal`` and ``tangential`` — the total impulses on the contacts,
+        N·s per metre of thickness (normal ≤ 0 compressive, as N).  Per CFE:
+        :attr:`impulses`."""
+        import pandas as pd
+
+        imp = {k: np.asarray(v) for k, v in self.impulses.items()}
+        df = pd.DataFrame({k: imp[k] for k in ("state", "time", "cfe", "normal",
+                                               "tangential")})
+        out = df.groupby(["state", "time"], sort=True).agg(
+            cfes=("cfe", "size"), normal=("normal", "sum"), tangential=("tangential", "sum"))
+        return out.reset_index()[["time", "state", "cfes", "normal", "tangential"]]
+
+    def _extreme_quantities(self) -> tuple[str, ...]:
+        return ("u", "v", "a") + super()._extreme_quantities()
+
+    def _extreme_history(self, quantity: str, nodes=None, *, point=None, body=None, dof=None):
+        if quantity in ("u", "v", "a"):
+            return getattr(self, quantity)
+        return super()._extreme_history(quantity, nodes, point=point, body=body, dof=dof)
+
+    def displacement(self, i: int) -> np.ndarray:
+        return self.u[i]
+
+    def displacements(self, states=None) -> np.ndarray:
+        idx = np.arange(self.n_states) if states is None else np.asarray(states)
+        return self.u[idx]
+
+
+def dataset_to_result(ds) -> StaticResult:
+    """Inverse of :func:`~stepcontact.results.file.result_to_dataset`: a :class:`StaticResult`,
+    or a :class:`DynamicResult` for a dynamic run (``ds`` must be loaded in memory).  A dataset
+    whose arrays do not fit together raises a ValueError naming the variable
+    (:func:`~stepcontact.results.file.check_dataset`)."""
+    dynamic, arguments = dataset_arguments(ds)
+    return (DynamicResult if dynamic else StaticResult)(**arguments)
+
+
+def load_result(path) -> StaticResult:
+    """Load a result written by :func:`~stepcontact.results.file.save_result` (exact inverse;
+    ``_recover`` is None): a :class:`StaticResult` or a :class:`DynamicResult`."""
+    return dataset_to_result(read_dataset(path))
+
+
 def _short(values, limit: int = 12) -> str:
     """``[0, 1, 2, 5, 7, 8]`` → ``"0–2, 5, 7–8"`` (at most ``limit`` runs, then "…")."""
     runs: list[list[int]] = []
@@ -1100,4 +1073,5 @@ def transition_counts(events: list[Event]) -> dict[str, int]:
     return out
 
 
-__all__ = ["Event", "Multipliers", "StaticResult", "Status", "transition_counts"]
+__all__ = ["ENERGY_TERMS", "DynamicResult", "Event", "Multipliers", "StaticResult", "Status",
+           "dataset_to_result", "load_result", "transition_counts"]

@@ -62,14 +62,15 @@ Example
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
 from stepcontact.enums import ContactState, Status
 
-if TYPE_CHECKING:
-    from stepcontact.results.result import StaticResult
+#: a :class:`~stepcontact.results.result.StaticResult`, read here through its attributes (the
+#: result type builds on this module for its ``interface_safety``)
+Result = Any
 
 #: a sliding factor within this of 1 counts as "every CFE in contact slips"
 SLIDING_RTOL = 1e-9
@@ -242,7 +243,7 @@ def _ratio(a: float | None, b: float | None) -> float | None:
     return None if a is None or b is None or b == 0 else float(a) / float(b)
 
 
-def _body_of_nodes(res: StaticResult) -> tuple[list[str], np.ndarray]:
+def _body_of_nodes(res: Result) -> tuple[list[str], np.ndarray]:
     """The bodies' names and the body index of every global node (−1: none)."""
     geo = res.geometry or {}
     bodies = list(geo.get("bodies", []))
@@ -255,7 +256,7 @@ def _body_of_nodes(res: StaticResult) -> tuple[list[str], np.ndarray]:
     return [str(b["name"]) for b in bodies], of
 
 
-def _bodies_of_nodes(res: StaticResult, nodes: np.ndarray) -> set[str]:
+def _bodies_of_nodes(res: Result, nodes: np.ndarray) -> set[str]:
     """Names of the bodies the global nodes belong to (from the result's geometry)."""
     nodes = np.unique(nodes[nodes >= 0])
     out = set()
@@ -265,7 +266,7 @@ def _bodies_of_nodes(res: StaticResult, nodes: np.ndarray) -> set[str]:
     return out
 
 
-def _upstream_end(res: StaticResult, k: np.ndarray, x: np.ndarray, side: int = 1) -> np.ndarray:
+def _upstream_end(res: Result, k: np.ndarray, x: np.ndarray, side: int = 1) -> np.ndarray:
     """The end of the joint the loads push away from (the heel of a dam): the loads on the part
     above the joint push it along ±ΣQ t (its contact forces are ±(−N n − Q t); + for a part on
     S+, − on S−), at the state of the largest |ΣQ|; the first CFE if there is no shear."""
@@ -278,7 +279,7 @@ def _upstream_end(res: StaticResult, k: np.ndarray, x: np.ndarray, side: int = 1
     return x[-1] if float(push @ (x[-1] - x[0])) < 0 else x[0]
 
 
-def _joint_ends(res: StaticResult, k: np.ndarray, x: np.ndarray,
+def _joint_ends(res: Result, k: np.ndarray, x: np.ndarray,
                 face: str = "plus") -> tuple[np.ndarray, np.ndarray]:
     """The heel and toe ends of the joint: the extreme nodes of its CFEs on ``face`` ("plus"
     or "minus") projected on the line from the first to the last CFE point (the first and last
@@ -297,7 +298,7 @@ def _joint_ends(res: StaticResult, k: np.ndarray, x: np.ndarray,
     return x[0] + lo * e, x[0] + hi * e
 
 
-def _face_points(res: StaticResult, k: np.ndarray, x: np.ndarray, face: str) -> np.ndarray:
+def _face_points(res: Result, k: np.ndarray, x: np.ndarray, face: str) -> np.ndarray:
     """(K, 2) the points where the CFEs ``k`` act on ``face``: x on S+; on S− the weighted
     mean of the S− nodes (it differs from x by an initial gap), m."""
     pts = np.asarray((res.geometry or {}).get("points", np.zeros((0, 2))), dtype=float)
@@ -310,7 +311,7 @@ def _face_points(res: StaticResult, k: np.ndarray, x: np.ndarray, face: str) -> 
     return np.einsum("kj,kjc->kc", np.where(ok, w, 0.0), pts[np.where(ok, nodes, 0)])
 
 
-def _part_above(res: StaticResult, j: int,
+def _part_above(res: Result, j: int,
                 side: int = 1) -> tuple[np.ndarray | None, str | None]:
     """(n_bodies,) bool: the bodies on the S+ side (``side`` −1: the S− side) of interface
     ``j`` and those joined to them by other joints or shared DOFs — the part the joint holds;
@@ -368,7 +369,7 @@ def _part_above(res: StaticResult, j: int,
     return part, None
 
 
-def _cohesion_per_cfe(res: StaticResult, k: np.ndarray, area: np.ndarray, fric: np.ndarray,
+def _cohesion_per_cfe(res: Result, k: np.ndarray, area: np.ndarray, fric: np.ndarray,
                       states: np.ndarray, index: np.ndarray,
                       cohesion: float | None) -> tuple[np.ndarray, np.ndarray, str]:
     """(c_k A_k (n, K) in N, tan φ_k (n, K), source) of the CFEs ``k`` in the contact states
@@ -425,7 +426,7 @@ class _Joint:
     at: np.ndarray | None = None  # (K, 2) where the CFE forces act on the part (x on S+)
 
 
-def _load_weights(res: StaticResult, part: np.ndarray, factors: np.ndarray,
+def _load_weights(res: Result, part: np.ndarray, factors: np.ndarray,
                   index: np.ndarray, LM: np.ndarray) -> np.ndarray:
     """(n, P, n_bodies) the factor of every pattern's loads on every body of the part at the
     reported states ``index`` (0 on bodies not built yet).  A construction stage ramps the
@@ -450,7 +451,7 @@ def _load_weights(res: StaticResult, part: np.ndarray, factors: np.ndarray,
     return w
 
 
-def _load_groups(res: StaticResult) -> np.ndarray:
+def _load_groups(res: Result) -> np.ndarray:
     """(P, G) indicator of the loads the moment split keeps apart: every pattern on its own,
     except the virtual patterns of a water level (:mod:`stepcontact.fem.level`), which are
     pieces of one pressure — their basis functions of the level have either sign, so split one
@@ -463,7 +464,7 @@ def _load_groups(res: StaticResult) -> np.ndarray:
     return ind
 
 
-def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water,
+def _moments(res: Result, jt: _Joint, factors: np.ndarray, N, Q, water,
              index: np.ndarray) -> tuple:
     """ΣM_r, ΣM_o about the toe of the loads on the part above the joint (n,), N·m, and the
     imbalance of the part's moments with the joint's forces (n,), relative; or Nones and why.
@@ -518,7 +519,7 @@ def _moments(res: StaticResult, jt: _Joint, factors: np.ndarray, N, Q, water,
     return M_r, M_o, imbalance, None
 
 
-def _factors(res: StaticResult, jt: _Joint, N, Q, states, index, factors, water,
+def _factors(res: Result, jt: _Joint, N, Q, states, index, factors, water,
              cohesion: float | None) -> dict:
     """The engineers' factors of rows of CFE forces ``N``, ``Q`` (n, K) with their contact
     ``states``, reported-state ``index`` (n,), pattern ``factors`` (n, P) and crack ``water``
@@ -565,7 +566,7 @@ def _factors(res: StaticResult, jt: _Joint, N, Q, states, index, factors, water,
             "friction_only": _zero_to(-(jt.fric * N).sum(axis=1), np.abs(sQ), np.abs(sN))}
 
 
-def _design_row(res: StaticResult, pattern: str | None, design: float, is_level: bool):
+def _design_row(res: Result, pattern: str | None, design: float, is_level: bool):
     """(state index, t, b) of the design state: the state at λ_d, or the fraction t between
     states index and b of a linear segment of ``pattern``; or (None, note)."""
     seg_of = np.asarray(res.segment)
@@ -654,7 +655,7 @@ def _design_state(res, jt, design, pattern, is_level, cohesion, N, Q, water, inf
     }
 
 
-def _held_part(res: StaticResult, j: int, k: np.ndarray, x: np.ndarray,
+def _held_part(res: Result, j: int, k: np.ndarray, x: np.ndarray,
                water: np.ndarray | None, cohesion: float | None,
                sides=(1, -1)) -> tuple[_Joint, dict]:
     """The joint ``j`` (its CFEs ``k`` in order, at ``x``) and its factors along the path
@@ -686,7 +687,7 @@ def _held_part(res: StaticResult, j: int, k: np.ndarray, x: np.ndarray,
     return first
 
 
-def interface_safety(res: StaticResult, interface: str, design: float | None = None,
+def interface_safety(res: Result, interface: str, design: float | None = None,
                      heel=None, *, cohesion: float | None = None,
                      pattern: str | None = None) -> InterfaceSafety:
     """The :class:`InterfaceSafety` of ``interface`` along the path of ``res``.

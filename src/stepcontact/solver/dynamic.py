@@ -97,7 +97,7 @@ import dataclasses
 import functools
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -108,118 +108,19 @@ from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.model.timefunction import MAX_STEPS, check_interval
 from stepcontact.results.recorder import GrowingArray, Recorder
-from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.results.result import (
+    ENERGY_TERMS,
+    DynamicResult,
+    Event,
+    Multipliers,
+    StaticResult,
+)
 from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.rate import RateProblemFailure
+from stepcontact.solver.recovery import Stresses as _Stresses
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
 from stepcontact.solver.static import VIOLATION_LIMIT, result_geometry
-
-#: the energy ledger's columns (J per metre of thickness in plane strain)
-ENERGY_TERMS = ("kinetic", "strain", "external", "damping", "friction", "impact", "fracture",
-                "numerical", "error")
-
-
-@dataclass
-class DynamicResult(StaticResult):
-    """A dynamic run: a :class:`StaticResult` whose path axis ``lam`` is the time t (s).
-
-    Extra attributes: ``u``, ``v``, ``a`` (n_states, ndof) displacements, velocities and
-    accelerations at every reported state (m, m/s, m/s²); ``energy`` {term: (n_states,)} the
-    energy ledger (J; :data:`ENERGY_TERMS`); ``dt`` the time step (s); ``impulses`` the
-    impulses of the impacts, one entry per CFE and impact: {"state", "time" (s), "cfe",
-    "normal", "tangential" (N·s per metre of thickness; the sign convention of N and Q:
-    normal ≤ 0 compressive)} — the CFEs that close at the impact carry theirs on their
-    events too (``Event.impulse_n``, ``impulse_t``), the others (closed before) only here;
-    :meth:`impacts` sums them per impact.  :meth:`extremes` gives the largest values of
-    the recorded quantities (u, v, a of every DOF, N, Q …) and their times."""
-
-    u: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    v: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    a: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    energy: dict[str, np.ndarray] = field(default_factory=dict)
-    dt: float = 0.0
-    impulses: dict[str, np.ndarray] = field(default_factory=lambda: {
-        "state": np.zeros(0, np.int64), "time": np.zeros(0), "cfe": np.zeros(0, np.int64),
-        "normal": np.zeros(0), "tangential": np.zeros(0)})
-
-    #: the path axis of the states is the time (s)
-    path_axis = "time"
-
-    @property
-    def time(self) -> np.ndarray:
-        """Time of every state, s."""
-        return self.lam
-
-    def recover_fields(self, model) -> None:
-        """Attach the stress recovery to a dynamic result loaded from a file (its
-        displacements are stored at every state): :meth:`stress`, :meth:`stresses_at` and the
-        ParaView export then work."""
-        from stepcontact.fem.assembly import System, assemble
-
-        system = model if isinstance(model, System) else assemble(model)
-        if system.ndof != self.u.shape[1]:
-            raise ValueError(f"the model has {system.ndof} DOFs, the result {self.u.shape[1]}")
-        self._recover = _Stresses(system)
-
-    def velocities(self, states=None) -> np.ndarray:
-        idx = np.arange(self.n_states) if states is None else np.asarray(states)
-        return self.v[idx]
-
-    def impacts(self):
-        """The impacts of the run, one row per impact (a :class:`pandas.DataFrame`):
-        ``time`` (s), ``state`` (the reported state after it), ``cfes`` (how many CFEs took
-        an impulse), ``normal`` and ``tangential`` — the total impulses on the contacts,
-        N·s per metre of thickness (normal ≤ 0 compressive, as N).  Per CFE:
-        :attr:`impulses`."""
-        import pandas as pd
-
-        imp = {k: np.asarray(v) for k, v in self.impulses.items()}
-        df = pd.DataFrame({k: imp[k] for k in ("state", "time", "cfe", "normal",
-                                               "tangential")})
-        out = df.groupby(["state", "time"], sort=True).agg(
-            cfes=("cfe", "size"), normal=("normal", "sum"), tangential=("tangential", "sum"))
-        return out.reset_index()[["time", "state", "cfes", "normal", "tangential"]]
-
-    def _extreme_quantities(self) -> tuple[str, ...]:
-        return ("u", "v", "a") + super()._extreme_quantities()
-
-    def _extreme_history(self, quantity: str, nodes=None, *, point=None, body=None, dof=None):
-        if quantity in ("u", "v", "a"):
-            return getattr(self, quantity)
-        return super()._extreme_history(quantity, nodes, point=point, body=body, dof=dof)
-
-    def displacement(self, i: int) -> np.ndarray:
-        return self.u[i]
-
-    def displacements(self, states=None) -> np.ndarray:
-        idx = np.arange(self.n_states) if states is None else np.asarray(states)
-        return self.u[idx]
-
-
-class _Stresses:
-    """Stresses of the continuum bodies from displacements (the dynamic result stores every
-    state's displacements; only the stresses are recovered)."""
-
-    def __init__(self, system: System):
-        from stepcontact.fem.continuum import StressRecovery
-        from stepcontact.model import Body
-
-        model = system.model
-        self.stress = StressRecovery(model)
-        off = model.node_offsets
-        self.body_dofs = {
-            b.name: system.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
-            for b in model.bodies if isinstance(b, Body) and b.name in self.stress}
-
-    def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
-        u = np.asarray(u, dtype=float)
-        if u.ndim == 1:
-            return {n: self.stress(n, u[d]) for n, d in self.body_dofs.items()}
-        return {n: self.stress(n, u[:, d].T) for n, d in self.body_dofs.items()}
-
-    def __call__(self, i):  # (not used: the displacements are stored)
-        raise KeyError(i)
 
 
 def _after_stages(system: System, initial, stage: int | None = None):

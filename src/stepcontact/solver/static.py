@@ -1383,7 +1383,7 @@ def solve_static(
         Result file written as the run goes (status ``incomplete`` until it ends; at segment
         ends and at most :data:`~stepcontact.results.file.WRITE_INTERVAL` seconds apart; an
         interrupted run writes every state finished), and at the end.  A path is locked for
-        the run (:func:`~stepcontact.io.atomic.output_lock`: a second run writing it is
+        the run (:func:`~stepcontact.atomic.output_lock`: a second run writing it is
         refused); a :class:`~stepcontact.results.file.ResultWriter` is used as it is (its
         interval, its attributes; the caller holds the lock).
 
@@ -1409,7 +1409,7 @@ def solve_static(
     writer = None
     lock: contextlib.AbstractContextManager = contextlib.nullcontext()
     if output is not None:  # (xarray is imported only for a result file)
-        from stepcontact.io.atomic import output_lock
+        from stepcontact.atomic import output_lock
         from stepcontact.results.file import ResultWriter
 
         if isinstance(output, ResultWriter):

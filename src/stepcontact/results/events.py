@@ -1,0 +1,79 @@
+"""What happened along a run, event by event: :class:`Event` (one CFE changing state) and
+:class:`Multipliers` (the stability multipliers of a load segment) — plain records of the
+result types (:mod:`stepcontact.results.result`) and of the result file
+(:mod:`stepcontact.results.file`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from stepcontact.enums import Transition
+
+
+@dataclass(frozen=True)
+class Event:
+    """One CFE changing state.
+
+    Attributes
+    ----------
+    step : int
+        Number of the main step (event point) in the run, from 1.
+    state : int
+        Index of the reported state at this event point.
+    segment : int
+        Load-program segment.
+    pattern : str
+        Load pattern of that segment.
+    lam : float
+        Load factor of that pattern at the event.
+    cfe : int
+        Global CFE index.
+    interface : str
+        Interface name.
+    local : int
+        Index of the CFE along its interface.
+    position : float
+        Arc length along the interface, m.
+    x, y : float
+        Coordinates of the CFE's S+ end, m.
+    transition : Transition
+    N, Q : float
+        Normal and tangential force at the event, N (N ≤ 0 compression).
+    impulse_n, impulse_t : float
+        Normal and tangential impulse of an impact on the CFE at the event (dynamics, rigid
+        contact closing), N·s (per metre of thickness in plane strain), in the sign
+        convention of N and Q (impulse_n ≤ 0 compressive); 0 at other events.
+    """
+
+    step: int
+    state: int
+    segment: int
+    pattern: str
+    lam: float
+    cfe: int
+    interface: str
+    local: int
+    position: float
+    x: float
+    y: float
+    transition: Transition
+    N: float
+    Q: float
+    impulse_n: float = 0.0
+    impulse_t: float = 0.0
+
+
+@dataclass(frozen=True)
+class Multipliers:
+    """Stability multipliers of one load segment (load factors of its pattern, None if the
+    thing did not happen in the segment)."""
+
+    segment: int
+    pattern: str
+    first_slip: float | None = None
+    first_opening: float | None = None
+    first_closing: float | None = None
+    equilibrium_lost: float | None = None
+
+
+__all__ = ["Event", "Multipliers"]
