@@ -1477,7 +1477,8 @@ class _DynamicRun:
         forces it can no longer carry (:meth:`CoulombLaw.released`).  Logs a ``broken``
         event per CFE (in the order of the CFEs), books the elastic energy ½ s²/C a
         compliant layer loses with that force as ``fracture``; returns the forces g (2m,)
-        released (N).  (The static driver's twin: ``static.py`` ``_Run._breaks``.)"""
+        released (N).  (The static driver's twin: :meth:`StaticSolver._breaks
+        <stepcontact.solver.static.StaticSolver._breaks>`.)"""
         law, m, mult = self.law, self.m, self.mult
         tf, _ = E.tolerances()
         Q, p = E.s[:m], E.s[m:]
