@@ -780,6 +780,67 @@ def _ground_translation(system: System, direction) -> np.ndarray:
     return r
 
 
+@dataclass
+class _Interval:
+    """The dynamic interval a run integrates, resolved from the arguments of
+    :func:`solve_dynamic` and the model's (or a stage's) ``dynamics`` (:func:`_interval`)."""
+
+    mdl: object  # the Model (or DiscreteModel) of the run
+    stage: int | None
+    dt: float
+    duration: float
+    loads: Mapping[str, object] | None
+    mass: object
+    damping: tuple[float, float]
+    restitution: float
+    record_every: int
+    alpha: float
+
+
+def _interval(model, *, stage, dt, duration, loads, mass, damping, restitution, record_every,
+              alpha, max_steps, ground_acceleration) -> _Interval:
+    """The interval to run: the arguments, or (without dt and duration) the dynamic interval
+    of the model or of the stage ``stage``; Δt, the duration, HHT-α and the loads' sampling
+    checked before any work (:func:`~stepcontact.model.timefunction.check_interval`)."""
+    mdl = model.model if isinstance(model, System) else model
+    spec = getattr(mdl, "dynamics", None)
+    if stage is not None:
+        stages = tuple(getattr(mdl, "stages", ()))
+        names = [st.name for st in stages]
+        if isinstance(stage, str):
+            if stage not in names:
+                raise ModelError("stage", f"no such stage '{stage}' (known: "
+                                 f"{', '.join(map(repr, names)) or 'none'})")
+            stage = names.index(stage)
+        if not 0 <= int(stage) < len(stages):
+            raise ModelError("stage", f"must be a stage index in [0, {len(stages)}), got {stage}")
+        stage = int(stage)
+        spec = stages[stage].dynamics
+        if spec is None:
+            raise ModelError(f"stage '{names[stage]}'.dynamics", "is not given: the stage has "
+                             "no dynamic interval")
+    if spec is not None and dt is None and duration is None:  # the model's dynamic interval
+        dt, duration = spec.dt, spec.duration
+        loads = dict(spec.loads) if loads is None else loads
+        mass, damping = spec.mass, spec.damping
+        restitution, record_every = spec.restitution, spec.record_every
+        alpha = spec.alpha
+        max_steps = getattr(spec, "max_steps", None) if max_steps is None else max_steps
+    if dt is None or duration is None:
+        raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
+                         "interval (model.dynamics)")
+    for key, v in (("dt", dt), ("duration", duration)):
+        if not np.isfinite(v) or v <= 0:
+            raise ModelError(key, f"must be positive and finite, got {v}")
+    if not (0.0 <= alpha <= 1.0 / 3.0):
+        raise ModelError("alpha", f"HHT-α must lie in [0, 1/3], got {alpha}")
+    # Δt, the step count and every load's sampling, before any work (check_interval)
+    check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
+                   else max_steps, ground=_ground_function(ground_acceleration))
+    return _Interval(mdl, stage, dt, duration, loads, mass, damping, restitution,
+                     record_every, alpha)
+
+
 def _one_thread(fn):
     """Run ``fn`` with every thread pool (BLAS, MKL PARDISO, OpenMP) held to one thread: a
     time step's work is a forward and back substitution and small dense algebra, which a
@@ -937,208 +998,301 @@ def solve_dynamic(
     >>> str(res.events[0].transition), round(res.events[0].lam, 4)  # N = P(1 − cos ωt) = N_R
     ('broken', 0.0209)
     """
-    from stepcontact.fem.mass import check_mass
-    from stepcontact.fem.mass import mass as mass_matrix
+    iv = _interval(model, stage=stage, dt=dt, duration=duration, loads=loads, mass=mass,
+                   damping=damping, restitution=restitution, record_every=record_every,
+                   alpha=alpha, max_steps=max_steps, ground_acceleration=ground_acceleration)
+    run = _DynamicRun(model, iv, initial=initial, u0=u0, v0=v0,
+                      ground_acceleration=ground_acceleration, hooks=hooks,
+                      max_events=max_events, rtol=rtol, backend=backend)
+    run.start()
+    run.integrate()
+    return run.result()
 
-    mdl = model.model if isinstance(model, System) else model
-    spec = getattr(mdl, "dynamics", None)
-    if stage is not None:
-        stages = tuple(getattr(mdl, "stages", ()))
-        names = [st.name for st in stages]
-        if isinstance(stage, str):
-            if stage not in names:
-                raise ModelError("stage", f"no such stage '{stage}' (known: "
-                                 f"{', '.join(map(repr, names)) or 'none'})")
-            stage = names.index(stage)
-        if not 0 <= int(stage) < len(stages):
-            raise ModelError("stage", f"must be a stage index in [0, {len(stages)}), got {stage}")
-        stage = int(stage)
-        spec = stages[stage].dynamics
-        if spec is None:
-            raise ModelError(f"stage '{names[stage]}'.dynamics", "is not given: the stage has "
-                             "no dynamic interval")
-    if spec is not None and dt is None and duration is None:  # the model's dynamic interval
-        dt, duration = spec.dt, spec.duration
-        loads = dict(spec.loads) if loads is None else loads
-        mass, damping = spec.mass, spec.damping
-        restitution, record_every = spec.restitution, spec.record_every
-        alpha = spec.alpha
-        max_steps = getattr(spec, "max_steps", None) if max_steps is None else max_steps
-    if dt is None or duration is None:
-        raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
-                         "interval (model.dynamics)")
-    for key, v in (("dt", dt), ("duration", duration)):
-        if not np.isfinite(v) or v <= 0:
-            raise ModelError(key, f"must be positive and finite, got {v}")
-    if not (0.0 <= alpha <= 1.0 / 3.0):
-        raise ModelError("alpha", f"HHT-α must lie in [0, 1/3], got {alpha}")
-    # Δt, the step count and every load's sampling, before any work (check_interval)
-    check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
-                   else max_steps, ground=_ground_function(ground_acceleration))
-    system = model if isinstance(model, System) else assemble(model)
-    law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
-    stage_arrays: dict | None = None
-    if getattr(system.model, "stages", ()) and system.discrete is None:
-        system, law_in, initial, stage_arrays = _after_stages(system, initial, stage)
-    loads = dict(loads or {})
-    for name, g in loads.items():
-        if name not in system.loads:
-            raise ModelError(f"loads['{name}']", f"no such load pattern (known: "
-                             f"{', '.join(map(repr, system.loads)) or 'none'})")
-        if not callable(g):
-            raise ModelError(f"loads['{name}']", "must be a time function g(t)")
-    ndof, m = system.ndof, system.m
-    if isinstance(mass, str):
-        if mass not in ("consistent", "lumped"):
-            raise ModelError("mass", f"must be 'consistent', 'lumped' or a matrix, got '{mass}'")
-        if system.discrete is not None:
-            raise ModelError("mass", "a discrete model has no geometry: give its mass matrix")
-        check_mass(system, "dynamics" if stage is None else
-                   f"stage '{mdl.stages[stage].name}'.dynamics")
-        M = mass_matrix(system.model, system.dofs, lumped=mass == "lumped")
-    else:
-        M = sp.csr_matrix(mass, dtype=float)
-        if M.shape != (ndof, ndof):
-            raise ModelError("mass", f"has shape {M.shape}, expected ({ndof}, {ndof})")
-    a0, a1 = (float(x) for x in damping)
-    K = system.K.tocsr()
-    C = (a0 * M + a1 * K).tocsr() if a0 or a1 else sp.csr_matrix((ndof, ndof))
-    if system.discrete is None and any(sp_.damping for sp_ in system.model.springs):
-        C = (C + dashpots(system.model, system.dofs)).tocsr()  # the springs' dashpots
-    dt0 = float(dt)
-    Kx, Mx, Cx = _Memo(K), _Memo(M), _Memo(C)  # products with the current u, v kept
-    # K̂ = K + 4M/Δt² + 2C/Δt, factorised and condensed once: the steps shorter than Δt (to
-    # land on a load's break or the end, or to go on after an event) use it too (_Newmark)
-    t0 = time.perf_counter()
-    cond = Condensed.from_system(dataclasses.replace(
-        system, K=_Newmark(dt0, alpha).stiffness(K, M, C)), backend)
-    schemes = SchemeSolver(cond.G, cond.d, product=cond.product)
-    t_setup = time.perf_counter() - t0
-    cfe = system.cfe
-    bond_cols = law_in.get("bond")
-    if bond_cols is not None:
-        bonded = ~np.isnan(np.asarray(bond_cols, float)[:, 0])
-        damped_bond = bonded & (cfe.cn > 0)
-        if initial is not None:  # (bonds already broken by the static run do not count)
-            damped_bond &= np.asarray(initial.state)[-1] == BONDED
-        if damped_bond.any():
-            k = int(np.flatnonzero(damped_bond)[0])
-            raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond", "a bonded "
-                             "joint with a damped contact layer (Kelvin–Voigt, c_n > 0) is "
-                             "not supported in a dynamic interval: give the layer no damping "
-                             "while its bond is intact")
-        cols = np.asarray(bond_cols, float)
-        if cols.ndim == 2 and cols.shape[1] > 4 and np.any(np.nan_to_num(cols[:, 4]) > 0):
-            k = int(np.flatnonzero(np.nan_to_num(cols[:, 4]) > 0)[0])
-            raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond.residual_"
-                             "cohesion", "a residual cohesion after the break is followed in "
-                             "static load programs; a dynamic interval with one is not "
-                             "supported yet (give residual_cohesion = 0 for the dynamic run)")
-    if np.any((cfe.cn > 0) & ~np.isfinite(cfe.kn)):
-        k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
-        raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
-                         "layer needs a finite normal stiffness kn")
-    law = CoulombLaw(np.arange(m), law_in.pop("friction"),
-                     _DampedLayers.law_stiffness(cfe, _Newmark(dt0, alpha).c1), cfe.kt,
-                     **law_in)
-    layers = _DampedLayers(cfe, law, m)
-    bonds_on = bool(law.has_bond.any())
-    eng = EventEngine(schemes, [law], system.w0, rtol=rtol)
-    u, v, s, w, states, static = _initial(system, cond, initial, u0, v0)
-    if u0 is not None and m:  # the contact state at u0 (gaps w = B u0 + w⁰)
-        states, s, w = _state_at_u0(system, law, u, v, s, w, states, initial)
-    if initial is None:  # joints with initial strength start bonded (eq. (12)), their
-        states = law.initial_states(states)  # compliant layers carrying C w at u0
-        stiff0 = np.r_[cfe.kt, cfe.kn]
-        on = np.r_[states == BONDED, states == BONDED] & np.isfinite(stiff0)
-        s = np.where(on, np.where(on, stiff0, 0.0) * w, s)
-    eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
-    if bonds_on:  # the bonds' strengths are forces of the problem's scale
-        eng.F_scale = max(eng.F_scale, float(np.abs(np.r_[law.NR, law.QR]).max()))
-    layers.set_initial(states, w)
-    free = cond.free
-    names = list(system.loads)
-    f_of = {n: system.loads[n].f for n in names}
-    r_ground = None
-    if ground_acceleration is not None:
-        r_ground = -(M @ _ground_translation(system, ground_acceleration[1]))
 
-    def factors_at(t: float) -> dict[str, float]:
-        c = dict(static)
+class _DynamicRun:
+    """One dynamic interval in progress (:func:`solve_dynamic`, module docstring): the system
+    with its factorised K̂, the event engine (the contact forces s, mutual displacements w and
+    states of the CFEs), the fields u, u̇, ü at time t, the loads, the recorder and the energy
+    ledger.  Set up and checked by the constructor; :meth:`start` settles the state at t = 0,
+    :meth:`integrate` runs the steps of eqs. (7)–(10), :meth:`result` builds the result."""
+
+    def __init__(self, model, iv: _Interval, *, initial, u0, v0, ground_acceleration, hooks,
+                 max_events: int, rtol: float, backend: str):
+        self.iv = iv
+        self.alpha, self.restitution = iv.alpha, iv.restitution
+        self.record_every = iv.record_every
+        self.ground_acceleration = ground_acceleration
+        self.hooks, self.max_events, self.rtol = hooks, max_events, rtol
+        self.u0 = u0
+        self._assemble(model, initial)
+        self._matrices(backend)
+        self._contact_law()
+        self._initial_state(u0, v0)
+        self._initial_loads()
+        self._initial_acceleration()
+        if not (0.0 <= self.restitution <= 1.0):
+            raise ModelError("restitution", f"must lie in [0, 1], got {self.restitution}")
+        self._books()
+
+    # -- set-up ------------------------------------------------------------------------------
+
+    def _assemble(self, model, initial) -> None:
+        """The system of the interval (after the construction stages, :func:`_after_stages`),
+        the laws' inputs and the loads (each a pattern of the system with a time function)."""
+        system = model if isinstance(model, System) else assemble(model)
+        law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
+        self.stage_arrays: dict | None = None
+        if getattr(system.model, "stages", ()) and system.discrete is None:
+            system, law_in, initial, self.stage_arrays = _after_stages(system, initial,
+                                                                       self.iv.stage)
+        loads = dict(self.iv.loads or {})
         for name, g in loads.items():
+            if name not in system.loads:
+                raise ModelError(f"loads['{name}']", f"no such load pattern (known: "
+                                 f"{', '.join(map(repr, system.loads)) or 'none'})")
+            if not callable(g):
+                raise ModelError(f"loads['{name}']", "must be a time function g(t)")
+        self.system, self.law_in, self.initial, self.loads = system, law_in, initial, loads
+        self.ndof, self.m = system.ndof, system.m
+        self.cfe = system.cfe
+
+    def _matrices(self, backend: str) -> None:
+        """M, C = a₀ M + a₁ K (+ the springs' dashpots) and K̂ = K + 4M/Δt² + 2C/Δt of eq. (7)
+        (HHT-α: :class:`_Newmark`), factorised and condensed once: the steps shorter than Δt
+        (to land on a load's break or the end, or to go on after an event) use it too."""
+        from stepcontact.fem.mass import check_mass
+        from stepcontact.fem.mass import mass as mass_matrix
+
+        iv, system, ndof = self.iv, self.system, self.ndof
+        mass = iv.mass
+        if isinstance(mass, str):
+            if mass not in ("consistent", "lumped"):
+                raise ModelError("mass", f"must be 'consistent', 'lumped' or a matrix, got "
+                                 f"'{mass}'")
+            if system.discrete is not None:
+                raise ModelError("mass", "a discrete model has no geometry: give its mass "
+                                 "matrix")
+            check_mass(system, "dynamics" if iv.stage is None else
+                       f"stage '{iv.mdl.stages[iv.stage].name}'.dynamics")
+            M = mass_matrix(system.model, system.dofs, lumped=mass == "lumped")
+        else:
+            M = sp.csr_matrix(mass, dtype=float)
+            if M.shape != (ndof, ndof):
+                raise ModelError("mass", f"has shape {M.shape}, expected ({ndof}, {ndof})")
+        a0, a1 = (float(x) for x in iv.damping)
+        K = system.K.tocsr()
+        C = (a0 * M + a1 * K).tocsr() if a0 or a1 else sp.csr_matrix((ndof, ndof))
+        if system.discrete is None and any(sp_.damping for sp_ in system.model.springs):
+            C = (C + dashpots(system.model, system.dofs)).tocsr()  # the springs' dashpots
+        self.M, self.K, self.C = M, K, C
+        self.dt0 = float(iv.dt)
+        self.Kx, self.Mx, self.Cx = _Memo(K), _Memo(M), _Memo(C)  # products kept
+        t0 = time.perf_counter()
+        self.cond = Condensed.from_system(dataclasses.replace(
+            system, K=_Newmark(self.dt0, self.alpha).stiffness(K, M, C)), backend)
+        self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
+        self.t_setup = time.perf_counter() - t0
+
+    def _contact_law(self) -> None:
+        """The Coulomb law of the CFEs (eq. (1); compliant layers eq. (11), damped ones with
+        Newmark's c₁, :class:`_DampedLayers`; bonds eq. (12)) and the event engine on the
+        condensed K̂; refuses the combinations a dynamic interval does not follow."""
+        cfe, m, law_in = self.cfe, self.m, self.law_in
+        bond_cols = law_in.get("bond")
+        if bond_cols is not None:
+            bonded = ~np.isnan(np.asarray(bond_cols, float)[:, 0])
+            damped_bond = bonded & (cfe.cn > 0)
+            if self.initial is not None:  # (bonds already broken by the static run: not)
+                damped_bond &= np.asarray(self.initial.state)[-1] == BONDED
+            if damped_bond.any():
+                k = int(np.flatnonzero(damped_bond)[0])
+                raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond", "a bonded "
+                                 "joint with a damped contact layer (Kelvin–Voigt, c_n > 0) is "
+                                 "not supported in a dynamic interval: give the layer no "
+                                 "damping while its bond is intact")
+            cols = np.asarray(bond_cols, float)
+            if cols.ndim == 2 and cols.shape[1] > 4 and np.any(np.nan_to_num(cols[:, 4]) > 0):
+                k = int(np.flatnonzero(np.nan_to_num(cols[:, 4]) > 0)[0])
+                raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'.bond.residual_"
+                                 "cohesion", "a residual cohesion after the break is followed "
+                                 "in static load programs; a dynamic interval with one is not "
+                                 "supported yet (give residual_cohesion = 0 for the dynamic "
+                                 "run)")
+        if np.any((cfe.cn > 0) & ~np.isfinite(cfe.kn)):
+            k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
+            raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
+                             "layer needs a finite normal stiffness kn")
+        self.law = law = CoulombLaw(
+            np.arange(m), law_in.pop("friction"),
+            _DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1), cfe.kt,
+            **law_in)
+        self.layers = _DampedLayers(cfe, law, m)
+        self.bonds_on = bool(law.has_bond.any())
+        self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol)
+        self.all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
+        # a model whose CFEs are each rigid or compliant in both components: the rigid ones'
+        # forces jump in accelerations (accel_forces), the compliant ones' are held
+        self.soft_cfe = soft_cfe = np.isfinite(cfe.kn) & np.isfinite(cfe.kt)
+        self.split = bool(np.all(soft_cfe | (~np.isfinite(cfe.kn) & ~np.isfinite(cfe.kt)))
+                          and not soft_cfe.all())
+        self.held = np.r_[soft_cfe, soft_cfe]
+        self.rigid_n = ~np.isfinite(cfe.kn)
+
+    def _initial_state(self, u0, v0) -> None:
+        """The fields and the contact state at t = 0 (:func:`_initial`, :func:`_state_at_u0`;
+        joints with initial strength start bonded, eq. (12)), set in the engine."""
+        system, cfe, law, eng, initial = self.system, self.cfe, self.law, self.eng, self.initial
+        u, v, s, w, states, static = _initial(system, self.cond, initial, u0, v0)
+        if u0 is not None and self.m:  # the contact state at u0 (gaps w = B u0 + w⁰)
+            states, s, w = _state_at_u0(system, law, u, v, s, w, states, initial)
+        if initial is None:  # joints with initial strength start bonded (eq. (12)), their
+            states = law.initial_states(states)  # compliant layers carrying C w at u0
+            stiff0 = np.r_[cfe.kt, cfe.kn]
+            on = np.r_[states == BONDED, states == BONDED] & np.isfinite(stiff0)
+            s = np.where(on, np.where(on, stiff0, 0.0) * w, s)
+        eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
+        if self.bonds_on:  # the bonds' strengths are forces of the problem's scale
+            eng.F_scale = max(eng.F_scale, float(np.abs(np.r_[law.NR, law.QR]).max()))
+        self.layers.set_initial(states, w)
+        self.u, self.v, self.s_init, self.w_init, self.static = u, v, s, w, static
+        self.free = self.cond.free
+        self.names = list(system.loads)
+        self.f_of = {n: system.loads[n].f for n in self.names}
+        self.r_ground = None
+        if self.ground_acceleration is not None:
+            self.r_ground = -(self.M @ _ground_translation(system,
+                                                           self.ground_acceleration[1]))
+        # water in the opened joints (fem.crack): W = A (p_c − p_u) on the CFEs of
+        # ``water_on`` (the wet set of the scheme the run is in), a load −Bᵀ [0; W] that
+        # follows the factors in time and jumps where the wet set changes (settle_water)
+        self.crack = crack = system.crack
+        self.water_on = (crack.wet(states) if crack is not None and initial is not None
+                         else np.zeros(self.m, bool))
+
+    def _initial_loads(self) -> None:
+        """The load at t = 0 and the load held from the static run (a static state is at
+        rest); the time functions' values at t = 0 are a jump, followed in accelerations."""
+        self.F = self.force_at(0.0)
+        F_held = np.zeros(self.ndof)
+        for name, c in self.static.items():
+            F_held += c * self.f_of[name]
+        if self.crack is not None and self.water_on.any():  # the static run's crack water
+            F_held += self.water_load(self.water_at(0.0, self.static))
+        self.F_held = F_held
+
+    def _initial_acceleration(self) -> None:
+        """ü at t = 0 from the equation of motion (7) with the initial contact forces and the
+        loads held; the mass matrix factorised on the free DOFs (kept: M_lu)."""
+        from scipy.sparse.linalg import splu
+
+        cond, free, M = self.cond, self.free, self.M
+        self.Bf = cond.Bf
+        self.BfT = self.Bf.T.tocsr()
+        rhs = (self.F_held[free] - (self.Kx(self.u))[free] - (self.Cx(self.v))[free]
+               - self.BfT @ self.s_init)
+        Mff = M[free][:, free].tocsc()
+        try:
+            self.M_lu = _Diagonal(Mff) if _Diagonal.fits(Mff) else splu(Mff)
+            a = np.zeros(self.ndof)
+            a[free] = self.M_lu.solve(rhs)
+        except RuntimeError as exc:
+            raise ModelError("mass", f"the mass matrix is singular on the free DOFs ({exc}): "
+                             "every free DOF needs mass") from None
+        self.a = a
+        self.accel: dict[str, object] = {}
+
+    def _books(self) -> None:
+        """The recorder, the energy ledger (module docstring) and the run's counters."""
+        m, cfe, u = self.m, self.cfe, self.u
+        ndof = self.ndof
+        self.rec = Recorder(m, len(self.names), 0)
+        self.extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
+                      "a": GrowingArray((ndof,))}
+        self.energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
+        self.ledger = dict.fromkeys(ENERGY_TERMS, 0.0)
+        # the scale of mutual displacements: at rest on closed rigid contact they are
+        # round-off, so the fields' displacements set it (the contact conditions are judged
+        # against it)
+        self.w_scale = max(float(np.abs(self.w_init).max(initial=0.0)),
+                           float(np.abs(u).max(initial=0.0)))
+        self.eng.W_scale = max(self.eng.W_scale, self.w_scale)
+        self.parts = dict.fromkeys(("cut", "projection", "hht", "short_steps"), 0.0)
+        self.stiff = np.r_[cfe.kt, cfe.kn]
+        self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
+        self.damped = np.zeros(2 * m, bool)
+        self.damped[m + self.layers.k] = True  # Kelvin–Voigt layers: ½ C_n x², the dashpot's
+        self.e0 = 0.5 * self.v @ (self.Mx(self.v)) + self.strain_energy(u, self.s_init)
+        self.mult = {"first_slip": None, "first_opening": None, "first_closing": None,
+                     "equilibrium_lost": None}
+        self.impulse_log: list[tuple[int, float, int, float, float]] = []  # (state, t, k, n, τ)
+        self.status, self.message = Status.COMPLETED, "time interval completed"
+        # a state recorded with its conditions broken sets it
+        self.status_box = [self.status, self.message]
+        self.first = True
+        self.deferred = np.zeros(m, bool)
+        self.n = 0
+
+    # -- loads -------------------------------------------------------------------------------
+
+    def factors_at(self, t: float) -> dict[str, float]:
+        """The patterns' factors at time t: held ones plus the time functions g(t)."""
+        c = dict(self.static)
+        for name, g in self.loads.items():
             c[name] = c.get(name, 0.0) + float(g(t))
         return c
 
-    # water in the opened joints (fem.crack): W = A (p_c − p_u) on the CFEs of ``water_on``
-    # (the wet set of the scheme the run is in), a load −Bᵀ [0; W] that follows the factors in
-    # time and jumps where the wet set changes (settle_water)
-    crack = system.crack
-    water_on = (crack.wet(states) if crack is not None and initial is not None
-                else np.zeros(m, bool))
-
-    def water_at(t: float, c: dict | None = None) -> np.ndarray:
+    def water_at(self, t: float, c: dict | None = None) -> np.ndarray:
         """W (m,), N, on the CFEs of ``water_on`` at time t (factors ``c``)."""
+        crack, water_on = self.crack, self.water_on
         if crack is None or not water_on.any():
-            return np.zeros(m)
-        return np.where(water_on, crack.area * crack.net(factors_at(t) if c is None else c),
-                        0.0)
+            return np.zeros(self.m)
+        return np.where(water_on, crack.area * crack.net(self.factors_at(t) if c is None
+                                                         else c), 0.0)
 
-    def water_load(W: np.ndarray) -> np.ndarray:
+    def water_load(self, W: np.ndarray) -> np.ndarray:
         """The nodal load (ndof,) of crack-water forces W (m,): −Bᵀ [0; W]."""
-        z = np.zeros(2 * m)
-        z[m:] = W
-        return -(system.B.T @ z)
+        z = np.zeros(2 * self.m)
+        z[self.m:] = W
+        return -(self.system.B.T @ z)
 
-    def force_at(t: float) -> np.ndarray:
-        F = np.zeros(ndof)
-        c_t = factors_at(t)
+    def force_at(self, t: float) -> np.ndarray:
+        """F(t) of eq. (7) (ndof,), N: the patterns times their factors, the ground
+        acceleration's −M r a_g(t) and the crack water's load."""
+        F = np.zeros(self.ndof)
+        c_t = self.factors_at(t)
+        f_of = self.f_of
         for name, c in c_t.items():
             if c:
                 F += c * f_of[name]
-        if r_ground is not None:
-            F += float(ground_acceleration[0](t)) * r_ground
-        if crack is not None and water_on.any():
-            F += water_load(water_at(t, c_t))
+        if self.r_ground is not None:
+            F += float(self.ground_acceleration[0](t)) * self.r_ground
+        if self.crack is not None and self.water_on.any():
+            F += self.water_load(self.water_at(t, c_t))
         return F
 
-    # initial acceleration from the equation of motion with the initial contact forces and
-    # the loads held (a static state is at rest); the time functions' values at t = 0 are a
-    # jump of the load, followed in accelerations below
-    F = force_at(0.0)
-    F_held = np.zeros(ndof)
-    for name, c in static.items():
-        F_held += c * f_of[name]
-    if crack is not None and water_on.any():  # the static run's crack water, held
-        F_held += water_load(water_at(0.0, static))
-    Bf = cond.Bf
-    BfT = Bf.T.tocsr()
-    rhs = F_held[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s
-    Mff = M[free][:, free].tocsc()
-    from scipy.sparse.linalg import splu
+    def _rest_accel(self, F: np.ndarray, u, v) -> np.ndarray:
+        """ü = M⁻¹ (F − K u − C u̇ − Bᵀ s) on the free DOFs (eq. (7)) with the engine's s."""
+        out = np.zeros(self.ndof)
+        free = self.free
+        out[free] = self.M_lu.solve(F[free] - (self.Kx(u))[free] - (self.Cx(v))[free]
+                                    - self.BfT @ self.eng.s)
+        return out
 
-    try:
-        M_lu = _Diagonal(Mff) if _Diagonal.fits(Mff) else splu(Mff)
-        a = np.zeros(ndof)
-        a[free] = M_lu.solve(rhs)
-    except RuntimeError as exc:
-        raise ModelError("mass", f"the mass matrix is singular on the free DOFs ({exc}): "
-                         "every free DOF needs mass") from None
-    if not (0.0 <= restitution <= 1.0):
-        raise ModelError("restitution", f"must lie in [0, 1], got {restitution}")
+    # -- the contact problem in accelerations (jumps of the forces at fixed time) -----------
 
-    accel: dict[str, object] = {}
-
-    def minv(rows: np.ndarray):
+    def minv(self, rows: np.ndarray):
         """(z ↦ M⁻¹ B_rᵀ z, B_r M⁻¹ B_rᵀ) for contact rows r: columns of M⁻¹ Bᵀ formed once (2m
         solves with the mass matrix) and kept for every impact, projection and force jump."""
+        accel, m, M_lu = self.accel, self.m, self.M_lu
         if "X" not in accel:
+            Bf, BfT = self.Bf, self.BfT
             if isinstance(M_lu, _Diagonal):  # lumped: M⁻¹ Bᵀ is as sparse as Bᵀ
                 X = (sp.diags(M_lu.inv) @ BfT).tocsr()
                 GM = (Bf @ X).toarray()
             else:
                 X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if m else np.zeros(
-                    (len(free), 0))
-                X = X.reshape(len(free), 2 * m)
+                    (len(self.free), 0))
+                X = X.reshape(len(self.free), 2 * m)
                 GM = np.asarray(Bf @ X)
             accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
         rows = np.asarray(rows, dtype=np.int64)
@@ -1151,26 +1305,31 @@ def solve_dynamic(
 
         return apply, accel["GM"][np.ix_(rows, rows)]
 
-    def accel_engine() -> EventEngine:
+    def accel_engine(self) -> EventEngine:
         """The event engine of the contact problem in accelerations: M ü + Bᵀ s = f with
         the contact conditions on (s, B ü), condensed to B M⁻¹ Bᵀ (built on first use)."""
+        accel = self.accel
         if "eng" not in accel:
-            minv(np.zeros(0, np.int64))
-            accel["eng"] = EventEngine(SchemeSolver(accel["GM"], np.zeros(2 * m)), [law],
-                                       np.zeros(2 * m), rtol=rtol)
+            self.minv(np.zeros(0, np.int64))
+            m = self.m
+            accel["eng"] = EventEngine(SchemeSolver(accel["GM"], np.zeros(2 * m)), [self.law],
+                                       np.zeros(2 * m), rtol=self.rtol)
         return accel["eng"]
 
-    def accel_forces(t_now: float) -> np.ndarray:
+    def accel_forces(self, t_now: float) -> np.ndarray:
         """Contact forces and accelerations of the current scheme at (u, v): the scheme's
         relations in accelerations (stuck: B_τ ü = 0, closed: B_n ü = 0, slipping:
-        Q = σ f p, open: s = 0) with M ü + Bᵀ s = F − K u − C v — where a switch makes the
-        forces jump (a slip that stops, an impact).  Sets them; returns ü."""
-        Fn = force_at(t_now)
-        f_rest = Fn[free] - (Kx(u))[free] - (Cx(v))[free]
-        out = np.zeros(ndof)
-        if m and (all_rigid or split):  # (a compliant layer's force is its spring's: it does
-            # not jump, it is held at its value as a load)
-            ea = accel_engine()
+        Q = σ f p, open: s = 0) with M ü + Bᵀ s = F − K u − C v (eq. (7)) — where a switch
+        makes the forces jump (a slip that stops, an impact).  Sets them; returns ü."""
+        eng, law, m, free = self.eng, self.law, self.m, self.free
+        M_lu, Bf, BfT = self.M_lu, self.Bf, self.BfT
+        Fn = self.force_at(t_now)
+        f_rest = Fn[free] - (self.Kx(self.u))[free] - (self.Cx(self.v))[free]
+        out = np.zeros(self.ndof)
+        if m and (self.all_rigid or self.split):  # (a compliant layer's force is its
+            # spring's: it does not jump, it is held at its value as a load)
+            held, soft_cfe = self.held, self.soft_cfe
+            ea = self.accel_engine()
             s_held = np.where(held, eng.s, 0.0)
             hM = Bf @ M_lu.solve(np.ascontiguousarray(f_rest - BfT @ s_held))
             states = eng.states.copy()
@@ -1191,7 +1350,8 @@ def solve_dynamic(
                 # instant (N = Q = 0, admissible closed); whether it separates, the step's
                 # contact problem decides with its gap and velocity (with a consistent mass
                 # the acceleration level alone may pull where the step does not)
-                pulled = (trial != OPEN) & (trial != BONDED) & ~law.inert & rigid_n & (p < -tol)
+                pulled = ((trial != OPEN) & (trial != BONDED) & ~law.inert & self.rigid_n
+                          & (p < -tol))
                 if not (up.any() or down.any() or pulled.any()):
                     eng.s = np.where(held, s_held, s_new)
                     break
@@ -1199,34 +1359,28 @@ def solve_dynamic(
                 new[up], new[down] = SLIP_POS, SLIP_NEG
                 free_now |= pulled
                 for k in np.flatnonzero(new != states):
-                    log_event(n, k, states[k], new[k], t_now)
+                    self.log_event(self.n, k, states[k], new[k], t_now)
                 states = new
             eng.states = states
-            if bonds_on:  # bonds the forces' jump takes beyond their strength break here
+            if self.bonds_on:  # bonds the forces' jump takes beyond their strength break here
                 tf, _ = eng.tolerances()
                 over = (states == BONDED) & law.has_bond & (
                     law.bond_values(eng.s[:m], eng.s[m:]).min(axis=1) < -tf)
                 if over.any():
-                    return load_jump(np.zeros(ndof), t_now, n, brk=over)
+                    return self.load_jump(np.zeros(self.ndof), t_now, self.n, brk=over)
         out[free] = M_lu.solve(np.ascontiguousarray(f_rest - BfT @ eng.s))
         return out
 
-    all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
-    # a model whose CFEs are each rigid or compliant in both components: the rigid ones' forces
-    # jump in accelerations (accel_forces), the compliant ones' are held
-    soft_cfe = np.isfinite(cfe.kn) & np.isfinite(cfe.kt)
-    split = bool(np.all(soft_cfe | (~np.isfinite(cfe.kn) & ~np.isfinite(cfe.kt)))
-                 and not soft_cfe.all())
-    held = np.r_[soft_cfe, soft_cfe]
-
-    def break_bonds(E: EventEngine, brk: np.ndarray, t_now: float, step: int) -> np.ndarray:
+    def break_bonds(self, E: EventEngine, brk: np.ndarray, t_now: float, step: int) -> np.ndarray:
         """Break the bonds of the CFEs ``brk`` (eq. (12)) at t_now in the engine ``E`` (the
         step's, or the one in accelerations): each takes its Coulomb state (open in tension,
         else stuck or slipping, :meth:`CoulombLaw.broken_state`) and drops the part of its
         forces it can no longer carry (:meth:`CoulombLaw.released`).  Logs a ``broken``
         event per CFE (in the order of the CFEs), books the elastic energy ½ s²/C a
         compliant layer loses with that force as ``fracture``; returns the forces g (2m,)
-        released (N)."""
+        released (N).  (The static driver's twin: :meth:`StaticSolver._breaks
+        <stepcontact.solver.static.StaticSolver._breaks>`.)"""
+        law, m, mult = self.law, self.m, self.mult
         tf, _ = E.tolerances()
         Q, p = E.s[:m], E.s[m:]
         old = E.states.copy()
@@ -1235,10 +1389,11 @@ def solve_dynamic(
         dQ, dp = law.released(new, Q, p)
         g = np.concatenate([np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)])
         s_before, s_after = E.s.copy(), E.s - g
-        ledger["fracture"] += float(layer_energy(s_before).sum() - layer_energy(s_after).sum())
+        self.ledger["fracture"] += float(self.layer_energy(s_before).sum()
+                                         - self.layer_energy(s_after).sum())
         E.s = s_after
         for k in np.flatnonzero(brk):
-            log_event(step, k, old[k], new[k], t_now, s_before)
+            self.log_event(step, k, old[k], new[k], t_now, s_before)
             if mult["first_opening"] is None and new[k] == OPEN:
                 mult["first_opening"] = t_now
             if mult["first_slip"] is None and new[k] in (SLIP_POS, SLIP_NEG):
@@ -1246,13 +1401,15 @@ def solve_dynamic(
         E.states = new
         return g
 
-    def follow_jump(ea: EventEngine, forcing, t_now: float, step: int, depth: int = 0) -> None:
+    def follow_jump(self, ea: EventEngine, forcing, t_now: float, step: int,
+                    depth: int = 0) -> None:
         """Follow the contact problem in accelerations along a jump at fixed time (μ from 0
         to 1 under ``forcing``, events located on the way and logged at t_now).  A bond that
-        reaches its strength surface on the way (a facet, or the rates of the scheme decided
-        drive it beyond) breaks there: what it carried is released first (the forces g go
-        to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking in turn —
-        the cascade at t_now in its order), then the jump goes on."""
+        reaches its strength surface (eq. (12)) on the way (a facet, or the rates of the
+        scheme decided drive it beyond) breaks there: what it carried is released first (the
+        forces g go to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking
+        in turn — the cascade at t_now in its order), then the jump goes on."""
+        law, m = self.law, self.m
         mu, fired = 0.0, np.zeros(m, bool)
         for _ in range(10 * m + 10):
             old = ea.states.copy()
@@ -1260,15 +1417,16 @@ def solve_dynamic(
             if dec.switched or fired.any():
                 ea.snap()
             for k in np.flatnonzero(old != dec.new):
-                log_event(step, k, old[k], dec.new[k], t_now)
-            if bonds_on and depth <= m:
+                self.log_event(step, k, old[k], dec.new[k], t_now)
+            if self.bonds_on and depth <= m:
                 tf, _ = ea.tolerances()
                 rf = 1e3 * ea.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
                 brk = ((fired & (ea.states == BONDED))
                        | law.breaking(ea.states, ea.s[:m], ea.s[m:], dec.ds[:m], dec.ds[m:],
                                       tf, rf))
                 if brk.any():
-                    release(ea, break_bonds(ea, brk, t_now, step), t_now, step, depth)
+                    self.release(ea, self.break_bonds(ea, brk, t_now, step), t_now, step,
+                                 depth)
                     fired = np.zeros(m, bool)
                     continue
             if mu >= 1.0:
@@ -1279,19 +1437,21 @@ def solve_dynamic(
             if mu >= 1.0 - 1e-15 and not fired.any():
                 break
 
-    def release(ea: EventEngine, g: np.ndarray, t_now: float, step: int, depth: int) -> None:
-        """Release the forces g (2m,) of broken bonds at t_now in accelerations: the load
-        −Bᵀ g they still put on the structure goes to zero (:func:`follow_jump`)."""
+    def release(self, ea: EventEngine, g: np.ndarray, t_now: float, step: int,
+                depth: int) -> None:
+        """Release the forces g (2m,) of broken bonds (eq. (12)) at t_now in accelerations:
+        the load −Bᵀ g they still put on the structure goes to zero (:meth:`follow_jump`)."""
         ea.F_scale = max(ea.F_scale, float(np.abs(g).max(initial=0.0)))
-        dh = accel["GM"] @ g
+        dh = self.accel["GM"] @ g
         ea.W_scale = max(ea.W_scale, float(np.abs(dh).max(initial=0.0)))
-        follow_jump(ea, pinned(dh), t_now, step, depth + 1)
+        self.follow_jump(ea, self.pinned(dh), t_now, step, depth + 1)
 
-    def pinned(dh: np.ndarray):
+    def pinned(self, dh: np.ndarray):
         """The forcing (dh, e) of a jump in accelerations: a CFE that slips with a velocity
         keeps slipping whatever its acceleration (its slip rate pinned to its direction)."""
-        wd = system.B @ v
-        st = eng.states
+        m = self.m
+        wd = self.system.B @ self.v
+        st = self.eng.states
         sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
         moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
                                                             1e-300))
@@ -1300,30 +1460,28 @@ def solve_dynamic(
                          0.0)
         return dh, e
 
-    def load_jump(dF: np.ndarray, t_now: float, step: int,
+    def load_jump(self, dF: np.ndarray, t_now: float, step: int,
                   brk: np.ndarray | None = None) -> np.ndarray:
         """A load that jumps by dF at t_now (the start, a pulse's edge): the contact forces
         jump with it.  Followed in accelerations at fixed time (the engine along the jump,
         events located in it and logged at t_now); returns the accelerations after it and
         sets the contact forces and states.  ``brk``: bonds that break at t_now (eq. (12)),
-        broken and released first (:func:`follow_jump`).  With compliant layers the forces
+        broken and released first (:meth:`follow_jump`).  With compliant layers the forces
         follow the displacements and do not jump: a broken bond's layer force drops."""
-        if not all_rigid:  # compliant layers: the forces follow the displacements
+        eng, law, m = self.eng, self.law, self.m
+        if not self.all_rigid:  # compliant layers: the forces follow the displacements
             if brk is not None and brk.any():
-                break_bonds(eng, brk, t_now, step)
-            Fn = force_at(t_now)
-            out = np.zeros(ndof)
-            out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
-            return out
-        ea = accel_engine()
+                self.break_bonds(eng, brk, t_now, step)
+            return self._rest_accel(self.force_at(t_now), self.u, self.v)
+        ea = self.accel_engine()
         ea.states = eng.states.copy()
         ea.s = eng.s.copy()
-        wa = system.B @ a
+        wa = self.system.B @ self.a
         _, tw = eng.tolerances()
-        wd = system.B @ v
+        wd = self.system.B @ self.v
         apart = (eng.states == OPEN) & ((-eng.w[m:] > tw) | (wd[m:] < 0))
         wa[m:] = np.where(apart, -1e30, wa[m:])  # open with a gap: cannot close now
-        if bonds_on:
+        if self.bonds_on:
             # the rows the scheme holds have no relative acceleration: not Newmark's residue
             # there (a correction of it would move the forces off a bond's strength surface)
             st_ = eng.states
@@ -1334,105 +1492,101 @@ def solve_dynamic(
         ea.F_scale = max(eng.F_scale, float(np.abs(dF).max(initial=0.0)))
         ea.W_scale = float(np.abs(wa[np.abs(wa) < 1e29]).max(initial=0.0)) or 1e-300
         if brk is not None and brk.any():
-            release(ea, break_bonds(ea, brk, t_now, step), t_now, step, 0)
-        if np.any(dF != 0.0) or not (bonds_on or brk is not None):
-            dh = Bf @ M_lu.solve(np.ascontiguousarray(dF[free]))
-            if bonds_on:  # (bonded at rest: no accelerations give the scale)
+            self.release(ea, self.break_bonds(ea, brk, t_now, step), t_now, step, 0)
+        if np.any(dF != 0.0) or not (self.bonds_on or brk is not None):
+            dh = self.Bf @ self.M_lu.solve(np.ascontiguousarray(dF[self.free]))
+            if self.bonds_on:  # (bonded at rest: no accelerations give the scale)
                 ea.W_scale = max(ea.W_scale, float(np.abs(dh).max(initial=0.0)))
-            follow_jump(ea, pinned(dh), t_now, step)
+            self.follow_jump(ea, self.pinned(dh), t_now, step)
         eng.states = ea.states.copy()
         eng.s = ea.s.copy()
-        out = np.zeros(ndof)
-        Fn = force_at(t_now)
-        out[free] = M_lu.solve(Fn[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
-        return out
+        return self._rest_accel(self.force_at(t_now), self.u, self.v)
 
-    def settle_water(t_now: float, step: int) -> bool:
+    def settle_water(self, t_now: float, step: int) -> bool:
         """Let the water into the CFEs that opened (out of those that closed) at t_now: the
         crack-water load jumps there by −Bᵀ [0; ΔW], followed like any load jump
-        (:func:`load_jump`, the contact forces with it at fixed time); a CFE that opens under
+        (:meth:`load_jump`, the contact forces with it at fixed time); a CFE that opens under
         it is wet in turn, until the wet set is the scheme's.  Sets the accelerations;
         returns whether the water moved."""
-        nonlocal a
         moved = False
-        for _ in range(2 * m + 2):
-            new = crack.wet(eng.states)
-            if np.array_equal(new, water_on):
+        for _ in range(2 * self.m + 2):
+            new = self.crack.wet(self.eng.states)
+            if np.array_equal(new, self.water_on):
                 break
-            F_left = force_at(t_now)
-            water_on[:] = new
-            a = load_jump(force_at(t_now) - F_left, t_now, step)
+            F_left = self.force_at(t_now)
+            self.water_on[:] = new
+            self.a = self.load_jump(self.force_at(t_now) - F_left, t_now, step)
             moved = True
         return moved
 
-    rec = Recorder(m, len(names), 0)
-    extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
-             "a": GrowingArray((ndof,))}
-    energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
-    ledger = dict.fromkeys(ENERGY_TERMS, 0.0)
-    # the scale of mutual displacements: at rest on closed rigid contact they are round-off,
-    # so the fields' displacements set it (the contact conditions are judged against it)
-    w_scale = [max(float(np.abs(w).max(initial=0.0)), float(np.abs(u).max(initial=0.0)))]
-    eng.W_scale = max(eng.W_scale, w_scale[0])
-    parts = dict.fromkeys(("cut", "projection", "hht", "short_steps"), 0.0)  # of numerical
+    def jump_at_break(self, F_left, u_, v_, t_now: float, step: int):
+        """The load's jump at a break of its time functions, t_now: (F, a) after it — the
+        contact forces and accelerations follow the jump (without CFEs, M a = F − K u − C v)."""
+        F_new = self.force_at(t_now)
+        if self.m:
+            return F_new, self.load_jump(F_new - F_left, t_now, step)
+        free = self.free
+        a_new = np.zeros(self.ndof)
+        a_new[free] = self.M_lu.solve(F_new[free] - (self.Kx(u_))[free] - (self.Cx(v_))[free])
+        return F_new, a_new
 
-    stiff = np.r_[cfe.kt, cfe.kn]
-    soft = np.isfinite(stiff) & (stiff > 0)
-    damped = np.zeros(2 * m, bool)
-    damped[m + layers.k] = True  # Kelvin–Voigt layers: ½ C_n x², their dashpot's share
+    # -- energy, records, events -------------------------------------------------------------
 
-    def layer_energy(s_, x_=None):
-        """½ s²/C of every component of a compliant layer (2m,), J (½ C_n x² of a damped
-        layer of compression x, :class:`_DampedLayers`)."""
-        out = np.where(soft, 0.5 * s_**2 / np.where(soft, stiff, 1.0), 0.0)
+    def layer_energy(self, s_, x_=None):
+        """½ s²/C of every component of a compliant layer (2m,), J (eq. (11); ½ C_n x² of a
+        damped layer of compression x, :class:`_DampedLayers`)."""
+        soft, layers = self.soft, self.layers
+        out = np.where(soft, 0.5 * s_**2 / np.where(soft, self.stiff, 1.0), 0.0)
         if layers:
-            out[m + layers.k] = layers.energy(x_)
+            out[self.m + layers.k] = layers.energy(x_)
         return out
 
-    def strain_energy(u_, s_, x_=None):
-        return float(0.5 * u_ @ (Kx(u_)) + layer_energy(s_, x_).sum())
+    def strain_energy(self, u_, s_, x_=None):
+        """½ uᵀK u plus the layers' energy, J."""
+        return float(0.5 * u_ @ (self.Kx(u_)) + self.layer_energy(s_, x_).sum())
 
-    def book_contact(diss: np.ndarray) -> dict[str, float]:
+    def book_contact(self, diss: np.ndarray) -> dict[str, float]:
         """The contact's dissipation per component → friction, impact (normal) and damping
         (the damped layers' dashpots)."""
+        m, damped = self.m, self.damped
         return {"friction": float(diss[:m].sum()),
                 "impact": float(diss[m:][~damped[m:]].sum()),
                 "damping": float(diss[damped].sum())}
 
-    e0 = 0.5 * v @ (Mx(v)) + strain_energy(u, s)
-
-    def record(t: float, kind: str, residual: float) -> int:
-        ledger["kinetic"] = float(0.5 * v @ (Mx(v)))
-        ledger["strain"] = strain_energy(u, eng.s)
+    def record(self, t: float, kind: str, residual: float) -> int:
+        """Record the state at t (fields, contact unknowns, energy ledger); a state whose
+        conditions are broken (:func:`_broken_conditions`) ends the run."""
+        ledger, eng, crack, u, v = self.ledger, self.eng, self.crack, self.u, self.v
+        ledger["kinetic"] = float(0.5 * v @ (self.Mx(v)))
+        ledger["strain"] = self.strain_energy(u, eng.s)
         total = ledger["kinetic"] + ledger["strain"]
-        ledger["error"] = (total - e0 - ledger["external"] + ledger["damping"]
+        ledger["error"] = (total - self.e0 - ledger["external"] + ledger["damping"]
                            + ledger["friction"] + ledger["impact"] + ledger["fracture"]
                            + ledger["numerical"])
-        c = factors_at(t)
-        W_t = water_at(t, c)
-        p_t = (np.where(water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
+        c = self.factors_at(t)
+        W_t = self.water_at(t, c)
+        p_t = (np.where(self.water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
                if crack is not None else W_t)
         viol = eng.violation()
-        i = rec.append(lam=t, segment=0, kind=kind, factors=[c.get(n, 0.0) for n in names],
-                       s=eng.s, w=eng.w, state=eng.states, residual=residual,
-                       violation=viol, reactions=np.zeros(0),
-                       water=W_t, pressure=p_t)
+        i = self.rec.append(lam=t, segment=0, kind=kind,
+                            factors=[c.get(n, 0.0) for n in self.names],
+                            s=eng.s, w=eng.w, state=eng.states, residual=residual,
+                            violation=viol, reactions=np.zeros(0),
+                            water=W_t, pressure=p_t)
         broken = _broken_conditions(viol, residual, t)
-        if broken and status_box[0] == Status.COMPLETED:
-            status_box[:] = [Status.VIOLATION, broken]
-        for k, arr in (("u", u), ("v", v), ("a", a)):
-            extra[k].append(arr)
+        if broken and self.status_box[0] == Status.COMPLETED:
+            self.status_box[:] = [Status.VIOLATION, broken]
+        for k, arr in (("u", u), ("v", v), ("a", self.a)):
+            self.extra[k].append(arr)
         for k in ENERGY_TERMS:
-            energy[k].append(ledger[k])
+            self.energy[k].append(ledger[k])
         return i
 
-    mult = {"first_slip": None, "first_opening": None, "first_closing": None,
-            "equilibrium_lost": None}
-
-    impulse_log: list[tuple[int, float, int, float, float]] = []  # (state, t, CFE, n, τ)
-
-    def log_event(step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
-        s_ = eng.s if s_ is None else s_
+    def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
+        """Log CFE k's transition was → now at t_ev (forces ``s_``, default the engine's;
+        an impact's (normal, tangential) impulse) and the first slip, opening, closing."""
+        cfe, m, rec = self.cfe, self.m, self.rec
+        s_ = self.eng.s if s_ is None else s_
         tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
         pn_, qt_ = (0.0, 0.0) if impulse is None else impulse
         rec.events.append(Event(
@@ -1445,92 +1599,341 @@ def solve_dynamic(
             impulse_t=qt_))
         key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
                Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
-        if key and mult[key] is None:
-            mult[key] = t_ev
+        if key and self.mult[key] is None:
+            self.mult[key] = t_ev
 
-    status, message = Status.COMPLETED, "time interval completed"
-    status_box = [status, message]  # a state recorded with its conditions broken sets it
-    first = True
-    deferred = np.zeros(m, bool)
-    if m and initial is not None:
-        a = load_jump(F - F_held, 0.0, 0)
-        first = False
-    elif m and all_rigid and u0 is None and np.any(eng.states == BONDED):
-        # rigid bonds from rest: their forces jump with the loads at t = 0
-        a = load_jump(F - F_held, 0.0, 0)
-    elif m and all_rigid and u0 is not None and np.any(eng.states != OPEN):
-        # from u0: the forces of the closed rigid contacts are those of the contact problem
-        # in accelerations under the loads at t = 0 (_state_at_u0) — the initial state,
-        # not events (bonds that break under those loads are)
-        n_ev0, mult0 = len(rec.events), dict(mult)
-        a = np.zeros(ndof)
-        a = load_jump(F - Kx(u) - Cx(v), 0.0, 0)
-        rec.events[n_ev0:] = [e for e in rec.events[n_ev0:] if bonds_on]
-        if not bonds_on:
-            mult.update(mult0)
-        first = False
-    else:
-        a = np.zeros(ndof)
-        a[free] = M_lu.solve(F[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ s)
-    if crack is not None and initial is not None and settle_water(0.0, 0):
-        F = force_at(0.0)
-    rigid_n = ~np.isfinite(cfe.kn)
-    # a closed rigid CFE is on the obstacle: the round-off of the start's gap (a static
-    # solution's, judged closed there to its own scale; or closed at u0 within 1e-9,
-    # _state_at_u0) is projected away with the fields (in the metric of M, as after a cut:
-    # the first step's constraint would otherwise remove it, seeding the alternating
-    # accelerations of Newmark's constrained DOFs), not left as a violation of u_n = 0 (a
-    # rigid body at rest has no displacement scale to judge it against)
-    on0 = (eng.states != OPEN) & rigid_n & ~law.inert
-    if on0.any():
-        u, v = _project(system, cond, minv, u, v, eng.states, law, rigid_n)
-        eng.w = system.B @ u + system.w0  # (the kinematics of the projected fields)
-        eng.w[m:][on0] = 0.0
-    # the scales the start's conditions are judged against (as every step's: forces, loads)
-    eng.update_scales()
-    eng.F_scale = max(eng.F_scale, float(np.abs(F).max(initial=0.0)),
-                      float(np.abs(F_held).max(initial=0.0)))
-    record(0.0, "start", 0.0)
-    t_run = time.perf_counter()
-    t = 0.0
-    n = 0
-    n_impacts = 0
-    zero_restarts = 0
-    end_time = float(duration)
-    def jump_at_break(F_left, u_, v_, t_now: float, step: int):
-        """The load's jump at a break of its time functions, t_now: (F, a) after it — the
-        contact forces and accelerations follow the jump (without CFEs, M a = F − K u − C v)."""
-        F_new = force_at(t_now)
-        if m:
-            return F_new, load_jump(F_new - F_left, t_now, step)
-        a_new = np.zeros(ndof)
-        a_new[free] = M_lu.solve(F_new[free] - (Kx(u_))[free] - (Cx(v_))[free])
-        return F_new, a_new
+    # -- the run -----------------------------------------------------------------------------
 
-    def cut(frac, mu, ds_o, dw_o, drift, Fhat, s_start, x_start, run_states, F_end, F_i=None,
-            part="cut"):
+    def start(self) -> None:
+        """The state at t = 0: the forces of the contact problem in accelerations where the
+        loads jump at the start (:meth:`load_jump`), the crack water settled, the round-off of
+        the closed rigid CFEs' gaps projected away; recorded as the state ``start``."""
+        eng, m, law, rigid_n = self.eng, self.m, self.law, self.rigid_n
+        u, v, F, F_held = self.u, self.v, self.F, self.F_held
+        if m and self.initial is not None:
+            self.a = self.load_jump(F - F_held, 0.0, 0)
+            self.first = False
+        elif m and self.all_rigid and self.u0 is None and np.any(eng.states == BONDED):
+            # rigid bonds from rest: their forces jump with the loads at t = 0
+            self.a = self.load_jump(F - F_held, 0.0, 0)
+        elif m and self.all_rigid and self.u0 is not None and np.any(eng.states != OPEN):
+            # from u0: the forces of the closed rigid contacts are those of the contact
+            # problem in accelerations under the loads at t = 0 (_state_at_u0) — the initial
+            # state, not events (bonds that break under those loads are)
+            rec = self.rec
+            n_ev0, mult0 = len(rec.events), dict(self.mult)
+            self.a = np.zeros(self.ndof)
+            self.a = self.load_jump(F - self.Kx(u) - self.Cx(v), 0.0, 0)
+            rec.events[n_ev0:] = [e for e in rec.events[n_ev0:] if self.bonds_on]
+            if not self.bonds_on:
+                self.mult.update(mult0)
+            self.first = False
+        else:
+            free = self.free
+            a = np.zeros(self.ndof)
+            a[free] = self.M_lu.solve(F[free] - (self.Kx(u))[free] - (self.Cx(v))[free]
+                                      - self.BfT @ self.s_init)
+            self.a = a
+        if self.crack is not None and self.initial is not None and self.settle_water(0.0, 0):
+            self.F = self.force_at(0.0)
+        # a closed rigid CFE is on the obstacle: the round-off of the start's gap (a static
+        # solution's, judged closed there to its own scale; or closed at u0 within 1e-9,
+        # _state_at_u0) is projected away with the fields (in the metric of M, as after a
+        # cut: the first step's constraint would otherwise remove it, seeding the
+        # alternating accelerations of Newmark's constrained DOFs), not left as a violation
+        # of u_n = 0 (a rigid body at rest has no displacement scale to judge it against)
+        on0 = (eng.states != OPEN) & rigid_n & ~law.inert
+        if on0.any():
+            self.u, self.v = _project(self.system, self.cond, self.minv, self.u, self.v,
+                                      eng.states, law, rigid_n)
+            eng.w = self.system.B @ self.u + self.system.w0  # (the projected fields')
+            eng.w[m:][on0] = 0.0
+        # the scales the start's conditions are judged against (as every step's)
+        eng.update_scales()
+        eng.F_scale = max(eng.F_scale, float(np.abs(self.F).max(initial=0.0)),
+                          float(np.abs(F_held).max(initial=0.0)))
+        self.record(0.0, "start", 0.0)
+        self.t_run = time.perf_counter()
+        self.t = 0.0
+        self.n = 0
+        self.n_impacts = 0
+        self.zero_restarts = 0
+        self.end_time = end_time = float(self.iv.duration)
+        ga = self.ground_acceleration
+        breaks = np.unique(np.concatenate(
+            [np.asarray(g.breaks(), float) for g in self.loads.values() if hasattr(g, "breaks")]
+            + ([np.asarray(ga[0].breaks(), float)]
+               if ga is not None and hasattr(ga[0], "breaks") else []) + [np.zeros(0)]))
+        self.breaks = breaks[(breaks > 0) & (breaks < end_time)]
+
+    def integrate(self) -> None:
+        """The steps from t = 0 to the end of the interval (eqs. (7)–(10)): each followed by
+        the engine (:meth:`_follow_step`), cut at its first event (:meth:`_restart`) or
+        ended (:meth:`_end_step`); stops where a recorded state breaks the conditions, at a
+        stop request of a hook, or where the contact problem fails."""
+        dt0, end_time, hooks = self.dt0, self.end_time, self.hooks
+        while self.t < end_time - 1e-6 * dt0:
+            if self.status_box[0] != Status.COMPLETED:  # conditions broken at a state
+                break
+            if any(getattr(hk, "stop_requested", False) for hk in hooks):  # SIGTERM, Ctrl-C
+                self.status = Status.INCOMPLETE
+                self.message = (f"interrupted at t = {self.t:.6g} s of {end_time:g} s: the "
+                                "states up to there are complete")
+                break
+            self.n += 1
+            self._begin_step()
+            restart, mu, ds, dw = self._follow_step()
+            if self.stop:
+                break
+            landing = restart is None and self.land < 1.0  # a short step: its state at the
+            if landing:                                     # break
+                states = self.eng.states
+                restart = (self.land, mu, ds, dw, states.copy(), states.copy(), {})
+            if restart is not None:
+                self._restart(restart, landing)
+                continue
+            self._end_step()
+
+    def _begin_step(self) -> None:
+        """Set up step n from t: its length (Δt, or landing on a load's break or the end: a
+        whole step under the load's rate continued, its state at the break the convex
+        combination of its ends — ``land`` < 1, as a cut at an event: no energy gained), the
+        load F̂ of eq. (7) with Newmark's (HHT-α) history, the free response's increment h
+        at the contact rows (the engine's forcing), the drift of the slip velocities
+        (eq. (9)) and the scales the engine judges against."""
+        eng, m, cfe, system, cond = self.eng, self.m, self.cfe, self.system, self.cond
+        dt0, t, F = self.dt0, self.t, self.F
+        dt = dt0
+        ahead = self.breaks[self.breaks > t + 1e-9 * dt0]
+        stop_at = min(float(ahead[0]) if ahead.size else np.inf, self.end_time)
+        land = 1.0
+        if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
+            land = (stop_at - t) / dt0
+        nm = _Newmark(dt, self.alpha)
+        t1 = t + land * dt
+        at_break = bool(ahead.size) and t1 >= float(ahead[0]) - 1e-6 * dt0
+        if at_break:
+            t1 = float(ahead[0])
+        elif land < 1.0:
+            t1 = stop_at
+        # a step that ends on a break takes the load's left limit there
+        F1 = self.force_at(t1 - 1e-9 * dt0) if at_break else self.force_at(t1)
+        F_land = F1
+        if land < 1.0:  # the load's rate over the part step continued to t + Δt
+            F1 = F + (F1 - F) / land
+        Fhat = nm.rhs(self.Kx, self.Mx, self.Cx, F1, F, self.u, self.v, self.a)
+        y = cond.factor.solve(np.ascontiguousarray(Fhat[self.free]))
+        h_end = self.Bf @ y
+        # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
+        w_hat = eng.w - system.w0
+        h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
+        wdot = system.B @ self.v
+        wacc = system.B @ self.a
+        drift = np.zeros(2 * m)
+        drift[:m] = np.where(np.isfinite(cfe.kt), 0.0, nm.drift(wdot[:m], wacc[:m]))
+        self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
+        self.x_start = self.layers.x.copy()
+        self.forcing = (h_end - h0, -drift)
+        # a body at rest (after a stop, no load): a step's load at round-off of the
+        # displacements (1e-19 m) drives no mechanism of a singular scheme (EventEngine.drives)
+        eng.rest_scale = self.rtol * self.w_scale
+        # the scale of forces: the contact forces, the loads, and the force that would stop
+        # the motion within a step (|M u̇| / Δt: before any contact force, an impact's scale)
+        eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),
+                          float(np.abs(F).max(initial=0.0)),
+                          float(np.abs(self.Mx(self.v)).max(initial=0.0)) / dt0)
+        eng.W_scale = max(eng.W_scale, self.w_scale, float(np.abs(h_end - h0).max(initial=0.0)))
+        self.s_start, self.w_start = eng.s.copy(), eng.w.copy()
+        self.dt, self.nm, self.land, self.t1, self.at_break = dt, nm, land, t1, at_break
+        self.F1, self.F_land, self.Fhat, self.h_end = F1, F_land, Fhat, h_end
+        self.wdot, self.wacc, self.drift = wdot, wacc, drift
+        self.bond_brk = None  # bonds that break where the step is cut (eq. (12))
+        self.step_events = 0
+        self.stop = False
+
+    def _follow_step(self):
+        """Follow the contact problem of the step's end along the step with the engine (μ
+        from 0 to ``land``, the linear interpolation of eq. (10)): the scheme decided at the
+        step's start (:meth:`_decided_at_start`), events located on the way, contact
+        conditions in velocities (eq. (9)).  Returns (restart, μ, ds, dw): ``restart`` the
+        cut of the step at an event (frac, μ, rates, old states, new states, stop times) or
+        None; sets ``stop`` where the contact problem fails or the events repeat."""
+        eng, m, law, rec = self.eng, self.m, self.law, self.rec
+        t, dt, land, forcing = self.t, self.dt, self.land, self.forcing
+        mu = 0.0
+        # CFEs that reached a limit where the last step was cut: the rate problem of this
+        # step, at that same instant, decides their state (_deferred)
+        fired, self.deferred = self.deferred, np.zeros(m, bool)
+        small = 0
+        restart = None
+        ds = dw = None
+        while True:
+            old = eng.states.copy()
+            try:
+                dec = eng.decide(fired, forcing, natural=self.first)
+            except (MechanismError, RateProblemFailure) as exc:
+                self.status = (Status.EQUILIBRIUM_LOST if isinstance(exc, MechanismError)
+                               else exc.status)
+                self.message = (f"the contact problem of the step at t = {t + mu * dt:.6g} s "
+                                f"has no solution ({type(exc).__name__}: {exc})")
+                self.stop = True
+                break
+            if self.first:
+                # contact at rest is the initial scheme, not an event
+                touching = (-eng.w[m:] <= 1e-12 * max(self.w_scale, 1e-300)) & (old == OPEN)
+                old = np.where(touching, dec.new, old)
+                self.first = False
+            if ds is None:
+                restart, changed = self._decided_at_start(old, dec)
+                if restart is not None:
+                    break
+            else:
+                changed = np.flatnonzero(old != dec.new)
+                if changed.size and mu > 1e-9:
+                    # an event inside the step: cut the step here (eq. (10)) and restart; a
+                    # CFE that opens or starts to slip is switched by the next step's rate
+                    # problem at this instant (its forces are continuous; the part step's
+                    # rates, a chord of the whole step, may point the other way than the
+                    # motion after the cut: it would switch back at once — the chatter of a
+                    # grazing corner)
+                    wait = _deferred(old, dec.new, changed, law, self.layers.k)
+                    self.deferred[wait] = True
+                    keep = dec.new.copy()
+                    keep[wait] = old[wait]
+                    restart = (mu, mu, ds, dw, old, keep, {})
+                    break
+            if dec.switched or fired.any():
+                eng.snap()
+            for k in changed:
+                self.log_event(self.n, k, old[k], dec.new[k], t + mu * dt)
+                self.step_events += 1
+            ds, dw = dec.ds, dec.dw
+            if mu >= land:
+                break
+            dmu, _, fired = eng.next_event(ds, dw, land - mu, 1e-10)
+            small = small + 1 if dmu <= 1e-12 else 0
+            if small > 100 or len(rec.events) > self.max_events:
+                self.status = Status.CYCLING if small > 100 else Status.MAX_EVENTS
+                self.message = f"no progress in the step at t = {t:.6g} s: events repeat"
+                self.stop = True
+                break
+            eng.advance(dmu, ds, dw)
+            mu += dmu
+            if self.bonds_on and np.any(fired & (eng.states == BONDED)):
+                # a bond reaches its strength surface (eq. (12)): the step is cut at that
+                # time (eq. (10)), the bond breaks there and its forces are released
+                self.bond_brk = fired & (eng.states == BONDED)
+                restart = (mu, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
+                break
+            if mu >= land - 1e-15 and not fired.any():
+                break
+        return restart, mu, ds, dw
+
+    def _decided_at_start(self, old, dec):
+        """The scheme decided at the step's start (μ = 0): bonds on their strength surface
+        (eq. (12)) that the rates drive beyond break here; a compliant slip whose velocity
+        reverses inside the step stops (eq. (11)); a slip that stops inside the step
+        (eq. (10), second row) is cut where its velocity vanishes.  Returns (restart or
+        None, the CFEs whose state changed)."""
+        eng, m, law, layers, crack = self.eng, self.m, self.law, self.layers, self.crack
+        t, dt, nm = self.t, self.dt, self.nm
+        if self.bonds_on:
+            # at the step's start: bonds on their strength surface that the rates of the
+            # scheme decided drive beyond it break here, before anything else
+            tf, _ = eng.tolerances()
+            rf = 1e3 * eng.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
+            brk = law.breaking(eng.states, eng.s[:m], eng.s[m:], dec.ds[:m], dec.ds[m:],
+                               tf, rf)
+            if brk.any():
+                self.bond_brk = brk
+                return (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {}), None
+        # a compliant slip whose velocity reverses inside the step
+        dec.new[_compliant_stops(eng, law, dec, self.w_start, self.wdot, self.wacc, nm,
+                                 dt)] = STICK
+        eng.states = dec.new
+        changed = np.flatnonzero(old != dec.new)
+        if not changed.size:
+            return None, changed
+        times = _stick_times(eng, old, dec.new, changed, self.forcing, self.w_start,
+                             self.wdot, 0.0, t, dt, nm.c1, nm, self.wacc, law)
+        later = bool(times) and min(times.values()) > t + 1e-9 * dt
+        now = changed[~np.isin(changed, list(times))] if later else changed
+        # changes at the step's start that the step cannot carry (the schemes of its part
+        # steps are fixed): beside a slip that stops later in the step (the part step runs
+        # under the old scheme), and a damped layer that opens or closes (its shift e
+        # depends on the state).  They are made here at t and the step restarts from the
+        # same point (twice at most: then the step goes on)
+        sw = changed[np.isin(changed, layers.k)
+                     & ((old[changed] == OPEN) != (dec.new[changed] == OPEN))]
+        # and a CFE that opens (closes) where crack water enters (leaves): the load of the
+        # step changes with it
+        wet_moves = crack is not None and not np.array_equal(crack.wet(dec.new),
+                                                             self.water_on)
+        # and a rigid slip that stops here: its friction force jumps to what equilibrium
+        # at t requires (re-solved in accelerations, not the slip's f p)
+        stops = (self.all_rigid or self.split) and bool(np.any(
+            np.isin(old[now], (SLIP_POS, SLIP_NEG)) & (dec.new[now] == STICK)
+            & law.rigid_t[now]))
+        if self.zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
+                                       or stops):
+            keep = old.copy()
+            keep[now] = dec.new[now]
+            return (0.0, 0.0, dec.ds, dec.dw, old, keep, {}), changed
+        # decided at the step's start: a slip that stops inside the step is cut where its
+        # velocity vanishes; the other changes happen at t
+        if times and min(times.values()) > t + 1e-9 * dt:
+            try:
+                ds_o, dw_o = eng.rates_any(old, self.forcing)
+            except MechanismError:
+                ds_o = None
+            if ds_o is not None:
+                t_cut = min(times.values())
+                frac = min((t_cut - t) / dt, self.land)
+                t_cut = min(t_cut, t + frac * dt)
+                # another CFE's event under the slipping scheme before the slip stops: the
+                # step is cut there first, the schemes unchanged (the next step decides at
+                # that point)
+                eng.states, new_now = old, eng.states
+                try:
+                    _d, mu_ev, _f = eng.next_event(ds_o, dw_o, frac, 1e-10)
+                finally:
+                    eng.states = new_now
+                if 1e-9 < mu_ev < frac * (1 - 1e-9):
+                    return (mu_ev, 0.0, ds_o, dw_o, old, old.copy(), {}), changed
+                keep = old.copy()
+                for k, tk in times.items():
+                    if tk <= t_cut * (1 + 1e-12):
+                        keep[k] = dec.new[k]
+                return (frac, 0.0, ds_o, dw_o, old, keep, times), changed
+        return None, changed
+
+    def cut(self, frac, mu, ds_o, dw_o, run_states, F_i=None, part="cut"):
         """The state at t + frac·Δt of the step under the scheme before an event (eq. (8):
-        ü linear in time over the step, with the step's end under that scheme), the works of
-        the part step in the ledger — frac times the whole step's (load ``F_end`` at its
-        end), as the state is — (the integrator's share in ``parts[part]``).  ``F_i``:
-        the load there (default F(t + frac·Δt); a break's left limit for a landing).
-        Returns (u, v, s, w, F) there."""
+        ü linear in time over the step, with the step's end under that scheme; the event's
+        time from the interpolation (10)), the works of the part step in the ledger — frac
+        times the whole step's (load F1 at its end), as the state is — (the integrator's
+        share in ``parts[part]``).  ``F_i``: the load there (default F(t + frac·Δt); a
+        break's left limit for a landing).  Returns (u, v, s, w, F) there."""
+        eng, system, cond, layers = self.eng, self.system, self.cond, self.layers
+        u, v, t = self.u, self.v, self.t
         if frac == 0.0 and mu == 0.0:  # a restart at the step's start: nothing moved
             return (u, v, eng.s.copy(), system.B @ u + system.w0,
-                    force_at(t) if F_i is None else F_i)
+                    self.force_at(t) if F_i is None else F_i)
+        s_start, x_start, F, F_end = self.s_start, self.x_start, self.F, self.F1
         s_end = eng.s + (1.0 - mu) * ds_o
-        w_end = eng.w + (1.0 - mu) * dw_o + drift
+        w_end = eng.w + (1.0 - mu) * dw_o + self.drift
         tv = s_end - cond.d * (w_end - system.w0)
-        u_end = np.zeros(ndof)
-        u_end[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tv))
-        _a_end, v_end = nm.end(u_end, u, v, a)
-        tau = frac * dt
+        u_end = np.zeros(self.ndof)
+        u_end[self.free] = cond.factor.solve(np.ascontiguousarray(self.Fhat[self.free]
+                                                                  - self.BfT @ tv))
+        _a_end, v_end = self.nm.end(u_end, u, v, self.a)
+        tau = frac * self.dt
         # linear between the step's ends (a convex combination of two Newmark states: stable
         # for the stiff modes, where the expansion (8) in powers of τ is not)
         u_i = u + frac * (u_end - u)
         v_i = v + frac * (v_end - v)
         s_i = eng.s + (frac - mu) * ds_o
-        F_i = force_at(t + tau) if F_i is None else F_i
+        F_i = self.force_at(t + tau) if F_i is None else F_i
         w_i = system.B @ u_i + system.w0
         x_i = layers.at(run_states, w_i, frac) if layers else None
         # the works of the part step: the share frac of the whole step's (the state is the
@@ -1544,318 +1947,151 @@ def solve_dynamic(
         x_end = (layers.at(run_states, system.B @ u_end + system.w0, 1.0) if layers
                  else None)
         diss = frac * (0.5 * (s_start + s_end) * (system.B @ du_w)
-                       - (layer_energy(s_end, x_end) - layer_energy(s_start, x_start)))
-        contact = book_contact(diss)
+                       - (self.layer_energy(s_end, x_end)
+                          - self.layer_energy(s_start, x_start)))
+        contact = self.book_contact(diss)
         works = {"external": frac * float(du_w @ (0.5 * (F + F_end))),
-                 "damping": frac * float(du_w @ (C @ (0.5 * (v + v_end))))
+                 "damping": frac * float(du_w @ (self.C @ (0.5 * (v + v_end))))
                  + contact["damping"],
                  "friction": contact["friction"], "impact": contact["impact"]}
+        ledger = self.ledger
         for key, val in works.items():
             ledger[key] += val
         # the interpolation (8) is not a Newmark step: what it adds or removes is the
         # integrator's (numerical) share of the part step
-        d_energy = (0.5 * v_i @ (Mx(v_i)) + strain_energy(u_i, s_i, x_i)
-                    - 0.5 * v @ (Mx(v)) - strain_energy(u, s_start, x_start))
+        Mx = self.Mx
+        d_energy = (0.5 * v_i @ (Mx(v_i)) + self.strain_energy(u_i, s_i, x_i)
+                    - 0.5 * v @ (Mx(v)) - self.strain_energy(u, s_start, x_start))
         d_num = (works["external"] - works["damping"] - works["friction"] - works["impact"]
                  - d_energy)
         ledger["numerical"] += d_num
-        parts[part] += d_num
+        self.parts[part] += d_num
         return u_i, v_i, s_i, w_i, F_i
 
-    breaks = np.unique(np.concatenate(
-        [np.asarray(g.breaks(), float) for g in loads.values() if hasattr(g, "breaks")]
-        + ([np.asarray(ground_acceleration[0].breaks(), float)]
-           if ground_acceleration is not None and hasattr(ground_acceleration[0], "breaks")
-           else []) + [np.zeros(0)]))
-    breaks = breaks[(breaks > 0) & (breaks < end_time)]
-    while t < end_time - 1e-6 * dt0:
-        if status_box[0] != Status.COMPLETED:  # conditions broken at a recorded state
-            break
-        if any(getattr(hk, "stop_requested", False) for hk in hooks):  # SIGTERM, Ctrl-C
-            status = Status.INCOMPLETE
-            message = (f"interrupted at t = {t:.6g} s of {end_time:g} s: the states up to "
-                       "there are complete")
-            break
-        n += 1
-        # the step: Δt; one that would pass a break of a load (a pulse's end) or the end
-        # lands there: a whole step under the load's rate continued, its state at the break
-        # the convex combination of its ends (``land`` < 1, as a cut at an event: no energy
-        # gained, module docstring)
-        dt = dt0
-        ahead = breaks[breaks > t + 1e-9 * dt0]
-        stop_at = min(float(ahead[0]) if ahead.size else np.inf, end_time)
-        land = 1.0
-        if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
-            land = (stop_at - t) / dt0
-        nm = _Newmark(dt, alpha)
-        t1 = t + land * dt
-        at_break = bool(ahead.size) and t1 >= float(ahead[0]) - 1e-6 * dt0
-        if at_break:
-            t1 = float(ahead[0])
-        elif land < 1.0:
-            t1 = stop_at
-        # a step that ends on a break takes the load's left limit there
-        F1 = force_at(t1 - 1e-9 * dt0) if at_break else force_at(t1)
-        F_land = F1
-        if land < 1.0:  # the load's rate over the part step continued to t + Δt
-            F1 = F + (F1 - F) / land
-        Fhat = nm.rhs(Kx, Mx, Cx, F1, F, u, v, a)
-        y = cond.factor.solve(np.ascontiguousarray(Fhat[free]))
-        h_end = Bf @ y
-        # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
-        w_hat = eng.w - system.w0
-        h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
-        wdot = system.B @ v
-        wacc = system.B @ a
-        drift = np.zeros(2 * m)
-        drift[:m] = np.where(np.isfinite(cfe.kt), 0.0, nm.drift(wdot[:m], wacc[:m]))
-        layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
-        x_start = layers.x.copy()
-        forcing = (h_end - h0, -drift)
-        # a body at rest (after a stop, no load): a step's load at round-off of the
-        # displacements (1e-19 m) drives no mechanism of a singular scheme (EventEngine.drives)
-        eng.rest_scale = rtol * w_scale[0]
-        # the scale of forces: the contact forces, the loads, and the force that would stop
-        # the motion within a step (|M u̇| / Δt: before any contact force, an impact's scale)
-        eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),
-                          float(np.abs(F).max(initial=0.0)),
-                          float(np.abs(Mx(v)).max(initial=0.0)) / dt0)
-        eng.W_scale = max(eng.W_scale, w_scale[0], float(np.abs(h_end - h0).max(initial=0.0)))
-        s_start, w_start = eng.s.copy(), eng.w.copy()
-        mu = 0.0
-        # CFEs that reached a limit where the last step was cut: the rate problem of this
-        # step, at that same instant, decides their state (_deferred)
-        fired, deferred = deferred, np.zeros(m, bool)
-        small = 0
-        stop = False
-        restart = None
-        bond_brk = None  # bonds that break where the step is cut (eq. (12))
-        step_events = 0
-        ds = dw = None
-        while True:
-            old = eng.states.copy()
-            try:
-                dec = eng.decide(fired, forcing, natural=first)
-            except (MechanismError, RateProblemFailure) as exc:
-                status = (Status.EQUILIBRIUM_LOST if isinstance(exc, MechanismError)
-                          else exc.status)
-                message = (f"the contact problem of the step at t = {t + mu * dt:.6g} s has no "
-                           f"solution ({type(exc).__name__}: {exc})")
-                stop = True
-                break
-            if first:
-                # contact at rest is the initial scheme, not an event
-                touching = (-eng.w[m:] <= 1e-12 * max(w_scale[0], 1e-300)) & (old == OPEN)
-                old = np.where(touching, dec.new, old)
-                first = False
-            if bonds_on and ds is None:
-                # at the step's start: bonds on their strength surface that the rates of the
-                # scheme decided drive beyond it break here, before anything else
-                tf, _ = eng.tolerances()
-                rf = 1e3 * eng.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
-                brk = law.breaking(eng.states, eng.s[:m], eng.s[m:], dec.ds[:m], dec.ds[m:],
-                                   tf, rf)
-                if brk.any():
-                    bond_brk = brk
-                    restart = (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {})
-                    break
-            if ds is None:  # a compliant slip whose velocity reverses inside the step
-                dec.new[_compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt)] = STICK
-                eng.states = dec.new
-            changed = np.flatnonzero(old != dec.new)
-            if changed.size and ds is None:
-                times = _stick_times(eng, old, dec.new, changed, forcing, w_start, wdot, 0.0,
-                                     t, dt, nm.c1, nm, wacc, law)
-                later = bool(times) and min(times.values()) > t + 1e-9 * dt
-                now = changed[~np.isin(changed, list(times))] if later else changed
-                # changes at the step's start that the step cannot carry (the schemes of its
-                # part steps are fixed): beside a slip that stops later in the step (the
-                # part step runs under the old scheme), and a damped layer that opens or
-                # closes (its shift e depends on the state).  They are made here at t and the
-                # step restarts from the same point (twice at most: then the step goes on)
-                sw = changed[np.isin(changed, layers.k)
-                             & ((old[changed] == OPEN) != (dec.new[changed] == OPEN))]
-                # and a CFE that opens (closes) where crack water enters (leaves): the load
-                # of the step changes with it
-                wet_moves = crack is not None and not np.array_equal(crack.wet(dec.new),
-                                                                     water_on)
-                # and a rigid slip that stops here: its friction force jumps to what
-                # equilibrium at t requires (re-solved in accelerations, not the slip's f p)
-                stops = (all_rigid or split) and bool(np.any(
-                    np.isin(old[now], (SLIP_POS, SLIP_NEG)) & (dec.new[now] == STICK)
-                    & law.rigid_t[now]))
-                if zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
-                                          or stops):
-                    keep = old.copy()
-                    keep[now] = dec.new[now]
-                    restart = (0.0, 0.0, dec.ds, dec.dw, old, keep, {})
-                    break
-            if changed.size and ds is not None and mu > 1e-9:
-                # an event inside the step: cut the step here (eq. (10)) and restart; a CFE
-                # that opens or starts to slip is switched by the next step's rate problem at
-                # this instant (its forces are continuous; the part step's rates, a chord of
-                # the whole step, may point the other way than the motion after the cut: it
-                # would switch back at once — the chatter of a grazing corner)
-                wait = _deferred(old, dec.new, changed, law, layers.k)
-                deferred[wait] = True
-                keep = dec.new.copy()
-                keep[wait] = old[wait]
-                restart = (mu, mu, ds, dw, old, keep, {})
-                break
-            if changed.size and ds is None:
-                # decided at the step's start: a slip that stops inside the step is cut where
-                # its velocity vanishes; the other changes happen at t
-                if times and min(times.values()) > t + 1e-9 * dt:
-                    try:
-                        ds_o, dw_o = eng.rates_any(old, forcing)
-                    except MechanismError:
-                        ds_o = None
-                    if ds_o is not None:
-                        t_cut = min(times.values())
-                        frac = min((t_cut - t) / dt, land)
-                        t_cut = min(t_cut, t + frac * dt)
-                        # another CFE's event under the slipping scheme before the slip
-                        # stops: the step is cut there first, the schemes unchanged (the
-                        # next step decides at that point)
-                        eng.states, new_now = old, eng.states
-                        try:
-                            _d, mu_ev, _f = eng.next_event(ds_o, dw_o, frac, 1e-10)
-                        finally:
-                            eng.states = new_now
-                        if 1e-9 < mu_ev < frac * (1 - 1e-9):
-                            restart = (mu_ev, 0.0, ds_o, dw_o, old, old.copy(), {})
-                            break
-                        keep = old.copy()
-                        for k, tk in times.items():
-                            if tk <= t_cut * (1 + 1e-12):
-                                keep[k] = dec.new[k]
-                        restart = (frac, 0.0, ds_o, dw_o, old, keep, times)
-                        break
-            if dec.switched or fired.any():
-                eng.snap()
-            for k in changed:
-                log_event(n, k, old[k], dec.new[k], t + mu * dt)
-                step_events += 1
-            ds, dw = dec.ds, dec.dw
-            if mu >= land:
-                break
-            dmu, _, fired = eng.next_event(ds, dw, land - mu, 1e-10)
-            small = small + 1 if dmu <= 1e-12 else 0
-            if small > 100 or len(rec.events) > max_events:
-                status = Status.CYCLING if small > 100 else Status.MAX_EVENTS
-                message = f"no progress in the step at t = {t:.6g} s: events repeat"
-                stop = True
-                break
-            eng.advance(dmu, ds, dw)
-            mu += dmu
-            if bonds_on and np.any(fired & (eng.states == BONDED)):
-                # a bond reaches its strength surface (eq. (12)): the step is cut at that time
-                # (eq. (10)), the bond breaks there and its forces are released
-                bond_brk = fired & (eng.states == BONDED)
-                restart = (mu, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
-                break
-            if mu >= land - 1e-15 and not fired.any():
-                break
-        if stop:
-            break
-        landing = restart is None and land < 1.0  # a short step: its state at the break
+    def _restart(self, restart, landing: bool) -> None:
+        """Cut the step at its first event (eq. (10)) or where it lands on a break: the state
+        there (:meth:`cut`), an impact's velocity jumps (:meth:`_impact_at`), the new scheme
+        logged and projected onto, the forces that jump re-solved in accelerations (bonds
+        that break released, eq. (12)); recorded, and the integration restarts there."""
+        eng, m, system, law, rec = self.eng, self.m, self.system, self.law, self.rec
+        t, dt, dt0, n, land = self.t, self.dt, self.dt0, self.n, self.land
+        frac, mu_r, ds_o, dw_o, old, new_states, times = restart
+        self.zero_restarts = self.zero_restarts + 1 if frac == 0.0 else 0
+        # a cut where the step lands on a break: the load's left limit there, its jump
+        # after the cut
+        lands = (land < 1.0 or self.at_break) and t + frac * dt >= self.t1 - 1e-9 * dt0
+        n_events = len(rec.events)
+        u_i, v_i, s_i, w_i, F_i = self.cut(frac, mu_r, ds_o, dw_o, old,
+                                           self.F_land if lands else None,
+                                           "short_steps" if landing else "cut")
+        t_i = self.t1 if lands else t + frac * dt
+        closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & self.rigid_n)
+        s_i[m + closing] = 0.0
+        w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
+        imp: dict[int, tuple[float, float]] = {}  # CFE → (normal, tangential) impulse
+        bounced = closed_as = np.zeros(0, np.int64)
+        if closing.size:  # an impact: normal velocities jump (Newton's law)
+            v_i, imp, bounced, closed_as = self._impact_at(old, new_states, closing, s_i,
+                                                           v_i, t_i)
+        new_states = self.layers.closing_states(old, new_states)
+        for k in bounced:  # the contact of a rebound lasts an instant: closed, opened
+            if old[k] == OPEN:
+                self.log_event(n, k, OPEN, closed_as[k], t_i, impulse=imp.get(int(k)))
+                self.log_event(n, k, closed_as[k], OPEN, t_i)
+        n_logged = len(rec.events)
+        for k in np.flatnonzero(old != new_states):
+            self.log_event(n, k, old[k], new_states[k], times.get(int(k), t_i),
+                           impulse=imp.get(int(k)))
+        eng.states = new_states.copy()
+        Mx, Kx = self.Mx, self.Kx
+        e_before = 0.5 * v_i @ (Mx(v_i)) + 0.5 * u_i @ (Kx(u_i))
+        u_i, v_i = _project(system, self.cond, self.minv, u_i, v_i, new_states, law,
+                            self.rigid_n)
+        # the projection onto the new scheme's constraints: the integrator's share
+        d_num = float(e_before - 0.5 * v_i @ (Mx(v_i)) - 0.5 * u_i @ (Kx(u_i)))
+        self.ledger["numerical"] += d_num
+        self.parts["projection"] += d_num
+        w_i = system.B @ u_i + system.w0
+        on = (new_states != OPEN) & self.rigid_n
+        w_i[m:][on] = 0.0  # on the obstacle (round-off of the projection)
+        self.layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
+        eng.s, eng.w = s_i, w_i
+        eng.snap()
+        self.u, self.v = u_i, v_i
+        self.F = F_i
+        if self.bond_brk is not None:  # the bonds break: their forces are released here
+            self.a = self.load_jump(np.zeros(self.ndof), t_i, n, brk=self.bond_brk)
+        elif closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
+                                    & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
+            self.a = self.accel_forces(t_i)  # the forces jump: an impact, a slip that stops
+            # a stop that the forces at this instant undo (the CFE slips on the same way: its
+            # velocity only touched zero) is no event: the rate problem in accelerations
+            # decided the state
+            undone = ((old != new_states) & (new_states == STICK) & (eng.states == old)
+                      & np.isin(old, (SLIP_POS, SLIP_NEG)))
+            if undone.any():
+                rec.events[n_logged:] = [e for e in rec.events[n_logged:]
+                                         if not undone[e.cfe]]
+        else:
+            self.a = self._rest_accel(F_i, self.u, self.v)
+        self.t = t = t_i
+        if lands and self.at_break:  # the load jumps here: the contact forces with it
+            self.F, self.a = self.jump_at_break(self.F, self.u, self.v, t, n)
+        if self.crack is not None and self.settle_water(t, n):
+            self.F = self.force_at(t)
+        self.record(t, "event" if len(rec.events) > n_events or not landing else "step", 0.0)
         if landing:
-            restart = (land, mu, ds, dw, eng.states.copy(), eng.states.copy(), {})
-        if restart is not None:
-            frac, mu_r, ds_o, dw_o, old, new_states, times = restart
-            zero_restarts = zero_restarts + 1 if frac == 0.0 else 0
-            # a cut where the step lands on a break: the load's left limit there, its jump
-            # after the cut
-            lands = (land < 1.0 or at_break) and t + frac * dt >= t1 - 1e-9 * dt0
-            n_events = len(rec.events)
-            u_i, v_i, s_i, w_i, F_i = cut(frac, mu_r, ds_o, dw_o, drift, Fhat, s_start,
-                                          x_start, old, F1, F_land if lands else None,
-                                          "short_steps" if landing else "cut")
-            t_i = t1 if lands else t + frac * dt
-            closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & rigid_n)
-            s_i[m + closing] = 0.0
-            w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
-            imp: dict[int, tuple[float, float]] = {}  # CFE → (normal, tangential) impulse
-            bounced = np.zeros(0, np.int64)
-            if closing.size:  # an impact: normal velocities jump (Newton's law)
-                closed_now = np.flatnonzero((old != OPEN) & rigid_n)
-                cand = np.union1d(closing, closed_now)
-                got: dict = {}
-                v_before = v_i
-                e_k = _restitution_of(cond, m, restitution, v_i, a, cand, dt0)
-                v_new, sig = _impact(system, cond, minv, v_i, cand, closing, e_k,
-                                     law.f, old == BONDED, (old == BONDED) & law.rigid_t, got)
-                ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
-                v_i = v_new
-                # a CFE still sliding after its impact slips on (with its velocity)
-                for k_, sg in zip(cand, sig, strict=True):
-                    if sg != 0 and k_ in closing:
-                        new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
-                if restitution > 0.0:  # Newton's rebound: a CFE leaving the obstacle opens
-                    bounced = _rebounding(cond, m, v_before, v_i, cand, old)
-                    closed_as = new_states.copy()
-                    new_states[bounced] = OPEN
-                    s_i[bounced], s_i[m + bounced] = 0.0, 0.0
-                imp = {int(k_): (-float(pk), float(qk))
-                       for k_, pk, qk in zip(cand, got["p"], got["Q"], strict=True)
-                       if pk != 0.0 or qk != 0.0}
-                for k_, (pn_, qt_) in sorted(imp.items()):
-                    impulse_log.append((len(rec), t_i, k_, pn_, qt_))
-                n_impacts += 1
-            new_states = layers.closing_states(old, new_states)
-            for k in bounced:  # the contact of a rebound lasts an instant: closed, opened
-                if old[k] == OPEN:
-                    log_event(n, k, OPEN, closed_as[k], t_i, impulse=imp.get(int(k)))
-                    log_event(n, k, closed_as[k], OPEN, t_i)
-            n_logged = len(rec.events)
-            for k in np.flatnonzero(old != new_states):
-                log_event(n, k, old[k], new_states[k], times.get(int(k), t_i),
-                          impulse=imp.get(int(k)))
-            eng.states = new_states.copy()
-            e_before = 0.5 * v_i @ (Mx(v_i)) + 0.5 * u_i @ (Kx(u_i))
-            u_i, v_i = _project(system, cond, minv, u_i, v_i, new_states, law, rigid_n)
-            # the projection onto the new scheme's constraints: the integrator's share
-            d_num = float(e_before - 0.5 * v_i @ (Mx(v_i)) - 0.5 * u_i @ (Kx(u_i)))
-            ledger["numerical"] += d_num
-            parts["projection"] += d_num
-            w_i = system.B @ u_i + system.w0
-            on = (new_states != OPEN) & rigid_n
-            w_i[m:][on] = 0.0  # on the obstacle (round-off of the projection)
-            layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
-            eng.s, eng.w = s_i, w_i
-            eng.snap()
-            u, v = u_i, v_i
-            F = F_i
-            if bond_brk is not None:  # the bonds break: their forces are released here
-                a = load_jump(np.zeros(ndof), t_i, n, brk=bond_brk)
-            elif closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
-                                        & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
-                a = accel_forces(t_i)  # the forces jump: an impact, a slip that stops
-                # a stop that the forces at this instant undo (the CFE slips on the same way:
-                # its velocity only touched zero) is no event: the rate problem in
-                # accelerations decided the state
-                undone = ((old != new_states) & (new_states == STICK) & (eng.states == old)
-                          & np.isin(old, (SLIP_POS, SLIP_NEG)))
-                if undone.any():
-                    rec.events[n_logged:] = [e for e in rec.events[n_logged:]
-                                             if not undone[e.cfe]]
-            else:
-                a = np.zeros(ndof)
-                a[free] = M_lu.solve(F_i[free] - (Kx(u))[free] - (Cx(v))[free] - BfT @ eng.s)
-            t = t_i
-            if lands and at_break:  # the load jumps here: the contact forces with it
-                F, a = jump_at_break(F, u, v, t, n)
-            if crack is not None and settle_water(t, n):
-                F = force_at(t)
-            record(t, "event" if len(rec.events) > n_events or not landing else "step", 0.0)
-            if landing:
-                for hk in hooks:
-                    if hasattr(hk, "after_step"):
-                        hk.after_step(n, t, end_time)
-            continue
-        # the end of the step: real mutual displacements, the fields, the ledger
-        zero_restarts = 0
-        eng.w += drift
+            for hk in self.hooks:
+                if hasattr(hk, "after_step"):
+                    hk.after_step(n, t, self.end_time)
+
+    def _impact_at(self, old, new_states, closing, s_i, v_i, t_i):
+        """An impact where rigid CFEs ``closing`` close at t_i: the normal velocities of the
+        closing (and closed) CFEs jump to −e times their approach velocities by impulses,
+        with friction's impulses by Coulomb's law (:func:`_impact`); a CFE still sliding
+        after it slips on; with e > 0 a CFE that leaves the obstacle opens (Newton's rebound,
+        its ``new_states`` and ``s_i`` changed in place).  Books the kinetic energy taken as
+        ``impact`` and logs the impulses.  Returns (v, impulses, rebounding CFEs, their
+        states while closed)."""
+        m, law, cond, Mx = self.m, self.law, self.cond, self.Mx
+        closed_now = np.flatnonzero((old != OPEN) & self.rigid_n)
+        cand = np.union1d(closing, closed_now)
+        got: dict = {}
+        v_before = v_i
+        e_k = _restitution_of(cond, m, self.restitution, v_i, self.a, cand, self.dt0)
+        v_new, sig = _impact(self.system, cond, self.minv, v_i, cand, closing, e_k,
+                             law.f, old == BONDED, (old == BONDED) & law.rigid_t, got)
+        self.ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
+        v_i = v_new
+        # a CFE still sliding after its impact slips on (with its velocity)
+        for k_, sg in zip(cand, sig, strict=True):
+            if sg != 0 and k_ in closing:
+                new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
+        bounced = closed_as = np.zeros(0, np.int64)
+        if self.restitution > 0.0:  # Newton's rebound: a CFE leaving the obstacle opens
+            bounced = _rebounding(cond, m, v_before, v_i, cand, old)
+            closed_as = new_states.copy()
+            new_states[bounced] = OPEN
+            s_i[bounced], s_i[m + bounced] = 0.0, 0.0
+        imp = {int(k_): (-float(pk), float(qk))
+               for k_, pk, qk in zip(cand, got["p"], got["Q"], strict=True)
+               if pk != 0.0 or qk != 0.0}
+        for k_, (pn_, qt_) in sorted(imp.items()):
+            self.impulse_log.append((len(self.rec), t_i, k_, pn_, qt_))
+        self.n_impacts += 1
+        return v_i, imp, bounced, closed_as
+
+    def _end_step(self) -> None:
+        """The end of a step without a cut: the real mutual displacements (the drift of
+        eq. (9) added), the fields from F̂ (eq. (7)) and Newmark's update, the works of the
+        step in the ledger (HHT-α's and a short step's share as numerical), the load's jump
+        at a break, the crack water, and the record every ``record_every`` steps."""
+        eng, m, system, cond, layers = self.eng, self.m, self.system, self.cond, self.layers
+        ledger, Mx, Cx = self.ledger, self.Mx, self.Cx
+        u, v, a, F, F1 = self.u, self.v, self.a, self.F, self.F1
+        s_start, x_start, dt, dt0, n = self.s_start, self.x_start, self.dt, self.dt0, self.n
+        self.zero_restarts = 0
+        eng.w += self.drift
         gone = eng.states == OPEN
         eng.s[:m][gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
         eng.s[m:][gone] = 0.0
@@ -1864,11 +2100,12 @@ def solve_dynamic(
             layers.sync(eng.states, eng.s, eng.w)
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
-        u_new = np.zeros(ndof)
-        u_new[free] = cond.factor.solve(np.ascontiguousarray(Fhat[free] - BfT @ tvec))
-        a_new, v_new = nm.end(u_new, u, v, a)
+        u_new = np.zeros(self.ndof)
+        u_new[self.free] = cond.factor.solve(np.ascontiguousarray(self.Fhat[self.free]
+                                                                  - self.BfT @ tvec))
+        a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
-        e_step0 = 0.5 * v @ (Mx(v)) + strain_energy(u, s_start, x_start)
+        e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
         ledger["external"] += float(du @ (0.5 * (F + F1)))
         F_prev, F = F, F1
         vbar = 0.5 * (v + v_new)
@@ -1876,72 +2113,83 @@ def solve_dynamic(
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
         # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
-        diss = sbar * (system.B @ du) - (layer_energy(eng.s) - layer_energy(s_start, x_start))
-        for key, val in book_contact(diss).items():
+        diss = sbar * (system.B @ du) - (self.layer_energy(eng.s)
+                                         - self.layer_energy(s_start, x_start))
+        for key, val in self.book_contact(diss).items():
             ledger[key] += val
-        if alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what the
-            # works leave
-            e_step1 = 0.5 * v_new @ (Mx(v_new)) + strain_energy(u_new, eng.s)
+        if self.alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what
+            # the works leave
+            e_step1 = 0.5 * v_new @ (Mx(v_new)) + self.strain_energy(u_new, eng.s)
             d_num = (float(du @ (0.5 * (F_prev + F1))) - float(du @ (Cx(vbar)))
                      - float(diss.sum()) - (e_step1 - e_step0))
             ledger["numerical"] += d_num
-            parts["hht" if dt == dt0 else "short_steps"] += d_num
-        u, v, a = u_new, v_new, a_new
-        t = t1
-        if at_break:  # the load jumps here: the contact forces and accelerations with it
-            F, a = jump_at_break(F, u, v, t, n)
-        if crack is not None and settle_water(t, n):  # (a catch-all: a wet set that moved
-            F = force_at(t)                             # at the step's start is settled there)
-            step_events += 1
-        w_scale[0] = max(w_scale[0], float(np.abs(eng.w).max(initial=0.0)),
-                         float(np.abs(u).max(initial=0.0)))
-        last = t >= end_time - 1e-6 * dt0
-        if record_every <= 1 or n % record_every == 0 or step_events or last:
+            self.parts["hht" if dt == dt0 else "short_steps"] += d_num
+        self.u, self.v, self.a, self.F = u_new, v_new, a_new, F
+        self.t = t = self.t1
+        if self.at_break:  # the load jumps here: the contact forces and accelerations with it
+            self.F, self.a = self.jump_at_break(F, u_new, v_new, t, n)
+        if self.crack is not None and self.settle_water(t, n):  # (a catch-all: a wet set
+            self.F = self.force_at(t)       # that moved at the step's start is settled there)
+            self.step_events += 1
+        self.w_scale = max(self.w_scale, float(np.abs(eng.w).max(initial=0.0)),
+                           float(np.abs(self.u).max(initial=0.0)))
+        last = t >= self.end_time - 1e-6 * dt0
+        re = self.record_every
+        if re <= 1 or n % re == 0 or self.step_events or last:
+            h_end = self.h_end
             r = h_end - (w_hat + cond.product(tvec))
             res_rel = float(np.abs(r).max(initial=0.0) / max(np.abs(h_end).max(initial=0.0),
-                                                              w_scale[0], 1e-300))
-            record(t, "event" if step_events else "step", res_rel)
-        for hk in hooks:
+                                                              self.w_scale, 1e-300))
+            self.record(t, "event" if self.step_events else "step", res_rel)
+        for hk in self.hooks:
             if hasattr(hk, "after_step"):
-                hk.after_step(n, t, end_time)
-    if status == Status.COMPLETED and status_box[0] != Status.COMPLETED:
-        status, message = status_box
-    n_steps = n
-    if status != Status.COMPLETED:
-        mult["equilibrium_lost"] = t if status == Status.EQUILIBRIUM_LOST else None
-    rec.multipliers.append(Multipliers(0, "dynamic", **mult))
-    arr = rec.arrays()
-    S, W = arr["s"], arr["w"]
-    counters = dict(cond.counters) | schemes.counters | eng.counters | {
-        "events": len(rec.events), "steps": n_steps, "impacts": n_impacts,
-        "setup_seconds": t_setup, **{f"numerical_{k}": v for k, v in parts.items()},
-        "run_seconds": time.perf_counter() - t_run, "ndof": ndof, "cfes": m}
-    cfe_arrays = {"interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
-                  "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction,
-                  "gap": cfe.gap, "kn": cfe.kn, "kt": cfe.kt, "cn": cfe.cn,
-                  "tangent": cfe.tangent}
-    return DynamicResult(
-        pattern_names=tuple(names), segments=[("dynamic", 0.0, float(t))],
-        cfe=cfe_arrays, interface_names=cfe.names, lam=arr["lam"], segment=arr["segment"],
-        factors=arr["factors"], kind=arr["kind"], N=-S[:, m:], Q=S[:, :m], un=W[:, m:],
-        ut=W[:, :m], state=arr["state"], residual=arr["residual"],
-        violation=arr["violation"], events=list(rec.events), multipliers=list(rec.multipliers),
-        status=status, message=message, counters=counters,
-        geometry=result_geometry(system),
-        units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
-               "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
-        water=None if crack is None else arr["water"],
-        crack_pressure=None if crack is None else arr["pressure"],
-        u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
-        energy={k: g.view.copy() for k, g in energy.items()}, dt=dt0,
-        impulses=_impulse_arrays(impulse_log),
-        _recover=None if system.discrete is not None else _Stresses(system),
-        **({} if stage_arrays is None else {
-            "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
-            "stage_names": stage_arrays["stage_names"],
-            "stage_cfes": stage_arrays["stage_cfes"],
-            "stage_bodies": stage_arrays["stage_bodies"]}),
-    )
+                hk.after_step(n, t, self.end_time)
+
+    def result(self) -> DynamicResult:
+        """The run's :class:`DynamicResult`: the recorded states, events, impulses, energy
+        ledger, counters and the status (a state recorded with its conditions broken ends
+        the run with status ``violation``, never "completed")."""
+        status, message = self.status, self.message
+        if status == Status.COMPLETED and self.status_box[0] != Status.COMPLETED:
+            status, message = self.status_box
+        mult, rec, cfe, m, system = self.mult, self.rec, self.cfe, self.m, self.system
+        if status != Status.COMPLETED:
+            mult["equilibrium_lost"] = self.t if status == Status.EQUILIBRIUM_LOST else None
+        rec.multipliers.append(Multipliers(0, "dynamic", **mult))
+        arr = rec.arrays()
+        S, W = arr["s"], arr["w"]
+        counters = dict(self.cond.counters) | self.schemes.counters | self.eng.counters | {
+            "events": len(rec.events), "steps": self.n, "impacts": self.n_impacts,
+            "setup_seconds": self.t_setup,
+            **{f"numerical_{k}": v for k, v in self.parts.items()},
+            "run_seconds": time.perf_counter() - self.t_run, "ndof": self.ndof, "cfes": m}
+        cfe_arrays = {"interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
+                      "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction,
+                      "gap": cfe.gap, "kn": cfe.kn, "kt": cfe.kt, "cn": cfe.cn,
+                      "tangent": cfe.tangent}
+        crack, stage_arrays, extra = self.crack, self.stage_arrays, self.extra
+        return DynamicResult(
+            pattern_names=tuple(self.names), segments=[("dynamic", 0.0, float(self.t))],
+            cfe=cfe_arrays, interface_names=cfe.names, lam=arr["lam"], segment=arr["segment"],
+            factors=arr["factors"], kind=arr["kind"], N=-S[:, m:], Q=S[:, :m], un=W[:, m:],
+            ut=W[:, :m], state=arr["state"], residual=arr["residual"],
+            violation=arr["violation"], events=list(rec.events),
+            multipliers=list(rec.multipliers), status=status, message=message,
+            counters=counters, geometry=result_geometry(system),
+            units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
+                   "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
+            water=None if crack is None else arr["water"],
+            crack_pressure=None if crack is None else arr["pressure"],
+            u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
+            energy={k: g.view.copy() for k, g in self.energy.items()}, dt=self.dt0,
+            impulses=_impulse_arrays(self.impulse_log),
+            _recover=None if system.discrete is not None else _Stresses(system),
+            **({} if stage_arrays is None else {
+                "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
+                "stage_names": stage_arrays["stage_names"],
+                "stage_cfes": stage_arrays["stage_cfes"],
+                "stage_bodies": stage_arrays["stage_bodies"]}),
+        )
 
 
 def _broken_conditions(violation: float, residual: float, t: float) -> str:
