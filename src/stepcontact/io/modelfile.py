@@ -109,14 +109,17 @@ from pydantic import (
 from stepcontact.errors import ModelError, StepContactError
 from stepcontact.io.meshfile import GROUP_KINDS, MeshFile, read_mesh
 from stepcontact.model import meshcheck, plausible
-from stepcontact.model.bond import Bond
+from stepcontact.model.bond import FRICTION_ANGLE_RANGE, Bond
 from stepcontact.model.items import (
-    E_RANGE,
+    NU_RANGE,
     Body,
     BodyForce,
+    CfeKind,
     ContactLayer,
+    DofName,
     EdgeForce,
     EdgeLoad,
+    ElementKind,
     Frame,
     Interface,
     LoadPattern,
@@ -124,19 +127,27 @@ from stepcontact.model.items import (
     Model,
     NodalLoad,
     NodeSet,
+    PlaneKind,
     PrescribedDisplacement,
     Segment,
     Spring,
     Support,
     Tie,
     _parse_dofs,
+    modulus_problem,
     select_nodes,
 )
 from stepcontact.model.mesh import half_disc, polygon_region, quad_region, rectangle
-from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.obstacle import ObstacleMotion, ObstacleSide, RigidObstacle
 from stepcontact.model.program import cycle_amplitudes, cycles
 from stepcontact.model.size import check_size
 from stepcontact.model.stages import Stage
+from stepcontact.model.timefunction import (
+    HHT_ALPHA_RANGE,
+    RESTITUTION_RANGE,
+    MassKind,
+    PulseShape,
+)
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 
 # tags of the discriminated unions; they appear in pydantic's error locations and are removed
@@ -178,7 +189,7 @@ class ModelSection(_Spec):
     """``[model]``: name, plane ("strain" or "stress") and out-of-plane thickness (m)."""
 
     name: str | None = None
-    plane: Literal["strain", "stress"] = "strain"
+    plane: PlaneKind = "strain"
     thickness: float = Field(1.0, gt=0, description="out-of-plane thickness, m")
 
 
@@ -186,17 +197,14 @@ class MaterialSpec(_Spec):
     """``[materials.NAME]``: isotropic linear-elastic material."""
 
     E: float = Field(gt=0, description="Young's modulus, Pa")
-    nu: float = Field(gt=-1.0, lt=0.5, description="Poisson's ratio")
+    nu: float = Field(gt=NU_RANGE[0], lt=NU_RANGE[1], description="Poisson's ratio")
     density: float = Field(0.0, ge=0, description="mass density, kg/m³")
 
     @field_validator("E")
     @classmethod
     def _plausible_E(cls, v: float) -> float:
-        lo, hi = E_RANGE
-        if v > 0 and not lo <= v <= hi:
-            raise ValueError(f"Young's modulus E = {v:g} is outside {lo:g} … {hi:g} (Pa): no "
-                             "material is that soft or stiff, and the stiffness matrix would "
-                             "under- or overflow; check the value")
+        if v > 0 and (text := modulus_problem(v)) is not None:
+            raise ValueError(text)
         return v
 
     def build(self) -> Material:
@@ -236,7 +244,7 @@ class RectangleSpec(_Spec):
     corner1: Point = Field(description="upper-right corner (x1, y1), m")
     nx: int = Field(ge=1, description="cells along x")
     ny: int = Field(ge=1, description="cells along y")
-    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] = "quad4"
+    element: ElementKind = "quad4"
     grading: tuple[float, float] = Field(
         (1.0, 1.0), description="geometric growth of the cell sizes along x and y (> 0)"
     )
@@ -266,7 +274,7 @@ class QuadRegionSpec(_Spec):
         description="the four corners, counter-clockwise, m; nx cells along corner 0→1")
     nx: int = Field(ge=1, description="cells along the edges 0→1 and 3→2")
     ny: int = Field(ge=1, description="cells along the edges 0→3 and 1→2")
-    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] = Field(
+    element: ElementKind = Field(
         "quad4", description="element kind (linear or quadratic triangles and quads)")
     grading: tuple[float, float] | dict[str, float] = Field(
         (1.0, 1.0), description="(gx, gy): last / first cell size along each direction; or "
@@ -285,7 +293,7 @@ class HalfDiscSpec(_Spec):
     radius: float = Field(gt=0, description="radius, m")
     n_radial: int = Field(ge=1, description="rings of cells between the core and the arc")
     n_around: int = Field(ge=4, description="cells along the arc (even)")
-    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] = Field(
+    element: ElementKind = Field(
         "quad4", description="element kind (linear or quadratic triangles and quads)")
     refine: bool = Field(True, description="cells shrinking towards the lowest point")
     ratio: float = Field(8.0, ge=1, description="largest / smallest cell when refined")
@@ -307,7 +315,7 @@ class PolygonSpec(_Spec):
     n: int | None = Field(None, ge=1, description="cells along every edge of a triangle "
                           "(polygons: the perimeter / (n × vertices) is the cell size)")
     size: float | None = Field(None, gt=0, description="cell size, m (instead of n)")
-    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] = Field(
+    element: ElementKind = Field(
         "tri3", description="element kind (linear or quadratic triangles and quads)")
     material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
                                   "an inline table `{E, nu, density}`")
@@ -332,7 +340,7 @@ class MeshBodySpec(_Spec):
     kind: Literal["mesh"] = "mesh"
     name: str | None = None
     group: str | None = Field(None, description="physical surface (default: name)")
-    element: Literal["tri3", "tri6", "quad4", "quad8", "quad9"] | None = None
+    element: ElementKind | None = None
     material: MaterialRef | None = None
 
     @field_validator("mesh")
@@ -520,20 +528,16 @@ class LayerSpec(_Spec):
     kt: float | None = Field(None, gt=0, description="tangential stiffness per area, Pa/m")
     thickness: float | None = Field(None, gt=0, description="layer thickness ζ_n⁰, m")
     E: float | None = Field(None, gt=0, description="layer modulus E_c, Pa")
-    nu: float | None = Field(None, gt=-1.0, lt=0.5, description="layer Poisson ratio μ_c")
+    nu: float | None = Field(None, gt=NU_RANGE[0], lt=NU_RANGE[1],
+                             description="layer Poisson ratio μ_c")
     damping: float = Field(0.0, ge=0, description="normal damping per area, Pa·s/m "
                            "(dynamic runs: a Kelvin–Voigt layer)")
 
     @model_validator(mode="after")
     def _one_form(self) -> LayerSpec:
-        direct = self.kn is not None or self.kt is not None
-        physical = any(v is not None for v in (self.thickness, self.E, self.nu))
-        if direct and physical:
-            raise ValueError("give either {kn, kt} or {thickness, E, nu}, not both")
-        if direct and (self.kn is None or self.kt is None):
-            raise ValueError("give both kn and kt")
-        if not direct and (self.thickness is None or self.E is None):
-            raise ValueError("give {kn, kt} or {thickness, E, nu}")
+        text = ContactLayer.form_problem(self.kn, self.kt, self.thickness, self.E, self.nu)
+        if text is not None:
+            raise ValueError(text)
         return self
 
     def build(self) -> ContactLayer:
@@ -549,7 +553,7 @@ class ObstacleSpec(_Spec):
 
     name: str
     points: list[Point] = Field(min_length=2, description="vertices [[x0, y0], [x1, y1], …], m")
-    side: Literal["left", "right"] = Field(
+    side: ObstacleSide = Field(
         "left", description="side the bodies lie on, walking from the first point to the last "
         "(left: a line drawn from left to right carries bodies above it)")
 
@@ -571,7 +575,7 @@ class InterfaceSpec(_Spec):
                         "node sets' order, instead of projecting S+ on S−")
     area: float | None = Field(None, gt=0, description="contact area of every CFE, m² "
                                "(default: tributary length × thickness)")
-    cfe: Literal["auto", "mortar", "node-to-segment", "node-to-node"] = Field(
+    cfe: CfeKind = Field(
         "auto", description="how CFEs join S+ to S−: node-to-node where the meshes match and "
         "mortar (segment-to-segment) otherwise (auto); node-to-segment is the article's CFE")
     bond: BondSpec | None = Field(None, description="initial strength of the joint (eq. (12)): "
@@ -580,8 +584,8 @@ class InterfaceSpec(_Spec):
     @field_validator("normal")
     @classmethod
     def _nonzero(cls, v: Point | None) -> Point | None:
-        if v is not None and math.hypot(*v) == 0:
-            raise ValueError("normal must be a non-zero vector")
+        if (text := Interface.normal_problem(v)) is not None:
+            raise ValueError(f"normal {text}")
         return v
 
     @model_validator(mode="after")
@@ -709,7 +713,8 @@ class BondSpec(_Spec):
     cohesion: Profile | None = Field(None, description="Mohr–Coulomb cohesion c, Pa")
     tensile_strength: Profile | None = Field(None, description="Mohr–Coulomb tensile "
                                              "strength σ_t, Pa (a tension cut-off)")
-    friction_angle: float | None = Field(None, ge=0, lt=90, description="Mohr–Coulomb "
+    friction_angle: float | None = Field(None, ge=FRICTION_ANGLE_RANGE[0],
+                                         lt=FRICTION_ANGLE_RANGE[1], description="Mohr–Coulomb "
                                          "friction angle φ, degrees")
     friction: float | None = Field(None, ge=0, description="friction coefficient after the "
                                    "bond breaks")
@@ -719,8 +724,8 @@ class BondSpec(_Spec):
     @field_validator("residual_cohesion")
     @classmethod
     def _not_negative(cls, v):
-        if isinstance(v, float) and v < 0:
-            raise ValueError(f"must be ≥ 0 Pa, got {v:g}")
+        if isinstance(v, float) and (text := Bond.residual_problem(v)) is not None:
+            raise ValueError(text)
         return v
 
     @model_validator(mode="after")
@@ -821,8 +826,8 @@ class UpliftLoadSpec(_Spec):
 
     @model_validator(mode="after")
     def _one(self) -> UpliftLoadSpec:
-        if (self.head is None) == (self.pressure is None):
-            raise ValueError("give either head (m of water) or pressure (Pa)")
+        if (text := Uplift.form_problem(self.head, self.pressure)) is not None:
+            raise ValueError(text)
         return self
 
 
@@ -845,8 +850,8 @@ class CrackWaterSpec(_Spec):
 
     @model_validator(mode="after")
     def _level_or_pressure(self) -> CrackWaterSpec:
-        if self.level is not None and self.pressure is not None:
-            raise ValueError("give the water level or the pressure in the crack, not both")
+        if (text := CrackWater.form_problem(self.level, self.pressure)) is not None:
+            raise ValueError(text)
         return self
 
 
@@ -855,7 +860,7 @@ class DisplacementLoad(_Spec):
 
     type: Literal["displacement"] = "displacement"
     nodes: str
-    dof: Literal["x", "y", "rz"]
+    dof: DofName
     value: float
 
 
@@ -1033,7 +1038,7 @@ class TimeFunctionSpec(_Spec):
     amplitude: float = 1.0
     start: float = Field(0.0, description="s")
     duration: float | None = Field(None, gt=0, description="pulse duration, s")
-    shape: Literal["rectangular", "triangular", "half_sine"] = "half_sine"
+    shape: PulseShape = "half_sine"
     frequency: float | None = Field(None, gt=0, description="harmonic frequency, Hz")
     phase: float = Field(0.0, description="harmonic phase, rad")
     times: list[float] | None = Field(None, description="table: times, s (increasing)")
@@ -1068,11 +1073,13 @@ class DynamicsSpec(_Spec):
 
     dt: float = Field(gt=0, description="time step, s")
     duration: float = Field(gt=0, description="length of the interval, s")
-    mass: Literal["consistent", "lumped"] = "consistent"
+    mass: MassKind = "consistent"
     damping: DampingSpec = DampingSpec()
-    restitution: float = Field(0.0, ge=0, le=1, description="Newton's coefficient of impacts")
-    alpha: float = Field(0.0, ge=0, le=1 / 3, description="HHT-α numerical damping (0: "
-                         "Newmark's average acceleration)")
+    restitution: float = Field(0.0, ge=RESTITUTION_RANGE[0], le=RESTITUTION_RANGE[1],
+                               description="Newton's coefficient of impacts")
+    alpha: float = Field(0.0, ge=HHT_ALPHA_RANGE[0], le=HHT_ALPHA_RANGE[1],
+                         description="HHT-α numerical damping (0: Newmark's average "
+                         "acceleration)")
     record_every: int = Field(1, ge=1)
     max_steps: int = Field(10_000_000, ge=1, description="limit of the number of time steps: "
                            "an interval with more (duration / dt) is refused before any work")
