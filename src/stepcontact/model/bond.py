@@ -100,7 +100,7 @@ class Bond:
         """Why a constant residual cohesion C_r (Pa) is refused (None: it is not, or it
         varies along the joint and is checked at the CFEs)."""
         if np.ndim(rc) == 0 and not callable(rc) and not float(rc) >= 0:
-            return f"must be ≥ 0 Pa, got {float(rc):g}"
+            return f"must be ≥ 0 Pa, got {float(rc)!r}"
         return None
 
     @classmethod

@@ -1,0 +1,328 @@
+"""One source for each validation rule (issue 26, §5): the model's dataclasses own the rules, the
+model file's schema takes its kinds and bounds from the model's constants, and
+:func:`stepcontact.solve_dynamic` applies the same checks to its own arguments.
+
+Every test here compares two ways of giving the same value — a Python object and a model file,
+or the file's JSON schema and the model's constant — so it fails when one of them drifts from
+the other.  The references are the bounds themselves, written out in the test (HHT-α ∈ [0, 1/3]:
+Hilber, Hughes & Taylor 1977, unconditionally stable and second-order accurate there; e ∈ [0, 1];
+Poisson's ratio in (−1, 1/2); φ ∈ [0°, 90°)); no tolerance is involved except at the bounds,
+where values one part in 10¹² inside and outside are tried.
+"""
+
+from __future__ import annotations
+
+import ast
+import copy
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stepcontact as sc
+from stepcontact.errors import ModelError
+from stepcontact.io.modelfile import model_from_dict, schema
+from stepcontact.model.bond import FRICTION_ANGLE_RANGE
+from stepcontact.model.items import CFE_KINDS, DOF_NAMES, ELEMENT_KINDS, NU_RANGE, PLANE_KINDS
+from stepcontact.model.obstacle import OBSTACLE_SIDES
+from stepcontact.model.timefunction import (
+    HHT_ALPHA_RANGE,
+    MASS_KINDS,
+    PULSE_SHAPES,
+    RESTITUTION_RANGE,
+)
+
+BASE = tomllib.loads("""
+[materials.steel]
+E = 210e9
+nu = 0.3
+density = 7850
+[[bodies]]
+name = "plate"
+corner0 = [0, 0]
+corner1 = [1, 1]
+nx = 2
+ny = 2
+material = "steel"
+[node_sets.bottom]
+body = "plate"
+y = 0
+[node_sets.top]
+body = "plate"
+y = 1
+[[supports]]
+nodes = "bottom"
+[patterns.push]
+loads = [{type = "nodal", nodes = "top", fx = 1e3}]
+[[program]]
+pattern = "push"
+end = 1
+[dynamics]
+dt = 1e-3
+duration = 0.01
+""")
+
+
+def file_error(**dynamics) -> ModelError:
+    """The error of the base model file with ``dynamics`` changed."""
+    d = copy.deepcopy(BASE)
+    d["dynamics"].update(dynamics)
+    with pytest.raises(ModelError) as e:
+        model_from_dict(d)
+    return e.value
+
+
+def file_with(**dynamics) -> sc.Model:
+    d = copy.deepcopy(BASE)
+    d["dynamics"].update(dynamics)
+    return model_from_dict(d)
+
+
+# ---- HHT-α: checked by DynamicInterval too (it was not), naming the field ----------------------
+@pytest.mark.parametrize("alpha", [0.5, -0.1, 1 / 3 * (1 + 1e-12), math.nan, math.inf])
+def test_a_dynamic_interval_refuses_an_hht_alpha_outside_0_to_one_third(alpha):
+    with pytest.raises(ModelError) as e:
+        sc.DynamicInterval(1e-3, 0.01, alpha=alpha)
+    assert e.value.item == "dynamics.alpha"
+    assert "HHT-α must lie in [0, 1/3]" in e.value.problem
+
+
+@pytest.mark.parametrize("alpha", [0.0, 0.1, 1 / 3])
+def test_a_dynamic_interval_takes_an_hht_alpha_inside_the_range(alpha):
+    assert sc.DynamicInterval(1e-3, 0.01, alpha=alpha).alpha == alpha
+
+
+def test_a_bad_alpha_in_a_stage_is_refused_when_the_stage_is_made():
+    """A stage's interval is a DynamicInterval: the α of a stage is refused at once too."""
+    with pytest.raises(ModelError) as e:
+        sc.Stage("shake", dynamics=sc.DynamicInterval(1e-3, 0.01, alpha=0.4))
+    assert e.value.item == "dynamics.alpha"
+
+
+@pytest.mark.parametrize("alpha", [0.5, -0.1])
+def test_a_model_file_with_the_same_bad_alpha_names_the_file_field(alpha):
+    e = file_error(alpha=alpha)
+    assert e.item == "dynamics.alpha"
+    assert f"(got {alpha})" in e.problem
+
+
+def test_a_stage_dynamics_with_a_bad_alpha_names_its_file_field():
+    d = copy.deepcopy(BASE)
+    dyn = d.pop("dynamics")
+    d["stages"] = [{"name": "build", "program": d.pop("program"),
+                    "dynamics": dict(dyn, alpha=0.4)}]
+    with pytest.raises(ModelError) as e:
+        model_from_dict(d)
+    assert e.value.item == "stages[0].dynamics.alpha"
+
+
+def test_the_file_and_the_dataclass_agree_on_the_bounds_of_alpha_and_restitution():
+    """The last value inside each bound is taken by both, the first outside refused by both."""
+    for key, (lo, hi) in (("alpha", (0.0, 1 / 3)), ("restitution", (0.0, 1.0))):
+        for v in (lo, hi):
+            assert getattr(file_with(**{key: v}).dynamics, key) == v
+            assert getattr(sc.DynamicInterval(1e-3, 0.01, **{key: v}), key) == v
+        for v in (lo - 1e-12, hi * (1 + 1e-12)):
+            assert file_error(**{key: v}).item == f"dynamics.{key}"
+            with pytest.raises(ModelError) as e:
+                sc.DynamicInterval(1e-3, 0.01, **{key: v})
+            assert e.value.item == f"dynamics.{key}"
+
+
+def test_solve_dynamic_applies_the_interval_rules_to_its_own_arguments():
+    """The same rules (one function, check_newmark), items without the ``dynamics.`` prefix."""
+    dm = sc.DiscreteModel(np.eye(1), np.zeros((0, 1)), np.zeros((0, 1)))
+    for kwargs, item, words in (
+        ({"alpha": 0.4}, "alpha", "HHT-α must lie in [0, 1/3]"),
+        ({"restitution": 1.5}, "restitution", "must lie in [0, 1]"),
+        ({"dt": -1e-3}, "dt", "positive and finite"),
+        ({"duration": math.nan}, "duration", "positive and finite"),
+    ):
+        args = {"dt": 1e-3, "duration": 0.01, "mass": np.eye(1)} | kwargs
+        with pytest.raises(ModelError) as e:
+            sc.solve_dynamic(dm, **args)
+        assert e.value.item == item and words in e.value.problem
+
+
+def test_solve_dynamic_lists_the_model_mass_kinds():
+    dm = sc.DiscreteModel(np.eye(1), np.zeros((0, 1)), np.zeros((0, 1)))
+    with pytest.raises(ModelError) as e:
+        sc.solve_dynamic(dm, dt=1e-3, duration=0.01, mass="lumpy")
+    assert e.value.item == "mass"
+    assert "'consistent', 'lumped' or a matrix" in e.value.problem
+
+
+# ---- the schema takes its kinds and bounds from the model --------------------------------------
+def _prop(s: dict, table: str, key: str) -> dict:
+    return s["$defs"][table]["properties"][key]
+
+
+def _enum(p: dict) -> tuple:
+    if "enum" in p:
+        return tuple(p["enum"])
+    return tuple(v for q in p["anyOf"] if "enum" in q for v in q["enum"])
+
+
+def test_the_schema_kinds_are_the_model_constants():
+    s = schema()
+    expected = {
+        ("ModelSection", "plane"): ("strain", "stress"),
+        ("RectangleSpec", "element"): ("tri3", "tri6", "quad4", "quad8", "quad9"),
+        ("PolygonSpec", "element"): ("tri3", "tri6", "quad4", "quad8", "quad9"),
+        ("MeshBodySpec", "element"): ("tri3", "tri6", "quad4", "quad8", "quad9"),
+        ("InterfaceSpec", "cfe"): ("auto", "mortar", "node-to-segment", "node-to-node"),
+        ("ObstacleSpec", "side"): ("left", "right"),
+        ("DisplacementLoad", "dof"): ("x", "y", "rz"),
+        ("TimeFunctionSpec", "shape"): ("rectangular", "triangular", "half_sine"),
+        ("DynamicsSpec", "mass"): ("consistent", "lumped"),
+    }
+    for (table, key), kinds in expected.items():
+        assert _enum(_prop(s, table, key)) == kinds, (table, key)
+    assert (PLANE_KINDS, ELEMENT_KINDS, CFE_KINDS, OBSTACLE_SIDES, DOF_NAMES, PULSE_SHAPES,
+            MASS_KINDS) == (expected[("ModelSection", "plane")],
+                            expected[("RectangleSpec", "element")],
+                            expected[("InterfaceSpec", "cfe")],
+                            expected[("ObstacleSpec", "side")],
+                            expected[("DisplacementLoad", "dof")],
+                            expected[("TimeFunctionSpec", "shape")],
+                            expected[("DynamicsSpec", "mass")])
+
+
+def test_the_schema_bounds_are_the_model_ranges():
+    s = schema()
+    assert HHT_ALPHA_RANGE == (0, 1 / 3) and RESTITUTION_RANGE == (0, 1)
+    assert NU_RANGE == (-1.0, 0.5) and FRICTION_ANGLE_RANGE == (0, 90)
+    for table, key, lo, hi, (lo_key, hi_key) in (
+        ("DynamicsSpec", "alpha", *HHT_ALPHA_RANGE, ("minimum", "maximum")),
+        ("DynamicsSpec", "restitution", *RESTITUTION_RANGE, ("minimum", "maximum")),
+        ("MaterialSpec", "nu", *NU_RANGE, ("exclusiveMinimum", "exclusiveMaximum")),
+    ):
+        p = _prop(s, table, key)
+        assert (p[lo_key], p[hi_key]) == (lo, hi), (table, key)
+    for table in ("LayerSpec", "BondSpec"):
+        key = "nu" if table == "LayerSpec" else "friction_angle"
+        bounds = [q for q in _prop(s, table, key)["anyOf"] if q.get("type") == "number"][0]
+        got = ((bounds["exclusiveMinimum"], bounds["exclusiveMaximum"]) if key == "nu" else
+               (bounds["minimum"], bounds["exclusiveMaximum"]))
+        assert got == (NU_RANGE if key == "nu" else FRICTION_ANGLE_RANGE), table
+
+
+# ---- rules written once, asked of the dataclass by the file ------------------------------------
+def _file_problem(d: dict, path: str) -> str:
+    with pytest.raises(ModelError) as e:
+        model_from_dict(d)
+    found = dict(getattr(e.value, "errors", [(e.value.item, e.value.problem)]))
+    assert path in found, found
+    return found[path]
+
+
+def _python_problem(make) -> str:
+    with pytest.raises(ModelError) as e:
+        make()
+    return e.value.problem
+
+
+def test_young_modulus_out_of_range_is_one_message_for_materials_frames_and_files():
+    e = 1e30
+    text = _python_problem(lambda: sc.Material(e, 0.2).check("m"))
+    assert text.startswith("Young's modulus E = 1e+30 is outside 1e-10 … 1e+20 (Pa)")
+    frame = _python_problem(lambda: sc.Frame.line("f", (0, 0), (1, 0), 2, E=e, A=1.0, I=1.0))
+    d = copy.deepcopy(BASE)
+    d["materials"]["steel"]["E"] = e
+    assert frame == text == _file_problem(d, "materials.steel.E")
+
+
+@pytest.mark.parametrize("layer", [{"kn": 1e9}, {"kn": 1e9, "kt": 1e9, "thickness": 0.1},
+                                   {"nu": 0.2}])
+def test_the_forms_of_a_contact_layer_are_one_rule(layer):
+    """A layer is {kn, kt} or {thickness, E[, nu]}: the file says what the dataclass says."""
+    d = copy.deepcopy(BASE)
+    d["bodies"].append({"name": "base", "corner0": [0, -1], "corner1": [1, 0], "nx": 2, "ny": 1,
+                        "material": "steel"})
+    d["node_sets"]["base_top"] = {"body": "base", "y": 0}
+    d["interfaces"] = [{"name": "j", "plus": "bottom", "minus": "base_top", "layer": layer}]
+    python = sc.ContactLayer.form_problem(layer.get("kn"), layer.get("kt"),
+                                          layer.get("thickness"), layer.get("E"),
+                                          layer.get("nu"))
+    assert python is not None
+    assert _file_problem(d, "interfaces[0].layer") == python
+    if "nu" not in layer and "thickness" not in layer:  # the dataclass itself, same words
+        assert _python_problem(lambda: sc.ContactLayer(**layer).stiffness_per_area("l")) == python
+
+
+def test_uplift_and_crack_water_forms_are_one_rule():
+    d = copy.deepcopy(BASE)
+    d["bodies"].append({"name": "base", "corner0": [0, -1], "corner1": [1, 0], "nx": 2, "ny": 1,
+                        "material": "steel"})
+    d["node_sets"]["base_top"] = {"body": "base", "y": 0}
+    d["interfaces"] = [{"name": "j", "plus": "bottom", "minus": "base_top"}]
+    d["patterns"]["water"] = {"loads": [
+        {"type": "uplift", "interface": "j", "head": 1.0, "pressure": 1e4},
+        {"type": "crack_water", "interface": "j", "level": 1.0, "pressure": 1e4}]}
+    uplift = _python_problem(lambda: sc.Uplift("j", head=1.0, pressure=1e4))
+    crack = _python_problem(lambda: sc.CrackWater("j", level=1.0, pressure=1e4))
+    assert _file_problem(d, "patterns.water.loads[0]") == uplift
+    assert _file_problem(d, "patterns.water.loads[1]") == crack
+
+
+def test_a_zero_interface_normal_and_a_negative_residual_cohesion_are_one_rule_each():
+    d = copy.deepcopy(BASE)
+    d["bodies"].append({"name": "base", "corner0": [0, -1], "corner1": [1, 0], "nx": 2, "ny": 1,
+                        "material": "steel"})
+    d["node_sets"]["base_top"] = {"body": "base", "y": 0}
+    d["interfaces"] = [{"name": "j", "plus": "bottom", "minus": "base_top", "normal": [0, 0],
+                        "bond": {"tensile": 1e5, "shear": 1e5, "alpha": 0.7,
+                                 "residual_cohesion": -5.0}}]
+    normal = _python_problem(lambda: sc.Interface("j", sc.NodeSet("plate", [0]),
+                                                  sc.NodeSet("plate", [1]), normal=(0.0, 0.0)))
+    residual = _python_problem(lambda: sc.Bond(1e5, 1e5, 0.7, residual_cohesion=-5.0))
+    assert _file_problem(d, "interfaces[0].normal") == f"normal {normal}"
+    assert _file_problem(d, "interfaces[0].bond.residual_cohesion") == residual
+
+
+def test_the_friction_angle_bound_is_the_bonds():
+    with pytest.raises(ModelError) as e:
+        sc.Bond.mohr_coulomb(1e5, 1e4, FRICTION_ANGLE_RANGE[1])
+    assert e.value.item == "bond.friction_angle" and "[0, 90)" in e.value.problem
+    d = copy.deepcopy(BASE)
+    d["bodies"].append({"name": "base", "corner0": [0, -1], "corner1": [1, 0], "nx": 2, "ny": 1,
+                        "material": "steel"})
+    d["node_sets"]["base_top"] = {"body": "base", "y": 0}
+    d["interfaces"] = [{"name": "j", "plus": "bottom", "minus": "base_top",
+                        "bond": {"cohesion": 1e5, "tensile_strength": 1e4,
+                                 "friction_angle": 90.0}}]
+    assert "less than 90" in _file_problem(d, "interfaces[0].bond.friction_angle")
+
+
+# ---- the split model-file package: no cycle among its modules ----------------------------------
+def test_the_model_file_modules_import_one_another_without_a_cycle():
+    """Static import graph of stepcontact/io/modelfile/*.py (imports under TYPE_CHECKING left
+    out): a DAG, and no module imports the package itself."""
+    root = Path(sc.__file__).parent / "io" / "modelfile"
+    graph: dict[str, set[str]] = {}
+    for f in root.glob("*.py"):
+        name = f.stem
+        deps = set()
+        for node in ast.parse(f.read_text(encoding="utf-8")).body:
+            if isinstance(node, ast.ImportFrom) and node.module:
+                if node.module == "stepcontact.io.modelfile" and name != "__init__":
+                    pytest.fail(f"{name}.py imports the package stepcontact.io.modelfile")
+                if node.module.startswith("stepcontact.io.modelfile."):
+                    deps.add(node.module.rsplit(".", 1)[1])
+        graph[name] = deps
+    assert set(graph) >= {"__init__", "schema", "errors", "references", "build", "checks",
+                          "load"}
+    done: set[str] = set()
+
+    def visit(n: str, path: tuple[str, ...]) -> None:
+        assert n not in path, f"import cycle: {' -> '.join(path + (n,))}"
+        if n in done:
+            return
+        for m in graph.get(n, ()):
+            visit(m, path + (n,))
+        done.add(n)
+
+    for n in graph:
+        visit(n, ())
