@@ -326,3 +326,46 @@ def test_the_model_file_modules_import_one_another_without_a_cycle():
 
     for n in graph:
         visit(n, ())
+
+
+# ---- the mesh generators' rules -----------------------------------------------------------------
+def test_rectangle_corners_and_grading_are_one_rule_each():
+    """rectangle() refuses what the file refuses, in the same words (a negative grading was
+    refused only by the file before: from Python it gave NaN grid lines)."""
+    mat = sc.Material(210e9, 0.3)
+    for kwargs, field, item in (({"corner1": (1.0, -1.0)}, "", "body 'r'"),
+                                ({"grading": (1.0, -2.0)}, ".grading", "body 'r'.grading")):
+        args = {"corner0": (0.0, 0.0), "corner1": (1.0, 1.0), "grading": (1.0, 1.0)} | kwargs
+        with pytest.raises(ModelError) as e:
+            sc.rectangle("r", args["corner0"], args["corner1"], 2, 2, mat,
+                         grading=args["grading"])
+        assert e.value.item == item
+        d = copy.deepcopy(BASE)
+        d["bodies"][0].update({k: list(v) for k, v in kwargs.items()})
+        assert _file_problem(d, f"bodies[0]{field}") == e.value.problem
+
+
+@pytest.mark.parametrize("cells", [{"n": 2, "size": 0.5}, {}])
+def test_a_polygon_needs_one_of_n_and_size_in_python_and_in_a_file(cells):
+    mat = sc.Material(210e9, 0.3)
+    tri = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]
+    with pytest.raises(ModelError) as e:
+        sc.polygon_region("p", tri, mat, **cells)
+    assert e.value.item == "body 'p'.n" and "either n" in e.value.problem
+    d = copy.deepcopy(BASE)
+    d["bodies"][0] = {"name": "plate", "kind": "polygon", "vertices": [list(p) for p in tri],
+                      "material": "steel", **cells}
+    assert _file_problem(d, "bodies[0]") == e.value.problem
+
+
+def test_the_half_disc_bounds_of_the_schema_are_the_generators():
+    from stepcontact.model.mesh import HALF_DISC_MIN_AROUND, SIZE_RATIO_MIN
+
+    p = schema()["$defs"]["HalfDiscSpec"]["properties"]
+    assert (p["n_around"]["minimum"], p["ratio"]["minimum"]) == (4, 1)
+    assert (HALF_DISC_MIN_AROUND, SIZE_RATIO_MIN) == (4, 1)
+    mat = sc.Material(210e9, 0.3)
+    with pytest.raises(ModelError, match=">= 4"):
+        sc.half_disc("d", (0.0, 0.0), 1.0, 2, 2, mat)
+    with pytest.raises(ModelError, match=">= 1"):
+        sc.half_disc("d", (0.0, 0.0), 1.0, 2, 8, mat, ratio=0.5)

@@ -41,6 +41,13 @@ from stepcontact.model.items import (
     _parse_dofs,
     modulus_problem,
 )
+from stepcontact.model.mesh import (
+    HALF_DISC_MIN_AROUND,
+    SIZE_RATIO_MIN,
+    cells_problem,
+    corners_problem,
+    grading_problem,
+)
 from stepcontact.model.obstacle import ObstacleSide
 from stepcontact.model.timefunction import HHT_ALPHA_RANGE, RESTITUTION_RANGE, MassKind, PulseShape
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift
@@ -147,14 +154,14 @@ class RectangleSpec(_Spec):
     @field_validator("grading")
     @classmethod
     def _positive_grading(cls, v: tuple[float, float]) -> tuple[float, float]:
-        if min(v) <= 0:
-            raise ValueError("grading factors must be > 0")
+        if (text := grading_problem(v)) is not None:
+            raise ValueError(text)
         return v
 
     @model_validator(mode="after")
     def _non_empty(self) -> RectangleSpec:
-        if not (self.corner1[0] > self.corner0[0] and self.corner1[1] > self.corner0[1]):
-            raise ValueError("corner1 must lie above and to the right of corner0")
+        if (text := corners_problem(self.corner0, self.corner1)) is not None:
+            raise ValueError(text)
         return self
 
 
@@ -186,11 +193,12 @@ class HalfDiscSpec(_Spec):
     center: Point = Field(description="centre of the disc (the middle of the flat face), m")
     radius: float = Field(gt=0, description="radius, m")
     n_radial: int = Field(ge=1, description="rings of cells between the core and the arc")
-    n_around: int = Field(ge=4, description="cells along the arc (even)")
+    n_around: int = Field(ge=HALF_DISC_MIN_AROUND, description="cells along the arc (even)")
     element: ElementKind = Field(
         "quad4", description="element kind (linear or quadratic triangles and quads)")
     refine: bool = Field(True, description="cells shrinking towards the lowest point")
-    ratio: float = Field(8.0, ge=1, description="largest / smallest cell when refined")
+    ratio: float = Field(8.0, ge=SIZE_RATIO_MIN,
+                         description="largest / smallest cell when refined")
     material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
                                   "an inline table `{E, nu, density}`")
 
@@ -216,8 +224,8 @@ class PolygonSpec(_Spec):
 
     @model_validator(mode="after")
     def _n_or_size(self) -> PolygonSpec:
-        if (self.n is None) == (self.size is None):
-            raise ValueError("give either n (cells along an edge) or size (m), not both")
+        if (text := cells_problem(self.n, self.size)) is not None:
+            raise ValueError(text)
         return self
 
 
