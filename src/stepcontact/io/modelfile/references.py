@@ -171,7 +171,6 @@ class _References:
                 elif not self.mesh_failed:
                     p.add(f"{path}.group", "physical groups need the [mesh] section")
 
-
     def _node_set(self, path: str, name: str | None) -> None:
         """Node set ``name`` used at ``path`` exists (or is a physical curve or point)."""
         spec, p, mesh = self.spec, self.p, self.mesh
