@@ -369,3 +369,50 @@ def test_the_half_disc_bounds_of_the_schema_are_the_generators():
         sc.half_disc("d", (0.0, 0.0), 1.0, 2, 2, mat)
     with pytest.raises(ModelError, match=">= 1"):
         sc.half_disc("d", (0.0, 0.0), 1.0, 2, 8, mat, ratio=0.5)
+
+
+# ---- the lists of construction stages: one rule for the solver and the file ----------------------
+def _staged(**lists) -> tuple[sc.Model, dict]:
+    """The base model in one stage (no dynamics) with ``lists`` on that stage, as a Python model
+    and as a model file."""
+    d = copy.deepcopy(BASE)
+    d.pop("dynamics")
+    m = model_from_dict(d)
+    staged = m.replace(program=(), stages=(sc.Stage("first", m.program, **lists),))
+    d["stages"] = [{"name": "first", "program": d.pop("program"),
+                    **{k: list(v) for k, v in lists.items()}}]
+    return staged, d
+
+
+@pytest.mark.parametrize("lists, key, words", [
+    ({"remove_supports": ("bottom",)}, "remove_supports",
+     "support 'bottom' is removed before or when it is placed (in place from the start)"),
+    ({"bodies": ("nothing",)}, "bodies", "no such body 'nothing' (known: 'plate')"),
+    ({"supports": ("bottom", "bottom")}, "supports", "lists support 'bottom' twice"),
+])
+def test_a_stage_list_is_refused_in_the_same_words_by_the_solver_and_the_file(lists, key, words):
+    """The solver (StagePlan, at the run) and the model file (at loading) apply
+    model.stages.list_problems: the same message, the item named each one's way."""
+    staged, d = _staged(**lists)
+    with pytest.raises(ModelError) as e:
+        sc.solve_static(staged)
+    assert e.value.item == f"stage 'first'.{key}"
+    assert words in e.value.problem
+    assert _file_problem(d, f"stages[0].{key}") == e.value.problem
+
+
+def test_stage_list_problems_name_other_stages_by_the_callers_label():
+    from stepcontact.io.modelfile import StageSpec
+    from stepcontact.model.stages import list_problems
+
+    known = {"body": ["a", "b"], "interface": ["j"], "support": ["s"]}
+    objects = [sc.Stage("one", bodies=("a",)), sc.Stage("two", bodies=("a",), contacts=("j",)),
+               sc.Stage("three", interfaces=("j",), remove_supports=("s",))]
+    tables = [StageSpec(name="one", bodies=["a"]),
+              StageSpec(name="two", bodies=["a"], contacts=["j"]),
+              StageSpec(name="three", interfaces=["j"], remove_supports=["s"])]
+    expected = [(1, "bodies", "body 'a' is already listed by <one>"),
+                (2, "interfaces", "interface 'j' is already listed by <two>")]
+    for stages in (objects, tables):
+        names = [st.name for st in stages]
+        assert list_problems(stages, known, lambda k, n=names: f"<{n[k]}>") == expected

@@ -25,6 +25,7 @@ from stepcontact.io.modelfile.schema import (
 )
 from stepcontact.model.items import Body, Frame, NodeSet
 from stepcontact.model.program import cycle_amplitudes
+from stepcontact.model.stages import list_problems
 
 
 def _deprecated_pairs(p: _Problems, path: str, ld: PressureLoad) -> None:
@@ -290,11 +291,12 @@ class _References:
                 yield f"stages[{k}].program[{i}]", seg
 
     def check_stages(self, bodies: list[str], interfaces: set[str]) -> None:
-        """The names a stage lists exist and are listed once (by one stage, in one of its
-        lists); stage names are unique; a support is removed after it is placed; grout fills
-        joints in place, after the first stage; a stage has a load segment (its own, or the
-        automatic ones of removed supports and new bodies).  The checks of the solver's
-        :class:`~stepcontact.solver.staging.StagePlan`, with the paths of the file."""
+        """The names a stage lists exist and are listed once, a support is removed after it
+        is placed, grout fills joints in place after the first stage: the rules of
+        :func:`stepcontact.model.stages.list_problems` (those of the solver's
+        :class:`~stepcontact.solver.staging.StagePlan`), with the paths of the file.  Here
+        too: stage names are unique, a support a stage names is one, a stage has a load
+        segment (its own, or the automatic ones of removed supports and new bodies)."""
         spec, p = self.spec, self.p
         if not spec.stages:
             return
@@ -302,68 +304,26 @@ class _References:
         for i, s in enumerate(spec.supports):
             supports.setdefault(s.name or s.nodes, []).append(i)
         known = {"body": bodies, "interface": sorted(interfaces), "support": list(supports)}
-        lists = (("bodies", "body", "built"), ("interfaces", "interface", "made"),
-                 ("contacts", "interface", "made"), ("supports", "support", "placed"),
-                 ("remove_supports", "support", "removed"))
         first: dict[str, int] = {}
-        claimed: dict[tuple[str, str], tuple[int, str]] = {}  # (what, name) -> (stage, list)
         for k, st in enumerate(spec.stages):
-            item = f"stages[{k}]"
             if st.name in first:
-                p.add(f"{item}.name", f"duplicate stage name '{st.name}' (also stages"
+                p.add(f"stages[{k}].name", f"duplicate stage name '{st.name}' (also stages"
                       f"[{first[st.name]}])")
             first.setdefault(st.name, k)
-            for key, kind, what in lists:
+            for key in ("supports", "remove_supports"):
                 for name in getattr(st, key):
-                    if name not in known[kind]:
-                        p.add(f"{item}.{key}", f"no such {kind} '{name}' (known: "
-                              f"{_known(known[kind])})")
-                        continue
-                    if kind == "support" and len(supports[name]) > 1:
+                    if len(supports.get(name, ())) > 1:
                         at = " and ".join(f"supports[{i}]" for i in supports[name])
-                        p.add(f"{item}.{key}", f"support name '{name}' is ambiguous ({at} have "
-                              "it): give those supports distinct names (name = \"...\")")
-                    prev = claimed.get((what, name))
-                    if prev is None:
-                        claimed[(what, name)] = (k, key)
-                    elif prev == (k, key):
-                        p.add(f"{item}.{key}", f"lists {kind} '{name}' twice")
-                    elif prev[0] == k:
-                        p.add(f"{item}.{key}", f"{kind} '{name}' is listed in {prev[1]} too: "
-                              "an interface is made at once (interfaces) or acts as a contact "
-                              "with its gap (contacts)" if kind == "interface" else
-                              f"{kind} '{name}' is listed in {prev[1]} too")
-                    else:
-                        p.add(f"{item}.{key}", f"{kind} '{name}' is already listed by "
-                              f"stages[{prev[0]}] ('{spec.stages[prev[0]].name}')")
-            for name in st.grout:
-                if name not in interfaces:
-                    p.add(f"{item}.grout", f"no such interface '{name}' (known: "
-                          f"{_known(sorted(interfaces))})")
-                elif k == 0:
-                    p.add(f"{item}.grout", f"the first stage cannot grout interface '{name}' "
-                          "(there is no earlier state to keep): give the interface its "
-                          "strength from the start ([interfaces.bond]) or grout it at a later "
-                          "stage")
+                        p.add(f"stages[{k}].{key}", f"support name '{name}' is ambiguous ({at} "
+                              "have it): give those supports distinct names (name = \"...\")")
+        for k, key, text in list_problems(
+                spec.stages, known, lambda j: f"stages[{j}] ('{spec.stages[j].name}')"):
+            p.add(f"stages[{k}].{key}", text)
+        for k, st in enumerate(spec.stages):
             auto = bool(st.bodies or st.remove_supports or st.dynamics is not None)
             if k > 0 and not st.program and not auto:
-                p.add(f"{item}.program", f"stage '{st.name}' has no load segment: give it a "
-                      "[[stages.program]] entry (a stage begins with its first segment)")
+                p.add(f"stages[{k}].program", f"stage '{st.name}' has no load segment: give it "
+                      "a [[stages.program]] entry (a stage begins with its first segment)")
         if len(spec.stages) == 1 and not spec.stages[0].program:
             p.add("stages[0].program", f"stage '{spec.stages[0].name}' has no load segment: "
                   "give it [[stages.program]] entries")
-        for k, st in enumerate(spec.stages):
-            for name in st.grout:
-                j = claimed.get(("made", name), (0,))[0]
-                if j > k:
-                    p.add(f"stages[{k}].grout", f"interface '{name}' is made later, by "
-                          f"stages[{j}] ('{spec.stages[j].name}'): grout joints in place")
-        for (what, name), (k, key) in claimed.items():
-            if what != "removed":
-                continue
-            j = claimed.get(("placed", name), (0, ""))[0]
-            if k <= j:
-                where = (f"placed by stages[{j}] ('{spec.stages[j].name}')" if
-                         ("placed", name) in claimed else "in place from the start")
-                p.add(f"stages[{k}].{key}", f"support '{name}' is removed before or when it is "
-                      f"placed ({where}): remove it at a later stage")
