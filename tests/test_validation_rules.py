@@ -416,3 +416,31 @@ def test_stage_list_problems_name_other_stages_by_the_callers_label():
     for stages in (objects, tables):
         names = [st.name for st in stages]
         assert list_problems(stages, known, lambda k, n=names: f"<{n[k]}>") == expected
+
+
+# ---- that segments chain is the model's rule; the file reports it at the entry's path ------------
+def test_a_segment_after_rates_starts_where_the_rates_left_its_pattern_in_a_file_too():
+    """A segment with rates {push = 1} over [0, 1] leaves push at 1 × (1 − 0) = 1 (by hand): the
+    file takes a next segment of push from 1, as the Python model does (the file's own copy of
+    the rule ignored the rates and refused it), and refuses one from 0, naming its field."""
+    d = copy.deepcopy(BASE)
+    d.pop("dynamics")
+    d["program"] = [{"pattern": "mix", "start": 0.0, "end": 1.0, "rates": {"push": 1.0}},
+                    {"pattern": "push", "start": 1.0, "end": 2.0}]
+    assert model_from_dict(d).segments_resolved() == [("mix", 0.0, 1.0), ("push", 1.0, 2.0)]
+    d["program"][1]["start"] = 0.0
+    text = _file_problem(d, "program[1].start")
+    assert "do not chain" in text and "stands at λ = 1" in text
+
+
+def test_a_stage_after_a_dynamic_interval_starts_where_the_interval_left_the_pattern():
+    """A constant load g = 2 in the interval of stage one adds g(T) = 2 to push, which stood at
+    1: push stands at 3 (by hand) when stage two begins, in the file as in the model."""
+    d = copy.deepcopy(BASE)
+    dyn = d.pop("dynamics")
+    dyn["loads"] = [{"pattern": "push", "type": "constant", "amplitude": 2.0}]
+    d["stages"] = [{"name": "one", "program": d.pop("program"), "dynamics": dyn},
+                   {"name": "two", "program": [{"pattern": "push", "start": 3.0, "end": 4.0}]}]
+    assert model_from_dict(d).segments_resolved()[-1] == ("push", 3.0, 4.0)
+    d["stages"][1]["program"][0]["start"] = 1.0
+    assert "stands at λ = 3" in _file_problem(d, "stages[1].program[0].start")

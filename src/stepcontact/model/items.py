@@ -15,7 +15,7 @@ Data flows one way: model -> :mod:`stepcontact.fem` -> :mod:`stepcontact.solver`
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Literal, get_args
 
@@ -1037,8 +1037,27 @@ class Model:
         cached = self.__dict__.get("_program_resolved")
         if cached is not None:
             return list(cached)
-        current: dict[str, float] = {}
         out = []
+        for i, seg, now, start in self.program_walk():
+            if abs(start - now) > 1e-12 * max(1.0, abs(now)):
+                raise ModelError(
+                    f"program segment {i} ('{seg.pattern}').start",
+                    f"does not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
+                    f"segment starts at {start:g}",
+                )
+            out.append((seg.pattern, start, float(seg.end)))
+        object.__setattr__(self, "_program_resolved", tuple(out))
+        return out
+
+    def program_walk(self) -> Iterator[tuple[int, Segment, float, float]]:
+        """Each segment of the program (:attr:`effective_program`) as (index, segment, the
+        factor its pattern stands at before it, its start: given, or that factor).  The one
+        place of the chaining rule (:meth:`segments_resolved` refuses a start that is not where
+        the pattern stands; a model file reports it at the entry's path): a pattern stands where
+        its last segment ended, a segment with rates moves each of its patterns by rate × its
+        span, and the dynamic interval of an earlier stage by g(T).  ModelError for a pattern
+        that does not exist, empty or non-finite rates, a label of rates that is a pattern."""
+        current: dict[str, float] = {}
         jumps = self.dynamic_jumps()
         for i, seg in enumerate(self.effective_program):
             for name, dg in jumps.get(i, {}).items():  # a dynamic interval moved these
@@ -1060,18 +1079,10 @@ class Model:
             start = now if seg.start is None else float(seg.start)
             if not np.isfinite(seg.end) or not np.isfinite(start):
                 raise ModelError(item, "start/end not finite")
-            if abs(start - now) > 1e-12 * max(1.0, abs(now)):
-                raise ModelError(
-                    f"{item}.start",
-                    f"does not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
-                    f"segment starts at {start:g}",
-                )
-            out.append((seg.pattern, start, float(seg.end)))
+            yield i, seg, now, start
             current[seg.pattern] = float(seg.end)
             for name, rate in seg.rates or ():  # the patterns a segment with rates moved
                 current[name] = current.get(name, 0.0) + rate * (float(seg.end) - start)
-        object.__setattr__(self, "_program_resolved", tuple(out))
-        return out
 
     def dynamic_jumps(self) -> dict[int, dict[str, float]]:
         """The factor changes g(T) of the load patterns of the dynamic intervals of stages

@@ -332,7 +332,7 @@ class _Builder(_References):
                   else self._stages(p, pattern_names))
         dynamics = self._dynamics(spec.dynamics, pattern_names, p)
         try:
-            return Model(
+            model = Model(
                 bodies=tuple(self.bodies.values()),
                 plane=spec.model.plane,
                 thickness=spec.model.thickness,
@@ -349,6 +349,29 @@ class _Builder(_References):
         except ModelError as e:
             p.add(e.item, e.problem)
             return None
+        self.check_chain(model)
+        return model
+
+    def check_chain(self, model: Model) -> None:
+        """Each segment starts where its pattern stands: the model's rule
+        (:meth:`~stepcontact.model.Model.program_walk`: after segments with rates and the
+        dynamic intervals of earlier stages too), reported at the path of its entry."""
+        paths: list[str] = []
+        for path, seg in self.program_entries():
+            n = len(_segments(seg))
+            if n == 0:
+                return  # a cyclic entry whose amplitudes are wrong (reported)
+            paths += [path] * n
+        if len(paths) != len(model.effective_program):
+            return  # a stage that could not be made (reported)
+        try:
+            for i, seg, now, start in model.program_walk():
+                if abs(start - now) > 1e-12 * max(1.0, abs(now)):
+                    self.p.add(f"{paths[i]}.start", f"segments do not chain: pattern "
+                               f"'{seg.pattern}' stands at λ = {now:g}, this segment starts "
+                               f"at {start:g}")
+        except ModelError:
+            return  # a name of the program, reported with its path already
 
     def _load(self, ld: Any, loads: list, interfaces: list, obstacles: dict) -> None:
         """Append the load of the file's entry ``ld`` to ``loads`` (nothing where an item it

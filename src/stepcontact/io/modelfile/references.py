@@ -247,9 +247,10 @@ class _References:
         return names
 
     def _check_program(self) -> None:
-        """The patterns of the program's segments (and the stages'); segments chain."""
+        """The patterns of the program's segments (and the stages'), the amplitudes of cyclic
+        entries.  That segments chain is the model's rule, checked on the model built
+        (:meth:`~stepcontact.io.modelfile.build._Builder.check_chain`)."""
         spec, p = self.spec, self.p
-        current: dict[str, float] = {}
         for path, seg in self.program_entries():
             if seg.rates is not None:
                 if not seg.rates:
@@ -265,21 +266,11 @@ class _References:
                 p.add(f"{path}.pattern",
                       f"unknown load pattern '{seg.pattern}' (known: {_known(spec.patterns)})")
                 continue
-            now = current.get(seg.pattern, 0.0)
-            if seg.start is not None and abs(seg.start - now) > 1e-12 * max(1.0, abs(now)):
-                p.add(
-                    f"{path}.start",
-                    f"segments do not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
-                    f"this segment starts at {seg.start:g}",
-                )
-            if seg.amplitude is None:
-                current[seg.pattern] = seg.end  # type: ignore[assignment]
-                continue
-            try:  # a cyclic entry ends at mean − its last amplitude
-                amps = cycle_amplitudes(seg.amplitude, seg.cycles, path, "cycles")
-                current[seg.pattern] = seg.mean - amps[-1]
-            except ModelError as e:
-                p.add(e.item, e.problem)
+            if seg.amplitude is not None:
+                try:
+                    cycle_amplitudes(seg.amplitude, seg.cycles, path, "cycles")
+                except ModelError as e:
+                    p.add(e.item, e.problem)
 
     def program_entries(self) -> Iterator[tuple[str, SegmentSpec]]:
         """Every ``[[program]]`` entry with its field path; with stages, the stages' entries
