@@ -6,10 +6,11 @@ quality, duplicate and orphan nodes, bodies that overlap without an interface).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
+from stepcontact.io.meshfile import MeshFile
 from stepcontact.io.modelfile.errors import _path, _Problems
 from stepcontact.io.modelfile.schema import (
     BondSpec,
@@ -24,8 +25,16 @@ from stepcontact.model import meshcheck, plausible
 from stepcontact.model.items import Body, Model, NodeSet
 from stepcontact.model.water import LinearProfile
 
-if TYPE_CHECKING:
-    from stepcontact.io.modelfile.build import _Builder
+
+class _Built(Protocol):
+    """What :func:`check_geometry` reads of the builder
+    (:class:`~stepcontact.io.modelfile.build._Builder`): its problems, the field path and the
+    physical surface of each body, the mesh."""
+
+    p: _Problems
+    paths: dict[str, str]
+    surface_of: dict[str, str]
+    mesh: MeshFile | None
 
 
 def check_plausible(spec: ModelFile, p: _Problems) -> None:
@@ -87,12 +96,12 @@ def check_plausible(spec: ModelFile, p: _Problems) -> None:
                 p.implausible("damping_ratio", z, f"{where}.damping.ratios[{j}]")
 
 
-def _where(b: _Builder, name: str) -> str:
+def _where(b: _Built, name: str) -> str:
     """``body 'x'`` or ``physical surface 'x'`` for messages."""
     s = b.surface_of.get(name)
     return f"physical surface '{s}'" if s is not None else f"body '{name}'"
 
-def check_geometry(builder: _Builder, model: Model) -> None:
+def check_geometry(builder: _Built, model: Model) -> None:
     """Element quality, nodes in no element, bodies overlapping without an interface."""
     p = builder.p
     continua = [b for b in model.bodies if isinstance(b, Body)]
