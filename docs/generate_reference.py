@@ -1,7 +1,7 @@
 """Generate the reference pages of the documentation from the code.
 
 * ``docs/model-file-reference.md`` from the JSON schema of the TOML model file
-  (:func:`stepcontact.io.modelfile.schema`, i.e. the pydantic models of ``modelfile.py``);
+  (:func:`stepcontact.io.modelfile.schema`, i.e. the pydantic models of ``io/modelfile/schema.py``);
 * ``docs/cli.md`` from the typer application :data:`stepcontact.cli.app`, through
   typer's/click's own command objects (``typer.main.get_command``, contexts, help records).
 

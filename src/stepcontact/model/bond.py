@@ -32,6 +32,9 @@ import numpy as np
 from stepcontact.errors import ModelError
 from stepcontact.model.profile import as_function
 
+#: the Mohr–Coulomb friction angle φ, degrees, lies in [0, 90)
+FRICTION_ANGLE_RANGE: tuple[float, float] = (0, 90)
+
 
 @dataclass(frozen=True, eq=False)
 class Bond:
@@ -90,9 +93,16 @@ class Bond:
             from stepcontact.model import plausible
 
             plausible.warn("friction", self.friction, f"{item}.friction", stacklevel=4)
-        rc = self.residual_cohesion
+        if (text := self.residual_problem(self.residual_cohesion)) is not None:
+            raise ModelError(f"{item}.residual_cohesion", text)
+
+    @staticmethod
+    def residual_problem(rc) -> str | None:
+        """Why a constant residual cohesion C_r (Pa) is refused (None: it is not, or it
+        varies along the joint and is checked at the CFEs)."""
         if np.ndim(rc) == 0 and not callable(rc) and not float(rc) >= 0:
-            raise ModelError(f"{item}.residual_cohesion", f"must be ≥ 0 Pa, got {rc}")
+            return f"must be ≥ 0 Pa, got {float(rc)!r}"
+        return None
 
     @classmethod
     def mohr_coulomb(cls, cohesion, tensile_strength, friction_angle: float,
@@ -105,8 +115,9 @@ class Bond:
         ``cohesion`` c and ``tensile_strength`` σ_t in Pa (constants, profiles or functions
         of (x, y)), ``friction_angle`` φ in degrees; ``residual_friction``: f after the break
         (default tan φ), ``residual_cohesion`` C_r after the break, Pa (default 0)."""
-        if not (np.isfinite(friction_angle) and 0 <= friction_angle < 90):
-            raise ModelError("bond.friction_angle", f"must be in [0, 90) degrees, got "
+        lo, hi = FRICTION_ANGLE_RANGE
+        if not (np.isfinite(friction_angle) and lo <= friction_angle < hi):
+            raise ModelError("bond.friction_angle", f"must be in [{lo:g}, {hi:g}) degrees, got "
                              f"{friction_angle}")
         tan = math.tan(math.radians(friction_angle))
         text = apex_problem(cohesion, tensile_strength, friction_angle)
@@ -163,4 +174,4 @@ def apex_problem(cohesion, tensile_strength, friction_angle: float) -> str | Non
             "than that, so the cut-off never acts; give a tensile strength ≤ c·cot φ (Pa)")
 
 
-__all__ = ["Bond", "apex_problem"]
+__all__ = ["FRICTION_ANGLE_RANGE", "Bond", "apex_problem"]

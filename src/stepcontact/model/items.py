@@ -15,9 +15,9 @@ Data flows one way: model -> :mod:`stepcontact.fem` -> :mod:`stepcontact.solver`
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, get_args
 
 import numpy as np
 
@@ -26,12 +26,27 @@ from stepcontact.model import plausible
 from stepcontact.model.bond import Bond
 from stepcontact.model.elements import body_arrays
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
-from stepcontact.model.timefunction import MAX_STEPS, check_interval
+from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
 
+# The allowed kinds and ranges below are the one source of these rules: the dataclasses check
+# them, and the model file's schema (:mod:`stepcontact.io.modelfile.schema`) takes its
+# literals and bounds from them.
 PlaneKind = Literal["strain", "stress"]
+PLANE_KINDS: tuple[str, ...] = get_args(PlaneKind)
 ElementKind = Literal["tri3", "tri6", "quad4", "quad8", "quad9"]
-ELEMENT_KINDS: tuple[str, ...] = ("tri3", "tri6", "quad4", "quad8", "quad9")
-DOF_NAMES: tuple[str, ...] = ("x", "y", "rz")
+ELEMENT_KINDS: tuple[str, ...] = get_args(ElementKind)
+DofName = Literal["x", "y", "rz"]
+DOF_NAMES: tuple[str, ...] = get_args(DofName)
+
+
+def _either(kinds: tuple) -> str:
+    """``'a' or 'b'``, ``'a', 'b' or 'c'``: the allowed kinds for a message."""
+    names = [repr(k) for k in kinds]
+    return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} or {names[-1]}"
+
+
+#: Poisson's ratio of an isotropic material (and of a contact layer) lies in this open interval
+NU_RANGE: tuple[float, float] = (-1.0, 0.5)
 
 
 #: accepted range of Young's modulus (Pa): far beyond any material (foams ~1e3 Pa, diamond
@@ -40,6 +55,17 @@ E_RANGE: tuple[float, float] = (1e-10, 1e20)
 #: two bodies whose Young's moduli are further apart than this cannot be solved together: the
 #: softer stiffness is below the round-off of the stiffer one (double precision, eps ≈ 2e-16)
 E_RATIO_MIN = 1e-15
+
+
+def modulus_problem(E: float) -> str | None:
+    """Why Young's modulus ``E`` (Pa, positive) is refused: outside :data:`E_RANGE` (None when
+    it is inside)."""
+    lo, hi = E_RANGE
+    if lo <= E <= hi:
+        return None
+    return (f"Young's modulus E = {E:g} is outside {lo:g} … {hi:g} (Pa): no material is that "
+            "soft or stiff in any unit system, and the stiffness matrix would under- or "
+            "overflow; check the value")
 
 
 # --------------------------------------------------------------------------------------------
@@ -66,13 +92,11 @@ class Material:
     def check(self, item: str) -> None:
         if not np.isfinite(self.E) or self.E <= 0:
             raise ModelError(item, f"Young's modulus E must be positive and finite, got {self.E}")
-        lo, hi = E_RANGE
-        if not lo <= self.E <= hi:
-            raise ModelError(item, f"Young's modulus E = {self.E:g} is outside {lo:g} … {hi:g} "
-                             "(Pa): no material is that soft or stiff in any unit system, and "
-                             "the stiffness matrix would under- or overflow; check the value")
-        if not np.isfinite(self.nu) or not -1.0 < self.nu < 0.5:
-            raise ModelError(item, f"Poisson's ratio nu must lie in (-1, 0.5), got {self.nu}")
+        if (text := modulus_problem(self.E)) is not None:
+            raise ModelError(item, text)
+        if not np.isfinite(self.nu) or not NU_RANGE[0] < self.nu < NU_RANGE[1]:
+            raise ModelError(item, f"Poisson's ratio nu must lie in ({NU_RANGE[0]:g}, "
+                             f"{NU_RANGE[1]:g}), got {self.nu}")
         if not np.isfinite(self.density) or self.density < 0:
             raise ModelError(item, f"density must be >= 0, got {self.density}")
         plausible.warn("E", self.E, f"{item}.E", stacklevel=4)
@@ -170,9 +194,8 @@ class Frame:
             v = getattr(self, key)
             if not np.isfinite(v) or v <= 0:
                 raise ModelError(f"{item}.{key}", f"must be positive and finite, got {v}")
-        if not E_RANGE[0] <= self.E <= E_RANGE[1]:
-            raise ModelError(f"{item}.E", f"Young's modulus E = {self.E:g} is outside "
-                             f"{E_RANGE[0]:g} … {E_RANGE[1]:g} (Pa); check the value")
+        if (text := modulus_problem(self.E)) is not None:
+            raise ModelError(f"{item}.E", text)
         if not np.all(np.isfinite(pts)):
             raise ModelError(f"{item}.points", "contains NaN or inf")
         if cells.size and (cells.min() < 0 or cells.max() >= len(pts)):
@@ -249,12 +272,13 @@ def _parse_dofs(dofs: str | Sequence[str], item: str) -> tuple[str, ...]:
         text = text.replace("rz", "")
         bad = set(text) - {"x", "y"}
         if bad:
-            raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use x, y, rz")
+            raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use "
+                             f"{', '.join(DOF_NAMES)}")
         dofs = [d for d in ("x", "y") if d in text] + (["rz"] if rz else [])
     out = tuple(dict.fromkeys(dofs))
     for d in out:
         if d not in DOF_NAMES:
-            raise ModelError(item, f"unknown degree of freedom '{d}', use x, y, rz")
+            raise ModelError(item, f"unknown degree of freedom '{d}', use {', '.join(DOF_NAMES)}")
     return out
 
 
@@ -536,17 +560,33 @@ class ContactLayer:
     nu: float = 0.0
     damping: float = 0.0
 
+    @staticmethod
+    def form_problem(kn, kt, thickness, E, nu) -> str | None:
+        """Why the given parameters (None: not given) are not one form of a layer, ``{kn, kt}``
+        or ``{thickness, E[, nu]}`` (None when they are)."""
+        direct = kn is not None or kt is not None
+        physical = any(v is not None for v in (thickness, E, nu))
+        if direct and physical:
+            return "give either {kn, kt} or {thickness, E, nu}, not both"
+        if direct and (kn is None or kt is None):
+            return "give both kn and kt"
+        if not direct and (thickness is None or E is None):
+            return "give {kn, kt} or {thickness, E, nu}"
+        return None
+
     def stiffness_per_area(self, item: str) -> tuple[float, float]:
         """(C_n/A, C_τ/A) in Pa/m."""
-        if self.kn is not None or self.kt is not None:
+        direct = self.kn is not None or self.kt is not None
+        text = self.form_problem(self.kn, self.kt, None if direct else self.thickness,
+                                 None if direct else self.E, None)
+        if text is not None:
+            raise ModelError(item, text)
+        if direct:
             kn, kt = self.kn, self.kt
-            if kn is None or kt is None:
-                raise ModelError(item, "give both kn and kt, or thickness, E and nu")
         else:
-            if self.thickness is None or self.E is None:
-                raise ModelError(item, "give kn and kt, or thickness, E and nu of the layer")
-            if self.thickness <= 0 or self.E <= 0 or not -1 < self.nu < 0.5:
-                raise ModelError(item, "layer thickness and E must be > 0, nu in (-1, 0.5)")
+            if self.thickness <= 0 or self.E <= 0 or not NU_RANGE[0] < self.nu < NU_RANGE[1]:
+                raise ModelError(item, f"layer thickness and E must be > 0, nu in "
+                                 f"({NU_RANGE[0]:g}, {NU_RANGE[1]:g})")
             kn = self.E / ((1 - self.nu**2) * self.thickness)
             kt = self.E / (2 * (1 + self.nu) * self.thickness)
         for key, v in (("kn", kn), ("kt", kt)):
@@ -559,7 +599,8 @@ class ContactLayer:
 
 
 #: How the CFEs of an interface join S+ to S−: see :class:`Interface`.
-CFE_KINDS: tuple[str, ...] = ("auto", "mortar", "node-to-segment", "node-to-node")
+CfeKind = Literal["auto", "mortar", "node-to-segment", "node-to-node"]
+CFE_KINDS: tuple[str, ...] = get_args(CfeKind)
 
 
 @dataclass(frozen=True, eq=False)
@@ -630,6 +671,16 @@ class Interface:
     cfe: str = "auto"
     bond: object = None
 
+    @staticmethod
+    def normal_problem(normal) -> str | None:
+        """Why a given normal is refused (None: it is not, or none is given)."""
+        if normal is None:
+            return None
+        n = np.asarray(normal, float)
+        if n.shape != (2,) or not np.all(np.isfinite(n)) or np.linalg.norm(n) == 0:
+            return "must be a non-zero 2-vector"
+        return None
+
     def __post_init__(self):
         item = f"interface '{self.name}'"
         if self.bond is not None:
@@ -669,10 +720,8 @@ class Interface:
                                  "the two faces of the joint as two different node sets")
         if isinstance(self.gap, int | float) and (not np.isfinite(self.gap) or self.gap < 0):
             raise ModelError(f"{item}.gap", f"must be >= 0, got {self.gap}")
-        if self.normal is not None:
-            n = np.asarray(self.normal, float)
-            if n.shape != (2,) or not np.all(np.isfinite(n)) or np.linalg.norm(n) == 0:
-                raise ModelError(f"{item}.normal", "must be a non-zero 2-vector")
+        if (text := self.normal_problem(self.normal)) is not None:
+            raise ModelError(f"{item}.normal", text)
         if self.area is not None and not (np.isfinite(self.area) and self.area > 0):
             raise ModelError(f"{item}.area", f"must be > 0 m², got {self.area}")
         if self.pairs and len(self.plus) != len(self.minus):  # (never an obstacle here)
@@ -721,7 +770,9 @@ class DynamicInterval:
     damping (0: Newmark's average acceleration); ``max_steps`` the limit of the number of
     time steps (the interval is refused, before any work, when duration / dt exceeds it).
 
-    Checked at once (:func:`~stepcontact.model.timefunction.check_interval`): dt ≤ duration,
+    Checked at once (:func:`~stepcontact.model.timefunction.check_newmark`: dt and duration
+    positive, α ∈ :data:`~stepcontact.model.timefunction.HHT_ALPHA_RANGE`, e ∈ [0, 1];
+    :func:`~stepcontact.model.timefunction.check_interval`): dt ≤ duration,
     the step count, loads that act inside [0, duration], and at least 10 steps per period of
     a varying load (a harmonic; 5 steps in the duration of a half-sine or triangular pulse or
     of a table that returns to zero)."""
@@ -737,20 +788,16 @@ class DynamicInterval:
     max_steps: int = MAX_STEPS
 
     def __post_init__(self):
-        for key in ("dt", "duration"):
-            v = float(getattr(self, key))
-            if not np.isfinite(v) or v <= 0:
-                raise ModelError(f"dynamics.{key}", f"must be positive and finite, got {v}")
-        if self.mass not in ("consistent", "lumped"):
-            raise ModelError("dynamics.mass", f"must be 'consistent' or 'lumped', got "
+        # dt, duration, HHT-α and e: the rules solve_dynamic applies to its own arguments
+        check_newmark(self.dt, self.duration, alpha=self.alpha, restitution=self.restitution,
+                      prefix="dynamics.")
+        if self.mass not in MASS_KINDS:
+            raise ModelError("dynamics.mass", f"must be {_either(MASS_KINDS)}, got "
                              f"'{self.mass}'")
         if len(tuple(self.damping)) != 2 or not all(np.isfinite(x) and x >= 0
                                                     for x in self.damping):
             raise ModelError("dynamics.damping", f"must be two non-negative Rayleigh "
                              f"coefficients (a0, a1), got {self.damping!r}")
-        if not 0.0 <= float(self.restitution) <= 1.0:
-            raise ModelError("dynamics.restitution", f"must lie in [0, 1], got "
-                             f"{self.restitution}")
         if int(self.record_every) < 1:
             raise ModelError("dynamics.record_every", "must be at least 1")
         object.__setattr__(self, "loads", tuple((str(n), g) for n, g in self.loads))
@@ -805,8 +852,8 @@ class Model:
                 raise ModelError(f"stage '{self.stages[-1].name}'.dynamics", "is given together "
                                  "with model.dynamics: give the dynamic interval once")
             object.__setattr__(self, "dynamics", last)  # the model's dynamic interval
-        if self.plane not in ("strain", "stress"):
-            raise ModelError("model.plane", f"must be 'strain' or 'stress', got '{self.plane}'")
+        if self.plane not in PLANE_KINDS:
+            raise ModelError("model.plane", f"must be {_either(PLANE_KINDS)}, got '{self.plane}'")
         if not np.isfinite(self.thickness) or self.thickness <= 0:
             raise ModelError("model.thickness", f"must be positive, got {self.thickness}")
         seen: set[str] = set()
@@ -987,8 +1034,27 @@ class Model:
         cached = self.__dict__.get("_program_resolved")
         if cached is not None:
             return list(cached)
-        current: dict[str, float] = {}
         out = []
+        for i, seg, now, start in self.program_walk():
+            if abs(start - now) > 1e-12 * max(1.0, abs(now)):
+                raise ModelError(
+                    f"program segment {i} ('{seg.pattern}').start",
+                    f"does not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
+                    f"segment starts at {start:g}",
+                )
+            out.append((seg.pattern, start, float(seg.end)))
+        object.__setattr__(self, "_program_resolved", tuple(out))
+        return out
+
+    def program_walk(self) -> Iterator[tuple[int, Segment, float, float]]:
+        """Each segment of the program (:attr:`effective_program`) as (index, segment, the
+        factor its pattern stands at before it, its start: given, or that factor).  The one
+        place of the chaining rule (:meth:`segments_resolved` refuses a start that is not where
+        the pattern stands; a model file reports it at the entry's path): a pattern stands where
+        its last segment ended, a segment with rates moves each of its patterns by rate × its
+        span, and the dynamic interval of an earlier stage by g(T).  ModelError for a pattern
+        that does not exist, empty or non-finite rates, a label of rates that is a pattern."""
+        current: dict[str, float] = {}
         jumps = self.dynamic_jumps()
         for i, seg in enumerate(self.effective_program):
             for name, dg in jumps.get(i, {}).items():  # a dynamic interval moved these
@@ -1010,18 +1076,10 @@ class Model:
             start = now if seg.start is None else float(seg.start)
             if not np.isfinite(seg.end) or not np.isfinite(start):
                 raise ModelError(item, "start/end not finite")
-            if abs(start - now) > 1e-12 * max(1.0, abs(now)):
-                raise ModelError(
-                    f"{item}.start",
-                    f"does not chain: pattern '{seg.pattern}' stands at λ = {now:g}, "
-                    f"segment starts at {start:g}",
-                )
-            out.append((seg.pattern, start, float(seg.end)))
+            yield i, seg, now, start
             current[seg.pattern] = float(seg.end)
             for name, rate in seg.rates or ():  # the patterns a segment with rates moved
                 current[name] = current.get(name, 0.0) + rate * (float(seg.end) - start)
-        object.__setattr__(self, "_program_resolved", tuple(out))
-        return out
 
     def dynamic_jumps(self) -> dict[int, dict[str, float]]:
         """The factor changes g(T) of the load patterns of the dynamic intervals of stages

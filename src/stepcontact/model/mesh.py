@@ -47,6 +47,40 @@ REVERSED_NODE_ORDER: dict[str, list[int]] = {
     "quad9": [0, 3, 2, 1, 7, 6, 5, 4, 8],
 }
 
+# The rules of the mesh generators' arguments, in one place: the generators check them and the
+# model file's schema asks them (:mod:`stepcontact.io.modelfile.schema`).
+#: a size ratio (largest / smallest cell) is at least this
+SIZE_RATIO_MIN = 1
+#: cells along the arc of a half disc: at least this many (and even: a node at the contact point)
+HALF_DISC_MIN_AROUND = 4
+
+
+def corners_problem(corner0, corner1) -> str | None:
+    """Why a rectangle's corners (x0, y0), (x1, y1) are refused: it is empty (None when not)."""
+    (x0, y0), (x1, y1) = corner0, corner1
+    if x1 > x0 and y1 > y0:
+        return None
+    return "corner1 must lie above and to the right of corner0"
+
+
+def grading_problem(grading) -> str | None:
+    """Why a grading (gx, gy) of a rectangle is refused: factors that are not finite and > 0."""
+    try:
+        g = np.asarray(grading, dtype=float) if not isinstance(grading, str) else np.zeros(0)
+    except (TypeError, ValueError):
+        g = np.zeros(0)
+    if g.shape == (2,) and np.all(np.isfinite(g)) and np.all(g > 0):
+        return None
+    return "grading factors must be > 0"
+
+
+def cells_problem(n, size) -> str | None:
+    """Why the cells of a polygon are not given by one of ``n`` and ``size`` (None: they are)."""
+    if (n is None) == (size is None):
+        return ("give either n (cells along an edge) or size (m)"
+                + (", not both" if n is not None else ""))
+    return None
+
 
 def _axis(a: float, b: float, n: int, grading: float) -> np.ndarray:
     """n intervals from a to b; ``grading`` > 1 makes them grow geometrically from a to b."""
@@ -97,8 +131,10 @@ def rectangle(
     """
     x0, y0 = map(float, corner0)
     x1, y1 = map(float, corner1)
-    if not (x1 > x0 and y1 > y0):
-        raise ModelError(f"body '{name}'", f"empty rectangle {corner0} - {corner1}")
+    if (text := corners_problem((x0, y0), (x1, y1))) is not None:
+        raise ModelError(f"body '{name}'", text)
+    if (text := grading_problem(grading)) is not None:
+        raise ModelError(f"body '{name}'.grading", text)
     if nx < 1 or ny < 1:
         raise ModelError(f"body '{name}'", "nx and ny must be >= 1")
     from stepcontact.model.size import check_size, rectangle_size
@@ -184,18 +220,15 @@ def _parameters(name: str, grading, nx: int, ny: int) -> tuple[np.ndarray, np.nd
         for edge in QUAD_EDGES:
             v = grading.get(edge, 1.0)
             if isinstance(v, bool) or not isinstance(v, int | float | np.floating | np.integer) \
-                    or not np.isfinite(v) or v < 1.0:
-                raise ModelError(f"{item}['{edge}']",
-                                 f"must be a size ratio >= 1 (largest / smallest cell), got {v!r}")
+                    or not np.isfinite(v) or v < SIZE_RATIO_MIN:
+                raise ModelError(f"{item}['{edge}']", f"must be a size ratio >= {SIZE_RATIO_MIN} "
+                                 f"(largest / smallest cell), got {v!r}")
             r[edge] = float(v)
         return (_towards(nx, r["left"], r["right"]), _towards(ny, r["bottom"], r["top"]))
-    try:
-        g = np.asarray(grading, dtype=float) if not isinstance(grading, str) else np.zeros(0)
-    except (TypeError, ValueError):
-        g = np.zeros(0)
-    if g.shape != (2,) or not np.all(np.isfinite(g)) or np.any(g <= 0):
+    if grading_problem(grading) is not None:
         raise ModelError(item, "must be (gx, gy) with factors > 0, or {edge: ratio} with edges "
                                f"{', '.join(QUAD_EDGES)}; got {grading!r}")
+    g = np.asarray(grading, dtype=float)
     return _axis(0.0, 1.0, nx, float(g[0])), _axis(0.0, 1.0, ny, float(g[1]))
 
 
@@ -474,8 +507,8 @@ def polygon_region(
     item = f"body '{name}'"
     _check_element(name, element)
     P = _polygon(name, vertices)
-    if (n is None) == (size is None):
-        raise ModelError(f"{item}.n", "give either n (cells along an edge) or size (m)")
+    if (text := cells_problem(n, size)) is not None:
+        raise ModelError(f"{item}.n", text)
     if n is not None:
         n = _check_count(name, "n", n)
     elif isinstance(size, bool) or not isinstance(size, int | float | np.floating | np.integer) \
@@ -549,7 +582,7 @@ def half_disc(
     item = f"body '{name}'"
     _check_element(name, element)
     M = _check_count(name, "n_radial", n_radial)
-    N = _check_count(name, "n_around", n_around, 4)
+    N = _check_count(name, "n_around", n_around, HALF_DISC_MIN_AROUND)
     if N % 2:
         raise ModelError(f"{item}.n_around",
                          f"must be even (a node at the contact point), got {N}")
@@ -561,8 +594,9 @@ def half_disc(
         raise ModelError(f"{item}.refine_toward",
                          f"must be 'bottom' (the contact point) or None, got {refine_toward!r}")
     if not isinstance(ratio, int | float | np.floating | np.integer) or not np.isfinite(ratio) \
-            or ratio < 1:
-        raise ModelError(f"{item}.ratio", f"must be a size ratio >= 1, got {ratio!r}")
+            or ratio < SIZE_RATIO_MIN:
+        raise ModelError(f"{item}.ratio", f"must be a size ratio >= {SIZE_RATIO_MIN}, got "
+                         f"{ratio!r}")
     r = float(ratio) if refine_toward == "bottom" else 1.0
     R = float(radius)
     # spoke angles ψ from the downward vertical: n1 uniform steps on each side quarter

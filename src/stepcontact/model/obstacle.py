@@ -33,12 +33,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 import numpy as np
 
 from stepcontact.errors import ModelError
 
-OBSTACLE_SIDES: tuple[str, ...] = ("left", "right")
+ObstacleSide = Literal["left", "right"]
+OBSTACLE_SIDES: tuple[str, ...] = get_args(ObstacleSide)
 
 
 @dataclass(frozen=True, eq=False)

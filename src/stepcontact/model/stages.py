@@ -97,4 +97,80 @@ class Stage:
                              "removed at this stage")
 
 
-__all__ = ["Stage"]
+#: the lists of a stage that name the items it changes: (field, kind of item, what the stage
+#: does to it); an item is built, made, placed or removed by one stage at most
+STAGE_LISTS: tuple[tuple[str, str, str], ...] = (
+    ("bodies", "body", "built"), ("interfaces", "interface", "made"),
+    ("contacts", "interface", "made"), ("supports", "support", "placed"),
+    ("remove_supports", "support", "removed"))
+
+
+def _known(names) -> str:
+    return ", ".join(repr(n) for n in names) or "none defined"
+
+
+def list_problems(stages, known: dict, label) -> list[tuple[int, str, str]]:
+    """The problems of the names that ``stages`` list, as (stage index, field, message): the
+    one place of these rules, for :class:`~stepcontact.solver.staging.StagePlan` (the first
+    is raised) and the model file (all are listed, at their field paths).
+
+    ``stages``: :class:`Stage` objects, or the model file's stage tables (the same fields);
+    ``known``: the names of each kind of item ("body", "interface", "support");
+    ``label(k)``: stage k as the messages name it (``stage 'x'`` or ``stages[2] ('x')``).
+
+    A listed name must exist and be listed once (by one stage, in one of its lists: an
+    interface is made at once or acts as a contact); a support is removed at a later stage
+    than the one that places it (or, in place from the start, after the first stage); grout
+    fills an existing interface in place: not at the first stage (there is no earlier state
+    to keep), not before the stage that makes it.
+    """
+    out: list[tuple[int, str, str]] = []
+    claimed: dict[tuple[str, str], tuple[int, str]] = {}  # (what, name) -> (stage, field)
+    for k, st in enumerate(stages):
+        for key, kind, what in STAGE_LISTS:
+            for name in getattr(st, key):
+                if name not in known[kind]:
+                    out.append((k, key, f"no such {kind} '{name}' (known: "
+                                        f"{_known(known[kind])})"))
+                    continue
+                prev = claimed.setdefault((what, name), (k, key))
+                if prev == (k, key) and list(getattr(st, key)).count(name) > 1:
+                    text = f"lists {kind} '{name}' twice"
+                elif prev == (k, key):
+                    continue
+                elif prev[0] == k:
+                    text = (f"{kind} '{name}' is listed in {prev[1]} too"
+                            + (": an interface is made at once (interfaces) or acts as a "
+                               "contact with its gap (contacts)" if kind == "interface" else ""))
+                else:
+                    text = f"{kind} '{name}' is already listed by {label(prev[0])}"
+                if (k, key, text) not in out:
+                    out.append((k, key, text))
+        for name in st.grout:
+            if name not in known["interface"]:
+                out.append((k, "grout", f"no such interface '{name}' (known: "
+                                        f"{_known(known['interface'])})"))
+            elif k == 0:
+                out.append((k, "grout", f"the first stage cannot grout interface '{name}' "
+                            "(there is no earlier state to keep): give the interface its "
+                            "strength from the start (its bond: Interface(bond=...), "
+                            "[interfaces.bond] in a model file) or grout it at a later stage"))
+    for k, st in enumerate(stages):
+        for name in st.grout:
+            j = claimed.get(("made", name), (0,))[0]
+            if j > k:
+                out.append((k, "grout", f"interface '{name}' is made later, by {label(j)}: "
+                                        "grout joints in place"))
+    for (what, name), (k, key) in claimed.items():
+        if what != "removed":
+            continue
+        j = claimed.get(("placed", name), (0, ""))[0]
+        if k <= j:
+            where = (f"placed by {label(j)}" if ("placed", name) in claimed else
+                     "in place from the start")
+            out.append((k, key, f"support '{name}' is removed before or when it is placed "
+                                f"({where}): remove it at a later stage"))
+    return out
+
+
+__all__ = ["STAGE_LISTS", "Stage", "list_problems"]

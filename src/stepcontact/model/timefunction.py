@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 import numpy as np
 
@@ -122,7 +123,8 @@ class Tabulated:
         return f"a table pulse of {hi - lo:g} s (from {lo:g} s to {hi:g} s)"
 
 
-PULSE_SHAPES = ("rectangular", "triangular", "half_sine")
+PulseShape = Literal["rectangular", "triangular", "half_sine"]
+PULSE_SHAPES: tuple[str, ...] = get_args(PulseShape)
 
 
 @dataclass(frozen=True)
@@ -226,6 +228,35 @@ class Harmonic:
 STEPS_PER_PERIOD = 10
 #: default limit of the number of time steps of a dynamic interval (``max_steps``)
 MAX_STEPS = 10_000_000
+#: the mass matrices of a dynamic interval (consistent, or HRZ-lumped)
+MassKind = Literal["consistent", "lumped"]
+MASS_KINDS: tuple[str, ...] = get_args(MassKind)
+#: HHT-α numerical damping: α ∈ [0, 1/3] keeps the scheme unconditionally stable and second-
+#: order accurate (0: Newmark's average acceleration, no numerical dissipation)
+HHT_ALPHA_RANGE: tuple[float, float] = (0, 1 / 3)
+#: Newton's coefficient of restitution e of the impacts of rigid contacts
+RESTITUTION_RANGE: tuple[float, float] = (0, 1)
+
+
+def check_newmark(dt: float, duration: float, *, alpha: float = 0.0, restitution: float = 0.0,
+                  prefix: str = "") -> None:
+    """The parameters of a dynamic interval's time integration, before any work: ``dt`` and
+    ``duration`` (s) positive and finite, the HHT-α ``alpha`` in :data:`HHT_ALPHA_RANGE`, the
+    coefficient of restitution in :data:`RESTITUTION_RANGE`.  The one place of these rules:
+    :class:`~stepcontact.model.DynamicInterval` and :func:`stepcontact.solve_dynamic` call it
+    (ModelError whose item is the parameter, after ``prefix``, e.g. ``"dynamics."``), and the
+    model file takes its bounds from the same constants."""
+    for key, v in (("dt", dt), ("duration", duration)):
+        v = float(v)
+        if not np.isfinite(v) or v <= 0:
+            raise ModelError(f"{prefix}{key}", f"must be positive and finite, got {v}")
+    lo, hi = HHT_ALPHA_RANGE
+    if not lo <= float(alpha) <= hi:
+        raise ModelError(f"{prefix}alpha", f"HHT-α must lie in [{lo:g}, 1/3], got {alpha}")
+    lo, hi = RESTITUTION_RANGE
+    if not lo <= float(restitution) <= hi:
+        raise ModelError(f"{prefix}restitution", f"must lie in [{lo:g}, {hi:g}], got "
+                         f"{restitution}")
 
 
 def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
@@ -294,5 +325,6 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
     return int(np.ceil(estimate))
 
 
-__all__ = ["MAX_STEPS", "PULSE_SHAPES", "STEPS_PER_PERIOD", "Constant", "Harmonic", "Pulse",
-           "Tabulated", "check_interval"]
+__all__ = ["HHT_ALPHA_RANGE", "MASS_KINDS", "MAX_STEPS", "PULSE_SHAPES", "RESTITUTION_RANGE",
+           "STEPS_PER_PERIOD", "Constant", "Harmonic", "Pulse", "Tabulated", "check_interval",
+           "check_newmark"]

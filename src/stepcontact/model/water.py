@@ -216,11 +216,18 @@ class Uplift:
     unit_weight: float = UNIT_WEIGHT_WATER
     through: str = "faces"
 
+    @staticmethod
+    def form_problem(head, pressure) -> str | None:
+        """Why an uplift is not given by one of head and pressure (None when it is)."""
+        if (head is None) == (pressure is None):
+            return "give either head (m of water) or pressure (Pa)"
+        return None
+
     def __post_init__(self):
         name = self.interface if isinstance(self.interface, str) else self.interface.name
         item = f"uplift on interface '{name}'"
-        if (self.head is None) == (self.pressure is None):
-            raise ModelError(item, "give either head (m of water) or pressure (Pa)")
+        if (text := self.form_problem(self.head, self.pressure)) is not None:
+            raise ModelError(item, text)
         _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
         if self.through not in ("faces", "cfes"):
             raise ModelError(f"{item}.through", f"'{self.through}' is not 'faces' or 'cfes'")
@@ -305,6 +312,14 @@ class CrackWater:
     entry: tuple | None = None
     pressure: float | None = None
 
+    @staticmethod
+    def form_problem(level, pressure) -> str | None:
+        """Why crack water is not given by a level or a pressure, at most one (None: it is,
+        or neither: the pattern's factor is the level)."""
+        if level is not None and pressure is not None:
+            return "give the water level or the pressure in the crack, not both"
+        return None
+
     def __post_init__(self):
         item = f"crack water in interface '{self.name}'"
         if self.level is not None:
@@ -317,9 +332,8 @@ class CrackWater:
                                  "would pull them together; give a pressure ≥ 0 Pa per unit "
                                  "factor")
             plausible.warn("water_pressure", self.pressure, f"{item}.pressure", stacklevel=4)
-            if self.level is not None:
-                raise ModelError(item, "give the water level or the pressure in the crack, "
-                                 "not both")
+            if (text := self.form_problem(self.level, self.pressure)) is not None:
+                raise ModelError(item, text)
             object.__setattr__(self, "pressure", float(self.pressure))
         _finite(self.unit_weight, f"{item}.unit_weight", positive=True)
         plausible.warn("unit_weight_water", self.unit_weight, f"{item}.unit_weight",

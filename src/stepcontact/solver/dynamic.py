@@ -106,7 +106,7 @@ from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, Co
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
-from stepcontact.model.timefunction import MAX_STEPS, check_interval
+from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
 from stepcontact.results.recorder import GrowingArray, Recorder
 from stepcontact.results.result import (
     ENERGY_TERMS,
@@ -829,11 +829,7 @@ def _interval(model, *, stage, dt, duration, loads, mass, damping, restitution, 
     if dt is None or duration is None:
         raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
                          "interval (model.dynamics)")
-    for key, v in (("dt", dt), ("duration", duration)):
-        if not np.isfinite(v) or v <= 0:
-            raise ModelError(key, f"must be positive and finite, got {v}")
-    if not (0.0 <= alpha <= 1.0 / 3.0):
-        raise ModelError("alpha", f"HHT-α must lie in [0, 1/3], got {alpha}")
+    check_newmark(dt, duration, alpha=alpha, restitution=restitution)  # the model's rules
     # Δt, the step count and every load's sampling, before any work (check_interval)
     check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
                    else max_steps, ground=_ground_function(ground_acceleration))
@@ -1030,8 +1026,6 @@ class _DynamicRun:
         self._initial_state(u0, v0)
         self._initial_loads()
         self._initial_acceleration()
-        if not (0.0 <= self.restitution <= 1.0):
-            raise ModelError("restitution", f"must lie in [0, 1], got {self.restitution}")
         self._books()
 
     # -- set-up ------------------------------------------------------------------------------
@@ -1066,9 +1060,9 @@ class _DynamicRun:
         iv, system, ndof = self.iv, self.system, self.ndof
         mass = iv.mass
         if isinstance(mass, str):
-            if mass not in ("consistent", "lumped"):
-                raise ModelError("mass", f"must be 'consistent', 'lumped' or a matrix, got "
-                                 f"'{mass}'")
+            if mass not in MASS_KINDS:
+                raise ModelError("mass", f"must be {', '.join(map(repr, MASS_KINDS))} or a "
+                                 f"matrix, got '{mass}'")
             if system.discrete is not None:
                 raise ModelError("mass", "a discrete model has no geometry: give its mass "
                                  "matrix")

@@ -32,6 +32,7 @@ import numpy as np
 
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import LoadVectors, System
+from stepcontact.model.stages import list_problems
 
 _DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
 
@@ -49,18 +50,14 @@ class StagePlan:
         itfs = {i.name: i for i in model.interfaces}
         sups = {s.name: s for s in model.supports}
 
-        def claim(table: dict, kind: str, known, k: int, names, what: str):
-            for name in names:
-                if name not in known:
-                    listed = ", ".join(repr(x) for x in known) or "none"
-                    raise ModelError(f"stage '{self.names[k]}'.{what}",
-                                     f"no such {kind} '{name}' (known: {listed})")
-                if name in table:
-                    raise ModelError(f"stage '{self.names[k]}'.{what}",
-                                     f"{kind} '{name}' is already listed by stage "
-                                     f"'{self.names[table[name]]}'")
-                table[name] = k
-
+        # the stages' lists (names exist, listed once, removed after placed, grout in place):
+        # the model's rules (model.stages.list_problems), the first one raised
+        problems = list_problems(stages, {"body": list(bodies), "interface": list(itfs),
+                                          "support": list(sups)},
+                                 lambda k: f"stage '{self.names[k]}'")
+        if problems:
+            k, key, text = problems[0]
+            raise ModelError(f"stage '{self.names[k]}'.{key}", text)
         self.body_stage: dict[str, int] = {}
         itf_stage: dict[str, int] = {}
         self.contact_itf: set[str] = set()
@@ -68,37 +65,15 @@ class StagePlan:
         self.sup_removed: dict[str, int] = {}
         self.grout: dict[int, dict] = {}
         for k, st in enumerate(stages):
-            claim(self.body_stage, "body", bodies, k, st.bodies, "bodies")
-            claim(itf_stage, "interface", itfs, k, st.interfaces, "interfaces")
-            claim(itf_stage, "interface", itfs, k, st.contacts, "contacts")
+            self.body_stage.update(dict.fromkeys(st.bodies, k))
+            itf_stage.update(dict.fromkeys((*st.interfaces, *st.contacts), k))
             self.contact_itf |= set(st.contacts)
-            claim(sup_stage, "support", sups, k, st.supports, "supports")
-            claim(self.sup_removed, "support", sups, k, st.remove_supports, "remove_supports")
-            for name in st.grout:
-                if name not in itfs:
-                    listed = ", ".join(repr(x) for x in itfs) or "none"
-                    raise ModelError(f"stage '{st.name}'.grout",
-                                     f"no such interface '{name}' (known: {listed})")
+            sup_stage.update(dict.fromkeys(st.supports, k))
+            self.sup_removed.update(dict.fromkeys(st.remove_supports, k))
             self.grout[k] = dict(st.grout)
         self.body_stage = {b: self.body_stage.get(b, 0) for b in bodies}
         self.itf_stage = {i: itf_stage.get(i, 0) for i in itfs}
         self.sup_stage = {s: sup_stage.get(s, 0) for s in sups}
-        for name, k in self.sup_removed.items():
-            if k <= self.sup_stage[name]:
-                raise ModelError(f"stage '{self.names[k]}'.remove_supports",
-                                 f"support '{name}' is removed before or when it is placed "
-                                 f"(stage '{self.names[self.sup_stage[name]]}')")
-        for k, g in self.grout.items():
-            for name in g:
-                if k == 0:
-                    raise ModelError(f"stage '{self.names[k]}'.grout", f"interface '{name}' "
-                                     "is grouted at the first stage: give the interface its "
-                                     "bond instead (Interface(bond=...))")
-                if self.itf_stage[name] > k:
-                    raise ModelError(f"stage '{self.names[k]}'.grout",
-                                     f"interface '{name}' is made later (stage "
-                                     f"'{self.names[self.itf_stage[name]]}'): grout joints "
-                                     "in place")
         for itf in model.interfaces:  # an interface acts only between bodies in place
             ends = [itf.plus.body] + ([itf.minus.body] if hasattr(itf.minus, "body") else [])
             for b in ends:

@@ -1,0 +1,486 @@
+"""Building the :class:`~stepcontact.model.Model` of a validated model file
+(:class:`_Builder`): bodies, node sets, supports, springs, interfaces, loads, the program,
+stages and dynamic intervals; an error a model item raises is reported at the field path of
+the file.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from stepcontact.errors import ModelError
+from stepcontact.io.modelfile.checks import check_plausible
+from stepcontact.io.modelfile.errors import _known, _path, _Problems
+from stepcontact.io.modelfile.references import _References
+from stepcontact.io.modelfile.schema import (
+    BoxSpec,
+    CrackWaterSpec,
+    EdgeForceLoad,
+    GravityLoad,
+    HalfDiscSpec,
+    MaterialSpec,
+    MeshBodySpec,
+    NodalLoadSpec,
+    NodeSetSpec,
+    ObstacleMotionLoad,
+    PolygonSpec,
+    PressureLoad,
+    QuadRegionSpec,
+    RectangleSpec,
+    SegmentSpec,
+    UpliftLoadSpec,
+    WaterLoadSpec,
+    _body_name,
+)
+from stepcontact.model import plausible
+from stepcontact.model.items import (
+    Body,
+    BodyForce,
+    EdgeForce,
+    EdgeLoad,
+    Frame,
+    Interface,
+    LoadPattern,
+    Material,
+    Model,
+    NodalLoad,
+    NodeSet,
+    PrescribedDisplacement,
+    Segment,
+    Spring,
+    Support,
+    Tie,
+    _parse_dofs,
+    select_nodes,
+)
+from stepcontact.model.mesh import half_disc, polygon_region, quad_region, rectangle
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.program import cycles
+from stepcontact.model.size import check_size
+from stepcontact.model.stages import Stage
+from stepcontact.model.water import CrackWater, Uplift, WaterLoad
+
+
+def _segments(s: SegmentSpec) -> tuple[Segment, ...]:
+    """The segments of one ``[[program]]`` entry, a cyclic one expanded (none when its
+    amplitudes are wrong: :meth:`_Builder.check_references` reports them)."""
+    if s.amplitude is None:
+        return (Segment(s.pattern, s.end, s.start, s.rates),)  # type: ignore[arg-type]
+    try:
+        return cycles(s.pattern, s.amplitude, s.cycles, mean=s.mean, start=s.start,
+                      rates=s.rates)
+    except ModelError:
+        return ()
+
+
+def _box(box: BoxSpec, atol: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """Predicate of a box with inclusive bounds (tolerance ``atol``, m)."""
+    lo = np.array([-np.inf if box.xmin is None else box.xmin,
+                   -np.inf if box.ymin is None else box.ymin]) - atol
+    hi = np.array([np.inf if box.xmax is None else box.xmax,
+                   np.inf if box.ymax is None else box.ymax]) + atol
+
+    def inside(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1])
+
+    return inside
+
+
+def _build_node_set(name: str, ns: NodeSetSpec, body: Body | Frame) -> NodeSet:
+    path = _path(["node_sets", name])
+    if ns.index is not None:
+        idx = np.asarray(ns.index, dtype=np.int64)
+        if idx.size == 0:
+            raise ModelError(f"{path}.index", "selects no node")
+        if idx.max() >= body.n_nodes:
+            raise ModelError(
+                f"{path}.index",
+                f"node {int(idx.max())} does not exist (body '{body.name}' has {body.n_nodes})",
+            )
+        return NodeSet(body.name, idx, name)
+    pts = body.points
+    atol = 1e-9 * max(1.0, float(np.ptp(pts, axis=0).max()) if len(pts) else 1.0)
+    where = _box(ns.where, atol) if ns.where is not None else None
+    try:
+        return select_nodes(body, where, x=ns.x, y=ns.y, boundary=ns.boundary, name=name)
+    except ModelError as e:
+        raise ModelError(path, f"{e.problem} on body '{body.name}'") from None
+
+
+class _Builder(_References):
+    """Builds the model of a validated file, collecting every problem on the way (the names
+    are checked first, :class:`~stepcontact.io.modelfile.references._References`).
+
+    Nothing stops at the first problem: an item that depends on a broken one (a node set of a
+    body that could not be made, a support on that node set, ...) is skipped silently, since
+    the broken item is reported already.
+    """
+
+    # ---- bodies and node sets -------------------------------------------------------------
+    def _material(self, ref: str | MaterialSpec | None) -> Material | None:
+        if isinstance(ref, str):
+            spec = self.spec.materials.get(ref)
+            return None if spec is None else spec.build()
+        return None if ref is None else ref.build()
+
+    def build_bodies(self) -> None:
+        for i, b in enumerate(self.spec.bodies):
+            name = _body_name(b)
+            if name in self.paths:
+                continue  # duplicate name, reported
+            self.paths[name] = f"bodies[{i}]"
+            mat = self._material(b.material)
+            if isinstance(b, MeshBodySpec):
+                self.surface_of[name] = b.surface
+            if mat is None:
+                self.failed.add(name)
+                continue
+            try:
+                if isinstance(b, RectangleSpec):
+                    self.bodies[name] = rectangle(
+                        b.name, b.corner0, b.corner1, b.nx, b.ny, mat, b.element,
+                        grading=b.grading,
+                    )
+                    continue
+                if isinstance(b, QuadRegionSpec):
+                    self.bodies[name] = quad_region(b.name, b.corners, b.nx, b.ny, mat,
+                                                    b.element, grading=b.grading)
+                    continue
+                if isinstance(b, PolygonSpec):
+                    try:
+                        self.bodies[name] = polygon_region(b.name, b.vertices, mat, b.element,
+                                                           n=b.n, size=b.size)
+                    except ModelError as e:  # the field at fault: bodies[i].vertices, …
+                        field = e.item.removeprefix(f"body '{b.name}'")
+                        self.failed.add(name)
+                        self.p.add(f"bodies[{i}]{field if field.startswith('.') else ''}",
+                                   e.problem)
+                    continue
+                if isinstance(b, HalfDiscSpec):
+                    self.bodies[name] = half_disc(
+                        b.name, b.center, b.radius, b.n_radial, b.n_around, mat, b.element,
+                        refine_toward="bottom" if b.refine else None, ratio=b.ratio)
+                    continue
+                if self.mesh is None or self._group_problem(b.surface, (2,)) is not None:
+                    self.failed.add(name)
+                    continue
+                self.bodies[name] = self.mesh.body(b.surface, mat, name=name, element=b.element)
+            except ModelError as e:
+                self.failed.add(name)
+                detail = e.problem if e.item.startswith("body ") else f"{e.item} {e.problem}"
+                self.p.add(f"bodies[{i}]", detail)
+        for i, f in enumerate(self.spec.frames):
+            if f.name in self.paths:
+                continue
+            self.paths[f.name] = f"frames[{i}]"
+            try:
+                self.bodies[f.name] = Frame.line(
+                    f.name, f.start, f.end, f.n, E=f.E, A=f.A, I=f.I, density=f.density
+                )
+            except ModelError as e:
+                self.failed.add(f.name)
+                self.p.add(f"frames[{i}]", e.problem)
+
+    def check_size(self) -> None:
+        """The whole model fits in this machine's memory (each rectangle was checked before
+        it was meshed; mesh bodies and the sum of all are checked here, before assembly)."""
+        if len(self.bodies) < 2 and self.mesh is None:
+            return
+        ndof = sum((3 if isinstance(b, Frame) else 2) * b.n_nodes for b in self.bodies.values())
+        nodes = sum(b.n_nodes for b in self.bodies.values())
+        try:
+            check_size(ndof, "model", f"the model ({len(self.bodies)} bodies, {nodes} nodes)")
+        except ModelError as e:
+            self.p.add(e.item, e.problem)
+
+    def _group_set(self, group: str, body: str | None, name: str, path: str, hint: str) -> None:
+        """Node set ``name`` of a physical group; problems are reported at ``path``."""
+        assert self.mesh is not None
+        if self._group_problem(group, (0, 1)) is not None:
+            return
+        if body is not None and body not in self.bodies:
+            return
+        if body is None:
+            broken = {s for b, s in self.surface_of.items() if b in self.failed}
+            if broken & set(self.mesh.owners(group)):
+                return  # on a body that could not be made
+        try:
+            self.sets[name] = self.mesh.node_set(group, body, name)
+        except ModelError as e:
+            extra = hint if "say which body" in e.problem else ""
+            self.p.add(path, f"{e.item} {e.problem}{extra}")
+
+    def build_node_sets(self) -> None:
+        for name, ns in self.spec.node_sets.items():
+            path = _path(["node_sets", name])
+            if ns.group is not None:
+                if self.mesh is not None:
+                    hint = f": add body = \"...\" to [{path}]"
+                    self._group_set(ns.group, ns.body, name, f"{path}.group", hint)
+                continue
+            body = self.bodies.get(str(ns.body))
+            if body is None:
+                continue
+            try:
+                self.sets[name] = _build_node_set(name, ns, body)
+            except ModelError as e:
+                self.p.add(e.item, e.problem)
+        for group, path in self.implicit.items():
+            hint = (f": define [node_sets.NAME] with group = \"{group}\" and body = \"...\" and "
+                    "use NAME here")
+            self._group_set(group, None, group, path, hint)
+
+    # ---- the model ------------------------------------------------------------------------
+    def model(self) -> Model | None:
+        """The model (None when it cannot be made); problems are in ``self.p``.  Warnings of
+        implausible values are listed with their field paths
+        (:func:`~stepcontact.io.modelfile.checks.check_plausible`)."""
+        check_plausible(self.spec, self.p)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", plausible.PlausibilityWarning)
+            return self._model()
+
+    def _model(self) -> Model | None:
+        self.read_mesh()
+        self.check_references()
+        self.build_bodies()
+        self.check_size()
+        self.build_node_sets()
+        spec, sets, p = self.spec, self.sets, self.p
+
+        def have(*names: str | None) -> bool:
+            return all(n is None or n in sets for n in names)
+
+        supports = []
+        for i, s in enumerate(spec.supports):
+            if have(s.nodes):
+                supports.append(Support(s.name or s.nodes, sets[s.nodes],
+                                        _parse_dofs(s.dofs, f"supports[{i}].dofs")))
+        ties = []
+        for i, t in enumerate(spec.ties):
+            if not have(t.a, t.b):
+                continue
+            if len(sets[t.a]) != len(sets[t.b]):
+                p.add(
+                    f"ties[{i}]",
+                    f"node sets '{t.a}' ({len(sets[t.a])} nodes) and '{t.b}' ({len(sets[t.b])} "
+                    "nodes) differ in size",
+                )
+                continue
+            ties.append(Tie(t.name or f"{t.a}-{t.b}", sets[t.a], sets[t.b]))
+        springs = []
+        for i, s in enumerate(spec.springs):
+            if not have(s.a, s.b):
+                continue
+            try:
+                springs.append(Spring(
+                    s.name or s.a, sets[s.a], None if s.b is None else sets[s.b], s.kx, s.ky,
+                    k=s.k, direction=s.direction, damping=s.damping,
+                ))
+            except ModelError as e:  # e.g. a zero direction
+                field = e.item.rpartition("'.")[2] if "'." in e.item else ""
+                p.add(f"springs[{i}].{field}" if field else f"springs[{i}]", e.problem)
+        obstacles: dict[str, RigidObstacle] = {}
+        for i, ob in enumerate(spec.obstacles):
+            try:
+                obstacles[ob.name] = RigidObstacle(ob.name, ob.points, ob.side)
+            except ModelError as e:
+                field = e.item.rpartition("'.")[2] if "'." in e.item else ""
+                p.add(f"obstacles[{i}].{field}" if field else f"obstacles[{i}]", e.problem)
+        interfaces = []
+        for i, itf in enumerate(spec.interfaces):
+            if not have(itf.plus, itf.minus):
+                continue
+            if itf.obstacle is not None and itf.obstacle not in obstacles:
+                continue
+            try:
+                interfaces.append(Interface(
+                    itf.name,
+                    sets[itf.plus],
+                    sets[itf.minus] if itf.obstacle is None else obstacles[itf.obstacle],
+                    friction=itf.friction,
+                    gap=itf.gap,
+                    normal=itf.normal,
+                    layer=None if itf.layer is None else itf.layer.build(),
+                    bond=None if itf.bond is None else itf.bond.build(),
+                    pairs=itf.pairs,
+                    area=itf.area,
+                    cfe=itf.cfe,
+                ))
+            except ModelError as e:
+                p.add(f"interfaces[{i}]", e.problem)
+        patterns = []
+        for pname, pat in spec.patterns.items():
+            loads: list[object] = []
+            for j, ld in enumerate(pat.loads):
+                try:
+                    self._load(ld, loads, interfaces, obstacles)
+                except ModelError as e:  # e.g. a negative crack pressure
+                    field = e.item.rpartition(".")[2] if "." in e.item else ""
+                    path = _path(["patterns", pname, "loads", j])
+                    p.add(f"{path}.{field}" if field else path, e.problem)
+            patterns.append(LoadPattern(pname, tuple(loads)))
+        program = [seg for s in spec.program for seg in _segments(s)]
+        # stages whose names are wrong (reported) are left out: the model would repeat it
+        pattern_names = {pt.name for pt in patterns}
+        stages = (() if any(q.startswith("stages") for q, _ in p.items)
+                  else self._stages(p, pattern_names))
+        dynamics = self._dynamics(spec.dynamics, pattern_names, p)
+        try:
+            model = Model(
+                bodies=tuple(self.bodies.values()),
+                plane=spec.model.plane,
+                thickness=spec.model.thickness,
+                supports=tuple(supports),
+                ties=tuple(ties),
+                springs=tuple(springs),
+                interfaces=tuple(interfaces),
+                patterns=tuple(patterns),
+                program=tuple(program),
+                name=spec.model.name or "model",
+                dynamics=dynamics,
+                stages=stages,
+            )
+        except ModelError as e:
+            p.add(e.item, e.problem)
+            return None
+        self.check_chain(model)
+        return model
+
+    def check_chain(self, model: Model) -> None:
+        """Each segment starts where its pattern stands: the model's rule
+        (:meth:`~stepcontact.model.Model.program_walk`: after segments with rates and the
+        dynamic intervals of earlier stages too), reported at the path of its entry."""
+        paths: list[str] = []
+        for path, seg in self.program_entries():
+            n = len(_segments(seg))
+            if n == 0:
+                return  # a cyclic entry whose amplitudes are wrong (reported)
+            paths += [path] * n
+        if len(paths) != len(model.effective_program):
+            return  # a stage that could not be made (reported)
+        try:
+            for i, seg, now, start in model.program_walk():
+                if abs(start - now) > 1e-12 * max(1.0, abs(now)):
+                    self.p.add(f"{paths[i]}.start", f"segments do not chain: pattern "
+                               f"'{seg.pattern}' stands at λ = {now:g}, this segment starts "
+                               f"at {start:g}")
+        except ModelError:
+            return  # a name of the program, reported with its path already
+
+    def _load(self, ld: Any, loads: list, interfaces: list, obstacles: dict) -> None:
+        """Append the load of the file's entry ``ld`` to ``loads`` (nothing where an item it
+        needs is missing: that problem is reported already)."""
+        if isinstance(ld, GravityLoad):
+            loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
+        elif isinstance(ld, UpliftLoadSpec):
+            found = [i for i in interfaces if i.name == ld.interface]
+            if found:
+                loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
+        elif isinstance(ld, CrackWaterSpec):
+            found = [i for i in interfaces if i.name == ld.interface]
+            if found:
+                loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
+                                        None if ld.entry is None else tuple(ld.entry),
+                                        ld.pressure))
+        elif isinstance(ld, ObstacleMotionLoad):
+            if ld.obstacle in obstacles:
+                loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,
+                                            ld.rotation, ld.about))
+        elif ld.nodes not in self.sets:
+            return
+        elif isinstance(ld, WaterLoadSpec):
+            loads.append(WaterLoad(self.sets[ld.nodes], ld.level, ld.unit_weight))
+        elif isinstance(ld, NodalLoadSpec):
+            loads.append(NodalLoad(self.sets[ld.nodes], ld.fx, ld.fy, ld.mz))
+        elif isinstance(ld, PressureLoad):
+            loads.append(EdgeLoad(self.sets[ld.nodes], ld.normal, ld.tangential,
+                                  None if ld.traction is None else tuple(ld.traction)))
+        elif isinstance(ld, EdgeForceLoad):
+            loads.append(EdgeForce(self.sets[ld.nodes], ld.fx, ld.fy))
+        else:
+            loads.append(PrescribedDisplacement(self.sets[ld.nodes], ld.dof, ld.value))
+
+    def _stages(self, p: _Problems, pattern_names: set[str]) -> tuple[Stage, ...]:
+        """The construction stages of the file (their names were checked by
+        :meth:`check_stages`); a grout's bond that cannot be made is reported at its path."""
+        stages = []
+        for k, st in enumerate(self.spec.stages):
+            grout = {}
+            for name, bond in st.grout.items():
+                path = _path(["stages", k, "grout", name])
+                try:
+                    grout[name] = built = bond.build()
+                except ModelError as e:
+                    p.add(path, e.problem)
+                    continue
+                for key in ("tensile", "shear"):  # constants; profiles: at validation
+                    v = getattr(built, key)
+                    if isinstance(v, int | float) and v < 0:
+                        p.add(path, f"gives a {key} strength of {v:g} Pa: a strength must "
+                              "be ≥ 0")
+            try:
+                stages.append(Stage(
+                    st.name, tuple(seg for s in st.program for seg in _segments(s)),
+                    tuple(st.bodies), tuple(st.interfaces), tuple(st.contacts),
+                    tuple(st.supports), tuple(st.remove_supports), grout,
+                    self._dynamics(st.dynamics, pattern_names, p, f"stages[{k}].dynamics")))
+            except ModelError as e:  # reported by check_stages already, with its path
+                p.add(f"stages[{k}]", e.problem)
+        return tuple(stages)
+
+    def _dynamics(self, spec, pattern_names: set[str], p, where: str = "dynamics"):
+        """The dynamic interval of the file at ``where`` (``dynamics`` or
+        ``stages[k].dynamics``; None without one)."""
+        if spec is None:
+            return None
+        from stepcontact.fem.mass import rayleigh_coefficients
+        from stepcontact.model import DynamicInterval
+        from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
+
+        loads = []
+        for j, tf in enumerate(spec.loads):
+            item = f"{where}.loads[{j}]"
+            if tf.pattern not in pattern_names:
+                p.add(f"{item}.pattern", f"unknown load pattern '{tf.pattern}' (known: "
+                      f"{_known(pattern_names)})")
+                continue
+            try:
+                if tf.type == "pulse":
+                    g = Pulse(tf.amplitude, tf.start, tf.duration, tf.shape)
+                elif tf.type == "harmonic":
+                    g = Harmonic(tf.amplitude, tf.frequency, tf.phase, tf.start)
+                elif tf.type == "constant":
+                    g = Constant(tf.amplitude)
+                elif tf.csv is not None:
+                    path = Path(tf.csv)
+                    if not path.is_absolute():
+                        path = self.base / path
+                    g = Tabulated.from_csv(path)
+                else:
+                    g = Tabulated(tuple(tf.times), tuple(tf.values or ()))
+            except (ModelError, OSError) as e:
+                p.add(item, getattr(e, "problem", str(e)))
+                continue
+            loads.append((tf.pattern, g))
+        d = spec.damping
+        try:
+            damping = ((d.a0, d.a1) if d.ratios is None else rayleigh_coefficients(
+                d.ratios[0], d.frequencies[0], d.ratios[1], d.frequencies[1])
+                if d.frequencies is not None else None)
+            if damping is None:
+                p.add(f"{where}.damping", "ratios need their two frequencies (Hz)")
+                return None
+            return DynamicInterval(spec.dt, spec.duration, tuple(loads), spec.mass, damping,
+                                   spec.restitution, spec.record_every, spec.alpha,
+                                   spec.max_steps)
+        except ModelError as e:
+            item = e.item
+            p.add(where + item[len("dynamics"):] if item.startswith("dynamics") else item,
+                  e.problem)
+            return None
