@@ -25,7 +25,7 @@ import pytest
 import stepcontact as sc
 from stepcontact.enums import Status, Transition
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse
-from stepcontact.solver.dynamic import solve_dynamic
+from stepcontact.solver.program import solve_dynamic
 
 G = 9.81
 

@@ -26,7 +26,8 @@ import stepcontact as sc
 from stepcontact.enums import Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.model.timefunction import Constant, Pulse
-from stepcontact.solver.dynamic import DynamicResult, solve_dynamic
+from stepcontact.solver.dynamic import DynamicResult
+from stepcontact.solver.program import solve_dynamic
 
 G = 9.81
 

@@ -30,7 +30,7 @@ from stepcontact.cli.commands import app
 from stepcontact.enums import Status
 from stepcontact.errors import ModelError, StepContactError
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
-from stepcontact.solver.dynamic import solve_dynamic
+from stepcontact.solver.program import solve_dynamic
 
 G = 9.81
 

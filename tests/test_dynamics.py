@@ -20,7 +20,7 @@ import stepcontact as sc
 from stepcontact.enums import Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.model.timefunction import Harmonic, Pulse, Tabulated
-from stepcontact.solver.dynamic import solve_dynamic
+from stepcontact.solver.program import solve_dynamic
 
 G = 9.81
 

@@ -206,7 +206,7 @@ def test_checker_rejects_a_wrong_path():
     assert entry_problems(2, "stepcontact.contact.laws.CoulombLaw.event_values") == []
     for wrong in ("stepcontact.contact.laws.CoulombLaw.event_value",
                   "stepcontact.contact.law.CoulombLaw.event_values",
-                  "stepcontact.solver.dynamic.solve_dynamic.cut"):  # a nested function
+                  "stepcontact.solver.program.solve_dynamic.cut"):  # a nested function
         (problem,) = entry_problems(2, wrong)
         assert "does not import" in problem and wrong in problem
     (problem,) = entry_problems(2, "CoulombLaw.event_values")

@@ -35,12 +35,3 @@ def test_import_contract_is_kept(contract, capsys):
     report = capsys.readouterr().out
     assert kept, f"import contract '{contract}' is broken:\n{report}"
 
-
-def test_the_one_cycle_left_is_still_there():
-    """``no-cycles`` ignores one import, solver.static → solver.dynamic (the two drivers call
-    each other).  When it is gone, this fails: remove the exception from pyproject.toml."""
-    import grimp
-
-    graph = grimp.build_graph("stepcontact", cache_dir=None)
-    assert graph.direct_import_exists(importer="stepcontact.solver.static",
-                                      imported="stepcontact.solver.dynamic")

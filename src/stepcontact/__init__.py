@@ -51,8 +51,8 @@ from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
 from stepcontact.solver.condensation import Condensation, condense
-from stepcontact.solver.dynamic import DynamicResult, solve_dynamic
-from stepcontact.solver.program import ProgramResult, run
+from stepcontact.solver.dynamic import DynamicResult
+from stepcontact.solver.program import ProgramResult, run, solve_dynamic
 from stepcontact.solver.static import StepInfo, solve_static
 
 _PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",

@@ -119,49 +119,28 @@ from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.recovery import Stresses as _Stresses
+from stepcontact.solver.recovery import stage_plan
+from stepcontact.solver.reporting import VIOLATION_LIMIT, result_geometry
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
-from stepcontact.solver.static import VIOLATION_LIMIT, result_geometry
+from stepcontact.solver.staging import held_components, in_stages
 
 
 def _after_stages(system: System, initial, stage: int | None = None):
     """A dynamic interval after construction stages (:mod:`stepcontact.solver.staging`): the
     last stage's (or stage ``stage``'s) system (its held DOFs, shifted w⁰ of the interfaces
     made at once, removed supports gone, automatic patterns), the contact law's inputs there
-    (CFEs not active are inert; bonds of grouted joints) and the static result of the stages
-    it starts from — the staged program is run here when ``initial`` is None, and again
-    (checked against it) when ``initial`` was loaded from a file (which does not keep the
-    stage systems).
+    (CFEs not active are inert; bonds of grouted joints) and ``initial``, the static result of
+    the stages it starts from, which must hold its run's stages
+    (:func:`~stepcontact.solver.recovery.stage_plan`): :func:`stepcontact.solve_dynamic`
+    runs the staged program when none is given, and again (checked against it) for a result
+    loaded from a file (which does not keep the stage systems).
 
     Returns (system, law keyword arguments, initial, stage arrays of the result)."""
-    from stepcontact.solver.static import StagedRecovery, held_components, solve_static
-
-    def plan_of(res):
-        rec = getattr(res, "_recover", None)
-        return rec.plan if isinstance(rec, StagedRecovery) else None
-
-    n_stages = len(system.model.stages)
-    if stage is not None and stage < n_stages - 1 and plan_of(initial) is None:
-        raise ModelError("initial", f"the dynamic interval of stage "
-                         f"'{system.model.stages[stage].name}' starts from the run of the "
-                         "stages before it: run solve_static(model), which runs it and keeps "
-                         "its result in StaticResult.dynamics")
-    if initial is None:
-        initial = solve_static(system)
-    elif plan_of(initial) is None:
-        again = solve_static(system)
-        i, j = len(initial.lam) - 1, len(again.lam) - 1
-        scale = max(float(np.abs(again.N[j]).max(initial=0.0)),
-                    float(np.abs(again.Q[j]).max(initial=0.0)), 1e-300)
-        same = (initial.m == again.m and initial.stage is not None
-                and np.array_equal(initial.state[i], again.state[j])
-                and max(float(np.abs(initial.N[i] - again.N[j]).max(initial=0.0)),
-                        float(np.abs(initial.Q[i] - again.Q[j]).max(initial=0.0)))
-                <= 1e-6 * scale)
-        if not same:
-            raise ModelError("initial", "is not the result of this model's stages (its last "
-                             "state differs from the staged program's)")
-        initial = again
-    plan = plan_of(initial)
+    plan = stage_plan(initial)
+    if plan is None:
+        raise ModelError("initial", "must be the result of the run of this model's stages "
+                         "(solve_static(model)): stepcontact.solve_dynamic runs them when it "
+                         "is not given")
     last = len(plan.names) - 1 if stage is None else int(stage)
     if initial.status != Status.COMPLETED or int(initial.stage[-1]) != last:
         raise ModelError("initial", f"the static run of the stages stopped in stage "
@@ -781,9 +760,10 @@ def _ground_translation(system: System, direction) -> np.ndarray:
 
 
 @dataclass
-class _Interval:
+class Interval:
     """The dynamic interval a run integrates, resolved from the arguments of
-    :func:`solve_dynamic` and the model's (or a stage's) ``dynamics`` (:func:`_interval`)."""
+    :func:`stepcontact.solve_dynamic` and the model's (or a stage's) ``dynamics``
+    (:func:`dynamic_interval`)."""
 
     mdl: object  # the Model (or DiscreteModel) of the run
     stage: int | None
@@ -797,8 +777,12 @@ class _Interval:
     alpha: float
 
 
-def _interval(model, *, stage, dt, duration, loads, mass, damping, restitution, record_every,
-              alpha, max_steps, ground_acceleration) -> _Interval:
+def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None = None,
+                     duration: float | None = None, loads: Mapping[str, object] | None = None,
+                     mass: str | sp.spmatrix = "consistent",
+                     damping: tuple[float, float] = (0.0, 0.0), restitution: float = 0.0,
+                     record_every: int = 1, alpha: float = 0.0, max_steps: int | None = None,
+                     ground_acceleration=None) -> Interval:
     """The interval to run: the arguments, or (without dt and duration) the dynamic interval
     of the model or of the stage ``stage``; Δt, the duration, HHT-α and the loads' sampling
     checked before any work (:func:`~stepcontact.model.timefunction.check_interval`)."""
@@ -833,11 +817,11 @@ def _interval(model, *, stage, dt, duration, loads, mass, damping, restitution, 
     # Δt, the step count and every load's sampling, before any work (check_interval)
     check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
                    else max_steps, ground=_ground_function(ground_acceleration))
-    return _Interval(mdl, stage, dt, duration, loads, mass, damping, restitution,
+    return Interval(mdl, stage, dt, duration, loads, mass, damping, restitution,
                      record_every, alpha)
 
 
-def _one_thread(fn):
+def one_thread(fn):
     """Run ``fn`` with every thread pool (BLAS, MKL PARDISO, OpenMP) held to one thread: a
     time step's work is a forward and back substitution and small dense algebra, which a
     second thread does not speed up, while the pools' idle threads spinning between calls take
@@ -854,149 +838,19 @@ def _one_thread(fn):
     return run
 
 
-@_one_thread
-def solve_dynamic(
-    model,
-    *,
-    dt: float | None = None,
-    duration: float | None = None,
-    loads: Mapping[str, object] | None = None,
-    mass: str | sp.spmatrix = "consistent",
-    damping: tuple[float, float] = (0.0, 0.0),
-    initial: StaticResult | None = None,
-    u0: np.ndarray | None = None,
-    v0: np.ndarray | None = None,
-    ground_acceleration: tuple[object, tuple[float, float]] | None = None,
-    restitution: float = 0.0,
-    alpha: float = 0.0,
-    record_every: int = 1,
-    max_events: int = 1_000_000,
-    rtol: float = 1e-10,
-    hooks: Sequence = (),
-    stage: int | str | None = None,
-    backend: str = "auto",
-    max_steps: int | None = None,
-) -> DynamicResult:
-    """Newmark time integration with the contact state followed exactly at every step
-    (module docstring).
-
-    Parameters
-    ----------
-    model : Model, DiscreteModel or System
-    dt, duration : float
-        Time step and length of the analysis, s.  Omitted (both): the model's dynamic
-        interval (:class:`~stepcontact.model.DynamicInterval`, ``model.dynamics``) gives them
-        and the loads, mass, damping, restitution and recording.
-    loads : {pattern: time function}
-        The load patterns applied in time, each times its function g(t)
-        (:mod:`stepcontact.model.timefunction`); patterns held by ``initial`` stay at their
-        factors.
-    mass : "consistent", "lumped" or a matrix
-        Continua: consistent or HRZ-lumped mass (frames lumped); a (ndof, ndof) matrix for a
-        discrete model.
-    damping : (a₀, a₁)
-        Rayleigh damping C = a₀ M + a₁ K (:func:`stepcontact.fem.mass.rayleigh_coefficients`);
-        the dashpots of the model's springs (``Spring.damping``, N·s/m) are added to it.
-    initial : StaticResult, optional
-        Start from the last state of a static run of the same model (displacements, contact
-        forces and states; its pattern factors are held).
-    u0, v0 : (ndof,) arrays, optional
-        Initial displacements and velocities (m, m/s).  The contact state at t = 0
-        (:func:`_state_at_u0`): with ``initial``, its states and forces (every rigid CFE
-        closed there must be closed at u0); from u0 alone, the CFEs whose gap B u0 + w⁰ is
-        closed (and not separating under v0) closed, the others open, the closed rigid ones'
-        forces those of the contact problem in accelerations under the loads at t = 0 (the
-        rate problem there; not events: a CFE that opens or slips under the loads at t = 0
-        starts so), a compliant layer's its spring's.  A static state
-        given as u0 (its loads as time functions, e.g. ``Constant(1.0)``) thus gives the
-        answer of ``initial=``.
-    ground_acceleration : (time function, (dx, dy)), optional
-        Ground acceleration a_g(t) (m/s²) along the unit direction (dx, dy): the effective
-        load −M r a_g(t), r the rigid translation along it; displacements are relative to the
-        ground.
-    restitution : float
-        Newton's coefficient e ∈ [0, 1] of the impacts of rigid contacts: the step is cut
-        where a CFE closes, the normal velocities of the closing (and closed) CFEs jump to
-        −e times their approach velocities by impulses (with friction's impulses by
-        Coulomb's law), and the integration restarts there; a CFE that leaves the obstacle
-        opens at that instant (events ``closed`` and ``opened`` at one time), except where
-        its flight would be shorter than Δt (:func:`_restitution_of`: it stays closed).  The
-        impulses are recorded (``Event.impulse_n``/``impulse_t``,
-        :attr:`DynamicResult.impulses`, :meth:`DynamicResult.impacts`); the ledger books
-        the kinetic energy the impact takes as ``impact``.  Compliant contact closes
-        smoothly without it.
-    alpha : float
-        HHT-α numerical damping, α ∈ [0, 1/3] (0: Newmark's average acceleration, no
-        numerical dissipation; 0.05–0.1 damps the high, spurious modes of a mesh — its share is
-        the ledger's ``numerical``).
-    record_every : int
-        Record every k-th step (events and the last step always).
-    hooks : sequence
-        Objects with an optional ``after_step(step, t, end)`` (progress in simulated time)
-        and an optional ``stop_requested`` flag, polled before every step: once true the run
-        ends there with status ``incomplete`` and the states so far
-        (:class:`~stepcontact.io.interrupt.StopRequest`: SIGTERM or Ctrl-C in the CLI).
-    stage : int or str, optional
-        A run in stages: the stage (index or name) whose dynamic interval this is (default:
-        the last).  The interval of an earlier stage is run by
-        :func:`~stepcontact.solve_static` inside the run of the stages, from ``initial``, the
-        result of the run so far (it ends in that stage); its result is
-        ``StaticResult.dynamics[stage name]``.
-    backend : str
-        Sparse factorisation backend of K̂ (``auto``, ``scipy``, ``cholmod``, ``pypardiso``;
-        :mod:`stepcontact.solver.linalg`), as for :func:`~stepcontact.solve_static`.
-    max_steps : int, optional
-        Limit of the number of time steps (default: the dynamic interval's ``max_steps``, or
-        :data:`~stepcontact.model.timefunction.MAX_STEPS` = 10⁷): an interval that would take
-        more (duration / Δt plus the loads' breaks) is refused before any work, with the
-        estimate.
-
-    Refused before any work (ModelError naming the item,
-    :func:`~stepcontact.model.timefunction.check_interval`): Δt longer than the interval; more
-    steps than ``max_steps``; a load (or the ground acceleration) that acts only outside
-    [0, duration] or is zero everywhere; a varying load (a harmonic; a half-sine or
-    triangular pulse, a table that returns to zero: 5 steps in its duration) with fewer than
-    10 steps per period — sampled at the steps' ends only, it would be missed.  A rectangular
-    pulse is followed exactly however short: the steps land on its edges, where its jumps
-    are resolved in accelerations.
-
-    Construction stages (``model.stages``, :class:`~stepcontact.model.Stage`)
-        The interval follows the last stage and runs on its system: its supports (those
-        removed gone), the CFEs of every stage acting (interfaces made at once with their
-        zero where they were made), grouted joints bonded, the automatic patterns (released
-        reactions, ramps, holds) at their final factors.  It starts from the last state of
-        ``initial``, the static result of the stages; without ``initial`` the staged
-        program is run first (:func:`~stepcontact.solve_static`), and a result loaded from a
-        file (which does not keep the stage systems) is checked against a run of the
-        program.  The result carries ``stage`` (every state in the last stage),
-        ``stage_names``, ``stage_cfes`` and ``stage_bodies`` as the static result does.  The
-        interval can be given on the last stage (``Stage(..., dynamics=...)``, the model's
-        ``dynamics``); not on an earlier one: static segments after a dynamic interval are
-        not supported (the state at its end is not at rest).  A pattern that still
-        prescribes nonzero displacements at the end of the stages is refused (prescribed
-        displacements are not followed in time).
-
-    Joints with initial strength (eq. (12))
-        Intact bonds carry tension and shear up to their strength surface; reaching it is
-        an event located in time, the bond breaks and what it carried is released at that
-        instant, its neighbours breaking in turn where they reach theirs (module
-        docstring); each break is an event ``broken`` (N, Q at the break).  The ledger
-        books the elastic energy released by compliant bonded layers as ``fracture``.  A
-        bonded CFE with a damped layer (c_n > 0) is refused.
-
-    Example
-    -------
-    >>> import numpy as np, stepcontact as sc                           # doctest: +SKIP
-    >>> dm = sc.DiscreteModel(np.zeros((2, 2)), [[0, 1]], [[1, 0]], loads={"P": [0, 1]},
-    ...                       kn=1e4, kt=1e4, bond=sc.Bond(1.5, 10.0, 0.5))
-    >>> res = sc.solve_dynamic(dm, dt=1e-4, duration=0.03, mass=np.eye(2),
-    ...                        loads={"P": sc.Constant(1.0)})
-    >>> str(res.events[0].transition), round(res.events[0].lam, 4)  # N = P(1 − cos ωt) = N_R
-    ('broken', 0.0209)
-    """
-    iv = _interval(model, stage=stage, dt=dt, duration=duration, loads=loads, mass=mass,
-                   damping=damping, restitution=restitution, record_every=record_every,
-                   alpha=alpha, max_steps=max_steps, ground_acceleration=ground_acceleration)
+@one_thread
+def integrate(model, iv: Interval, *, initial: StaticResult | None = None,
+              u0: np.ndarray | None = None, v0: np.ndarray | None = None,
+              ground_acceleration: tuple[object, tuple[float, float]] | None = None,
+              hooks: Sequence = (), max_events: int = 1_000_000, rtol: float = 1e-10,
+              backend: str = "auto") -> DynamicResult:
+    """Integrate the dynamic interval ``iv`` (:func:`dynamic_interval`) of ``model`` in time:
+    Newmark (HHT-α) steps with the contact state followed exactly, eqs. (7)–(10) (module
+    docstring).  The arguments are those of :func:`stepcontact.solve_dynamic`, the public
+    driver, which resolves the interval and, for a model in construction stages, the static
+    result of the stages it starts from; here a staged model needs ``initial``, the result of
+    the run of its stages in memory (the static driver gives its own for the interval of a
+    stage, :meth:`~stepcontact.solver.static.StaticSolver._dynamic_interval`)."""
     run = _DynamicRun(model, iv, initial=initial, u0=u0, v0=v0,
                       ground_acceleration=ground_acceleration, hooks=hooks,
                       max_events=max_events, rtol=rtol, backend=backend)
@@ -1006,13 +860,13 @@ def solve_dynamic(
 
 
 class _DynamicRun:
-    """One dynamic interval in progress (:func:`solve_dynamic`, module docstring): the system
+    """One dynamic interval in progress (:func:`integrate`, module docstring): the system
     with its factorised K̂, the event engine (the contact forces s, mutual displacements w and
     states of the CFEs), the fields u, u̇, ü at time t, the loads, the recorder and the energy
     ledger.  Set up and checked by the constructor; :meth:`start` settles the state at t = 0,
     :meth:`integrate` runs the steps of eqs. (7)–(10), :meth:`result` builds the result."""
 
-    def __init__(self, model, iv: _Interval, *, initial, u0, v0, ground_acceleration, hooks,
+    def __init__(self, model, iv: Interval, *, initial, u0, v0, ground_acceleration, hooks,
                  max_events: int, rtol: float, backend: str):
         self.iv = iv
         self.alpha, self.restitution = iv.alpha, iv.restitution
@@ -1036,7 +890,7 @@ class _DynamicRun:
         system = model if isinstance(model, System) else assemble(model)
         law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
         self.stage_arrays: dict | None = None
-        if getattr(system.model, "stages", ()) and system.discrete is None:
+        if in_stages(system):
             system, law_in, initial, self.stage_arrays = _after_stages(system, initial,
                                                                        self.iv.stage)
         loads = dict(self.iv.loads or {})
@@ -2189,7 +2043,7 @@ class _DynamicRun:
 def _broken_conditions(violation: float, residual: float, t: float) -> str:
     """Why a recorded dynamic state is not a solution, or "": its relative violation of the
     contact conditions (1) (or its residual of equilibrium) beyond
-    :data:`~stepcontact.solver.static.VIOLATION_LIMIT`, the static solver's limit — a run
+    :data:`~stepcontact.solver.reporting.VIOLATION_LIMIT`, the static solver's limit — a run
     that reaches such a state ends with status ``violation`` there, never "completed"."""
     for what, val in (("the contact conditions are violated", violation),
                       ("equilibrium is violated (residual)", residual)):
@@ -2208,4 +2062,4 @@ def _impulse_arrays(log: list[tuple[int, float, int, float, float]]) -> dict[str
             "tangential": np.asarray(cols[4], float)}
 
 
-__all__ = ["ENERGY_TERMS", "DynamicResult", "solve_dynamic"]
+__all__ = ["ENERGY_TERMS", "DynamicResult", "Interval", "dynamic_interval", "integrate"]

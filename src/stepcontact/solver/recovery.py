@@ -3,14 +3,18 @@
 A run keeps its factorisation in the result it returns (``StaticResult._recover``); a result
 loaded from a file or unpickled has none.  :func:`recover_fields` gives it one from the model
 of the run: a static result is condensed once more (one factorisation) and recomputes any
-state exactly from its contact unknowns (:class:`~stepcontact.solver.static.FieldRecovery`);
-a dynamic result stores the displacements of every state, and the model gives their stresses
+state exactly from its contact unknowns (:class:`FieldRecovery`; the recovery a run in stages
+keeps: :class:`StagedRecovery`, with its plan, :func:`stage_plan`); a dynamic result stores
+the displacements of every state, and the model gives their stresses
 (:class:`Stresses`).  ``res.recover_fields(model)`` is this function: the result types
 (:mod:`stepcontact.results.result`) know no solver, this module provides it to them
 (:func:`~stepcontact.results.result.provide_field_recovery`).
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,7 +28,132 @@ from stepcontact.results.result import (
     provide_field_recovery,
 )
 from stepcontact.solver.condensation import Condensed
-from stepcontact.solver.static import FieldRecovery
+
+if TYPE_CHECKING:
+    from stepcontact.results.recorder import Recorder
+
+
+#: the contact unknowns of recorded states: indices (k,) -> (factors {pattern: (k,)},
+#: s (k, 2m), w (k, 2m))
+Unknowns = Callable[[np.ndarray], tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]]
+
+
+class FieldRecovery:
+    """Displacement fields and stresses at any recorded state, exact from its contact
+    unknowns (factors, s, w: between events the structure is linear): one solve with the
+    run's factorisation, several states in one multi-right-hand-side solve; stresses from the
+    displacements with the per-body :class:`~stepcontact.fem.continuum.StressRecovery`
+    operators (one sparse product per body).  Held by a result in memory; it is not pickled
+    or written (it holds the factorisation).
+    """
+
+    def __init__(self, cond: Condensed, unknowns: Unknowns, stress=None):
+        from stepcontact.fem.continuum import StressRecovery
+        from stepcontact.model import Body
+
+        self.cond = cond
+        self.unknowns = unknowns
+        sysm = cond.system
+        model = sysm.model
+        self.stress = stress if stress is not None else StressRecovery(model)
+        off = model.node_offsets
+        #: global DOFs (ux, uy per node) of every continuum body with a stress operator
+        self.body_dofs = {
+            b.name: sysm.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
+            for b in model.bodies if isinstance(b, Body) and b.name in self.stress
+        }
+
+    @classmethod
+    def of_recorder(cls, cond: Condensed, rec: Recorder, names: Sequence[str],
+                    stress=None) -> FieldRecovery:
+        """Recovery of the states recorded (so far and later) by ``rec`` of a run."""
+        names = list(names)
+
+        def unknowns(idx):
+            F = rec.factors.view[idx]
+            s = rec.s.view[idx].copy()
+            s[:, s.shape[1] // 2:] += rec.water.view[idx]  # crack water acts as s does
+            return {n: F[:, j] for j, n in enumerate(names)}, s, rec.w.view[idx]
+
+        return cls(cond, unknowns, stress)
+
+    @classmethod
+    def of_result(cls, cond: Condensed, res: StaticResult, stress=None) -> FieldRecovery:
+        """Recovery of the states of a result (loaded from a file or unpickled)."""
+        names = list(res.pattern_names)
+
+        def unknowns(idx):
+            F = np.asarray(res.factors)[idx]
+            p = -res.N[idx] if res.water is None else np.asarray(res.water)[idx] - res.N[idx]
+            s = np.concatenate([res.Q[idx], p], axis=1)
+            w = np.concatenate([res.ut[idx], res.un[idx]], axis=1)
+            return {n: F[:, j] for j, n in enumerate(names)}, s, w
+
+        return cls(cond, unknowns, stress)
+
+    def displacements(self, states) -> np.ndarray:
+        """Displacements (k, ndof), m, of the states ``states`` (k,): one solve."""
+        idx = np.asarray(states, dtype=np.int64).reshape(-1)
+        factors, s, w = self.unknowns(idx)
+        return self.cond.displacement(factors, np.reshape(s, (len(idx), -1)),
+                                      np.reshape(w, (len(idx), -1)))
+
+    def __call__(self, i: int) -> np.ndarray:
+        """Displacement vector (ndof,) of state ``i``."""
+        return self.displacements([i])[0]
+
+    def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
+        """Element stresses of every continuum body from displacements ``u``: (ndof,) gives
+        {body: (n_el, 4)}, (k, ndof) gives {body: (k, n_el, 4)}; σxx, σyy, σxy, σzz in Pa."""
+        u = np.asarray(u, dtype=float)
+        if u.ndim == 1:
+            return {name: self.stress(name, u[d]) for name, d in self.body_dofs.items()}
+        return {name: self.stress(name, u[:, d].T) for name, d in self.body_dofs.items()}
+
+
+class StagedRecovery:
+    """Field recovery of a run in stages: each state's field from its own stage's
+    condensation (:class:`FieldRecovery` per stage)."""
+
+    def __init__(self, rec: Recorder, names: Sequence[str]):
+        self.rec = rec
+        self.names = list(names)
+        self.parts: dict[int, FieldRecovery] = {}
+        #: the run's :class:`~stepcontact.solver.staging.StagePlan` (its final state: the
+        #: last stage's system, shifted w⁰, automatic patterns, grouted bonds)
+        self.plan = None
+
+    def add(self, k: int, cond: Condensed) -> None:
+        stress = next(iter(self.parts.values())).stress if self.parts else None
+        self.parts[k] = FieldRecovery.of_recorder(cond, self.rec, self.names, stress)
+        self.cond = cond
+
+    @property
+    def stress(self):
+        return next(iter(self.parts.values())).stress
+
+    def displacements(self, states) -> np.ndarray:
+        idx = np.asarray(states, dtype=np.int64).reshape(-1)
+        stage = self.rec.stage.view[idx]
+        out = np.zeros((len(idx), self.cond.system.ndof))
+        for k in np.unique(stage):
+            sel = stage == k
+            out[sel] = self.parts[int(k)].displacements(idx[sel]).reshape(int(sel.sum()), -1)
+        return out
+
+    def __call__(self, i: int) -> np.ndarray:
+        return self.displacements([i])[0]
+
+    def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
+        return next(iter(self.parts.values())).stresses(u)
+
+
+def stage_plan(res):
+    """The :class:`~stepcontact.solver.staging.StagePlan` of a result of a run in stages that
+    still holds its recovery (:class:`StagedRecovery`); None for a result loaded from a file
+    (which does not keep the stage systems) or of a run without stages."""
+    rec = getattr(res, "_recover", None)
+    return rec.plan if isinstance(rec, StagedRecovery) else None
 
 
 class Stresses:
@@ -156,4 +285,4 @@ def _stored_residual(cond: Condensed, recovery: FieldRecovery, i: int, u: np.nda
 
 provide_field_recovery(recover_fields)
 
-__all__ = ["Stresses", "recover_fields"]
+__all__ = ["FieldRecovery", "StagedRecovery", "Stresses", "recover_fields", "stage_plan"]

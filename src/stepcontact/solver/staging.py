@@ -37,6 +37,27 @@ from stepcontact.model.stages import list_problems
 _DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
 
 
+def held_components(system: System) -> tuple[np.ndarray, np.ndarray]:
+    """CFE components whose relative motion is held by supports on both ends (their row of
+    the contact operator on the free DOFs is zero): (normal (m,), tangential (m,)) masks."""
+    m = system.m
+    if m == 0:
+        return np.zeros(0, bool), np.zeros(0, bool)
+    free = ~system.fixed
+    B = system.B
+    full = np.sqrt(np.asarray(B.multiply(B).sum(axis=1)).ravel())
+    Bf = B[:, np.flatnonzero(free)]
+    on_free = np.sqrt(np.asarray(Bf.multiply(Bf).sum(axis=1)).ravel())
+    zero = on_free <= 1e-12 * np.maximum(full, 1e-300)
+    return zero[m:], zero[:m]
+
+
+def in_stages(system: System) -> bool:
+    """True when ``system`` is of a model built in construction stages (a discrete model has
+    none): its drivers run on the stage systems of a :class:`StagePlan`."""
+    return bool(getattr(system.model, "stages", ())) and system.discrete is None
+
+
 class StagePlan:
     """Which items act at each stage of ``system.model`` (checked), the automatic patterns
     and segments, and the stage systems."""
@@ -249,4 +270,4 @@ def _diag(mask: np.ndarray):
     return sp.diags(mask.astype(float))
 
 
-__all__ = ["StagePlan"]
+__all__ = ["StagePlan", "held_components", "in_stages"]

@@ -20,7 +20,7 @@ from __future__ import annotations
 import contextlib
 import time
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,12 +41,10 @@ from stepcontact.solver.mechanism import (
     free_to_open,
 )
 from stepcontact.solver.rate import RateProblemFailure
+from stepcontact.solver.recovery import FieldRecovery, StagedRecovery
+from stepcontact.solver.reporting import VIOLATION_LIMIT, result_geometry
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
-
-#: a reported state whose relative violation of the contact conditions exceeds this ends the run
-#: with status VIOLATION (the conditions could not be met): never "completed" with them broken.
-#: The article's slip treatment is approximate by design: its limit is ε_p instead.
-VIOLATION_LIMIT = 1e-6
+from stepcontact.solver.staging import held_components
 
 
 @dataclass
@@ -62,136 +60,6 @@ class StepInfo:
     n_slip: int
 
 
-def held_components(system: System) -> tuple[np.ndarray, np.ndarray]:
-    """CFE components whose relative motion is held by supports on both ends (their row of
-    the contact operator on the free DOFs is zero): (normal (m,), tangential (m,)) masks."""
-    m = system.m
-    if m == 0:
-        return np.zeros(0, bool), np.zeros(0, bool)
-    free = ~system.fixed
-    B = system.B
-    full = np.sqrt(np.asarray(B.multiply(B).sum(axis=1)).ravel())
-    Bf = B[:, np.flatnonzero(free)]
-    on_free = np.sqrt(np.asarray(Bf.multiply(Bf).sum(axis=1)).ravel())
-    zero = on_free <= 1e-12 * np.maximum(full, 1e-300)
-    return zero[m:], zero[:m]
-
-
-#: the contact unknowns of recorded states: indices (k,) -> (factors {pattern: (k,)},
-#: s (k, 2m), w (k, 2m))
-Unknowns = Callable[[np.ndarray], tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]]
-
-
-class FieldRecovery:
-    """Displacement fields and stresses at any recorded state, exact from its contact
-    unknowns (factors, s, w: between events the structure is linear): one solve with the
-    run's factorisation, several states in one multi-right-hand-side solve; stresses from the
-    displacements with the per-body :class:`~stepcontact.fem.continuum.StressRecovery`
-    operators (one sparse product per body).  Held by a result in memory; it is not pickled
-    or written (it holds the factorisation).
-    """
-
-    def __init__(self, cond: Condensed, unknowns: Unknowns, stress=None):
-        from stepcontact.fem.continuum import StressRecovery
-        from stepcontact.model import Body
-
-        self.cond = cond
-        self.unknowns = unknowns
-        sysm = cond.system
-        model = sysm.model
-        self.stress = stress if stress is not None else StressRecovery(model)
-        off = model.node_offsets
-        #: global DOFs (ux, uy per node) of every continuum body with a stress operator
-        self.body_dofs = {
-            b.name: sysm.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
-            for b in model.bodies if isinstance(b, Body) and b.name in self.stress
-        }
-
-    @classmethod
-    def of_recorder(cls, cond: Condensed, rec: Recorder, names: Sequence[str],
-                    stress=None) -> FieldRecovery:
-        """Recovery of the states recorded (so far and later) by ``rec`` of a run."""
-        names = list(names)
-
-        def unknowns(idx):
-            F = rec.factors.view[idx]
-            s = rec.s.view[idx].copy()
-            s[:, s.shape[1] // 2:] += rec.water.view[idx]  # crack water acts as s does
-            return {n: F[:, j] for j, n in enumerate(names)}, s, rec.w.view[idx]
-
-        return cls(cond, unknowns, stress)
-
-    @classmethod
-    def of_result(cls, cond: Condensed, res: StaticResult, stress=None) -> FieldRecovery:
-        """Recovery of the states of a result (loaded from a file or unpickled)."""
-        names = list(res.pattern_names)
-
-        def unknowns(idx):
-            F = np.asarray(res.factors)[idx]
-            p = -res.N[idx] if res.water is None else np.asarray(res.water)[idx] - res.N[idx]
-            s = np.concatenate([res.Q[idx], p], axis=1)
-            w = np.concatenate([res.ut[idx], res.un[idx]], axis=1)
-            return {n: F[:, j] for j, n in enumerate(names)}, s, w
-
-        return cls(cond, unknowns, stress)
-
-    def displacements(self, states) -> np.ndarray:
-        """Displacements (k, ndof), m, of the states ``states`` (k,): one solve."""
-        idx = np.asarray(states, dtype=np.int64).reshape(-1)
-        factors, s, w = self.unknowns(idx)
-        return self.cond.displacement(factors, np.reshape(s, (len(idx), -1)),
-                                      np.reshape(w, (len(idx), -1)))
-
-    def __call__(self, i: int) -> np.ndarray:
-        """Displacement vector (ndof,) of state ``i``."""
-        return self.displacements([i])[0]
-
-    def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
-        """Element stresses of every continuum body from displacements ``u``: (ndof,) gives
-        {body: (n_el, 4)}, (k, ndof) gives {body: (k, n_el, 4)}; σxx, σyy, σxy, σzz in Pa."""
-        u = np.asarray(u, dtype=float)
-        if u.ndim == 1:
-            return {name: self.stress(name, u[d]) for name, d in self.body_dofs.items()}
-        return {name: self.stress(name, u[:, d].T) for name, d in self.body_dofs.items()}
-
-
-class StagedRecovery:
-    """Field recovery of a run in stages: each state's field from its own stage's
-    condensation (:class:`FieldRecovery` per stage)."""
-
-    def __init__(self, rec: Recorder, names: Sequence[str]):
-        self.rec = rec
-        self.names = list(names)
-        self.parts: dict[int, FieldRecovery] = {}
-        #: the run's :class:`~stepcontact.solver.staging.StagePlan` (its final state: the
-        #: last stage's system, shifted w⁰, automatic patterns, grouted bonds)
-        self.plan = None
-
-    def add(self, k: int, cond: Condensed) -> None:
-        stress = next(iter(self.parts.values())).stress if self.parts else None
-        self.parts[k] = FieldRecovery.of_recorder(cond, self.rec, self.names, stress)
-        self.cond = cond
-
-    @property
-    def stress(self):
-        return next(iter(self.parts.values())).stress
-
-    def displacements(self, states) -> np.ndarray:
-        idx = np.asarray(states, dtype=np.int64).reshape(-1)
-        stage = self.rec.stage.view[idx]
-        out = np.zeros((len(idx), self.cond.system.ndof))
-        for k in np.unique(stage):
-            sel = stage == k
-            out[sel] = self.parts[int(k)].displacements(idx[sel]).reshape(int(sel.sum()), -1)
-        return out
-
-    def __call__(self, i: int) -> np.ndarray:
-        return self.displacements([i])[0]
-
-    def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
-        return next(iter(self.parts.values())).stresses(u)
-
-
 def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
     """The bodies built at stage ``k`` of a plan."""
     return tuple(b for b, j in plan.body_stage.items() if j == k)
@@ -201,51 +69,6 @@ def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
 #: of 2m = 2000 takes about 0.1 s on one core; beyond, the dense work is large enough for
 #: threads to pay)
 SMALL_DENSE = 2000
-
-
-def _named_node_sets(model: Model) -> dict[str, np.ndarray]:
-    """The named node sets the model's supports, ties, springs, interfaces and loads use (the
-    first of a name wins), for results per node, as plain arrays: ``node_set_names`` (k,),
-    ``node_set_offsets`` (k + 1,) and ``node_set_nodes`` (global node ids of set j at
-    offsets[j]:offsets[j + 1])."""
-    from stepcontact.model import NodeSet
-
-    sets = [s.nodes for s in model.supports]
-    sets += [ns for t in model.ties for ns in (t.a, t.b)]
-    sets += [ns for sp in model.springs for ns in (sp.a, sp.b) if ns is not None]
-    sets += [ns for i in model.interfaces for ns in (i.plus, i.minus)
-             if isinstance(ns, NodeSet)]  # (not a rigid obstacle)
-    sets += [ld.nodes for p in model.patterns for ld in p.loads if hasattr(ld, "nodes")]
-    named: dict[str, np.ndarray] = {}
-    for ns in sets:
-        if ns.name and ns.name not in named:
-            named[ns.name] = model.global_nodes(ns)
-    sizes = [len(v) for v in named.values()]
-    return {
-        "node_set_names": np.array(list(named), dtype=str) if named else np.zeros(0, "<U1"),
-        "node_set_offsets": np.r_[0, np.cumsum(sizes, dtype=np.int64)].astype(np.int64),
-        "node_set_nodes": (np.concatenate(list(named.values())).astype(np.int64) if named
-                           else np.zeros(0, np.int64)),
-    }
-
-
-def result_geometry(system: System) -> dict:
-    """What a result keeps of the model to draw and export its fields: points, DOF map,
-    bodies and named node sets (a discrete model: its DOF names)."""
-    model = system.model
-    if system.discrete is not None:
-        return {"dof_names": np.array(system.discrete.dof_names, dtype=str)}
-    return {
-        "points": model.points,
-        "dof_of": system.dofs.of,
-        "bodies": [
-            {"name": b.name, "kind": b.kind, "element": getattr(b, "element", "frame2"),
-             "cells": b.cells + model.node_offsets[b.name],
-             "offset": int(model.node_offsets[b.name]), "n_nodes": int(b.n_nodes)}
-            for b in model.bodies
-        ],
-        **_named_node_sets(model),
-    }
 
 
 class StaticSolver:
@@ -455,7 +278,7 @@ class StaticSolver:
 
     def _dynamic_interval(self, seg: int, pattern: str, t0: float) -> bool:
         """Run the dynamic interval of the current stage (not the last) from the current
-        state (:func:`~stepcontact.solver.dynamic.solve_dynamic` on the stage's system), keep
+        state (:func:`~stepcontact.solver.dynamic.integrate` on the stage's system), keep
         its result in ``self.dynamics``, and take the state where it ends: the contact
         unknowns (s, w, states), the factors g(T) of its loads, and the force out of balance
 
@@ -466,7 +289,7 @@ class StaticSolver:
         follows releases it.  The state is recorded (kind ``dynamics``).  False (status and
         message set) when the interval did not complete."""
         from stepcontact.fem.assembly import LoadVectors
-        from stepcontact.solver.dynamic import solve_dynamic
+        from stepcontact.solver.dynamic import dynamic_interval, integrate
 
         plan, eng = self.plan, self.engine
         k = self.stage
@@ -474,8 +297,9 @@ class StaticSolver:
         if int(self.rec.stage.view[-1]) != k:  # a stage that is only a dynamic interval
             self._record(0.0, seg, "segment_start")
         start = self.result(time.perf_counter() - t0)
-        dres = solve_dynamic(plan.full, initial=start, stage=k, backend=self.backend,
-                             hooks=[h for h in self.hooks if hasattr(h, "after_step")])
+        dres = integrate(plan.full, dynamic_interval(plan.full, stage=k), initial=start,
+                         backend=self.backend,
+                         hooks=[h for h in self.hooks if hasattr(h, "after_step")])
         self.dynamics[name] = dres
         if dres.status != Status.COMPLETED:
             self.status = dres.status

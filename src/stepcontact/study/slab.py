@@ -380,7 +380,7 @@ def check(slab: Slab, impulse: Impulse | None = None, *, criterion: str = "openi
     ``dt`` (s, default duration/200) and ``duration`` (s, default: the impulse's start plus
     twice its duration) of the response; HHT ``alpha`` damps the mesh's spurious high modes.
     ``keep``: return the results in the outcome."""
-    from stepcontact.solver.dynamic import solve_dynamic
+    from stepcontact.solver.program import solve_dynamic
     from stepcontact.solver.static import solve_static
 
     if criterion not in CRITERIA:
