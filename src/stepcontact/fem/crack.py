@@ -17,7 +17,7 @@ it starts where the level passes the CFE), so between events it moves the path l
 at an event that changes which CFEs are wet it jumps, and the static driver applies the jump
 at the same λ (:meth:`stepcontact.solver.static.StaticSolver._water_jump`); the dynamic
 driver cuts the step where the wet set changes and applies the jump at that instant
-(``settle_water`` in :func:`stepcontact.solver.dynamic.solve_dynamic`).
+(``settle_water`` in :meth:`stepcontact.solver.dynamic._DynamicRun.settle_water`).
 """
 
 from __future__ import annotations

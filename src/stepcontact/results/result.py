@@ -163,7 +163,7 @@ class StaticResult:
     nonunique: list[dict[str, object]] = field(default_factory=list)
     #: recomputes the fields of states from their contact unknowns (in memory only: it holds
     #: the run's factorisation; dropped when pickled or saved): a
-    #: :class:`~stepcontact.solver.static.FieldRecovery` (``displacements(states)`` in one
+    #: :class:`~stepcontact.solver.recovery.FieldRecovery` (``displacements(states)`` in one
     #: solve, ``stresses(u)``), or any callable state index -> displacement vector
     _recover: Callable[[int], np.ndarray] | None = field(default=None, repr=False)
     #: construction stages (:class:`~stepcontact.model.stages.Stage`): the stage of every
