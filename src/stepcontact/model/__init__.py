@@ -1,27 +1,16 @@
 """The model: plain immutable data (bodies, materials, node sets, supports, springs, interfaces,
 load patterns, the load program) and mesh generators.  Nothing here knows about solving."""
 
-from stepcontact.model.items import (
-    Body,
+from stepcontact.model.bodies import Body, Frame, Material
+from stepcontact.model.interfaces import ContactLayer, Interface
+from stepcontact.model.loads import (
     BodyForce,
-    ContactLayer,
-    DynamicInterval,
     EdgeForce,
     EdgeLoad,
-    Frame,
-    Interface,
     LoadPattern,
-    Material,
-    Model,
     NodalLoad,
-    NodeSet,
     PrescribedDisplacement,
-    Segment,
-    Spring,
-    Support,
-    Tie,
     iter_loads,
-    select_nodes,
 )
 from stepcontact.model.mesh import (
     half_disc,
@@ -31,6 +20,8 @@ from stepcontact.model.mesh import (
     rotate,
     translate,
 )
+from stepcontact.model.structure import DynamicInterval, Model, Segment
+from stepcontact.model.supports import NodeSet, Spring, Support, Tie, select_nodes
 
 __all__ = [
     "Body", "BodyForce", "ContactLayer", "DynamicInterval", "EdgeForce", "EdgeLoad", "Frame",

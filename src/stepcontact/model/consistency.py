@@ -33,7 +33,9 @@ from __future__ import annotations
 import numpy as np
 
 from stepcontact.errors import ModelError
-from stepcontact.model.items import Body, Frame, Model, PrescribedDisplacement
+from stepcontact.model.bodies import Body, Frame
+from stepcontact.model.loads import PrescribedDisplacement
+from stepcontact.model.structure import Model
 
 
 def _density(b) -> float:

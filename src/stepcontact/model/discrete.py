@@ -38,7 +38,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from stepcontact.errors import ModelError
-from stepcontact.model.items import LoadPattern, Model, Segment
+from stepcontact.model.loads import LoadPattern
+from stepcontact.model.structure import Model, Segment
 
 #: relative asymmetry of K accepted as round-off
 SYMMETRY_RTOL = 1e-10

@@ -25,17 +25,11 @@ from scipy.spatial import cKDTree
 from skfem import MeshQuad, MeshTri
 
 from stepcontact.errors import ModelError
-from stepcontact.model.items import (
-    ELEMENT_KINDS,
-    Body,
-    BodyForce,
-    Frame,
-    Material,
-    Model,
-    PrescribedDisplacement,
-    Spring,
-)
+from stepcontact.model.bodies import ELEMENT_KINDS, Body, Frame, Material
+from stepcontact.model.loads import BodyForce, PrescribedDisplacement
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.structure import Model
+from stepcontact.model.supports import Spring
 
 #: local node permutation reversing a cell's orientation (corners, then mid-edge nodes, then the
 #: centre).  Gmsh, VTK and scikit-fem (P2 / serendipity / Q2) share this node order.

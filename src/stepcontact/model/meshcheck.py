@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from stepcontact.model.items import Body
+from stepcontact.model.bodies import Body
 
 #: elements with a quality below this are reported (1 is an equilateral triangle or a rectangle)
 QUALITY_WARN = 0.1

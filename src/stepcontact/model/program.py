@@ -22,7 +22,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from stepcontact.errors import ModelError
-from stepcontact.model.items import Segment
+from stepcontact.model.structure import Segment
 
 #: the most cycles a cyclic program may have (two load segments each): a program beyond it
 #: would take hours to days to run and gigabytes to hold (each segment has its own events and

@@ -15,7 +15,7 @@ from typing import ClassVar
 
 from stepcontact.errors import ModelError
 from stepcontact.model.bond import Bond
-from stepcontact.model.items import DynamicInterval, Segment
+from stepcontact.model.structure import DynamicInterval, Segment
 
 
 @dataclass(frozen=True, eq=False)

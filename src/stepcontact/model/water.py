@@ -40,10 +40,13 @@ import numpy as np
 
 from stepcontact.errors import ModelError
 from stepcontact.model import plausible
-from stepcontact.model.items import EdgeLoad, Interface, Model, NodeSet
+from stepcontact.model.interfaces import Interface
+from stepcontact.model.loads import EdgeLoad
 from stepcontact.model.profile import LinearProfile
 from stepcontact.model.profile import as_function as _as_function
 from stepcontact.model.profile import finite as _finite
+from stepcontact.model.structure import Model
+from stepcontact.model.supports import NodeSet
 
 #: unit weight of fresh water γ_w = ρ_w g, N/m³
 UNIT_WEIGHT_WATER = 9810.0

@@ -240,26 +240,12 @@ def _flag_attrs(dtype: np.dtype) -> dict[str, Any]:
     }
 
 
-def result_to_dataset(res: Result) -> xr.Dataset:
-    """The result as an :class:`xarray.Dataset` (the content of a result file).
-
-    Parameters
-    ----------
-    res : StaticResult
-
-    Returns
-    -------
-    xarray.Dataset
-        Dimensions ``state``, ``cfe``, ``event``, ``pattern``, ``interface``,
-        ``segment_index``, ``multiplier``; ``field_state`` and ``dof`` when displacement
-        fields were stored; ``node`` etc. when the result has a geometry.  Forces in N,
-        displacements and coordinates in m, stresses in Pa.
-    """
-    n, m = res.n_states, res.m
-    dv: dict[str, Any] = {}
-    coords: dict[str, Any] = {
-        "state": _var(("state",), np.arange(n), "1", "reported state index"),
-        "cfe": _var(("cfe",), np.arange(m), "1", "contact finite element index"),
+def _index_coords(res: Result) -> dict[str, Any]:
+    """The index coordinates of every result file: states, CFEs, events, patterns, interfaces,
+    segments and multiplier records."""
+    return {
+        "state": _var(("state",), np.arange(res.n_states), "1", "reported state index"),
+        "cfe": _var(("cfe",), np.arange(res.m), "1", "contact finite element index"),
         "event": _var(("event",), np.arange(len(res.events)), "1", "event index"),
         "pattern": _var(("pattern",), _str_array(res.pattern_names), "1", "load pattern"),
         "interface": _var(("interface",), _str_array(res.interface_names), "1", "interface"),
@@ -271,7 +257,11 @@ def result_to_dataset(res: Result) -> xr.Dataset:
         ),
     }
 
-    # ---- per state ---------------------------------------------------------------------------
+
+def _path_vars(res: Result, dv: dict[str, Any]) -> None:
+    """Per state: the path (λ, segment, factors of all patterns, kind), the contact unknowns
+    N, Q (N), u_n, u_t (m) and states of the CFEs, the residual and the violation."""
+    n = res.n_states
     dv["lam"] = _var(("state",), np.asarray(res.lam), "1", "load factor of the active pattern")
     dv["segment"] = _var(("state",), np.asarray(res.segment), "1", "load-program segment")
     dv["factors"] = _var(
@@ -293,6 +283,11 @@ def result_to_dataset(res: Result) -> xr.Dataset:
         ("state",), np.asarray(res.violation), "1",
         "largest relative violation of the contact conditions",
     )
+
+
+def _optional_state_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any]) -> None:
+    """Per state, when the result has them: the water in opened joints (N, Pa), the
+    construction stages, the support reactions (N)."""
     if res.water is not None:
         dv["water"] = _var(
             ("state", "cfe"), np.asarray(res.water, float), "N",
@@ -316,6 +311,10 @@ def result_to_dataset(res: Result) -> xr.Dataset:
             "resultant reaction of the support on the structure (N·m for rz components)",
         )
 
+
+def _load_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any]) -> None:
+    """Per pattern and unit load factor: its load resultant (N, N m) and, per body, its
+    forces' resultant, first-moment tensor and nodal moments."""
     R = np.asarray(res.load_resultants, float)
     if len(res.pattern_names) and R.shape == (len(res.pattern_names), 3):
         coords["resultant_component"] = _var(("resultant_component",), _RESULTANT, "1",
@@ -341,11 +340,14 @@ def result_to_dataset(res: Result) -> xr.Dataset:
             "tensor about the origin and nodal moments (N m for the moments)",
         )
 
-    # ---- CFE geometry --------------------------------------------------------------------------
+
+def _cfe_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any]) -> dict[str, Any]:
+    """The CFEs' arrays with one row per CFE as ``cfe_*`` variables (:data:`_CFE_SPEC`);
+    returns the other CFE data (stored as JSON in the attribute ``cfe_extra``)."""
     cfe_extra: dict[str, Any] = {}
     sizes: dict[str, int] = {"xy": 2}
     for key, val in res.cfe.items():
-        if not (isinstance(val, np.ndarray) and val.ndim >= 1 and val.shape[0] == m):
+        if not (isinstance(val, np.ndarray) and val.ndim >= 1 and val.shape[0] == res.m):
             cfe_extra[key] = val
             continue
         units, long_name, trail = _CFE_SPEC.get(key, ("1", f"CFE array '{key}'", None))
@@ -358,8 +360,11 @@ def result_to_dataset(res: Result) -> xr.Dataset:
         dv[f"cfe_{key}"] = _var(tuple(dims), val, units, long_name)
     if "xy" in {d for v in dv.values() for d in v[0]}:
         coords["xy"] = _var(("xy",), _XY, "1", "coordinate axis")
+    return cfe_extra
 
-    # ---- events ----------------------------------------------------------------------------
+
+def _event_vars(res: Result, dv: dict[str, Any]) -> None:
+    """One ``event_*`` column per field of :class:`Event` (:data:`_EVENT_SPEC`)."""
     for name, (kind, units, long_name) in _EVENT_SPEC.items():
         vals = [getattr(e, name) for e in res.events]
         if kind == "int":
@@ -373,7 +378,10 @@ def result_to_dataset(res: Result) -> xr.Dataset:
         attrs = {"values": " ".join(t.value for t in Transition)} if kind == "transition" else {}
         dv[f"event_{name}"] = _var(("event",), arr, units, long_name, **attrs)
 
-    # ---- load program and multipliers ------------------------------------------------------
+
+def _program_vars(res: Result, dv: dict[str, Any]) -> None:
+    """The load program's segments (pattern, λ at start and end) and the multiplier records
+    (:data:`_MULT_SPEC`; None as NaN)."""
     segs = list(res.segments)
     dv["segment_pattern"] = _var(
         ("segment_index",), _str_array([s[0] for s in segs]), "1", "pattern of the segment"
@@ -396,7 +404,10 @@ def result_to_dataset(res: Result) -> xr.Dataset:
             arr = np.array([np.nan if v is None else v for v in vals], dtype=np.float64)
         dv[f"multiplier_{name}"] = _var(("multiplier",), arr, units, long_name)
 
-    # ---- displacement fields ---------------------------------------------------------------
+
+def _field_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any]) -> None:
+    """The stored displacement fields ``u`` (m, rotations in rad) at the states
+    ``field_state``."""
     if res.fields:
         keys = sorted(res.fields)
         coords["field_state"] = _var(
@@ -408,12 +419,21 @@ def result_to_dataset(res: Result) -> xr.Dataset:
             "m", "nodal displacements (rotations in rad)",
         )
 
-    # ---- geometry and stresses -------------------------------------------------------------
+
+def _body_tokens(res: Result) -> dict[str, str]:
+    """Variable-name tokens of the bodies of the geometry and of the stresses."""
+    bodies = list(dict(res.geometry).get("bodies", []) or [])
+    stress_bodies = [b for s in sorted(res.stresses) for b in res.stresses[s]]
+    return _safe_names([str(b["name"]) for b in bodies] + stress_bodies)
+
+
+def _geometry_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any],
+                   tok: dict[str, str]) -> tuple[list[str], list[str], dict[str, Any]]:
+    """The geometry: node coordinates (m), the DOF map, each body's connectivity and the other
+    geometry arrays; returns the body variables, the geometry arrays' keys and the geometry
+    left (stored as JSON)."""
     geo = dict(res.geometry)
     bodies = list(geo.pop("bodies", []) or [])
-    body_names = [str(b["name"]) for b in bodies]
-    stress_bodies = [b for s in sorted(res.stresses) for b in res.stresses[s]]
-    tok = _safe_names(body_names + stress_bodies)
     if "points" in geo:
         dv["points"] = _var(("node", "xy"), np.asarray(geo.pop("points")), "m", "node coordinates")
         coords["xy"] = _var(("xy",), _XY, "1", "coordinate axis")
@@ -444,7 +464,14 @@ def result_to_dataset(res: Result) -> xr.Dataset:
             dv[f"geometry__{key}"] = _var(dims, val, "1", f"geometry array '{key}'")
             geo_vars.append(key)
             geo.pop(key)
+    return body_vars, geo_vars, geo
 
+
+def _stress_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any],
+                 tok: dict[str, str]) -> list[str]:
+    """The element stresses σxx, σyy, σxy, σzz (Pa) of each body at its states; returns the
+    stress variables."""
+    stress_bodies = [b for s in sorted(res.stresses) for b in res.stresses[s]]
     stress_vars: list[str] = []
     if res.stresses:
         coords["stress_component"] = _var(
@@ -469,8 +496,15 @@ def result_to_dataset(res: Result) -> xr.Dataset:
             f"element stresses of body '{body}'", body=body,
         )
         stress_vars.append(var)
+    return stress_vars
 
-    attrs = {
+
+def _file_attrs(res: Result, cfe_extra: dict[str, Any], body_vars: list[str],
+                stress_vars: list[str], geo_vars: list[str],
+                geo: dict[str, Any]) -> dict[str, Any]:
+    """The file's attributes: format, status, counters, stages, the JSON of what has no array
+    and the names of the variables that hold bodies, stresses and geometry arrays."""
+    return {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
         "title": "stepcontact static result",
@@ -493,28 +527,65 @@ def result_to_dataset(res: Result) -> xr.Dataset:
         "field_states": _dumps(sorted(int(k) for k in res.fields)),
         "stress_states": _dumps(sorted(int(k) for k in res.stresses)),
         "fields_note": (
-            f"displacement fields (u) are stored at {len(res.fields)} of {n} states "
-            "(field_states), stresses at the states listed in stress_states; any other state "
-            "is exact from its contact unknowns: load the result, call "
+            f"displacement fields (u) are stored at {len(res.fields)} of {res.n_states} "
+            "states (field_states), stresses at the states listed in stress_states; any other "
+            "state is exact from its contact unknowns: load the result, call "
             "res.recover_fields(model) with the model of the run, then res.displacement(i), "
             "res.displacements(states) or res.stress(i) (command line: stepcontact export / "
             "plot --model MODEL.toml)"
         ),
     }
-    if getattr(res, "energy", None):  # a dynamic result: the fields in time and the ledger
-        for key, long in (("u", "displacement, m"), ("v", "velocity, m/s"),
-                          ("a", "acceleration, m/s2")):
-            dv[f"dyn_{key}"] = _var(("state", "dyn_dof"), np.asarray(getattr(res, key), float),
-                                    long.split(", ")[1], long.split(",")[0] + " of every DOF")
-        for key, vals in res.energy.items():
-            dv[f"energy_{key}"] = _var(("state",), np.asarray(vals, float), "J",
-                                       f"energy ledger: {key}")
-        attrs["dynamic_dt"] = float(res.dt)
-        imp = getattr(res, "impulses", None) or {}
-        for key, (units, long) in _IMPULSE_SPEC.items():
-            dv[f"impulse_{key}"] = _var(("impulse",), np.asarray(
-                imp.get(key, np.zeros(0)), np.int64 if key in ("state", "cfe") else float),
-                units, long)
+
+
+def _dynamic_vars(res: Result, dv: dict[str, Any], attrs: dict[str, Any]) -> None:
+    """A dynamic result's fields in time (u in m, v in m/s, a in m/s²), its energy ledger (J),
+    its time step (s) and the impulses of its impacts (N s); nothing for a static result."""
+    if not getattr(res, "energy", None):
+        return
+    for key, long in (("u", "displacement, m"), ("v", "velocity, m/s"),
+                      ("a", "acceleration, m/s2")):
+        dv[f"dyn_{key}"] = _var(("state", "dyn_dof"), np.asarray(getattr(res, key), float),
+                                long.split(", ")[1], long.split(",")[0] + " of every DOF")
+    for key, vals in res.energy.items():
+        dv[f"energy_{key}"] = _var(("state",), np.asarray(vals, float), "J",
+                                   f"energy ledger: {key}")
+    attrs["dynamic_dt"] = float(res.dt)
+    imp = getattr(res, "impulses", None) or {}
+    for key, (units, long) in _IMPULSE_SPEC.items():
+        dv[f"impulse_{key}"] = _var(("impulse",), np.asarray(
+            imp.get(key, np.zeros(0)), np.int64 if key in ("state", "cfe") else float),
+            units, long)
+
+
+def result_to_dataset(res: Result) -> xr.Dataset:
+    """The result as an :class:`xarray.Dataset` (the content of a result file).
+
+    Parameters
+    ----------
+    res : StaticResult
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``state``, ``cfe``, ``event``, ``pattern``, ``interface``,
+        ``segment_index``, ``multiplier``; ``field_state`` and ``dof`` when displacement
+        fields were stored; ``node`` etc. when the result has a geometry.  Forces in N,
+        displacements and coordinates in m, stresses in Pa.
+    """
+    dv: dict[str, Any] = {}
+    coords = _index_coords(res)
+    _path_vars(res, dv)
+    _optional_state_vars(res, dv, coords)
+    _load_vars(res, dv, coords)
+    cfe_extra = _cfe_vars(res, dv, coords)
+    _event_vars(res, dv)
+    _program_vars(res, dv)
+    _field_vars(res, dv, coords)
+    tok = _body_tokens(res)
+    body_vars, geo_vars, geo = _geometry_vars(res, dv, coords, tok)
+    stress_vars = _stress_vars(res, dv, coords, tok)
+    attrs = _file_attrs(res, cfe_extra, body_vars, stress_vars, geo_vars, geo)
+    _dynamic_vars(res, dv, attrs)
     return xr.Dataset(dv, coords=coords, attrs=attrs)
 
 
@@ -552,100 +623,124 @@ def _inconsistent(text: str) -> ValueError:
     return ValueError(f"inconsistent result file: {text}")
 
 
+def _shape(ds: xr.Dataset, name: str) -> tuple[int, ...]:
+    return tuple(int(k) for k in ds[name].shape)
+
+
+def _expect(ds: xr.Dataset, name: str, want: tuple[int | None, ...], what: str) -> None:
+    """``ds[name]`` has the shape ``want`` (None: any length), else a ValueError naming it."""
+    got = _shape(ds, name)
+    if len(got) != len(want) or any(w is not None and g != w
+                                    for g, w in zip(got, want, strict=False)):
+        text = ", ".join("…" if w is None else str(w) for w in want)
+        raise _inconsistent(f"variable '{name}' has shape {got}, expected ({text}) "
+                            f"({what})")
+
+
+def _within(ds: xr.Dataset, name: str, size: int, what: str) -> None:
+    """The indices in ``ds[name]`` (integers; −1 allowed) point inside ``size`` items."""
+    v = np.asarray(ds[name].values)
+    if v.size and v.dtype.kind in "iu" and (v.min() < -1 or v.max() >= size):
+        raise _inconsistent(f"variable '{name}' refers to {what} {int(v.max())}, but "
+                            f"there are {size}")
+
+
+def _check_states(ds: xr.Dataset) -> tuple[int, int, int]:
+    """The required variables are there, every per-state array has one row per state of
+    ``lam`` and the contact unknowns one column per CFE; returns the numbers of states, CFEs
+    and events."""
+    for name in _REQUIRED:
+        if name not in ds.variables:
+            raise _inconsistent(f"variable '{name}' is missing")
+    n = _shape(ds, "lam")[0] if len(_shape(ds, "lam")) == 1 else -1
+    if n < 0:
+        raise _inconsistent(f"variable 'lam' has shape {_shape(ds, 'lam')}, expected (states,)")
+    n_pat, m, n_ev = _shape(ds, "pattern")[0], _shape(ds, "cfe")[0], _shape(ds, "event")[0]
+    states = f"{n} states of 'lam'"
+    for name in ("segment", "kind", "residual", "violation"):
+        _expect(ds, name, (n,), states)
+    _expect(ds, "factors", (n, n_pat), f"{states} × {n_pat} load patterns")
+    for name in ("N", "Q", "un", "ut", "contact_state"):
+        _expect(ds, name, (n, m), f"{states} × {m} CFEs")
+    if "reactions" in ds:
+        _expect(ds, "reactions", (n, None), states)
+    for name in ("water", "crack_pressure"):
+        if name in ds:
+            _expect(ds, name, (n, m), f"{states} × {m} CFEs")
+    return n, m, n_ev
+
+
+def _check_columns(ds: xr.Dataset, n: int, m: int, n_ev: int) -> None:
+    """The CFE, event, segment, multiplier and impulse columns have one length each, and the
+    segments, states and CFEs they refer to exist."""
+    for name in ds.data_vars:
+        if str(name).startswith("cfe_"):
+            got = _shape(ds, str(name))
+            if not got or got[0] != m:
+                raise _inconsistent(f"variable '{name}' has shape {got}, expected ({m}, …) "
+                                    f"({m} CFEs)")
+        if str(name).startswith("event_"):
+            _expect(ds, str(name), (n_ev,), f"{n_ev} events")
+    n_seg = _shape(ds, "segment_pattern")[0] if _shape(ds, "segment_pattern") else 0
+    for name in ("segment_lam_start", "segment_lam_end"):
+        _expect(ds, name, (n_seg,), f"{n_seg} segments of 'segment_pattern'")
+    mult = [str(v) for v in ds.data_vars if str(v).startswith("multiplier_")]
+    for name in mult:
+        _expect(ds, name, (_shape(ds, mult[0])[0],), f"as '{mult[0]}'")
+    _within(ds, "segment", n_seg, "segment")
+    if "event_state" in ds:
+        _within(ds, "event_state", n, "state")
+    if "event_cfe" in ds:
+        _within(ds, "event_cfe", m, "CFE")
+    if "impulse_state" in ds:  # the impulses of a dynamic result's impacts
+        n_imp = _shape(ds, "impulse_state")[0]
+        for name in _IMPULSE_SPEC:
+            if f"impulse_{name}" in ds:
+                _expect(ds, f"impulse_{name}", (n_imp,), f"{n_imp} impulses")
+        _within(ds, "impulse_state", n, "state")
+        if "impulse_cfe" in ds:
+            _within(ds, "impulse_cfe", m, "CFE")
+
+
+def _check_geometry(ds: xr.Dataset, n: int) -> None:
+    """The DOF map, connectivities and CFE ends refer to nodes of ``points``, the displacement
+    fields match the DOF map, and the stresses their elements and states."""
+    n_nodes = _shape(ds, "points")[0] if "points" in ds else None
+    if "dof_of" in ds and n_nodes is not None:
+        _expect(ds, "dof_of", (n_nodes, None), f"{n_nodes} nodes of 'points'")
+    if n_nodes is not None:
+        for name in ds.data_vars:
+            if str(name).startswith("cells__"):
+                _within(ds, str(name), n_nodes, "node")
+        for key in ("cfe_plus_nodes", "cfe_minus_nodes"):
+            if key in ds:
+                _within(ds, key, n_nodes, "node")
+    if "u" in ds:
+        n_f = _shape(ds, "field_state")[0] if "field_state" in ds.variables else -1
+        ndof = int(np.max(ds["dof_of"].values, initial=-1)) + 1 if "dof_of" in ds else None
+        _expect(ds, "u", (n_f, ndof), f"{n_f} stored fields × {ndof} DOFs of 'dof_of'"
+                if ndof is not None else f"{n_f} stored fields")
+        _within(ds, "field_state", n, "state")
+    for name in ds.data_vars:
+        if str(name).startswith("stress__"):
+            t = str(name)[len("stress__"):]
+            k = f"stress_state__{t}"
+            n_s = _shape(ds, k)[0] if k in ds.variables else -1
+            cells = f"cells__{t}"
+            n_el = _shape(ds, cells)[0] if cells in ds.variables else None
+            _expect(ds, str(name), (n_s, n_el, 4), f"{n_s} states of '{k}' × elements × 4")
+            _within(ds, k, n, "state")
+
+
 def check_dataset(ds: xr.Dataset) -> None:
     """Raise a ValueError naming the variable when the arrays of a result dataset do not fit
     together (a damaged or hand-edited file): every per-state array has one row per state of
     ``lam``, every per-CFE array one column per CFE, the event, multiplier and segment columns
     have one length each, the displacement fields match the DOF map, and the indices stored
     (segments, states, CFEs, nodes) point inside their arrays."""
-    for name in _REQUIRED:
-        if name not in ds.variables:
-            raise _inconsistent(f"variable '{name}' is missing")
-
-    def shape(name: str) -> tuple[int, ...]:
-        return tuple(int(k) for k in ds[name].shape)
-
-    def expect(name: str, want: tuple[int | None, ...], what: str) -> None:
-        got = shape(name)
-        if len(got) != len(want) or any(w is not None and g != w
-                                        for g, w in zip(got, want, strict=False)):
-            text = ", ".join("…" if w is None else str(w) for w in want)
-            raise _inconsistent(f"variable '{name}' has shape {got}, expected ({text}) "
-                                f"({what})")
-
-    def within(name: str, size: int, what: str) -> None:
-        v = np.asarray(ds[name].values)
-        if v.size and v.dtype.kind in "iu" and (v.min() < -1 or v.max() >= size):
-            raise _inconsistent(f"variable '{name}' refers to {what} {int(v.max())}, but "
-                                f"there are {size}")
-
-    n = shape("lam")[0] if len(shape("lam")) == 1 else -1
-    if n < 0:
-        raise _inconsistent(f"variable 'lam' has shape {shape('lam')}, expected (states,)")
-    n_pat, m, n_ev = shape("pattern")[0], shape("cfe")[0], shape("event")[0]
-    states = f"{n} states of 'lam'"
-    for name in ("segment", "kind", "residual", "violation"):
-        expect(name, (n,), states)
-    expect("factors", (n, n_pat), f"{states} × {n_pat} load patterns")
-    for name in ("N", "Q", "un", "ut", "contact_state"):
-        expect(name, (n, m), f"{states} × {m} CFEs")
-    if "reactions" in ds:
-        expect("reactions", (n, None), states)
-    for name in ("water", "crack_pressure"):
-        if name in ds:
-            expect(name, (n, m), f"{states} × {m} CFEs")
-    for name in ds.data_vars:
-        if str(name).startswith("cfe_"):
-            got = shape(str(name))
-            if not got or got[0] != m:
-                raise _inconsistent(f"variable '{name}' has shape {got}, expected ({m}, …) "
-                                    f"({m} CFEs)")
-        if str(name).startswith("event_"):
-            expect(str(name), (n_ev,), f"{n_ev} events")
-    n_seg = shape("segment_pattern")[0] if shape("segment_pattern") else 0
-    for name in ("segment_lam_start", "segment_lam_end"):
-        expect(name, (n_seg,), f"{n_seg} segments of 'segment_pattern'")
-    mult = [str(v) for v in ds.data_vars if str(v).startswith("multiplier_")]
-    for name in mult:
-        expect(name, (shape(mult[0])[0],), f"as '{mult[0]}'")
-    within("segment", n_seg, "segment")
-    if "event_state" in ds:
-        within("event_state", n, "state")
-    if "event_cfe" in ds:
-        within("event_cfe", m, "CFE")
-    if "impulse_state" in ds:  # the impulses of a dynamic result's impacts
-        n_imp = shape("impulse_state")[0]
-        for name in _IMPULSE_SPEC:
-            if f"impulse_{name}" in ds:
-                expect(f"impulse_{name}", (n_imp,), f"{n_imp} impulses")
-        within("impulse_state", n, "state")
-        if "impulse_cfe" in ds:
-            within("impulse_cfe", m, "CFE")
-    n_nodes = shape("points")[0] if "points" in ds else None
-    if "dof_of" in ds and n_nodes is not None:
-        expect("dof_of", (n_nodes, None), f"{n_nodes} nodes of 'points'")
-    if n_nodes is not None:
-        for name in ds.data_vars:
-            if str(name).startswith("cells__"):
-                within(str(name), n_nodes, "node")
-        for key in ("cfe_plus_nodes", "cfe_minus_nodes"):
-            if key in ds:
-                within(key, n_nodes, "node")
-    if "u" in ds:
-        n_f = shape("field_state")[0] if "field_state" in ds.variables else -1
-        ndof = int(np.max(ds["dof_of"].values, initial=-1)) + 1 if "dof_of" in ds else None
-        expect("u", (n_f, ndof), f"{n_f} stored fields × {ndof} DOFs of 'dof_of'"
-               if ndof is not None else f"{n_f} stored fields")
-        within("field_state", n, "state")
-    for name in ds.data_vars:
-        if str(name).startswith("stress__"):
-            t = str(name)[len("stress__"):]
-            k = f"stress_state__{t}"
-            n_s = shape(k)[0] if k in ds.variables else -1
-            cells = f"cells__{t}"
-            n_el = shape(cells)[0] if cells in ds.variables else None
-            expect(str(name), (n_s, n_el, 4), f"{n_s} states of '{k}' × elements × 4")
-            within(k, n, "state")
+    n, m, n_ev = _check_states(ds)
+    _check_columns(ds, n, m, n_ev)
+    _check_geometry(ds, n)
 
 
 def _dynamic_parts(ds: xr.Dataset) -> dict[str, Any]:
@@ -665,11 +760,8 @@ def _dynamic_parts(ds: xr.Dataset) -> dict[str, Any]:
             **({"impulses": impulses} if impulses else {})}
 
 
-def dataset_arguments(ds: xr.Dataset) -> tuple[bool, dict[str, Any]]:
-    """Whether ``ds`` holds a dynamic result, and the keyword arguments of its result type
-    (:func:`stepcontact.results.result.dataset_to_result`, the inverse of
-    :func:`result_to_dataset`; ``ds`` must be loaded in memory).  A dataset whose arrays do
-    not fit together raises a ValueError naming the variable (:func:`check_dataset`)."""
+def _check_format(ds: xr.Dataset) -> None:
+    """``ds`` is a stepcontact result of a format version this code reads."""
     if ds.attrs.get("format") != FORMAT:
         raise ValueError("not a stepcontact static result (attribute 'format' missing)")
     if int(ds.attrs["format_version"]) > FORMAT_VERSION:
@@ -677,77 +769,116 @@ def dataset_arguments(ds: xr.Dataset) -> tuple[bool, dict[str, Any]]:
             f"result file format version {ds.attrs['format_version']} is newer than this "
             f"stepcontact supports ({FORMAT_VERSION})"
         )
-    check_dataset(ds)
 
-    def arr(name: str) -> np.ndarray:
-        return ds[name].values
 
-    def strs(name: str) -> list[str]:
-        return [str(v) for v in arr(name)]
+def _strs(ds: xr.Dataset, name: str) -> list[str]:
+    return [str(v) for v in ds[name].values]
 
+
+def _cfe_data(ds: xr.Dataset) -> dict[str, Any]:
+    """The CFE data: the ``cfe_*`` arrays and the JSON of the others."""
     cfe: dict[str, Any] = {
-        str(name)[len("cfe_"):]: arr(str(name))
+        str(name)[len("cfe_"):]: ds[str(name)].values
         for name in ds.data_vars
         if str(name).startswith("cfe_")
     }
     cfe.update(_loads(ds.attrs["cfe_extra"]))
+    return cfe
 
+
+def _events(ds: xr.Dataset) -> list[Event]:
+    """The events; columns a version-1 file lacks take :data:`_EVENT_DEFAULTS`."""
     n_ev = ds.sizes["event"]
-    ev_cols = {k: (arr(f"event_{k}") if f"event_{k}" in ds or k not in _EVENT_DEFAULTS
+    ev_cols = {k: (ds[f"event_{k}"].values if f"event_{k}" in ds or k not in _EVENT_DEFAULTS
                    else np.full(n_ev, _EVENT_DEFAULTS[k])) for k in _EVENT_SPEC}
-    events = [
+    return [
         Event(**{k: _py(spec[0], ev_cols[k][i]) for k, spec in _EVENT_SPEC.items()})
         for i in range(n_ev)
     ]
-    mu_cols = {k: arr(f"multiplier_{k}") for k in _MULT_SPEC}
-    multipliers = [
+
+
+def _multipliers(ds: xr.Dataset) -> list[Multipliers]:
+    mu_cols = {k: ds[f"multiplier_{k}"].values for k in _MULT_SPEC}
+    return [
         Multipliers(**{k: _py(spec[0], mu_cols[k][i]) for k, spec in _MULT_SPEC.items()})
         for i in range(ds.sizes["multiplier"])
     ]
-    segments = [
+
+
+def _segments(ds: xr.Dataset) -> list[tuple[str, float, float]]:
+    """The load program's segments: (pattern, λ at the start, λ at the end)."""
+    return [
         (p, float(a), float(b))
         for p, a, b in zip(
-            strs("segment_pattern"), arr("segment_lam_start"), arr("segment_lam_end"),
-            strict=True,
+            _strs(ds, "segment_pattern"), ds["segment_lam_start"].values,
+            ds["segment_lam_end"].values, strict=True,
         )
     ]
-    fields: dict[int, np.ndarray] = {}
-    if "u" in ds:
-        u = arr("u")
-        fields = {int(k): u[i].copy() for i, k in enumerate(arr("field_state"))}
 
+
+def _fields(ds: xr.Dataset) -> dict[int, np.ndarray]:
+    """The stored displacement fields by state."""
+    if "u" not in ds:
+        return {}
+    u = ds["u"].values
+    return {int(k): u[i].copy() for i, k in enumerate(ds["field_state"].values)}
+
+
+def _stresses(ds: xr.Dataset) -> dict[int, dict[str, np.ndarray]]:
+    """The stored element stresses by state and body."""
     stresses: dict[int, dict[str, np.ndarray]] = {}
     for var in _loads(ds.attrs["stress_variables"]):
         body = str(ds[var].attrs["body"])
         t = var[len("stress__"):]
-        for i, s in enumerate(arr(f"stress_state__{t}")):
+        for i, s in enumerate(ds[f"stress_state__{t}"].values):
             stresses.setdefault(int(s), {})[body] = ds[var].values[i].copy()
-    stresses = dict(sorted(stresses.items()))
+    return dict(sorted(stresses.items()))
 
+
+def _geometry(ds: xr.Dataset) -> dict[str, Any]:
+    """The geometry, its keys in their order: points, DOF map, bodies, arrays, the rest."""
     geo_arrays = set(_loads(ds.attrs["geometry_arrays"]))
     geo_extra = _loads(ds.attrs["geometry_extra"])
     geometry: dict[str, Any] = {}
     for key in _loads(ds.attrs["geometry_keys"]):
         if key in ("points", "dof_of") and key in ds:
-            geometry[key] = arr(key)
+            geometry[key] = ds[key].values
         elif key == "bodies":
             geometry[key] = [
                 {"name": str(ds[var].attrs["body"]), "kind": str(ds[var].attrs["kind"]),
-                 "element": str(ds[var].attrs["element"]), "cells": arr(var),
+                 "element": str(ds[var].attrs["element"]), "cells": ds[var].values,
                  **_loads(ds[var].attrs["extra"])}
                 for var in _loads(ds.attrs["body_variables"])
             ]
         elif key in geo_arrays:
-            geometry[key] = arr(f"geometry__{key}")
+            geometry[key] = ds[f"geometry__{key}"].values
         else:
             geometry[key] = geo_extra[key]
+    return geometry
 
+
+def dataset_arguments(ds: xr.Dataset) -> tuple[bool, dict[str, Any]]:
+    """Whether ``ds`` holds a dynamic result, and the keyword arguments of its result type
+    (:func:`stepcontact.results.result.dataset_to_result`, the inverse of
+    :func:`result_to_dataset`; ``ds`` must be loaded in memory).  A dataset whose arrays do
+    not fit together raises a ValueError naming the variable (:func:`check_dataset`)."""
+    _check_format(ds)
+    check_dataset(ds)
+
+    def arr(name: str) -> np.ndarray:
+        return ds[name].values
+
+    def optional(name: str, default: Any = None) -> Any:
+        return arr(name) if name in ds else default
+
+    cfe, events, multipliers = _cfe_data(ds), _events(ds), _multipliers(ds)
+    segments, fields, stresses, geometry = _segments(ds), _fields(ds), _stresses(ds), _geometry(ds)
     dyn = _dynamic_parts(ds)
     return bool(dyn), dict(
-        pattern_names=tuple(strs("pattern")),
+        pattern_names=tuple(_strs(ds, "pattern")),
         segments=segments,
         cfe=cfe,
-        interface_names=tuple(strs("interface")),
+        interface_names=tuple(_strs(ds, "interface")),
         lam=arr("lam"),
         segment=arr("segment"),
         factors=arr("factors"),
@@ -772,13 +903,12 @@ def dataset_arguments(ds: xr.Dataset) -> tuple[bool, dict[str, Any]]:
         units=_loads(ds.attrs["units"]),
         reactions=(arr("reactions") if "reactions" in ds
                    else np.zeros((ds.sizes["state"], 0))),
-        reaction_labels=tuple(strs("reaction")) if "reaction" in ds.coords else (),
-        load_resultants=(arr("load_resultant") if "load_resultant" in ds
-                         else np.zeros((0, 3))),
-        load_moments=arr("load_moments") if "load_moments" in ds else None,
-        water=arr("water") if "water" in ds else None,
+        reaction_labels=tuple(_strs(ds, "reaction")) if "reaction" in ds.coords else (),
+        load_resultants=optional("load_resultant", np.zeros((0, 3))),
+        load_moments=optional("load_moments"),
+        water=optional("water"),
         **dyn,
-        crack_pressure=arr("crack_pressure") if "crack_pressure" in ds else None,
+        crack_pressure=optional("crack_pressure"),
         **_stage_fields(ds, arr),
     )
 

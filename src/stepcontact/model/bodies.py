@@ -1,0 +1,212 @@
+"""Materials, continuum bodies and frames, and the kinds and ranges they are checked against.
+
+Plain, immutable dataclasses (SI units: m, N, Pa, kg).  The allowed kinds (plane, element,
+DOF names) and ranges (Poisson's ratio, Young's modulus) here are the one source of these rules.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal, get_args
+
+import numpy as np
+
+from stepcontact.errors import ModelError
+from stepcontact.model import plausible
+from stepcontact.model.elements import body_arrays
+
+# The allowed kinds and ranges below are the one source of these rules: the dataclasses check
+# them, and the model file's schema (:mod:`stepcontact.io.modelfile.schema`) takes its
+# literals and bounds from them.
+PlaneKind = Literal["strain", "stress"]
+PLANE_KINDS: tuple[str, ...] = get_args(PlaneKind)
+ElementKind = Literal["tri3", "tri6", "quad4", "quad8", "quad9"]
+ELEMENT_KINDS: tuple[str, ...] = get_args(ElementKind)
+DofName = Literal["x", "y", "rz"]
+DOF_NAMES: tuple[str, ...] = get_args(DofName)
+
+
+def _either(kinds: tuple) -> str:
+    """``'a' or 'b'``, ``'a', 'b' or 'c'``: the allowed kinds for a message."""
+    names = [repr(k) for k in kinds]
+    return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} or {names[-1]}"
+
+
+#: Poisson's ratio of an isotropic material (and of a contact layer) lies in this open interval
+NU_RANGE: tuple[float, float] = (-1.0, 0.5)
+
+
+#: accepted range of Young's modulus (Pa): far beyond any material (foams ~1e3 Pa, diamond
+#: ~1e12 Pa) in any unit system, and safely away from under- and overflow of the stiffness
+E_RANGE: tuple[float, float] = (1e-10, 1e20)
+#: two bodies whose Young's moduli are further apart than this cannot be solved together: the
+#: softer stiffness is below the round-off of the stiffer one (double precision, eps ≈ 2e-16)
+E_RATIO_MIN = 1e-15
+
+
+def modulus_problem(E: float) -> str | None:
+    """Why Young's modulus ``E`` (Pa, positive) is refused: outside :data:`E_RANGE` (None when
+    it is inside)."""
+    lo, hi = E_RANGE
+    if lo <= E <= hi:
+        return None
+    return (f"Young's modulus E = {E:g} is outside {lo:g} … {hi:g} (Pa): no material is that "
+            "soft or stiff in any unit system, and the stiffness matrix would under- or "
+            "overflow; check the value")
+
+
+# --------------------------------------------------------------------------------------------
+# materials and bodies
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Material:
+    """Isotropic linear-elastic material.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus, Pa.
+    nu : float
+        Poisson's ratio (-1 < nu < 0.5).
+    density : float
+        Mass density, kg/m³ (used for self-weight and, later, dynamics).
+    """
+
+    E: float
+    nu: float
+    density: float = 0.0
+
+    def check(self, item: str) -> None:
+        if not np.isfinite(self.E) or self.E <= 0:
+            raise ModelError(item, f"Young's modulus E must be positive and finite, got {self.E}")
+        if (text := modulus_problem(self.E)) is not None:
+            raise ModelError(item, text)
+        if not np.isfinite(self.nu) or not NU_RANGE[0] < self.nu < NU_RANGE[1]:
+            raise ModelError(item, f"Poisson's ratio nu must lie in ({NU_RANGE[0]:g}, "
+                             f"{NU_RANGE[1]:g}), got {self.nu}")
+        if not np.isfinite(self.density) or self.density < 0:
+            raise ModelError(item, f"density must be >= 0, got {self.density}")
+        plausible.warn("E", self.E, f"{item}.E", stacklevel=4)
+        plausible.warn("density", self.density, f"{item}.density", stacklevel=4)
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """A linear-elastic continuum body meshed with one scikit-fem element kind.
+
+    Use :func:`stepcontact.model.mesh.rectangle` or :meth:`Body.from_mesh` to make one.
+
+    Attributes
+    ----------
+    name : str
+        Unique name of the body.
+    mesh : skfem.Mesh
+        The scikit-fem mesh (its geometry; for quadratic elements the mid-side nodes are the
+        degrees of freedom of the quadratic basis).
+    element : str
+        ``"tri3"``, ``"tri6"``, ``"quad4"``, ``"quad8"`` or ``"quad9"``.
+    material : Material
+    points : ndarray (n, 2)
+        Coordinates of the body's nodes (the scalar degrees of freedom of the basis), m.
+    cells : ndarray (n_elements, nodes_per_element)
+        Local node indices of each element (scikit-fem's local DOF order).
+    boundary : ndarray (n_facets, 2 or 3)
+        Local node indices of each boundary edge: two end nodes, then the mid-side node for
+        quadratic elements.
+    boundary_facets : ndarray (n_facets,)
+        Indices of those edges among the mesh facets (scikit-fem numbering).
+    """
+
+    name: str
+    mesh: object
+    element: str
+    material: Material
+    points: np.ndarray
+    cells: np.ndarray
+    boundary: np.ndarray
+    boundary_facets: np.ndarray
+    kind: str = field(default="continuum", init=False)
+
+    @classmethod
+    def from_mesh(cls, name: str, mesh, element: str, material: Material) -> Body:
+        """Build a body from a scikit-fem mesh (``MeshTri``/``MeshQuad`` or their P2 variants)."""
+        if element not in ELEMENT_KINDS:
+            raise ModelError(f"body '{name}'", f"unknown element '{element}', use {ELEMENT_KINDS}")
+        material.check(f"body '{name}'.material")
+        pts, cells, bnd, bfac = body_arrays(name, mesh, element)
+        return cls(name, mesh, element, material, pts, cells, bnd, bfac)
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.points)
+
+
+@dataclass(frozen=True, eq=False)
+class Frame:
+    """A group of 2D Euler–Bernoulli frame elements (3 DOFs per node: ux, uy, rz).
+
+    Attributes
+    ----------
+    name : str
+    points : ndarray (n, 2)
+        Node coordinates, m.
+    cells : ndarray (n_elements, 2)
+        Local node indices of each bar.
+    E : float
+        Young's modulus, Pa.
+    A : float
+        Cross-section area, m².
+    I : float
+        Second moment of area, m⁴.
+    density : float
+        kg/m³.
+    """
+
+    name: str
+    points: np.ndarray
+    cells: np.ndarray
+    E: float
+    A: float
+    I: float
+    density: float = 0.0
+    kind: str = field(default="frame", init=False)
+
+    def __post_init__(self):
+        pts = np.asarray(self.points, dtype=float).reshape(-1, 2)
+        cells = np.asarray(self.cells, dtype=np.int64).reshape(-1, 2)
+        object.__setattr__(self, "points", pts)
+        object.__setattr__(self, "cells", cells)
+        item = f"frame '{self.name}'"
+        for key in ("E", "A", "I"):
+            v = getattr(self, key)
+            if not np.isfinite(v) or v <= 0:
+                raise ModelError(f"{item}.{key}", f"must be positive and finite, got {v}")
+        if (text := modulus_problem(self.E)) is not None:
+            raise ModelError(f"{item}.E", text)
+        if not np.all(np.isfinite(pts)):
+            raise ModelError(f"{item}.points", "contains NaN or inf")
+        if cells.size and (cells.min() < 0 or cells.max() >= len(pts)):
+            raise ModelError(f"{item}.cells", "refers to a node that does not exist")
+        lengths = np.linalg.norm(pts[cells[:, 1]] - pts[cells[:, 0]], axis=1)
+        bad = np.flatnonzero(lengths <= 1e-12 * max(1.0, np.ptp(pts) if pts.size else 1.0))
+        if bad.size:
+            raise ModelError(f"{item} element {bad[0]}", "has zero length")
+        unused = np.setdiff1d(np.arange(len(pts)), cells.ravel())
+        if unused.size:
+            raise ModelError(f"{item} node {unused[0]}", "belongs to no element")
+        plausible.warn("E", self.E, f"{item}.E", stacklevel=4)
+        plausible.warn("density", self.density, f"{item}.density", stacklevel=4)
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.points)
+
+    @classmethod
+    def line(
+        cls, name: str, start, end, n: int, *, E: float, A: float, I: float, density: float = 0.0
+    ) -> Frame:
+        """A straight frame from ``start`` to ``end`` divided into ``n`` elements."""
+        s = np.linspace(0.0, 1.0, n + 1)[:, None]
+        pts = (1 - s) * np.asarray(start, float) + s * np.asarray(end, float)
+        cells = np.column_stack([np.arange(n), np.arange(1, n + 1)])
+        return cls(name, pts, cells, E, A, I, density)

@@ -1,0 +1,207 @@
+"""Node sets (a body's name + local node indices) and what holds nodes: supports, ties and
+springs (SI units: N/m, N·s/m)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from stepcontact.errors import ModelError
+from stepcontact.model.bodies import DOF_NAMES, Body, Frame
+
+
+# --------------------------------------------------------------------------------------------
+# node sets
+# --------------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class NodeSet:
+    """Nodes of one body (or frame), as local indices into its ``points``.
+
+    The order is kept: for contact curves it is the order along the curve.
+    """
+
+    body: str
+    index: np.ndarray
+    name: str = ""
+
+    def __post_init__(self):
+        index = np.asarray(self.index).ravel()
+        label = f"node set '{self.name}'" if self.name else f"node set on '{self.body}'"
+        if index.size and not np.issubdtype(index.dtype, np.integer):
+            raise ModelError(label, f"node ids must be integers, got {index.dtype}")
+        index = index.astype(np.int64)
+        if np.any(index < 0):
+            raise ModelError(label, f"negative node id {int(index[index < 0][0])}")
+        uniq, counts = np.unique(index, return_counts=True)
+        if np.any(counts > 1):
+            raise ModelError(label, f"node {int(uniq[counts > 1][0])} is listed more than once "
+                                    "(a load or CFE would be applied twice)")
+        object.__setattr__(self, "index", index)
+
+    def __len__(self) -> int:
+        return len(self.index)
+
+    @property
+    def label(self) -> str:
+        return f"node set '{self.name}'" if self.name else f"node set on '{self.body}'"
+
+
+# --------------------------------------------------------------------------------------------
+# supports, ties, springs
+# --------------------------------------------------------------------------------------------
+def _parse_dofs(dofs: str | Sequence[str], item: str) -> tuple[str, ...]:
+    """"xy", "x", "rz", "xyrz" or a sequence of names -> tuple of DOF names."""
+    if isinstance(dofs, str):
+        text = dofs.replace(",", "").replace(" ", "")
+        rz = "rz" in text
+        text = text.replace("rz", "")
+        bad = set(text) - {"x", "y"}
+        if bad:
+            raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use "
+                             f"{', '.join(DOF_NAMES)}")
+        dofs = [d for d in ("x", "y") if d in text] + (["rz"] if rz else [])
+    out = tuple(dict.fromkeys(dofs))
+    for d in out:
+        if d not in DOF_NAMES:
+            raise ModelError(item, f"unknown degree of freedom '{d}', use {', '.join(DOF_NAMES)}")
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Support:
+    """Fixed degrees of freedom (``dofs`` any of ``"x"``, ``"y"``, ``"rz"``) of a node set."""
+
+    name: str
+    nodes: NodeSet
+    dofs: tuple[str, ...] = ("x", "y")
+
+    def __post_init__(self):
+        object.__setattr__(self, "dofs", _parse_dofs(self.dofs, f"support '{self.name}'.dofs"))
+
+
+@dataclass(frozen=True, eq=False)
+class Tie:
+    """Ties the translations of node set ``a`` to those of node set ``b`` (pairwise).
+
+    Used to connect frames to continuum nodes.  The tied nodes share their ux, uy DOFs.
+    """
+
+    name: str
+    a: NodeSet
+    b: NodeSet
+
+
+@dataclass(frozen=True, eq=False)
+class Spring:
+    r"""Linear springs between pairs of nodes ``a[i]``–``b[i]`` (``b`` None: to the ground).
+
+    Each spring acts on the translations of its nodes with the 2 × 2 stiffness (N/m, per
+    spring, for the whole thickness)
+
+    .. math::  \mathbf{k} = k_x\,\mathbf{e}_x \otimes \mathbf{e}_x
+               + k_y\,\mathbf{e}_y \otimes \mathbf{e}_y + k\,\mathbf{d} \otimes \mathbf{d},
+
+    i.e. the force on node ``a[i]`` is −k (u_a − u_b) (u_b = 0 for the ground).  ``kx``, ``ky``
+    are springs along the axes; ``k`` is a spring along ``direction`` d (any non-zero vector,
+    stored normalised), e.g. a strut along a slope.  Both kinds may be given together.
+
+    ``damping`` is a dashpot coefficient c, N·s/m, acting along ``direction`` (along x and y
+    alike when no direction is given), in parallel with the spring: dynamic analyses
+    (:func:`stepcontact.solve_dynamic`) add it to the damping matrix; static analyses do not
+    use it.
+
+    Example
+    -------
+    >>> import numpy as np
+    >>> from stepcontact import NodeSet, Spring
+    >>> s = Spring("strut", NodeSet("block", [0]), k=2e6, direction=(np.sqrt(3), 1.0))
+    >>> s.direction  # doctest: +ELLIPSIS
+    (0.866..., 0.5...)
+    >>> s.stiffness_matrix().round()
+    array([[1500000.,  866025.],
+           [ 866025.,  500000.]])
+    """
+
+    name: str
+    a: NodeSet
+    b: NodeSet | None = None
+    kx: float = 0.0
+    ky: float = 0.0
+    k: float = 0.0
+    direction: tuple[float, float] | None = None
+    damping: float = 0.0
+
+    def __post_init__(self):
+        item = f"spring '{self.name}'"
+        for key in ("kx", "ky", "k", "damping"):
+            v = getattr(self, key)
+            if not np.isfinite(v) or v < 0:
+                raise ModelError(f"{item}.{key}", f"must be >= 0, got {v}")
+        if self.direction is not None:
+            d = np.asarray(self.direction, dtype=float)
+            if d.shape != (2,) or not np.all(np.isfinite(d)):
+                raise ModelError(f"{item}.direction",
+                                 f"must be a finite vector (dx, dy), got {self.direction}")
+            norm = float(np.hypot(d[0], d[1]))
+            if norm == 0.0:
+                raise ModelError(f"{item}.direction", "is zero: give the spring's axis (dx, dy)")
+            object.__setattr__(self, "direction", (float(d[0] / norm), float(d[1] / norm)))
+        elif self.k > 0:
+            raise ModelError(f"{item}.direction",
+                             f"is needed with k = {self.k:g} N/m (the axis of the spring)")
+
+    def stiffness_matrix(self) -> np.ndarray:
+        """The 2 × 2 stiffness k_x e_x⊗e_x + k_y e_y⊗e_y + k d⊗d of each spring, N/m."""
+        K = np.diag([float(self.kx), float(self.ky)])
+        if self.direction is not None and self.k:
+            d = np.asarray(self.direction)
+            K += self.k * np.outer(d, d)
+        return K
+
+    def damping_matrix(self) -> np.ndarray:
+        """The 2 × 2 dashpot matrix of each spring, N·s/m: c d⊗d along ``direction``, c I
+        (x and y alike) without one."""
+        if self.direction is None:
+            return float(self.damping) * np.eye(2)
+        return float(self.damping) * np.outer(self.direction, self.direction)
+
+
+
+def select_nodes(
+    b: Body | Frame,
+    where=None,
+    *,
+    x: float | None = None,
+    y: float | None = None,
+    boundary: bool = True,
+    name: str = "",
+    atol: float | None = None,
+) -> NodeSet:
+    """Node set of one body by predicate or coordinates; see :meth:`Model.select`."""
+    pts = b.points
+    if atol is None:
+        atol = 1e-9 * max(1.0, float(np.ptp(pts, axis=0).max()) if len(pts) else 1.0)
+    mask = np.ones(len(pts), dtype=bool)
+    if where is not None:
+        mask &= np.asarray(where(pts[:, 0], pts[:, 1]), dtype=bool)
+    if x is not None:
+        mask &= np.abs(pts[:, 0] - x) <= atol
+    if y is not None:
+        mask &= np.abs(pts[:, 1] - y) <= atol
+    interior = 0
+    if boundary and isinstance(b, Body):
+        on_b = np.zeros(len(pts), dtype=bool)
+        on_b[b.boundary.ravel()] = True
+        interior = int(np.sum(mask & ~on_b))
+        mask &= on_b
+    idx = np.flatnonzero(mask)
+    label = f"node set '{name}'" if name else f"selection on body '{b.name}'"
+    if idx.size == 0:
+        hint = (f"; {interior} interior node(s) match: select them with boundary=False"
+                if interior else "")
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        raise ModelError(label, f"selects no node (the body spans x {lo[0]:g} … {hi[0]:g}, "
+                                f"y {lo[1]:g} … {hi[1]:g} m){hint}")
+    return NodeSet(b.name, idx, name)
