@@ -22,7 +22,7 @@ component and −n_k · (u⁺ − u⁻) for the normal one (u_n ≤ 0: no interp
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -44,7 +44,12 @@ class ContactLayout:
 
     @classmethod
     def of_size(cls, n: int, n_t: int = 1) -> ContactLayout:
-        """The layout of a vector of n = m (1 + n_t) contact unknowns."""
+        """The layout of a vector of n = m (1 + n_t) contact unknowns (one object per size:
+        the scheme functions that see only vectors share its index arrays)."""
+        return _of_size(cls, int(n), int(n_t))
+
+    @classmethod
+    def _make(cls, n: int, n_t: int) -> ContactLayout:
         if n % (1 + n_t):
             raise ValueError(f"ContactLayout: {n} contact unknowns are not m (1 + n_t) "
                              f"with n_t = {n_t}")
@@ -106,12 +111,16 @@ class ContactLayout:
     def tangential_rows(self) -> np.ndarray:
         """Rows of the tangential components: (m,) in 2D, (m, n_t) in 3D."""
         r = np.arange(self.n_tangential).reshape(self.n_t, self.m).T
-        return r[:, 0].copy() if self.n_t == 1 else r
+        r = r[:, 0].copy() if self.n_t == 1 else r.copy()
+        r.setflags(write=False)
+        return r
 
     @cached_property
     def normal_rows(self) -> np.ndarray:
         """Rows of the normal components, (m,)."""
-        return np.arange(self.n_tangential, self.n)
+        r = np.arange(self.n_tangential, self.n)
+        r.setflags(write=False)
+        return r
 
     def rows(self, cfes) -> np.ndarray:
         """Rows of the components of the CFEs ``cfes`` (an index or index array):
@@ -134,6 +143,13 @@ class ContactLayout:
     def component_of(self, j) -> np.ndarray:
         """The component (0 … n_t) of row j."""
         return np.asarray(j) // self.m
+
+    @cached_property
+    def partners(self) -> np.ndarray:
+        """:meth:`partner` of every row, (n,) (read-only)."""
+        P = self.partner(np.arange(self.n))
+        P.setflags(write=False)
+        return P
 
     def partner(self, j) -> np.ndarray:
         """The other component of row j's CFE in 2D (tangential k ↔ normal m + k), the one
@@ -163,6 +179,11 @@ class ContactLayout:
         sign = np.ones(self.n_c)
         sign[-1] = -1.0
         return basis * sign[None, :, None]
+
+
+@lru_cache(maxsize=16)
+def _of_size(cls, n: int, n_t: int) -> ContactLayout:
+    return cls._make(n, n_t)
 
 
 __all__ = ["ContactLayout"]

@@ -494,7 +494,7 @@ def uplift_through_cfes(cfe, B: sp.csr_matrix, ld) -> np.ndarray:
     if not np.all(np.isfinite(p)):
         raise ModelError(f"uplift on interface '{ld.name}'", "pressure function gives NaN "
                          "or inf")
-    return -(B[cfe.m + k].T @ (cfe.area[k] * p))
+    return -(B[cfe.layout.normal_rows[k]].T @ (cfe.area[k] * p))
 
 
 def _check_restrained(model: Model, dofs: DofMap, K, B, fixed,
