@@ -18,6 +18,7 @@ Forces: N_k (normal, ≤ 0 in compression) and Q_k (tangential) with |Q_k| ≤ �
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -28,6 +29,7 @@ from stepcontact.contact.boundary import (
     outward_normals,
     tributary_lengths,
 )
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.errors import ModelError
 from stepcontact.model import Body, Frame, Interface, Model, RigidObstacle
 
@@ -108,6 +110,16 @@ class ContactElements:
 
     def __len__(self) -> int:
         return self.m
+
+    @cached_property
+    def layout(self) -> ContactLayout:
+        """The layout of the contact unknowns of these CFEs (2D: one tangential component)."""
+        return ContactLayout(self.m, 1)
+
+    @property
+    def basis(self) -> np.ndarray:
+        """The local basis of every CFE, (m, 2, 2): rows t, n."""
+        return self.layout.basis(self.tangent, self.normal)
 
     def of(self, name: str) -> np.ndarray:
         """Indices of the CFEs of one interface, in order along it."""

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import ContactState
 
 OPEN, STICK, SLIP_POS, SLIP_NEG, CLOSED, BONDED = (int(s) for s in (
@@ -50,6 +51,10 @@ OPENING, SLIP_PLUS, SLIP_MINUS = 0, 1, -1
 _INF = np.inf
 
 
+def _layout(m: int | ContactLayout) -> ContactLayout:
+    return m if isinstance(m, ContactLayout) else ContactLayout(m)
+
+
 @dataclass
 class Relations:
     """Relations of a working scheme, one per CFE component (j < m: tangential of CFE j;
@@ -61,8 +66,10 @@ class Relations:
     couple: np.ndarray
 
     @staticmethod
-    def empty(m: int) -> Relations:
-        return Relations(np.zeros(2 * m, np.int8), np.zeros(2 * m), np.zeros(2 * m))
+    def empty(m: int | ContactLayout) -> Relations:
+        """Relations of m CFEs (2D) or of the layout ``m``, all FREE with zero entries."""
+        lay = _layout(m)
+        return Relations(lay.zeros(dtype=np.int8), lay.zeros(), lay.zeros())
 
     def key(self) -> bytes:
         return self.kind.tobytes() + self.couple.tobytes()
@@ -255,7 +262,8 @@ class CoulombLaw:
         return dQ, dp
 
     # ---- relations (eqs. (1), (11), (12)) ------------------------------------------------------
-    def relations(self, states: np.ndarray, rel: Relations, m: int, article: bool = False) -> None:
+    def relations(self, states: np.ndarray, rel: Relations, m: int | ContactLayout,
+                  article: bool = False) -> None:
         """Write the relation rows of this law's CFEs in ``states`` into ``rel``: the
         working-scheme form of conditions (1), of the compliant layer (eq. (11)) and of an
         intact bond (eq. (12)).
@@ -264,20 +272,25 @@ class CoulombLaw:
         normal fixed (or spring C_n).  Closed frictionless: Q = 0, normal as stick.  Slip
         (exact): Q' − σ f p' = 0 (the rate of Q = σ (f p + C)); slip (article, eqs. (4)–(6)):
         Q held during the step (FREE) and corrected afterwards by compensating forces.
+        ``m``: the number of CFEs (2D) or the layout of the contact unknowns.
         """
+        lay = _layout(m)
+        kind_t, kind_n = lay.split(rel.kind)
+        stiff_t, stiff_n = lay.split(rel.stiff)
+        couple_t, couple_n = lay.split(rel.couple)
         c = self.cfes
         closed = (states != OPEN) & ~self.inert
         slipping = self.slipping(states) & closed
         frictionless = closed & ~self.frictional & (states != BONDED)
         kt = np.where(self.rigid_t, FIXED, SPRING)
         kn = np.where(self.rigid_n, FIXED, SPRING)
-        rel.kind[c] = np.where(closed & ~slipping & ~frictionless, kt, FREE)
-        rel.kind[m + c] = np.where(closed, kn, FREE)
-        rel.stiff[c] = self.kt
-        rel.stiff[m + c] = self.kn
+        kind_t[c] = np.where(closed & ~slipping & ~frictionless, kt, FREE)
+        kind_n[c] = np.where(closed, kn, FREE)
+        stiff_t[c] = self.kt
+        stiff_n[c] = self.kn
         sigma = np.where(states == SLIP_POS, 1.0, -1.0)
-        rel.couple[c] = np.where(slipping & ~frictionless & (not article), -sigma * self.f, 0.0)
-        rel.couple[m + c] = 0.0
+        couple_t[c] = np.where(slipping & ~frictionless & (not article), -sigma * self.f, 0.0)
+        couple_n[c] = 0.0
 
     # ---- event functions (eqs. (2), (3), (12)) ------------------------------------------------
     def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray:

@@ -392,23 +392,28 @@ def load_moments(system: System) -> np.ndarray:
 
 
 def contact_operator(cfe: ContactElements, dofs: DofMap) -> tuple[sp.csr_matrix, np.ndarray]:
-    """B (2m × ndof) with rows [u_τ; u_n] and w0 = [0; −g⁰] (see the geometry module)."""
-    m = cfe.m
+    """B (n × ndof, n = m (1 + n_t)) with rows [u_τ; u_n] in the CFEs' layout, built from
+    their local bases (rows t, n; :class:`~stepcontact.contact.layout.ContactLayout`), and
+    w0 = [0; −g⁰] (see the geometry module)."""
+    lay = cfe.layout
+    m = lay.m
+    rows_of = lay.operator_rows(cfe.basis)  # (m, 1 + n_t, dim): +t_j, −n
     nodes = np.concatenate([cfe.plus_nodes, cfe.minus_nodes], axis=1)  # (m, 6)
     w = np.concatenate([cfe.plus_w, -cfe.minus_w], axis=1)  # u⁺ − u⁻
     valid = nodes >= 0
     safe = np.where(valid, nodes, 0)
     rows, cols, vals = [], [], []
     k = np.repeat(np.arange(m)[:, None], nodes.shape[1], 1)
-    for c in (0, 1):
+    for c in range(rows_of.shape[2]):
         d = np.where(valid, dofs.of[safe, c], -1)
-        rows += [k, m + k]
-        cols += [d, d]
-        vals += [w * cfe.tangent[:, c : c + 1], -w * cfe.normal[:, c : c + 1]]
+        for j in range(lay.n_c):
+            rows.append(j * m + k)
+            cols.append(d)
+            vals.append(w * rows_of[:, j, c : c + 1])
     B = scatter(np.concatenate([r.ravel() for r in rows]),
                 np.concatenate([c.ravel() for c in cols]),
-                np.concatenate([v.ravel() for v in vals]), (2 * m, dofs.ndof))
-    w0 = np.r_[np.zeros(m), -cfe.gap]
+                np.concatenate([v.ravel() for v in vals]), (lay.n, dofs.ndof))
+    w0 = lay.join(np.zeros((m,) + ((lay.n_t,) if lay.n_t > 1 else ())), -cfe.gap)
     return B, w0
 
 
@@ -489,7 +494,7 @@ def uplift_through_cfes(cfe, B: sp.csr_matrix, ld) -> np.ndarray:
     if not np.all(np.isfinite(p)):
         raise ModelError(f"uplift on interface '{ld.name}'", "pressure function gives NaN "
                          "or inf")
-    return -(B[cfe.m + k].T @ (cfe.area[k] * p))
+    return -(B[cfe.layout.normal_rows[k]].T @ (cfe.area[k] * p))
 
 
 def _check_restrained(model: Model, dofs: DofMap, K, B, fixed,

@@ -55,8 +55,10 @@ def assemble_discrete(dm: DiscreteModel) -> System:
         fixed[dofs] = True
         groups += [(f"{p} (prescribed):{dm.dof_names[d]}", np.array([d])) for d in dofs]
         loads[p] = LoadVectors(f, u, dofs)
+    cfe = discrete_contact(dm)
+    lay = cfe.layout  # rows [u_τ; u_n]: B = [T; −A], w0 = [0; −g⁰]
     B = sp.vstack([dm.tangent_rows, -dm.normal_rows]).tocsr() if m else sp.csr_matrix((0, n))
-    w0 = np.r_[np.zeros(m), -dm.gaps]
+    w0 = lay.join(np.zeros(m), -dm.gaps)
     rows, labels = reaction_rows(groups, n)
     return System(dm.as_model(), DofMap(np.zeros((0, 3), dtype=np.int64), n), dm.K.copy(),
-                  fixed, loads, discrete_contact(dm), B, w0, rows, labels, discrete=dm)
+                  fixed, loads, cfe, B, w0, rows, labels, discrete=dm)

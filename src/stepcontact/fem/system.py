@@ -14,6 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from stepcontact.contact.geometry import ContactElements
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.model import Model
 
 
@@ -100,6 +101,11 @@ class System:
     @property
     def m(self) -> int:
         return self.cfe.m
+
+    @property
+    def layout(self) -> ContactLayout:
+        """The layout of the contact unknowns s = [Q; p], w = [u_τ; u_n]."""
+        return self.cfe.layout
 
 
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from stepcontact.contact.layout import ContactLayout
+
 
 class GrowingArray:
     """Rows appended one at a time to a preallocated array; ``view`` is the filled part."""
@@ -32,13 +34,17 @@ class Recorder:
     COLUMNS = ("lam", "segment", "kind", "factors", "s", "w", "state", "residual", "violation",
                "reactions", "water", "pressure", "stage")
 
-    def __init__(self, m: int, n_patterns: int, n_reactions: int):
+    def __init__(self, m: int | ContactLayout, n_patterns: int, n_reactions: int):
+        """``m``: the number of CFEs (2D) or the layout of the contact unknowns."""
+        layout = m if isinstance(m, ContactLayout) else ContactLayout(m)
+        m = layout.m
+        self.layout = layout
         self.lam = GrowingArray(())
         self.segment = GrowingArray((), np.int64)
         self.kind = GrowingArray((), "U13")
         self.factors = GrowingArray((n_patterns,))
-        self.s = GrowingArray((2 * m,))
-        self.w = GrowingArray((2 * m,))
+        self.s = GrowingArray((layout.n,))
+        self.w = GrowingArray((layout.n,))
         self.state = GrowingArray((m,), np.int64)
         self.residual = GrowingArray(())
         self.violation = GrowingArray(())

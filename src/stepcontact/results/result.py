@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.fem.level import VIRTUAL, is_virtual
 from stepcontact.results.events import Event, Multipliers
@@ -525,7 +526,7 @@ class StaticResult:
                            "res.recover_fields(model) with the model of the run (the stored "
                            "support resultants are res.reaction(support, dof))")
         U = self.displacements()
-        S = np.concatenate([np.asarray(self.Q), -np.asarray(self.N)], axis=1)
+        S = ContactLayout(self.m).join(np.asarray(self.Q).T, -np.asarray(self.N).T).T
         F = np.asarray(self.factors, dtype=float).reshape(self.n_states, -1)
         f = np.stack([system.loads[name].f for name in self.pattern_names], axis=1) \
             if self.pattern_names else np.zeros((system.ndof, 0))

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.errors import ModelError, SolverError
 from stepcontact.fem.assembly import System
 from stepcontact.model import size as _size
@@ -87,7 +88,7 @@ def dense_precision(n2m: int, precision: str = "auto", limit: float | None = Non
         est = dense_memory(n2m, itemsize=PRECISIONS[name].itemsize)
         if est["G"] + est["schemes"] <= limit:
             return PRECISIONS[name]
-    m = n2m // 2
+    m = ContactLayout.of_size(n2m).m
     need = est["G"] + est["schemes"]
     raise SolverError(
         f"the contact problem is too large for dense condensation on this machine: "
@@ -221,8 +222,13 @@ class Condensation:
         return str(self.G.dtype)
 
     @property
+    def layout(self) -> ContactLayout:
+        """The layout of the contact unknowns (the rows of G)."""
+        return ContactLayout.of_size(self.G.shape[0])
+
+    @property
     def m(self) -> int:
-        return self.G.shape[0] // 2
+        return self.layout.m
 
     def __getstate__(self):
         raise TypeError("a Condensation holds a sparse factorisation and is not picklable; "
@@ -318,10 +324,10 @@ def factorize_checked(system: System, K0, free, backend: str,
     diagnosis naming the free bodies, whether the factorisation met a zero pivot or not)."""
     from stepcontact.solver.regularity import factorize_regular
 
-    check_dense_memory(2 * system.m, precision=precision)
+    check_dense_memory(system.layout.n, precision=precision)
     last = contact_dofs(system.B[:, free])
     return factorize_regular(system, K0, free, backend,
-                             last=last if schur_pays(len(free), len(last), 2 * system.m)
+                             last=last if schur_pays(len(free), len(last), system.layout.n)
                              else None)
 
 
@@ -419,7 +425,7 @@ class Condensed:
         if self.R_s is None:
             return np.zeros(0)
         R = self.R_s @ s
-        e = np.zeros(2 * self.m)
+        e = self.layout.zeros()
         for name, c in factors.items():
             if c != 0.0:
                 R = R + c * self.r_load[name]
@@ -428,8 +434,13 @@ class Condensed:
         return R + self.R_t @ (s - self.d * w_hat)
 
     @property
+    def layout(self) -> ContactLayout:
+        """The layout of the contact unknowns (the rows of G)."""
+        return ContactLayout.of_size(self.G.shape[0])
+
+    @property
     def m(self) -> int:
-        return self.G.shape[0] // 2
+        return self.layout.m
 
     def Kff_times(self, uf: np.ndarray) -> np.ndarray:
         """K_ff u_f = K₀ u_f − B_fᵀ D B_f u_f (K_ff itself is not kept: K₀ is)."""
@@ -471,7 +482,7 @@ class Condensed:
             return np.zeros((0, sysm.ndof))
         up = np.zeros((len(self.presc), k))
         rhs = np.zeros((len(self.free), k))
-        e = np.zeros((2 * self.m, k))
+        e = self.layout.zeros(k)
         for j, name in enumerate(names):
             c = C[:, j]
             if not c.any():
@@ -521,8 +532,8 @@ class Condensed:
         Exactly equivalent to ‖K u + Bᵀ s − f‖ = 0 with u recovered from (s, w); used at the
         states whose displacement field is not computed (large models, intermediate events).
         """
-        e = np.zeros(2 * self.m)
-        h = np.zeros(2 * self.m)
+        e = self.layout.zeros()
+        h = self.layout.zeros()
         for name, c in factors.items():
             if c != 0.0:
                 e += c * self.e[name]

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, Relations
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.solver.rate import RateOutcome, solve_rate_problem
 from stepcontact.solver.schemes import (
     MechanismError,
@@ -81,19 +82,23 @@ class EventEngine:
         The article's slip treatment (eqs. (4)–(6)) instead of the exact one.
     rate_solver : "pivoting" or "lemke"
         First method for the rate problem's LCP.
+    layout : ContactLayout, optional
+        The layout of the contact unknowns (default: 2D, m = len(w0) / 2).
     """
 
     def __init__(self, schemes: SchemeSolver, laws: list, w0: np.ndarray, *, rtol: float = 1e-10,
-                 article: bool = False, eps_p: float = 0.01, rate_solver: str = "pivoting"):
+                 article: bool = False, eps_p: float = 0.01, rate_solver: str = "pivoting",
+                 layout: ContactLayout | None = None):
         self.schemes = schemes
         self.laws = laws
-        self.m = len(w0) // 2
+        self.layout = ContactLayout.of_size(len(w0)) if layout is None else layout
+        self.m = self.layout.m
         self.rtol = rtol
         self.article = article
         self.eps_p = eps_p
         self.rate_solver = rate_solver
         self.states = np.full(self.m, OPEN, dtype=np.int64)
-        self.s = np.zeros(2 * self.m)
+        self.s = self.layout.zeros()
         self.w = np.asarray(w0, float).copy()
         self.F_scale = 1e-300
         self.W_scale = float(np.max(np.abs(w0), initial=0.0)) or 1e-300
@@ -120,10 +125,12 @@ class EventEngine:
 
     # ---- per-law views ----------------------------------------------------------------------
     def _parts(self, s, w):
-        m = self.m
+        lay = self.layout
+        Q, p = lay.split(s)
+        ut, un = lay.split(w)
         for law in self.laws:
             c = law.cfes
-            yield law, c, s[c], s[m + c], w[c], w[m + c]
+            yield law, c, Q[c], p[c], ut[c], un[c]
 
     def relations(self, states: np.ndarray, article: bool | None = None) -> Relations:
         """The relations of the scheme ``states`` (the last few are kept: a point asks for the
@@ -133,9 +140,9 @@ class EventEngine:
         rel = self._relations.get(key)
         if rel is not None:
             return rel
-        rel = Relations.empty(self.m)
+        rel = Relations.empty(self.layout)
         for law in self.laws:
-            law.relations(states[law.cfes], rel, self.m, art)
+            law.relations(states[law.cfes], rel, self.layout, art)
         self._relations[key] = rel
         if len(self._relations) > 8:
             del self._relations[next(iter(self._relations))]
@@ -169,7 +176,7 @@ class EventEngine:
         rel = self.relations(states, article=False)
         A, scale = self.schemes.dense(rel)
         h, e = forcing
-        b = scale * scheme_rhs(self.schemes.d, rel, h, e, np.zeros(2 * self.m))
+        b = scale * scheme_rhs(self.schemes.d, rel, h, e, self.layout.zeros())
         cond = max(1e-10, 100 * np.finfo(A.dtype).eps)
         t = sla.lstsq(A, b.astype(A.dtype), cond=cond, check_finite=False)[0].astype(float)
         w_hat = h - self.schemes.product(t)
@@ -190,7 +197,7 @@ class EventEngine:
         rel = self.relations(states, article=False)
         A, _ = self.schemes.dense(rel)
         A = np.asarray(A, float)
-        m2 = 2 * self.m
+        m2 = self.layout.n
         out = np.zeros((m2, 0))
         if 0 < m2 <= SELF_STRESS_MAX and not self.schemes.shifted:  # (float32 G: large)
             _, sv, Vt = sla.svd(A, check_finite=False)
@@ -239,21 +246,22 @@ class EventEngine:
         for law, c, _Q, p, _ut, _un in self._parts(self.s if not absolute else ds, self.w):
             cap[c] = law.friction_limit(p, states[c])
             grip[c] = (states[c] == STICK) & law.frictional
-        ZQ, Zp = Z[:m], Z[m:]
+        ZQ, Zp = self.layout.split(Z)
         grp = grip & (np.abs(ZQ).max(axis=1, initial=0.0) > 1e-9)
         if not grp.any():
             return ds, dw
         # the split of least Σ Q_k² / (f p_k + C) (Q_k proportional to each CFE's capacity),
         # the other components least squares: least Σ w_j (ds + Z c)_j²
         tf, _ = self.tolerances()
-        wgt = np.ones(2 * m)
+        wgt = np.ones(self.layout.n)
         cref = float(cap[grp].max())
         if cref > tf:  # (without normal force, e.g. a path from zero: equal shares)
-            wgt[:m][grp] = cref / np.maximum(cap[grp], 1e-3 * cref)
+            self.layout.tangential(wgt)[grp] = cref / np.maximum(cap[grp], 1e-3 * cref)
         c_w = np.linalg.lstsq(Z.T @ (wgt[:, None] * Z), -(Z.T @ (wgt * ds)), rcond=None)[0]
         if absolute:
             return ds + Z @ c_w, dw
-        Q = self.s[:m]
+        Q = self.layout.tangential(self.s)
+        dQ, dp = self.layout.split(ds)
         f = np.zeros(m)
         for law, c, *_ in self._parts(self.s, self.w):
             f[c] = law.f
@@ -263,7 +271,7 @@ class EventEngine:
             g = np.where(g > tf, g, 0.0)
             if not g.any():
                 continue  # the whole group on this facet: nothing to synchronise
-            rhs = -(f * ds[m:] - sg * ds[:m])[grp]
+            rhs = -(f * dp - sg * dQ)[grp]
             # (f Zp − sg ZQ) c − κ g = −(f dp − sg dQ) on the group (g in units of its
             # largest: κ of the order of the rates)
             gs = float(g.max())
@@ -301,7 +309,7 @@ class EventEngine:
         A, scale = self.schemes.dense(rel)
         f = lu(A)
         Y = null_modes(A, f, trans=1, apply=self.schemes.exact_apply(rel, scale, trans=1))
-        b = scale * scheme_rhs(self.schemes.d, rel, h, e, np.zeros(2 * self.m))
+        b = scale * scheme_rhs(self.schemes.d, rel, h, e, self.layout.zeros())
         # a row of A that is exactly zero has a huge scale: normalise before the norm (its
         # squares would overflow)
         b = b / max(float(np.abs(b).max(initial=0)), 1e-300)
@@ -419,10 +427,10 @@ class EventEngine:
     def article_step(self, ds) -> float:
         """Step limit of the article's slip treatment, eq. (5): |ΔQ_p / Q_p| ≤ ε_p."""
         lim = _INF
-        m = self.m
+        dp = self.layout.normal(ds)
         for law, c, _Q, p, _ut, _un in self._parts(self.s, self.w):
             sl = law.slipping(self.states[c])
-            dqp = law.f * ds[m + c]
+            dqp = law.f * dp[c]
             qp = law.friction_limit(p, self.states[c])  # f p + C
             with np.errstate(divide="ignore", invalid="ignore"):
                 v = np.where(sl & (np.abs(dqp) > 0), np.abs(self.eps_p * qp / dqp), _INF)
@@ -456,13 +464,14 @@ class EventEngine:
 
     def consistent(self, trial, L, ds, dw, normal, two) -> np.ndarray:
         """States the rates (ds, dw) of scheme ``trial`` point to, for the CFEs in L."""
-        m = self.m
+        dQ, dp = self.layout.split(ds)
+        dut, dun = self.layout.split(dw)
         rf = 1e3 * self.rtol * max(np.abs(ds).max(initial=0), 1e-300)
         rw = 1e3 * self.rtol * max(np.abs(dw).max(initial=0), 1e-300)
         out = trial.copy()
         tf, _ = self.tolerances()
         for law, c, Q, p, _ut, _un in self._parts(self.s, self.w):
-            out[c] = law.consistent(trial[c], Q, ds[c], ds[m + c], dw[m + c], dw[c], normal[c],
+            out[c] = law.consistent(trial[c], Q, dQ[c], dp[c], dun[c], dut[c], normal[c],
                                     two[c], rf, rw, p=p, tf=tf)
         return out[L]
 
@@ -492,10 +501,11 @@ class EventEngine:
         """Move the state onto the relations of the current scheme at the fixed point (in the
         article's slip treatment: the corrected tangential forces of eq. (4), applied as the
         compensating forces of eq. (6))."""
-        m = self.m
-        r = np.zeros(2 * m)
+        lay = self.layout
+        r = lay.zeros()
+        rQ, rp = lay.split(r)
         for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
-            r[c], r[m + c] = law.snap(self.states[c], Q, p, un)
+            rQ[c], rp[c] = law.snap(self.states[c], Q, p, un)
         if not np.any(np.abs(r) > 0):
             return
         try:
@@ -503,7 +513,7 @@ class EventEngine:
         except MechanismError:
             return  # a singular scheme with consistent rates: nothing to snap onto uniquely
         try:
-            ds, dw = fact.solve(np.zeros(2 * m), np.zeros(2 * m), r,
+            ds, dw = fact.solve(lay.zeros(), lay.zeros(), r,
                                 floor=float(np.abs(self.s).max(initial=0.0)))
         except MechanismError:
             return

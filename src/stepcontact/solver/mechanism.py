@@ -91,13 +91,12 @@ def constraint_conflict(engine: EventEngine, cond, states: np.ndarray) -> np.nda
     rel = engine.relations(states, article=False)
     A, scale = engine.schemes.dense(rel)
     T = null_modes(A, lu(A), k=min(3, A.shape[0]), apply=engine.schemes.exact_apply(rel, scale))
-    m = len(states)
     for j in range(T.shape[1]):
         t = T[:, j]
         size = np.linalg.norm(t)
         if size > 0 and np.linalg.norm(cond.Bf.T @ t) <= 1e-9 * size:
             big = np.flatnonzero(np.abs(t) > 1e-6 * np.abs(t).max())
-            return np.unique(big % m)
+            return np.unique(engine.layout.cfe_of(big))
     return None
 
 
@@ -119,8 +118,8 @@ def free_to_open(engine: EventEngine, cond, system, states: np.ndarray, f: np.nd
         u = _mode(engine, cond, system, alt, f)
     except Exception:  # noqa: BLE001 - the alternative is not a mechanism: keep the scheme
         return states
-    m = len(states)
-    un = (system.B @ u)[m:]  # normal relative displacement rates of the mode (w⁰ does not move)
+    # normal relative displacement rates of the mode (w⁰ does not move)
+    un = system.layout.normal(system.B @ u)
     size = np.abs(un).max(initial=0.0)
     if size > 0 and np.all(un[idle] <= 1e-9 * size):
         return alt

@@ -73,14 +73,15 @@ def _variables(eng, L, normal_lim, two_sided) -> RateVariables:
     """The variables of every law for the CFEs in L."""
     parts = []
     tf, _ = eng.tolerances()
+    Q, p = eng.layout.split(eng.s)
     for law in eng.laws:
         pos = np.searchsorted(law.cfes, L)
         pos = np.clip(pos, 0, max(len(law.cfes) - 1, 0))
         mine = np.flatnonzero(law.cfes[pos] == L) if len(law.cfes) else np.zeros(0, int)
         local = pos[mine]
         sl = law.cfes
-        v = law.rate_variables(local, eng.states[sl], eng.s[sl], normal_lim[sl], two_sided[sl],
-                               p=eng.s[eng.m + sl], tf=tf)
+        v = law.rate_variables(local, eng.states[sl], Q[sl], normal_lim[sl], two_sided[sl],
+                               p=p[sl], tf=tf)
         parts.append(v)
     cat = {k: np.concatenate([getattr(p, k) for p in parts]) for k in
            ("cfe", "kind", "row", "value", "cp", "cq")}
@@ -144,20 +145,21 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
             raise
         return _singular_point(eng, L, guess, forcing, normal_lim, two_sided)
     var = _variables(eng, L, normal_lim, two_sided)
-    m = eng.m
+    lay = eng.layout
     nv = len(var.cfe)
     if nv == 0:
         return kept or RateOutcome(base, ds0, dw0, "stuck scheme", L)
-    R = np.zeros((2 * m, nv))
-    R[var.cfe + m * var.row, np.arange(nv)] = var.value
+    R = lay.zeros(nv)
+    R[lay.index(var.cfe, var.row), np.arange(nv)] = var.value
     try:
-        dS, dW = fact.solve(np.zeros((2 * m, 1)), np.zeros((2 * m, 1)), R)
+        dS, dW = fact.solve(lay.zeros(1), lay.zeros(1), R)
     except MechanismError as exc:
         exc.states = base
         raise
     eng.counters["rate_solves"] += 1 + nv
     cp, cq = var.cp[:, None], var.cq[:, None]
-    Wm = cp * np.c_[ds0, dS][m + var.cfe] + cq * np.c_[ds0, dS][var.cfe]
+    S0 = np.c_[ds0, dS]
+    Wm = cp * lay.normal(S0)[var.cfe] + cq * lay.tangential(S0)[var.cfe]
     q, M = Wm[:, 0], Wm[:, 1:]
     if kept is not None:  # small frictional point: are there other admissible schemes?
         kept.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, kept)
@@ -317,8 +319,8 @@ def _redundant_groups(eng, L, guess, cfes) -> list[np.ndarray]:
     Z = eng.self_stress(base)
     if Z.shape[1] == 0:
         return []
-    m = eng.m
-    on = (np.abs(Z[:m]) + np.abs(Z[m:]))[cfes] > 1e-9  # (len(cfes), k)
+    ZQ, Zp = eng.layout.split(Z)
+    on = (np.abs(ZQ) + np.abs(Zp))[cfes] > 1e-9  # (len(cfes), k)
     label = np.arange(len(cfes))
     for col in on.T:  # union of the supports of the modes (connected components)
         idx = np.flatnonzero(col)
@@ -343,11 +345,10 @@ def _admissible(eng, L, states, forcing, normal_lim) -> np.ndarray:
     scheme) separates instead, until none does (a block lifted off a base opens everywhere,
     rather than rotating about one corner that would have to hold it down)."""
     states = states.copy()
-    m = eng.m
     for _ in range(len(L)):
         ds, _ = eng.rates_singular(states, forcing)
         tf = 1e3 * eng.rtol * max(np.abs(ds).max(initial=0), 1e-300)
-        pull = L[(states[L] != OPEN) & normal_lim[L] & (ds[m + L] < -tf)]
+        pull = L[(states[L] != OPEN) & normal_lim[L] & (eng.layout.normal(ds)[L] < -tf)]
         if pull.size == 0:
             break
         states[pull] = OPEN

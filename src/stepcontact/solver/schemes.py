@@ -37,6 +37,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from stepcontact.contact.laws import FIXED, SPRING, Relations
+from stepcontact.contact.layout import ContactLayout
 
 #: a scheme matrix whose reciprocal condition number (rows equilibrated) is below this is
 #: singular: a mechanism.  G carries a relative round-off of about eps·cond(K₀), so exact
@@ -237,8 +238,9 @@ def _coefficients(rel: Relations, idx=None):
 
 
 def partner(j: np.ndarray, m: int) -> np.ndarray:
-    """The other component of the same CFE (tangential j ↔ normal m + j)."""
-    return np.where(j < m, j + m, j - m)
+    """The other component of the same CFE (tangential j ↔ normal m + j; 2D,
+    :meth:`ContactLayout.partner <stepcontact.contact.layout.ContactLayout.partner>`)."""
+    return ContactLayout(m).partner(j)
 
 
 def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
@@ -254,7 +256,7 @@ def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
         A_j = −(rw_j/d_j + rs_j) M_j − (rw_j/d_j) e_j − c_j M_P
 
     in which no entry is a difference of nearly equal numbers."""
-    m = G.shape[0] // 2
+    lay = ContactLayout.of_size(G.shape[0])
     dt = G.dtype
     rw, rs = _coefficients(rel, idx)
     if shifted:
@@ -269,7 +271,7 @@ def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
     c = rel.couple[idx]
     cp = np.flatnonzero(c != 0)
     if cp.size:
-        P = partner(idx[cp], m)
+        P = lay.partners[idx[cp]]
         rows[cp, P] += c[cp].astype(dt)
         rows[cp] -= (d[P] * c[cp]).astype(dt)[:, None] * G[P]
     big = np.maximum(rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0))
@@ -279,7 +281,7 @@ def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
 
 
 def _shifted_rows(M, d, rel, idx, rw, rs):
-    m = M.shape[0] // 2
+    lay = ContactLayout.of_size(M.shape[0])
     dt = M.dtype
     rwd = rw / d[idx]
     rows = np.empty((len(idx), M.shape[1]), dt, order="F")
@@ -291,7 +293,7 @@ def _shifted_rows(M, d, rel, idx, rw, rs):
     c = rel.couple[idx]
     cp = np.flatnonzero(c != 0)
     if cp.size:
-        rows[cp] -= c[cp].astype(dt)[:, None] * M[partner(idx[cp], m)]
+        rows[cp] -= c[cp].astype(dt)[:, None] * M[lay.partners[idx[cp]]]
     big = np.maximum(rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0))
     scale = 1.0 / np.maximum(big.astype(np.float64), 1e-300)
     rows *= scale.astype(dt)[:, None]
@@ -303,10 +305,9 @@ def scheme_apply(d: np.ndarray, rel: Relations, scale: np.ndarray, t: np.ndarray
     """A t for the scheme ``rel`` with row scales ``scale``, from t and the product G t (of
     the exact operator): the residual of the float32 schemes' refinement (vectors or
     (2m, k) blocks)."""
-    m = len(d) // 2
     rw, rs = _coefficients(rel)
     c = rel.couple
-    P = partner(np.arange(2 * m), m)
+    P = ContactLayout.of_size(len(d)).partners
     if t.ndim == 2:
         rw, rs, d, c, scale = rw[:, None], rs[:, None], d[:, None], c[:, None], scale[:, None]
     return scale * (rs * t - (rw + d * rs) * Gt + c * (t[P] - d[P] * Gt[P]))
@@ -315,21 +316,20 @@ def scheme_apply(d: np.ndarray, rel: Relations, scale: np.ndarray, t: np.ndarray
 def scheme_rhs(d: np.ndarray, rel: Relations, hhat, e, r):
     """b (unscaled) of A t' = b for load rates (ĥ, e) and relation right-hand sides r (vectors
     or (2m, k) blocks)."""
-    m = len(d) // 2
     rw, rs = _coefficients(rel)
     if np.ndim(r) == 2 or np.ndim(hhat) == 2:
         rw, rs, dd, c = rw[:, None], rs[:, None], d[:, None], rel.couple[:, None]
     else:
         dd, c = d, rel.couple
     dh = dd * hhat
-    P = partner(np.arange(2 * m), m)
+    P = ContactLayout.of_size(len(d)).partners
     return r - rw * (hhat + e) - rs * dh - c * dh[P]
 
 
 def _load_rhs_rows(d: np.ndarray, rel: Relations, idx: np.ndarray, hhat, e) -> np.ndarray:
     """Rows ``idx`` of :func:`scheme_rhs` for load rates (ĥ, e) and r = 0 (vectors)."""
     rw, rs = _coefficients(rel, idx)
-    P = partner(idx, len(d) // 2)
+    P = ContactLayout.of_size(len(d)).partners[idx]
     return -rw * (hhat[idx] + e[idx]) - rs * d[idx] * hhat[idx] - rel.couple[idx] * d[P] * hhat[P]
 
 
@@ -340,10 +340,9 @@ def scheme_apply_t(d: np.ndarray, rel: Relations, scale: np.ndarray, y: np.ndarr
     a = rw + d·rs, Π the swap of each CFE's components, D_Π = diag(d_P), C = diag(c)):
 
         Aᵀ y = R u + Π (c u) − G (a u + Π (c d_P u)),   u = S y."""
-    m = len(d) // 2
     rw, rs = _coefficients(rel)
     c = rel.couple
-    P = partner(np.arange(2 * m), m)
+    P = ContactLayout.of_size(len(d)).partners
     a = rw + d * rs
     cdp = c * d[P]
     if y.ndim == 2:
