@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.text import Text
@@ -19,6 +21,7 @@ from stepcontact.cli.common import (
     _state_list,
 )
 from stepcontact.cli.resultfile import _attach_model, _load_result_file
+from stepcontact.results.result import StaticResult
 
 
 def _export_files(vtu: Path | None, xdmf: Path | None, name: str) -> list[Path]:
@@ -84,9 +87,6 @@ def export(
     the run recorded, if unchanged, or RESULT.toml beside the result file): one
     factorisation, then one multi-right-hand-side solve.
     """
-    from stepcontact.io.export import export_vtu, export_xdmf, select_states
-
-    console = Console(highlight=False, soft_wrap=True)
     try:
         if vtu is None and xdmf is None:
             raise _Failure("nothing to export: give --vtu DIR and/or --xdmf FILE.xdmf")
@@ -94,33 +94,8 @@ def export(
             raise _Failure(f"--xdmf {xdmf}: the file name must end in .xdmf")
         base = name if name is not None else result_file.stem
         res = _load_result_file(result_file)
-        try:
-            kept, skipped = select_states(res, states)
-        except ValueError as e:
-            raise _Failure(f"--states: {_error_text(e)}") from None
-        used_model = None
-        if skipped.size:
-            used_model = _attach_model(res, result_file, model)
-            if used_model is not None:
-                kept, skipped = select_states(res, states)
-        dynamic = getattr(res, "path_axis", "lam") == "time"
-        if kept.size == 0 and dynamic:
-            raise _Failure(f"{result_file}: the stresses of a dynamic result are recovered "
-                           "from its model file, which was not found unchanged (the one the "
-                           "result records, or MODEL.toml beside it); give it with --model "
-                           "MODEL.toml")
-        if kept.size == 0:
-            raise _Failure(f"{result_file}: none of the selected states has stored "
-                           "displacements; give the model file of the run with --model "
-                           "MODEL.toml to recompute them (or solve with store_fields='all')")
-        try:
-            if vtu is not None:
-                export_vtu(res, vtu, states=kept, name=base)
-            if xdmf is not None:
-                export_xdmf(res, xdmf, states=kept)
-        except ValueError as e:
-            raise _Failure(_error_text(e)) from None
-        written = [str(p) for p in _export_files(vtu, xdmf, base)]
+        kept, skipped, used_model = _export_states(res, result_file, states, model)
+        written = _write_files(res, vtu, xdmf, base, kept)
     except _Failure as e:
         raise _fail(str(e), as_json) from None
     except OSError as e:
@@ -133,9 +108,58 @@ def export(
             "recomputed": [int(i) for i in kept if int(i) not in res.fields]
             if used_model is not None else [],
         }, indent=2, ensure_ascii=False))
-        return
-    if quiet:
-        return
+    elif not quiet:
+        _print_export(res, kept, skipped, used_model, written)
+
+
+def _export_states(res: StaticResult, result_file: Path, states: str,
+                   model: Path | None) -> tuple[np.ndarray, np.ndarray, Path | None]:
+    """The states ``--states`` selects that can be exported (``kept``) and those without
+    displacements (``skipped``), with the model file attached when some are not stored
+    (the model file used, or None); a failure when none can be exported."""
+    from stepcontact.io.export import select_states
+
+    try:
+        kept, skipped = select_states(res, states)
+    except ValueError as e:
+        raise _Failure(f"--states: {_error_text(e)}") from None
+    used_model = None
+    if skipped.size:
+        used_model = _attach_model(res, result_file, model)
+        if used_model is not None:
+            kept, skipped = select_states(res, states)
+    if kept.size == 0 and getattr(res, "path_axis", "lam") == "time":
+        raise _Failure(f"{result_file}: the stresses of a dynamic result are recovered "
+                       "from its model file, which was not found unchanged (the one the "
+                       "result records, or MODEL.toml beside it); give it with --model "
+                       "MODEL.toml")
+    if kept.size == 0:
+        raise _Failure(f"{result_file}: none of the selected states has stored "
+                       "displacements; give the model file of the run with --model "
+                       "MODEL.toml to recompute them (or solve with store_fields='all')")
+    return kept, skipped, used_model
+
+
+def _write_files(res: StaticResult, vtu: Path | None, xdmf: Path | None, base: str,
+                 kept: np.ndarray) -> list[str]:
+    """Write the VTU series and/or the XDMF files of the states ``kept``; the files."""
+    from stepcontact.io.export import export_vtu, export_xdmf
+
+    try:
+        if vtu is not None:
+            export_vtu(res, vtu, states=kept, name=base)
+        if xdmf is not None:
+            export_xdmf(res, xdmf, states=kept)
+    except ValueError as e:
+        raise _Failure(_error_text(e)) from None
+    return [str(p) for p in _export_files(vtu, xdmf, base)]
+
+
+def _print_export(res: StaticResult, kept: np.ndarray, skipped: np.ndarray,
+                  used_model: Path | None, written: Sequence[str]) -> None:
+    """What ``export`` did: the fields recomputed, the states skipped, the files written."""
+    console = Console(highlight=False, soft_wrap=True)
+    dynamic = getattr(res, "path_axis", "lam") == "time"
     if used_model is not None and dynamic:
         console.print(Text(f"stresses recovered from {used_model} (the displacements of "
                            "every state are in the result file)"))

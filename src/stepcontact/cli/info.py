@@ -213,3 +213,5 @@ def info(
     console = Console(highlight=False, soft_wrap=True)
     console.rule(f"stepcontact result: {result_file}")
     console.print(Text(f"status: {summary['status']} — {summary['message']}"))
+    for table in _info_tables(summary):
+        console.print(table)

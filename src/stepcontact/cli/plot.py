@@ -261,43 +261,19 @@ def plot(
     and the last state) are recomputed exactly from the model file (--model; by default the
     model file the run recorded, if unchanged, or RESULT.toml beside the result file).
     """
-    console = Console(highlight=False, soft_wrap=True)
-    skipped: list[str] = []
     try:
-        if kind != "all" and kind not in PLOT_KINDS:
-            raise _Failure(f"unknown --kind '{kind}': use {', '.join(PLOT_KINDS)} or all")
-        kinds = list(PLOT_KINDS) if kind == "all" else [kind]
-        if at_time and lam:
-            raise _Failure("give either --lam (a static result) or --time (a dynamic one)")
+        kinds = _plot_kinds(kind, lam, at_time)
         _check_plot_options(kinds, lam or at_time, state, node, reaction, stress, node_set)
         opts = {"lam": lam, "segment": segment, "state": state, "node": _parse_node(node),
                 "dof": dof, "body": body, "scale": scale, "dpi": dpi, "reaction": reaction,
                 "stress": stress, "node_set": node_set}
         targets = _plot_targets(result_file, kinds, output, fmt)
         res = _load_result_file(result_file)
-        dynamic = getattr(res, "path_axis", "lam") == "time"
-        if at_time and not dynamic:
-            raise _Failure("--time applies to a dynamic result (MODEL-dynamic.nc); this one "
-                           "is static: use --lam")
-        if lam and dynamic:
-            raise _Failure("this result is in time: give --time t (s), not --lam")
+        _check_path_axis(res, kind, lam, at_time, targets)
         if at_time:
             opts["lam"] = at_time
-        if kind in _DYNAMIC_KINDS and not dynamic:
-            raise _Failure(f"--kind {kind} needs a dynamic result (MODEL-dynamic.nc)")
-        if kind == "all" and not dynamic:
-            for k in _DYNAMIC_KINDS:
-                targets.pop(k, None)
-        used_model = None
-        if any(_plot_missing_fields(res, k, state, reaction) for k in kinds):
-            used_model = _attach_model(res, result_file, model)
-        written = []
-        for k, path in targets.items():
-            if kind == "all" and _plot_missing_fields(res, k, state, reaction):
-                skipped.append(k)
-                continue
-            _draw_figure(res, k, path, opts)
-            written.append(str(path))
+        written, skipped, used_model = _draw_figures(res, result_file, kind, kinds, targets,
+                                                     opts, model)
     except _Failure as e:
         raise _fail(str(e), as_json) from None
     except OSError as e:
@@ -305,9 +281,62 @@ def plot(
     if as_json:
         typer.echo(json.dumps({"status": "ok", "written": written, "skipped": skipped,
                                "model_file": None if used_model is None else str(used_model)}))
-        return
-    if quiet:
-        return
+    elif not quiet:
+        _print_written(written, skipped, used_model)
+
+
+def _plot_kinds(kind: str, lam: Sequence[float] | None,
+                at_time: Sequence[float] | None) -> list[str]:
+    """The kinds of figure ``--kind`` asks for (``all``: every kind)."""
+    if kind != "all" and kind not in PLOT_KINDS:
+        raise _Failure(f"unknown --kind '{kind}': use {', '.join(PLOT_KINDS)} or all")
+    if at_time and lam:
+        raise _Failure("give either --lam (a static result) or --time (a dynamic one)")
+    return list(PLOT_KINDS) if kind == "all" else [kind]
+
+
+def _check_path_axis(res: StaticResult, kind: str, lam: Sequence[float] | None,
+                     at_time: Sequence[float] | None, targets: dict[str, Path]) -> None:
+    """``--lam`` for a static result, ``--time`` for a dynamic one; the kinds of a dynamic
+    result need one (``--kind all`` of a static result: they are left out of ``targets``)."""
+    dynamic = getattr(res, "path_axis", "lam") == "time"
+    if at_time and not dynamic:
+        raise _Failure("--time applies to a dynamic result (MODEL-dynamic.nc); this one "
+                       "is static: use --lam")
+    if lam and dynamic:
+        raise _Failure("this result is in time: give --time t (s), not --lam")
+    if kind in _DYNAMIC_KINDS and not dynamic:
+        raise _Failure(f"--kind {kind} needs a dynamic result (MODEL-dynamic.nc)")
+    if kind == "all" and not dynamic:
+        for k in _DYNAMIC_KINDS:
+            targets.pop(k, None)
+
+
+def _draw_figures(res: StaticResult, result_file: Path, kind: str, kinds: Sequence[str],
+                  targets: dict[str, Path], opts: dict[str, Any],
+                  model: Path | None) -> tuple[list[str], list[str], Path | None]:
+    """Draw every figure of ``targets``, the model file attached first when a kind needs
+    fields the result file does not store (``--kind all``: such kinds are skipped when there
+    is no model); the files written, the kinds skipped and the model file used."""
+    state, reaction = opts["state"], opts["reaction"]
+    used_model = None
+    if any(_plot_missing_fields(res, k, state, reaction) for k in kinds):
+        used_model = _attach_model(res, result_file, model)
+    written: list[str] = []
+    skipped: list[str] = []
+    for k, path in targets.items():
+        if kind == "all" and _plot_missing_fields(res, k, state, reaction):
+            skipped.append(k)
+            continue
+        _draw_figure(res, k, path, opts)
+        written.append(str(path))
+    return written, skipped, used_model
+
+
+def _print_written(written: Sequence[str], skipped: Sequence[str],
+                   used_model: Path | None) -> None:
+    """What ``plot`` did: the model file used, the kinds skipped, the files written."""
+    console = Console(highlight=False, soft_wrap=True)
     if used_model is not None:
         console.print(Text(f"fields not stored in the result file recomputed from {used_model}"))
     if skipped:
