@@ -46,10 +46,18 @@ def _safety_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
          f"{_info_fmt(sf['lam_sliding'])}, {_info_fmt(sf['lam_overturning'])}"),
     ):
         tab.add_row(label, value)
-    tables = [tab]
+    return [tab, *_design_tables(sf, opts)]
+
+
+def _design_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
+    """The tables of one joint at the design state (``--design``): the engineers' factors
+    and the load margins, and the notes on them; none without a design state."""
     d = sf.get("design_state")
     if not d:
-        return tables
+        return []
+    level = bool(sf.get("parameter_is_level"))
+    unit = " m" if level else ""
+    tables = []
     what = (f"the design level h = {d['design']:.6g} m" if level
             else f"the design λ_d = {d['design']:.6g}")
     where = (f"state {d['state']}" if d.get("state") is not None else

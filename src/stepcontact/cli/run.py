@@ -209,15 +209,22 @@ def _analyse(
                                               result_path=result_path, plot_path=plot_path,
                                               console=console, as_json=as_json,
                                               attrs=writer.attrs, table=not quiet)
-    not_run = [asdict(item) for item in out.not_run]
-    if not_run:  # asked for, not run: said on stderr, in the summary, and by the exit code
-        err = Console(stderr=True, soft_wrap=True, highlight=False)
-        for item in not_run:
-            err.print(Text(f"{item['interval']} not run: {item['reason']}", style="red"))
-        summary["dynamics_not_run"] = not_run
-        if model.dynamics is not None and "dynamics" not in summary:
-            summary["dynamics"] = {"status": "not_run", "reason": not_run[-1]["reason"]}
+    _report_not_run(model, out.not_run, summary)
     return summary
+
+
+def _report_not_run(model: Model, items: Sequence[Any], summary: dict[str, Any]) -> None:
+    """Dynamic intervals asked for and not run (the program did not complete): said on
+    stderr, in the summary (``dynamics_not_run``), and by the exit code."""
+    not_run = [asdict(item) for item in items]
+    if not not_run:
+        return
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    for item in not_run:
+        err.print(Text(f"{item['interval']} not run: {item['reason']}", style="red"))
+    summary["dynamics_not_run"] = not_run
+    if model.dynamics is not None and "dynamics" not in summary:
+        summary["dynamics"] = {"status": "not_run", "reason": not_run[-1]["reason"]}
 
 
 def _static_report(model: Model, res: StaticResult, *, result_path: Path,
@@ -383,19 +390,11 @@ def run(
             with output_lock(result_path):
                 model = _load(model_file)
                 summary = _analyse(
-                    model,
-                    result_path=result_path,
+                    model, result_path=result_path,
                     plot_path=None if no_plot else (plot or result_path.with_suffix(".png")),
-                    lams=lam,
-                    slip=slip,
-                    eps_p=eps_p,
-                    max_events=max_events,
-                    quiet=quiet,
-                    as_json=as_json,
-                    console=console,
-                    precision=precision.value,
-                    writer=writer,
-                )
+                    lams=lam, slip=slip, eps_p=eps_p, max_events=max_events, quiet=quiet,
+                    as_json=as_json, console=console, precision=precision.value,
+                    writer=writer)
     except Terminated as e:
         raise _interrupted(e, writer, as_json) from None
     except _Failure as e:

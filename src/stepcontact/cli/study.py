@@ -117,32 +117,16 @@ def sweep(
 
         stepcontact sweep friction.toml --serial --rerun --json
     """
-    from stepcontact.io.atomic import OutputLockedError, output_lock
-    from stepcontact.io.interrupt import Terminated, signals_interrupt
-    from stepcontact.study.studyfile import load_study, run_study
-    from stepcontact.study.sweep import StudyError
+    from stepcontact.io.interrupt import Terminated
 
     console = Console(highlight=False, soft_wrap=True)
     study = None
     try:
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
-        err = Console(stderr=True, soft_wrap=True, highlight=False)
-        announce = None if quiet or as_json else (lambda text: err.print(Text(text)))
-        try:
-            study = load_study(study_file, force=force, announce=announce)
-        except StudyError as e:
-            raise _Failure(_error_text(e)) from None
-        executor = "serial" if serial else scheduler if scheduler is not None else "process"
-        try:
-            with signals_interrupt(), output_lock(study.store / "sweep.nc", "sweep store"):
-                ds = run_study(study, executor=executor, workers=workers,
-                               progress=not quiet and not as_json, rerun=rerun)
-        except OutputLockedError as e:
-            raise _Failure(_error_text(e)) from None
-        except (StudyError, OSError, TimeoutError) as e:
-            where = f"--scheduler {scheduler}: " if scheduler is not None else ""
-            raise _Failure(where + _error_text(e)) from None
+        study = _load_study(study_file, force=force, announce=not quiet and not as_json)
+        ds = _run_sweep(study, serial=serial, scheduler=scheduler, workers=workers,
+                        progress=not quiet and not as_json, rerun=rerun)
     except Terminated as e:
         raise _sweep_interrupted(e, study, as_json) from None
     except _Failure as e:
@@ -155,38 +139,90 @@ def sweep(
                       and st not in (Status.COMPLETED.value, Status.EQUILIBRIUM_LOST.value)]
     path = study.store / "sweep.nc"
     if as_json:
-        keys = json.loads(ds.attrs["params"])
-        rows = []
-        for i in range(ds.sizes["case"]):
-            row = {"id": str(ds["case"].values[i]),
-                   "params": {k: _jsonable(ds[k].values[i]) for k in keys},
-                   "case_status": str(ds["case_status"].values[i]),
-                   "case_message": str(ds["case_message"].values[i])}
-            row |= {o: _jsonable(ds[o].values[i]) for o in outputs
-                    if o in ds and ds[o].ndim == 1}
-            rows.append(row)
         typer.echo(json.dumps({"status": "failed" if failed else "ok", "study": study.name,
                                "store": str(study.store), "dataset": str(path),
-                               "failed": len(failed), "cases": rows}, indent=2,
-                              ensure_ascii=False))
+                               "failed": len(failed), "cases": _sweep_rows(ds, outputs)},
+                              indent=2, ensure_ascii=False))
     elif not quiet:
-        from rich.measure import Measurement
-
-        table = sweep_table(ds, outputs, f"sweep '{study.name}': {ds.sizes['case']} cases, "
-                            f"{len(failed)} failed")
-        wide = Console(width=1000)
-        need = Measurement.get(wide, wide.options, table).maximum
-        if need > console.width:  # a wide table is not squeezed into the terminal
-            console = Console(highlight=False, soft_wrap=True, width=need)
-        console.print(table)
-    err = Console(stderr=True, soft_wrap=True, highlight=False)
-    for i in failed:
-        err.print(Text(f"failed: {ds['case'].values[i]}: {ds['case_message'].values[i]}",
-                       style="red"))
+        console = _print_wide(sweep_table(ds, outputs, f"sweep '{study.name}': "
+                                          f"{ds.sizes['case']} cases, {len(failed)} failed"),
+                              console)
+    _print_failed(ds, failed)
     if not as_json:
         console.print(Text(f"written: {path}", style="green"))
     if failed or unresolved:
         raise typer.Exit(EXIT_UNRESOLVED)
+
+
+def _load_study(study_file: Path, *, force: bool, announce: bool) -> Any:
+    """The study of a study file (:func:`stepcontact.study.studyfile.load_study`); its notes
+    on stderr when ``announce``."""
+    from stepcontact.study.studyfile import load_study
+    from stepcontact.study.sweep import StudyError
+
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    try:
+        return load_study(study_file, force=force,
+                          announce=(lambda text: err.print(Text(text))) if announce else None)
+    except StudyError as e:
+        raise _Failure(_error_text(e)) from None
+
+
+def _run_sweep(study: Any, *, serial: bool, scheduler: str | None, workers: int | None,
+               progress: bool, rerun: bool) -> Any:
+    """Run the cases of a study (serially, on a local pool or on the cluster of
+    ``scheduler``), its store locked and SIGTERM/Ctrl-C an orderly interrupt; the dataset."""
+    from stepcontact.io.atomic import OutputLockedError, output_lock
+    from stepcontact.io.interrupt import signals_interrupt
+    from stepcontact.study.studyfile import run_study
+    from stepcontact.study.sweep import StudyError
+
+    executor = "serial" if serial else scheduler if scheduler is not None else "process"
+    try:
+        with signals_interrupt(), output_lock(study.store / "sweep.nc", "sweep store"):
+            return run_study(study, executor=executor, workers=workers, progress=progress,
+                             rerun=rerun)
+    except OutputLockedError as e:
+        raise _Failure(_error_text(e)) from None
+    except (StudyError, OSError, TimeoutError) as e:
+        where = f"--scheduler {scheduler}: " if scheduler is not None else ""
+        raise _Failure(where + _error_text(e)) from None
+
+
+def _sweep_rows(ds: Any, outputs: Sequence[str]) -> list[dict[str, Any]]:
+    """The cases of a collected sweep as ``sweep --json`` lists them."""
+    keys = json.loads(ds.attrs["params"])
+    rows = []
+    for i in range(ds.sizes["case"]):
+        row = {"id": str(ds["case"].values[i]),
+               "params": {k: _jsonable(ds[k].values[i]) for k in keys},
+               "case_status": str(ds["case_status"].values[i]),
+               "case_message": str(ds["case_message"].values[i])}
+        row |= {o: _jsonable(ds[o].values[i]) for o in outputs
+                if o in ds and ds[o].ndim == 1}
+        rows.append(row)
+    return rows
+
+
+def _print_wide(table: Table, console: Console) -> Console:
+    """Print a table on ``console``, or on one as wide as the table when the terminal is
+    narrower (a wide table is not squeezed); the console printed on."""
+    from rich.measure import Measurement
+
+    wide = Console(width=1000)
+    need = Measurement.get(wide, wide.options, table).maximum
+    if need > console.width:  # a wide table is not squeezed into the terminal
+        console = Console(highlight=False, soft_wrap=True, width=need)
+    console.print(table)
+    return console
+
+
+def _print_failed(ds: Any, failed: Sequence[int]) -> None:
+    """One red line ``failed: CASE: message`` on stderr per failed case."""
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    for i in failed:
+        err.print(Text(f"failed: {ds['case'].values[i]}: {ds['case_message'].values[i]}",
+                       style="red"))
 
 
 def _sweep_interrupted(e: Any, study: Any, as_json: bool) -> typer.Exit:
@@ -285,9 +321,8 @@ def study(
 
         stepcontact study slab --scheduler tcp://10.0.0.5:8786
     """
-    import dataclasses
-
     from stepcontact.study import basin
+    from stepcontact.study.report import write_report
 
     console = Console(highlight=False, soft_wrap=True)
     try:
@@ -295,22 +330,9 @@ def study(
             raise _Failure(f"unknown study '{name}' (known: {', '.join(STUDIES)})")
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
-        changes = {k: v for k, v in (("E0", E0), ("h_kr", h_kr), ("amplitude", amplitude),
-                                     ("friction", friction), ("gap_pressure", gap_pressure))
-                   if v is not None}
-        if friction is not None:
-            from stepcontact.model.plausible import message
-
-            _warn([w for w in (message("friction", friction, "--friction"),) if w])
-        if positions:
-            changes["positions"] = tuple(positions)
-        if durations:
-            changes["durations"] = tuple(durations)
-        try:
-            st = (basin.quick(**changes) if quick
-                  else dataclasses.replace(basin.BasinStudy(), **changes))
-        except StepContactError as e:
-            raise _Failure(_error_text(e)) from None
+        st = _basin_study(quick, {"E0": E0, "h_kr": h_kr, "amplitude": amplitude,
+                                  "friction": friction, "gap_pressure": gap_pressure},
+                          positions, durations)
         executor = "serial" if serial else scheduler if scheduler is not None else "process"
         try:
             ds = basin.run_basin(st, output, executor=executor, workers=workers,
@@ -319,37 +341,74 @@ def study(
             raise _Failure(_error_text(e)) from None
     except _Failure as e:
         raise _fail(str(e), False) from None
-    from stepcontact.study.report import all_failed, failure_reasons, write_report
-
     files = write_report(ds, st, output / "report")
     failed = [i for i, cs in enumerate(ds["case_status"].values) if cs != "ok"]
-    if all_failed(ds):
-        for f in files.values():
-            console.print(Text(f"written: {f}", style="green"))
-        reasons = failure_reasons(ds)
-        msg, k, cid = reasons[0]
-        more = f" ({len(reasons) - 1} other reason(s) in the report)" if len(reasons) > 1 else ""
-        raise _fail(f"all {ds.sizes['case']} cases of the {name} study failed; {k} of them "
-                    f"(e.g. {cid}): {msg}{more}", False)
+    _check_not_all_failed(ds, files, name, console)
     if not quiet:
-        console.print(sweep_table(ds, ["h_limit", "h_ratio", "mode", "when", "runs"],
-                                  f"slab study: {ds.sizes['case']} cases (h in m, h_kr = "
-                                  f"{st.h_kr:g} m), {len(failed)} failed"))
-        table = Table(title="the study's limits beside the design formulas", box=box.SIMPLE_HEAD,
-                      title_justify="left")
-        for col in ("", "thickness, m", "h/h_kr", "note"):
-            table.add_column(col, justify="right" if col.startswith(("th", "h/")) else "left")
-        for label, h, note in basin.design_table(st, ds):
-            table.add_row(label, f"{h:.2f}", f"{h / st.h_kr:.2f}", note)
-        console.print(table)
-        chk = basin.MeshCheck.of(ds)
-        if chk is not None:
-            console.print(chk.summary())
-    err = Console(stderr=True, soft_wrap=True, highlight=False)
-    for i in failed:
-        err.print(Text(f"failed: {ds['case'].values[i]}: {ds['case_message'].values[i]}",
-                       style="red"))
+        _print_study(ds, st, failed, console)
+    _print_failed(ds, failed)
     for f in files.values():
         console.print(Text(f"written: {f}", style="green"))
     if failed:
         raise typer.Exit(EXIT_UNRESOLVED)
+
+
+def _basin_study(quick: bool, values: dict[str, Any], positions: Sequence[float] | None,
+                 durations: Sequence[float] | None) -> Any:
+    """The slab study of the options given (``values``: E0, h_kr, amplitude, friction,
+    gap_pressure, None where not given; ``--quick``: its coarse version); an implausible
+    friction coefficient is a warning."""
+    import dataclasses
+
+    from stepcontact.study import basin
+
+    changes = {k: v for k, v in values.items() if v is not None}
+    if values["friction"] is not None:
+        from stepcontact.model.plausible import message
+
+        _warn([w for w in (message("friction", values["friction"], "--friction"),) if w])
+    if positions:
+        changes["positions"] = tuple(positions)
+    if durations:
+        changes["durations"] = tuple(durations)
+    try:
+        return (basin.quick(**changes) if quick
+                else dataclasses.replace(basin.BasinStudy(), **changes))
+    except StepContactError as e:
+        raise _Failure(_error_text(e)) from None
+
+
+def _check_not_all_failed(ds: Any, files: dict[str, Any], name: str, console: Console) -> None:
+    """When every case of the study failed: the report's files, then the exit with the first
+    reason (code 2)."""
+    from stepcontact.study.report import all_failed, failure_reasons
+
+    if not all_failed(ds):
+        return
+    for f in files.values():
+        console.print(Text(f"written: {f}", style="green"))
+    reasons = failure_reasons(ds)
+    msg, k, cid = reasons[0]
+    more = f" ({len(reasons) - 1} other reason(s) in the report)" if len(reasons) > 1 else ""
+    raise _fail(f"all {ds.sizes['case']} cases of the {name} study failed; {k} of them "
+                f"(e.g. {cid}): {msg}{more}", False)
+
+
+def _print_study(ds: Any, st: Any, failed: Sequence[int], console: Console) -> None:
+    """The tables of the slab study: its cases, its limits beside the design formulas, and
+    its mesh check."""
+    from stepcontact.study import basin
+
+    console.print(sweep_table(ds, ["h_limit", "h_ratio", "mode", "when", "runs"],
+                              f"slab study: {ds.sizes['case']} cases (h in m, h_kr = "
+                              f"{st.h_kr:g} m), {len(failed)} failed"))
+    table = Table(title="the study's limits beside the design formulas", box=box.SIMPLE_HEAD,
+                  title_justify="left")
+    for col in ("", "thickness, m", "h/h_kr", "note"):
+        table.add_column(col, justify="right" if col.startswith(("th", "h/")) else "left")
+    for label, h, note in basin.design_table(st, ds):
+        table.add_row(label, f"{h:.2f}", f"{h / st.h_kr:.2f}", note)
+    console.print(table)
+    chk = basin.MeshCheck.of(ds)
+    if chk is not None:
+        console.print(chk.summary())
