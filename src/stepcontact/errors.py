@@ -39,3 +39,14 @@ class ContactMeshWarning(UserWarning):
     """The meshes of an interface give a correct but less accurate contact pressure than they
     could; the message says what to change.  (Mortar CFEs no longer warn about the finer side:
     they sit on the coarser side whichever one is S+.)"""
+
+
+def error_text(exc: BaseException) -> str:
+    """A one-line description of an input error (a missing file names the file)."""
+    if isinstance(exc, FileNotFoundError):
+        text = f"file not found: {exc.filename}" if exc.filename else str(exc)
+    elif isinstance(exc, OSError) and exc.filename:
+        text = f"{exc.strerror or exc}: {exc.filename}"
+    else:
+        text = str(exc)
+    return " ".join(text.split())

@@ -1,0 +1,414 @@
+"""``stepcontact sweep`` (a parameter sweep of a model file) and ``stepcontact study`` (a
+ready-made study): run the cases on a process pool or a dask cluster, print their table."""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from rich import box
+from rich.console import Console
+from rich.text import Text
+
+from stepcontact.cli.common import (
+    EXIT_UNRESOLVED,
+    JsonOption,
+    Table,
+    _error_text,
+    _fail,
+    _Failure,
+    _warn,
+)
+from stepcontact.enums import Status
+from stepcontact.errors import StepContactError
+from stepcontact.results.summary import jsonable as _jsonable
+
+
+def _sweep_cell(v: Any) -> str:
+    """A value of the sweep table (a Python scalar): floats to 6 digits, NaN as —."""
+    if isinstance(v, float):
+        return f"{v:.6g}" if math.isfinite(v) else "—"
+    return str(v)
+
+
+def sweep_table(ds: Any, outputs: Sequence[str], title: str) -> Table:
+    """The cases of a collected sweep (:func:`stepcontact.study.sweep.collect`) as a rich
+    table: the case (its index when the id is made of its parameters), parameters, case
+    status and the outputs (NaN and missing values as —)."""
+    from stepcontact.study.sweep import _short_keys, case_id
+
+    keys = json.loads(ds.attrs.get("params", "[]"))
+    short = _short_keys(keys)
+    table = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, show_edge=False,
+                  pad_edge=False)
+    table.add_column("case", no_wrap=True)
+    for k in keys:
+        table.add_column(short[k], justify="right", no_wrap=True)
+    table.add_column("case status", no_wrap=True)
+    shown = [o for o in outputs if o in ds and o != "message" and ds[o].ndim == 1]
+    for o in shown:
+        table.add_column(o, justify="left" if ds[o].dtype.kind == "U" else "right",
+                         no_wrap=True)
+    for i in range(ds.sizes["case"]):
+        cs = str(ds["case_status"].values[i])
+        style = {"ok": "", "failed": "red"}.get(cs, "yellow")
+        table.add_row(str(i) if str(ds["case"].values[i]) == case_id(
+                          {k: ds[k].values[i].item() for k in keys}, short)
+                      else str(ds["case"].values[i]),
+                      *(_sweep_cell(ds[k].values[i].item()) for k in keys),
+                      Text(cs, style=style),
+                      *(_sweep_cell(ds[o].values[i].item()) if cs == "ok" else "—"
+                        for o in shown))
+    return table
+
+
+def sweep(
+    study_file: Annotated[
+        Path, typer.Argument(metavar="STUDY.toml", help="Study file: [study] (base model "
+                             "file, store directory, outputs) and [grid] or [[cases]].")
+    ],
+    scheduler: Annotated[
+        str | None,
+        typer.Option("--scheduler", metavar="ADDRESS", help="Run on a dask.distributed "
+                     "cluster: the scheduler's address, e.g. tcp://10.0.0.5:8786. Default: a "
+                     "local process pool."),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", "-w", min=1, help="Processes of the local pool (default: "
+                     "the CPU cores available)."),
+    ] = None,
+    serial: Annotated[
+        bool, typer.Option("--serial", help="Run the cases one after another in this process "
+                           "(debugging).")
+    ] = False,
+    rerun: Annotated[
+        bool, typer.Option("--rerun", help="Run every case again, also those already done.")
+    ] = False,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No progress bar and no table.")
+    ] = False,
+    as_json: JsonOption = False,
+    force: Annotated[
+        bool, typer.Option("--force", help="Run a sweep of more than 10 000 cases (refused "
+                           "without it).")
+    ] = False,
+) -> None:
+    """Run a parameter sweep of a model file: every case of a grid (or list) of parameter
+    values, on a local process pool or a dask cluster. See docs/sweeps.md.
+
+    Each finished case is stored at once (STORE/cases/<id>.nc, its result file in
+    STORE/results/); a rerun skips the cases already done with the same parameters, and
+    retries failed ones. At the end, prints a table of the cases and writes STORE/sweep.nc
+    (the outputs along the dimension 'case'). Exit code 3 when a case failed or stopped
+    without a physical answer.
+
+    Examples:
+
+        stepcontact sweep friction.toml
+
+        stepcontact sweep friction.toml --workers 4 --quiet
+
+        stepcontact sweep friction.toml --scheduler tcp://10.0.0.5:8786
+
+        stepcontact sweep friction.toml --serial --rerun --json
+    """
+    from stepcontact.io.interrupt import Terminated
+
+    console = Console(highlight=False, soft_wrap=True)
+    study = None
+    try:
+        if serial and scheduler is not None:
+            raise _Failure("give either --serial or --scheduler, not both")
+        study = _load_study(study_file, force=force, announce=not quiet and not as_json)
+        ds = _run_sweep(study, serial=serial, scheduler=scheduler, workers=workers,
+                        progress=not quiet and not as_json, rerun=rerun)
+    except Terminated as e:
+        raise _sweep_interrupted(e, study, as_json) from None
+    except _Failure as e:
+        raise _fail(str(e), as_json) from None
+    outputs = list(study.func.outputs)
+    failed = [i for i, cs in enumerate(ds["case_status"].values) if cs != "ok"]
+    unresolved = []
+    if "status" in ds:
+        unresolved = [i for i, st in enumerate(ds["status"].values) if i not in failed
+                      and st not in (Status.COMPLETED.value, Status.EQUILIBRIUM_LOST.value)]
+    path = study.store / "sweep.nc"
+    if as_json:
+        typer.echo(json.dumps({"status": "failed" if failed else "ok", "study": study.name,
+                               "store": str(study.store), "dataset": str(path),
+                               "failed": len(failed), "cases": _sweep_rows(ds, outputs)},
+                              indent=2, ensure_ascii=False))
+    elif not quiet:
+        console = _print_wide(sweep_table(ds, outputs, f"sweep '{study.name}': "
+                                          f"{ds.sizes['case']} cases, {len(failed)} failed"),
+                              console)
+    _print_failed(ds, failed)
+    if not as_json:
+        console.print(Text(f"written: {path}", style="green"))
+    if failed or unresolved:
+        raise typer.Exit(EXIT_UNRESOLVED)
+
+
+def _load_study(study_file: Path, *, force: bool, announce: bool) -> Any:
+    """The study of a study file (:func:`stepcontact.study.studyfile.load_study`); its notes
+    on stderr when ``announce``."""
+    from stepcontact.study.studyfile import load_study
+    from stepcontact.study.sweep import StudyError
+
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    try:
+        return load_study(study_file, force=force,
+                          announce=(lambda text: err.print(Text(text))) if announce else None)
+    except StudyError as e:
+        raise _Failure(_error_text(e)) from None
+
+
+def _run_sweep(study: Any, *, serial: bool, scheduler: str | None, workers: int | None,
+               progress: bool, rerun: bool) -> Any:
+    """Run the cases of a study (serially, on a local pool or on the cluster of
+    ``scheduler``), its store locked and SIGTERM/Ctrl-C an orderly interrupt; the dataset."""
+    from stepcontact.io.atomic import OutputLockedError, output_lock
+    from stepcontact.io.interrupt import signals_interrupt
+    from stepcontact.study.studyfile import run_study
+    from stepcontact.study.sweep import StudyError
+
+    executor = "serial" if serial else scheduler if scheduler is not None else "process"
+    try:
+        with signals_interrupt(), output_lock(study.store / "sweep.nc", "sweep store"):
+            return run_study(study, executor=executor, workers=workers, progress=progress,
+                             rerun=rerun)
+    except OutputLockedError as e:
+        raise _Failure(_error_text(e)) from None
+    except (StudyError, OSError, TimeoutError) as e:
+        where = f"--scheduler {scheduler}: " if scheduler is not None else ""
+        raise _Failure(where + _error_text(e)) from None
+
+
+def _sweep_rows(ds: Any, outputs: Sequence[str]) -> list[dict[str, Any]]:
+    """The cases of a collected sweep as ``sweep --json`` lists them."""
+    keys = json.loads(ds.attrs["params"])
+    rows = []
+    for i in range(ds.sizes["case"]):
+        row = {"id": str(ds["case"].values[i]),
+               "params": {k: _jsonable(ds[k].values[i]) for k in keys},
+               "case_status": str(ds["case_status"].values[i]),
+               "case_message": str(ds["case_message"].values[i])}
+        row |= {o: _jsonable(ds[o].values[i]) for o in outputs
+                if o in ds and ds[o].ndim == 1}
+        rows.append(row)
+    return rows
+
+
+def _print_wide(table: Table, console: Console) -> Console:
+    """Print a table on ``console``, or on one as wide as the table when the terminal is
+    narrower (a wide table is not squeezed); the console printed on."""
+    from rich.measure import Measurement
+
+    wide = Console(width=1000)
+    need = Measurement.get(wide, wide.options, table).maximum
+    if need > console.width:  # a wide table is not squeezed into the terminal
+        console = Console(highlight=False, soft_wrap=True, width=need)
+    console.print(table)
+    return console
+
+
+def _print_failed(ds: Any, failed: Sequence[int]) -> None:
+    """One red line ``failed: CASE: message`` on stderr per failed case."""
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    for i in failed:
+        err.print(Text(f"failed: {ds['case'].values[i]}: {ds['case_message'].values[i]}",
+                       style="red"))
+
+
+def _sweep_interrupted(e: Any, study: Any, as_json: bool) -> typer.Exit:
+    """A sweep ended by SIGTERM or SIGINT (its workers are ended with it): say how many cases
+    are stored; the exit to raise (128 + the signal's number)."""
+    from stepcontact.study.sweep import is_done
+
+    done = sum(is_done(study.store, c, study.func.sweep_key) for c in study.cases)
+    text = (f"interrupted by {e.name}: {done} of {len(study.cases)} cases are stored in "
+            f"'{study.store}'; run the sweep again to run the others")
+    Console(stderr=True, soft_wrap=True, highlight=False).print(
+        Text(f"error: {text}", style="red"))
+    if as_json:
+        typer.echo(json.dumps({"status": "interrupted", "signal": e.name, "message": text}))
+    return typer.Exit(e.exit_code)
+
+
+STUDIES = ("slab",)
+
+
+def study(
+    name: Annotated[str, typer.Argument(metavar="STUDY", help="The study: slab (the "
+                                        "stilling-basin slab of the article, Figs. 4–5).")],
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="Directory of the study: the cases, their "
+                           "result files, the dataset, the figures and the report.")
+    ] = Path("slab-study"),
+    quick: Annotated[
+        bool, typer.Option("--quick", help="A coarse version (7 cases: three positions, one "
+                           "duration, a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on "
+                           "40 × 4): about 30 s on two idle cores (the full study, 29 cases "
+                           "and its mesh check: about 7 min with --workers 2).")
+    ] = False,
+    E0: Annotated[
+        float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
+                                   "(default 25).")
+    ] = None,
+    h_kr: Annotated[
+        float | None, typer.Option("--h-kr", min=0.0, help="Critical depth of the design "
+                                   "unit discharge, m (default 3.48).")
+    ] = None,
+    amplitude: Annotated[
+        float | None, typer.Option("--amplitude", min=0.0, help="Impulse amplitude as a "
+                                   "fraction of the velocity head ρV1²/2 (default 0.4).")
+    ] = None,
+    positions: Annotated[
+        list[float] | None, typer.Option("--position", help="Impulse position x/L_p "
+                                         "(repeatable; default 0.05 … 0.95).")
+    ] = None,
+    durations: Annotated[
+        list[float] | None, typer.Option("--duration", help="Impulse duration, s "
+                                         "(repeatable; default 0.1 and 1).")
+    ] = None,
+    friction: Annotated[
+        float | None, typer.Option("--friction", min=0.0, help="Friction coefficient of "
+                                   "the slab's base (default 0.6).")
+    ] = None,
+    gap_pressure: Annotated[
+        str | None, typer.Option("--gap-pressure", metavar="uplift|joint", help="Pressure in "
+                                 "the opened joint: 'uplift' (default), or 'joint': the "
+                                 "pressure at the upstream joint, mean and impulse, in the gap "
+                                 "opened from there (Fiorotto & Rinaldo's mechanism).")
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option("--scheduler", metavar="ADDRESS", help="Run the cases on a "
+                     "dask.distributed cluster (its scheduler's address)."),
+    ] = None,
+    workers: Annotated[
+        int | None, typer.Option("--workers", "-w", min=1, help="Processes of the local pool "
+                                 "(default: the CPU cores available).")
+    ] = None,
+    serial: Annotated[
+        bool, typer.Option("--serial", help="Run the cases one after another in this process.")
+    ] = False,
+    rerun: Annotated[
+        bool, typer.Option("--rerun", help="Run every case again, also those already done.")
+    ] = False,
+    quiet: Annotated[
+        bool, typer.Option("--quiet", "-q", help="No progress bar and no tables.")
+    ] = False,
+) -> None:
+    """Run a ready-made study and write its figures and report. See docs/slab-study.md.
+
+    slab: the limit thickness of a stilling-basin slab (apron) on its soil foundation against
+    the position of a pressure impulse (the article's Fig. 5), beside the static-only limit,
+    with the contact stresses just before lift-off (Fig. 4), a table of all cases and the
+    design formulas for the same inputs; every case is one case of a sweep (resumable: a
+    rerun skips the finished cases).
+
+    Examples:
+
+        stepcontact study slab --quick -o slab-quick
+
+        stepcontact study slab --E0 30 --amplitude 0.3 --workers 4
+
+        stepcontact study slab --scheduler tcp://10.0.0.5:8786
+    """
+    from stepcontact.study import basin
+    from stepcontact.study.report import write_report
+
+    console = Console(highlight=False, soft_wrap=True)
+    try:
+        if name not in STUDIES:
+            raise _Failure(f"unknown study '{name}' (known: {', '.join(STUDIES)})")
+        if serial and scheduler is not None:
+            raise _Failure("give either --serial or --scheduler, not both")
+        st = _basin_study(quick, {"E0": E0, "h_kr": h_kr, "amplitude": amplitude,
+                                  "friction": friction, "gap_pressure": gap_pressure},
+                          positions, durations)
+        executor = "serial" if serial else scheduler if scheduler is not None else "process"
+        try:
+            ds = basin.run_basin(st, output, executor=executor, workers=workers,
+                                 progress=not quiet, rerun=rerun)
+        except (StepContactError, OSError, TimeoutError) as e:
+            raise _Failure(_error_text(e)) from None
+    except _Failure as e:
+        raise _fail(str(e), False) from None
+    files = write_report(ds, st, output / "report")
+    failed = [i for i, cs in enumerate(ds["case_status"].values) if cs != "ok"]
+    _check_not_all_failed(ds, files, name, console)
+    if not quiet:
+        _print_study(ds, st, failed, console)
+    _print_failed(ds, failed)
+    for f in files.values():
+        console.print(Text(f"written: {f}", style="green"))
+    if failed:
+        raise typer.Exit(EXIT_UNRESOLVED)
+
+
+def _basin_study(quick: bool, values: dict[str, Any], positions: Sequence[float] | None,
+                 durations: Sequence[float] | None) -> Any:
+    """The slab study of the options given (``values``: E0, h_kr, amplitude, friction,
+    gap_pressure, None where not given; ``--quick``: its coarse version); an implausible
+    friction coefficient is a warning."""
+    import dataclasses
+
+    from stepcontact.study import basin
+
+    changes = {k: v for k, v in values.items() if v is not None}
+    if values["friction"] is not None:
+        from stepcontact.model.plausible import message
+
+        _warn([w for w in (message("friction", values["friction"], "--friction"),) if w])
+    if positions:
+        changes["positions"] = tuple(positions)
+    if durations:
+        changes["durations"] = tuple(durations)
+    try:
+        return (basin.quick(**changes) if quick
+                else dataclasses.replace(basin.BasinStudy(), **changes))
+    except StepContactError as e:
+        raise _Failure(_error_text(e)) from None
+
+
+def _check_not_all_failed(ds: Any, files: dict[str, Any], name: str, console: Console) -> None:
+    """When every case of the study failed: the report's files, then the exit with the first
+    reason (code 2)."""
+    from stepcontact.study.report import all_failed, failure_reasons
+
+    if not all_failed(ds):
+        return
+    for f in files.values():
+        console.print(Text(f"written: {f}", style="green"))
+    reasons = failure_reasons(ds)
+    msg, k, cid = reasons[0]
+    more = f" ({len(reasons) - 1} other reason(s) in the report)" if len(reasons) > 1 else ""
+    raise _fail(f"all {ds.sizes['case']} cases of the {name} study failed; {k} of them "
+                f"(e.g. {cid}): {msg}{more}", False)
+
+
+def _print_study(ds: Any, st: Any, failed: Sequence[int], console: Console) -> None:
+    """The tables of the slab study: its cases, its limits beside the design formulas, and
+    its mesh check."""
+    from stepcontact.study import basin
+
+    console.print(sweep_table(ds, ["h_limit", "h_ratio", "mode", "when", "runs"],
+                              f"slab study: {ds.sizes['case']} cases (h in m, h_kr = "
+                              f"{st.h_kr:g} m), {len(failed)} failed"))
+    table = Table(title="the study's limits beside the design formulas", box=box.SIMPLE_HEAD,
+                  title_justify="left")
+    for col in ("", "thickness, m", "h/h_kr", "note"):
+        table.add_column(col, justify="right" if col.startswith(("th", "h/")) else "left")
+    for label, h, note in basin.design_table(st, ds):
+        table.add_row(label, f"{h:.2f}", f"{h / st.h_kr:.2f}", note)
+    console.print(table)
+    chk = basin.MeshCheck.of(ds)
+    if chk is not None:
+        console.print(chk.summary())
