@@ -124,12 +124,16 @@ class StaticSolver:
         self.cond = Condensed.from_system(system, backend, condensation, precision)
         self.t_setup = time.perf_counter() - t0
         cfe = self.cfe
+        #: the layout of the contact unknowns s = [Q; p], w = [u_τ; u_n] (the same at every
+        #: stage: the stage systems share the CFEs)
+        self.layout = system.layout
         self.law = self._make_law(system, warn=True)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         self.engine = EventEngine(self.schemes, [self.law], system.w0, rtol=rtol,
-                                  article=self.article, eps_p=eps_p, rate_solver=rate_solver)
+                                  article=self.article, eps_p=eps_p, rate_solver=rate_solver,
+                                  layout=self.layout)
         self.c = {name: 0.0 for name in system.loads}
-        self.rec = Recorder(cfe.m, len(self.c), len(system.reaction_labels))
+        self.rec = Recorder(self.layout, len(self.c), len(system.reaction_labels))
         if self.plan is not None:
             self._segments, self._rates = self.plan.segments, self.plan.rates
         else:
@@ -148,11 +152,11 @@ class StaticSolver:
         #: water in opened joints (fem.crack) and the force W (m,) it applies now, N
         self.crack = system.crack
         self.sw = np.zeros(cfe.m)
-        #: joints with initial strength (eq. (12)): bonded CFEs start BONDED; ``ghost`` (2m,)
-        #: is what broken bonds still transmit while their release is followed (N)
+        #: joints with initial strength (eq. (12)): bonded CFEs start BONDED; ``ghost``
+        #: (n,) is what broken bonds still transmit while their release is followed (N)
         self.bonds = bool(self.law.has_bond.any())
         self.engine.states = self.law.initial_states(self.engine.states)
-        self.ghost = np.zeros(2 * cfe.m)
+        self.ghost = self.layout.zeros()
         #: the results of the dynamic intervals of stages before the last, by stage name
         self.dynamics: dict = {}
         self._releasing = False
@@ -387,28 +391,26 @@ class StaticSolver:
         return sum(rate * vectors[name] for name, rate in rates.items())
 
     # ---- water in opened joints (fem.crack) -------------------------------------------------
-    @staticmethod
-    def _s_total(s: np.ndarray, water: np.ndarray) -> np.ndarray:
+    def _s_total(self, s: np.ndarray, water: np.ndarray) -> np.ndarray:
         """The forces the structure feels across its CFEs: contact forces s = [Q; p] and the
         crack water's W, which acts as a compressive normal force p does."""
         if not np.any(water):
             return s
         out = np.array(s, dtype=float)
-        out[len(out) // 2:] += water
+        self.layout.normal(out)[:] += water
         return out
 
     def _water_forcing(self, dW: np.ndarray):
         """Forcing (ĥ, e) of crack-water forces dW (m,): ĥ = −G [0; dW] (fem.crack)."""
-        m = self.cfe.m
-        z = np.zeros(2 * m)
-        z[m:] = dW
-        return -self.cond.product(z), np.zeros(2 * m)
+        lay = self.layout
+        z = lay.zeros()
+        lay.normal(z)[:] = dW
+        return -self.cond.product(z), lay.zeros()
 
     def _water_load(self, dW: np.ndarray) -> np.ndarray:
         """Nodal load (ndof,) of crack-water forces dW (m,): −Bᵀ [0; dW]."""
-        m = self.cfe.m
-        z = np.zeros(2 * m)
-        z[m:] = dW
+        z = self.layout.zeros()
+        self.layout.normal(z)[:] = dW
         return -(self.sys.B.T @ z)
 
     def _water_jump(self, lam: float, seg: int, pattern: str, mult: dict) -> bool | None:
@@ -567,7 +569,7 @@ class StaticSolver:
         try:
             while np.any(self.ghost != 0):
                 g0 = self.ghost.copy()
-                forcing = (self.cond.product(g0), np.zeros(2 * m))
+                forcing = (self.cond.product(g0), self.layout.zeros())
                 self._f = self.sys.B.T @ g0
                 eng.F_scale = max(eng.F_scale, float(np.abs(g0).max()))
                 tau = 0.0
@@ -605,7 +607,7 @@ class StaticSolver:
                     tau += dtau
                     self.ghost = g0 * (1.0 - tau)
                     if tau >= 1.0 - 1e-15 and not fired.any():
-                        self.ghost = np.zeros(2 * m)
+                        self.ghost = self.layout.zeros()
                         break
             return True
         finally:
