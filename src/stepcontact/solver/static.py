@@ -531,9 +531,9 @@ class StaticSolver:
         A closed Coulomb CFE in ``brk`` (one that reached p = 0 with its residual cohesion,
         :meth:`CoulombLaw.losing_cohesion`) opens the same way: its cohesion is lost and the
         shear it carried released."""
-        eng, law, m = self.engine, self.law, self.cfe.m
+        eng, law, lay = self.engine, self.law, self.layout
         tf, _ = eng.tolerances()
-        Q, p = eng.s[:m], eng.s[m:]
+        Q, p = lay.split(eng.s)
         old = eng.states.copy()
         new = old.copy()
         new[brk] = law.broken_state(Q, p, tf)[brk]
@@ -547,10 +547,10 @@ class StaticSolver:
         dQ, dp = law.released(new, Q, p)
         dQ, dp = np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)
         self._lose_cohesion(brk & (new == OPEN))
-        self.ghost[:m] += dQ
-        self.ghost[m:] += dp
-        eng.s[:m] -= dQ
-        eng.s[m:] -= dp
+        lay.tangential(self.ghost)[:] += dQ
+        lay.normal(self.ghost)[:] += dp
+        lay.tangential(eng.s)[:] -= dQ
+        lay.normal(eng.s)[:] -= dp
         eng.states = new
 
     def _release(self, lam: float, seg: int, pattern: str, mult: dict,
@@ -575,7 +575,8 @@ class StaticSolver:
                 tau = 0.0
                 while True:
                     tf, _ = eng.tolerances()
-                    coh = fired & law.losing_cohesion(eng.states, eng.s[m:], tf)
+                    coh = fired & law.losing_cohesion(eng.states, self.layout.normal(eng.s),
+                                                      tf)
                     if coh.any():  # residual cohesion lost where p reached 0: released too
                         self._breaks(coh, lam, seg, pattern, mult)
                         fired = fired & ~coh
@@ -587,8 +588,8 @@ class StaticSolver:
                     tf, _ = eng.tolerances()
                     rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
                     brk = ((fired & (eng.states == BONDED))
-                           | law.breaking(eng.states, eng.s[:m], eng.s[m:], ds[:m], ds[m:],
-                                          tf, rf))
+                           | law.breaking(eng.states, *self.layout.split(eng.s),
+                                          *self.layout.split(ds), tf, rf))
                     fired = np.zeros(m, bool)
                     if brk.any():  # a neighbour breaks here: its forces join the release
                         self._breaks(brk, lam, seg, pattern, mult)
@@ -687,9 +688,8 @@ class StaticSolver:
         self._keep_field(i, u)
 
     def _log_events(self, old, new, lam, seg, pattern, state_index, step=None):
-        m = self.cfe.m
         step = self.step if step is None else step
-        s = self.engine.s
+        Q, p = self.layout.split(self.engine.s)
         cfe = self.cfe
         for k in np.flatnonzero(old != new):
             o, n = ContactState(int(old[k])), ContactState(int(new[k]))
@@ -697,7 +697,7 @@ class StaticSolver:
                 step=step, state=state_index, segment=seg, pattern=pattern, lam=lam,
                 cfe=int(k), interface=cfe.names[cfe.interface[k]], local=int(cfe.local[k]),
                 position=float(cfe.s[k]), x=float(cfe.x[k, 0]), y=float(cfe.x[k, 1]),
-                transition=Transition.between(o, n), N=float(-s[m + k]), Q=float(s[k]),
+                transition=Transition.between(o, n), N=float(-p[k]), Q=float(Q[k]),
             ))
 
     # ---- main loop ---------------------------------------------------------------------------
@@ -878,8 +878,8 @@ class StaticSolver:
                 brk = fired & (eng.states == BONDED)
                 # closed CFEs that reach p = 0 with a residual cohesion lose it: released too
                 tf, _ = eng.tolerances()
-                brk |= (fired | first) & self.law.losing_cohesion(eng.states,
-                                                                  eng.s[self.cfe.m:], tf)
+                brk |= (fired | first) & self.law.losing_cohesion(
+                    eng.states, self.layout.normal(eng.s), tf)
                 if brk.any():
                     if not self._break(brk, lam, seg, pattern, mult, fired):
                         return False, None, None
@@ -889,11 +889,10 @@ class StaticSolver:
                                                 span, seg_start)
                 if not ok:
                     return ok, ds, dw
-                m = self.cfe.m
                 tf, _ = eng.tolerances()
                 rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
-                brk = self.law.breaking(eng.states, eng.s[:m], eng.s[m:], ds[:m], ds[m:], tf,
-                                        rf)
+                brk = self.law.breaking(eng.states, *self.layout.split(eng.s),
+                                        *self.layout.split(ds), tf, rf)
                 if not brk.any():
                     return ok, ds, dw
                 fired = brk
@@ -907,7 +906,7 @@ class StaticSolver:
         eng = self.engine
         if first:  # CFEs in contact at rest (zero gap, not held by supports)
             _, tw = eng.tolerances()
-            self._touching = (-eng.w[self.cfe.m:] <= tw) & ~self.law.inert
+            self._touching = (-self.layout.normal(eng.w) <= tw) & ~self.law.inert
         try:
             try:
                 dec = eng.decide(fired, forcing, natural=first)
@@ -934,7 +933,7 @@ class StaticSolver:
                 return False, None, None
             tf, _ = eng.tolerances()
             states = free_to_open(eng, self.cond, self.sys, states, self._f,
-                                  eng.s[self.cfe.m:], tf)
+                                  self.layout.normal(eng.s), tf)
             self.status = Status.EQUILIBRIUM_LOST
             bodies = describe_mechanism(eng, self.cond, self.sys, states, self._f)
             modes = ", ".join(f"'{b['body']}' {b['mode']}" for b in bodies) or "mechanism"
@@ -1020,10 +1019,9 @@ class StaticSolver:
         tipping over its last contact point: an overturning, not a failure of the rate
         problem), else None."""
         eng = self.engine
-        m = self.cfe.m
         tf, _ = eng.tolerances()
         cfes = np.asarray(cfes, dtype=np.int64)
-        at = cfes[(eng.s[m + cfes] <= tf) & (eng.states[cfes] != OPEN)]
+        at = cfes[(self.layout.normal(eng.s)[cfes] <= tf) & (eng.states[cfes] != OPEN)]
         if at.size == 0:
             return None
         trial = eng.states.copy()
