@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
 from stepcontact.errors import ContactHeldWarning, ModelError
 from stepcontact.fem.assembly import System, assemble, load_moments, load_resultants
@@ -58,6 +59,13 @@ class StepInfo:
     n_events: int
     n_open: int
     n_slip: int
+
+
+def _by_state(layout: ContactLayout, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The tangential and normal components of recorded contact unknowns X (n_states, n), as
+    views with the state axis first: (n_states, m) each in 2D (X[:, :m], X[:, m:])."""
+    t, n = layout.split(X.T)
+    return np.moveaxis(t, -1, 0), n.T
 
 
 def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
@@ -191,7 +199,7 @@ class StaticSolver:
         and the factors are kept."""
         from stepcontact.fem.assembly import LoadVectors
 
-        plan, eng, m, cfe = self.plan, self.engine, self.cfe.m, self.cfe
+        plan, eng, m, cfe, lay = self.plan, self.engine, self.cfe.m, self.cfe, self.layout
         old_k, old = self.stage, self.cond.system
         st = self._s_total(eng.s, self.sw) + self.ghost
         u = self.cond.displacement(self.c, st, eng.w)
@@ -242,8 +250,9 @@ class StaticSolver:
         if grouted.any():
             plan.grout_stage(k)
         shift_t = at_once | (new & contact) | (grouted & (eng.states == OPEN))
-        shift_n = at_once | (new & contact & (eng.w[m:] > 0)) | (grouted & (eng.states == OPEN))
-        for rows, mask in ((np.arange(m), shift_t), (m + np.arange(m), shift_n)):
+        shift_n = (at_once | (new & contact & (lay.normal(eng.w) > 0))
+                   | (grouted & (eng.states == OPEN)))
+        for rows, mask in ((lay.tangential_rows, shift_t), (lay.normal_rows, shift_n)):
             j = rows[mask]
             plan.w0[j] -= eng.w[j]
             eng.w[j] = 0.0
@@ -261,19 +270,19 @@ class StaticSolver:
         eng._relations = {}
         law = self.law
         _, tw = eng.tolerances()
-        touching = new & contact & (-eng.w[m:] <= tw)
+        touching = new & contact & (-lay.normal(eng.w) <= tw)
         states = eng.states.copy()
         states[at_once | touching] = law.closed_state()[at_once | touching]
         states[new & law.has_bond] = BONDED
         if grouted.any():
             tf, _ = eng.tolerances()
-            bad = grouted & (law.bond_values(eng.s[:m], eng.s[m:]).min(axis=1) < -tf)
+            bad = grouted & (law.bond_values(*lay.split(eng.s)).min(axis=1) < -tf)
             if bad.any():
                 j = int(np.flatnonzero(bad)[0])
                 raise ModelError(f"stage '{stage}'.grout['{cfe.names[cfe.interface[j]]}']",
                                  f"CFE {cfe.local[j]} carries forces beyond the bond's "
-                                 f"strength when it is grouted (N = {-eng.s[m + j]:g} N, "
-                                 f"Q = {eng.s[j]:g} N)")
+                                 f"strength when it is grouted (N = {-lay.normal(eng.s)[j]:g} N, "
+                                 f"Q = {lay.tangential(eng.s)[j]:g} N)")
             states[grouted & law.has_bond] = BONDED
         eng.states = states
         self.bonds = bool(law.has_bond.any())
@@ -312,8 +321,8 @@ class StaticSolver:
             return False
         j = len(dres.lam) - 1
         c = dict(zip(dres.pattern_names, (float(x) for x in dres.factors[j]), strict=True))
-        eng.s = np.concatenate([dres.Q[j], -dres.N[j]])
-        eng.w = np.concatenate([dres.ut[j], dres.un[j]])
+        eng.s = self.layout.join(dres.Q[j], -dres.N[j])
+        eng.w = self.layout.join(dres.ut[j], dres.un[j])
         eng.states = np.asarray(dres.state[j], np.int64).copy()
         eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)))
         eng.W_scale = max(eng.W_scale, float(np.abs(eng.w).max(initial=0.0)))
@@ -1081,7 +1090,7 @@ class StaticSolver:
             self._store_field(len(self.rec) - 1)
         r = self.rec.arrays()
         m = self.cfe.m
-        S, W = r["s"], r["w"]
+        (Q, p), (ut, un) = _by_state(self.layout, r["s"]), _by_state(self.layout, r["w"])
         cfe = self.cfe
         cfe_arrays = {
             "interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
@@ -1110,7 +1119,7 @@ class StaticSolver:
             pattern_names=tuple(self.c), segments=list(self._segments),
             cfe=cfe_arrays, interface_names=cfe.names,
             lam=r["lam"], segment=r["segment"], factors=r["factors"], kind=r["kind"],
-            N=-S[:, m:], Q=S[:, :m], un=W[:, m:], ut=W[:, :m], state=r["state"],
+            N=-p, Q=Q, un=un, ut=ut, state=r["state"],
             residual=r["residual"], violation=r["violation"],
             events=list(self.rec.events), multipliers=list(self.rec.multipliers),
             status=status, message=message,
