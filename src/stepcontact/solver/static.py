@@ -73,8 +73,8 @@ def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
     return tuple(b for b, j in plan.body_stage.items() if j == k)
 
 
-#: size 2m of the scheme matrices up to which the event loop holds BLAS to one thread (an LU
-#: of 2m = 2000 takes about 0.1 s on one core; beyond, the dense work is large enough for
+#: size n (2m in 2D) of the scheme matrices up to which the event loop holds BLAS to one thread
+#: (an LU of n = 2000 takes about 0.1 s on one core; beyond, the dense work is large enough for
 #: threads to pay)
 SMALL_DENSE = 2000
 
@@ -712,7 +712,7 @@ class StaticSolver:
     # ---- main loop ---------------------------------------------------------------------------
     def run(self) -> StaticResult:
         """Run the load program.  BLAS is held to one thread meanwhile when the event loop's
-        dense work is small (2m ≤ ``SMALL_DENSE``), where a second thread only costs
+        dense work is small (n ≤ ``SMALL_DENSE``), where a second thread only costs
         synchronisation; large interfaces (refactorisations of thousands of unknowns) keep
         every thread."""
         import contextlib
