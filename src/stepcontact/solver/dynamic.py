@@ -902,6 +902,7 @@ class _DynamicRun:
                 raise ModelError(f"loads['{name}']", "must be a time function g(t)")
         self.system, self.law_in, self.initial, self.loads = system, law_in, initial, loads
         self.ndof, self.m = system.ndof, system.m
+        self.layout = system.layout  # the contact unknowns s = [Q; p], w = [u_τ; u_n]
         self.cfe = system.cfe
 
     def _matrices(self, backend: str) -> None:
@@ -976,14 +977,15 @@ class _DynamicRun:
             **law_in)
         self.layers = _DampedLayers(cfe, law, m)
         self.bonds_on = bool(law.has_bond.any())
-        self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol)
+        self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol,
+                               layout=self.layout)
         self.all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
         # a model whose CFEs are each rigid or compliant in both components: the rigid ones'
         # forces jump in accelerations (accel_forces), the compliant ones' are held
         self.soft_cfe = soft_cfe = np.isfinite(cfe.kn) & np.isfinite(cfe.kt)
         self.split = bool(np.all(soft_cfe | (~np.isfinite(cfe.kn) & ~np.isfinite(cfe.kt)))
                           and not soft_cfe.all())
-        self.held = np.r_[soft_cfe, soft_cfe]
+        self.held = self.layout.join(soft_cfe, soft_cfe)
         self.rigid_n = ~np.isfinite(cfe.kn)
 
     def _initial_state(self, u0, v0) -> None:
@@ -995,8 +997,8 @@ class _DynamicRun:
             states, s, w = _state_at_u0(system, law, u, v, s, w, states, initial)
         if initial is None:  # joints with initial strength start bonded (eq. (12)), their
             states = law.initial_states(states)  # compliant layers carrying C w at u0
-            stiff0 = np.r_[cfe.kt, cfe.kn]
-            on = np.r_[states == BONDED, states == BONDED] & np.isfinite(stiff0)
+            stiff0 = self.layout.join(cfe.kt, cfe.kn)
+            on = self.layout.join(states == BONDED, states == BONDED) & np.isfinite(stiff0)
             s = np.where(on, np.where(on, stiff0, 0.0) * w, s)
         eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
         if self.bonds_on:  # the bonds' strengths are forces of the problem's scale
@@ -1053,7 +1055,7 @@ class _DynamicRun:
         """The recorder, the energy ledger (module docstring) and the run's counters."""
         m, cfe, u = self.m, self.cfe, self.u
         ndof = self.ndof
-        self.rec = Recorder(m, len(self.names), 0)
+        self.rec = Recorder(self.layout, len(self.names), 0)
         self.extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
                       "a": GrowingArray((ndof,))}
         self.energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
@@ -1065,10 +1067,12 @@ class _DynamicRun:
                            float(np.abs(u).max(initial=0.0)))
         self.eng.W_scale = max(self.eng.W_scale, self.w_scale)
         self.parts = dict.fromkeys(("cut", "projection", "hht", "short_steps"), 0.0)
-        self.stiff = np.r_[cfe.kt, cfe.kn]
+        lay = self.layout
+        self.stiff = lay.join(cfe.kt, cfe.kn)
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
-        self.damped = np.zeros(2 * m, bool)
-        self.damped[m + self.layers.k] = True  # Kelvin–Voigt layers: ½ C_n x², the dashpot's
+        self.damped = lay.zeros(dtype=bool)
+        # Kelvin–Voigt layers: ½ C_n x², the dashpot's
+        lay.normal(self.damped)[self.layers.k] = True
         self.e0 = 0.5 * self.v @ (self.Mx(self.v)) + self.strain_energy(u, self.s_init)
         self.mult = {"first_slip": None, "first_opening": None, "first_closing": None,
                      "equilibrium_lost": None}
@@ -1099,8 +1103,8 @@ class _DynamicRun:
 
     def water_load(self, W: np.ndarray) -> np.ndarray:
         """The nodal load (ndof,) of crack-water forces W (m,): −Bᵀ [0; W]."""
-        z = np.zeros(2 * self.m)
-        z[self.m:] = W
+        z = self.layout.zeros()
+        self.layout.normal(z)[:] = W
         return -(self.system.B.T @ z)
 
     def force_at(self, t: float) -> np.ndarray:
@@ -1140,14 +1144,14 @@ class _DynamicRun:
             else:
                 X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if m else np.zeros(
                     (len(self.free), 0))
-                X = X.reshape(len(self.free), 2 * m)
+                X = X.reshape(len(self.free), self.layout.n)
                 GM = np.asarray(Bf @ X)
             accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
         rows = np.asarray(rows, dtype=np.int64)
-        X = accel["X"]
+        X, lay = accel["X"], self.layout
 
         def apply(z: np.ndarray) -> np.ndarray:  # M⁻¹ B_rᵀ z without copying columns
-            full = np.zeros(2 * m)
+            full = lay.zeros()
             full[rows] = z
             return X @ full
 
@@ -1159,9 +1163,9 @@ class _DynamicRun:
         accel = self.accel
         if "eng" not in accel:
             self.minv(np.zeros(0, np.int64))
-            m = self.m
-            accel["eng"] = EventEngine(SchemeSolver(accel["GM"], np.zeros(2 * m)), [self.law],
-                                       np.zeros(2 * m), rtol=self.rtol)
+            lay = self.layout
+            accel["eng"] = EventEngine(SchemeSolver(accel["GM"], lay.zeros()), [self.law],
+                                       lay.zeros(), rtol=self.rtol, layout=lay)
         return accel["eng"]
 
     def accel_forces(self, t_now: float) -> np.ndarray:
@@ -1169,7 +1173,7 @@ class _DynamicRun:
         relations in accelerations (stuck: B_τ ü = 0, closed: B_n ü = 0, slipping:
         Q = σ f p, open: s = 0) with M ü + Bᵀ s = F − K u − C v (eq. (7)) — where a switch
         makes the forces jump (a slip that stops, an impact).  Sets them; returns ü."""
-        eng, law, m, free = self.eng, self.law, self.m, self.free
+        eng, law, m, free, lay = self.eng, self.law, self.m, self.free, self.layout
         M_lu, Bf, BfT = self.M_lu, self.Bf, self.BfT
         Fn = self.force_at(t_now)
         f_rest = Fn[free] - (self.Kx(self.u))[free] - (self.Cx(self.v))[free]
@@ -1185,10 +1189,10 @@ class _DynamicRun:
             for _ in range(2 * m + 2):  # active set: a stuck CFE beyond its cone slips
                 trial = np.where(free_now | soft_cfe, OPEN, states)
                 try:  # (redundant constraints: the indeterminate split by capacity)
-                    s_new, _ = ea.rates_any(trial, (hM, np.zeros(2 * m)), absolute=True)
+                    s_new, _ = ea.rates_any(trial, (hM, lay.zeros()), absolute=True)
                 except MechanismError:
                     break  # a free mode in accelerations: keep the interpolated forces
-                Q, p = s_new[:m], s_new[m:]
+                Q, p = lay.split(s_new)
                 fp = law.f * p
                 tol = 1e-9 * max(float(np.abs(s_new).max(initial=0.0)), eng.F_scale, 1e-300)
                 stuck = (states == STICK) & law.frictional & ~free_now & ~soft_cfe
@@ -1213,7 +1217,7 @@ class _DynamicRun:
             if self.bonds_on:  # bonds the forces' jump takes beyond their strength break here
                 tf, _ = eng.tolerances()
                 over = (states == BONDED) & law.has_bond & (
-                    law.bond_values(eng.s[:m], eng.s[m:]).min(axis=1) < -tf)
+                    law.bond_values(*lay.split(eng.s)).min(axis=1) < -tf)
                 if over.any():
                     return self.load_jump(np.zeros(self.ndof), t_now, self.n, brk=over)
         out[free] = M_lu.solve(np.ascontiguousarray(f_rest - BfT @ eng.s))
@@ -1228,14 +1232,14 @@ class _DynamicRun:
         compliant layer loses with that force as ``fracture``; returns the forces g (2m,)
         released (N).  (The static driver's twin: :meth:`StaticSolver._breaks
         <stepcontact.solver.static.StaticSolver._breaks>`.)"""
-        law, m, mult = self.law, self.m, self.mult
+        law, lay, mult = self.law, self.layout, self.mult
         tf, _ = E.tolerances()
-        Q, p = E.s[:m], E.s[m:]
+        Q, p = lay.split(E.s)
         old = E.states.copy()
         new = old.copy()
         new[brk] = law.broken_state(Q, p, tf)[brk]
         dQ, dp = law.released(new, Q, p)
-        g = np.concatenate([np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)])
+        g = lay.join(np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0))
         s_before, s_after = E.s.copy(), E.s - g
         self.ledger["fracture"] += float(self.layer_energy(s_before).sum()
                                          - self.layer_energy(s_after).sum())
@@ -1257,7 +1261,7 @@ class _DynamicRun:
         scheme decided drive it beyond) breaks there: what it carried is released first (the
         forces g go to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking
         in turn — the cascade at t_now in its order), then the jump goes on."""
-        law, m = self.law, self.m
+        law, m, lay = self.law, self.m, self.layout
         mu, fired = 0.0, np.zeros(m, bool)
         for _ in range(10 * m + 10):
             old = ea.states.copy()
@@ -1270,8 +1274,7 @@ class _DynamicRun:
                 tf, _ = ea.tolerances()
                 rf = 1e3 * ea.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
                 brk = ((fired & (ea.states == BONDED))
-                       | law.breaking(ea.states, ea.s[:m], ea.s[m:], dec.ds[:m], dec.ds[m:],
-                                      tf, rf))
+                       | law.breaking(ea.states, *lay.split(ea.s), *lay.split(dec.ds), tf, rf))
                 if brk.any():
                     self.release(ea, self.break_bonds(ea, brk, t_now, step), t_now, step,
                                  depth)
@@ -1297,15 +1300,15 @@ class _DynamicRun:
     def pinned(self, dh: np.ndarray):
         """The forcing (dh, e) of a jump in accelerations: a CFE that slips with a velocity
         keeps slipping whatever its acceleration (its slip rate pinned to its direction)."""
-        m = self.m
+        lay = self.layout
         wd = self.system.B @ self.v
         st = self.eng.states
         sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
-        moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
-                                                            1e-300))
-        e = np.zeros(2 * m)
-        e[:m] = np.where(moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
-                         0.0)
+        moving = (sig != 0) & (np.abs(lay.tangential(wd)) > 1e-9 * max(
+            np.abs(wd).max(initial=0.0), 1e-300))
+        e = lay.zeros()
+        lay.tangential(e)[:] = np.where(
+            moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300), 0.0)
         return dh, e
 
     def load_jump(self, dF: np.ndarray, t_now: float, step: int,
