@@ -1319,7 +1319,7 @@ class _DynamicRun:
         sets the contact forces and states.  ``brk``: bonds that break at t_now (eq. (12)),
         broken and released first (:meth:`follow_jump`).  With compliant layers the forces
         follow the displacements and do not jump: a broken bond's layer force drops."""
-        eng, law, m = self.eng, self.law, self.m
+        eng, law = self.eng, self.law
         if not self.all_rigid:  # compliant layers: the forces follow the displacements
             if brk is not None and brk.any():
                 self.break_bonds(eng, brk, t_now, step)
@@ -1330,15 +1330,17 @@ class _DynamicRun:
         wa = self.system.B @ self.a
         _, tw = eng.tolerances()
         wd = self.system.B @ self.v
-        apart = (eng.states == OPEN) & ((-eng.w[m:] > tw) | (wd[m:] < 0))
-        wa[m:] = np.where(apart, -1e30, wa[m:])  # open with a gap: cannot close now
+        lay = self.layout
+        wa_t, wa_n = lay.split(wa)  # views of wa
+        apart = (eng.states == OPEN) & ((-lay.normal(eng.w) > tw) | (lay.normal(wd) < 0))
+        wa_n[:] = np.where(apart, -1e30, wa_n)  # open with a gap: cannot close now
         if self.bonds_on:
             # the rows the scheme holds have no relative acceleration: not Newmark's residue
             # there (a correction of it would move the forces off a bond's strength surface)
             st_ = eng.states
-            wa[m:][(st_ != OPEN) & law.rigid_n & ~law.inert] = 0.0
-            wa[:m][(((st_ == STICK) & law.frictional) | (st_ == BONDED)) & law.rigid_t
-                   & ~law.inert] = 0.0
+            wa_n[(st_ != OPEN) & law.rigid_n & ~law.inert] = 0.0
+            wa_t[(((st_ == STICK) & law.frictional) | (st_ == BONDED)) & law.rigid_t
+                 & ~law.inert] = 0.0
         ea.w = wa
         ea.F_scale = max(eng.F_scale, float(np.abs(dF).max(initial=0.0)))
         ea.W_scale = float(np.abs(wa[np.abs(wa) < 1e29]).max(initial=0.0)) or 1e-300
@@ -1389,7 +1391,7 @@ class _DynamicRun:
         soft, layers = self.soft, self.layers
         out = np.where(soft, 0.5 * s_**2 / np.where(soft, self.stiff, 1.0), 0.0)
         if layers:
-            out[self.m + layers.k] = layers.energy(x_)
+            self.layout.normal(out)[layers.k] = layers.energy(x_)
         return out
 
     def strain_energy(self, u_, s_, x_=None):
@@ -1399,9 +1401,9 @@ class _DynamicRun:
     def book_contact(self, diss: np.ndarray) -> dict[str, float]:
         """The contact's dissipation per component → friction, impact (normal) and damping
         (the damped layers' dashpots)."""
-        m, damped = self.m, self.damped
-        return {"friction": float(diss[:m].sum()),
-                "impact": float(diss[m:][~damped[m:]].sum()),
+        lay, damped = self.layout, self.damped
+        return {"friction": float(lay.tangential(diss).sum()),
+                "impact": float(lay.normal(diss)[~lay.normal(damped)].sum()),
                 "damping": float(diss[damped].sum())}
 
     def record(self, t: float, kind: str, residual: float) -> int:
@@ -1436,7 +1438,7 @@ class _DynamicRun:
     def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
         """Log CFE k's transition was → now at t_ev (forces ``s_``, default the engine's;
         an impact's (normal, tangential) impulse) and the first slip, opening, closing."""
-        cfe, m, rec = self.cfe, self.m, self.rec
+        cfe, lay, rec = self.cfe, self.layout, self.rec
         s_ = self.eng.s if s_ is None else s_
         tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
         pn_, qt_ = (0.0, 0.0) if impulse is None else impulse
@@ -1446,7 +1448,8 @@ class _DynamicRun:
             local=int(cfe.local[k]), position=float(cfe.s[k]),
             x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
             y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-s_[m + k]), Q=float(s_[k]), impulse_n=pn_,
+            transition=tr, N=float(-lay.normal(s_)[k]), Q=float(lay.tangential(s_)[k]),
+            impulse_n=pn_,
             impulse_t=qt_))
         key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
                Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
