@@ -1501,7 +1501,7 @@ class _DynamicRun:
             self.u, self.v = _project(self.system, self.cond, self.minv, self.u, self.v,
                                       eng.states, law, rigid_n)
             eng.w = self.system.B @ self.u + self.system.w0  # (the projected fields')
-            eng.w[m:][on0] = 0.0
+            self.layout.normal(eng.w)[on0] = 0.0
         # the scales the start's conditions are judged against (as every step's)
         eng.update_scales()
         eng.F_scale = max(eng.F_scale, float(np.abs(self.F).max(initial=0.0)),
@@ -1555,7 +1555,7 @@ class _DynamicRun:
         load F̂ of eq. (7) with Newmark's (HHT-α) history, the free response's increment h
         at the contact rows (the engine's forcing), the drift of the slip velocities
         (eq. (9)) and the scales the engine judges against."""
-        eng, m, cfe, system, cond = self.eng, self.m, self.cfe, self.system, self.cond
+        eng, lay, cfe, system, cond = self.eng, self.layout, self.cfe, self.system, self.cond
         dt0, t, F = self.dt0, self.t, self.F
         dt = dt0
         ahead = self.breaks[self.breaks > t + 1e-9 * dt0]
@@ -1583,8 +1583,9 @@ class _DynamicRun:
         h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
         wdot = system.B @ self.v
         wacc = system.B @ self.a
-        drift = np.zeros(2 * m)
-        drift[:m] = np.where(np.isfinite(cfe.kt), 0.0, nm.drift(wdot[:m], wacc[:m]))
+        drift = lay.zeros()
+        lay.tangential(drift)[:] = np.where(np.isfinite(cfe.kt), 0.0,
+                                            nm.drift(lay.tangential(wdot), lay.tangential(wacc)))
         self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
         self.x_start = self.layers.x.copy()
         self.forcing = (h_end - h0, -drift)
@@ -1634,7 +1635,8 @@ class _DynamicRun:
                 break
             if self.first:
                 # contact at rest is the initial scheme, not an event
-                touching = (-eng.w[m:] <= 1e-12 * max(self.w_scale, 1e-300)) & (old == OPEN)
+                touching = ((-self.layout.normal(eng.w) <= 1e-12 * max(self.w_scale, 1e-300))
+                            & (old == OPEN))
                 old = np.where(touching, dec.new, old)
                 self.first = False
             if ds is None:
@@ -1689,15 +1691,14 @@ class _DynamicRun:
         reverses inside the step stops (eq. (11)); a slip that stops inside the step
         (eq. (10), second row) is cut where its velocity vanishes.  Returns (restart or
         None, the CFEs whose state changed)."""
-        eng, m, law, layers, crack = self.eng, self.m, self.law, self.layers, self.crack
+        eng, lay, law, layers, crack = self.eng, self.layout, self.law, self.layers, self.crack
         t, dt, nm = self.t, self.dt, self.nm
         if self.bonds_on:
             # at the step's start: bonds on their strength surface that the rates of the
             # scheme decided drive beyond it break here, before anything else
             tf, _ = eng.tolerances()
             rf = 1e3 * eng.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
-            brk = law.breaking(eng.states, eng.s[:m], eng.s[m:], dec.ds[:m], dec.ds[m:],
-                               tf, rf)
+            brk = law.breaking(eng.states, *lay.split(eng.s), *lay.split(dec.ds), tf, rf)
             if brk.any():
                 self.bond_brk = brk
                 return (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {}), None
