@@ -1828,7 +1828,7 @@ class _DynamicRun:
         there (:meth:`cut`), an impact's velocity jumps (:meth:`_impact_at`), the new scheme
         logged and projected onto, the forces that jump re-solved in accelerations (bonds
         that break released, eq. (12)); recorded, and the integration restarts there."""
-        eng, m, system, law, rec = self.eng, self.m, self.system, self.law, self.rec
+        eng, lay, system, law, rec = self.eng, self.layout, self.system, self.law, self.rec
         t, dt, dt0, n, land = self.t, self.dt, self.dt0, self.n, self.land
         frac, mu_r, ds_o, dw_o, old, new_states, times = restart
         self.zero_restarts = self.zero_restarts + 1 if frac == 0.0 else 0
@@ -1841,8 +1841,8 @@ class _DynamicRun:
                                            "short_steps" if landing else "cut")
         t_i = self.t1 if lands else t + frac * dt
         closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & self.rigid_n)
-        s_i[m + closing] = 0.0
-        w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
+        lay.normal(s_i)[closing] = 0.0
+        lay.normal(w_i)[closing] = 0.0  # on the obstacle (the root of eq. (10))
         imp: dict[int, tuple[float, float]] = {}  # CFE → (normal, tangential) impulse
         bounced = closed_as = np.zeros(0, np.int64)
         if closing.size:  # an impact: normal velocities jump (Newton's law)
@@ -1868,7 +1868,7 @@ class _DynamicRun:
         self.parts["projection"] += d_num
         w_i = system.B @ u_i + system.w0
         on = (new_states != OPEN) & self.rigid_n
-        w_i[m:][on] = 0.0  # on the obstacle (round-off of the projection)
+        lay.normal(w_i)[on] = 0.0  # on the obstacle (round-off of the projection)
         self.layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
         eng.s, eng.w = s_i, w_i
         eng.snap()
@@ -1927,7 +1927,8 @@ class _DynamicRun:
             bounced = _rebounding(cond, m, v_before, v_i, cand, old)
             closed_as = new_states.copy()
             new_states[bounced] = OPEN
-            s_i[bounced], s_i[m + bounced] = 0.0, 0.0
+            self.layout.tangential(s_i)[bounced] = 0.0
+            self.layout.normal(s_i)[bounced] = 0.0
         imp = {int(k_): (-float(pk), float(qk))
                for k_, pk, qk in zip(cand, got["p"], got["Q"], strict=True)
                if pk != 0.0 or qk != 0.0}
@@ -1941,15 +1942,16 @@ class _DynamicRun:
         eq. (9) added), the fields from F̂ (eq. (7)) and Newmark's update, the works of the
         step in the ledger (HHT-α's and a short step's share as numerical), the load's jump
         at a break, the crack water, and the record every ``record_every`` steps."""
-        eng, m, system, cond, layers = self.eng, self.m, self.system, self.cond, self.layers
+        eng, system, cond, layers = self.eng, self.system, self.cond, self.layers
         ledger, Mx, Cx = self.ledger, self.Mx, self.Cx
         u, v, a, F, F1 = self.u, self.v, self.a, self.F, self.F1
         s_start, x_start, dt, dt0, n = self.s_start, self.x_start, self.dt, self.dt0, self.n
         self.zero_restarts = 0
         eng.w += self.drift
         gone = eng.states == OPEN
-        eng.s[:m][gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
-        eng.s[m:][gone] = 0.0
+        s_t, s_n = self.layout.split(eng.s)  # views
+        s_t[gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
+        s_n[gone] = 0.0
         if layers:
             layers.x = layers.at(eng.states, eng.w, 1.0)
             layers.sync(eng.states, eng.s, eng.w)
@@ -2012,7 +2014,7 @@ class _DynamicRun:
             mult["equilibrium_lost"] = self.t if status == Status.EQUILIBRIUM_LOST else None
         rec.multipliers.append(Multipliers(0, "dynamic", **mult))
         arr = rec.arrays()
-        S, W = arr["s"], arr["w"]
+        (Qt, Nt), (utt, unt) = self.layout.split(arr["s"].T), self.layout.split(arr["w"].T)
         counters = dict(self.cond.counters) | self.schemes.counters | self.eng.counters | {
             "events": len(rec.events), "steps": self.n, "impacts": self.n_impacts,
             "setup_seconds": self.t_setup,
@@ -2026,8 +2028,8 @@ class _DynamicRun:
         return DynamicResult(
             pattern_names=tuple(self.names), segments=[("dynamic", 0.0, float(self.t))],
             cfe=cfe_arrays, interface_names=cfe.names, lam=arr["lam"], segment=arr["segment"],
-            factors=arr["factors"], kind=arr["kind"], N=-S[:, m:], Q=S[:, :m], un=W[:, m:],
-            ut=W[:, :m], state=arr["state"], residual=arr["residual"],
+            factors=arr["factors"], kind=arr["kind"], N=-Nt.T, Q=Qt.T, un=unt.T, ut=utt.T,
+            state=arr["state"], residual=arr["residual"],
             violation=arr["violation"], events=list(rec.events),
             multipliers=list(rec.multipliers), status=status, message=message,
             counters=counters, geometry=result_geometry(system),
