@@ -167,17 +167,17 @@ def _after_stages(system: System, initial, stage: int | None = None):
 
 def _initial(system: System, cond: Condensed, initial, u0, v0):
     """(u, v, s, w, states, static factors) at t = 0."""
-    ndof, m = system.ndof, system.m
+    ndof, m, lay = system.ndof, system.m, system.layout
     u = np.zeros(ndof)
-    s = np.zeros(2 * m)
+    s = lay.zeros()
     w = system.w0.copy()
     states = np.full(m, OPEN, np.int64)
     static: dict[str, float] = {}
     if initial is not None:
         i = len(initial.lam) - 1
         u = np.asarray(initial.displacement(i), float).copy()
-        s = np.concatenate([initial.Q[i], -initial.N[i]])
-        w = np.concatenate([initial.ut[i], initial.un[i]])
+        s = lay.join(initial.Q[i], -initial.N[i])
+        w = lay.join(initial.ut[i], initial.un[i])
         states = np.asarray(initial.state[i], np.int64).copy()
         static = {n: float(c) for n, c in zip(initial.pattern_names, initial.factors[i],
                                                strict=True) if c != 0.0}
@@ -206,12 +206,12 @@ def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
     With ``initial``: its contact states and forces are kept; every rigid CFE closed there
     must be closed at u0 too (else ModelError: u0 is not the static result's displacement).
     Returns (states, s, w)."""
-    m = system.m
+    lay = system.layout
     cfe = system.cfe
     w = w.copy()
     scale = max(float(np.abs(u).max(initial=0.0)), float(np.abs(w).max(initial=0.0)), 1e-300)
     tol = 1e-9 * scale
-    wn = w[m:]
+    wn = lay.normal(w)  # a view of w
     rigid_n = ~np.isfinite(cfe.kn)
     live = ~law.inert
     if initial is not None:
@@ -223,9 +223,9 @@ def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
                              f"'{cfe.names[cfe.interface[k]]}', closed in the static result, "
                              f"has the gap {-wn[k]:.3g} m at u0 (give u0 equal to "
                              "initial.displacement(-1), or one of them)")
-        w[m:][closed] = 0.0
+        wn[closed] = 0.0
         return states, s, w
-    vn = system.B[m:] @ v
+    vn = lay.normal(system.B) @ v
     vtol = 1e-9 * max(float(np.abs(system.B @ v).max(initial=0.0)), 1e-300)
     deep = rigid_n & live & (wn > tol)
     if deep.any():
@@ -235,18 +235,19 @@ def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
     touching = live & (wn >= -tol) & (vn >= -vtol)
     states = states.copy()
     states[touching] = law.closed_state()[touching]
-    w[m:][touching & rigid_n] = 0.0
+    wn[touching & rigid_n] = 0.0
     s = s.copy()
+    s_t, s_n = lay.split(s)  # views of s
     soft_n = touching & np.isfinite(cfe.kn)
     p = np.where(soft_n, np.where(soft_n, cfe.kn, 0.0) * np.maximum(wn, 0.0), 0.0)
-    s[m:] = np.where(soft_n, p, s[m:])
+    s_n[:] = np.where(soft_n, p, s_n)
     soft_t = soft_n & np.isfinite(cfe.kt)
-    q = np.where(soft_t, np.where(soft_t, cfe.kt, 0.0) * w[:m], 0.0)
+    q = np.where(soft_t, np.where(soft_t, cfe.kt, 0.0) * lay.tangential(w), 0.0)
     lim = law.f * p
     over = soft_t & law.frictional & (np.abs(q) > lim)
     q = np.where(over, np.sign(q) * lim, q)
     states[over] = np.where(q[over] > 0, SLIP_POS, SLIP_NEG)
-    s[:m] = np.where(soft_t, q, s[:m])
+    s_t[:] = np.where(soft_t, q, s_t)
     return states, s, w
 
 
