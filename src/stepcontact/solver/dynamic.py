@@ -103,6 +103,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
@@ -455,11 +456,12 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
     velocity to zero — so that no round-off of the interpolation (8) seeds the alternating
     velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating."""
-    m = system.m
+    lay = system.layout
+    nr = lay.normal_rows  # the normal rows of B
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
     stuck = np.flatnonzero((((states == STICK) & law.frictional) | (states == BONDED))
                            & law.rigid_t & ~law.inert)
-    rows_v = np.r_[m + closed, stuck].astype(np.int64)
+    rows_v = np.r_[nr[closed], lay.tangential_rows[stuck]].astype(np.int64)
     if rows_v.size == 0:
         return u, v
     free = cond.free
@@ -474,15 +476,16 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     rig = np.flatnonzero(~law.inert & rigid_n)
     act = states[rig] != OPEN
     uf = u[free]
-    w_all = cond.Bf[m + rig] @ uf + system.w0[m + rig]
+    B_rig, w0_rig = cond.Bf[nr[rig]], system.w0[nr[rig]]
+    w_all = B_rig @ uf + w0_rig
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
     u_try = uf
     for _ in range(len(rig) + 1):
-        rows = (m + rig[act]).astype(np.int64)
+        rows = nr[rig[act]].astype(np.int64)
         if rows.size:
             Xa, Wa = minv(rows)
             u_try = uf - Xa(_spd_solve(Wa, w_all[act]))
-        pen = ~act & (cond.Bf[m + rig] @ u_try + system.w0[m + rig] > tol)
+        pen = ~act & (B_rig @ u_try + w0_rig > tol)
         if not pen.any():
             break
         act |= pen
@@ -508,9 +511,9 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     ``impulses``: a dict that receives the impulses per CFE of ``cand``, N·s (per metre of
     thickness in plane strain), in the sign convention of the forces s = [Q; p]: ``"p"`` the
     normal impulse (≥ 0 compressive, except a bond's pull), ``"Q"`` the tangential one."""
-    m = system.m
+    rows_n = system.layout.normal_rows[cand]  # the normal rows of the CFEs cand
     free = cond.free
-    Bn = cond.Bf[m + cand]  # normal rows on the free DOFs
+    Bn = cond.Bf[rows_n]  # normal rows on the free DOFs
     if impulses is not None:
         impulses["p"], impulses["Q"] = np.zeros(len(cand)), np.zeros(len(cand))
     if Bn.shape[0] == 0:
@@ -519,7 +522,7 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
     target = np.where(np.isin(cand, closing), -np.asarray(e) * wd, 0.0)  # (e: one, or per
     # CFE of cand)
-    X, W = minv(m + cand)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
+    X, W = minv(rows_n)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
     bil = np.zeros(len(cand), bool) if bonded is None else np.asarray(bonded)[cand]
     active = (wd > 0) | bil  # approaching (or closed and pushed on; bonded: held)
     P = np.zeros(len(cand))
@@ -544,8 +547,8 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     return out, sig
 
 
-def _restitution_of(cond, m: int, e: float, v: np.ndarray, a: np.ndarray, cand: np.ndarray,
-                    dt: float) -> np.ndarray | float:
+def _restitution_of(cond, lay: ContactLayout, e: float, v: np.ndarray, a: np.ndarray,
+                    cand: np.ndarray, dt: float) -> np.ndarray | float:
     """Newton's coefficient e per CFE of ``cand`` at an impact: e, except where the rebound
     could not be followed — its flight 2 e u̇⁻ / ü_n (u̇⁻ the approach velocity, ü_n > 0 the
     relative acceleration towards the obstacle before the impact) would be shorter than the
@@ -555,14 +558,15 @@ def _restitution_of(cond, m: int, e: float, v: np.ndarray, a: np.ndarray, cand: 
     if e <= 0.0:
         return e
     free = cond.free
-    wd = cond.Bf[m + cand] @ v[free]  # approach velocities (positive: closing)
-    acc = cond.Bf[m + cand] @ a[free]
+    Bn = cond.Bf[lay.normal_rows[cand]]
+    wd = Bn @ v[free]  # approach velocities (positive: closing)
+    acc = Bn @ a[free]
     with np.errstate(divide="ignore", invalid="ignore"):
         short = (acc > 0) & (2.0 * e * np.maximum(wd, 0.0) < acc * dt)
     return np.where(short, 0.0, e)
 
 
-def _rebounding(cond, m: int, v0: np.ndarray, v: np.ndarray, cand: np.ndarray,
+def _rebounding(cond, lay: ContactLayout, v0: np.ndarray, v: np.ndarray, cand: np.ndarray,
                 old: np.ndarray) -> np.ndarray:
     """The CFEs of ``cand`` that leave the obstacle after an impact with restitution e > 0
     (Newton's law: a closing CFE's normal relative velocity after it is −e times the approach
@@ -570,8 +574,9 @@ def _rebounding(cond, m: int, v0: np.ndarray, v: np.ndarray, cand: np.ndarray,
     beyond round-off (1e-9 of the largest relative velocity of ``cand`` before it, ``v0``).
     They open at the impact's instant."""
     free = cond.free
-    wn = cond.Bf[m + cand] @ v[free]  # positive: approaching
-    tol = 1e-9 * max(float(np.abs(cond.Bf[m + cand] @ v0[free]).max(initial=0.0)), 1e-300)
+    Bn = cond.Bf[lay.normal_rows[cand]]
+    wn = Bn @ v[free]  # positive: approaching
+    tol = 1e-9 * max(float(np.abs(Bn @ v0[free]).max(initial=0.0)), 1e-300)
     return cand[(wn < -tol) & (old[cand] != BONDED)]
 
 
@@ -1909,12 +1914,12 @@ class _DynamicRun:
         its ``new_states`` and ``s_i`` changed in place).  Books the kinetic energy taken as
         ``impact`` and logs the impulses.  Returns (v, impulses, rebounding CFEs, their
         states while closed)."""
-        m, law, cond, Mx = self.m, self.law, self.cond, self.Mx
+        law, cond, Mx = self.law, self.cond, self.Mx
         closed_now = np.flatnonzero((old != OPEN) & self.rigid_n)
         cand = np.union1d(closing, closed_now)
         got: dict = {}
         v_before = v_i
-        e_k = _restitution_of(cond, m, self.restitution, v_i, self.a, cand, self.dt0)
+        e_k = _restitution_of(cond, self.layout, self.restitution, v_i, self.a, cand, self.dt0)
         v_new, sig = _impact(self.system, cond, self.minv, v_i, cand, closing, e_k,
                              law.f, old == BONDED, (old == BONDED) & law.rigid_t, got)
         self.ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
@@ -1925,7 +1930,7 @@ class _DynamicRun:
                 new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
         bounced = closed_as = np.zeros(0, np.int64)
         if self.restitution > 0.0:  # Newton's rebound: a CFE leaving the obstacle opens
-            bounced = _rebounding(cond, m, v_before, v_i, cand, old)
+            bounced = _rebounding(cond, self.layout, v_before, v_i, cand, old)
             closed_as = new_states.copy()
             new_states[bounced] = OPEN
             self.layout.tangential(s_i)[bounced] = 0.0
