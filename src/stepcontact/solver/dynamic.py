@@ -639,9 +639,11 @@ class _DampedLayers:
     the dashpot's share of an impact.  Energy: ½ C_n x² is stored; what the dashpot takes
     (closed: c_n ū̇_n Δu_n; open: the relaxation) is the ledger's ``damping``."""
 
-    def __init__(self, cfe, law: CoulombLaw, m: int):
-        self.m = m
+    def __init__(self, cfe, law: CoulombLaw, layout: ContactLayout):
         self.k = np.flatnonzero((cfe.cn > 0) & np.isfinite(cfe.kn))
+        # the layers' rows in s, w: normal (u_n, p) and tangential (u_τ, Q)
+        self.rows = layout.normal_rows[self.k]
+        self.rows_t = layout.tangential_rows[self.k]
         self.kn, self.cn = cfe.kn[self.k], cfe.cn[self.k]
         self.khat = law.kn[self.k]
         self.law = law
@@ -659,7 +661,7 @@ class _DampedLayers:
 
     def set_initial(self, states, w) -> None:
         closed = states[self.k] != OPEN
-        self.x = np.where(closed, w[self.m + self.k], 0.0)
+        self.x = np.where(closed, w[self.rows], 0.0)
         self.sync(states, None, w)
 
     def relaxed(self, frac: float) -> np.ndarray:
@@ -671,8 +673,8 @@ class _DampedLayers:
         (open: the layer's compression) for the schemes ``states``."""
         closed = states[self.k] != OPEN
         if s is not None:
-            p = s[self.m + self.k]
-            self.law.offset[self.k] = np.where(closed, p - self.khat * w[self.m + self.k], 0.0)
+            p = s[self.rows]
+            self.law.offset[self.k] = np.where(closed, p - self.khat * w[self.rows], 0.0)
         self.law.surface[self.k] = np.where(closed, 0.0, self.x)
 
     def start(self, states, s, w, wdot, wacc, nm: _Newmark, drift: np.ndarray) -> None:
@@ -680,7 +682,7 @@ class _DampedLayers:
         surfaces for the schemes ``states`` at the step's start."""
         if not self:
             return
-        j = self.m + self.k
+        j = self.rows
         closed = states[self.k] != OPEN
         e = self.cn * ((nm.cv - 1.0) * wdot[j] + nm.ca * wacc[j]) / self.khat
         self.x1 = self.x * np.exp(-nm.h * self.kn / self.cn)
@@ -690,7 +692,7 @@ class _DampedLayers:
     def at(self, states, w, frac: float) -> np.ndarray:
         """Compressions at ``frac`` of the step under ``states``."""
         closed = states[self.k] != OPEN
-        return np.where(closed, w[self.m + self.k], self.relaxed(frac))
+        return np.where(closed, w[self.rows], self.relaxed(frac))
 
     def closing_states(self, old, new) -> np.ndarray:
         """A damped layer that closes with a compliant tangential layer closes stuck: its
@@ -708,12 +710,12 @@ class _DampedLayers:
         force p = C_n u_n + c_n u̇_n (a closing's jump), the open ones' compression."""
         if not self:
             return
-        j = self.m + self.k
+        j = self.rows
         was_closed = old[self.k] != OPEN
         closed = new[self.k] != OPEN
         self.x = np.where(closed | was_closed, w[j], self.relaxed(frac))
         s[j] = np.where(closed, np.maximum(self.kn * w[j] + self.cn * wdot[j], 0.0), 0.0)
-        s[self.k] = np.where(closed, s[self.k], 0.0)
+        s[self.rows_t] = np.where(closed, s[self.rows_t], 0.0)
         self.sync(new, s, w)
 
     def energy(self, x=None) -> np.ndarray:
@@ -981,7 +983,7 @@ class _DynamicRun:
             np.arange(m), law_in.pop("friction"),
             _DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1), cfe.kt,
             **law_in)
-        self.layers = _DampedLayers(cfe, law, m)
+        self.layers = _DampedLayers(cfe, law, self.layout)
         self.bonds_on = bool(law.has_bond.any())
         self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol,
                                layout=self.layout)
