@@ -406,16 +406,17 @@ def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=Non
                      law=None):
     """Slip velocities (m/s) of the CFEs ``ks`` at the start and at the end of the step under
     the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`)."""
-    dw = eng.w[ks] - w_start[ks] + (1.0 - mu) * dw_o[ks]
+    r = eng.layout.tangential_rows[ks]  # the CFEs' tangential rows of s, w
+    dw = eng.w[r] - w_start[r] + (1.0 - mu) * dw_o[r]
     v_end = (2.0 / dt if c1 is None else c1) * dw
-    v0 = wdot[ks].copy()
+    v0 = wdot[r].copy()
     if law is not None and nm is not None:
         soft = ~law.rigid_t[ks]
         if soft.any():
             kt = np.where(soft, law.kt[ks], 1.0)
             # (Q̇ = Q'/Δt: Q' its rate along μ, constant under the scheme)
-            q_rate = ds_o[ks] / (kt * dt)
-            v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[ks] + nm.ca * wacc[ks] - q_rate,
+            q_rate = ds_o[r] / (kt * dt)
+            v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[r] + nm.ca * wacc[r] - q_rate,
                              v_end)
             v0 = np.where(soft, v0 - q_rate, v0)
     return v0, v_end
@@ -595,11 +596,12 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np
     k = np.flatnonzero(((P > 0) & (friction[cand] > 0)) | bil)
     if k.size == 0:
         return sig
-    rows = cand[k]
+    cfes = cand[k]
+    rows = system.layout.tangential_rows[cfes]
     Bt = cond.Bf[rows]  # tangential rows
     X, W = minv(rows)
     wt = Bt @ v[free]
-    limit = np.where(bil[k], np.inf, friction[rows] * np.abs(P[k]))
+    limit = np.where(bil[k], np.inf, friction[cfes] * np.abs(P[k]))
     T = np.zeros(len(k))
     sliding = np.zeros(len(k), bool)
     for _ in range(2 * len(k) + 1):
