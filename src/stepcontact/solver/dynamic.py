@@ -103,6 +103,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
+from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
@@ -167,17 +168,17 @@ def _after_stages(system: System, initial, stage: int | None = None):
 
 def _initial(system: System, cond: Condensed, initial, u0, v0):
     """(u, v, s, w, states, static factors) at t = 0."""
-    ndof, m = system.ndof, system.m
+    ndof, m, lay = system.ndof, system.m, system.layout
     u = np.zeros(ndof)
-    s = np.zeros(2 * m)
+    s = lay.zeros()
     w = system.w0.copy()
     states = np.full(m, OPEN, np.int64)
     static: dict[str, float] = {}
     if initial is not None:
         i = len(initial.lam) - 1
         u = np.asarray(initial.displacement(i), float).copy()
-        s = np.concatenate([initial.Q[i], -initial.N[i]])
-        w = np.concatenate([initial.ut[i], initial.un[i]])
+        s = lay.join(initial.Q[i], -initial.N[i])
+        w = lay.join(initial.ut[i], initial.un[i])
         states = np.asarray(initial.state[i], np.int64).copy()
         static = {n: float(c) for n, c in zip(initial.pattern_names, initial.factors[i],
                                                strict=True) if c != 0.0}
@@ -206,12 +207,12 @@ def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
     With ``initial``: its contact states and forces are kept; every rigid CFE closed there
     must be closed at u0 too (else ModelError: u0 is not the static result's displacement).
     Returns (states, s, w)."""
-    m = system.m
+    lay = system.layout
     cfe = system.cfe
     w = w.copy()
     scale = max(float(np.abs(u).max(initial=0.0)), float(np.abs(w).max(initial=0.0)), 1e-300)
     tol = 1e-9 * scale
-    wn = w[m:]
+    wn = lay.normal(w)  # a view of w
     rigid_n = ~np.isfinite(cfe.kn)
     live = ~law.inert
     if initial is not None:
@@ -223,9 +224,9 @@ def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
                              f"'{cfe.names[cfe.interface[k]]}', closed in the static result, "
                              f"has the gap {-wn[k]:.3g} m at u0 (give u0 equal to "
                              "initial.displacement(-1), or one of them)")
-        w[m:][closed] = 0.0
+        wn[closed] = 0.0
         return states, s, w
-    vn = system.B[m:] @ v
+    vn = lay.normal(system.B) @ v
     vtol = 1e-9 * max(float(np.abs(system.B @ v).max(initial=0.0)), 1e-300)
     deep = rigid_n & live & (wn > tol)
     if deep.any():
@@ -235,18 +236,19 @@ def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
     touching = live & (wn >= -tol) & (vn >= -vtol)
     states = states.copy()
     states[touching] = law.closed_state()[touching]
-    w[m:][touching & rigid_n] = 0.0
+    wn[touching & rigid_n] = 0.0
     s = s.copy()
+    s_t, s_n = lay.split(s)  # views of s
     soft_n = touching & np.isfinite(cfe.kn)
     p = np.where(soft_n, np.where(soft_n, cfe.kn, 0.0) * np.maximum(wn, 0.0), 0.0)
-    s[m:] = np.where(soft_n, p, s[m:])
+    s_n[:] = np.where(soft_n, p, s_n)
     soft_t = soft_n & np.isfinite(cfe.kt)
-    q = np.where(soft_t, np.where(soft_t, cfe.kt, 0.0) * w[:m], 0.0)
+    q = np.where(soft_t, np.where(soft_t, cfe.kt, 0.0) * lay.tangential(w), 0.0)
     lim = law.f * p
     over = soft_t & law.frictional & (np.abs(q) > lim)
     q = np.where(over, np.sign(q) * lim, q)
     states[over] = np.where(q[over] > 0, SLIP_POS, SLIP_NEG)
-    s[:m] = np.where(soft_t, q, s[:m])
+    s_t[:] = np.where(soft_t, q, s_t)
     return states, s, w
 
 
@@ -404,16 +406,17 @@ def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=Non
                      law=None):
     """Slip velocities (m/s) of the CFEs ``ks`` at the start and at the end of the step under
     the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`)."""
-    dw = eng.w[ks] - w_start[ks] + (1.0 - mu) * dw_o[ks]
+    r = eng.layout.tangential_rows[ks]  # the CFEs' tangential rows of s, w
+    dw = eng.w[r] - w_start[r] + (1.0 - mu) * dw_o[r]
     v_end = (2.0 / dt if c1 is None else c1) * dw
-    v0 = wdot[ks].copy()
+    v0 = wdot[r].copy()
     if law is not None and nm is not None:
         soft = ~law.rigid_t[ks]
         if soft.any():
             kt = np.where(soft, law.kt[ks], 1.0)
             # (Q̇ = Q'/Δt: Q' its rate along μ, constant under the scheme)
-            q_rate = ds_o[ks] / (kt * dt)
-            v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[ks] + nm.ca * wacc[ks] - q_rate,
+            q_rate = ds_o[r] / (kt * dt)
+            v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[r] + nm.ca * wacc[r] - q_rate,
                              v_end)
             v0 = np.where(soft, v0 - q_rate, v0)
     return v0, v_end
@@ -454,11 +457,12 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
     velocity to zero — so that no round-off of the interpolation (8) seeds the alternating
     velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating."""
-    m = system.m
+    lay = system.layout
+    nr = lay.normal_rows  # the normal rows of B
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
     stuck = np.flatnonzero((((states == STICK) & law.frictional) | (states == BONDED))
                            & law.rigid_t & ~law.inert)
-    rows_v = np.r_[m + closed, stuck].astype(np.int64)
+    rows_v = np.r_[nr[closed], lay.tangential_rows[stuck]].astype(np.int64)
     if rows_v.size == 0:
         return u, v
     free = cond.free
@@ -473,15 +477,16 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     rig = np.flatnonzero(~law.inert & rigid_n)
     act = states[rig] != OPEN
     uf = u[free]
-    w_all = cond.Bf[m + rig] @ uf + system.w0[m + rig]
+    B_rig, w0_rig = cond.Bf[nr[rig]], system.w0[nr[rig]]
+    w_all = B_rig @ uf + w0_rig
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
     u_try = uf
     for _ in range(len(rig) + 1):
-        rows = (m + rig[act]).astype(np.int64)
+        rows = nr[rig[act]].astype(np.int64)
         if rows.size:
             Xa, Wa = minv(rows)
             u_try = uf - Xa(_spd_solve(Wa, w_all[act]))
-        pen = ~act & (cond.Bf[m + rig] @ u_try + system.w0[m + rig] > tol)
+        pen = ~act & (B_rig @ u_try + w0_rig > tol)
         if not pen.any():
             break
         act |= pen
@@ -507,9 +512,9 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     ``impulses``: a dict that receives the impulses per CFE of ``cand``, N·s (per metre of
     thickness in plane strain), in the sign convention of the forces s = [Q; p]: ``"p"`` the
     normal impulse (≥ 0 compressive, except a bond's pull), ``"Q"`` the tangential one."""
-    m = system.m
+    rows_n = system.layout.normal_rows[cand]  # the normal rows of the CFEs cand
     free = cond.free
-    Bn = cond.Bf[m + cand]  # normal rows on the free DOFs
+    Bn = cond.Bf[rows_n]  # normal rows on the free DOFs
     if impulses is not None:
         impulses["p"], impulses["Q"] = np.zeros(len(cand)), np.zeros(len(cand))
     if Bn.shape[0] == 0:
@@ -518,7 +523,7 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     wd = Bn @ vf  # normal relative velocities (positive: approaching)
     target = np.where(np.isin(cand, closing), -np.asarray(e) * wd, 0.0)  # (e: one, or per
     # CFE of cand)
-    X, W = minv(m + cand)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
+    X, W = minv(rows_n)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
     bil = np.zeros(len(cand), bool) if bonded is None else np.asarray(bonded)[cand]
     active = (wd > 0) | bil  # approaching (or closed and pushed on; bonded: held)
     P = np.zeros(len(cand))
@@ -543,8 +548,8 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     return out, sig
 
 
-def _restitution_of(cond, m: int, e: float, v: np.ndarray, a: np.ndarray, cand: np.ndarray,
-                    dt: float) -> np.ndarray | float:
+def _restitution_of(cond, lay: ContactLayout, e: float, v: np.ndarray, a: np.ndarray,
+                    cand: np.ndarray, dt: float) -> np.ndarray | float:
     """Newton's coefficient e per CFE of ``cand`` at an impact: e, except where the rebound
     could not be followed — its flight 2 e u̇⁻ / ü_n (u̇⁻ the approach velocity, ü_n > 0 the
     relative acceleration towards the obstacle before the impact) would be shorter than the
@@ -554,14 +559,15 @@ def _restitution_of(cond, m: int, e: float, v: np.ndarray, a: np.ndarray, cand: 
     if e <= 0.0:
         return e
     free = cond.free
-    wd = cond.Bf[m + cand] @ v[free]  # approach velocities (positive: closing)
-    acc = cond.Bf[m + cand] @ a[free]
+    Bn = cond.Bf[lay.normal_rows[cand]]
+    wd = Bn @ v[free]  # approach velocities (positive: closing)
+    acc = Bn @ a[free]
     with np.errstate(divide="ignore", invalid="ignore"):
         short = (acc > 0) & (2.0 * e * np.maximum(wd, 0.0) < acc * dt)
     return np.where(short, 0.0, e)
 
 
-def _rebounding(cond, m: int, v0: np.ndarray, v: np.ndarray, cand: np.ndarray,
+def _rebounding(cond, lay: ContactLayout, v0: np.ndarray, v: np.ndarray, cand: np.ndarray,
                 old: np.ndarray) -> np.ndarray:
     """The CFEs of ``cand`` that leave the obstacle after an impact with restitution e > 0
     (Newton's law: a closing CFE's normal relative velocity after it is −e times the approach
@@ -569,8 +575,9 @@ def _rebounding(cond, m: int, v0: np.ndarray, v: np.ndarray, cand: np.ndarray,
     beyond round-off (1e-9 of the largest relative velocity of ``cand`` before it, ``v0``).
     They open at the impact's instant."""
     free = cond.free
-    wn = cond.Bf[m + cand] @ v[free]  # positive: approaching
-    tol = 1e-9 * max(float(np.abs(cond.Bf[m + cand] @ v0[free]).max(initial=0.0)), 1e-300)
+    Bn = cond.Bf[lay.normal_rows[cand]]
+    wn = Bn @ v[free]  # positive: approaching
+    tol = 1e-9 * max(float(np.abs(Bn @ v0[free]).max(initial=0.0)), 1e-300)
     return cand[(wn < -tol) & (old[cand] != BONDED)]
 
 
@@ -589,11 +596,12 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np
     k = np.flatnonzero(((P > 0) & (friction[cand] > 0)) | bil)
     if k.size == 0:
         return sig
-    rows = cand[k]
+    cfes = cand[k]
+    rows = system.layout.tangential_rows[cfes]
     Bt = cond.Bf[rows]  # tangential rows
     X, W = minv(rows)
     wt = Bt @ v[free]
-    limit = np.where(bil[k], np.inf, friction[rows] * np.abs(P[k]))
+    limit = np.where(bil[k], np.inf, friction[cfes] * np.abs(P[k]))
     T = np.zeros(len(k))
     sliding = np.zeros(len(k), bool)
     for _ in range(2 * len(k) + 1):
@@ -633,9 +641,11 @@ class _DampedLayers:
     the dashpot's share of an impact.  Energy: ½ C_n x² is stored; what the dashpot takes
     (closed: c_n ū̇_n Δu_n; open: the relaxation) is the ledger's ``damping``."""
 
-    def __init__(self, cfe, law: CoulombLaw, m: int):
-        self.m = m
+    def __init__(self, cfe, law: CoulombLaw, layout: ContactLayout):
         self.k = np.flatnonzero((cfe.cn > 0) & np.isfinite(cfe.kn))
+        # the layers' rows in s, w: normal (u_n, p) and tangential (u_τ, Q)
+        self.rows = layout.normal_rows[self.k]
+        self.rows_t = layout.tangential_rows[self.k]
         self.kn, self.cn = cfe.kn[self.k], cfe.cn[self.k]
         self.khat = law.kn[self.k]
         self.law = law
@@ -653,7 +663,7 @@ class _DampedLayers:
 
     def set_initial(self, states, w) -> None:
         closed = states[self.k] != OPEN
-        self.x = np.where(closed, w[self.m + self.k], 0.0)
+        self.x = np.where(closed, w[self.rows], 0.0)
         self.sync(states, None, w)
 
     def relaxed(self, frac: float) -> np.ndarray:
@@ -665,8 +675,8 @@ class _DampedLayers:
         (open: the layer's compression) for the schemes ``states``."""
         closed = states[self.k] != OPEN
         if s is not None:
-            p = s[self.m + self.k]
-            self.law.offset[self.k] = np.where(closed, p - self.khat * w[self.m + self.k], 0.0)
+            p = s[self.rows]
+            self.law.offset[self.k] = np.where(closed, p - self.khat * w[self.rows], 0.0)
         self.law.surface[self.k] = np.where(closed, 0.0, self.x)
 
     def start(self, states, s, w, wdot, wacc, nm: _Newmark, drift: np.ndarray) -> None:
@@ -674,7 +684,7 @@ class _DampedLayers:
         surfaces for the schemes ``states`` at the step's start."""
         if not self:
             return
-        j = self.m + self.k
+        j = self.rows
         closed = states[self.k] != OPEN
         e = self.cn * ((nm.cv - 1.0) * wdot[j] + nm.ca * wacc[j]) / self.khat
         self.x1 = self.x * np.exp(-nm.h * self.kn / self.cn)
@@ -684,7 +694,7 @@ class _DampedLayers:
     def at(self, states, w, frac: float) -> np.ndarray:
         """Compressions at ``frac`` of the step under ``states``."""
         closed = states[self.k] != OPEN
-        return np.where(closed, w[self.m + self.k], self.relaxed(frac))
+        return np.where(closed, w[self.rows], self.relaxed(frac))
 
     def closing_states(self, old, new) -> np.ndarray:
         """A damped layer that closes with a compliant tangential layer closes stuck: its
@@ -702,12 +712,12 @@ class _DampedLayers:
         force p = C_n u_n + c_n u̇_n (a closing's jump), the open ones' compression."""
         if not self:
             return
-        j = self.m + self.k
+        j = self.rows
         was_closed = old[self.k] != OPEN
         closed = new[self.k] != OPEN
         self.x = np.where(closed | was_closed, w[j], self.relaxed(frac))
         s[j] = np.where(closed, np.maximum(self.kn * w[j] + self.cn * wdot[j], 0.0), 0.0)
-        s[self.k] = np.where(closed, s[self.k], 0.0)
+        s[self.rows_t] = np.where(closed, s[self.rows_t], 0.0)
         self.sync(new, s, w)
 
     def energy(self, x=None) -> np.ndarray:
@@ -902,6 +912,7 @@ class _DynamicRun:
                 raise ModelError(f"loads['{name}']", "must be a time function g(t)")
         self.system, self.law_in, self.initial, self.loads = system, law_in, initial, loads
         self.ndof, self.m = system.ndof, system.m
+        self.layout = system.layout  # the contact unknowns s = [Q; p], w = [u_τ; u_n]
         self.cfe = system.cfe
 
     def _matrices(self, backend: str) -> None:
@@ -974,16 +985,17 @@ class _DynamicRun:
             np.arange(m), law_in.pop("friction"),
             _DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1), cfe.kt,
             **law_in)
-        self.layers = _DampedLayers(cfe, law, m)
+        self.layers = _DampedLayers(cfe, law, self.layout)
         self.bonds_on = bool(law.has_bond.any())
-        self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol)
+        self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol,
+                               layout=self.layout)
         self.all_rigid = bool(np.all(~np.isfinite(cfe.kn)) and np.all(~np.isfinite(cfe.kt)))
         # a model whose CFEs are each rigid or compliant in both components: the rigid ones'
         # forces jump in accelerations (accel_forces), the compliant ones' are held
         self.soft_cfe = soft_cfe = np.isfinite(cfe.kn) & np.isfinite(cfe.kt)
         self.split = bool(np.all(soft_cfe | (~np.isfinite(cfe.kn) & ~np.isfinite(cfe.kt)))
                           and not soft_cfe.all())
-        self.held = np.r_[soft_cfe, soft_cfe]
+        self.held = self.layout.join(soft_cfe, soft_cfe)
         self.rigid_n = ~np.isfinite(cfe.kn)
 
     def _initial_state(self, u0, v0) -> None:
@@ -995,8 +1007,8 @@ class _DynamicRun:
             states, s, w = _state_at_u0(system, law, u, v, s, w, states, initial)
         if initial is None:  # joints with initial strength start bonded (eq. (12)), their
             states = law.initial_states(states)  # compliant layers carrying C w at u0
-            stiff0 = np.r_[cfe.kt, cfe.kn]
-            on = np.r_[states == BONDED, states == BONDED] & np.isfinite(stiff0)
+            stiff0 = self.layout.join(cfe.kt, cfe.kn)
+            on = self.layout.join(states == BONDED, states == BONDED) & np.isfinite(stiff0)
             s = np.where(on, np.where(on, stiff0, 0.0) * w, s)
         eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
         if self.bonds_on:  # the bonds' strengths are forces of the problem's scale
@@ -1053,7 +1065,7 @@ class _DynamicRun:
         """The recorder, the energy ledger (module docstring) and the run's counters."""
         m, cfe, u = self.m, self.cfe, self.u
         ndof = self.ndof
-        self.rec = Recorder(m, len(self.names), 0)
+        self.rec = Recorder(self.layout, len(self.names), 0)
         self.extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
                       "a": GrowingArray((ndof,))}
         self.energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
@@ -1065,10 +1077,12 @@ class _DynamicRun:
                            float(np.abs(u).max(initial=0.0)))
         self.eng.W_scale = max(self.eng.W_scale, self.w_scale)
         self.parts = dict.fromkeys(("cut", "projection", "hht", "short_steps"), 0.0)
-        self.stiff = np.r_[cfe.kt, cfe.kn]
+        lay = self.layout
+        self.stiff = lay.join(cfe.kt, cfe.kn)
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
-        self.damped = np.zeros(2 * m, bool)
-        self.damped[m + self.layers.k] = True  # Kelvin–Voigt layers: ½ C_n x², the dashpot's
+        self.damped = lay.zeros(dtype=bool)
+        # Kelvin–Voigt layers: ½ C_n x², the dashpot's
+        lay.normal(self.damped)[self.layers.k] = True
         self.e0 = 0.5 * self.v @ (self.Mx(self.v)) + self.strain_energy(u, self.s_init)
         self.mult = {"first_slip": None, "first_opening": None, "first_closing": None,
                      "equilibrium_lost": None}
@@ -1099,8 +1113,8 @@ class _DynamicRun:
 
     def water_load(self, W: np.ndarray) -> np.ndarray:
         """The nodal load (ndof,) of crack-water forces W (m,): −Bᵀ [0; W]."""
-        z = np.zeros(2 * self.m)
-        z[self.m:] = W
+        z = self.layout.zeros()
+        self.layout.normal(z)[:] = W
         return -(self.system.B.T @ z)
 
     def force_at(self, t: float) -> np.ndarray:
@@ -1140,14 +1154,14 @@ class _DynamicRun:
             else:
                 X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if m else np.zeros(
                     (len(self.free), 0))
-                X = X.reshape(len(self.free), 2 * m)
+                X = X.reshape(len(self.free), self.layout.n)
                 GM = np.asarray(Bf @ X)
             accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
         rows = np.asarray(rows, dtype=np.int64)
-        X = accel["X"]
+        X, lay = accel["X"], self.layout
 
         def apply(z: np.ndarray) -> np.ndarray:  # M⁻¹ B_rᵀ z without copying columns
-            full = np.zeros(2 * m)
+            full = lay.zeros()
             full[rows] = z
             return X @ full
 
@@ -1159,9 +1173,9 @@ class _DynamicRun:
         accel = self.accel
         if "eng" not in accel:
             self.minv(np.zeros(0, np.int64))
-            m = self.m
-            accel["eng"] = EventEngine(SchemeSolver(accel["GM"], np.zeros(2 * m)), [self.law],
-                                       np.zeros(2 * m), rtol=self.rtol)
+            lay = self.layout
+            accel["eng"] = EventEngine(SchemeSolver(accel["GM"], lay.zeros()), [self.law],
+                                       lay.zeros(), rtol=self.rtol, layout=lay)
         return accel["eng"]
 
     def accel_forces(self, t_now: float) -> np.ndarray:
@@ -1169,7 +1183,7 @@ class _DynamicRun:
         relations in accelerations (stuck: B_τ ü = 0, closed: B_n ü = 0, slipping:
         Q = σ f p, open: s = 0) with M ü + Bᵀ s = F − K u − C v (eq. (7)) — where a switch
         makes the forces jump (a slip that stops, an impact).  Sets them; returns ü."""
-        eng, law, m, free = self.eng, self.law, self.m, self.free
+        eng, law, m, free, lay = self.eng, self.law, self.m, self.free, self.layout
         M_lu, Bf, BfT = self.M_lu, self.Bf, self.BfT
         Fn = self.force_at(t_now)
         f_rest = Fn[free] - (self.Kx(self.u))[free] - (self.Cx(self.v))[free]
@@ -1185,10 +1199,10 @@ class _DynamicRun:
             for _ in range(2 * m + 2):  # active set: a stuck CFE beyond its cone slips
                 trial = np.where(free_now | soft_cfe, OPEN, states)
                 try:  # (redundant constraints: the indeterminate split by capacity)
-                    s_new, _ = ea.rates_any(trial, (hM, np.zeros(2 * m)), absolute=True)
+                    s_new, _ = ea.rates_any(trial, (hM, lay.zeros()), absolute=True)
                 except MechanismError:
                     break  # a free mode in accelerations: keep the interpolated forces
-                Q, p = s_new[:m], s_new[m:]
+                Q, p = lay.split(s_new)
                 fp = law.f * p
                 tol = 1e-9 * max(float(np.abs(s_new).max(initial=0.0)), eng.F_scale, 1e-300)
                 stuck = (states == STICK) & law.frictional & ~free_now & ~soft_cfe
@@ -1213,7 +1227,7 @@ class _DynamicRun:
             if self.bonds_on:  # bonds the forces' jump takes beyond their strength break here
                 tf, _ = eng.tolerances()
                 over = (states == BONDED) & law.has_bond & (
-                    law.bond_values(eng.s[:m], eng.s[m:]).min(axis=1) < -tf)
+                    law.bond_values(*lay.split(eng.s)).min(axis=1) < -tf)
                 if over.any():
                     return self.load_jump(np.zeros(self.ndof), t_now, self.n, brk=over)
         out[free] = M_lu.solve(np.ascontiguousarray(f_rest - BfT @ eng.s))
@@ -1228,14 +1242,14 @@ class _DynamicRun:
         compliant layer loses with that force as ``fracture``; returns the forces g (2m,)
         released (N).  (The static driver's twin: :meth:`StaticSolver._breaks
         <stepcontact.solver.static.StaticSolver._breaks>`.)"""
-        law, m, mult = self.law, self.m, self.mult
+        law, lay, mult = self.law, self.layout, self.mult
         tf, _ = E.tolerances()
-        Q, p = E.s[:m], E.s[m:]
+        Q, p = lay.split(E.s)
         old = E.states.copy()
         new = old.copy()
         new[brk] = law.broken_state(Q, p, tf)[brk]
         dQ, dp = law.released(new, Q, p)
-        g = np.concatenate([np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)])
+        g = lay.join(np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0))
         s_before, s_after = E.s.copy(), E.s - g
         self.ledger["fracture"] += float(self.layer_energy(s_before).sum()
                                          - self.layer_energy(s_after).sum())
@@ -1257,7 +1271,7 @@ class _DynamicRun:
         scheme decided drive it beyond) breaks there: what it carried is released first (the
         forces g go to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking
         in turn — the cascade at t_now in its order), then the jump goes on."""
-        law, m = self.law, self.m
+        law, m, lay = self.law, self.m, self.layout
         mu, fired = 0.0, np.zeros(m, bool)
         for _ in range(10 * m + 10):
             old = ea.states.copy()
@@ -1270,8 +1284,7 @@ class _DynamicRun:
                 tf, _ = ea.tolerances()
                 rf = 1e3 * ea.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
                 brk = ((fired & (ea.states == BONDED))
-                       | law.breaking(ea.states, ea.s[:m], ea.s[m:], dec.ds[:m], dec.ds[m:],
-                                      tf, rf))
+                       | law.breaking(ea.states, *lay.split(ea.s), *lay.split(dec.ds), tf, rf))
                 if brk.any():
                     self.release(ea, self.break_bonds(ea, brk, t_now, step), t_now, step,
                                  depth)
@@ -1297,15 +1310,15 @@ class _DynamicRun:
     def pinned(self, dh: np.ndarray):
         """The forcing (dh, e) of a jump in accelerations: a CFE that slips with a velocity
         keeps slipping whatever its acceleration (its slip rate pinned to its direction)."""
-        m = self.m
+        lay = self.layout
         wd = self.system.B @ self.v
         st = self.eng.states
         sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
-        moving = (sig != 0) & (np.abs(wd[:m]) > 1e-9 * max(np.abs(wd).max(initial=0.0),
-                                                            1e-300))
-        e = np.zeros(2 * m)
-        e[:m] = np.where(moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300),
-                         0.0)
+        moving = (sig != 0) & (np.abs(lay.tangential(wd)) > 1e-9 * max(
+            np.abs(wd).max(initial=0.0), 1e-300))
+        e = lay.zeros()
+        lay.tangential(e)[:] = np.where(
+            moving, sig * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300), 0.0)
         return dh, e
 
     def load_jump(self, dF: np.ndarray, t_now: float, step: int,
@@ -1316,7 +1329,7 @@ class _DynamicRun:
         sets the contact forces and states.  ``brk``: bonds that break at t_now (eq. (12)),
         broken and released first (:meth:`follow_jump`).  With compliant layers the forces
         follow the displacements and do not jump: a broken bond's layer force drops."""
-        eng, law, m = self.eng, self.law, self.m
+        eng, law = self.eng, self.law
         if not self.all_rigid:  # compliant layers: the forces follow the displacements
             if brk is not None and brk.any():
                 self.break_bonds(eng, brk, t_now, step)
@@ -1327,15 +1340,17 @@ class _DynamicRun:
         wa = self.system.B @ self.a
         _, tw = eng.tolerances()
         wd = self.system.B @ self.v
-        apart = (eng.states == OPEN) & ((-eng.w[m:] > tw) | (wd[m:] < 0))
-        wa[m:] = np.where(apart, -1e30, wa[m:])  # open with a gap: cannot close now
+        lay = self.layout
+        wa_t, wa_n = lay.split(wa)  # views of wa
+        apart = (eng.states == OPEN) & ((-lay.normal(eng.w) > tw) | (lay.normal(wd) < 0))
+        wa_n[:] = np.where(apart, -1e30, wa_n)  # open with a gap: cannot close now
         if self.bonds_on:
             # the rows the scheme holds have no relative acceleration: not Newmark's residue
             # there (a correction of it would move the forces off a bond's strength surface)
             st_ = eng.states
-            wa[m:][(st_ != OPEN) & law.rigid_n & ~law.inert] = 0.0
-            wa[:m][(((st_ == STICK) & law.frictional) | (st_ == BONDED)) & law.rigid_t
-                   & ~law.inert] = 0.0
+            wa_n[(st_ != OPEN) & law.rigid_n & ~law.inert] = 0.0
+            wa_t[(((st_ == STICK) & law.frictional) | (st_ == BONDED)) & law.rigid_t
+                 & ~law.inert] = 0.0
         ea.w = wa
         ea.F_scale = max(eng.F_scale, float(np.abs(dF).max(initial=0.0)))
         ea.W_scale = float(np.abs(wa[np.abs(wa) < 1e29]).max(initial=0.0)) or 1e-300
@@ -1386,7 +1401,7 @@ class _DynamicRun:
         soft, layers = self.soft, self.layers
         out = np.where(soft, 0.5 * s_**2 / np.where(soft, self.stiff, 1.0), 0.0)
         if layers:
-            out[self.m + layers.k] = layers.energy(x_)
+            self.layout.normal(out)[layers.k] = layers.energy(x_)
         return out
 
     def strain_energy(self, u_, s_, x_=None):
@@ -1396,9 +1411,9 @@ class _DynamicRun:
     def book_contact(self, diss: np.ndarray) -> dict[str, float]:
         """The contact's dissipation per component → friction, impact (normal) and damping
         (the damped layers' dashpots)."""
-        m, damped = self.m, self.damped
-        return {"friction": float(diss[:m].sum()),
-                "impact": float(diss[m:][~damped[m:]].sum()),
+        lay, damped = self.layout, self.damped
+        return {"friction": float(lay.tangential(diss).sum()),
+                "impact": float(lay.normal(diss)[~lay.normal(damped)].sum()),
                 "damping": float(diss[damped].sum())}
 
     def record(self, t: float, kind: str, residual: float) -> int:
@@ -1433,7 +1448,7 @@ class _DynamicRun:
     def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
         """Log CFE k's transition was → now at t_ev (forces ``s_``, default the engine's;
         an impact's (normal, tangential) impulse) and the first slip, opening, closing."""
-        cfe, m, rec = self.cfe, self.m, self.rec
+        cfe, lay, rec = self.cfe, self.layout, self.rec
         s_ = self.eng.s if s_ is None else s_
         tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
         pn_, qt_ = (0.0, 0.0) if impulse is None else impulse
@@ -1443,7 +1458,8 @@ class _DynamicRun:
             local=int(cfe.local[k]), position=float(cfe.s[k]),
             x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
             y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-s_[m + k]), Q=float(s_[k]), impulse_n=pn_,
+            transition=tr, N=float(-lay.normal(s_)[k]), Q=float(lay.tangential(s_)[k]),
+            impulse_n=pn_,
             impulse_t=qt_))
         key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
                Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
@@ -1495,7 +1511,7 @@ class _DynamicRun:
             self.u, self.v = _project(self.system, self.cond, self.minv, self.u, self.v,
                                       eng.states, law, rigid_n)
             eng.w = self.system.B @ self.u + self.system.w0  # (the projected fields')
-            eng.w[m:][on0] = 0.0
+            self.layout.normal(eng.w)[on0] = 0.0
         # the scales the start's conditions are judged against (as every step's)
         eng.update_scales()
         eng.F_scale = max(eng.F_scale, float(np.abs(self.F).max(initial=0.0)),
@@ -1549,7 +1565,7 @@ class _DynamicRun:
         load F̂ of eq. (7) with Newmark's (HHT-α) history, the free response's increment h
         at the contact rows (the engine's forcing), the drift of the slip velocities
         (eq. (9)) and the scales the engine judges against."""
-        eng, m, cfe, system, cond = self.eng, self.m, self.cfe, self.system, self.cond
+        eng, lay, cfe, system, cond = self.eng, self.layout, self.cfe, self.system, self.cond
         dt0, t, F = self.dt0, self.t, self.F
         dt = dt0
         ahead = self.breaks[self.breaks > t + 1e-9 * dt0]
@@ -1577,8 +1593,9 @@ class _DynamicRun:
         h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
         wdot = system.B @ self.v
         wacc = system.B @ self.a
-        drift = np.zeros(2 * m)
-        drift[:m] = np.where(np.isfinite(cfe.kt), 0.0, nm.drift(wdot[:m], wacc[:m]))
+        drift = lay.zeros()
+        lay.tangential(drift)[:] = np.where(np.isfinite(cfe.kt), 0.0,
+                                            nm.drift(lay.tangential(wdot), lay.tangential(wacc)))
         self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
         self.x_start = self.layers.x.copy()
         self.forcing = (h_end - h0, -drift)
@@ -1628,7 +1645,8 @@ class _DynamicRun:
                 break
             if self.first:
                 # contact at rest is the initial scheme, not an event
-                touching = (-eng.w[m:] <= 1e-12 * max(self.w_scale, 1e-300)) & (old == OPEN)
+                touching = ((-self.layout.normal(eng.w) <= 1e-12 * max(self.w_scale, 1e-300))
+                            & (old == OPEN))
                 old = np.where(touching, dec.new, old)
                 self.first = False
             if ds is None:
@@ -1683,15 +1701,14 @@ class _DynamicRun:
         reverses inside the step stops (eq. (11)); a slip that stops inside the step
         (eq. (10), second row) is cut where its velocity vanishes.  Returns (restart or
         None, the CFEs whose state changed)."""
-        eng, m, law, layers, crack = self.eng, self.m, self.law, self.layers, self.crack
+        eng, lay, law, layers, crack = self.eng, self.layout, self.law, self.layers, self.crack
         t, dt, nm = self.t, self.dt, self.nm
         if self.bonds_on:
             # at the step's start: bonds on their strength surface that the rates of the
             # scheme decided drive beyond it break here, before anything else
             tf, _ = eng.tolerances()
             rf = 1e3 * eng.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
-            brk = law.breaking(eng.states, eng.s[:m], eng.s[m:], dec.ds[:m], dec.ds[m:],
-                               tf, rf)
+            brk = law.breaking(eng.states, *lay.split(eng.s), *lay.split(dec.ds), tf, rf)
             if brk.any():
                 self.bond_brk = brk
                 return (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {}), None
@@ -1821,7 +1838,7 @@ class _DynamicRun:
         there (:meth:`cut`), an impact's velocity jumps (:meth:`_impact_at`), the new scheme
         logged and projected onto, the forces that jump re-solved in accelerations (bonds
         that break released, eq. (12)); recorded, and the integration restarts there."""
-        eng, m, system, law, rec = self.eng, self.m, self.system, self.law, self.rec
+        eng, lay, system, law, rec = self.eng, self.layout, self.system, self.law, self.rec
         t, dt, dt0, n, land = self.t, self.dt, self.dt0, self.n, self.land
         frac, mu_r, ds_o, dw_o, old, new_states, times = restart
         self.zero_restarts = self.zero_restarts + 1 if frac == 0.0 else 0
@@ -1834,8 +1851,8 @@ class _DynamicRun:
                                            "short_steps" if landing else "cut")
         t_i = self.t1 if lands else t + frac * dt
         closing = np.flatnonzero((old == OPEN) & (new_states != OPEN) & self.rigid_n)
-        s_i[m + closing] = 0.0
-        w_i[m + closing] = 0.0  # on the obstacle (the root of eq. (10))
+        lay.normal(s_i)[closing] = 0.0
+        lay.normal(w_i)[closing] = 0.0  # on the obstacle (the root of eq. (10))
         imp: dict[int, tuple[float, float]] = {}  # CFE → (normal, tangential) impulse
         bounced = closed_as = np.zeros(0, np.int64)
         if closing.size:  # an impact: normal velocities jump (Newton's law)
@@ -1861,7 +1878,7 @@ class _DynamicRun:
         self.parts["projection"] += d_num
         w_i = system.B @ u_i + system.w0
         on = (new_states != OPEN) & self.rigid_n
-        w_i[m:][on] = 0.0  # on the obstacle (round-off of the projection)
+        lay.normal(w_i)[on] = 0.0  # on the obstacle (round-off of the projection)
         self.layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
         eng.s, eng.w = s_i, w_i
         eng.snap()
@@ -1901,12 +1918,12 @@ class _DynamicRun:
         its ``new_states`` and ``s_i`` changed in place).  Books the kinetic energy taken as
         ``impact`` and logs the impulses.  Returns (v, impulses, rebounding CFEs, their
         states while closed)."""
-        m, law, cond, Mx = self.m, self.law, self.cond, self.Mx
+        law, cond, Mx = self.law, self.cond, self.Mx
         closed_now = np.flatnonzero((old != OPEN) & self.rigid_n)
         cand = np.union1d(closing, closed_now)
         got: dict = {}
         v_before = v_i
-        e_k = _restitution_of(cond, m, self.restitution, v_i, self.a, cand, self.dt0)
+        e_k = _restitution_of(cond, self.layout, self.restitution, v_i, self.a, cand, self.dt0)
         v_new, sig = _impact(self.system, cond, self.minv, v_i, cand, closing, e_k,
                              law.f, old == BONDED, (old == BONDED) & law.rigid_t, got)
         self.ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
@@ -1917,10 +1934,11 @@ class _DynamicRun:
                 new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
         bounced = closed_as = np.zeros(0, np.int64)
         if self.restitution > 0.0:  # Newton's rebound: a CFE leaving the obstacle opens
-            bounced = _rebounding(cond, m, v_before, v_i, cand, old)
+            bounced = _rebounding(cond, self.layout, v_before, v_i, cand, old)
             closed_as = new_states.copy()
             new_states[bounced] = OPEN
-            s_i[bounced], s_i[m + bounced] = 0.0, 0.0
+            self.layout.tangential(s_i)[bounced] = 0.0
+            self.layout.normal(s_i)[bounced] = 0.0
         imp = {int(k_): (-float(pk), float(qk))
                for k_, pk, qk in zip(cand, got["p"], got["Q"], strict=True)
                if pk != 0.0 or qk != 0.0}
@@ -1934,15 +1952,16 @@ class _DynamicRun:
         eq. (9) added), the fields from F̂ (eq. (7)) and Newmark's update, the works of the
         step in the ledger (HHT-α's and a short step's share as numerical), the load's jump
         at a break, the crack water, and the record every ``record_every`` steps."""
-        eng, m, system, cond, layers = self.eng, self.m, self.system, self.cond, self.layers
+        eng, system, cond, layers = self.eng, self.system, self.cond, self.layers
         ledger, Mx, Cx = self.ledger, self.Mx, self.Cx
         u, v, a, F, F1 = self.u, self.v, self.a, self.F, self.F1
         s_start, x_start, dt, dt0, n = self.s_start, self.x_start, self.dt, self.dt0, self.n
         self.zero_restarts = 0
         eng.w += self.drift
         gone = eng.states == OPEN
-        eng.s[:m][gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
-        eng.s[m:][gone] = 0.0
+        s_t, s_n = self.layout.split(eng.s)  # views
+        s_t[gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
+        s_n[gone] = 0.0
         if layers:
             layers.x = layers.at(eng.states, eng.w, 1.0)
             layers.sync(eng.states, eng.s, eng.w)
@@ -2005,7 +2024,7 @@ class _DynamicRun:
             mult["equilibrium_lost"] = self.t if status == Status.EQUILIBRIUM_LOST else None
         rec.multipliers.append(Multipliers(0, "dynamic", **mult))
         arr = rec.arrays()
-        S, W = arr["s"], arr["w"]
+        (Qt, Nt), (utt, unt) = self.layout.split(arr["s"].T), self.layout.split(arr["w"].T)
         counters = dict(self.cond.counters) | self.schemes.counters | self.eng.counters | {
             "events": len(rec.events), "steps": self.n, "impacts": self.n_impacts,
             "setup_seconds": self.t_setup,
@@ -2019,8 +2038,8 @@ class _DynamicRun:
         return DynamicResult(
             pattern_names=tuple(self.names), segments=[("dynamic", 0.0, float(self.t))],
             cfe=cfe_arrays, interface_names=cfe.names, lam=arr["lam"], segment=arr["segment"],
-            factors=arr["factors"], kind=arr["kind"], N=-S[:, m:], Q=S[:, :m], un=W[:, m:],
-            ut=W[:, :m], state=arr["state"], residual=arr["residual"],
+            factors=arr["factors"], kind=arr["kind"], N=-Nt.T, Q=Qt.T, un=unt.T, ut=utt.T,
+            state=arr["state"], residual=arr["residual"],
             violation=arr["violation"], events=list(rec.events),
             multipliers=list(rec.multipliers), status=status, message=message,
             counters=counters, geometry=result_geometry(system),
