@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from enum import IntEnum, StrEnum
 
+import numpy as np
+
 
 class ContactState(IntEnum):
     """State of one contact finite element (CFE), method.md §2.
@@ -37,6 +39,38 @@ class ContactState(IntEnum):
         return {0: "open", 1: "stick", 2: "slip+", 3: "slip-", 4: "bonded", 5: "closed"}[int(self)]
 
 
+#: the largest number of facets k of a faceted Coulomb cone (3D, :mod:`stepcontact.contact.faceted`)
+MAX_FACETS = 128
+#: state code of a CFE slipping on facet i of a faceted cone: ``FACET_SLIP + i`` (Q on the facet,
+#: the slip along its outward normal)
+FACET_SLIP = 16
+#: state code of a CFE slipping at vertex i of a faceted cone, between facets i − 1 and i (Q at
+#: the vertex, the slip direction inside the vertex's normal cone): ``VERTEX_SLIP + i``
+VERTEX_SLIP = FACET_SLIP + MAX_FACETS
+
+
+def slipping(codes) -> np.ndarray:
+    """Which state codes are slip states: slip± in 2D, a facet or a vertex of a faceted cone."""
+    c = np.asarray(codes)
+    return (c == ContactState.SLIP_POS) | (c == ContactState.SLIP_NEG) | (c >= FACET_SLIP)
+
+
+def closed(codes) -> np.ndarray:
+    """Which state codes are closed (in contact): every state but OPEN."""
+    return np.asarray(codes) != ContactState.OPEN
+
+
+def state_label(code) -> str:
+    """What users see for a state code: the :class:`ContactState` label, ``slip (facet i)`` or
+    ``slip (vertex i)`` on a faceted cone."""
+    code = int(code)
+    if code >= VERTEX_SLIP:
+        return f"slip (vertex {code - VERTEX_SLIP})"
+    if code >= FACET_SLIP:
+        return f"slip (facet {code - FACET_SLIP})"
+    return ContactState(code).label
+
+
 class Transition(StrEnum):
     """What happened to a CFE at an event."""
 
@@ -46,10 +80,15 @@ class Transition(StrEnum):
     SLIP_NEG = "slip-"  #: stick (or slip+) -> slip in - direction
     STUCK = "stuck"  #: slip -> stick
     BROKEN = "broken"  #: bond broken (eq. (12)): the CFE becomes a Coulomb one
+    SLIP = "slip"  #: stick -> slip on a faceted cone (3D: a facet or a vertex)
+    TURNED = "turned"  #: slip on a faceted cone moved to another facet or vertex
 
     @staticmethod
-    def between(old: ContactState, new: ContactState) -> Transition:
-        """The transition that takes a CFE from ``old`` to ``new`` (``old != new``)."""
+    def between(old: ContactState | int, new: ContactState | int) -> Transition:
+        """The transition that takes a CFE from state code ``old`` to ``new`` (``old != new``;
+        faceted-cone slip codes ≥ :data:`FACET_SLIP` included)."""
+        if int(new) >= FACET_SLIP:
+            return Transition.TURNED if int(old) >= FACET_SLIP else Transition.SLIP
         if old == ContactState.BONDED:
             return Transition.BROKEN
         if new == ContactState.OPEN:

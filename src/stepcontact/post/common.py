@@ -45,6 +45,8 @@ TRANSITION_MARKERS: dict[Transition, tuple[str, str]] = {
     Transition.SLIP_NEG: ("<", "#1f77b4"),
     Transition.STUCK: ("o", "#17becf"),
     Transition.BROKEN: ("X", "#9467bd"),
+    Transition.SLIP: ("D", "#d62728"),
+    Transition.TURNED: ("d", "#ff7f0e"),
 }
 
 
