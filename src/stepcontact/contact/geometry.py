@@ -72,6 +72,16 @@ class ContactElements:
         Initial strength of bonded CFEs (eq. (12), :data:`~stepcontact.contact.laws.BOND_COLUMNS`:
         N_R, Q_R in N, α_R, 1/α_t, and the residual cohesion C_r A in N after the break); NaN
         rows for CFEs without a bond.
+    n_t : int
+        Tangential components per CFE: 1 (2D), 2 (3D: a discrete model with two tangential
+        directions).  The geometry arrays above keep their 2D shapes; a set of CFEs without
+        geometry (a discrete model) has them NaN, also with n_t = 2.
+    facets : int
+        Number k of facets of the faceted Coulomb cone (n_t = 2; 2 in 2D: slip+ and slip−).
+    facet_angle : (m,) float
+        Direction of vertex 0 of each CFE's polygon, rad, from t₁ towards t₂ (0 in 2D).
+    facet_stagger : bool
+        Every other CFE's polygon (odd k) turned by π/k more (the law applies it).
     """
 
     names: tuple[str, ...]
@@ -92,12 +102,18 @@ class ContactElements:
     kt: np.ndarray
     cn: np.ndarray | None = None
     bond: np.ndarray | None = None
+    n_t: int = 1
+    facets: int = 2
+    facet_angle: np.ndarray | None = None
+    facet_stagger: bool = False
 
     def __post_init__(self):
         if self.cn is None:
             object.__setattr__(self, "cn", np.zeros(len(self.interface)))
         if self.bond is None:
             object.__setattr__(self, "bond", np.full((len(self.interface), 5), np.nan))
+        if self.facet_angle is None:
+            object.__setattr__(self, "facet_angle", np.zeros(len(self.interface)))
 
     @property
     def bonded(self) -> np.ndarray:
@@ -113,8 +129,8 @@ class ContactElements:
 
     @cached_property
     def layout(self) -> ContactLayout:
-        """The layout of the contact unknowns of these CFEs (2D: one tangential component)."""
-        return ContactLayout(self.m, 1)
+        """The layout of the contact unknowns of these CFEs (n_t tangential components)."""
+        return ContactLayout(self.m, self.n_t)
 
     @property
     def basis(self) -> np.ndarray:

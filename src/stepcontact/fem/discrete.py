@@ -3,9 +3,11 @@
 
 The contact operator stacks the rows as w = B u + w⁰ with B = [T; −A] (T the tangent rows, A
 the normal rows) and w⁰ = [0; −g⁰], so u_τ = T u and u_n = −A u − g⁰ as for the CFEs of a
-mesh (:mod:`stepcontact.contact.geometry`).  The CFEs have no nodes and no geometry: NaN
-coordinates and normals, the position ``s`` is the CFE's number within its name (interface)
-and the area is 1 (so σ_n = N and τ = Q in value); the DOFs belong to no node.
+mesh (:mod:`stepcontact.contact.geometry`).  With two tangential directions (3D) B = [T₁; T₂;
+−A] and w⁰ = [0; 0; −g⁰], in the component-major order of
+:class:`~stepcontact.contact.layout.ContactLayout` (m, 2).  The CFEs have no nodes and no
+geometry: NaN coordinates and normals, the position ``s`` is the CFE's number within its name
+(interface) and the area is 1 (so σ_n = N and τ = Q in value); the DOFs belong to no node.
 """
 
 from __future__ import annotations
@@ -34,7 +36,8 @@ def discrete_contact(dm: DiscreteModel) -> ContactElements:
         names, interface, local, nodes, np.zeros((m, 3)), nodes.copy(), np.zeros((m, 3)),
         nan2, nan2.copy(), nan2.copy(), local.astype(float), np.ones(m),
         dm.friction.copy(), dm.gaps.copy(), dm.kn.copy(), dm.kt.copy(), dm.cn.copy(),
-        dm.bond.copy(),
+        dm.bond.copy(), n_t=dm.n_t, facets=dm.facets if dm.n_t > 1 else 2,
+        facet_angle=dm.facet_angle.copy(), facet_stagger=dm.facet_stagger,
     )
 
 
@@ -56,9 +59,10 @@ def assemble_discrete(dm: DiscreteModel) -> System:
         groups += [(f"{p} (prescribed):{dm.dof_names[d]}", np.array([d])) for d in dofs]
         loads[p] = LoadVectors(f, u, dofs)
     cfe = discrete_contact(dm)
-    lay = cfe.layout  # rows [u_τ; u_n]: B = [T; −A], w0 = [0; −g⁰]
-    B = sp.vstack([dm.tangent_rows, -dm.normal_rows]).tocsr() if m else sp.csr_matrix((0, n))
-    w0 = lay.join(np.zeros(m), -dm.gaps)
+    lay = cfe.layout  # rows [u_τ1; (u_τ2;) u_n]: B = [T1; (T2;) −A], w0 = [0; (0;) −g⁰]
+    tangents = [dm.tangent_rows] + ([] if dm.tangent2_rows is None else [dm.tangent2_rows])
+    B = sp.vstack([*tangents, -dm.normal_rows]).tocsr() if m else sp.csr_matrix((0, n))
+    w0 = lay.join(np.zeros((m,) if lay.n_t == 1 else (m, lay.n_t)), -dm.gaps)
     rows, labels = reaction_rows(groups, n)
     return System(dm.as_model(), DofMap(np.zeros((0, 3), dtype=np.int64), n), dm.K.copy(),
                   fixed, loads, cfe, B, w0, rows, labels, discrete=dm)

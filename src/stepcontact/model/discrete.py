@@ -2,11 +2,13 @@
 
 For researchers and textbook systems: the same event-driven solver, results and reports as a
 finite-element :class:`~stepcontact.model.Model`, without a mesh.  The degrees of freedom are
-numbered 0 … n−1 (optionally named); CFE k is given by two rows over them:
+numbered 0 … n−1 (optionally named); CFE k is given by two rows over them (three with a
+second tangential direction, 3D):
 
 .. math::
 
     u_{nk} = -\\,a_k \\cdot u - g_k^0, \\qquad u_{\\tau k} = t_k \\cdot u
+    \\quad [\\,u_{\\tau 2 k} = t_{2k} \\cdot u\\,]
 
 ``a_k`` (``normal_rows[k]``) gives the *opening* of the contact, the growth of the distance
 between its two sides (n·(u⁺ − u⁻) in the notation of :mod:`stepcontact.contact.geometry`), and
@@ -14,6 +16,12 @@ between its two sides (n·(u⁺ − u⁻) in the notation of :mod:`stepcontact.c
 the gap is g_k⁰ + a_k · u ≥ 0 (u_n ≤ 0: no interpenetration), N_k ≤ 0 is compression and
 |Q_k| ≤ −f_k N_k.  The contact forces act on the structure as K u = f + a_k (−N_k) − t_k Q_k:
 a compressed contact pushes its S+ side open, friction opposes the slip.
+
+With ``tangent2_rows`` (rows t₂ₖ) every CFE has two tangential directions (n_t = 2, a point
+on a surface in space): the slip is the vector (t₁ₖ · u, t₂ₖ · u), the friction force
+(Q₁ₖ, Q₂ₖ) lies in a regular polygon of ``facets`` sides inscribed in the disc of radius
+−f_k N_k (the faceted Coulomb cone, :mod:`stepcontact.contact.faceted`), and the forces act
+as K u = f + a_k (−N_k) − t₁ₖ Q₁ₖ − t₂ₖ Q₂ₖ.
 
 Example: a point on a rough floor (DOFs u_x, u_y; u_y > 0 lifts it), pressed down, then pushed
 along x:
@@ -101,7 +109,7 @@ class DiscreteModel:
     normal_rows : (m, n)
         Row k gives the opening a_k · u of CFE k: u_n = −a_k · u − g_k⁰ (module docstring).
     tangent_rows : (m, n)
-        Row k gives the slip u_τ = t_k · u of CFE k.
+        Row k gives the slip u_τ = t_k · u of CFE k (its first tangential direction t₁ in 3D).
     loads : {pattern: force vector}
         Forces per unit load factor, N: an (n,) vector, or {dof: value} (a DOF by index or
         by name).
@@ -138,6 +146,27 @@ class DiscreteModel:
         rows: none).  Stored as that (n, 2) array; without it a ground acceleration is
         refused (it would load nothing).
     name : str
+    tangent2_rows : (m, n), optional
+        Row k gives the slip u_τ2 = t₂ₖ · u of CFE k along its second tangential direction
+        (3D: a point on a surface; n_t = 2).  Without it n_t = 1 (2D).  The rows of a CFE
+        are t₁ (``tangent_rows``), t₂, a (``normal_rows``); the forces act on the structure
+        as K u = f + a (−N) − t₁ Q₁ − t₂ Q₂, and (Q₁, Q₂) obeys the faceted Coulomb cone.
+        A CFE with friction needs t₁ and t₂ independent.
+    facets : int
+        Number k of facets of the faceted Coulomb cone (3D: 2 < k ≤ ``MAX_FACETS`` = 128;
+        default 8): the regular k-gon with its vertices on the circle of radius f|N|, so the
+        limit force is f|N| cos(π/k) ≤ |Q| ≤ f|N| (relative error ≤ 1 − cos(π/k)).  In 2D
+        only the default is accepted (the two "facets" there are slip+ and slip−).
+    facet_angle : float or (m,)
+        Direction of vertex 0 of each CFE's polygon, rad, measured from t₁ towards t₂
+        (3D only; default 0).
+    facet_stagger : bool
+        Turn every other CFE's polygon (the odd-numbered CFEs) by π/k more, so that
+        neighbouring CFEs do not share their facet directions (3D only).
+
+    In 3D (``tangent2_rows`` given) the faceted law does not yet take bonded joints
+    (``bond``), contact-layer damping (``cn`` > 0) or a ground acceleration (``dof_axes``):
+    they are refused with a :class:`~stepcontact.errors.ModelError`.
 
     The CFEs carry no geometry: in the result their coordinates and normals are NaN, their
     position along the interface is their number within their name and their area is 1 (so
@@ -169,6 +198,10 @@ class DiscreteModel:
     dof_names: Sequence[str] | None = None
     dof_axes: object = None
     name: str = "discrete"
+    tangent2_rows: object = None
+    facets: int = 8
+    facet_angle: object = 0.0
+    facet_stagger: bool = False
 
     def __post_init__(self):
         put = object.__setattr__
@@ -210,6 +243,10 @@ class DiscreteModel:
         An = _matrix(self.normal_rows, "normal_rows", (None, n))
         m = An.shape[0]
         At = _matrix(self.tangent_rows, "tangent_rows", (m, n))
+        At2 = None if self.tangent2_rows is None else _matrix(self.tangent2_rows,
+                                                              "tangent2_rows", (m, n))
+        put(self, "tangent2_rows", At2)
+        self._facet_options(m)
         for item, A in (("normal_rows", An), ("tangent_rows", At)):
             empty = np.flatnonzero(A.getnnz(axis=1) == 0)
             if empty.size and item == "normal_rows":
@@ -229,11 +266,14 @@ class DiscreteModel:
                              "(the damping acts in the layer)")
         put(self, "bond", self._bonds(m))
         frictional = self.friction > 0
-        no_t = At.getnnz(axis=1) == 0
-        if np.any(frictional & no_t):
-            k = int(np.flatnonzero(frictional & no_t)[0])
-            raise ModelError(f"tangent_rows[{k}]", f"is all zero but the CFE has friction "
-                             f"{self.friction[k]:g}: give its slip row or friction 0")
+        for item, T in (("tangent_rows", At), ("tangent2_rows", At2)):
+            no_t = np.zeros(m, bool) if T is None else T.getnnz(axis=1) == 0
+            if np.any(frictional & no_t):
+                k = int(np.flatnonzero(frictional & no_t)[0])
+                raise ModelError(f"{item}[{k}]", f"is all zero but the CFE has friction "
+                                 f"{self.friction[k]:g}: give its slip row or friction 0")
+        if At2 is not None:
+            self._refuse_3d(At, At2, frictional)
         cfe_names = self.names
         if isinstance(cfe_names, str):
             cfe_names = (cfe_names,) * m
@@ -279,6 +319,70 @@ class DiscreteModel:
     @property
     def m(self) -> int:
         return self.normal_rows.shape[0]
+
+    @property
+    def n_t(self) -> int:
+        """Tangential directions per CFE: 1 (2D), 2 with ``tangent2_rows`` (3D)."""
+        return 1 if self.tangent2_rows is None else 2
+
+    def _facet_options(self, m: int) -> None:
+        """Check and store ``facets``, ``facet_angle`` (m,) and ``facet_stagger``."""
+        from stepcontact.enums import MAX_FACETS
+
+        put = object.__setattr__
+        k = self.facets
+        if isinstance(k, bool) or not isinstance(k, int | np.integer):
+            raise ModelError("facets", f"must be an integer number of facets, got {k!r}")
+        stagger = self.facet_stagger
+        if not isinstance(stagger, bool | np.bool_):
+            raise ModelError("facet_stagger", f"must be True or False, got {stagger!r}")
+        try:
+            angle = np.asarray(self.facet_angle, dtype=float)
+        except (TypeError, ValueError):
+            raise ModelError("facet_angle", "must be a number (rad) or one per CFE") from None
+        if angle.ndim == 0:
+            angle = np.full(m, float(angle))
+        if angle.shape != (m,):
+            raise ModelError("facet_angle", f"give one value or {m} (one per CFE), got shape "
+                             f"{angle.shape}")
+        if not np.all(np.isfinite(angle)):
+            c = int(np.flatnonzero(~np.isfinite(angle))[0])
+            raise ModelError(f"facet_angle[{c}]", f"must be finite (rad), got {angle[c]}")
+        if self.tangent2_rows is None:
+            for item, bad in (("facets", int(k) != 8), ("facet_angle", np.any(angle != 0.0)),
+                              ("facet_stagger", bool(stagger))):
+                if bad:
+                    raise ModelError(item, "a faceted cone needs two tangential directions "
+                                     "(tangent2_rows); in 2D the friction limit has exactly "
+                                     "two facets, slip+ and slip−")
+        elif not 2 < int(k) <= MAX_FACETS:
+            raise ModelError("facets", f"a faceted Coulomb cone has 3 … {MAX_FACETS} facets, "
+                             f"got {k}")
+        put(self, "facets", int(k))
+        put(self, "facet_angle", angle)
+        put(self, "facet_stagger", bool(stagger))
+
+    def _refuse_3d(self, At: sp.csr_matrix, At2: sp.csr_matrix, frictional: np.ndarray) -> None:
+        """What the faceted (3D) law does not take yet, and parallel tangent rows."""
+        why = "is not available with two tangential directions (tangent2_rows) yet"
+        bonded = ~np.isnan(self.bond[:, 0])
+        if bonded.any():
+            raise ModelError(f"bond[{int(np.flatnonzero(bonded)[0])}]",
+                             f"a bonded joint (eq. (12)) {why}")
+        if np.any(self.cn > 0):
+            raise ModelError(f"cn[{int(np.flatnonzero(self.cn > 0)[0])}]",
+                             f"contact-layer damping {why}")
+        if np.any(self.dof_axes != 0.0):
+            raise ModelError("dof_axes", f"a ground acceleration {why}")
+        t11 = np.asarray(At.multiply(At).sum(axis=1)).ravel()
+        t22 = np.asarray(At2.multiply(At2).sum(axis=1)).ravel()
+        t12 = np.asarray(At.multiply(At2).sum(axis=1)).ravel()
+        parallel = frictional & (t11 * t22 - t12 ** 2 <= 1e-12 * t11 * t22)
+        if parallel.any():
+            k = int(np.flatnonzero(parallel)[0])
+            raise ModelError(f"tangent2_rows[{k}]", f"is parallel to tangent_rows[{k}]: the "
+                             "two tangential directions of a CFE with friction must be "
+                             "independent")
 
     def dof(self, key, item: str = "dof") -> int:
         """Index of a DOF given by index or by name."""
