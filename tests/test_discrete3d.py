@@ -1,0 +1,154 @@
+"""Discrete models with two tangential directions per CFE (3D: the faceted Coulomb cone).
+
+References: the contact operator and the initial mutual displacements built by hand from the
+rows t₁, t₂, a and the gaps (B = [T₁; T₂; −A], w⁰ = [0; 0; −g⁰], component-major as in
+:class:`stepcontact.contact.layout.ContactLayout`); the forces on the structure written
+out as a (−N) − t₁ Q₁ − t₂ Q₂.  All comparisons are exact (copies of the same numbers, or a
+few float operations: 1e-14 relative where stated).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import stepcontact as sc
+from stepcontact.contact.layout import ContactLayout
+from stepcontact.enums import MAX_FACETS
+from stepcontact.errors import ModelError
+from stepcontact.fem.discrete import assemble_discrete
+
+RNG = np.random.default_rng(26)
+N_DOF, M = 7, 3
+K = np.diag(np.arange(1.0, N_DOF + 1)) * 1e3  # N/m, positive definite
+A = RNG.normal(size=(M, N_DOF))  # opening rows
+T1 = RNG.normal(size=(M, N_DOF))
+T2 = RNG.normal(size=(M, N_DOF))
+GAPS = np.array([0.0, 1e-3, 2e-3])  # m
+
+
+def model3d(**kw) -> sc.DiscreteModel:
+    args = dict(K=K, normal_rows=A, tangent_rows=T1, tangent2_rows=T2, gaps=GAPS,
+                friction=0.4, loads={"P": -A[0]}, program=[sc.Segment("P", 1.0)])
+    args.update(kw)
+    return sc.DiscreteModel(**args)
+
+
+def test_operator_and_initial_displacements_against_hand_built():
+    """B = [T₁; T₂; −A] and w⁰ = [0; 0; −g⁰] (exact: the same numbers)."""
+    dm = model3d()
+    sysm = assemble_discrete(dm)
+    assert dm.n_t == 2
+    assert sysm.layout == ContactLayout(M, 2)
+    assert sysm.cfe.layout == ContactLayout(M, 2)
+    np.testing.assert_array_equal(sysm.B.toarray(), np.vstack([T1, T2, -A]))
+    np.testing.assert_array_equal(sysm.w0, np.r_[np.zeros(2 * M), -GAPS])
+
+
+def test_layout_views_of_the_operator():
+    """Row (j, k) of B is component j of CFE k: the views give u_τ = (t₁·u, t₂·u) per CFE and
+    u_n = −a·u − g⁰ (1e-14 relative: one matrix product each)."""
+    dm = model3d()
+    sysm = assemble_discrete(dm)
+    lay = sysm.layout
+    u = RNG.normal(size=N_DOF)
+    w = sysm.B @ u + sysm.w0
+    ut, un = lay.split(w)
+    assert ut.shape == (M, 2) and un.shape == (M,)
+    np.testing.assert_allclose(ut, np.column_stack([T1 @ u, T2 @ u]), rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(un, -A @ u - GAPS, rtol=1e-14, atol=1e-14)
+    for k in range(M):
+        rows = lay.rows(k)
+        np.testing.assert_array_equal(sysm.B.toarray()[rows], np.vstack([T1[k], T2[k], -A[k]]))
+
+
+def test_contact_forces_on_the_structure():
+    """−Bᵀ s with s = [Q₁; Q₂; p] (p = −N) is Σ a (−N) − t₁ Q₁ − t₂ Q₂, the class docstring's
+    K u = f + a (−N) − t₁ Q₁ − t₂ Q₂ (1e-13 relative)."""
+    sysm = assemble_discrete(model3d())
+    Q = RNG.normal(size=(M, 2))
+    N = -np.abs(RNG.normal(size=M))
+    s = sysm.layout.join(Q, -N)
+    hand = A.T @ (-N) - T1.T @ Q[:, 0] - T2.T @ Q[:, 1]
+    np.testing.assert_allclose(-(sysm.B.T @ s), hand, rtol=1e-13, atol=1e-13)
+
+
+def test_facet_options_reach_the_contact_elements():
+    dm = model3d(facets=16, facet_angle=[0.1, 0.2, 0.3], facet_stagger=True)
+    cfe = assemble_discrete(dm).cfe
+    assert (cfe.n_t, cfe.facets, cfe.facet_stagger) == (2, 16, True)
+    np.testing.assert_array_equal(cfe.facet_angle, [0.1, 0.2, 0.3])
+    cfe = assemble_discrete(model3d(facet_angle=0.25)).cfe
+    assert cfe.facets == 8 and not cfe.facet_stagger
+    np.testing.assert_array_equal(cfe.facet_angle, np.full(M, 0.25))
+    # no geometry: NaN coordinates, normals and tangents of the 2D shapes, also with n_t = 2
+    for a in (cfe.x, cfe.normal, cfe.tangent):
+        assert a.shape == (M, 2) and np.isnan(a).all()
+    np.testing.assert_array_equal(cfe.area, np.ones(M))
+
+
+def test_replace_keeps_the_second_direction():
+    dm = model3d(facets=12, facet_angle=0.5).replace(program=[sc.Segment("P", 2.0)])
+    assert dm.n_t == 2 and dm.facets == 12
+    np.testing.assert_array_equal(dm.tangent2_rows.toarray(), T2)
+    np.testing.assert_array_equal(dm.facet_angle, np.full(M, 0.5))
+
+
+def test_sparse_rows_accepted():
+    dm = model3d(tangent2_rows=sp.csr_matrix(T2))
+    np.testing.assert_array_equal(assemble_discrete(dm).B.toarray()[M:2 * M], T2)
+
+
+def test_2d_unchanged():
+    """Without tangent2_rows: n_t = 1, B = [T; −A], w⁰ = [0; −g⁰], two facets (slip±)."""
+    dm = sc.DiscreteModel(K=K, normal_rows=A, tangent_rows=T1, gaps=GAPS, friction=0.4,
+                          loads={"P": -A[0]}, program=[sc.Segment("P", 1.0)])
+    sysm = assemble_discrete(dm)
+    assert dm.n_t == 1 and dm.tangent2_rows is None
+    assert sysm.layout == ContactLayout(M, 1)
+    np.testing.assert_array_equal(sysm.B.toarray(), np.vstack([T1, -A]))
+    np.testing.assert_array_equal(sysm.w0, np.r_[np.zeros(M), -GAPS])
+    assert sysm.cfe.n_t == 1 and sysm.cfe.facets == 2 and not sysm.cfe.facet_stagger
+
+
+@pytest.mark.parametrize(("kw", "item"), [
+    (dict(facets=2), "facets"),
+    (dict(facets=MAX_FACETS + 1), "facets"),
+    (dict(facets=8.0), "facets"),
+    (dict(facets=True), "facets"),
+    (dict(facet_angle=[0.0, 1.0]), "facet_angle"),
+    (dict(facet_angle=[0.0, np.nan, 0.0]), "facet_angle[1]"),
+    (dict(facet_angle="north"), "facet_angle"),
+    (dict(facet_stagger="yes"), "facet_stagger"),
+    (dict(tangent2_rows=T2[:2]), "tangent2_rows"),
+    (dict(tangent2_rows=np.vstack([T2[:2], np.zeros(N_DOF)])), "tangent2_rows[2]"),
+    (dict(tangent2_rows=np.vstack([T2[0], 3.0 * T1[1], T2[2]])), "tangent2_rows[1]"),
+    (dict(bond=[None, sc.Bond(tensile=1.0, shear=1.0, alpha=0.5), None], gaps=0.0), "bond[1]"),
+    (dict(cn=[0.0, 0.0, 5.0], kn=1e6), "cn[2]"),
+    (dict(dof_axes={"u0": "x"}), "dof_axes"),
+])
+def test_3d_validation_names_the_field(kw, item):
+    with pytest.raises(ModelError) as err:
+        model3d(**kw)
+    assert err.value.item == item, err.value
+
+
+def test_3d_accepts_the_limits_of_facets_and_frictionless_parallel_rows():
+    assert model3d(facets=3).facets == 3
+    assert model3d(facets=MAX_FACETS).facets == MAX_FACETS
+    assert model3d(facets=np.int64(5)).facets == 5
+    # a frictionless CFE needs no independent tangents (its forces Q vanish)
+    dm = model3d(tangent2_rows=np.vstack([T2[0], T1[1], T2[2]]), friction=[0.4, 0.0, 0.4])
+    assert dm.n_t == 2
+
+
+@pytest.mark.parametrize(("kw", "item"), [
+    (dict(facets=16), "facets"),
+    (dict(facet_angle=0.3), "facet_angle"),
+    (dict(facet_stagger=True), "facet_stagger"),
+])
+def test_2d_refuses_facet_options(kw, item):
+    with pytest.raises(ModelError, match="two tangential directions") as err:
+        sc.DiscreteModel(K=K, normal_rows=A, tangent_rows=T1, friction=0.4, **kw)
+    assert err.value.item == item
