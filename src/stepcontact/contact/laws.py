@@ -27,6 +27,7 @@ further law with more facets, added without touching the engine.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -77,16 +78,71 @@ class Relations:
 
 @dataclass
 class RateVariables:
-    """Variables z ≥ 0 of the rate problem of one law (global CFE ids, kinds) and, per
-    variable, its effect on the base scheme's relations (``row`` component, ``value``: the
-    relation right-hand side for z = 1) and its complement w = cp·p' + cq·Q' ≥ 0."""
+    """Variables z ≥ 0 of the rate problem of one law (global CFE ids, kinds, facets) with,
+    per variable, its vector effect on the base scheme's relations and its complement.
+
+    ``effect`` (nv, 1 + n_t): the relation right-hand sides over the components t₁[, t₂], n of
+    the variable's CFE for z = 1; ``comp`` (nv, 1 + n_t): the complement
+    w = Σ_c comp_c s'_c ≥ 0 (the rate of the event function the variable stands for);
+    ``kind``: :data:`OPENING` or a slip variable (±1: 2D slip±, :data:`SLIP_PLUS` on a facet of
+    a faceted cone); ``facet``: the facet of a slip variable of a faceted cone (−1 otherwise).
+    """
 
     cfe: np.ndarray
     kind: np.ndarray
-    row: np.ndarray
-    value: np.ndarray
-    cp: np.ndarray
-    cq: np.ndarray
+    effect: np.ndarray
+    comp: np.ndarray
+    facet: np.ndarray
+
+    @staticmethod
+    def concatenate(parts: list[RateVariables]) -> RateVariables:
+        """The variables of several laws, one after the other."""
+        n_c = max((p.effect.shape[1] for p in parts), default=2)
+        return RateVariables(**{k: np.concatenate([getattr(p, k) for p in parts])
+                                if parts else np.zeros((0, n_c) if k in ("effect", "comp")
+                                                       else 0)
+                                for k in ("cfe", "kind", "effect", "comp", "facet")})
+
+
+class ContactLaw(Protocol):
+    """What the engine, the rate problem and the drivers ask a contact law (its CFEs ``cfes``
+    and their state codes; the law alone knows what a state means).
+
+    * states: :meth:`closed_state`, :meth:`base_state`, :meth:`slipping`, :meth:`state_options`;
+    * relations per state (eqs. (1), (11), (12)): :meth:`relations` writes the CFEs' blocks;
+    * event functions (eqs. (2), (3), (12)): :meth:`event_values`, affine in (s, w), with
+      ``column_kinds`` (0 a force, 1 a gap) and ``column_names``; :meth:`fire` the natural
+      transitions;
+    * the rate problem at a degenerate point: :meth:`limits`, :meth:`rate_variables` (vector
+      effect and complement per variable), :meth:`active_for`, :meth:`basis_options`,
+      :meth:`states_from_active`, :meth:`consistent`;
+    * corrections: :meth:`snap`, :meth:`violation`, :meth:`article_step`.
+    """
+
+    cfes: np.ndarray
+    n_columns: int
+    column_kinds: np.ndarray
+    column_names: tuple[str, ...]
+
+    def closed_state(self) -> np.ndarray: ...
+    def base_state(self, states: np.ndarray) -> np.ndarray: ...
+    def slipping(self, states: np.ndarray) -> np.ndarray: ...
+    def relations(self, states, rel: Relations, m, article: bool = False) -> None: ...
+    def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray: ...
+    def fire(self, states: np.ndarray, col: np.ndarray, Q=None) -> np.ndarray: ...
+    def limits(self, states, Q, p, un, tf: float, tw: float): ...
+    def rate_variables(self, local, states, Q, normal_lim, two_sided, *, p=None,
+                       tf: float = 0.0) -> RateVariables: ...
+    def active_for(self, states, kind, facet) -> np.ndarray: ...
+    def basis_options(self, kind, facet) -> list[list[int]]: ...
+    def states_from_active(self, base, var_local, var_kind, active, z, facet=None
+                           ) -> np.ndarray: ...
+    def state_options(self, j: int, normal_lim: bool, state: int) -> list[int]: ...
+    def consistent(self, trial, Q, dQ, dp, dun, dut, normal_lim, two_sided, rf, rw, *, p=None,
+                   tf: float = 0.0) -> np.ndarray: ...
+    def snap(self, states, Q, p, un): ...
+    def violation(self, states, Q, p, un, F: float, W: float) -> float: ...
+    def article_step(self, states, p, dp, eps_p: float) -> float: ...
 
 
 class CoulombLaw:
@@ -150,6 +206,9 @@ class CoulombLaw:
     """
 
     n_columns = 8
+    #: the event-function columns: 0 a force, 1 a gap (their tolerances and rate scales)
+    column_kinds = np.array([0, 0, 0, 0, 0, 0, 0, 1])
+    column_names = ("p", "slip+", "slip-", "tension+", "tension-", "shear+", "shear-", "gap")
     #: the event-function columns of the bond's facets
     BOND_FACETS = slice(3, 7)
 
@@ -319,7 +378,7 @@ class CoulombLaw:
         out[op, 7] = (self.surface[op] if affine else 0.0) - un[op]
         return out
 
-    def fire(self, states: np.ndarray, col: np.ndarray) -> np.ndarray:
+    def fire(self, states: np.ndarray, col: np.ndarray, Q=None) -> np.ndarray:
         """The natural transition of each CFE whose event function ``col`` reached zero
         (col < 0: none).  A bond's facet (3–6) leaves the CFE BONDED here: the break, which
         releases forces, is the driver's (:meth:`broken_state`, :meth:`released`)."""
@@ -425,13 +484,57 @@ class CoulombLaw:
         kn, kt = self.kn[loc], self.kt[loc]
         value = np.where(is_op, np.where(self.rigid_n[loc], -1.0, kn),
                          kind * np.where(self.rigid_t[loc], 1.0, -kt))
-        return RateVariables(
-            cfe=glob, kind=kind, row=np.where(is_op, 1, 0),  # 1: normal, 0: tangential
-            value=value, cp=np.where(is_op, 1.0, self.f[loc]),
-            cq=np.where(is_op, 0.0, -kind.astype(float)),
-        )
+        # components (t, n): an opening acts on the normal relation, a slip on the tangential
+        effect = np.column_stack([np.where(is_op, 0.0, value), np.where(is_op, value, 0.0)])
+        comp = np.column_stack([np.where(is_op, 0.0, -kind.astype(float)),
+                                np.where(is_op, 1.0, self.f[loc])])
+        return RateVariables(cfe=glob, kind=kind, effect=effect, comp=comp,
+                             facet=np.full(len(glob), -1, dtype=np.int64))
 
-    def states_from_active(self, base, var_local, var_kind, active, z) -> np.ndarray:
+    @staticmethod
+    def active_for(states, kind, facet=None) -> np.ndarray:
+        """Which variables (of ``kind``) are active in the scheme ``states`` of their CFEs: the
+        complementary basis that stands for it (an opening where OPEN, slip± where slipping
+        that way)."""
+        return np.where(kind == OPENING, states == OPEN,
+                        np.where(kind > 0, states == SLIP_POS, states == SLIP_NEG))
+
+    @staticmethod
+    def basis_options(kind, facet=None) -> list[list[int]]:
+        """The complementary bases of one CFE's variables (positions in ``kind``) that stand
+        for distinct states: none (stick), one slip rate, the opening alone, or the opening
+        with a slip rate (an open CFE moves tangentially too: its Q' = 0 makes the slip
+        complements zero)."""
+        o = [i for i in range(len(kind)) if kind[i] == OPENING]
+        slips = [i for i in range(len(kind)) if kind[i] != OPENING]
+        opts: list[list[int]] = [[], *([i] for i in slips)]
+        if o:
+            opts += [o, *(o + [i] for i in slips)]
+        return opts
+
+    def state_options(self, j: int, normal_lim: bool, state: int) -> list[int]:
+        """The states CFE j (local) may take at a point where every scheme is tried: open (from
+        its normal limit), closed, slip± where frictional; a bond holds (its break is the
+        driver's)."""
+        if state == BONDED:
+            return [BONDED]
+        opts = ([OPEN] if normal_lim or state == OPEN else []) + [int(self.closed_state()[j])]
+        if self.frictional[j]:
+            opts += [SLIP_POS, SLIP_NEG]
+        return opts
+
+    def article_step(self, states, p, dp, eps_p: float) -> float:
+        """Step limit of the article's slip treatment, eq. (5): |ΔQ_p / Q_p| ≤ ε_p over the
+        slipping CFEs (normal forces p, their rates dp)."""
+        sl = self.slipping(states)
+        dqp = self.f * dp
+        qp = self.friction_limit(p, states)  # f p + C
+        with np.errstate(divide="ignore", invalid="ignore"):
+            v = np.where(sl & (np.abs(dqp) > 0), np.abs(eps_p * qp / dqp), _INF)
+        return float(v.min(initial=_INF))
+
+    def states_from_active(self, base, var_local, var_kind, active, z, facet=None
+                           ) -> np.ndarray:
         """The scheme a solution of the rate problem stands for: openings first, then the
         net slip direction (a⁺ − a⁻) of each CFE whose slip rates are active."""
         new = base.copy()
@@ -489,4 +592,4 @@ class CoulombLaw:
 
 
 __all__ = ["BONDED", "BOND_COLUMNS", "CLOSED", "FIXED", "FREE", "OPEN", "SLIP_NEG", "SLIP_POS",
-           "SPRING", "STICK", "CoulombLaw", "RateVariables", "Relations"]
+           "SPRING", "STICK", "ContactLaw", "CoulombLaw", "RateVariables", "Relations"]

@@ -27,8 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.contact.laws import OPEN, SLIP_NEG, SLIP_POS, STICK, Relations
+from stepcontact.contact.laws import OPEN, STICK, Relations
 from stepcontact.contact.layout import ContactLayout
+from stepcontact.enums import slipping
 from stepcontact.solver.rate import RateOutcome, solve_rate_problem
 from stepcontact.solver.schemes import (
     MechanismError,
@@ -247,7 +248,7 @@ class EventEngine:
             cap[c] = law.friction_limit(p, states[c])
             grip[c] = (states[c] == STICK) & law.frictional
         ZQ, Zp = self.layout.split(Z)
-        grp = grip & (np.abs(ZQ).max(axis=1, initial=0.0) > 1e-9)
+        grp = grip & (np.abs(ZQ).reshape(m, -1).max(axis=1, initial=0.0) > 1e-9)
         if not grp.any():
             return ds, dw
         # the split of least Σ Q_k² / (f p_k + C) (Q_k proportional to each CFE's capacity),
@@ -256,9 +257,13 @@ class EventEngine:
         wgt = np.ones(self.layout.n)
         cref = float(cap[grp].max())
         if cref > tf:  # (without normal force, e.g. a path from zero: equal shares)
-            self.layout.tangential(wgt)[grp] = cref / np.maximum(cap[grp], 1e-3 * cref)
+            share = cref / np.maximum(cap[grp], 1e-3 * cref)
+            wt = self.layout.tangential(wgt)
+            wt[grp] = share if self.layout.n_t == 1 else share[:, None]
         c_w = np.linalg.lstsq(Z.T @ (wgt[:, None] * Z), -(Z.T @ (wgt * ds)), rcond=None)[0]
-        if absolute:
+        if absolute or self.layout.n_t > 1:
+            # (a faceted cone: the split by capacity; the facets' synchronisation below is
+            # written for the two facets of 2D)
             return ds + Z @ c_w, dw
         Q = self.layout.tangential(self.s)
         dQ, dp = self.layout.split(ds)
@@ -317,21 +322,21 @@ class EventEngine:
         return bool(bn > 0 and np.abs(Y.T @ b).max(initial=0) > 1e-7 * bn)
 
     # ---- event functions ----------------------------------------------------------------------
-    def event_values(self, states, s, w, affine: bool = True) -> np.ndarray:
-        ncol = max((law.n_columns for law in self.laws), default=0)
-        out = np.full((self.m, ncol), _INF)
-        for law, c, Q, p, _ut, un in self._parts(s, w):
-            out[c, : law.n_columns] = law.event_values(states[c], Q, p, un, affine)
-        return out
+    def event_values(self, states, s, w, affine: bool = True) -> list[np.ndarray]:
+        """φ of every law's CFEs in ``states`` (one (k, n_columns) array per law, in the order
+        of ``laws``; ``+inf`` where a function does not apply): the event functions of eqs.
+        (2), (3), (12).  With ``affine=False`` and rates (s', w'): their rates."""
+        return [law.event_values(states[c], Q, p, un, affine)
+                for law, c, Q, p, _ut, un in self._parts(s, w)]
 
-    def tolerance_columns(self) -> np.ndarray:
-        """Absolute tolerance of each event-function column (forces …, gaps last)."""
+    def _column_scales(self, law, force: float, gap: float) -> np.ndarray:
+        """Per column of ``law``: ``force`` for a force column, ``gap`` for a gap column."""
+        return np.where(law.column_kinds == 1, gap, force)
+
+    def tolerance_columns(self, law) -> np.ndarray:
+        """Absolute tolerance of each event-function column of ``law`` (forces, gaps)."""
         tf, tw = self.tolerances()
-        ncol = max((law.n_columns for law in self.laws), default=0)
-        tol = np.full(ncol, tf)
-        if ncol:
-            tol[-1] = tw
-        return tol
+        return self._column_scales(law, tf, tw)
 
     def next_event(self, ds, dw, remaining: float, group: float) -> tuple[float, float, np.ndarray]:
         """Earliest root of all event functions along the rates (ds, dw): the event load
@@ -340,20 +345,22 @@ class EventEngine:
 
         Returns (Δμ, Δμ of the earliest event (inf if none), fired mask (m,)): CFEs whose
         functions reach zero within ``group`` of the earliest root form one event point."""
-        phi = self.event_values(self.states, self.s, self.w)
-        dphi = np.where(np.isfinite(phi), self.event_values(self.states, ds, dw, affine=False),
-                        0.0)
-        ncol = phi.shape[1]
-        if ncol == 0:
-            return remaining, _INF, np.zeros(self.m, bool)
-        rate_tol = 1e3 * self.rtol * np.r_[
-            [max(np.abs(ds).max(initial=0), 1e-300)] * (ncol - 1),
-            max(np.abs(dw).max(initial=0), 1e-300)]
-        active = np.isfinite(phi) & (dphi < -rate_tol)
-        steps = np.where(active, np.maximum(phi, 0.0) / np.where(active, -dphi, 1.0), _INF)
-        dmu_ev = float(steps.min(initial=_INF))
+        phis = self.event_values(self.states, self.s, self.w)
+        dphis = self.event_values(self.states, ds, dw, affine=False)
+        fs = 1e3 * self.rtol * max(np.abs(ds).max(initial=0), 1e-300)
+        gs = 1e3 * self.rtol * max(np.abs(dw).max(initial=0), 1e-300)
+        all_steps = []
+        for law, phi, dphi in zip(self.laws, phis, dphis, strict=True):
+            dphi = np.where(np.isfinite(phi), dphi, 0.0)
+            active = np.isfinite(phi) & (dphi < -self._column_scales(law, fs, gs)[None, :])
+            all_steps.append(np.where(active, np.maximum(phi, 0.0)
+                                      / np.where(active, -dphi, 1.0), _INF))
+        dmu_ev = min((float(st.min(initial=_INF)) for st in all_steps), default=_INF)
         dmu = min(dmu_ev, remaining)
-        fired = np.any(steps <= dmu + group, axis=1) & (dmu_ev <= dmu + group)
+        fired = np.zeros(self.m, bool)
+        if dmu_ev <= dmu + group:
+            for law, st in zip(self.laws, all_steps, strict=True):
+                fired[law.cfes] = np.any(st <= dmu + group, axis=1)
         return dmu, dmu_ev, fired
 
     def next_event_poly(self, dss, dws, remaining: float, group: float
@@ -369,53 +376,25 @@ class EventEngine:
         :meth:`next_event` itself.  Returns as :meth:`next_event`."""
         if len(dss) == 1:
             return self.next_event(dss[0], dws[0], remaining, group)
-        phi = self.event_values(self.states, self.s, self.w)
-        ncol = phi.shape[1]
-        if ncol == 0:
-            return remaining, _INF, np.zeros(self.m, bool)
-        fin = np.isfinite(phi)
-        coef = np.stack([np.where(fin, self.event_values(self.states, ds, dw, affine=False), 0.0)
-                         for ds, dw in zip(dss, dws, strict=True)], axis=-1)  # (m, ncol, J)
-        J = coef.shape[-1]
+        phis = self.event_values(self.states, self.s, self.w)
+        coefs = [self.event_values(self.states, ds, dw, affine=False)
+                 for ds, dw in zip(dss, dws, strict=True)]
         scale_s = max((np.abs(ds).max(initial=0) for ds in dss), default=0.0)
         scale_w = max((np.abs(dw).max(initial=0) for dw in dws), default=0.0)
-        rate_tol = 1e3 * self.rtol * np.r_[[max(scale_s, 1e-300)] * (ncol - 1),
-                                           max(scale_w, 1e-300)]
         R = max(remaining, 1e-300)
-        powers = R ** np.arange(1, J + 1)
-        # a coefficient below the rate tolerance (over the whole step) is round-off
-        coef = np.where(np.abs(coef) * powers[None, None, :] < rate_tol[None, :, None] * R,
-                        0.0, coef)
-        p0 = np.where(fin, np.maximum(phi, 0.0), 0.0)
-        reach = np.abs(coef) @ powers
-        cand = np.argwhere(fin & (reach >= p0) & np.any(coef != 0, axis=-1))
-        steps = np.full(phi.shape, _INF)
-        tiny = 1e-14 * max(R, 1.0)
-        for k, c in cand:
-            cs = coef[k, c]
-            if p0[k, c] == 0.0:
-                lead = cs[np.flatnonzero(cs)[0]]
-                if lead < 0:  # at its limit and moving past it: an event here
-                    steps[k, c] = 0.0
-                    continue
-            poly = np.r_[p0[k, c], cs]
-            roots = np.polynomial.polynomial.polyroots(np.trim_zeros(poly, "b"))
-            real = roots.real[np.abs(roots.imag) <= 1e-7 * np.maximum(np.abs(roots.real), tiny)]
-            real = np.sort(real[real > tiny])
-            for r in real:
-                for _ in range(3):  # Newton polish on the exact polynomial
-                    val = np.polynomial.polynomial.polyval(r, poly)
-                    der = np.polynomial.polynomial.polyval(
-                        r, np.polynomial.polynomial.polyder(poly))
-                    if der == 0:
-                        break
-                    r = r - val / der
-                if r > tiny:
-                    steps[k, c] = r
-                    break
-        dmu_ev = float(steps.min(initial=_INF))
+        all_steps = []
+        for i, (law, phi) in enumerate(zip(self.laws, phis, strict=True)):
+            rate_tol = 1e3 * self.rtol * self._column_scales(law, max(scale_s, 1e-300),
+                                                             max(scale_w, 1e-300))
+            fin = np.isfinite(phi)
+            coef = np.stack([np.where(fin, c[i], 0.0) for c in coefs], axis=-1)  # (k, ncol, J)
+            all_steps.append(_poly_steps(phi, coef, rate_tol, R))
+        dmu_ev = min((float(st.min(initial=_INF)) for st in all_steps), default=_INF)
         dmu = min(dmu_ev, remaining)
-        fired = np.any(steps <= dmu + group, axis=1) & (dmu_ev <= dmu + group)
+        fired = np.zeros(self.m, bool)
+        if dmu_ev <= dmu + group:
+            for law, st in zip(self.laws, all_steps, strict=True):
+                fired[law.cfes] = np.any(st <= dmu + group, axis=1)
         return dmu, dmu_ev, fired
 
     def advance_poly(self, dmu: float, dss, dws) -> None:
@@ -425,17 +404,11 @@ class EventEngine:
             self.w += dmu**j * dw
 
     def article_step(self, ds) -> float:
-        """Step limit of the article's slip treatment, eq. (5): |ΔQ_p / Q_p| ≤ ε_p."""
-        lim = _INF
+        """Step limit of the article's slip treatment, eq. (5): |ΔQ_p / Q_p| ≤ ε_p (each law's
+        :meth:`~stepcontact.contact.laws.CoulombLaw.article_step`)."""
         dp = self.layout.normal(ds)
-        for law, c, _Q, p, _ut, _un in self._parts(self.s, self.w):
-            sl = law.slipping(self.states[c])
-            dqp = law.f * dp[c]
-            qp = law.friction_limit(p, self.states[c])  # f p + C
-            with np.errstate(divide="ignore", invalid="ignore"):
-                v = np.where(sl & (np.abs(dqp) > 0), np.abs(self.eps_p * qp / dqp), _INF)
-            lim = min(lim, float(v.min(initial=_INF)))
-        return lim
+        return min((law.article_step(self.states[c], p, dp[c], self.eps_p)
+                    for law, c, _Q, p, _ut, _un in self._parts(self.s, self.w)), default=_INF)
 
     def advance(self, dmu: float, ds, dw) -> None:
         self.s += dmu * ds
@@ -446,20 +419,21 @@ class EventEngine:
         """CFEs at their limits (or that fired), the guess (natural transitions of the CFEs
         whose functions fired) and the limits (normal, two-sided) of every CFE."""
         self.update_scales()
-        tol = self.tolerance_columns()
-        phi = self.event_values(self.states, self.s, self.w)
-        at = np.any(phi <= tol[None, :], axis=1) | fired
-        slipping = (self.states == SLIP_POS) | (self.states == SLIP_NEG)
-        L = np.flatnonzero(at | slipping)
-        col = np.where(at, np.argmin(np.where(np.isfinite(phi), phi / tol[None, :], _INF), axis=1),
-                       -1)
+        phis = self.event_values(self.states, self.s, self.w)
+        at = fired.copy()
+        col = np.full(self.m, -1)
         guess = self.states.copy()
         normal = np.zeros(self.m, bool)
         two = np.zeros(self.m, bool)
         tf, tw = self.tolerances()
-        for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
-            guess[c] = law.fire(self.states[c], col[c])
+        for (law, c, Q, p, _ut, un), phi in zip(self._parts(self.s, self.w), phis, strict=True):
+            tol = self.tolerance_columns(law)
+            at[c] |= np.any(phi <= tol[None, :], axis=1)
+            col[c] = np.where(at[c], np.argmin(np.where(np.isfinite(phi), phi / tol[None, :],
+                                                        _INF), axis=1), -1)
+            guess[c] = law.fire(self.states[c], col[c], Q)
             normal[c], two[c] = law.limits(self.states[c], Q, p, un, tf, tw)
+        L = np.flatnonzero(at | slipping(self.states))
         return L, guess, normal, two
 
     def consistent(self, trial, L, ds, dw, normal, two) -> np.ndarray:
@@ -526,6 +500,46 @@ class EventEngine:
         F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
         return max((law.violation(self.states[c], Q, p, un, F, W)
                     for law, c, Q, p, _ut, un in self._parts(self.s, self.w)), default=0.0)
+
+
+def _poly_steps(phi: np.ndarray, coef: np.ndarray, rate_tol: np.ndarray, R: float) -> np.ndarray:
+    """The smallest positive root μ of each event function φ + Σ_j coef_j μ^j (``phi`` (k,
+    ncol), ``coef`` (k, ncol, J)) within reach of a step of length R (inf: none): eigenvalues
+    of the companion matrix polished by Newton steps; coefficients below ``rate_tol`` (per
+    column) over the whole step are round-off."""
+    fin = np.isfinite(phi)
+    J = coef.shape[-1]
+    powers = R ** np.arange(1, J + 1)
+    coef = np.where(np.abs(coef) * powers[None, None, :] < rate_tol[None, :, None] * R,
+                    0.0, coef)
+    p0 = np.where(fin, np.maximum(phi, 0.0), 0.0)
+    reach = np.abs(coef) @ powers
+    cand = np.argwhere(fin & (reach >= p0) & np.any(coef != 0, axis=-1))
+    steps = np.full(phi.shape, _INF)
+    tiny = 1e-14 * max(R, 1.0)
+    P = np.polynomial.polynomial
+    for k, c in cand:
+        cs = coef[k, c]
+        if p0[k, c] == 0.0:
+            lead = cs[np.flatnonzero(cs)[0]]
+            if lead < 0:  # at its limit and moving past it: an event here
+                steps[k, c] = 0.0
+                continue
+        poly = np.r_[p0[k, c], cs]
+        roots = P.polyroots(np.trim_zeros(poly, "b"))
+        real = roots.real[np.abs(roots.imag) <= 1e-7 * np.maximum(np.abs(roots.real), tiny)]
+        real = np.sort(real[real > tiny])
+        for r in real:
+            for _ in range(3):  # Newton polish on the exact polynomial
+                val = P.polyval(r, poly)
+                der = P.polyval(r, P.polyder(poly))
+                if der == 0:
+                    break
+                r = r - val / der
+            if r > tiny:
+                steps[k, c] = r
+                break
+    return steps
 
 
 __all__ = ["LIMIT_TOL", "SELF_STRESS_MAX", "Decision", "EventEngine", "norm2", "null_modes"]

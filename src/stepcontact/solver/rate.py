@@ -34,8 +34,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stepcontact.contact.laws import BONDED, OPEN, OPENING, SLIP_NEG, SLIP_POS, RateVariables
-from stepcontact.enums import Status
+from stepcontact.contact.laws import OPEN, OPENING, RateVariables
+from stepcontact.enums import Status, slipping
 from stepcontact.solver.lcp import enumerate_solutions, lemke, principal_pivoting
 from stepcontact.solver.schemes import MechanismError
 
@@ -83,9 +83,7 @@ def _variables(eng, L, normal_lim, two_sided) -> RateVariables:
         v = law.rate_variables(local, eng.states[sl], Q[sl], normal_lim[sl], two_sided[sl],
                                p=p[sl], tf=tf)
         parts.append(v)
-    cat = {k: np.concatenate([getattr(p, k) for p in parts]) for k in
-           ("cfe", "kind", "row", "value", "cp", "cq")}
-    return RateVariables(**cat)
+    return RateVariables.concatenate(parts)
 
 
 def _states_from(eng, base, var, active, z):
@@ -94,16 +92,20 @@ def _states_from(eng, base, var, active, z):
         sel = np.isin(var.cfe, law.cfes)
         loc = np.searchsorted(law.cfes, var.cfe[sel])
         new[law.cfes] = law.states_from_active(base[law.cfes], loc, var.kind[sel], active[sel],
-                                               z[sel])
+                                               z[sel], facet=var.facet[sel])
     return new
 
 
-def _start_basis(var: RateVariables, guess: np.ndarray) -> np.ndarray:
+def _start_basis(eng, var: RateVariables, guess: np.ndarray) -> np.ndarray:
     """The complementary basis that stands for the guessed scheme (pivoting starts there, so
-    that a non-unique rate problem continues the current scheme where it can)."""
-    st = guess[var.cfe]
-    return np.where(var.kind == OPENING, st == OPEN,
-                    np.where(var.kind > 0, st == SLIP_POS, st == SLIP_NEG))
+    that a non-unique rate problem continues the current scheme where it can); each law says
+    which of its variables its states stand for."""
+    out = np.zeros(len(var.cfe), bool)
+    for law in eng.laws:
+        sel = np.isin(var.cfe, law.cfes)
+        if sel.any():
+            out[sel] = law.active_for(guess[var.cfe[sel]], var.kind[sel], var.facet[sel])
+    return out
 
 
 def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_lim, two_sided,
@@ -150,21 +152,24 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     if nv == 0:
         return kept or RateOutcome(base, ds0, dw0, "stuck scheme", L)
     R = lay.zeros(nv)
-    R[lay.index(var.cfe, var.row), np.arange(nv)] = var.value
+    rows = lay.rows(var.cfe)  # (nv, 1 + n_t): the rows of each variable's CFE
+    for c in range(lay.n_c):
+        R[rows[:, c], np.arange(nv)] = var.effect[:, c]
     try:
         dS, dW = fact.solve(lay.zeros(1), lay.zeros(1), R)
     except MechanismError as exc:
         exc.states = base
         raise
     eng.counters["rate_solves"] += 1 + nv
-    cp, cq = var.cp[:, None], var.cq[:, None]
     S0 = np.c_[ds0, dS]
-    Wm = cp * lay.normal(S0)[var.cfe] + cq * lay.tangential(S0)[var.cfe]
+    Wm = var.comp[:, :1] * S0[rows[:, 0]]
+    for c in range(1, lay.n_c):
+        Wm = Wm + var.comp[:, c:c + 1] * S0[rows[:, c]]
     q, M = Wm[:, 0], Wm[:, 1:]
     if kept is not None:  # small frictional point: are there other admissible schemes?
         kept.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, kept)
         return kept
-    start = _start_basis(var, guess)
+    start = _start_basis(eng, var, guess)
     sol = None
     how = ""
     if method == "pivoting":
@@ -217,10 +222,11 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         out = RateOutcome(new, ds0 + dS @ z, dw0 + dW @ z, "enumeration of the LCP", L)
         out.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, out)
         return out
-    complete = _bases(var) is not None
+    complete = _bases(eng, var) is not None
     names = {OPENING: "opens", 1: "slips +", -1: "slips −"}
-    ray_text = ", ".join(f"CFE {int(k)} {names[int(v)]}" for k, v in
-                         zip(var.cfe[ray], var.kind[ray], strict=True)) or "none"
+    ray_text = ", ".join(
+        f"CFE {int(k)} {names[int(v)] if fc < 0 else f'slips on facet {int(fc)}'}"
+        for k, v, fc in zip(var.cfe[ray], var.kind[ray], var.facet[ray], strict=True)) or "none"
     raise RateProblemFailure(
         Status.RATE_PROBLEM, L,
         ("the rate problem has no solution: no scheme of these CFEs satisfies the contact "
@@ -249,9 +255,7 @@ def _lemke_fallback(eng, M, q, start, failed):
 def _slipping_only(eng, L: np.ndarray, normal_lim, two_sided) -> bool:
     """Are all CFEs of L slipping and none at a normal or two-sided limit?  (Then a consistent
     current scheme is the only one: a slip that goes on is not a degenerate point.)"""
-    st = eng.states[L]
-    slipping = (st == SLIP_POS) | (st == SLIP_NEG)
-    return bool(np.all(slipping) and not np.any(normal_lim[L] | two_sided[L]))
+    return bool(np.all(slipping(eng.states[L])) and not np.any(normal_lim[L] | two_sided[L]))
 
 
 def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcome:
@@ -268,14 +272,9 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
     for k in cfes:
         law = next(lw for lw in eng.laws if k in lw.cfes)
         j = int(np.searchsorted(law.cfes, k))
-        # (a closed CFE opens only from its normal limit, N = 0)
-        opts = ([OPEN] if normal_lim[k] or guess[k] == OPEN else []) + [
-            int(law.closed_state()[j])]
-        if law.frictional[j]:
-            opts += [SLIP_POS, SLIP_NEG]
-        if guess[k] == BONDED:  # a bond holds (its break is the driver's)
-            opts = [BONDED]
-        options.append(opts)
+        # (a closed CFE opens only from its normal limit, N = 0; a bond holds: its break is
+        # the driver's)
+        options.append(law.state_options(j, bool(normal_lim[k]), int(guess[k])))
     driven = None
     # the schemes closest to the guess first (a non-unique point continues the current scheme
     # with the natural transitions where it can: a rigid body stuck on two corners whose
@@ -320,7 +319,8 @@ def _redundant_groups(eng, L, guess, cfes) -> list[np.ndarray]:
     if Z.shape[1] == 0:
         return []
     ZQ, Zp = eng.layout.split(Z)
-    on = (np.abs(ZQ) + np.abs(Zp))[cfes] > 1e-9  # (len(cfes), k)
+    aq = np.abs(ZQ) if eng.layout.n_t == 1 else np.abs(ZQ).sum(axis=1)
+    on = (aq + np.abs(Zp))[cfes] > 1e-9  # (len(cfes), k)
     label = np.arange(len(cfes))
     for col in on.T:  # union of the supports of the modes (connected components)
         idx = np.flatnonzero(col)
@@ -359,22 +359,19 @@ def _frictional(eng, L) -> bool:
     return any(bool(law.frictional[np.isin(law.cfes, L)].any()) for law in eng.laws)
 
 
-def _bases(var: RateVariables) -> np.ndarray | None:
-    """Complementary bases that stand for distinct CFE states: per CFE none (stick), slip+,
-    slip−, opening alone, or opening with a slip rate (an open CFE moves tangentially too:
-    its Q' = 0 makes the slip complements zero)."""
+def _bases(eng, var: RateVariables) -> np.ndarray | None:
+    """Complementary bases that stand for distinct CFE states (each law's
+    :meth:`~stepcontact.contact.laws.ContactLaw.basis_options`: in 2D per CFE none (stick),
+    slip+, slip−, opening alone, or opening with a slip rate)."""
     cfes = np.unique(var.cfe)
     if len(cfes) > ENUMERATE_CFES:
         return None
     choices = []
     for k in cfes:
         idx = np.flatnonzero(var.cfe == k)
-        o = [i for i in idx if var.kind[i] == OPENING]
-        slips = [i for i in idx if var.kind[i] != OPENING]
-        opts: list[list[int]] = [[], *([i] for i in slips)]
-        if o:
-            opts += [o, *(o + [i] for i in slips)]
-        choices.append(opts)
+        law = next(lw for lw in eng.laws if k in lw.cfes)
+        opts = law.basis_options(var.kind[idx], var.facet[idx])
+        choices.append([[int(idx[i]) for i in o] for o in opts])
     rows = []
     for combo in itertools.product(*choices):
         b = np.zeros(len(var.cfe), bool)
@@ -384,7 +381,7 @@ def _bases(var: RateVariables) -> np.ndarray | None:
 
 
 def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:
-    bases = _bases(var)
+    bases = _bases(eng, var)
     if bases is None:
         return []
     return enumerate_solutions(M, q, bases)
@@ -393,7 +390,7 @@ def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:
 def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list[np.ndarray]:
     """Other admissible schemes of a small rate problem with several solutions (none when M is
     positive definite: a P-matrix has exactly one)."""
-    if _bases(var) is None:  # too many CFEs to enumerate: nothing to report
+    if _bases(eng, var) is None:  # too many CFEs to enumerate: nothing to report
         return []
     sym = 0.5 * (M + M.T)
     try:
