@@ -152,3 +152,32 @@ def test_2d_refuses_facet_options(kw, item):
     with pytest.raises(ModelError, match="two tangential directions") as err:
         sc.DiscreteModel(K=K, normal_rows=A, tangent_rows=T1, friction=0.4, **kw)
     assert err.value.item == item
+
+
+def test_facet_options_build_the_faceted_law_of_the_reference():
+    """The options carried by the ContactElements build the faceted law with the reference's
+    polygon (tests/faceted_reference.py): vertex 0 at ``facet_angle`` from t₁ towards t₂, odd
+    CFEs turned by π/k with ``facet_stagger``.  The law's facet normals equal the
+    reference's (1e-15) and the reference's vertices lie on the law's polygon (margin 0 on
+    their two facets, ≥ 0 on the others; 1e-12 f p)."""
+    import faceted_reference as fr
+    from stepcontact.contact.faceted import FacetedCoulombLaw
+
+    k, angles = 6, np.array([0.1, -0.4, 2.0])
+    cfe = assemble_discrete(model3d(facets=k, facet_angle=angles, facet_stagger=True)).cfe
+    law = FacetedCoulombLaw(np.arange(cfe.m), cfe.friction, cfe.kn, cfe.kt, facets=cfe.facets,
+                            angle=cfe.facet_angle, stagger=cfe.facet_stagger)
+    p = 3.0  # compression, N
+    fp = 0.4 * p
+    for c in range(M):
+        turned = angles[c] + (np.pi / k if c % 2 else 0.0)
+        th = fr.facet_normal_angles(k, turned)
+        np.testing.assert_allclose(law.D[c], np.column_stack([np.cos(th), np.sin(th)]),
+                                   rtol=0, atol=1e-15)
+        V = fr.vertices(fp, k, turned)
+        for i in range(k):
+            Q = np.zeros((M, 2))
+            Q[c] = V[i]
+            gi = law.margins(Q, np.full(M, p))[c]
+            assert gi.min() >= -1e-12 * fp
+            np.testing.assert_allclose(gi[[(i - 1) % k, i]], 0.0, atol=1e-12 * fp)
