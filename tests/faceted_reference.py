@@ -54,7 +54,7 @@ Closed forms (derivations in the docstrings):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -114,6 +114,7 @@ class Path:
     Q: np.ndarray  # (n + 1, 2) tangential force, N
     W: np.ndarray  # (n + 1,) dissipation, J
     code: np.ndarray  # (n + 1,) state codes
+    events: list = field(default_factory=list)  # (position in steps, old code, new code)
 
     @property
     def slip_length(self) -> np.ndarray:
@@ -167,7 +168,10 @@ def sweep(d, k_s: float, fN: float, k: int, angle: float = 0.0, x0=None) -> Path
     until a vertex; at vertex j, resting (slip v / k_s) while v lies in its normal cone
     cone(n_(j−1), n_j), else sliding onto the facet whose region holds v, or moving inside.
     Every piece is linear, so the result is exact to round-off; Q is kept exactly on its
-    facet or vertex.  Same output as :func:`return_mapping`."""
+    facet or vertex.  Same output as :func:`return_mapping`, and the events: ``path.events``,
+    a list of (position, old code, new code), the position in steps (step j − 1 + the
+    fraction of step j at which the state changed: with one step per leg of the driver, the
+    load factor within the leg)."""
     d = np.asarray(d, dtype=float)
     n = len(d) - 1
     th = facet_normal_angles(k, angle)
@@ -184,6 +188,17 @@ def sweep(d, k_s: float, fN: float, k: int, angle: float = 0.0, x0=None) -> Path
     code = np.zeros(n + 1, dtype=np.int64)
     X[0], Q[0], code[0] = x, q, STICK
     where, idx, w = "in", -1, 0.0  # location of Q: "in", ("facet", i), ("vertex", j)
+    events: list[tuple[float, int, int]] = []
+
+    def code_of(wh: str, i: int) -> int:
+        return STICK if wh == "in" else FACET_SLIP + i if wh == "facet" else VERTEX_SLIP + i
+
+    def go(wh: str, i: int) -> tuple[str, int]:
+        old, new = code_of(where, idx), code_of(wh, i)
+        if new != old:
+            events.append((step - 1 + 1.0 - rem, old, new))
+        return wh, i
+
     for step in range(1, n + 1):
         v = k_s * (d[step] - d[step - 1])
         rem = 1.0
@@ -193,11 +208,11 @@ def sweep(d, k_s: float, fN: float, k: int, angle: float = 0.0, x0=None) -> Path
             if where == "vertex":
                 j, i0 = idx, (idx - 1) % k
                 if v @ nrm[j] >= 0.0 and v @ tau[j] > 0.0:
-                    where, idx = "facet", j
+                    where, idx = go("facet", j)
                 elif v @ nrm[i0] >= 0.0 and v @ tau[i0] < 0.0:
-                    where, idx = "facet", i0
+                    where, idx = go("facet", i0)
                 elif v @ nrm[i0] <= 0.0 and v @ nrm[j] <= 0.0:
-                    where = "in"
+                    where, idx = go("in", -1)
                 else:  # v in the normal cone: rest, the point follows the driver
                     x = x + rem * v / k_s
                     w += rem * float(Vx[j] @ v) / k_s
@@ -207,7 +222,7 @@ def sweep(d, k_s: float, fN: float, k: int, angle: float = 0.0, x0=None) -> Path
                 i = idx
                 vn, vt = float(v @ nrm[i]), float(v @ tau[i])
                 if vn < 0.0:
-                    where = "in"
+                    where, idx = go("in", -1)
                 else:
                     c = float(q @ tau[i])
                     to = (half - c) / vt if vt > 0 else (-half - c) / vt if vt < 0 else np.inf
@@ -217,7 +232,7 @@ def sweep(d, k_s: float, fN: float, k: int, angle: float = 0.0, x0=None) -> Path
                     w += dt * h * vn / k_s
                     rem -= dt
                     if reached:
-                        where, idx = "vertex", (i + 1) % k if vt > 0 else i
+                        where, idx = go("vertex", (i + 1) % k if vt > 0 else i)
                         q = Vx[idx].copy()
                     else:
                         q = h * nrm[i] + (c + dt * vt) * tau[i]
@@ -234,17 +249,16 @@ def sweep(d, k_s: float, fN: float, k: int, angle: float = 0.0, x0=None) -> Path
                 if float(t[j]) <= dt + 1e-15:  # on facet j (or at one of its ends)
                     c = float(q @ tau[j])
                     if c >= half - tol:
-                        where, idx, q = "vertex", (j + 1) % k, Vx[(j + 1) % k].copy()
+                        (where, idx), q = go("vertex", (j + 1) % k), Vx[(j + 1) % k].copy()
                     elif c <= -half + tol:
-                        where, idx, q = "vertex", j, Vx[j].copy()
+                        (where, idx), q = go("vertex", j), Vx[j].copy()
                     else:
-                        where, idx, q = "facet", j, h * nrm[j] + c * tau[j]
+                        (where, idx), q = go("facet", j), h * nrm[j] + c * tau[j]
         else:
             raise AssertionError("sweep: too many pieces in one step")
         X[step], Q[step], W[step] = x, q, w
-        code[step] = (STICK if where == "in" else FACET_SLIP + idx if where == "facet"
-                      else VERTEX_SLIP + idx)
-    return Path(d, X, Q, W, code)
+        code[step] = code_of(where, idx)
+    return Path(d, X, Q, W, code, events)
 
 
 # ---- closed forms -----------------------------------------------------------------------------

@@ -158,8 +158,8 @@ def test_facet_options_build_the_faceted_law_of_the_reference():
     """The options carried by the ContactElements build the faceted law with the reference's
     polygon (tests/faceted_reference.py): vertex 0 at ``facet_angle`` from t₁ towards t₂, odd
     CFEs turned by π/k with ``facet_stagger``.  The law's facet normals equal the
-    reference's (1e-15) and the reference's vertices lie on the law's polygon (margin 0 on
-    their two facets, ≥ 0 on the others; 1e-12 f p)."""
+    reference's (1e-15; measured 0) and the reference's vertices lie on the law's polygon
+    (margin 0 on their two facets, ≥ 0 on the others; 1e-12 f p, measured 7e-16 f p)."""
     import faceted_reference as fr
     from stepcontact.contact.faceted import FacetedCoulombLaw
 

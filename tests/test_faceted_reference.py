@@ -314,3 +314,29 @@ def test_return_mapping_converges_to_the_sweep_on_a_random_path():
         err = np.abs(path.Q[::n] - exact.Q).max()
         assert err <= 2.0 * FN / n
         assert abs(path.W[-1] - exact.W[-1]) <= 2.0 * FN * A_ * 30 / n
+
+
+def test_sweep_events_at_the_closed_form_points():
+    """The sweep's events (driver legs of one step each: positions = load factors within
+    the legs) fall where the closed forms put them (1e-12; measured ≤ 1e-15): a push slips
+    at s0 and reaches the vertex at s1 (:func:`straight_push`); after a reversal at V+ the
+    stick lasts t_H = 2a cos(π/k) / cos(π/k − |δ|) and V− is reached after the travel of
+    :func:`_half_cycle`."""
+    k, theta, L = 8, 0.2, 0.1
+    u = np.array([math.cos(theta), math.sin(theta)])
+    path = fr.sweep(np.array([[0.0, 0.0], L * u]), KS, FN, k)
+    cf = fr.straight_push(FN, k, KS, theta, [L])
+    assert [e[1:] for e in path.events] == [(fr.STICK, fr.FACET_SLIP + 0),
+                                            (fr.FACET_SLIP + 0, fr.VERTEX_SLIP + 0)]
+    np.testing.assert_allclose([e[0] for e in path.events], [cf.s0 / L, cf.s1 / L],
+                               rtol=1e-12)
+    A = 0.1
+    path = fr.sweep(fr.line_driver(theta, A, 1, 1), KS, FN, k)  # 0 → A → 0 → −A → 0 → A
+    after = [e for e in path.events if 1.0 < e[0] < 3.0]
+    delta = theta  # from vertex 0
+    tH = 2 * A_ * math.cos(math.pi / k) / math.cos(math.pi / k - delta)
+    vminus, s_b, _ = fr._half_cycle(A_, k, 0.0, -u, 0)
+    assert [e[1:] for e in after] == [(fr.STICK, fr.FACET_SLIP + 4),
+                                      (fr.FACET_SLIP + 4, fr.VERTEX_SLIP + vminus)]
+    np.testing.assert_allclose([e[0] for e in after], [1 + tH / A, 1 + s_b / A], rtol=1e-12)
+    assert path.events[2] == (1.0, fr.VERTEX_SLIP + 0, fr.STICK)  # the reversal: stick
