@@ -45,6 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from stepcontact.enums import MAX_FACETS
 from stepcontact.errors import ModelError
 from stepcontact.model.loads import LoadPattern
 from stepcontact.model.structure import Model, Segment
@@ -327,8 +328,6 @@ class DiscreteModel:
 
     def _facet_options(self, m: int) -> None:
         """Check and store ``facets``, ``facet_angle`` (m,) and ``facet_stagger``."""
-        from stepcontact.enums import MAX_FACETS
-
         put = object.__setattr__
         k = self.facets
         if isinstance(k, bool) or not isinstance(k, int | np.integer):
