@@ -46,9 +46,16 @@ Closed forms (derivations in the docstrings):
   the force path and the dissipation; in the end Q sits at the vertex nearest θ and the
   dissipation per unit slip is f|N| cos(θ − θ_v).
 * :func:`circle_orbit` — the driver on a circle of radius R at constant speed: the
-  steady-state orbit and the dissipation per revolution (two regimes).
-* :func:`hysteresis_dissipation` — a driver moving back and forth along a line: the
-  stick–slip loop's dissipation per cycle.
+  steady-state orbit and the dissipation per revolution, with a = f|N| / k_s:
+  W_rev = 2 k f|N| sin(π/k) (R − a sin(π/k)) for R ≥ a / sin(π/k) (Q rests at each vertex)
+  and W_rev = k f|N| sin(2π/k) √(R² − a²) for a / cos(π/k) ≤ R ≤ a / sin(π/k) (Q never
+  rests); the circle's 2π f|N| √(R² − a²) as k → ∞.
+* :func:`hysteresis_dissipation` — a driver moving back and forth (amplitude A) along a line
+  oblique to the facets: the stick–slip loop's dissipation per cycle, exact finite sums along
+  the polygon; for even k with δ = θ − θ_v (|δ| < π/k)
+  W = 4 f|N| A cos δ − 2 k_s (2a cos δ t_H − t_H²/2 + c²/2),
+  t_H = 2a cos(π/k) / cos(π/k − |δ|), c = 2a [sin(π/k) − cos(π/k) tan(π/k − |δ|)]; the
+  circle's 4 f|N| (A − a) as k → ∞.
 """
 
 from __future__ import annotations
