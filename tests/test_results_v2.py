@@ -248,3 +248,43 @@ def test_the_dynamic_result_keeps_the_cfe_ends_and_bonds_of_the_static_one(tmp_p
     back = load_result(save_result(dyn, tmp_path / "dyn.nc"))
     for key in ("plus_nodes", "minus_nodes", "bond"):
         assert_array_equal(back.cfe[key], dyn.cfe[key], err_msg=key)
+
+
+# --------------------------------------------------------------------------------------------
+# figures of a result with faceted-cone states
+# --------------------------------------------------------------------------------------------
+def test_the_path_figures_count_and_colour_a_faceted_cones_slip(result3d):
+    """The state bars of the load path count a faceted cone's slip (facet or vertex) as
+    ``slip (faceted)`` — one CFE at states 1 and 2 by the hand-written codes — and the event
+    timeline colours its CFE bars so."""
+    from matplotlib.colors import to_hex
+
+    from figure_checks import assert_readable
+    from stepcontact.post.common import FACETED_SLIP_COLOR
+    from stepcontact.post.paths import plot_event_timeline, plot_load_path
+
+    fig = plot_load_path(result3d)
+    assert_readable(fig)
+    ax_c = fig.axes[1]
+    bars = {c.get_label(): [p.get_height() for p in c.patches] for c in ax_c.containers}
+    assert bars["slip (faceted)"] == [0, 1, 1] and bars["stick"] == [0, 1, 0]
+    assert bars["open"] == [2, 0, 1]
+    fig = plot_event_timeline(result3d)
+    assert_readable(fig)
+    colours = {to_hex(c) for ax in fig.axes for coll in ax.collections
+               for c in np.atleast_2d(coll.get_colors())}
+    assert to_hex(FACETED_SLIP_COLOR) in colours
+
+
+def test_a_3d_result_refuses_the_2d_joint_safety_by_name(result3d):
+    with pytest.raises(ValueError, match=r"interface_safety\('joint'\).*2 tangential"):
+        result3d.interface_safety("joint")
+
+
+def test_an_event_given_its_tangential_force_as_a_vector(result2d):
+    """Q given as the vector of components (any dimension): Q_t is it, Q its magnitude
+    (3-4-5) in 3D, the number itself in 2D."""
+    three = event(0, 1, np.array([-3.0, 4.0]), -10.0, Transition.SLIP)
+    assert three.Q_t == (-3.0, 4.0) and three.Q == 5.0
+    two = event(0, 1, np.array([-2.5]), -10.0, Transition.SLIP_NEG)
+    assert two.Q_t == (-2.5,) and two.Q == -2.5 and isinstance(two.Q, float)

@@ -50,7 +50,8 @@ class Event:
     Q_t : tuple of float
         The tangential force as a vector of its n_t components along the CFE's tangents
         t₁[, t₂], N: ``(Q,)`` in 2D (filled in from ``Q`` when not given).  Given with two
-        components, ``Q`` is set to their magnitude.
+        components (or ``Q`` given as the vector, e.g. ``lay.tangential(s)[k]`` in any
+        dimension), ``Q`` is set to their magnitude.
 
     ``Q`` stays a number (not a vector of n_t components) so that 2D event logs keep what
     they print, compare and tabulate (``f"{e.Q:.3f}"``, a pandas column of numbers);
@@ -76,13 +77,11 @@ class Event:
     Q_t: tuple[float, ...] | None = None
 
     def __post_init__(self):
-        if self.Q_t is None:
-            object.__setattr__(self, "Q_t", (float(self.Q),))
-            return
-        q = tuple(float(v) for v in np.ravel(self.Q_t))
-        object.__setattr__(self, "Q_t", q)
-        if len(q) > 1:
-            object.__setattr__(self, "Q", float(np.hypot(*q)))
+        # Q_t from Q when not given: a number (2D), or Q given as the vector of n_t components
+        q = np.ravel(self.Q if self.Q_t is None else self.Q_t).astype(float)
+        object.__setattr__(self, "Q_t", tuple(q.tolist()))
+        if len(q) > 1 or np.ndim(self.Q):
+            object.__setattr__(self, "Q", float(np.hypot(*q)) if len(q) > 1 else float(q[0]))
 
     @property
     def n_t(self) -> int:

@@ -603,7 +603,8 @@ class StaticResult:
 
         * ``"lam"``, ``"path"``: (n_states,); ``"factors"``: (n_states, n_patterns).
         * CFE quantities ``"N"``, ``"Q"`` (N), ``"sigma_n"``, ``"tau"`` (Pa), ``"un"``,
-          ``"ut"`` (m): (n_states, m) — every CFE (:meth:`cfe_history` for labelled data).
+          ``"ut"`` (m): (n_states, m) — every CFE (:meth:`cfe_history` for labelled data);
+          ``"Q"``, ``"tau"``, ``"ut"`` are (n_states, m, n_t) in 3D.
         * nodal quantities ``"ux"``, ``"uy"``, ``"rz"``, ``"vx"``, ``"vy"``, ``"vrz"`` of
           ``nodes`` / ``point`` / ``body``: :meth:`node_history`.
         * ``"reaction"`` along ``dof`` (default "y") of a support or of nodes:
@@ -924,6 +925,10 @@ class StaticResult:
         heel (default: the first CFE); ``cohesion``: a design cohesion, Pa, replacing the
         joint's own.
         """
+        if self.n_t > 1:
+            raise ValueError(f"interface_safety('{interface}'): the safety of a joint sums N, Q "
+                             "and their moments in the plane of a 2D model; this result has "
+                             f"{self.n_t} tangential components per CFE (3D)")
         return interface_safety(self, interface, design, heel=heel, cohesion=cohesion,
                                 pattern=pattern)
 
