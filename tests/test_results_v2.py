@@ -111,6 +111,8 @@ def test_a_3d_result_has_a_tangential_axis_in_the_layout_order(result3d):
     assert res.state_labels(1) == ["stick", "slip (facet 3)"]
     assert res.state_labels(2) == ["slip (vertex 0)", "open"]
     assert res.states_of(1) == [ContactState.STICK, FACET_SLIP + 3]
+    ext = res.extremes().loc["Q"]  # |Q| largest: 8 N, state 2, CFE 0 component t2 (0·2 + 1)
+    assert (ext["absmax"], ext["state"], ext["index"]) == (8.0, 2, 1)
     # the event's vector and its magnitude (3-4-5 and 6-8-10 triangles)
     assert res.events[0].Q_t == (1.5, 2.0) and res.events[0].Q == 2.5
     assert res.events[1].Q == 10.0 and res.events[1].n_t == 2

@@ -637,7 +637,8 @@ class StaticResult:
         * ``quantity`` None: one row per quantity (``N``, ``Q``, ``un``, ``ut``; a dynamic
           result adds ``u``, ``v``, ``a`` — every DOF), with the largest magnitude over all
           CFEs (DOFs) and states: ``absmax`` (≥ 0), the signed ``value`` there, ``at`` (the
-          path: λ or t), ``state``, and ``index`` (the CFE or DOF where it is reached).
+          path: λ or t), ``state``, and ``index`` (the CFE or DOF where it is reached; for
+          ``Q``, ``ut`` of a 3D result the pair (CFE k, component j) as k·n_t + j).
         * a quantity of :meth:`history` (``"N"``, ``"Q"``, ``"sigma_n"``, ``"tau"``, ``"un"``,
           ``"ut"``, nodal ``"ux"`` … ``"vrz"`` of ``nodes``/``point``/``body``,
           ``"reaction"``) or ``"u"``, ``"v"``, ``"a"`` (every DOF, dynamic results): one row
