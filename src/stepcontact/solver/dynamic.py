@@ -108,6 +108,7 @@ from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
+from stepcontact.results.build import build_result, cfe_arrays, stage_fields
 from stepcontact.results.recorder import GrowingArray, Recorder
 from stepcontact.results.result import (
     ENERGY_TERMS,
@@ -2023,39 +2024,29 @@ class _DynamicRun:
         if status != Status.COMPLETED:
             mult["equilibrium_lost"] = self.t if status == Status.EQUILIBRIUM_LOST else None
         rec.multipliers.append(Multipliers(0, "dynamic", **mult))
-        arr = rec.arrays()
-        (Qt, Nt), (utt, unt) = self.layout.split(arr["s"].T), self.layout.split(arr["w"].T)
         counters = dict(self.cond.counters) | self.schemes.counters | self.eng.counters | {
             "events": len(rec.events), "steps": self.n, "impacts": self.n_impacts,
             "setup_seconds": self.t_setup,
             **{f"numerical_{k}": v for k, v in self.parts.items()},
             "run_seconds": time.perf_counter() - self.t_run, "ndof": self.ndof, "cfes": m}
-        cfe_arrays = {"interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
-                      "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction,
-                      "gap": cfe.gap, "kn": cfe.kn, "kt": cfe.kt, "cn": cfe.cn,
-                      "tangent": cfe.tangent}
-        crack, stage_arrays, extra = self.crack, self.stage_arrays, self.extra
-        return DynamicResult(
-            pattern_names=tuple(self.names), segments=[("dynamic", 0.0, float(self.t))],
-            cfe=cfe_arrays, interface_names=cfe.names, lam=arr["lam"], segment=arr["segment"],
-            factors=arr["factors"], kind=arr["kind"], N=-Nt.T, Q=Qt.T, un=unt.T, ut=utt.T,
-            state=arr["state"], residual=arr["residual"],
-            violation=arr["violation"], events=list(rec.events),
-            multipliers=list(rec.multipliers), status=status, message=message,
-            counters=counters, geometry=result_geometry(system),
+        stage_arrays, extra = self.stage_arrays, self.extra
+        return build_result(
+            rec, cls=DynamicResult, cfe=cfe,
+            cfe_data=cfe_arrays(cfe, bond=self.law_in.get("bond") if self.bonds_on else None,
+                                damping=True),
+            pattern_names=self.names, segments=[("dynamic", 0.0, float(self.t))],
+            status=status, message=message, counters=counters,
+            geometry=result_geometry(system), crack=self.crack is not None,
             units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                    "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
-            water=None if crack is None else arr["water"],
-            crack_pressure=None if crack is None else arr["pressure"],
             u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
             energy={k: g.view.copy() for k, g in self.energy.items()}, dt=self.dt0,
             impulses=_impulse_arrays(self.impulse_log),
             _recover=None if system.discrete is not None else _Stresses(system),
-            **({} if stage_arrays is None else {
-                "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
-                "stage_names": stage_arrays["stage_names"],
-                "stage_cfes": stage_arrays["stage_cfes"],
-                "stage_bodies": stage_arrays["stage_bodies"]}),
+            **({} if stage_arrays is None else stage_fields(
+                np.full(len(rec), stage_arrays["last_stage"], np.int64),
+                stage_arrays["stage_names"], stage_arrays["stage_cfes"],
+                stage_arrays["stage_bodies"])),
         )
 
 

@@ -26,11 +26,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
-from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
 from stepcontact.errors import ContactHeldWarning, ModelError
 from stepcontact.fem.assembly import System, assemble, load_moments, load_resultants
 from stepcontact.model import DiscreteModel, Model
+from stepcontact.results.build import build_result, cfe_arrays, stage_fields
 from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import Event, Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, Condensed
@@ -59,13 +59,6 @@ class StepInfo:
     n_events: int
     n_open: int
     n_slip: int
-
-
-def _by_state(layout: ContactLayout, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The tangential and normal components of recorded contact unknowns X (n_states, n), as
-    views with the state axis first: (n_states, m) each in 2D (X[:, :m], X[:, m:])."""
-    t, n = layout.split(X.T)
-    return np.moveaxis(t, -1, 0), n.T
 
 
 def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
@@ -1088,65 +1081,44 @@ class StaticSolver:
     def result(self, elapsed: float, partial: bool = False) -> StaticResult:
         if not partial:  # the last state of the run (where it ended or stopped) has its field
             self._store_field(len(self.rec) - 1)
-        r = self.rec.arrays()
-        m = self.cfe.m
-        (Q, p), (ut, un) = _by_state(self.layout, r["s"]), _by_state(self.layout, r["w"])
-        cfe = self.cfe
-        cfe_arrays = {
-            "interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
-            "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction, "gap": cfe.gap,
-            "kn": cfe.kn, "kt": cfe.kt, "tangent": cfe.tangent,
-            "plus_nodes": cfe.plus_nodes, "plus_w": cfe.plus_w,
-            "minus_nodes": cfe.minus_nodes, "minus_w": cfe.minus_w,
-        }
+        r, cfe = self.rec, self.cfe
+        bond = cohesion_lost = None
         if self.bonds:  # the strengths of bonded joints (eq. (12)), grouted ones included
             bond = cfe.bond if self.plan is None else self.plan.bond
-            cfe_arrays["bond"] = bond
             if bond.shape[1] > 4 and np.any(bond[:, 4] > 0):  # residual cohesion lost
-                cfe_arrays["cohesion_lost"] = self._cohesion_lost_at.copy()
-        geometry = result_geometry(self.sys)
+                cohesion_lost = self._cohesion_lost_at.copy()
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
-            "events": len(self.rec.events), "event_points": self.step,
+            "events": len(r.events), "event_points": self.step,
             "setup_seconds": self.t_setup, "run_seconds": elapsed,
-            "ndof": self.sys.ndof, "cfes": m, "precision_bits": 8 * self.cond.G.dtype.itemsize,
+            "ndof": self.sys.ndof, "cfes": cfe.m,
+            "precision_bits": 8 * self.cond.G.dtype.itemsize,
         })
         status, message = self.status, self.message
         if partial:
             status = Status.INCOMPLETE
-            message = (f"run in progress: reached λ = {r['lam'][-1]:.10g} in segment "
-                       f"{int(r['segment'][-1])}" if len(self.rec) else "run in progress")
-        return StaticResult(
-            pattern_names=tuple(self.c), segments=list(self._segments),
-            cfe=cfe_arrays, interface_names=cfe.names,
-            lam=r["lam"], segment=r["segment"], factors=r["factors"], kind=r["kind"],
-            N=-p, Q=Q, un=un, ut=ut, state=r["state"],
-            residual=r["residual"], violation=r["violation"],
-            events=list(self.rec.events), multipliers=list(self.rec.multipliers),
-            status=status, message=message,
-            fields=dict(self.rec.fields), stresses=dict(self.rec.stresses), counters=counters,
-            mechanism=self.mechanism, geometry=geometry, reactions=r["reactions"],
+            message = (f"run in progress: reached λ = {r.lam.view[-1]:.10g} in segment "
+                       f"{int(r.segment.view[-1])}" if len(r) else "run in progress")
+        return build_result(
+            r, cfe=cfe, cfe_data=cfe_arrays(cfe, bond=bond, cohesion_lost=cohesion_lost),
+            pattern_names=tuple(self.c), segments=self._segments, status=status,
+            message=message, counters=counters, geometry=result_geometry(self.sys),
+            crack=self.crack is not None, mechanism=self.mechanism,
             reaction_labels=tuple(self.sys.reaction_labels),
-            load_resultants=self._resultants(),
-            load_moments=self._moments(),
-            nonunique=list(self.rec.nonunique),
-            water=None if self.crack is None else r["water"],
-            crack_pressure=None if self.crack is None else r["pressure"],
-            _recover=self.fields,
-            **self._stage_arrays(r),
+            load_resultants=self._resultants(), load_moments=self._moments(),
+            _recover=self.fields, **self._stage_arrays(),
         )
 
-    def _stage_arrays(self, r) -> dict:
+    def _stage_arrays(self) -> dict:
         """The stage of every state and what acts at each stage (a run in stages)."""
         if self.plan is None:
             return {}
         plan = self.plan
         n = len(plan.names)
-        return {"stage": np.asarray(r["stage"], np.int64), "stage_names": plan.names,
-                "dynamics": dict(self.dynamics),
-                "stage_cfes": np.array([plan.active_cfes(k) for k in range(n)],
-                                       bool).reshape(n, self.cfe.m),
-                "stage_bodies": tuple(tuple(sorted(plan.active_bodies(k)))
-                                      for k in range(n))}
+        return stage_fields(
+            self.rec.stage.view, plan.names,
+            np.array([plan.active_cfes(k) for k in range(n)], bool).reshape(n, self.cfe.m),
+            tuple(tuple(sorted(plan.active_bodies(k))) for k in range(n)),
+            dynamics=dict(self.dynamics))
 
 
 def solve_static(
