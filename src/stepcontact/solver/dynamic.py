@@ -104,7 +104,7 @@ import scipy.sparse as sp
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.enums import Status
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
@@ -112,12 +112,12 @@ from stepcontact.results.recorder import GrowingArray, Recorder
 from stepcontact.results.result import (
     ENERGY_TERMS,
     DynamicResult,
-    Event,
     Multipliers,
     StaticResult,
 )
 from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.eventlog import EventLog
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.recovery import Stresses as _Stresses
 from stepcontact.solver.recovery import stage_plan
@@ -1066,6 +1066,7 @@ class _DynamicRun:
         m, cfe, u = self.m, self.cfe, self.u
         ndof = self.ndof
         self.rec = Recorder(self.layout, len(self.names), 0)
+        self.events = EventLog(self.rec, cfe, self.layout)
         self.extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
                       "a": GrowingArray((ndof,))}
         self.energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
@@ -1447,24 +1448,11 @@ class _DynamicRun:
 
     def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
         """Log CFE k's transition was → now at t_ev (forces ``s_``, default the engine's;
-        an impact's (normal, tangential) impulse) and the first slip, opening, closing."""
-        cfe, lay, rec = self.cfe, self.layout, self.rec
-        s_ = self.eng.s if s_ is None else s_
-        tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
-        pn_, qt_ = (0.0, 0.0) if impulse is None else impulse
-        rec.events.append(Event(
-            step=step, state=len(rec), segment=0, pattern="dynamic", lam=t_ev, cfe=int(k),
-            interface=cfe.names[cfe.interface[k]] if cfe.names else "",
-            local=int(cfe.local[k]), position=float(cfe.s[k]),
-            x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
-            y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-lay.normal(s_)[k]), Q=float(lay.tangential(s_)[k]),
-            impulse_n=pn_,
-            impulse_t=qt_))
-        key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
-               Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
-        if key and self.mult[key] is None:
-            self.mult[key] = t_ev
+        an impact's (normal, tangential) impulse) and the first slip, opening, closing
+        (:class:`~stepcontact.solver.eventlog.EventLog`)."""
+        self.events.event(k, was, now, self.eng.s if s_ is None else s_, step=step,
+                          state=len(self.rec), segment=0, pattern="dynamic", lam=t_ev,
+                          impulse=impulse, first=self.mult)
 
     # -- the run -----------------------------------------------------------------------------
 

@@ -27,14 +27,15 @@ import numpy as np
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
+from stepcontact.enums import ContactState, SlipTreatment, Status
 from stepcontact.errors import ContactHeldWarning, ModelError
 from stepcontact.fem.assembly import System, assemble, load_moments, load_resultants
 from stepcontact.model import DiscreteModel, Model
 from stepcontact.results.recorder import Recorder
-from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.results.result import Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, Condensed
 from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.eventlog import EventLog
 from stepcontact.solver.levelpath import LevelPath
 from stepcontact.solver.mechanism import (
     constraint_conflict,
@@ -142,6 +143,7 @@ class StaticSolver:
                                   layout=self.layout)
         self.c = {name: 0.0 for name in system.loads}
         self.rec = Recorder(self.layout, len(self.c), len(system.reaction_labels))
+        self.events = EventLog(self.rec, cfe, self.layout)
         if self.plan is not None:
             self._segments, self._rates = self.plan.segments, self.plan.rates
         else:
@@ -696,18 +698,13 @@ class StaticSolver:
         r.violation.view[i] = max(float(r.violation.view[i]), kin)
         self._keep_field(i, u)
 
-    def _log_events(self, old, new, lam, seg, pattern, state_index, step=None):
-        step = self.step if step is None else step
-        Q, p = self.layout.split(self.engine.s)
-        cfe = self.cfe
-        for k in np.flatnonzero(old != new):
-            o, n = ContactState(int(old[k])), ContactState(int(new[k]))
-            self.rec.events.append(Event(
-                step=step, state=state_index, segment=seg, pattern=pattern, lam=lam,
-                cfe=int(k), interface=cfe.names[cfe.interface[k]], local=int(cfe.local[k]),
-                position=float(cfe.s[k]), x=float(cfe.x[k, 0]), y=float(cfe.x[k, 1]),
-                transition=Transition.between(o, n), N=float(-p[k]), Q=float(Q[k]),
-            ))
+    def _log_events(self, old, new, lam, seg, pattern, state_index, step=None, first=None):
+        """Log the CFEs whose state changed old → new at λ with the engine's forces
+        (:class:`~stepcontact.solver.eventlog.EventLog`; ``first``: the segment's multipliers
+        the transitions set, None: none)."""
+        self.events.changes(old, new, self.engine.s, step=self.step if step is None else step,
+                            state=state_index, segment=seg, pattern=pattern, lam=lam,
+                            first=first)
 
     # ---- main loop ---------------------------------------------------------------------------
     def run(self) -> StaticResult:
@@ -1001,9 +998,7 @@ class StaticSolver:
             # (while broken bonds release their forces the state after the cascade is
             # recorded, not the ones on the way)
             i = len(self.rec) if self._releasing else self._record(lam, seg, "event")
-            n_before = len(self.rec.events)
-            self._log_events(old, new, lam, seg, pattern, i)
-            self._first_multipliers(mult, lam, n_before)
+            self._log_events(old, new, lam, seg, pattern, i, first=mult)
             info = StepInfo(self.step, seg, pattern, lam, len(self.rec.events),
                             int(np.sum(new == OPEN)),
                             int(np.sum((new == SLIP_POS) | (new == SLIP_NEG))))
@@ -1040,14 +1035,6 @@ class StaticSolver:
             return None  # a regular scheme: not a mechanism
         except MechanismError:
             return trial if eng.drives(trial, forcing) else None
-
-    def _first_multipliers(self, mult, lam, n_before: int):
-        for ev in self.rec.events[n_before:]:
-            key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
-                   Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(
-                       ev.transition)
-            if key and mult[key] is None:
-                mult[key] = lam
 
     def _nonunique(self, dec, lam, seg, pattern):
         out = dec.outcome
