@@ -116,6 +116,7 @@ from stepcontact.results.result import (
     StaticResult,
 )
 from stepcontact.solver.condensation import Condensed
+from stepcontact.solver.contactlaws import contact_law, law_inputs
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.eventlog import EventLog
 from stepcontact.solver.rate import RateProblemFailure
@@ -123,20 +124,21 @@ from stepcontact.solver.recovery import Stresses as _Stresses
 from stepcontact.solver.recovery import stage_plan
 from stepcontact.solver.reporting import VIOLATION_LIMIT, result_geometry
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
-from stepcontact.solver.staging import held_components, in_stages
+from stepcontact.solver.staging import in_stages
 
 
 def _after_stages(system: System, initial, stage: int | None = None):
     """A dynamic interval after construction stages (:mod:`stepcontact.solver.staging`): the
     last stage's (or stage ``stage``'s) system (its held DOFs, shifted w⁰ of the interfaces
-    made at once, removed supports gone, automatic patterns), the contact law's inputs there
-    (CFEs not active are inert; bonds of grouted joints) and ``initial``, the static result of
+    made at once, removed supports gone, automatic patterns), the stage plan and the stage
+    the contact law is built at (:func:`~stepcontact.solver.contactlaws.contact_law`: CFEs not
+    active are inert; bonds of grouted joints) and ``initial``, the static result of
     the stages it starts from, which must hold its run's stages
     (:func:`~stepcontact.solver.recovery.stage_plan`): :func:`stepcontact.solve_dynamic`
     runs the staged program when none is given, and again (checked against it) for a result
     loaded from a file (which does not keep the stage systems).
 
-    Returns (system, law keyword arguments, initial, stage arrays of the result)."""
+    Returns (system, (plan, stage), initial, stage arrays of the result)."""
     plan = stage_plan(initial)
     if plan is None:
         raise ModelError("initial", "must be the result of the run of this model's stages "
@@ -157,13 +159,9 @@ def _after_stages(system: System, initial, stage: int | None = None):
                              "end of the stages: a dynamic interval does not follow "
                              "prescribed displacements (place the support before its body "
                              "moves, or let the pattern return to 0)")
-    held_n, held_t = held_components(stage_system)
-    active = plan.active_cfes(last)
-    law_in = {"held_normal": held_n | ~active, "held_tangent": held_t | ~active,
-              "friction": plan.friction.copy(), "bond": plan.bond.copy()}
     arrays = {"stage_names": initial.stage_names, "stage_cfes": initial.stage_cfes,
               "stage_bodies": initial.stage_bodies, "last_stage": last}
-    return stage_system, law_in, initial, arrays
+    return stage_system, (plan, last), initial, arrays
 
 
 def _initial(system: System, cond: Condensed, initial, u0, v0):
@@ -895,14 +893,15 @@ class _DynamicRun:
     # -- set-up ------------------------------------------------------------------------------
 
     def _assemble(self, model, initial) -> None:
-        """The system of the interval (after the construction stages, :func:`_after_stages`),
-        the laws' inputs and the loads (each a pattern of the system with a time function)."""
+        """The system of the interval (after the construction stages, :func:`_after_stages`:
+        the stage plan and stage the law is built at), and the loads (each a pattern of the
+        system with a time function)."""
         system = model if isinstance(model, System) else assemble(model)
-        law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
         self.stage_arrays: dict | None = None
+        self.staged: tuple = (None, None)  # (plan, stage) of a run after stages
         if in_stages(system):
-            system, law_in, initial, self.stage_arrays = _after_stages(system, initial,
-                                                                       self.iv.stage)
+            system, self.staged, initial, self.stage_arrays = _after_stages(system, initial,
+                                                                            self.iv.stage)
         loads = dict(self.iv.loads or {})
         for name, g in loads.items():
             if name not in system.loads:
@@ -910,7 +909,7 @@ class _DynamicRun:
                                  f"{', '.join(map(repr, system.loads)) or 'none'})")
             if not callable(g):
                 raise ModelError(f"loads['{name}']", "must be a time function g(t)")
-        self.system, self.law_in, self.initial, self.loads = system, law_in, initial, loads
+        self.system, self.initial, self.loads = system, initial, loads
         self.ndof, self.m = system.ndof, system.m
         self.layout = system.layout  # the contact unknowns s = [Q; p], w = [u_τ; u_n]
         self.cfe = system.cfe
@@ -955,9 +954,15 @@ class _DynamicRun:
     def _contact_law(self) -> None:
         """The Coulomb law of the CFEs (eq. (1); compliant layers eq. (11), damped ones with
         Newmark's c₁, :class:`_DampedLayers`; bonds eq. (12)) and the event engine on the
-        condensed K̂; refuses the combinations a dynamic interval does not follow."""
-        cfe, m, law_in = self.cfe, self.m, self.law_in
-        bond_cols = law_in.get("bond")
+        condensed K̂; refuses the combinations a dynamic interval does not follow.  Built by
+        :func:`~stepcontact.solver.contactlaws.contact_law`: after stages, the stage's (CFEs
+        not active, and components held by supports on both ends, inert); without stages,
+        no component is held by supports (``held_by_supports=False``, unlike the static
+        driver)."""
+        cfe = self.cfe
+        plan, stage = self.staged
+        _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage,
+                                        held_by_supports=False)
         if bond_cols is not None:
             bonded = ~np.isnan(np.asarray(bond_cols, float)[:, 0])
             damped_bond = bonded & (cfe.cn > 0)
@@ -981,10 +986,10 @@ class _DynamicRun:
             k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
             raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
                              "layer needs a finite normal stiffness kn")
-        self.law = law = CoulombLaw(
-            np.arange(m), law_in.pop("friction"),
-            _DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1), cfe.kt,
-            **law_in)
+        self.law = law = contact_law(
+            self.system, plan=plan, stage=stage,
+            kn=_DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1),
+            held_by_supports=plan is not None)
         self.layers = _DampedLayers(cfe, law, self.layout)
         self.bonds_on = bool(law.has_bond.any())
         self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol,

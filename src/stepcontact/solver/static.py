@@ -19,21 +19,21 @@ from __future__ import annotations
 
 import contextlib
 import time
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
+from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK
 from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import ContactState, SlipTreatment, Status
-from stepcontact.errors import ContactHeldWarning, ModelError
+from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, load_moments, load_resultants
 from stepcontact.model import DiscreteModel, Model
 from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import Multipliers, StaticResult
 from stepcontact.solver.condensation import Condensation, Condensed
+from stepcontact.solver.contactlaws import contact_law
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.eventlog import EventLog
 from stepcontact.solver.levelpath import LevelPath
@@ -46,7 +46,6 @@ from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.recovery import FieldRecovery, StagedRecovery
 from stepcontact.solver.reporting import VIOLATION_LIMIT, result_geometry
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
-from stepcontact.solver.staging import held_components
 
 
 @dataclass
@@ -136,7 +135,7 @@ class StaticSolver:
         #: the layout of the contact unknowns s = [Q; p], w = [u_τ; u_n] (the same at every
         #: stage: the stage systems share the CFEs)
         self.layout = system.layout
-        self.law = self._make_law(system, warn=True)
+        self.law = contact_law(system, plan=self.plan, stage=self.stage, warn=True)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         self.engine = EventEngine(self.schemes, [self.law], system.w0, rtol=rtol,
                                   article=self.article, eps_p=eps_p, rate_solver=rate_solver,
@@ -172,23 +171,6 @@ class StaticSolver:
         self._releasing = False
         #: the state index from which each CFE's residual cohesion is lost (−1: kept)
         self._cohesion_lost_at = np.full(cfe.m, -1, np.int64)
-
-    def _make_law(self, system: System, warn: bool = False) -> CoulombLaw:
-        """The contact law of ``system``: CFEs held by supports on both ends, and in a run in
-        stages the CFEs not yet active, are inert; bonds (grouted joints included)."""
-        cfe = self.cfe
-        held_n, held_t = held_components(system)
-        friction, bond = cfe.friction, cfe.bond
-        if self.plan is not None:
-            active = self.plan.active_cfes(self.stage)
-            if warn:
-                self._warn_held(held_n & active, held_t & active)
-            held_n, held_t = held_n | ~active, held_t | ~active
-            friction, bond = self.plan.friction, self.plan.bond
-        elif warn:
-            self._warn_held(held_n, held_t)
-        return CoulombLaw(np.arange(cfe.m), friction, cfe.kn, cfe.kt, held_n, held_t,
-                          bond=bond)
 
     # ---- construction in stages (stepcontact.solver.staging) ----------------------------------
     def _enter_stage(self, k: int) -> None:
@@ -264,7 +246,7 @@ class StaticSolver:
         self.cond = Condensed.from_system(system, self.backend, None, self.precision)
         lost = self.law.cohesion_lost & ~grouted  # (a grouted joint has its cohesion again)
         self._cohesion_lost_at[grouted] = -1
-        self.law = self._make_law(system)
+        self.law = contact_law(system, plan=plan, stage=k)
         self.law.lose_cohesion(lost)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         eng.schemes = self.schemes
@@ -635,20 +617,6 @@ class StaticSolver:
         self.step += 1
         self._record(lam, seg, "event")
         return self.status == Status.COMPLETED
-
-    def _warn_held(self, held_n, held_t) -> None:
-        cfe = self.cfe
-        for mask, what, effect in ((held_n, "normal", "its normal force (the CFE carries "
-                                    "nothing)"),
-                                   (held_t & ~held_n & (cfe.friction > 0), "tangential",
-                                    "its tangential force (the CFE is frictionless)")):
-            if mask.any():
-                names = [f"{cfe.names[cfe.interface[k]]}[{cfe.local[k]}]"
-                         for k in np.flatnonzero(mask)[:8]]
-                more = f" and {mask.sum() - 8} more" if mask.sum() > 8 else ""
-                warnings.warn(ContactHeldWarning(
-                    f"CFE {', '.join(names)}{more}: {what} relative motion held by supports on "
-                    f"both ends; the supports carry {effect}"), stacklevel=4)
 
     # ---- recording ---------------------------------------------------------------------------
     def _record(self, lam: float, seg: int, kind: str, final: bool = False) -> int:
