@@ -115,6 +115,8 @@ from stepcontact.results.result import (
     Multipliers,
     StaticResult,
 )
+from stepcontact.solver.bonds import break_bonds as _break_bonds
+from stepcontact.solver.bonds import breaking
 from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.contactlaws import contact_law, law_inputs
 from stepcontact.solver.engine import EventEngine
@@ -1246,27 +1248,13 @@ class _DynamicRun:
         forces it can no longer carry (:meth:`CoulombLaw.released`).  Logs a ``broken``
         event per CFE (in the order of the CFEs), books the elastic energy ½ s²/C a
         compliant layer loses with that force as ``fracture``; returns the forces g (2m,)
-        released (N).  (The static driver's twin: :meth:`StaticSolver._breaks
-        <stepcontact.solver.static.StaticSolver._breaks>`.)"""
-        law, lay, mult = self.law, self.layout, self.mult
-        tf, _ = E.tolerances()
-        Q, p = lay.split(E.s)
-        old = E.states.copy()
-        new = old.copy()
-        new[brk] = law.broken_state(Q, p, tf)[brk]
-        dQ, dp = law.released(new, Q, p)
-        g = lay.join(np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0))
-        s_before, s_after = E.s.copy(), E.s - g
+        released (N).  (The break itself is both drivers':
+        :func:`~stepcontact.solver.bonds.break_bonds`.)"""
+        g, s_before = _break_bonds(E, self.law, brk, self.events, self.mult, step=step,
+                                   state=len(self.rec), segment=0, pattern="dynamic",
+                                   lam=t_now)
         self.ledger["fracture"] += float(self.layer_energy(s_before).sum()
-                                         - self.layer_energy(s_after).sum())
-        E.s = s_after
-        for k in np.flatnonzero(brk):
-            self.log_event(step, k, old[k], new[k], t_now, s_before)
-            if mult["first_opening"] is None and new[k] == OPEN:
-                mult["first_opening"] = t_now
-            if mult["first_slip"] is None and new[k] in (SLIP_POS, SLIP_NEG):
-                mult["first_slip"] = t_now
-        E.states = new
+                                         - self.layer_energy(E.s).sum())
         return g
 
     def follow_jump(self, ea: EventEngine, forcing, t_now: float, step: int,
@@ -1277,7 +1265,7 @@ class _DynamicRun:
         scheme decided drive it beyond) breaks there: what it carried is released first (the
         forces g go to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking
         in turn — the cascade at t_now in its order), then the jump goes on."""
-        law, m, lay = self.law, self.m, self.layout
+        law, m = self.law, self.m
         mu, fired = 0.0, np.zeros(m, bool)
         for _ in range(10 * m + 10):
             old = ea.states.copy()
@@ -1287,10 +1275,7 @@ class _DynamicRun:
             for k in np.flatnonzero(old != dec.new):
                 self.log_event(step, k, old[k], dec.new[k], t_now)
             if self.bonds_on and depth <= m:
-                tf, _ = ea.tolerances()
-                rf = 1e3 * ea.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
-                brk = ((fired & (ea.states == BONDED))
-                       | law.breaking(ea.states, *lay.split(ea.s), *lay.split(dec.ds), tf, rf))
+                brk = breaking(ea, law, dec.ds, fired)
                 if brk.any():
                     self.release(ea, self.break_bonds(ea, brk, t_now, step), t_now, step,
                                  depth)
@@ -1694,14 +1679,12 @@ class _DynamicRun:
         reverses inside the step stops (eq. (11)); a slip that stops inside the step
         (eq. (10), second row) is cut where its velocity vanishes.  Returns (restart or
         None, the CFEs whose state changed)."""
-        eng, lay, law, layers, crack = self.eng, self.layout, self.law, self.layers, self.crack
+        eng, law, layers, crack = self.eng, self.law, self.layers, self.crack
         t, dt, nm = self.t, self.dt, self.nm
         if self.bonds_on:
             # at the step's start: bonds on their strength surface that the rates of the
             # scheme decided drive beyond it break here, before anything else
-            tf, _ = eng.tolerances()
-            rf = 1e3 * eng.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
-            brk = law.breaking(eng.states, *lay.split(eng.s), *lay.split(dec.ds), tf, rf)
+            brk = breaking(eng, law, dec.ds)
             if brk.any():
                 self.bond_brk = brk
                 return (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {}), None

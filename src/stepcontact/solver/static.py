@@ -32,6 +32,7 @@ from stepcontact.fem.assembly import System, assemble, load_moments, load_result
 from stepcontact.model import DiscreteModel, Model
 from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import Multipliers, StaticResult
+from stepcontact.solver.bonds import break_bonds, breaking
 from stepcontact.solver.condensation import Condensation, Condensed
 from stepcontact.solver.contactlaws import contact_law
 from stepcontact.solver.engine import EventEngine
@@ -518,33 +519,18 @@ class StaticSolver:
         """Break the bonds of the CFEs ``brk`` at the current point: each takes its Coulomb
         state (open in tension, else stuck or slipping), and what it can no longer carry is
         moved from its contact force into ``ghost`` (still transmitted, as a load, until
-        :meth:`_release` has let it go).  Logs a ``broken`` event per CFE; a bond that breaks
-        open (slipping) is the segment's first opening (slip) if none came before.
+        :meth:`_release` has let it go) (:func:`~stepcontact.solver.bonds.break_bonds`; the
+        event point of the breaks is the one recorded after the cascade).  Logs a ``broken``
+        event per CFE; a bond that breaks open (slipping) is the segment's first opening
+        (slip) if none came before.
 
         A closed Coulomb CFE in ``brk`` (one that reached p = 0 with its residual cohesion,
         :meth:`CoulombLaw.losing_cohesion`) opens the same way: its cohesion is lost and the
         shear it carried released."""
-        eng, law, lay = self.engine, self.law, self.layout
-        tf, _ = eng.tolerances()
-        Q, p = lay.split(eng.s)
-        old = eng.states.copy()
-        new = old.copy()
-        new[brk] = law.broken_state(Q, p, tf)[brk]
-        # (the event point of the breaks is the one recorded after the cascade: numbered
-        # from 1 like the others)
-        self._log_events(old, new, lam, seg, pattern, len(self.rec), step=self.step + 1)
-        for key, hit in (("first_opening", new[brk] == OPEN),
-                         ("first_slip", (new[brk] == SLIP_POS) | (new[brk] == SLIP_NEG))):
-            if mult[key] is None and hit.any():
-                mult[key] = lam
-        dQ, dp = law.released(new, Q, p)
-        dQ, dp = np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)
-        self._lose_cohesion(brk & (new == OPEN))
-        lay.tangential(self.ghost)[:] += dQ
-        lay.normal(self.ghost)[:] += dp
-        lay.tangential(eng.s)[:] -= dQ
-        lay.normal(eng.s)[:] -= dp
-        eng.states = new
+        g, _ = break_bonds(self.engine, self.law, brk, self.events, mult, step=self.step + 1,
+                           state=len(self.rec), segment=seg, pattern=pattern, lam=lam)
+        self._lose_cohesion(brk & (self.engine.states == OPEN))
+        self.ghost += g
 
     def _release(self, lam: float, seg: int, pattern: str, mult: dict,
                  fired: np.ndarray) -> bool:
@@ -578,11 +564,7 @@ class StaticSolver:
                                                    False, 1.0, False)
                     if not ok or self.status != Status.COMPLETED:
                         return False
-                    tf, _ = eng.tolerances()
-                    rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
-                    brk = ((fired & (eng.states == BONDED))
-                           | law.breaking(eng.states, *self.layout.split(eng.s),
-                                          *self.layout.split(ds), tf, rf))
+                    brk = breaking(eng, law, ds, fired)
                     fired = np.zeros(m, bool)
                     if brk.any():  # a neighbour breaks here: its forces join the release
                         self._breaks(brk, lam, seg, pattern, mult)
@@ -863,10 +845,7 @@ class StaticSolver:
                                                 span, seg_start)
                 if not ok:
                     return ok, ds, dw
-                tf, _ = eng.tolerances()
-                rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
-                brk = self.law.breaking(eng.states, *self.layout.split(eng.s),
-                                        *self.layout.split(ds), tf, rf)
+                brk = breaking(eng, self.law, ds)
                 if not brk.any():
                     return ok, ds, dw
                 fired = brk
