@@ -121,6 +121,7 @@ from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.contactlaws import contact_law, law_inputs
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.eventlog import EventLog
+from stepcontact.solver.jump import AGAIN, JumpState, follow_jump
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.recovery import Stresses as _Stresses
 from stepcontact.solver.recovery import stage_plan
@@ -1264,30 +1265,27 @@ class _DynamicRun:
         reaches its strength surface (eq. (12)) on the way (a facet, or the rates of the
         scheme decided drive it beyond) breaks there: what it carried is released first (the
         forces g go to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking
-        in turn — the cascade at t_now in its order), then the jump goes on."""
+        in turn — the cascade at t_now in its order), then the jump goes on
+        (:func:`~stepcontact.solver.jump.follow_jump`: at most 10 m + 10 points)."""
         law, m = self.law, self.m
-        mu, fired = 0.0, np.zeros(m, bool)
-        for _ in range(10 * m + 10):
+
+        def point(state: JumpState):
             old = ea.states.copy()
-            dec = ea.decide(fired, forcing)
-            if dec.switched or fired.any():
+            dec = ea.decide(state.fired, forcing)
+            if dec.switched or state.fired.any():
                 ea.snap()
             for k in np.flatnonzero(old != dec.new):
                 self.log_event(step, k, old[k], dec.new[k], t_now)
             if self.bonds_on and depth <= m:
-                brk = breaking(ea, law, dec.ds, fired)
-                if brk.any():
+                brk = breaking(ea, law, dec.ds, state.fired)
+                if brk.any():  # released in a jump of its own first, then on from here
                     self.release(ea, self.break_bonds(ea, brk, t_now, step), t_now, step,
                                  depth)
-                    fired = np.zeros(m, bool)
-                    continue
-            if mu >= 1.0:
-                break
-            dmu, _, fired = ea.next_event(dec.ds, dec.dw, 1.0 - mu, 1e-10)
-            ea.advance(dmu, dec.ds, dec.dw)
-            mu += dmu
-            if mu >= 1.0 - 1e-15 and not fired.any():
-                break
+                    return AGAIN
+            return dec.ds, dec.dw
+
+        follow_jump(ea, point, JumpState(np.zeros(m, bool)), stop_at_end=True,
+                    max_points=10 * m + 10)
 
     def release(self, ea: EventEngine, g: np.ndarray, t_now: float, step: int,
                 depth: int) -> None:

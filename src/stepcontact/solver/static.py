@@ -37,6 +37,7 @@ from stepcontact.solver.condensation import Condensation, Condensed
 from stepcontact.solver.contactlaws import contact_law
 from stepcontact.solver.engine import EventEngine
 from stepcontact.solver.eventlog import EventLog
+from stepcontact.solver.jump import DONE, RESTART, STOP, JumpState, follow_jump
 from stepcontact.solver.levelpath import LevelPath
 from stepcontact.solver.mechanism import (
     constraint_conflict,
@@ -435,29 +436,26 @@ class StaticSolver:
                 self._f = self._water_load(delta)
                 eng.F_scale = max(eng.F_scale, float(np.abs(delta).max()))
                 start = self.sw.copy()
-                tau, fired, small = 0.0, np.zeros(m, bool), 0
-                while True:
-                    ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult,
-                                                   False, 1.0, False)
+
+                def point(state: JumpState, forcing=forcing, wet=wet):
+                    ok, ds, dw = self._event_point(state.fired, forcing, lam, seg, pattern,
+                                                   mult, False, 1.0, False)
                     if not ok or self.status != Status.COMPLETED:
-                        return None
+                        return STOP
                     if not np.array_equal(crack.wet(eng.states), wet):
-                        break  # the wet set changed: the rest of the jump is recomputed
-                    dtau, _, fired = eng.next_event(ds, dw, 1.0 - tau, 1e-10)
-                    small = small + 1 if dtau <= 1e-12 else 0
-                    if small > 100 or self.step >= self.max_events:
-                        self.status = (Status.CYCLING if small > 100 else Status.MAX_EVENTS)
-                        self.message = (f"no progress at λ = {lam:.10g} while water enters "
-                                        "the opened joint: events repeat" if small > 100 else
-                                        f"event budget of {self.max_events} exhausted at "
-                                        f"λ = {lam:.6g}")
-                        return None
-                    eng.advance(dtau, ds, dw)
-                    tau += dtau
+                        return RESTART  # the wet set changed: the rest of the jump anew
+                    return ds, dw
+
+                def went(tau, start=start, delta=delta):
                     self.sw = start + tau * delta
-                    if tau >= 1.0 - 1e-15 and not fired.any():
-                        self.sw = start + delta
-                        break
+
+                out = follow_jump(eng, point, JumpState(np.zeros(m, bool)), moved=went,
+                                  stalled=self._stalled(lam, seg, "water enters the opened "
+                                                        "joint"))
+                if out == STOP:
+                    return None
+                if out == DONE:
+                    self.sw = start + delta
         finally:
             self._f = saved_f
 
@@ -541,54 +539,78 @@ class StaticSolver:
         breaks there (its own forces join the release, which restarts for the new ghost): a
         crack running along the joint at one λ, event by event, in its order.  Returns False
         if the run stopped (equilibrium lost while the forces were released, no progress)."""
-        eng, law, m = self.engine, self.law, self.cfe.m
+        eng = self.engine
         saved_f = self._f
         self._releasing = True
-        small = 0
+        state = JumpState(fired)
         try:
             while np.any(self.ghost != 0):
                 g0 = self.ghost.copy()
                 forcing = (self.cond.product(g0), self.layout.zeros())
                 self._f = self.sys.B.T @ g0
                 eng.F_scale = max(eng.F_scale, float(np.abs(g0).max()))
-                tau = 0.0
-                while True:
-                    tf, _ = eng.tolerances()
-                    coh = fired & law.losing_cohesion(eng.states, self.layout.normal(eng.s),
-                                                      tf)
-                    if coh.any():  # residual cohesion lost where p reached 0: released too
-                        self._breaks(coh, lam, seg, pattern, mult)
-                        fired = fired & ~coh
-                        break
-                    ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult,
-                                                   False, 1.0, False)
-                    if not ok or self.status != Status.COMPLETED:
-                        return False
-                    brk = breaking(eng, law, ds, fired)
-                    fired = np.zeros(m, bool)
-                    if brk.any():  # a neighbour breaks here: its forces join the release
-                        self._breaks(brk, lam, seg, pattern, mult)
-                        break
-                    dtau, _, fired = eng.next_event(ds, dw, 1.0 - tau, 1e-10)
-                    small = small + 1 if dtau <= 1e-12 else 0
-                    if small > 100 or self.step >= self.max_events:
-                        self.status = Status.CYCLING if small > 100 else Status.MAX_EVENTS
-                        self.message = (f"no progress at λ = {lam:.10g} while broken bonds "
-                                        "release their forces: events repeat" if small > 100
-                                        else f"event budget of {self.max_events} exhausted at "
-                                        f"λ = {lam:.6g}")
-                        self._record(lam, seg, "event", final=True)
-                        return False
-                    eng.advance(dtau, ds, dw)
-                    tau += dtau
+
+                def moved(tau, g0=g0):
                     self.ghost = g0 * (1.0 - tau)
-                    if tau >= 1.0 - 1e-15 and not fired.any():
-                        self.ghost = self.layout.zeros()
-                        break
+
+                out = follow_jump(eng, self._release_point(forcing, lam, seg, pattern, mult),
+                                  state, moved=moved,
+                                  stalled=self._stalled(lam, seg, "broken bonds release their "
+                                                        "forces", record=True))
+                if out == STOP:
+                    return False
+                if out == DONE:
+                    self.ghost = self.layout.zeros()
             return True
         finally:
             self._f = saved_f
             self._releasing = False
+
+    def _release_point(self, forcing, lam, seg, pattern, mult):
+        """A point of the release (:meth:`_release`, :func:`~stepcontact.solver.jump.
+        follow_jump`): residual cohesion lost where p reached 0 and bonds that break here
+        (:func:`~stepcontact.solver.bonds.breaking`) are broken and end the jump (a new one
+        releases them with the rest); else the scheme decided and recorded
+        (:meth:`_event_point`)."""
+        eng, law, m = self.engine, self.law, self.cfe.m
+
+        def point(state: JumpState):
+            tf, _ = eng.tolerances()
+            coh = state.fired & law.losing_cohesion(eng.states, self.layout.normal(eng.s), tf)
+            if coh.any():  # residual cohesion lost where p reached 0: released too
+                self._breaks(coh, lam, seg, pattern, mult)
+                state.fired = state.fired & ~coh
+                return RESTART
+            ok, ds, dw = self._event_point(state.fired, forcing, lam, seg, pattern, mult,
+                                           False, 1.0, False)
+            if not ok or self.status != Status.COMPLETED:
+                return STOP
+            brk = breaking(eng, law, ds, state.fired)
+            state.fired = np.zeros(m, bool)
+            if brk.any():  # a neighbour breaks here: its forces join the release
+                self._breaks(brk, lam, seg, pattern, mult)
+                return RESTART
+            return ds, dw
+
+        return point
+
+    def _stalled(self, lam: float, seg: int, what: str, record: bool = False):
+        """The test of a jump at λ that makes no progress (events repeat: more than 100 steps
+        of τ ≤ 1e-12 in a row) or exhausts the event budget: sets the status and message
+        (and with ``record`` records the state where the run stops)."""
+
+        def stalled(state: JumpState) -> bool:
+            if not (state.small > 100 or self.step >= self.max_events):
+                return False
+            self.status = Status.CYCLING if state.small > 100 else Status.MAX_EVENTS
+            self.message = (f"no progress at λ = {lam:.10g} while {what}: events repeat"
+                            if state.small > 100 else
+                            f"event budget of {self.max_events} exhausted at λ = {lam:.6g}")
+            if record:
+                self._record(lam, seg, "event", final=True)
+            return True
+
+        return stalled
 
     def _break(self, brk, lam, seg, pattern, mult, fired) -> bool:
         """Break the bonds ``brk`` here, release their forces (:meth:`_release`) and record
