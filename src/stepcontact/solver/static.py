@@ -567,11 +567,11 @@ class StaticSolver:
             self._releasing = False
 
     def _release_point(self, forcing, lam, seg, pattern, mult):
-        """A point of the release (:meth:`_release`, :func:`~stepcontact.solver.jump.
-        follow_jump`): residual cohesion lost where p reached 0 and bonds that break here
-        (:func:`~stepcontact.solver.bonds.breaking`) are broken and end the jump (a new one
-        releases them with the rest); else the scheme decided and recorded
-        (:meth:`_event_point`)."""
+        """A point of the release (:meth:`_release` with
+        :func:`~stepcontact.solver.jump.follow_jump`): residual cohesion lost where p reached
+        0 and bonds that break here (:func:`~stepcontact.solver.bonds.breaking`) are broken
+        and end the jump (a new one releases them with the rest); else the scheme decided and
+        recorded (:meth:`_event_point`)."""
         eng, law, m = self.engine, self.law, self.cfe.m
 
         def point(state: JumpState):
