@@ -94,7 +94,7 @@ import numpy as np
 from meshio.xdmf import TimeSeriesWriter
 from meshio.xdmf.common import meshio_to_xdmf_type, meshio_type_to_xdmf_index, numpy_to_xdmf_dtype
 
-from stepcontact.enums import ContactState
+from stepcontact.enums import FACET_SLIP, VERTEX_SLIP, ContactState
 from stepcontact.io.atomic import check_free_space, write_bytes, write_error
 from stepcontact.model.mesh import REVERSED_NODE_ORDER
 from stepcontact.results.result import StaticResult
@@ -639,6 +639,9 @@ def _write_pvd(path: Path, entries: list[tuple[float, str]], notes: list[str]) -
 
 def _notes(result: StaticResult, body: _BodyGrid) -> list[str]:
     codes = ", ".join(f"{int(s)} {s.label}" for s in ContactState)
+    if np.any(np.asarray(result.state) >= FACET_SLIP):  # a faceted cone's slip (3D)
+        codes += (f", {FACET_SLIP} + i slip on facet i, {VERTEX_SLIP} + i slip at vertex i "
+                  "of the faceted Coulomb cone")
     timing = ("time = the time of the dynamic analysis, s (lam holds it too)"
               if getattr(result, "path_axis", "lam") == "time"
               else "time = load-path parameter t = sum |dlambda|")

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from stepcontact.enums import ContactState, Transition
+from stepcontact.enums import FACET_SLIP, ContactState, Transition
 from stepcontact.io.atomic import atomic_path, write_error
 
 if TYPE_CHECKING:
@@ -36,6 +36,18 @@ STATE_COLORS: dict[ContactState, str] = {
     ContactState.BONDED: "#9467bd",
     ContactState.CLOSED: "#8c564b",
 }
+#: colour and label of a CFE slipping on a faceted Coulomb cone (3D: state codes
+#: ≥ :data:`~stepcontact.enums.FACET_SLIP`, any facet or vertex)
+FACETED_SLIP_COLOR = "#ff7f0e"
+FACETED_SLIP_LABEL = "slip (faceted)"
+_PALETTE = np.array([STATE_COLORS[cs] for cs in ContactState])
+
+
+def state_colors(codes) -> np.ndarray:
+    """The colour of every state code (:data:`STATE_COLORS`; a faceted cone's slip codes
+    :data:`FACETED_SLIP_COLOR`), an array of the shape of ``codes``."""
+    c = np.asarray(codes, dtype=np.int64)
+    return np.where(c >= FACET_SLIP, FACETED_SLIP_COLOR, _PALETTE[np.clip(c, 0, len(_PALETTE) - 1)])
 
 
 TRANSITION_MARKERS: dict[Transition, tuple[str, str]] = {
@@ -267,14 +279,16 @@ def _state_handles(codes: np.ndarray, *, bars: bool = False) -> list:
     from matplotlib.patches import Patch
 
     out = []
-    for cs in ContactState:
-        n = int(np.sum(codes == int(cs)))
+    classes = [(cs.label, STATE_COLORS[cs], int(np.sum(codes == int(cs))))
+               for cs in ContactState]
+    classes.append((FACETED_SLIP_LABEL, FACETED_SLIP_COLOR,
+                    int(np.sum(np.asarray(codes) >= FACET_SLIP))))
+    for label, color, n in classes:
         if n and bars:
-            out.append(Patch(facecolor=STATE_COLORS[cs], edgecolor="0.4",
-                             label=f"state {cs.label}"))
+            out.append(Patch(facecolor=color, edgecolor="0.4", label=f"state {label}"))
         elif n:
-            out.append(Line2D([], [], ls="none", marker="o", ms=7, mfc=STATE_COLORS[cs],
-                              mec="0.2", label=f"{cs.label} ({n})"))
+            out.append(Line2D([], [], ls="none", marker="o", ms=7, mfc=color,
+                              mec="0.2", label=f"{label} ({n})"))
     return out
 
 
@@ -327,9 +341,12 @@ __all__ = [
     "MAX_PIXELS",
     "MAX_SIDE",
     "NOT_BUILT",
+    "FACETED_SLIP_COLOR",
+    "FACETED_SLIP_LABEL",
     "STATE_COLORS",
     "TRANSITION_MARKERS",
     "figure_path",
+    "state_colors",
     "new_figure",
     "save_figure",
 ]

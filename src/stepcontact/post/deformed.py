@@ -13,10 +13,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from stepcontact.enums import ContactState
 from stepcontact.post.common import (
     DPI,
-    STATE_COLORS,
     _active_cfes,
     _at_text,
     _force_scale,
@@ -30,6 +28,7 @@ from stepcontact.post.common import (
     figure_path,
     new_figure,
     save_figure,
+    state_colors,
 )
 from stepcontact.post.mesh import (
     _boundary_edges,
@@ -422,7 +421,7 @@ def _draw_cfe_states(ax, res: StaticResult, i: int, act: np.ndarray, points: np.
     codes = np.asarray(res.state)[i][act]
     xc = np.asarray(res.cfe["x"], dtype=float).reshape(res.m, 2)[act]
     pc = xc + scale * _cfe_displacement(points, un, xc)
-    ax.scatter(pc[:, 0], pc[:, 1], s=22, c=[STATE_COLORS[ContactState(int(v))] for v in codes],
+    ax.scatter(pc[:, 0], pc[:, 1], s=22, c=list(state_colors(codes)),
                edgecolors="0.15", linewidths=0.5, zorder=4)
     return _state_handles(codes)
 

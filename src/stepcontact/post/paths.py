@@ -12,9 +12,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from stepcontact.enums import ContactState, Transition
+from stepcontact.enums import FACET_SLIP, ContactState, Transition
 from stepcontact.post.common import (
     DPI,
+    FACETED_SLIP_COLOR,
+    FACETED_SLIP_LABEL,
     NOT_BUILT,
     STATE_COLORS,
     TRANSITION_MARKERS,
@@ -37,6 +39,7 @@ from stepcontact.post.common import (
     figure_path,
     new_figure,
     save_figure,
+    state_colors,
 )
 from stepcontact.post.mesh import _all_fields, _geometry, _most_moving
 
@@ -143,15 +146,18 @@ def plot_load_path(
 
     st = np.asarray(res.state)
     made = _made(res)  # construction stages: CFEs not yet made are counted apart
-    counts = (np.array([((st == int(cs)) & (True if made is None else made)).sum(axis=1)
-                        for cs in ContactState]) if st.size else None)
-    present = [cs for cs in ContactState if counts is not None and counts[int(cs)].any()]
+    # the 2D states, then a faceted cone's slip (3D: every facet and vertex as one)
+    classes = [(cs.label, STATE_COLORS[cs], st == int(cs)) for cs in ContactState]
+    classes.append((FACETED_SLIP_LABEL, FACETED_SLIP_COLOR, st >= FACET_SLIP))
+    counts = (np.array([(sel & (True if made is None else made)).sum(axis=1)
+                        for _, _, sel in classes]) if st.size else None)
+    present = [j for j in range(len(classes)) if counts is not None and counts[j].any()]
     if counts is not None and present:
         bottom = np.zeros(res.n_states)
-        for cs in present:  # the scheme after state i, as a bar of width 1 centred on i
-            ax_c.bar(i, counts[int(cs)], width=1.0, bottom=bottom, color=STATE_COLORS[cs],
-                     edgecolor="0.3", linewidth=0.3, label=cs.label)
-            bottom += counts[int(cs)]
+        for j in present:  # the scheme after state i, as a bar of width 1 centred on i
+            ax_c.bar(i, counts[j], width=1.0, bottom=bottom, color=classes[j][1],
+                     edgecolor="0.3", linewidth=0.3, label=classes[j][0])
+            bottom += counts[j]
         if made is not None and not made.all():
             ax_c.bar(i, (~made).sum(axis=1), width=1.0, bottom=bottom, color="white",
                      hatch="////", edgecolor="0.6", linewidth=0.3, label=NOT_BUILT)
@@ -346,7 +352,6 @@ def _draw_state_bars(ax, res: StaticResult, idx: np.ndarray, lam: np.ndarray, k:
 
     pos = np.asarray(res.cfe["s"], dtype=float)
     st = np.asarray(res.state)
-    palette = np.array([STATE_COLORS[cs] for cs in ContactState])
     lw = float(np.clip(150.0 / max(k.size, 1), 0.8, 6.0))
     shape = (idx.size - 1, k.size)  # (intervals between states, CFEs)
     y = np.broadcast_to(pos[k][None, :], shape)
@@ -357,7 +362,7 @@ def _draw_state_bars(ax, res: StaticResult, idx: np.ndarray, lam: np.ndarray, k:
     on = (np.ones(shape, bool) if made is None else made[idx[:-1]][:, k]).ravel()
     ax.add_collection(LineCollection(
         segments.reshape(-1, 2, 2)[on],
-        colors=palette[st[idx[:-1]][:, k].ravel()][on],
+        colors=state_colors(st[idx[:-1]][:, k].ravel())[on],
         linewidths=lw, capstyle="butt", zorder=1,
     ))
 

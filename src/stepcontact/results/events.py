@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from stepcontact.enums import Transition
 
 
@@ -38,11 +40,22 @@ class Event:
         Coordinates of the CFE's S+ end, m.
     transition : Transition
     N, Q : float
-        Normal and tangential force at the event, N (N ≤ 0 compression).
+        Normal and tangential force at the event, N (N ≤ 0 compression).  Q is the signed
+        tangential force in 2D; with two tangential components (3D, n_t = 2) it is the
+        magnitude |Q| = ‖Q_t‖ ≥ 0 of the tangential force vector ``Q_t``.
     impulse_n, impulse_t : float
         Normal and tangential impulse of an impact on the CFE at the event (dynamics, rigid
         contact closing), N·s (per metre of thickness in plane strain), in the sign
         convention of N and Q (impulse_n ≤ 0 compressive); 0 at other events.
+    Q_t : tuple of float
+        The tangential force as a vector of its n_t components along the CFE's tangents
+        t₁[, t₂], N: ``(Q,)`` in 2D (filled in from ``Q`` when not given).  Given with two
+        components (or ``Q`` given as the vector, e.g. ``lay.tangential(s)[k]`` in any
+        dimension), ``Q`` is set to their magnitude.
+
+    ``Q`` stays a number (not a vector of n_t components) so that 2D event logs keep what
+    they print, compare and tabulate (``f"{e.Q:.3f}"``, a pandas column of numbers);
+    ``Q_t`` carries the tangential axis in every dimension.
     """
 
     step: int
@@ -61,6 +74,19 @@ class Event:
     Q: float
     impulse_n: float = 0.0
     impulse_t: float = 0.0
+    Q_t: tuple[float, ...] | None = None
+
+    def __post_init__(self):
+        # Q_t from Q when not given: a number (2D), or Q given as the vector of n_t components
+        q = np.ravel(self.Q if self.Q_t is None else self.Q_t).astype(float)
+        object.__setattr__(self, "Q_t", tuple(q.tolist()))
+        if len(q) > 1 or np.ndim(self.Q):
+            object.__setattr__(self, "Q", float(np.hypot(*q)) if len(q) > 1 else float(q[0]))
+
+    @property
+    def n_t(self) -> int:
+        """Number of tangential components (1 in 2D, 2 in 3D)."""
+        return len(self.Q_t)
 
 
 @dataclass(frozen=True)

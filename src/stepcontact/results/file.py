@@ -10,6 +10,11 @@ Dimensions
     Reported states (λ, forces, working scheme after each state).
 ``cfe``
     Contact finite elements; the CFE geometry arrays are ``cfe_<key>`` variables.
+``tangent``
+    The tangential components of a CFE along its tangents ("t1" in 2D; "t1", "t2" in 3D;
+    the attribute ``tangential_components`` is their number n_t): the tangential variables
+    ``Q``, ``ut`` (state × cfe × tangent) and ``event_Q_t`` (event × tangent).  Format
+    version 2; a version-1 file has ``Q``, ``ut`` on (state × cfe) and no ``event_Q_t``.
 ``event``
     The event log, one entry per CFE transition (``event_<field>`` variables).
 ``pattern``, ``interface``, ``segment_index``, ``multiplier``
@@ -33,11 +38,24 @@ Dimensions
     ``impulse_tangential``, N s); the events carry theirs too (``event_impulse_n``,
     ``event_impulse_t``; a file without these columns loads with 0).
 
-Enumerations are stored so they round-trip: contact states as integers with CF
-``flag_values`` / ``flag_meanings`` attributes, transitions and the run status as their string
-values.  Dictionaries without a natural array layout (counters, mechanism, units) are JSON
-strings in the dataset attributes; JSON keeps floats exactly (shortest ``repr``), so a
-save → load round trip is bit-exact.
+Enumerations are stored so they round-trip: contact states as integers (int16) with CF
+``flag_values`` / ``flag_meanings`` attributes (the 2D codes 0–5 and every faceted-cone code
+present, e.g. ``slip_facet_3``), the rule of the faceted codes in the attribute ``facet_codes``
+of ``contact_state`` and ``state_codes`` of the file (slip on facet i of a faceted Coulomb cone
+= 16 + i, at its vertex i = 144 + i, i < 128: :mod:`stepcontact.enums`), transitions and the
+run status as their string values.  Dictionaries without a natural array layout (counters,
+mechanism, units) are JSON strings in the dataset attributes; JSON keeps floats exactly
+(shortest ``repr``), so a save → load round trip is bit-exact.
+
+Format versions
+---------------
+1. The 2D layout: ``Q``, ``ut`` (state × cfe), contact states as written (int64).
+2. (Written now.)  The ``tangent`` dimension on the tangential variables (``Q``, ``ut``,
+   ``event_Q_t``), the attribute ``tangential_components`` (n_t), contact states as int16
+   holding the faceted-cone codes.  A 2D result loads with ``Q``, ``ut`` of shape
+   (n_states, m) as before.
+
+Both versions load; a file of a newer version than this code knows is refused.
 
 Files are written atomically (temporary file in the target directory, then
 :func:`os.replace`): an interrupted write never leaves a half-written result.
@@ -64,7 +82,14 @@ import xarray as xr
 
 from stepcontact import enums as _enums
 from stepcontact.atomic import write_netcdf
-from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.enums import (
+    FACET_SLIP,
+    MAX_FACETS,
+    VERTEX_SLIP,
+    ContactState,
+    Status,
+    Transition,
+)
 from stepcontact.fem.assembly import LOAD_MOMENT_COMPONENTS
 from stepcontact.interrupt import deferred
 from stepcontact.results.events import Event, Multipliers
@@ -75,7 +100,8 @@ from stepcontact.results.events import Event, Multipliers
 Result = Any
 
 FORMAT = "stepcontact-static-result"
-FORMAT_VERSION = 1
+#: 2: the ``tangent`` dimension (module docstring, "Format versions"); 1 files still load
+FORMAT_VERSION = 2
 
 _XY = np.array(["x", "y"])
 _NODE_DOF = np.array(["ux", "uy", "rz"])
@@ -100,13 +126,15 @@ _EVENT_SPEC: dict[str, tuple[str, str, str]] = {
     "y": ("float", "m", "y coordinate of the CFE's S+ end"),
     "transition": ("transition", "1", "transition of the CFE"),
     "N": ("float", "N", "normal CFE force at the event (negative in compression)"),
-    "Q": ("float", "N", "tangential CFE force at the event"),
+    "Q": ("float", "N", "tangential CFE force at the event (3D: its magnitude)"),
     "impulse_n": ("float", "N s", "normal impulse of an impact at the event (negative: "
                   "compressive; 0: no impact)"),
     "impulse_t": ("float", "N s", "tangential impulse of an impact at the event"),
+    "Q_t": ("vector", "N", "tangential CFE force at the event, one component per tangent"),
 }
 #: event columns added after format version 1 files were written: absent → this default
-_EVENT_DEFAULTS = {"impulse_n": 0.0, "impulse_t": 0.0}
+#: (``Q_t`` None: ``(Q,)``, :class:`~stepcontact.results.events.Event`)
+_EVENT_DEFAULTS = {"impulse_n": 0.0, "impulse_t": 0.0, "Q_t": None}
 
 _MULT_SPEC: dict[str, tuple[str, str, str]] = {
     **_SEGMENT_SPEC,
@@ -141,12 +169,15 @@ _CFE_SPEC: dict[str, tuple[str, str, str | None]] = {
                       "after its bond broke); -1: kept", None),
 }
 
+#: the variables with one row per state and one column per CFE; the tangential ones (Q, ut)
+#: have the ``tangent`` dimension too (format version 2)
 _STATE_VARS: dict[str, tuple[str, str]] = {
     "N": ("N", "normal CFE force (negative in compression)"),
     "Q": ("N", "tangential CFE force"),
     "un": ("m", "mutual normal displacement u_n (negative: open gap)"),
     "ut": ("m", "mutual tangential displacement u_t"),
 }
+_TANGENTIAL_VARS = ("Q", "ut")
 
 
 # --------------------------------------------------------------------------------------------
@@ -233,11 +264,47 @@ def _safe_names(names: list[str]) -> dict[str, str]:
     return out
 
 
-def _flag_attrs(dtype: np.dtype) -> dict[str, Any]:
+#: the rule of the state codes of a faceted Coulomb cone (:mod:`stepcontact.enums`)
+FACET_CODES = (
+    f"{FACET_SLIP} + i: slip on facet i of a faceted Coulomb cone (3D); {VERTEX_SLIP} + i: "
+    f"slip at its vertex i, between facets i - 1 and i; i < {MAX_FACETS}"
+)
+
+
+def tangent_labels(n_t: int) -> np.ndarray:
+    """The labels of the tangential components: "t1"[, "t2"]."""
+    return np.array([f"t{j + 1}" for j in range(n_t)])
+
+
+def _flag_token(code: int) -> str:
+    """A CF flag meaning (one word) for a state code: ``stick``, ``slip_facet_3`` …"""
+    if code >= VERTEX_SLIP:
+        return f"slip_vertex_{code - VERTEX_SLIP}"
+    if code >= FACET_SLIP:
+        return f"slip_facet_{code - FACET_SLIP}"
+    return ContactState(code).name.lower()
+
+
+def state_flag_attrs(codes: Any) -> dict[str, Any]:
+    """CF ``flag_values`` / ``flag_meanings`` of an array of state codes: the 2D codes
+    (:class:`ContactState`), then every faceted-cone code present (``slip_facet_i``,
+    ``slip_vertex_i``), with the rule of those codes (``facet_codes``)."""
+    codes = np.asarray(codes)
+    values = [int(s) for s in ContactState]
+    if codes.size:
+        values += np.unique(codes[codes >= FACET_SLIP]).astype(int).tolist()
     return {
-        "flag_values": np.array([int(s) for s in ContactState], dtype=dtype),
-        "flag_meanings": " ".join(s.name.lower() for s in ContactState),
+        "flag_values": np.array(values, dtype=codes.dtype),
+        "flag_meanings": " ".join(_flag_token(v) for v in values),
+        "facet_codes": FACET_CODES,
     }
+
+
+def _state_codes(res: Result) -> np.ndarray:
+    """The state codes to store: int16 (an int8 array, which holds no vertex code, as it
+    is)."""
+    st = np.asarray(res.state)
+    return st if st.dtype.kind in "iu" and st.dtype.itemsize <= 2 else st.astype(np.int16)
 
 
 def _index_coords(res: Result) -> dict[str, Any]:
@@ -246,6 +313,8 @@ def _index_coords(res: Result) -> dict[str, Any]:
     return {
         "state": _var(("state",), np.arange(res.n_states), "1", "reported state index"),
         "cfe": _var(("cfe",), np.arange(res.m), "1", "contact finite element index"),
+        "tangent": _var(("tangent",), tangent_labels(res.n_t), "1",
+                        "tangential component: along the CFE's tangent t1[, t2]"),
         "event": _var(("event",), np.arange(len(res.events)), "1", "event index"),
         "pattern": _var(("pattern",), _str_array(res.pattern_names), "1", "load pattern"),
         "interface": _var(("interface",), _str_array(res.interface_names), "1", "interface"),
@@ -270,11 +339,15 @@ def _path_vars(res: Result, dv: dict[str, Any]) -> None:
     )
     dv["kind"] = _var(("state",), _str_array(res.kind), "1", "kind of reported state")
     for key, (units, long_name) in _STATE_VARS.items():
-        dv[key] = _var(("state", "cfe"), np.asarray(getattr(res, key)), units, long_name)
-    st = np.asarray(res.state)
+        if key in _TANGENTIAL_VARS:  # (state, cfe, tangent)
+            dv[key] = _var(("state", "cfe", "tangent"), np.asarray(getattr(res, f"{key}_t")),
+                           units, long_name)
+        else:
+            dv[key] = _var(("state", "cfe"), np.asarray(getattr(res, key)), units, long_name)
+    st = _state_codes(res)
     dv["contact_state"] = _var(
         ("state", "cfe"), st, "1", "contact state of the CFE after the state",
-        **_flag_attrs(st.dtype),
+        **state_flag_attrs(st),
     )
     dv["residual"] = _var(
         ("state",), np.asarray(res.residual), "1", "relative equilibrium residual"
@@ -367,6 +440,10 @@ def _event_vars(res: Result, dv: dict[str, Any]) -> None:
     """One ``event_*`` column per field of :class:`Event` (:data:`_EVENT_SPEC`)."""
     for name, (kind, units, long_name) in _EVENT_SPEC.items():
         vals = [getattr(e, name) for e in res.events]
+        if kind == "vector":  # (event, tangent)
+            dv[f"event_{name}"] = _var(("event", "tangent"), np.array(
+                vals, dtype=np.float64).reshape(len(vals), res.n_t), units, long_name)
+            continue
         if kind == "int":
             arr = np.array(vals, dtype=np.int64)
         elif kind == "float":
@@ -508,6 +585,10 @@ def _file_attrs(res: Result, cfe_extra: dict[str, Any], body_vars: list[str],
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
         "title": "stepcontact static result",
+        "tangential_components": int(res.n_t),
+        "state_codes": (
+            "contact_state: " + ", ".join(f"{int(c)} {c.name.lower()}" for c in ContactState)
+            + f"; {FACET_CODES}"),
         "status": Status(res.status).value,
         "message": str(res.message),
         "counters": _dumps(dict(res.counters)),
@@ -611,6 +692,8 @@ def _py(kind: str, v: Any) -> Any:
         return None if np.isnan(v) else float(v)
     if kind == "transition":
         return Transition(str(v))
+    if kind == "vector":
+        return None if v is None else tuple(float(x) for x in np.ravel(v))
     return str(v)
 
 
@@ -660,8 +743,13 @@ def _check_states(ds: xr.Dataset) -> tuple[int, int, int]:
     for name in ("segment", "kind", "residual", "violation"):
         _expect(ds, name, (n,), states)
     _expect(ds, "factors", (n, n_pat), f"{states} × {n_pat} load patterns")
+    n_t = _n_t(ds)
     for name in ("N", "Q", "un", "ut", "contact_state"):
-        _expect(ds, name, (n, m), f"{states} × {m} CFEs")
+        if name in _TANGENTIAL_VARS and "tangent" in ds.dims:  # format version 2
+            _expect(ds, name, (n, m, n_t), f"{states} × {m} CFEs × {n_t} tangential "
+                    "components")
+        else:
+            _expect(ds, name, (n, m), f"{states} × {m} CFEs")
     if "reactions" in ds:
         _expect(ds, "reactions", (n, None), states)
     for name in ("water", "crack_pressure"):
@@ -680,7 +768,9 @@ def _check_columns(ds: xr.Dataset, n: int, m: int, n_ev: int) -> None:
                 raise _inconsistent(f"variable '{name}' has shape {got}, expected ({m}, …) "
                                     f"({m} CFEs)")
         if str(name).startswith("event_"):
-            _expect(ds, str(name), (n_ev,), f"{n_ev} events")
+            vector = _EVENT_SPEC.get(str(name)[len("event_"):], ("",))[0] == "vector"
+            _expect(ds, str(name), (n_ev, _n_t(ds)) if vector else (n_ev,),
+                    f"{n_ev} events" + (" × tangential components" if vector else ""))
     n_seg = _shape(ds, "segment_pattern")[0] if _shape(ds, "segment_pattern") else 0
     for name in ("segment_lam_start", "segment_lam_end"):
         _expect(ds, name, (n_seg,), f"{n_seg} segments of 'segment_pattern'")
@@ -730,6 +820,19 @@ def _check_geometry(ds: xr.Dataset, n: int) -> None:
             n_el = _shape(ds, cells)[0] if cells in ds.variables else None
             _expect(ds, str(name), (n_s, n_el, 4), f"{n_s} states of '{k}' × elements × 4")
             _within(ds, k, n, "state")
+
+
+def _n_t(ds: xr.Dataset) -> int:
+    """The number of tangential components of a result file (1 in a version-1 file)."""
+    return int(ds.sizes["tangent"]) if "tangent" in ds.dims else 1
+
+
+def _tangential(ds: xr.Dataset, name: str) -> np.ndarray:
+    """A tangential variable (Q, ut) as the result holds it: (n_states, m) in 2D (a
+    version-1 file's as it is, a version-2 file's without its tangent axis of length 1),
+    (n_states, m, n_t) in 3D."""
+    v = ds[name].values
+    return v[..., 0] if v.ndim == 3 and v.shape[2] == 1 else v
 
 
 def check_dataset(ds: xr.Dataset) -> None:
@@ -884,9 +987,9 @@ def dataset_arguments(ds: xr.Dataset) -> tuple[bool, dict[str, Any]]:
         factors=arr("factors"),
         kind=arr("kind").astype(str),
         N=arr("N"),
-        Q=arr("Q"),
+        Q=_tangential(ds, "Q"),
         un=arr("un"),
-        ut=arr("ut"),
+        ut=_tangential(ds, "ut"),
         state=arr("contact_state"),
         residual=arr("residual"),
         violation=arr("violation"),

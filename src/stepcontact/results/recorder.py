@@ -45,7 +45,9 @@ class Recorder:
         self.factors = GrowingArray((n_patterns,))
         self.s = GrowingArray((layout.n,))
         self.w = GrowingArray((layout.n,))
-        self.state = GrowingArray((m,), np.int64)
+        #: state codes (:mod:`stepcontact.enums`): int16, the faceted-cone codes go beyond
+        #: int8 (up to VERTEX_SLIP + MAX_FACETS − 1 = 271)
+        self.state = GrowingArray((m,), np.int16)
         self.residual = GrowingArray(())
         self.violation = GrowingArray(())
         self.reactions = GrowingArray((n_reactions,))

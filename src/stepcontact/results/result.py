@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.enums import FACET_SLIP, ContactState, Status, Transition, state_label
 from stepcontact.fem.level import VIRTUAL, is_virtual
 from stepcontact.results.events import Event, Multipliers
 from stepcontact.results.file import (
@@ -25,6 +25,8 @@ from stepcontact.results.file import (
     read_dataset,
     result_to_dataset,
     save_result,
+    state_flag_attrs,
+    tangent_labels,
 )
 from stepcontact.results.safety import interface_safety
 
@@ -73,9 +75,16 @@ class StaticResult:
     factors : (n_states, n_patterns) factors of all patterns
     kind : (n_states,) "start", "segment_start", "event", "segment_end" or "dynamics" (the
         state where the dynamic interval of a stage before the last ends, see ``dynamics``)
-    N, Q : (n_states, m) CFE forces, N
-    un, ut : (n_states, m) mutual displacements u_n, u_τ, m
-    state : (n_states, m) ContactState values (scheme after the state)
+    N : (n_states, m) normal CFE force, N (≤ 0 compression)
+    Q : (n_states, m) tangential CFE force, N, in 2D; (n_states, m, n_t) with n_t = 2
+        tangential components (3D).  :attr:`Q_t` has the tangential axis in every dimension
+    un : (n_states, m) mutual normal displacement u_n, m
+    ut : (n_states, m) mutual tangential displacement u_τ, m, in 2D; (n_states, m, n_t) in
+        3D (:attr:`ut_t`: the tangential axis always)
+    state : (n_states, m) state codes (scheme after the state): the :class:`ContactState`
+        values in 2D; a faceted Coulomb cone (3D) adds ``FACET_SLIP + i`` and
+        ``VERTEX_SLIP + i`` (:mod:`stepcontact.enums`; :func:`~stepcontact.enums.state_label`
+        names any code, :meth:`state_labels` those of a state).  Stored as int16 by a run
     residual : (n_states,) relative equilibrium residual ‖K u + Bᵀs − f‖ / ‖f‖ at states with a
         stored displacement field; at the other states the residual of the condensed
         equations, which are exactly equivalent (see ``Condensed.condensed_residual``)
@@ -109,6 +118,11 @@ class StaticResult:
         the order of ``pattern_names``: F_x, F_y in N and M_z = Σ (x f_y − y f_x) (+ nodal
         moments) about the origin in N·m (:meth:`load_resultant`; prescribed displacements
         are not forces and do not count)
+
+    Tangential quantities (``Q``, ``ut``, ``tau``) have a tangential axis of n_t components
+    (:attr:`n_t`: 1 in 2D, 2 in 3D) along the CFE's tangents t₁[, t₂]: :attr:`Q_t`,
+    :attr:`ut_t`, :attr:`tau_t` are (n_states, m, n_t) in every dimension (views of ``Q``,
+    ``ut``: the 2D arrays are the same numbers without that axis, which 2D code keeps using).
 
     Node results along the path: :meth:`node_history` (ux, uy, rz of a node, a node set or
     the node nearest a point; velocities — None in statics), :meth:`reaction_history` (the
@@ -237,17 +251,65 @@ class StaticResult:
         return self.N.shape[1]
 
     @property
+    def n_t(self) -> int:
+        """Number of tangential components per CFE: 1 in 2D, 2 in 3D (``Q`` with a third
+        axis)."""
+        Q = np.asarray(self.Q)
+        return int(Q.shape[2]) if Q.ndim == 3 else 1
+
+    @property
+    def layout(self) -> ContactLayout:
+        """The layout of the contact unknowns of the run: m CFEs with n_t tangential
+        components (:class:`~stepcontact.contact.layout.ContactLayout`)."""
+        return ContactLayout(self.m, self.n_t)
+
+    @staticmethod
+    def _with_tangent_axis(x: np.ndarray) -> np.ndarray:
+        """``x`` (n_states, m) or (n_states, m, n_t) as (n_states, m, n_t): a view."""
+        x = np.asarray(x)
+        return x if x.ndim == 3 else x[..., None]
+
+    @property
+    def Q_t(self) -> np.ndarray:
+        """Tangential CFE forces with the tangential axis always present, (n_states, m, n_t),
+        N: component j along the CFE's tangent t_(j+1); in 2D a view of ``Q`` (n_t = 1)."""
+        return self._with_tangent_axis(self.Q)
+
+    @property
+    def ut_t(self) -> np.ndarray:
+        """Mutual tangential displacements with the tangential axis always present,
+        (n_states, m, n_t), m; in 2D a view of ``ut`` (n_t = 1)."""
+        return self._with_tangent_axis(self.ut)
+
+    @property
+    def tau_t(self) -> np.ndarray:
+        """Tangential contact stress Q_t/A_k with the tangential axis, (n_states, m, n_t), Pa."""
+        return self.Q_t / self.cfe["area"][None, :, None]
+
+    def state_labels(self, i: int) -> list[str]:
+        """What users see for the state of every CFE at state ``i`` (``"stick"``,
+        ``"slip+"``, ``"slip (facet 3)"`` …: :func:`~stepcontact.enums.state_label`)."""
+        return [state_label(v) for v in np.asarray(self.state[i]).tolist()]
+
+    @property
     def sigma_n(self) -> np.ndarray:
         """Normal contact stress N/A_k, Pa (≤ 0 compression)."""
         return self.N / self.cfe["area"][None, :]
 
     @property
     def tau(self) -> np.ndarray:
-        """Tangential contact stress Q/A_k, Pa."""
-        return self.Q / self.cfe["area"][None, :]
+        """Tangential contact stress Q/A_k, Pa: the shape of ``Q`` ((n_states, m) in 2D,
+        (n_states, m, n_t) in 3D)."""
+        Q = np.asarray(self.Q)
+        area = np.asarray(self.cfe["area"])
+        return Q / (area[None, :, None] if Q.ndim == 3 else area[None, :])
 
-    def states_of(self, i: int) -> list[ContactState]:
-        return [ContactState(int(v)) for v in self.state[i]]
+    def states_of(self, i: int) -> list[ContactState | int]:
+        """The state of every CFE at state ``i``: a :class:`ContactState` (2D codes), the
+        plain code of a faceted cone's slip (≥ :data:`~stepcontact.enums.FACET_SLIP`; named by
+        :meth:`state_labels`)."""
+        return [v if v >= FACET_SLIP else ContactState(v)
+                for v in np.asarray(self.state[i]).tolist()]
 
     def _cfe_keys(self) -> tuple[str, ...]:
         """The CFE quantities of a state: N, Q, u_n, u_τ (and the crack pressure)."""
@@ -526,7 +588,7 @@ class StaticResult:
                            "res.recover_fields(model) with the model of the run (the stored "
                            "support resultants are res.reaction(support, dof))")
         U = self.displacements()
-        S = ContactLayout(self.m).join(np.asarray(self.Q).T, -np.asarray(self.N).T).T
+        S = self.layout.join(np.moveaxis(np.asarray(self.Q), 0, -1), -np.asarray(self.N).T).T
         F = np.asarray(self.factors, dtype=float).reshape(self.n_states, -1)
         f = np.stack([system.loads[name].f for name in self.pattern_names], axis=1) \
             if self.pattern_names else np.zeros((system.ndof, 0))
@@ -541,7 +603,8 @@ class StaticResult:
 
         * ``"lam"``, ``"path"``: (n_states,); ``"factors"``: (n_states, n_patterns).
         * CFE quantities ``"N"``, ``"Q"`` (N), ``"sigma_n"``, ``"tau"`` (Pa), ``"un"``,
-          ``"ut"`` (m): (n_states, m) — every CFE (:meth:`cfe_history` for labelled data).
+          ``"ut"`` (m): (n_states, m) — every CFE (:meth:`cfe_history` for labelled data);
+          ``"Q"``, ``"tau"``, ``"ut"`` are (n_states, m, n_t) in 3D.
         * nodal quantities ``"ux"``, ``"uy"``, ``"rz"``, ``"vx"``, ``"vy"``, ``"vrz"`` of
           ``nodes`` / ``point`` / ``body``: :meth:`node_history`.
         * ``"reaction"`` along ``dof`` (default "y") of a support or of nodes:
@@ -574,7 +637,8 @@ class StaticResult:
         * ``quantity`` None: one row per quantity (``N``, ``Q``, ``un``, ``ut``; a dynamic
           result adds ``u``, ``v``, ``a`` — every DOF), with the largest magnitude over all
           CFEs (DOFs) and states: ``absmax`` (≥ 0), the signed ``value`` there, ``at`` (the
-          path: λ or t), ``state``, and ``index`` (the CFE or DOF where it is reached).
+          path: λ or t), ``state``, and ``index`` (the CFE or DOF where it is reached; for
+          ``Q``, ``ut`` of a 3D result the pair (CFE k, component j) as k·n_t + j).
         * a quantity of :meth:`history` (``"N"``, ``"Q"``, ``"sigma_n"``, ``"tau"``, ``"un"``,
           ``"ut"``, nodal ``"ux"`` … ``"vrz"`` of ``nodes``/``point``/``body``,
           ``"reaction"``) or ``"u"``, ``"v"``, ``"a"`` (every DOF, dynamic results): one row
@@ -862,6 +926,10 @@ class StaticResult:
         heel (default: the first CFE); ``cohesion``: a design cohesion, Pa, replacing the
         joint's own.
         """
+        if self.n_t > 1:
+            raise ValueError(f"interface_safety('{interface}'): the safety of a joint sums N, Q "
+                             "and their moments in the plane of a 2D model; this result has "
+                             f"{self.n_t} tangential components per CFE (3D)")
         return interface_safety(self, interface, design, heel=heel, cohesion=cohesion,
                                 pattern=pattern)
 
@@ -884,8 +952,10 @@ class StaticResult:
         """Per-CFE histories: every reported state × every CFE, for notebooks.
 
         The CFE variables of :meth:`to_dataset` (``N``, ``Q`` in N; ``un``, ``ut`` in m;
-        ``contact_state`` as :class:`ContactState` codes) plus ``sigma_n`` and ``tau`` (Pa),
-        on the dimensions ``state`` and ``cfe``, without the rest of the result file.
+        ``contact_state`` as state codes, :class:`ContactState` and the faceted cone's) plus
+        ``sigma_n`` and ``tau`` (Pa), on the dimensions ``state`` and ``cfe`` (``Q``, ``ut``,
+        ``tau`` also on ``tangent`` in 3D, coordinate "t1", "t2"), without the rest of the
+        result file.
         Coordinates: ``lam``, ``segment``, ``pattern``, ``kind`` of each state; ``interface``
         (name), ``local``, ``position`` (arc length, m), ``x``, ``y`` (m), ``area`` (m²) and
         ``friction`` of each CFE.
@@ -910,14 +980,17 @@ class StaticResult:
         units = {**_HISTORY_UNITS, **{k: v for k, v in self.units.items() if k in _HISTORY_UNITS}}
         data = {"N": self.N, "Q": self.Q, "sigma_n": self.sigma_n, "tau": self.tau,
                 "un": self.un, "ut": self.ut}
-        dv = {k: (("state", "cfe"), np.asarray(v, dtype=float).reshape(n, m),
-                  {"units": units[k], "long_name": _HISTORY_NAMES[k]}) for k, v in data.items()}
+        n_t = self.n_t
+        dv = {}
+        for k, v in data.items():  # the tangential ones with a "tangent" axis in 3D
+            along = n_t > 1 and k in _TANGENTIAL
+            dv[k] = ((("state", "cfe", "tangent") if along else ("state", "cfe")),
+                     np.asarray(v, dtype=float).reshape((n, m, n_t) if along else (n, m)),
+                     {"units": units[k], "long_name": _HISTORY_NAMES[k]})
         st = np.asarray(self.state).reshape(n, m)
         dv["contact_state"] = (("state", "cfe"), st, {
             "units": "1", "long_name": "contact state of the CFE after the state",
-            "flag_values": np.array([int(c) for c in ContactState], dtype=st.dtype),
-            "flag_meanings": " ".join(c.name.lower() for c in ContactState),
-        })
+            **state_flag_attrs(st)})
         seg = np.asarray(self.segment, dtype=np.int64)
         pattern = np.array([self.segments[s][0] if 0 <= s < len(self.segments) else ""
                             for s in seg.tolist()], dtype=str)
@@ -935,6 +1008,7 @@ class StaticResult:
             "segment": ("state", seg), "pattern": ("state", pattern),
             "kind": ("state", np.asarray(self.kind).astype(str)), "cfe": np.arange(m),
             **{k: ("cfe", np.asarray(v)) for k, v in cfe_coords.items()},
+            **({"tangent": tangent_labels(n_t)} if n_t > 1 else {}),
         }
         ds = xr.Dataset(dv, coords=coords, attrs={"status": self.status.value})
         return ds.to_dataframe() if as_frame else ds
@@ -958,6 +1032,8 @@ _CFE_QUANTITIES = ("N", "Q", "un", "ut", "sigma_n", "tau")
 _EXTREME_UNITS = {"u": "m", "v": "m/s", "a": "m/s2"}
 _MULTIPLIER_KEYS = ("first_slip", "first_opening", "first_closing", "equilibrium_lost")
 _REPR_SEGMENTS = 8  #: segments listed by ``repr`` (the rest are counted)
+#: the CFE quantities with a tangential axis (n_t components) in 3D
+_TANGENTIAL = ("Q", "ut", "tau")
 _HISTORY_UNITS = {"N": "N", "Q": "N", "sigma_n": "Pa", "tau": "Pa", "un": "m", "ut": "m"}
 _HISTORY_NAMES = {
     "N": "normal CFE force (negative in compression)",

@@ -104,39 +104,45 @@ import scipy.sparse as sp
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.enums import Status
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
+from stepcontact.results.build import build_result, cfe_arrays, stage_fields
 from stepcontact.results.recorder import GrowingArray, Recorder
 from stepcontact.results.result import (
     ENERGY_TERMS,
     DynamicResult,
-    Event,
     Multipliers,
     StaticResult,
 )
+from stepcontact.solver.bonds import break_bonds as _break_bonds
+from stepcontact.solver.bonds import breaking
 from stepcontact.solver.condensation import Condensed
+from stepcontact.solver.contactlaws import contact_law, law_inputs
 from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.eventlog import EventLog
+from stepcontact.solver.jump import AGAIN, JumpState, follow_jump
 from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.recovery import Stresses as _Stresses
 from stepcontact.solver.recovery import stage_plan
 from stepcontact.solver.reporting import VIOLATION_LIMIT, result_geometry
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
-from stepcontact.solver.staging import held_components, in_stages
+from stepcontact.solver.staging import in_stages
 
 
 def _after_stages(system: System, initial, stage: int | None = None):
     """A dynamic interval after construction stages (:mod:`stepcontact.solver.staging`): the
     last stage's (or stage ``stage``'s) system (its held DOFs, shifted w⁰ of the interfaces
-    made at once, removed supports gone, automatic patterns), the contact law's inputs there
-    (CFEs not active are inert; bonds of grouted joints) and ``initial``, the static result of
+    made at once, removed supports gone, automatic patterns), the stage plan and the stage
+    the contact law is built at (:func:`~stepcontact.solver.contactlaws.contact_law`: CFEs not
+    active are inert; bonds of grouted joints) and ``initial``, the static result of
     the stages it starts from, which must hold its run's stages
     (:func:`~stepcontact.solver.recovery.stage_plan`): :func:`stepcontact.solve_dynamic`
     runs the staged program when none is given, and again (checked against it) for a result
     loaded from a file (which does not keep the stage systems).
 
-    Returns (system, law keyword arguments, initial, stage arrays of the result)."""
+    Returns (system, (plan, stage), initial, stage arrays of the result)."""
     plan = stage_plan(initial)
     if plan is None:
         raise ModelError("initial", "must be the result of the run of this model's stages "
@@ -157,13 +163,9 @@ def _after_stages(system: System, initial, stage: int | None = None):
                              "end of the stages: a dynamic interval does not follow "
                              "prescribed displacements (place the support before its body "
                              "moves, or let the pattern return to 0)")
-    held_n, held_t = held_components(stage_system)
-    active = plan.active_cfes(last)
-    law_in = {"held_normal": held_n | ~active, "held_tangent": held_t | ~active,
-              "friction": plan.friction.copy(), "bond": plan.bond.copy()}
     arrays = {"stage_names": initial.stage_names, "stage_cfes": initial.stage_cfes,
               "stage_bodies": initial.stage_bodies, "last_stage": last}
-    return stage_system, law_in, initial, arrays
+    return stage_system, (plan, last), initial, arrays
 
 
 def _initial(system: System, cond: Condensed, initial, u0, v0):
@@ -895,14 +897,15 @@ class _DynamicRun:
     # -- set-up ------------------------------------------------------------------------------
 
     def _assemble(self, model, initial) -> None:
-        """The system of the interval (after the construction stages, :func:`_after_stages`),
-        the laws' inputs and the loads (each a pattern of the system with a time function)."""
+        """The system of the interval (after the construction stages, :func:`_after_stages`:
+        the stage plan and stage the law is built at), and the loads (each a pattern of the
+        system with a time function)."""
         system = model if isinstance(model, System) else assemble(model)
-        law_in: dict = {"friction": system.cfe.friction, "bond": system.cfe.bond}
         self.stage_arrays: dict | None = None
+        self.staged: tuple = (None, None)  # (plan, stage) of a run after stages
         if in_stages(system):
-            system, law_in, initial, self.stage_arrays = _after_stages(system, initial,
-                                                                       self.iv.stage)
+            system, self.staged, initial, self.stage_arrays = _after_stages(system, initial,
+                                                                            self.iv.stage)
         loads = dict(self.iv.loads or {})
         for name, g in loads.items():
             if name not in system.loads:
@@ -910,7 +913,7 @@ class _DynamicRun:
                                  f"{', '.join(map(repr, system.loads)) or 'none'})")
             if not callable(g):
                 raise ModelError(f"loads['{name}']", "must be a time function g(t)")
-        self.system, self.law_in, self.initial, self.loads = system, law_in, initial, loads
+        self.system, self.initial, self.loads = system, initial, loads
         self.ndof, self.m = system.ndof, system.m
         self.layout = system.layout  # the contact unknowns s = [Q; p], w = [u_τ; u_n]
         self.cfe = system.cfe
@@ -955,9 +958,15 @@ class _DynamicRun:
     def _contact_law(self) -> None:
         """The Coulomb law of the CFEs (eq. (1); compliant layers eq. (11), damped ones with
         Newmark's c₁, :class:`_DampedLayers`; bonds eq. (12)) and the event engine on the
-        condensed K̂; refuses the combinations a dynamic interval does not follow."""
-        cfe, m, law_in = self.cfe, self.m, self.law_in
-        bond_cols = law_in.get("bond")
+        condensed K̂; refuses the combinations a dynamic interval does not follow.  Built by
+        :func:`~stepcontact.solver.contactlaws.contact_law`: after stages, the stage's (CFEs
+        not active, and components held by supports on both ends, inert); without stages,
+        no component is held by supports (``held_by_supports=False``, unlike the static
+        driver)."""
+        cfe = self.cfe
+        plan, stage = self.staged
+        _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage,
+                                        held_by_supports=False)
         if bond_cols is not None:
             bonded = ~np.isnan(np.asarray(bond_cols, float)[:, 0])
             damped_bond = bonded & (cfe.cn > 0)
@@ -981,10 +990,10 @@ class _DynamicRun:
             k = int(np.flatnonzero((cfe.cn > 0) & ~np.isfinite(cfe.kn))[0])
             raise ModelError(f"interface '{cfe.names[cfe.interface[k]]}'", "a damped contact "
                              "layer needs a finite normal stiffness kn")
-        self.law = law = CoulombLaw(
-            np.arange(m), law_in.pop("friction"),
-            _DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1), cfe.kt,
-            **law_in)
+        self.law = law = contact_law(
+            self.system, plan=plan, stage=stage,
+            kn=_DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1),
+            held_by_supports=plan is not None)
         self.layers = _DampedLayers(cfe, law, self.layout)
         self.bonds_on = bool(law.has_bond.any())
         self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol,
@@ -1066,6 +1075,7 @@ class _DynamicRun:
         m, cfe, u = self.m, self.cfe, self.u
         ndof = self.ndof
         self.rec = Recorder(self.layout, len(self.names), 0)
+        self.events = EventLog(self.rec, cfe, self.layout)
         self.extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
                       "a": GrowingArray((ndof,))}
         self.energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
@@ -1240,27 +1250,13 @@ class _DynamicRun:
         forces it can no longer carry (:meth:`CoulombLaw.released`).  Logs a ``broken``
         event per CFE (in the order of the CFEs), books the elastic energy ½ s²/C a
         compliant layer loses with that force as ``fracture``; returns the forces g (2m,)
-        released (N).  (The static driver's twin: :meth:`StaticSolver._breaks
-        <stepcontact.solver.static.StaticSolver._breaks>`.)"""
-        law, lay, mult = self.law, self.layout, self.mult
-        tf, _ = E.tolerances()
-        Q, p = lay.split(E.s)
-        old = E.states.copy()
-        new = old.copy()
-        new[brk] = law.broken_state(Q, p, tf)[brk]
-        dQ, dp = law.released(new, Q, p)
-        g = lay.join(np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0))
-        s_before, s_after = E.s.copy(), E.s - g
+        released (N).  (The break itself is both drivers':
+        :func:`~stepcontact.solver.bonds.break_bonds`.)"""
+        g, s_before = _break_bonds(E, self.law, brk, self.events, self.mult, step=step,
+                                   state=len(self.rec), segment=0, pattern="dynamic",
+                                   lam=t_now)
         self.ledger["fracture"] += float(self.layer_energy(s_before).sum()
-                                         - self.layer_energy(s_after).sum())
-        E.s = s_after
-        for k in np.flatnonzero(brk):
-            self.log_event(step, k, old[k], new[k], t_now, s_before)
-            if mult["first_opening"] is None and new[k] == OPEN:
-                mult["first_opening"] = t_now
-            if mult["first_slip"] is None and new[k] in (SLIP_POS, SLIP_NEG):
-                mult["first_slip"] = t_now
-        E.states = new
+                                         - self.layer_energy(E.s).sum())
         return g
 
     def follow_jump(self, ea: EventEngine, forcing, t_now: float, step: int,
@@ -1270,33 +1266,27 @@ class _DynamicRun:
         reaches its strength surface (eq. (12)) on the way (a facet, or the rates of the
         scheme decided drive it beyond) breaks there: what it carried is released first (the
         forces g go to zero along their own jump, forcing B M⁻¹ Bᵀ g, its neighbours breaking
-        in turn — the cascade at t_now in its order), then the jump goes on."""
-        law, m, lay = self.law, self.m, self.layout
-        mu, fired = 0.0, np.zeros(m, bool)
-        for _ in range(10 * m + 10):
+        in turn — the cascade at t_now in its order), then the jump goes on
+        (:func:`~stepcontact.solver.jump.follow_jump`: at most 10 m + 10 points)."""
+        law, m = self.law, self.m
+
+        def point(state: JumpState):
             old = ea.states.copy()
-            dec = ea.decide(fired, forcing)
-            if dec.switched or fired.any():
+            dec = ea.decide(state.fired, forcing)
+            if dec.switched or state.fired.any():
                 ea.snap()
             for k in np.flatnonzero(old != dec.new):
                 self.log_event(step, k, old[k], dec.new[k], t_now)
             if self.bonds_on and depth <= m:
-                tf, _ = ea.tolerances()
-                rf = 1e3 * ea.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
-                brk = ((fired & (ea.states == BONDED))
-                       | law.breaking(ea.states, *lay.split(ea.s), *lay.split(dec.ds), tf, rf))
-                if brk.any():
+                brk = breaking(ea, law, dec.ds, state.fired)
+                if brk.any():  # released in a jump of its own first, then on from here
                     self.release(ea, self.break_bonds(ea, brk, t_now, step), t_now, step,
                                  depth)
-                    fired = np.zeros(m, bool)
-                    continue
-            if mu >= 1.0:
-                break
-            dmu, _, fired = ea.next_event(dec.ds, dec.dw, 1.0 - mu, 1e-10)
-            ea.advance(dmu, dec.ds, dec.dw)
-            mu += dmu
-            if mu >= 1.0 - 1e-15 and not fired.any():
-                break
+                    return AGAIN
+            return dec.ds, dec.dw
+
+        follow_jump(ea, point, JumpState(np.zeros(m, bool)), stop_at_end=True,
+                    max_points=10 * m + 10)
 
     def release(self, ea: EventEngine, g: np.ndarray, t_now: float, step: int,
                 depth: int) -> None:
@@ -1447,24 +1437,11 @@ class _DynamicRun:
 
     def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
         """Log CFE k's transition was → now at t_ev (forces ``s_``, default the engine's;
-        an impact's (normal, tangential) impulse) and the first slip, opening, closing."""
-        cfe, lay, rec = self.cfe, self.layout, self.rec
-        s_ = self.eng.s if s_ is None else s_
-        tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
-        pn_, qt_ = (0.0, 0.0) if impulse is None else impulse
-        rec.events.append(Event(
-            step=step, state=len(rec), segment=0, pattern="dynamic", lam=t_ev, cfe=int(k),
-            interface=cfe.names[cfe.interface[k]] if cfe.names else "",
-            local=int(cfe.local[k]), position=float(cfe.s[k]),
-            x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
-            y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-lay.normal(s_)[k]), Q=float(lay.tangential(s_)[k]),
-            impulse_n=pn_,
-            impulse_t=qt_))
-        key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
-               Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(tr)
-        if key and self.mult[key] is None:
-            self.mult[key] = t_ev
+        an impact's (normal, tangential) impulse) and the first slip, opening, closing
+        (:class:`~stepcontact.solver.eventlog.EventLog`)."""
+        self.events.event(k, was, now, self.eng.s if s_ is None else s_, step=step,
+                          state=len(self.rec), segment=0, pattern="dynamic", lam=t_ev,
+                          impulse=impulse, first=self.mult)
 
     # -- the run -----------------------------------------------------------------------------
 
@@ -1701,14 +1678,12 @@ class _DynamicRun:
         reverses inside the step stops (eq. (11)); a slip that stops inside the step
         (eq. (10), second row) is cut where its velocity vanishes.  Returns (restart or
         None, the CFEs whose state changed)."""
-        eng, lay, law, layers, crack = self.eng, self.layout, self.law, self.layers, self.crack
+        eng, law, layers, crack = self.eng, self.law, self.layers, self.crack
         t, dt, nm = self.t, self.dt, self.nm
         if self.bonds_on:
             # at the step's start: bonds on their strength surface that the rates of the
             # scheme decided drive beyond it break here, before anything else
-            tf, _ = eng.tolerances()
-            rf = 1e3 * eng.rtol * max(float(np.abs(dec.ds).max(initial=0.0)), 1e-300)
-            brk = law.breaking(eng.states, *lay.split(eng.s), *lay.split(dec.ds), tf, rf)
+            brk = breaking(eng, law, dec.ds)
             if brk.any():
                 self.bond_brk = brk
                 return (0.0, 0.0, dec.ds, dec.dw, old, old.copy(), {}), None
@@ -2023,39 +1998,29 @@ class _DynamicRun:
         if status != Status.COMPLETED:
             mult["equilibrium_lost"] = self.t if status == Status.EQUILIBRIUM_LOST else None
         rec.multipliers.append(Multipliers(0, "dynamic", **mult))
-        arr = rec.arrays()
-        (Qt, Nt), (utt, unt) = self.layout.split(arr["s"].T), self.layout.split(arr["w"].T)
         counters = dict(self.cond.counters) | self.schemes.counters | self.eng.counters | {
             "events": len(rec.events), "steps": self.n, "impacts": self.n_impacts,
             "setup_seconds": self.t_setup,
             **{f"numerical_{k}": v for k, v in self.parts.items()},
             "run_seconds": time.perf_counter() - self.t_run, "ndof": self.ndof, "cfes": m}
-        cfe_arrays = {"interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
-                      "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction,
-                      "gap": cfe.gap, "kn": cfe.kn, "kt": cfe.kt, "cn": cfe.cn,
-                      "tangent": cfe.tangent}
-        crack, stage_arrays, extra = self.crack, self.stage_arrays, self.extra
-        return DynamicResult(
-            pattern_names=tuple(self.names), segments=[("dynamic", 0.0, float(self.t))],
-            cfe=cfe_arrays, interface_names=cfe.names, lam=arr["lam"], segment=arr["segment"],
-            factors=arr["factors"], kind=arr["kind"], N=-Nt.T, Q=Qt.T, un=unt.T, ut=utt.T,
-            state=arr["state"], residual=arr["residual"],
-            violation=arr["violation"], events=list(rec.events),
-            multipliers=list(rec.multipliers), status=status, message=message,
-            counters=counters, geometry=result_geometry(system),
+        stage_arrays, extra = self.stage_arrays, self.extra
+        return build_result(
+            rec, cls=DynamicResult, cfe=cfe,
+            cfe_data=cfe_arrays(cfe, bond=self.law_in.get("bond") if self.bonds_on else None,
+                                damping=True),
+            pattern_names=self.names, segments=[("dynamic", 0.0, float(self.t))],
+            status=status, message=message, counters=counters,
+            geometry=result_geometry(system), crack=self.crack is not None,
             units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                    "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
-            water=None if crack is None else arr["water"],
-            crack_pressure=None if crack is None else arr["pressure"],
             u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
             energy={k: g.view.copy() for k, g in self.energy.items()}, dt=self.dt0,
             impulses=_impulse_arrays(self.impulse_log),
             _recover=None if system.discrete is not None else _Stresses(system),
-            **({} if stage_arrays is None else {
-                "stage": np.full(len(arr["lam"]), stage_arrays["last_stage"], np.int64),
-                "stage_names": stage_arrays["stage_names"],
-                "stage_cfes": stage_arrays["stage_cfes"],
-                "stage_bodies": stage_arrays["stage_bodies"]}),
+            **({} if stage_arrays is None else stage_fields(
+                np.full(len(rec), stage_arrays["last_stage"], np.int64),
+                stage_arrays["stage_names"], stage_arrays["stage_cfes"],
+                stage_arrays["stage_bodies"])),
         )
 
 

@@ -48,20 +48,13 @@ class FieldRecovery:
     """
 
     def __init__(self, cond: Condensed, unknowns: Unknowns, stress=None):
-        from stepcontact.fem.continuum import StressRecovery
-        from stepcontact.model import Body
-
         self.cond = cond
         self.unknowns = unknowns
-        sysm = cond.system
-        model = sysm.model
-        self.stress = stress if stress is not None else StressRecovery(model)
-        off = model.node_offsets
+        #: the stresses from displacements (:class:`Stresses`, the dynamic result's too)
+        self.of_fields = Stresses(cond.system, stress)
+        self.stress = self.of_fields.stress
         #: global DOFs (ux, uy per node) of every continuum body with a stress operator
-        self.body_dofs = {
-            b.name: sysm.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
-            for b in model.bodies if isinstance(b, Body) and b.name in self.stress
-        }
+        self.body_dofs = self.of_fields.body_dofs
 
     @classmethod
     def of_recorder(cls, cond: Condensed, rec: Recorder, names: Sequence[str],
@@ -103,12 +96,9 @@ class FieldRecovery:
         return self.displacements([i])[0]
 
     def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
-        """Element stresses of every continuum body from displacements ``u``: (ndof,) gives
-        {body: (n_el, 4)}, (k, ndof) gives {body: (k, n_el, 4)}; σxx, σyy, σxy, σzz in Pa."""
-        u = np.asarray(u, dtype=float)
-        if u.ndim == 1:
-            return {name: self.stress(name, u[d]) for name, d in self.body_dofs.items()}
-        return {name: self.stress(name, u[:, d].T) for name, d in self.body_dofs.items()}
+        """Element stresses of every continuum body from displacements ``u``
+        (:meth:`Stresses.stresses`)."""
+        return self.of_fields.stresses(u)
 
 
 class StagedRecovery:
@@ -157,21 +147,27 @@ def stage_plan(res):
 
 
 class Stresses:
-    """Stresses of the continuum bodies from displacements (the dynamic result stores every
-    state's displacements; only the stresses are recovered)."""
+    """Stresses of the continuum bodies from displacements: the recovery of a dynamic result
+    (which stores every state's displacements; only the stresses are recovered), and the
+    stress part of :class:`FieldRecovery`.  ``stress``: a
+    :class:`~stepcontact.fem.continuum.StressRecovery` of the model to share (default: made
+    here)."""
 
-    def __init__(self, system: System):
+    def __init__(self, system: System, stress=None):
         from stepcontact.fem.continuum import StressRecovery
         from stepcontact.model import Body
 
         model = system.model
-        self.stress = StressRecovery(model)
+        self.stress = stress if stress is not None else StressRecovery(model)
         off = model.node_offsets
+        #: global DOFs (ux, uy per node) of every continuum body with a stress operator
         self.body_dofs = {
             b.name: system.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
             for b in model.bodies if isinstance(b, Body) and b.name in self.stress}
 
     def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:
+        """Element stresses of every continuum body from displacements ``u``: (ndof,) gives
+        {body: (n_el, 4)}, (k, ndof) gives {body: (k, n_el, 4)}; σxx, σyy, σxy, σzz in Pa."""
         u = np.asarray(u, dtype=float)
         if u.ndim == 1:
             return {n: self.stress(n, u[d]) for n, d in self.body_dofs.items()}

@@ -19,22 +19,25 @@ from __future__ import annotations
 
 import contextlib
 import time
-import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
-from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import ContactState, SlipTreatment, Status, Transition
-from stepcontact.errors import ContactHeldWarning, ModelError
+from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK
+from stepcontact.enums import ContactState, SlipTreatment, Status
+from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, load_moments, load_resultants
 from stepcontact.model import DiscreteModel, Model
+from stepcontact.results.build import build_result, cfe_arrays, stage_fields
 from stepcontact.results.recorder import Recorder
-from stepcontact.results.result import Event, Multipliers, StaticResult
+from stepcontact.results.result import Multipliers, StaticResult
+from stepcontact.solver.bonds import break_bonds, breaking
 from stepcontact.solver.condensation import Condensation, Condensed
+from stepcontact.solver.contactlaws import contact_law
 from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.eventlog import EventLog
+from stepcontact.solver.jump import DONE, RESTART, STOP, JumpState, follow_jump
 from stepcontact.solver.levelpath import LevelPath
 from stepcontact.solver.mechanism import (
     constraint_conflict,
@@ -45,7 +48,6 @@ from stepcontact.solver.rate import RateProblemFailure
 from stepcontact.solver.recovery import FieldRecovery, StagedRecovery
 from stepcontact.solver.reporting import VIOLATION_LIMIT, result_geometry
 from stepcontact.solver.schemes import MechanismError, SchemeSolver
-from stepcontact.solver.staging import held_components
 
 
 @dataclass
@@ -59,13 +61,6 @@ class StepInfo:
     n_events: int
     n_open: int
     n_slip: int
-
-
-def _by_state(layout: ContactLayout, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The tangential and normal components of recorded contact unknowns X (n_states, n), as
-    views with the state axis first: (n_states, m) each in 2D (X[:, :m], X[:, m:])."""
-    t, n = layout.split(X.T)
-    return np.moveaxis(t, -1, 0), n.T
 
 
 def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
@@ -135,13 +130,14 @@ class StaticSolver:
         #: the layout of the contact unknowns s = [Q; p], w = [u_τ; u_n] (the same at every
         #: stage: the stage systems share the CFEs)
         self.layout = system.layout
-        self.law = self._make_law(system, warn=True)
+        self.law = contact_law(system, plan=self.plan, stage=self.stage, warn=True)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         self.engine = EventEngine(self.schemes, [self.law], system.w0, rtol=rtol,
                                   article=self.article, eps_p=eps_p, rate_solver=rate_solver,
                                   layout=self.layout)
         self.c = {name: 0.0 for name in system.loads}
         self.rec = Recorder(self.layout, len(self.c), len(system.reaction_labels))
+        self.events = EventLog(self.rec, cfe, self.layout)
         if self.plan is not None:
             self._segments, self._rates = self.plan.segments, self.plan.rates
         else:
@@ -170,23 +166,6 @@ class StaticSolver:
         self._releasing = False
         #: the state index from which each CFE's residual cohesion is lost (−1: kept)
         self._cohesion_lost_at = np.full(cfe.m, -1, np.int64)
-
-    def _make_law(self, system: System, warn: bool = False) -> CoulombLaw:
-        """The contact law of ``system``: CFEs held by supports on both ends, and in a run in
-        stages the CFEs not yet active, are inert; bonds (grouted joints included)."""
-        cfe = self.cfe
-        held_n, held_t = held_components(system)
-        friction, bond = cfe.friction, cfe.bond
-        if self.plan is not None:
-            active = self.plan.active_cfes(self.stage)
-            if warn:
-                self._warn_held(held_n & active, held_t & active)
-            held_n, held_t = held_n | ~active, held_t | ~active
-            friction, bond = self.plan.friction, self.plan.bond
-        elif warn:
-            self._warn_held(held_n, held_t)
-        return CoulombLaw(np.arange(cfe.m), friction, cfe.kn, cfe.kt, held_n, held_t,
-                          bond=bond)
 
     # ---- construction in stages (stepcontact.solver.staging) ----------------------------------
     def _enter_stage(self, k: int) -> None:
@@ -262,7 +241,7 @@ class StaticSolver:
         self.cond = Condensed.from_system(system, self.backend, None, self.precision)
         lost = self.law.cohesion_lost & ~grouted  # (a grouted joint has its cohesion again)
         self._cohesion_lost_at[grouted] = -1
-        self.law = self._make_law(system)
+        self.law = contact_law(system, plan=plan, stage=k)
         self.law.lose_cohesion(lost)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         eng.schemes = self.schemes
@@ -450,29 +429,26 @@ class StaticSolver:
                 self._f = self._water_load(delta)
                 eng.F_scale = max(eng.F_scale, float(np.abs(delta).max()))
                 start = self.sw.copy()
-                tau, fired, small = 0.0, np.zeros(m, bool), 0
-                while True:
-                    ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult,
-                                                   False, 1.0, False)
+
+                def point(state: JumpState, forcing=forcing, wet=wet):
+                    ok, ds, dw = self._event_point(state.fired, forcing, lam, seg, pattern,
+                                                   mult, False, 1.0, False)
                     if not ok or self.status != Status.COMPLETED:
-                        return None
+                        return STOP
                     if not np.array_equal(crack.wet(eng.states), wet):
-                        break  # the wet set changed: the rest of the jump is recomputed
-                    dtau, _, fired = eng.next_event(ds, dw, 1.0 - tau, 1e-10)
-                    small = small + 1 if dtau <= 1e-12 else 0
-                    if small > 100 or self.step >= self.max_events:
-                        self.status = (Status.CYCLING if small > 100 else Status.MAX_EVENTS)
-                        self.message = (f"no progress at λ = {lam:.10g} while water enters "
-                                        "the opened joint: events repeat" if small > 100 else
-                                        f"event budget of {self.max_events} exhausted at "
-                                        f"λ = {lam:.6g}")
-                        return None
-                    eng.advance(dtau, ds, dw)
-                    tau += dtau
+                        return RESTART  # the wet set changed: the rest of the jump anew
+                    return ds, dw
+
+                def went(tau, start=start, delta=delta):
                     self.sw = start + tau * delta
-                    if tau >= 1.0 - 1e-15 and not fired.any():
-                        self.sw = start + delta
-                        break
+
+                out = follow_jump(eng, point, JumpState(np.zeros(m, bool)), moved=went,
+                                  stalled=self._stalled(lam, seg, "water enters the opened "
+                                                        "joint"))
+                if out == STOP:
+                    return None
+                if out == DONE:
+                    self.sw = start + delta
         finally:
             self._f = saved_f
 
@@ -534,33 +510,18 @@ class StaticSolver:
         """Break the bonds of the CFEs ``brk`` at the current point: each takes its Coulomb
         state (open in tension, else stuck or slipping), and what it can no longer carry is
         moved from its contact force into ``ghost`` (still transmitted, as a load, until
-        :meth:`_release` has let it go).  Logs a ``broken`` event per CFE; a bond that breaks
-        open (slipping) is the segment's first opening (slip) if none came before.
+        :meth:`_release` has let it go) (:func:`~stepcontact.solver.bonds.break_bonds`; the
+        event point of the breaks is the one recorded after the cascade).  Logs a ``broken``
+        event per CFE; a bond that breaks open (slipping) is the segment's first opening
+        (slip) if none came before.
 
         A closed Coulomb CFE in ``brk`` (one that reached p = 0 with its residual cohesion,
         :meth:`CoulombLaw.losing_cohesion`) opens the same way: its cohesion is lost and the
         shear it carried released."""
-        eng, law, lay = self.engine, self.law, self.layout
-        tf, _ = eng.tolerances()
-        Q, p = lay.split(eng.s)
-        old = eng.states.copy()
-        new = old.copy()
-        new[brk] = law.broken_state(Q, p, tf)[brk]
-        # (the event point of the breaks is the one recorded after the cascade: numbered
-        # from 1 like the others)
-        self._log_events(old, new, lam, seg, pattern, len(self.rec), step=self.step + 1)
-        for key, hit in (("first_opening", new[brk] == OPEN),
-                         ("first_slip", (new[brk] == SLIP_POS) | (new[brk] == SLIP_NEG))):
-            if mult[key] is None and hit.any():
-                mult[key] = lam
-        dQ, dp = law.released(new, Q, p)
-        dQ, dp = np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0)
-        self._lose_cohesion(brk & (new == OPEN))
-        lay.tangential(self.ghost)[:] += dQ
-        lay.normal(self.ghost)[:] += dp
-        lay.tangential(eng.s)[:] -= dQ
-        lay.normal(eng.s)[:] -= dp
-        eng.states = new
+        g, _ = break_bonds(self.engine, self.law, brk, self.events, mult, step=self.step + 1,
+                           state=len(self.rec), segment=seg, pattern=pattern, lam=lam)
+        self._lose_cohesion(brk & (self.engine.states == OPEN))
+        self.ghost += g
 
     def _release(self, lam: float, seg: int, pattern: str, mult: dict,
                  fired: np.ndarray) -> bool:
@@ -571,58 +532,78 @@ class StaticSolver:
         breaks there (its own forces join the release, which restarts for the new ghost): a
         crack running along the joint at one λ, event by event, in its order.  Returns False
         if the run stopped (equilibrium lost while the forces were released, no progress)."""
-        eng, law, m = self.engine, self.law, self.cfe.m
+        eng = self.engine
         saved_f = self._f
         self._releasing = True
-        small = 0
+        state = JumpState(fired)
         try:
             while np.any(self.ghost != 0):
                 g0 = self.ghost.copy()
                 forcing = (self.cond.product(g0), self.layout.zeros())
                 self._f = self.sys.B.T @ g0
                 eng.F_scale = max(eng.F_scale, float(np.abs(g0).max()))
-                tau = 0.0
-                while True:
-                    tf, _ = eng.tolerances()
-                    coh = fired & law.losing_cohesion(eng.states, self.layout.normal(eng.s),
-                                                      tf)
-                    if coh.any():  # residual cohesion lost where p reached 0: released too
-                        self._breaks(coh, lam, seg, pattern, mult)
-                        fired = fired & ~coh
-                        break
-                    ok, ds, dw = self._event_point(fired, forcing, lam, seg, pattern, mult,
-                                                   False, 1.0, False)
-                    if not ok or self.status != Status.COMPLETED:
-                        return False
-                    tf, _ = eng.tolerances()
-                    rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
-                    brk = ((fired & (eng.states == BONDED))
-                           | law.breaking(eng.states, *self.layout.split(eng.s),
-                                          *self.layout.split(ds), tf, rf))
-                    fired = np.zeros(m, bool)
-                    if brk.any():  # a neighbour breaks here: its forces join the release
-                        self._breaks(brk, lam, seg, pattern, mult)
-                        break
-                    dtau, _, fired = eng.next_event(ds, dw, 1.0 - tau, 1e-10)
-                    small = small + 1 if dtau <= 1e-12 else 0
-                    if small > 100 or self.step >= self.max_events:
-                        self.status = Status.CYCLING if small > 100 else Status.MAX_EVENTS
-                        self.message = (f"no progress at λ = {lam:.10g} while broken bonds "
-                                        "release their forces: events repeat" if small > 100
-                                        else f"event budget of {self.max_events} exhausted at "
-                                        f"λ = {lam:.6g}")
-                        self._record(lam, seg, "event", final=True)
-                        return False
-                    eng.advance(dtau, ds, dw)
-                    tau += dtau
+
+                def moved(tau, g0=g0):
                     self.ghost = g0 * (1.0 - tau)
-                    if tau >= 1.0 - 1e-15 and not fired.any():
-                        self.ghost = self.layout.zeros()
-                        break
+
+                out = follow_jump(eng, self._release_point(forcing, lam, seg, pattern, mult),
+                                  state, moved=moved,
+                                  stalled=self._stalled(lam, seg, "broken bonds release their "
+                                                        "forces", record=True))
+                if out == STOP:
+                    return False
+                if out == DONE:
+                    self.ghost = self.layout.zeros()
             return True
         finally:
             self._f = saved_f
             self._releasing = False
+
+    def _release_point(self, forcing, lam, seg, pattern, mult):
+        """A point of the release (:meth:`_release` with
+        :func:`~stepcontact.solver.jump.follow_jump`): residual cohesion lost where p reached
+        0 and bonds that break here (:func:`~stepcontact.solver.bonds.breaking`) are broken
+        and end the jump (a new one releases them with the rest); else the scheme decided and
+        recorded (:meth:`_event_point`)."""
+        eng, law, m = self.engine, self.law, self.cfe.m
+
+        def point(state: JumpState):
+            tf, _ = eng.tolerances()
+            coh = state.fired & law.losing_cohesion(eng.states, self.layout.normal(eng.s), tf)
+            if coh.any():  # residual cohesion lost where p reached 0: released too
+                self._breaks(coh, lam, seg, pattern, mult)
+                state.fired = state.fired & ~coh
+                return RESTART
+            ok, ds, dw = self._event_point(state.fired, forcing, lam, seg, pattern, mult,
+                                           False, 1.0, False)
+            if not ok or self.status != Status.COMPLETED:
+                return STOP
+            brk = breaking(eng, law, ds, state.fired)
+            state.fired = np.zeros(m, bool)
+            if brk.any():  # a neighbour breaks here: its forces join the release
+                self._breaks(brk, lam, seg, pattern, mult)
+                return RESTART
+            return ds, dw
+
+        return point
+
+    def _stalled(self, lam: float, seg: int, what: str, record: bool = False):
+        """The test of a jump at λ that makes no progress (events repeat: more than 100 steps
+        of τ ≤ 1e-12 in a row) or exhausts the event budget: sets the status and message
+        (and with ``record`` records the state where the run stops)."""
+
+        def stalled(state: JumpState) -> bool:
+            if not (state.small > 100 or self.step >= self.max_events):
+                return False
+            self.status = Status.CYCLING if state.small > 100 else Status.MAX_EVENTS
+            self.message = (f"no progress at λ = {lam:.10g} while {what}: events repeat"
+                            if state.small > 100 else
+                            f"event budget of {self.max_events} exhausted at λ = {lam:.6g}")
+            if record:
+                self._record(lam, seg, "event", final=True)
+            return True
+
+        return stalled
 
     def _break(self, brk, lam, seg, pattern, mult, fired) -> bool:
         """Break the bonds ``brk`` here, release their forces (:meth:`_release`) and record
@@ -633,20 +614,6 @@ class StaticSolver:
         self.step += 1
         self._record(lam, seg, "event")
         return self.status == Status.COMPLETED
-
-    def _warn_held(self, held_n, held_t) -> None:
-        cfe = self.cfe
-        for mask, what, effect in ((held_n, "normal", "its normal force (the CFE carries "
-                                    "nothing)"),
-                                   (held_t & ~held_n & (cfe.friction > 0), "tangential",
-                                    "its tangential force (the CFE is frictionless)")):
-            if mask.any():
-                names = [f"{cfe.names[cfe.interface[k]]}[{cfe.local[k]}]"
-                         for k in np.flatnonzero(mask)[:8]]
-                more = f" and {mask.sum() - 8} more" if mask.sum() > 8 else ""
-                warnings.warn(ContactHeldWarning(
-                    f"CFE {', '.join(names)}{more}: {what} relative motion held by supports on "
-                    f"both ends; the supports carry {effect}"), stacklevel=4)
 
     # ---- recording ---------------------------------------------------------------------------
     def _record(self, lam: float, seg: int, kind: str, final: bool = False) -> int:
@@ -696,18 +663,13 @@ class StaticSolver:
         r.violation.view[i] = max(float(r.violation.view[i]), kin)
         self._keep_field(i, u)
 
-    def _log_events(self, old, new, lam, seg, pattern, state_index, step=None):
-        step = self.step if step is None else step
-        Q, p = self.layout.split(self.engine.s)
-        cfe = self.cfe
-        for k in np.flatnonzero(old != new):
-            o, n = ContactState(int(old[k])), ContactState(int(new[k]))
-            self.rec.events.append(Event(
-                step=step, state=state_index, segment=seg, pattern=pattern, lam=lam,
-                cfe=int(k), interface=cfe.names[cfe.interface[k]], local=int(cfe.local[k]),
-                position=float(cfe.s[k]), x=float(cfe.x[k, 0]), y=float(cfe.x[k, 1]),
-                transition=Transition.between(o, n), N=float(-p[k]), Q=float(Q[k]),
-            ))
+    def _log_events(self, old, new, lam, seg, pattern, state_index, step=None, first=None):
+        """Log the CFEs whose state changed old → new at λ with the engine's forces
+        (:class:`~stepcontact.solver.eventlog.EventLog`; ``first``: the segment's multipliers
+        the transitions set, None: none)."""
+        self.events.changes(old, new, self.engine.s, step=self.step if step is None else step,
+                            state=state_index, segment=seg, pattern=pattern, lam=lam,
+                            first=first)
 
     # ---- main loop ---------------------------------------------------------------------------
     def run(self) -> StaticResult:
@@ -898,10 +860,7 @@ class StaticSolver:
                                                 span, seg_start)
                 if not ok:
                     return ok, ds, dw
-                tf, _ = eng.tolerances()
-                rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
-                brk = self.law.breaking(eng.states, *self.layout.split(eng.s),
-                                        *self.layout.split(ds), tf, rf)
+                brk = breaking(eng, self.law, ds)
                 if not brk.any():
                     return ok, ds, dw
                 fired = brk
@@ -1001,9 +960,7 @@ class StaticSolver:
             # (while broken bonds release their forces the state after the cascade is
             # recorded, not the ones on the way)
             i = len(self.rec) if self._releasing else self._record(lam, seg, "event")
-            n_before = len(self.rec.events)
-            self._log_events(old, new, lam, seg, pattern, i)
-            self._first_multipliers(mult, lam, n_before)
+            self._log_events(old, new, lam, seg, pattern, i, first=mult)
             info = StepInfo(self.step, seg, pattern, lam, len(self.rec.events),
                             int(np.sum(new == OPEN)),
                             int(np.sum((new == SLIP_POS) | (new == SLIP_NEG))))
@@ -1040,14 +997,6 @@ class StaticSolver:
             return None  # a regular scheme: not a mechanism
         except MechanismError:
             return trial if eng.drives(trial, forcing) else None
-
-    def _first_multipliers(self, mult, lam, n_before: int):
-        for ev in self.rec.events[n_before:]:
-            key = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
-                   Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}.get(
-                       ev.transition)
-            if key and mult[key] is None:
-                mult[key] = lam
 
     def _nonunique(self, dec, lam, seg, pattern):
         out = dec.outcome
@@ -1088,65 +1037,44 @@ class StaticSolver:
     def result(self, elapsed: float, partial: bool = False) -> StaticResult:
         if not partial:  # the last state of the run (where it ended or stopped) has its field
             self._store_field(len(self.rec) - 1)
-        r = self.rec.arrays()
-        m = self.cfe.m
-        (Q, p), (ut, un) = _by_state(self.layout, r["s"]), _by_state(self.layout, r["w"])
-        cfe = self.cfe
-        cfe_arrays = {
-            "interface": cfe.interface, "local": cfe.local, "s": cfe.s, "x": cfe.x,
-            "normal": cfe.normal, "area": cfe.area, "friction": cfe.friction, "gap": cfe.gap,
-            "kn": cfe.kn, "kt": cfe.kt, "tangent": cfe.tangent,
-            "plus_nodes": cfe.plus_nodes, "plus_w": cfe.plus_w,
-            "minus_nodes": cfe.minus_nodes, "minus_w": cfe.minus_w,
-        }
+        r, cfe = self.rec, self.cfe
+        bond = cohesion_lost = None
         if self.bonds:  # the strengths of bonded joints (eq. (12)), grouted ones included
             bond = cfe.bond if self.plan is None else self.plan.bond
-            cfe_arrays["bond"] = bond
             if bond.shape[1] > 4 and np.any(bond[:, 4] > 0):  # residual cohesion lost
-                cfe_arrays["cohesion_lost"] = self._cohesion_lost_at.copy()
-        geometry = result_geometry(self.sys)
+                cohesion_lost = self._cohesion_lost_at.copy()
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
-            "events": len(self.rec.events), "event_points": self.step,
+            "events": len(r.events), "event_points": self.step,
             "setup_seconds": self.t_setup, "run_seconds": elapsed,
-            "ndof": self.sys.ndof, "cfes": m, "precision_bits": 8 * self.cond.G.dtype.itemsize,
+            "ndof": self.sys.ndof, "cfes": cfe.m,
+            "precision_bits": 8 * self.cond.G.dtype.itemsize,
         })
         status, message = self.status, self.message
         if partial:
             status = Status.INCOMPLETE
-            message = (f"run in progress: reached λ = {r['lam'][-1]:.10g} in segment "
-                       f"{int(r['segment'][-1])}" if len(self.rec) else "run in progress")
-        return StaticResult(
-            pattern_names=tuple(self.c), segments=list(self._segments),
-            cfe=cfe_arrays, interface_names=cfe.names,
-            lam=r["lam"], segment=r["segment"], factors=r["factors"], kind=r["kind"],
-            N=-p, Q=Q, un=un, ut=ut, state=r["state"],
-            residual=r["residual"], violation=r["violation"],
-            events=list(self.rec.events), multipliers=list(self.rec.multipliers),
-            status=status, message=message,
-            fields=dict(self.rec.fields), stresses=dict(self.rec.stresses), counters=counters,
-            mechanism=self.mechanism, geometry=geometry, reactions=r["reactions"],
+            message = (f"run in progress: reached λ = {r.lam.view[-1]:.10g} in segment "
+                       f"{int(r.segment.view[-1])}" if len(r) else "run in progress")
+        return build_result(
+            r, cfe=cfe, cfe_data=cfe_arrays(cfe, bond=bond, cohesion_lost=cohesion_lost),
+            pattern_names=tuple(self.c), segments=self._segments, status=status,
+            message=message, counters=counters, geometry=result_geometry(self.sys),
+            crack=self.crack is not None, mechanism=self.mechanism,
             reaction_labels=tuple(self.sys.reaction_labels),
-            load_resultants=self._resultants(),
-            load_moments=self._moments(),
-            nonunique=list(self.rec.nonunique),
-            water=None if self.crack is None else r["water"],
-            crack_pressure=None if self.crack is None else r["pressure"],
-            _recover=self.fields,
-            **self._stage_arrays(r),
+            load_resultants=self._resultants(), load_moments=self._moments(),
+            _recover=self.fields, **self._stage_arrays(),
         )
 
-    def _stage_arrays(self, r) -> dict:
+    def _stage_arrays(self) -> dict:
         """The stage of every state and what acts at each stage (a run in stages)."""
         if self.plan is None:
             return {}
         plan = self.plan
         n = len(plan.names)
-        return {"stage": np.asarray(r["stage"], np.int64), "stage_names": plan.names,
-                "dynamics": dict(self.dynamics),
-                "stage_cfes": np.array([plan.active_cfes(k) for k in range(n)],
-                                       bool).reshape(n, self.cfe.m),
-                "stage_bodies": tuple(tuple(sorted(plan.active_bodies(k)))
-                                      for k in range(n))}
+        return stage_fields(
+            self.rec.stage.view, plan.names,
+            np.array([plan.active_cfes(k) for k in range(n)], bool).reshape(n, self.cfe.m),
+            tuple(tuple(sorted(plan.active_bodies(k))) for k in range(n)),
+            dynamics=dict(self.dynamics))
 
 
 def solve_static(
