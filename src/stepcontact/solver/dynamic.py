@@ -959,14 +959,13 @@ class _DynamicRun:
         """The Coulomb law of the CFEs (eq. (1); compliant layers eq. (11), damped ones with
         Newmark's c₁, :class:`_DampedLayers`; bonds eq. (12)) and the event engine on the
         condensed K̂; refuses the combinations a dynamic interval does not follow.  Built by
-        :func:`~stepcontact.solver.contactlaws.contact_law`: after stages, the stage's (CFEs
-        not active, and components held by supports on both ends, inert); without stages,
-        no component is held by supports (``held_by_supports=False``, unlike the static
-        driver)."""
+        :func:`~stepcontact.solver.contactlaws.contact_law` as in the static driver: the
+        components held by supports on both ends are inert (their supports carry them), and
+        after stages the CFEs not active at the stage."""
         cfe = self.cfe
         plan, stage = self.staged
-        _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage,
-                                        held_by_supports=False)
+        _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage)
+        self.bond_cols = bond_cols
         if bond_cols is not None:
             bonded = ~np.isnan(np.asarray(bond_cols, float)[:, 0])
             damped_bond = bonded & (cfe.cn > 0)
@@ -993,7 +992,7 @@ class _DynamicRun:
         self.law = law = contact_law(
             self.system, plan=plan, stage=stage,
             kn=_DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1),
-            held_by_supports=plan is not None)
+            held_by_supports=True)
         self.layers = _DampedLayers(cfe, law, self.layout)
         self.bonds_on = bool(law.has_bond.any())
         self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol,
@@ -2006,7 +2005,7 @@ class _DynamicRun:
         stage_arrays, extra = self.stage_arrays, self.extra
         return build_result(
             rec, cls=DynamicResult, cfe=cfe,
-            cfe_data=cfe_arrays(cfe, bond=self.law_in.get("bond") if self.bonds_on else None,
+            cfe_data=cfe_arrays(cfe, bond=self.bond_cols if self.bonds_on else None,
                                 damping=True),
             pattern_names=self.names, segments=[("dynamic", 0.0, float(self.t))],
             status=status, message=message, counters=counters,
