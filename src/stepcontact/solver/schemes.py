@@ -15,10 +15,10 @@ other component).  The diagonal (rs_j = S_jj, rw_j = W_jj) is formed for every r
 over G; only the rows with a coupling (an off-diagonal entry of their block) take a second
 product with the coupled rows of G.  A singular A is a working scheme that is a mechanism.
 
-Row j of A and of b depends on the relation of component j alone, so two schemes differ only
-in the rows of the components whose relation changed.  That is what the event loop exploits
-(:class:`SchemeSolver`): one LU of a base scheme, and every later scheme as a low-rank row
-update of it, with what the updates share cached on the base.
+Row j of A and of b depends on the relation row of component j alone (its block row S_j·,
+W_j·), so two schemes differ only in the rows of the components whose relation changed.  That
+is what the event loop exploits (:class:`SchemeSolver`): one LU of a base scheme, and every
+later scheme as a low-rank row update of it, with what the updates share cached on the base.
 
 For large interfaces the dense work runs in float32 (G held as D G − I, see
 :func:`scheme_rows`), and every solve is refined to float64 accuracy against the exact operator
@@ -634,8 +634,9 @@ class SchemeFactor:
 class SchemeSolver:
     """Solves working schemes that differ from a factorised base scheme in a few rows.
 
-    The dense scheme matrix A (2m × 2m) is LU-factorised for a base scheme, its condition
-    estimated from the LU (LAPACK gecon, O(n²)): rcond ≤ ``RCOND_MECHANISM`` is a mechanism.
+    The dense scheme matrix A (n × n, n = m (1 + n_t)) is LU-factorised for a base scheme, its
+    condition estimated from the LU (LAPACK gecon, O(n²)): rcond ≤ ``RCOND_MECHANISM`` is a
+    mechanism.
     A scheme that differs from the base in k rows is solved by the Woodbury identity with the
     columns A₀⁻¹ e_j of its changed rows, cached on the base as rows change (one solve per row
     that changes while the base lives), so that a new scheme costs O(n k) beyond its new
