@@ -32,6 +32,7 @@ import warnings
 import weakref
 from collections import OrderedDict
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
@@ -234,22 +235,30 @@ def _coefficients(rel: Relations, idx: np.ndarray | None = None):
     coefficients of component (i + o) mod n_c of the same CFE and its row col = (j + o m) mod n
     (in 2D the one partner component P)."""
     lay = rel.layout
-    m, n, nc = lay.m, lay.n, lay.n_c
-    ar = np.arange(nc)
+    m, nc = lay.m, lay.n_c
     if idx is None:
-        rows = np.arange(n)
-
-        def pick(X, c):
-            return X[:, ar, c].T.reshape(-1)
+        take, cols = _block_order(m, nc)
+        Sx = rel.S.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
+        Wx = rel.W.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
     else:
-        rows = np.asarray(idx)
-        k, i = rows % m, rows // m
+        i, k = np.divmod(idx, m)
+        o = np.arange(nc)[:, None]
+        flat = (k * nc + i) * nc + (i + o) % nc  # (n_c, len(idx)) into the raveled blocks
+        Sx, Wx = rel.S.reshape(-1)[flat], rel.W.reshape(-1)[flat]
+        cols = (idx + o * m) % lay.n
+    return Sx[0], Wx[0], [(Sx[o], Wx[o], cols[o]) for o in range(1, nc)]
 
-        def pick(X, c):
-            return X[k, i, c[i]]
-    offs = [(pick(rel.S, (ar + o) % nc), pick(rel.W, (ar + o) % nc), (rows + o * m) % n)
-            for o in range(1, nc)]
-    return pick(rel.S, ar), pick(rel.W, ar), offs
+
+@lru_cache(maxsize=16)
+def _block_order(m: int, nc: int) -> tuple[np.ndarray, np.ndarray]:
+    """For :func:`_coefficients` of every row: the entries (i, (i + o) mod n_c) of a raveled
+    block in the order (o, i), and the rows col_o (n_c, n) = (j + o m) mod n (read-only)."""
+    i, o = np.arange(nc)[None, :], np.arange(nc)[:, None]
+    take = (i * nc + (i + o) % nc).reshape(-1)
+    cols = (np.arange(m * nc)[None, :] + o * m) % (m * nc)
+    take.setflags(write=False)
+    cols.setflags(write=False)
+    return take, cols
 
 
 def _inverse_offsets(offs: list) -> list:
