@@ -27,7 +27,7 @@ further law with more facets, added without touching the engine.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -56,7 +56,7 @@ def _layout(m: int | ContactLayout) -> ContactLayout:
     return m if isinstance(m, ContactLayout) else ContactLayout(m)
 
 
-@dataclass
+@dataclass(eq=False)
 class Relations:
     """Relations of a working scheme as small per-CFE blocks (eqs. (1), (11), (12)): for CFE k
     and its component row i (i < n_t tangential, i = n_t normal; the order of ``layout``)
@@ -78,6 +78,7 @@ class Relations:
     layout: ContactLayout
     S: np.ndarray
     W: np.ndarray
+    _rows: tuple | None = field(default=None, init=False, repr=False)
 
     @staticmethod
     def empty(layout: int | ContactLayout) -> Relations:
@@ -112,6 +113,28 @@ class Relations:
 
     def key(self) -> bytes:
         return self.S.tobytes() + self.W.tobytes()
+
+    def by_rows(self) -> tuple[np.ndarray, np.ndarray]:
+        """The blocks row by row, (S_o, W_o) each (n_c, n) (read-only): entry [o, j] is the
+        coefficient, in row j = i m + k (component i of CFE k, the layout's order), of the
+        CFE's component (i + o) mod n_c; o = 0 the diagonal.  Kept until S or W change."""
+        key = self.key()
+        if self._rows is None or self._rows[0] != key:
+            lay = self.layout
+            m, nc = lay.m, lay.n_c
+            take = _row_order(nc)
+            out = tuple(X.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
+                        for X in (self.S, self.W))
+            for x in out:
+                x.setflags(write=False)
+            self._rows = (key, *out)
+        return self._rows[1], self._rows[2]
+
+
+def _row_order(nc: int) -> np.ndarray:
+    """The entries (i, (i + o) mod n_c) of a raveled n_c × n_c block, in the order (o, i)."""
+    i, o = np.arange(nc)[None, :], np.arange(nc)[:, None]
+    return (i * nc + (i + o) % nc).reshape(-1)
 
 
 @dataclass

@@ -230,35 +230,24 @@ class MechanismError(Exception):
 
 def _coefficients(rel: Relations, idx: np.ndarray | None = None):
     """The relations ``rel`` row by row (row j = i m + k of the component-major contact vector:
-    component i of CFE k), for all rows or the rows ``idx``: the diagonal coefficients
-    rs = S_jj and rw = W_jj, and per offset o = 1 … n_c − 1 a triple (s, w, col) of the
-    coefficients of component (i + o) mod n_c of the same CFE and its row col = (j + o m) mod n
-    (in 2D the one partner component P)."""
-    lay = rel.layout
-    m, nc = lay.m, lay.n_c
-    if idx is None:
-        take, cols = _block_order(m, nc)
-        Sx = rel.S.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
-        Wx = rel.W.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
-    else:
-        i, k = np.divmod(idx, m)
-        o = np.arange(nc)[:, None]
-        flat = (k * nc + i) * nc + (i + o) % nc  # (n_c, len(idx)) into the raveled blocks
-        Sx, Wx = rel.S.reshape(-1)[flat], rel.W.reshape(-1)[flat]
-        cols = (idx + o * m) % lay.n
-    return Sx[0], Wx[0], [(Sx[o], Wx[o], cols[o]) for o in range(1, nc)]
+    component i of CFE k, :meth:`Relations.by_rows`), for all rows or the rows ``idx``: the
+    diagonal coefficients rs = S_jj and rw = W_jj, and per offset o = 1 … n_c − 1 a triple
+    (s, w, col) of the coefficients of component (i + o) mod n_c of the same CFE and its row
+    col = (j + o m) mod n (in 2D the one partner component P)."""
+    Sx, Wx = rel.by_rows()
+    cols = _offset_rows(rel.layout.m, rel.layout.n_c)
+    if idx is not None:
+        Sx, Wx, cols = Sx[:, idx], Wx[:, idx], cols[:, idx]
+    return Sx[0], Wx[0], [(Sx[o], Wx[o], cols[o]) for o in range(1, len(Sx))]
 
 
 @lru_cache(maxsize=16)
-def _block_order(m: int, nc: int) -> tuple[np.ndarray, np.ndarray]:
-    """For :func:`_coefficients` of every row: the entries (i, (i + o) mod n_c) of a raveled
-    block in the order (o, i), and the rows col_o (n_c, n) = (j + o m) mod n (read-only)."""
-    i, o = np.arange(nc)[None, :], np.arange(nc)[:, None]
-    take = (i * nc + (i + o) % nc).reshape(-1)
-    cols = (np.arange(m * nc)[None, :] + o * m) % (m * nc)
-    take.setflags(write=False)
+def _offset_rows(m: int, nc: int) -> np.ndarray:
+    """The rows (j + o m) mod n (n_c, n) of the CFE's component at offset o from row j."""
+    n = m * nc
+    cols = (np.arange(n)[None, :] + np.arange(nc)[:, None] * m) % n
     cols.setflags(write=False)
-    return take, cols
+    return cols
 
 
 def _inverse_offsets(offs: list) -> list:
@@ -418,16 +407,16 @@ def scheme_apply_t(d: np.ndarray, rel: Relations, scale: np.ndarray, y: np.ndarr
 
 
 def _block_rows(rel: Relations, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The block rows (S_j·, W_j·), each (len(idx), n_c), of the rows ``idx``."""
-    m = rel.layout.m
-    k, i = idx % m, idx // m
-    return rel.S[k, i], rel.W[k, i]
+    """The block rows (S_j·, W_j·) of the rows ``idx``, each (len(idx), n_c) in the order of
+    :meth:`Relations.by_rows` (the diagonal first)."""
+    Sx, Wx = rel.by_rows()
+    return Sx[:, idx].T, Wx[:, idx].T
 
 
 def _changed_rows(rel: Relations, base: Relations) -> np.ndarray:
     """The rows (component-major, sorted) whose relation differs between two schemes."""
-    diff = np.any(rel.S != base.S, axis=2) | np.any(rel.W != base.W, axis=2)
-    return np.flatnonzero(diff.T)
+    (S, W), (S0, W0) = rel.by_rows(), base.by_rows()
+    return np.flatnonzero(((S != S0) | (W != W0)).any(axis=0))
 
 
 class _Base:
