@@ -227,6 +227,8 @@ def test_dependent_rows_of_a_block_are_a_mechanism():
     M32 = (d[:, None] * G - np.eye(lay.n)).astype(np.float32)
     with pytest.raises(MechanismError):
         SchemeSolver(M32, d, product=lambda t: G @ t).factor(rel)
+    with pytest.raises(ValueError, match="read-only"):  # used relations do not change
+        rel.S[0, 0, 0] = 2.0
 
 
 # ---- 2D: the blocks of the Coulomb law are the old relation kinds --------------------------------

@@ -112,23 +112,28 @@ class Relations:
         return rel
 
     def key(self) -> bytes:
+        """The relations as bytes (the key of a scheme's factor)."""
+        if self._rows is not None:
+            return self._rows[0]
         return self.S.tobytes() + self.W.tobytes()
 
-    def by_rows(self) -> tuple[np.ndarray, np.ndarray]:
-        """The blocks row by row, (S_o, W_o) each (n_c, n) (read-only): entry [o, j] is the
-        coefficient, in row j = i m + k (component i of CFE k, the layout's order), of the
-        CFE's component (i + o) mod n_c; o = 0 the diagonal.  Kept until S or W change."""
-        key = self.key()
-        if self._rows is None or self._rows[0] != key:
+    def by_rows(self) -> np.ndarray:
+        """The blocks row by row, (2, n_c, n) read-only: entry [0, o, j] (of S) and [1, o, j]
+        (of W) is the coefficient, in row j = i m + k (component i of CFE k, the layout's
+        order), of the CFE's component (i + o) mod n_c; o = 0 the diagonal.
+
+        The first call freezes S and W (read-only): the relations of a scheme do not change
+        once a solver has used them (change a copy instead)."""
+        if self._rows is None:
             lay = self.layout
             m, nc = lay.m, lay.n_c
             take = _row_order(nc)
-            out = tuple(X.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
-                        for X in (self.S, self.W))
-            for x in out:
+            rows = np.stack([X.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
+                             for X in (self.S, self.W)])
+            for x in (rows, self.S, self.W):
                 x.setflags(write=False)
-            self._rows = (key, *out)
-        return self._rows[1], self._rows[2]
+            self._rows = (self.S.tobytes() + self.W.tobytes(), rows)
+        return self._rows[1]
 
 
 def _row_order(nc: int) -> np.ndarray:

@@ -234,10 +234,11 @@ def _coefficients(rel: Relations, idx: np.ndarray | None = None):
     diagonal coefficients rs = S_jj and rw = W_jj, and per offset o = 1 … n_c − 1 a triple
     (s, w, col) of the coefficients of component (i + o) mod n_c of the same CFE and its row
     col = (j + o m) mod n (in 2D the one partner component P)."""
-    Sx, Wx = rel.by_rows()
+    R = rel.by_rows()
     cols = _offset_rows(rel.layout.m, rel.layout.n_c)
     if idx is not None:
-        Sx, Wx, cols = Sx[:, idx], Wx[:, idx], cols[:, idx]
+        R, cols = R[:, :, idx], cols[:, idx]
+    Sx, Wx = R
     return Sx[0], Wx[0], [(Sx[o], Wx[o], cols[o]) for o in range(1, len(Sx))]
 
 
@@ -406,17 +407,17 @@ def scheme_apply_t(d: np.ndarray, rel: Relations, scale: np.ndarray, y: np.ndarr
     return x - product(z)
 
 
-def _block_rows(rel: Relations, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The block rows (S_j·, W_j·) of the rows ``idx``, each (len(idx), n_c) in the order of
-    :meth:`Relations.by_rows` (the diagonal first)."""
-    Sx, Wx = rel.by_rows()
-    return Sx[:, idx].T, Wx[:, idx].T
+def _block_rows(rel: Relations, idx: np.ndarray) -> np.ndarray:
+    """The block rows (S_j·, W_j·) of the rows ``idx``, (len(idx), 2 n_c) in the order of
+    :meth:`Relations.by_rows`."""
+    R = rel.by_rows()
+    return R.reshape(-1, R.shape[2])[:, idx].T
 
 
 def _changed_rows(rel: Relations, base: Relations) -> np.ndarray:
     """The rows (component-major, sorted) whose relation differs between two schemes."""
-    (S, W), (S0, W0) = rel.by_rows(), base.by_rows()
-    return np.flatnonzero(((S != S0) | (W != W0)).any(axis=0))
+    R, R0 = rel.by_rows(), base.by_rows()
+    return np.flatnonzero((R != R0).any(axis=(0, 1)))
 
 
 class _Base:
@@ -430,7 +431,8 @@ class _Base:
     and its load rates O(k n) plus one product with G."""
 
     def __init__(self, rel: Relations, n: int, scale: np.ndarray, f, rc: float):
-        self.rel = Relations(rel.layout, rel.S.copy(), rel.W.copy())
+        rel.by_rows()  # S and W are read-only from now on: the base keeps the relations
+        self.rel = rel
         # the base matrix itself is not kept (its LU overwrote it): a changed row's difference
         # from it is formed from G, as it was
         self.n, self.scale, self.lu, self.rcond = n, scale, f, rc
@@ -442,9 +444,8 @@ class _Base:
         self.V = np.empty((cap, n), self.dtype)
         self.VZ = np.empty((cap, cap), self.dtype)
         self.vscale = np.empty(cap)
-        #: the block rows (S_j·, W_j·) of each slot's latest relation
-        self.vS = np.empty((cap, rel.layout.n_c))
-        self.vW = np.empty((cap, rel.layout.n_c))
+        #: the block row (S_j·, W_j·) of each slot's latest relation (:func:`_block_rows`)
+        self.vrow = np.empty((cap, 2 * rel.layout.n_c))
         self.loads: OrderedDict[int, tuple] = OrderedDict()
 
     def _grow(self, need: int) -> None:
@@ -462,7 +463,7 @@ class _Base:
         VZ = np.empty((new, new), self.dtype)
         VZ[:k, :k] = self.VZ[:k, :k]
         self.V, self.VZ = V, VZ
-        for name in ("vscale", "vS", "vW"):
+        for name in ("vscale", "vrow"):
             old = getattr(self, name)
             a = np.empty((new,) + old.shape[1:], old.dtype)
             a[:k] = getattr(self, name)[:k]
@@ -484,10 +485,9 @@ class _Base:
             solver.counters["scheme_columns"] += new_rows.size
         slots = self.slot[idx]
         k = self.k
-        S_j, W_j = _block_rows(rel, idx)
-        stale = ((slots >= k0) | np.any(self.vS[slots] != S_j, axis=1)
-                 | np.any(self.vW[slots] != W_j, axis=1))
-        rows_j, S_j, W_j, stale = idx[stale], S_j[stale], W_j[stale], slots[stale]
+        row = _block_rows(rel, idx)
+        stale = (slots >= k0) | (self.vrow[slots] != row).any(axis=1)
+        rows_j, row, stale = idx[stale], row[stale], slots[stale]
         if new_rows.size and k0:  # new columns of V Z (rows about to change are redone below)
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
         if stale.size:
@@ -495,8 +495,7 @@ class _Base:
             R0, _ = scheme_rows(solver.G, solver.d, self.rel, rows_j, solver.shifted)
             self.V[stale] = R - R0
             self.vscale[stale] = sc
-            self.vS[stale] = S_j
-            self.vW[stale] = W_j
+            self.vrow[stale] = row
             self.VZ[stale, :k] = self.V[stale] @ self.Z[:, :k]
         return slots
 
