@@ -105,6 +105,7 @@ import scipy.sparse as sp
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import Status
+from stepcontact.enums import slipping as _slipping
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
@@ -388,7 +389,7 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     tangential row; for a compliant one (Jenkins: C_τ in series with the slider, eq. (11)) the
     slip velocity is u̇_τ − Q̇/C_τ with Newmark's u̇_τ,end = c₁ Δu_τ + c_v u̇_τ + c_a ü_τ (the
     row carries no drift) and Q̇ = ΔQ/Δt (Q linear over the step)."""
-    slipping = (old == SLIP_POS) | (old == SLIP_NEG)
+    slipping = _slipping(old)
     ks = changed[slipping[changed] & (new[changed] != OPEN)]
     if ks.size == 0:
         return {}
@@ -430,7 +431,7 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     the engine sees the step's mean slip rate Δu_τ/Δt (a compliant row has no drift), which
     keeps its sign until the zero of the velocity lies in the first half of the step — the
     stop would be found a step late.  They stop at the zero (:func:`_stick_times`)."""
-    sl = ((dec.new == SLIP_POS) | (dec.new == SLIP_NEG)) & ~law.rigid_t & law.frictional
+    sl = _slipping(dec.new) & ~law.rigid_t & law.frictional
     ks = np.flatnonzero(sl & (dec.old == dec.new))
     if ks.size == 0:
         return ks
@@ -450,7 +451,7 @@ def _deferred(old, new, changed, law, damped) -> np.ndarray:
     the state), a closing (an impact) or a stop (a friction force that jumps)."""
     k = changed[(old[changed] != BONDED) & ~np.isin(changed, damped) & ~law.inert[changed]]
     opens = (old[k] != OPEN) & (new[k] == OPEN)
-    slips = (old[k] == STICK) & np.isin(new[k], (SLIP_POS, SLIP_NEG))
+    slips = (old[k] == STICK) & _slipping(new[k])
     return k[opens | slips]
 
 
@@ -1711,7 +1712,7 @@ class _DynamicRun:
         # and a rigid slip that stops here: its friction force jumps to what equilibrium
         # at t requires (re-solved in accelerations, not the slip's f p)
         stops = (self.all_rigid or self.split) and bool(np.any(
-            np.isin(old[now], (SLIP_POS, SLIP_NEG)) & (dec.new[now] == STICK)
+            _slipping(old[now]) & (dec.new[now] == STICK)
             & law.rigid_t[now]))
         if self.zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
                                        or stops):
@@ -1860,14 +1861,14 @@ class _DynamicRun:
         self.F = F_i
         if self.bond_brk is not None:  # the bonds break: their forces are released here
             self.a = self.load_jump(np.zeros(self.ndof), t_i, n, brk=self.bond_brk)
-        elif closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
-                                    & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
+        elif closing.size or np.any(_slipping(old) & ~_slipping(new_states)
+                                    & (new_states != OPEN)):
             self.a = self.accel_forces(t_i)  # the forces jump: an impact, a slip that stops
             # a stop that the forces at this instant undo (the CFE slips on the same way: its
             # velocity only touched zero) is no event: the rate problem in accelerations
             # decided the state
             undone = ((old != new_states) & (new_states == STICK) & (eng.states == old)
-                      & np.isin(old, (SLIP_POS, SLIP_NEG)))
+                      & _slipping(old))
             if undone.any():
                 rec.events[n_logged:] = [e for e in rec.events[n_logged:]
                                          if not undone[e.cfe]]
