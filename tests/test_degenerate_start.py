@@ -314,3 +314,32 @@ def test_zero_start_property(params):
         seen.add(key)
     steps = [(e.step, e.cfe) for e in res.events]
     assert len(steps) == len(set(steps))
+
+
+def test_contact_node_on_a_roller_at_rest_in_dynamics():
+    """The same roller in a dynamic interval from the static state under the weight: the
+    supports carry the held CFE's normal force as in statics (its component is inert in both
+    drivers), so the block stays at rest — the CFE forces stay the static ones (1e-9 of the
+    largest) and the held CFE carries nothing.  (Before, the dynamic driver did not hold it
+    and lost equilibrium at t = 0 under a weight applied suddenly from rest.)"""
+    m = vm.block_on_base(friction=0.5, nx=4, ny=2, base_nx=6)
+    m = m.add(
+        sc.Support("roller", m.select("block", x=0.0, y=0.0, boundary=False), "y"),
+        sc.Support("base_corner", m.select("base", x=0.0, y=0.0, boundary=False), "xy"),
+        sc.LoadPattern("w", [sc.BodyForce(bodies=("block",))]),
+        sc.Segment("w", 1.0),
+    )
+    with pytest.warns(sc.ContactHeldWarning):
+        st = sc.solve_static(m)
+    assert st.status == sc.Status.COMPLETED
+    res = sc.solve_dynamic(m, initial=st, dt=1e-3, duration=1e-2)
+    assert res.status == sc.Status.COMPLETED, res.message
+    scale = np.abs(st.N[-1]).max()
+    assert np.abs(res.N[:, 0]).max() <= 1e-12 * scale
+    assert np.allclose(res.N[-1], st.N[-1], atol=1e-9 * scale)
+    assert np.allclose(res.Q[-1], st.Q[-1], atol=1e-9 * scale)
+    # the weight applied suddenly, from rest at zero (the case that failed)
+    sudden = sc.solve_dynamic(m, dt=1e-3, duration=1e-2, loads={"w": sc.Constant(1.0)})
+    assert sudden.status == sc.Status.COMPLETED, sudden.message
+    assert np.abs(sudden.N[:, 0]).max() <= 1e-12 * scale
+    assert np.abs(sudden.N).max() > 0.1 * scale

@@ -255,7 +255,7 @@ def test_float32_mechanism_decided_by_the_exact_operator(smallest):
     G = _spd(n, spectrum)
     d = np.ones(n)
     M32 = (d[:, None] * G - np.eye(n)).astype(np.float32)
-    rel = Relations(np.full(n, FIXED, np.int8), np.zeros(n), np.zeros(n))
+    rel = Relations.from_kinds(np.full(n, FIXED, np.int8), np.zeros(n), np.zeros(n))
     s32 = SchemeSolver(M32, d, product=lambda t: G @ t)
     A32, _ = scheme_rows(M32, d, rel, np.arange(n), shifted=True)
     if smallest == 0.0:

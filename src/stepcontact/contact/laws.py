@@ -5,7 +5,8 @@ about load factors, time or matrices:
 
 * the **relation rows** of each state in the working scheme (article eqs. (1), (11)): one linear
   relation per CFE component between the rates of the mutual displacements w = [u_τ; u_n] and
-  of the forces s = [Q; p] (p = −N ≥ 0 in compression)::
+  of the forces s = [Q; p] (p = −N ≥ 0 in compression) of the same CFE, a small block per CFE
+  (:class:`Relations`); in 2D each row is of one kind::
 
       kind FIXED:   w_j' = r_j                      (rigid, no relative motion)
       kind SPRING:  s_j' − C_j w_j' = r_j           (compliant layer, eq. (11))
@@ -26,7 +27,7 @@ further law with more facets, added without touching the engine.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol
 
 import numpy as np
@@ -56,24 +57,90 @@ def _layout(m: int | ContactLayout) -> ContactLayout:
     return m if isinstance(m, ContactLayout) else ContactLayout(m)
 
 
-@dataclass
+@dataclass(eq=False)
 class Relations:
-    """Relations of a working scheme, one per CFE component (j < m: tangential of CFE j;
-    m + j: normal of CFE j): ``kind``, spring stiffness ``stiff`` (N/m) and ``couple``, the
-    coefficient of the partner component's force rate in a FREE row."""
+    """Relations of a working scheme as small per-CFE blocks (eqs. (1), (11), (12)): for CFE k
+    and its component row i (i < n_t tangential, i = n_t normal; the order of ``layout``)
 
-    kind: np.ndarray
-    stiff: np.ndarray
-    couple: np.ndarray
+        Σ_c S[k, i, c] s_c' + W[k, i, c] w_c' = r_(i,k)        (c over the n_c = 1 + n_t
+                                                                components of CFE k)
+
+    with s = [Q; p] (N) and w = [u_τ; u_n] (m); S (m, n_c, n_c) is dimensionless, W (m, n_c,
+    n_c) in N/m (or 1 in a row without forces: such a row's r is a displacement rate).
+    The 2D relation kinds of one component i (partner P the CFE's other component) are
+
+        FIXED:    w_i' = r                S[k,i,:] = 0,  W[k,i,i] = 1
+        SPRING:   s_i' − C w_i' = r       S[k,i,i] = 1,  W[k,i,i] = −C   (C in N/m)
+        FREE:     s_i' + c s_P' = r       S[k,i,i] = 1,  S[k,i,P] = c    (slip: Q' = σ f p')
+
+    and a faceted cone writes rows that couple every component (a facet row
+    d·Q' − f cos(π/k) p' = r, an along-facet row e·u_τ' = r)."""
+
+    layout: ContactLayout
+    S: np.ndarray
+    W: np.ndarray
+    _rows: tuple | None = field(default=None, init=False, repr=False)
 
     @staticmethod
-    def empty(m: int | ContactLayout) -> Relations:
-        """Relations of m CFEs (2D) or of the layout ``m``, all FREE with zero entries."""
-        lay = _layout(m)
-        return Relations(lay.zeros(dtype=np.int8), lay.zeros(), lay.zeros())
+    def empty(layout: int | ContactLayout) -> Relations:
+        """Relations of the layout (or of m CFEs in 2D) with every row s_j' = r_j (S the
+        identity, W zero: FREE with no coupling)."""
+        lay = _layout(layout)
+        S = np.zeros((lay.m, lay.n_c, lay.n_c))
+        S[:, np.arange(lay.n_c), np.arange(lay.n_c)] = 1.0
+        return Relations(lay, S, np.zeros_like(S))
+
+    @staticmethod
+    def from_kinds(kind, stiff, couple, layout: int | ContactLayout | None = None
+                   ) -> Relations:
+        """The blocks of 2D relations given per component (vectors (2m,) in the layout's order):
+        ``kind`` (FREE, FIXED, SPRING), spring stiffness ``stiff`` (N/m; used by SPRING
+        rows) and ``couple``, the coefficient c of the partner component's force rate in a
+        FREE row (see the class docstring)."""
+        kind, stiff, couple = (np.asarray(x) for x in (kind, stiff, couple))
+        lay = _layout(layout) if layout is not None else ContactLayout.of_size(len(kind))
+        if lay.n_t != 1 or len(kind) != lay.n:
+            raise ValueError(f"Relations.from_kinds: {len(kind)} components do not fit a 2D "
+                             f"layout of {lay.m} CFEs with n_t = {lay.n_t}")
+        fixed, spring = kind == FIXED, kind == SPRING
+        if not np.all(np.isfinite(stiff[spring])):
+            raise ValueError("Relations.from_kinds: a SPRING row needs a finite stiffness")
+        rel = Relations.empty(lay)
+        k, i = lay.cfe_of(np.arange(lay.n)), lay.component_of(np.arange(lay.n))
+        rel.S[k, i, i] = np.where(fixed, 0.0, 1.0)
+        rel.W[k, i, i] = np.where(fixed, 1.0, np.where(spring, -stiff, 0.0))
+        rel.S[k, i, 1 - i] = couple
+        return rel
 
     def key(self) -> bytes:
-        return self.kind.tobytes() + self.couple.tobytes()
+        """The relations as bytes (the key of a scheme's factor)."""
+        if self._rows is not None:
+            return self._rows[0]
+        return self.S.tobytes() + self.W.tobytes()
+
+    def by_rows(self) -> np.ndarray:
+        """The blocks row by row, (2, n_c, n) read-only: entry [0, o, j] (of S) and [1, o, j]
+        (of W) is the coefficient, in row j = i m + k (component i of CFE k, the layout's
+        order), of the CFE's component (i + o) mod n_c; o = 0 the diagonal.
+
+        The first call freezes S and W (read-only): the relations of a scheme do not change
+        once a solver has used them (change a copy instead)."""
+        if self._rows is None:
+            lay = self.layout
+            m, nc = lay.m, lay.n_c
+            take = _row_order(nc)
+            rows = np.stack([X.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
+                             for X in (self.S, self.W)])
+            for x in (rows, self.S, self.W):
+                x.setflags(write=False)
+            self._rows = (self.S.tobytes() + self.W.tobytes(), rows)
+        return self._rows[1]
+
+
+def _row_order(nc: int) -> np.ndarray:
+    """The entries (i, (i + o) mod n_c) of a raveled n_c × n_c block, in the order (o, i)."""
+    i, o = np.arange(nc)[None, :], np.arange(nc)[:, None]
+    return (i * nc + (i + o) % nc).reshape(-1)
 
 
 @dataclass
@@ -331,25 +398,25 @@ class CoulombLaw:
         normal fixed (or spring C_n).  Closed frictionless: Q = 0, normal as stick.  Slip
         (exact): Q' − σ f p' = 0 (the rate of Q = σ (f p + C)); slip (article, eqs. (4)–(6)):
         Q held during the step (FREE) and corrected afterwards by compensating forces.
-        ``m``: the number of CFEs (2D) or the layout of the contact unknowns.
+        The rows are the blocks of :class:`Relations` (``rel.layout`` the layout; ``m`` is
+        not used any more).
         """
-        lay = _layout(m)
-        kind_t, kind_n = lay.split(rel.kind)
-        stiff_t, stiff_n = lay.split(rel.stiff)
-        couple_t, couple_n = lay.split(rel.couple)
-        c = self.cfes
+        nt = rel.layout.n_t
         closed = (states != OPEN) & ~self.inert
         slipping = self.slipping(states) & closed
         frictionless = closed & ~self.frictional & (states != BONDED)
-        kt = np.where(self.rigid_t, FIXED, SPRING)
-        kn = np.where(self.rigid_n, FIXED, SPRING)
-        kind_t[c] = np.where(closed & ~slipping & ~frictionless, kt, FREE)
-        kind_n[c] = np.where(closed, kn, FREE)
-        stiff_t[c] = self.kt
-        stiff_n[c] = self.kn
+        held_t = closed & ~slipping & ~frictionless  # fixed (rigid) or spring (compliant)
         sigma = np.where(states == SLIP_POS, 1.0, -1.0)
-        couple_t[c] = np.where(slipping & ~frictionless & (not article), -sigma * self.f, 0.0)
-        couple_n[c] = 0.0
+        couple = np.where(slipping & ~frictionless & (not article), -sigma * self.f, 0.0)
+        S = np.zeros((len(states), nt + 1, nt + 1))
+        W = np.zeros_like(S)
+        rows = [(held_t, self.rigid_t, self.kt)] * nt + [(closed, self.rigid_n, self.kn)]
+        for i, (held, rigid, stiff) in enumerate(rows):
+            S[:, i, i] = np.where(held & rigid, 0.0, 1.0)  # FIXED: 0; SPRING, FREE: 1
+            W[:, i, i] = np.where(held, np.where(rigid, 1.0, -stiff), 0.0)  # FIXED 1, SPRING −C
+        S[:, np.arange(nt), nt] = couple[:, None]  # FREE tangential: Q' − σ f p' = r
+        rel.S[self.cfes] = S
+        rel.W[self.cfes] = W
 
     # ---- event functions (eqs. (2), (3), (12)) ------------------------------------------------
     def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray:

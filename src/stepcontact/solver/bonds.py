@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS
+from stepcontact.contact.laws import BONDED, OPEN
+from stepcontact.enums import slipping
 from stepcontact.solver.eventlog import EventLog
 
 
@@ -60,7 +61,7 @@ def break_bonds(eng, law, brk: np.ndarray, events: EventLog, first: dict,
     events.changes(old, new, s_before, first=first, **where)
     lam = where["lam"]
     for key, hit in (("first_opening", new[brk] == OPEN),
-                     ("first_slip", (new[brk] == SLIP_POS) | (new[brk] == SLIP_NEG))):
+                     ("first_slip", slipping(new[brk]))):
         if first[key] is None and hit.any():
             first[key] = lam
     dQ, dp = law.released(new, Q, p)

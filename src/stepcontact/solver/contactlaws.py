@@ -15,7 +15,8 @@ import warnings
 
 import numpy as np
 
-from stepcontact.contact.laws import CoulombLaw
+from stepcontact.contact.faceted import FacetedCoulombLaw
+from stepcontact.contact.laws import ContactLaw, CoulombLaw
 from stepcontact.errors import ContactHeldWarning
 from stepcontact.fem.assembly import System
 from stepcontact.solver.staging import held_components
@@ -43,9 +44,12 @@ def law_inputs(system: System, *, plan=None, stage: int | None = None,
 
 
 def contact_law(system: System, *, plan=None, stage: int | None = None, kn=None,
-                held_by_supports: bool = True, warn: bool = False) -> CoulombLaw:
+                held_by_supports: bool = True, warn: bool = False) -> ContactLaw:
     """The contact law of the CFEs of ``system`` (:func:`law_inputs` for ``plan``, ``stage``
-    and ``held_by_supports``).  ``kn``: the law's normal stiffness C_n (m,), N/m (default the
+    and ``held_by_supports``): :class:`~stepcontact.contact.laws.CoulombLaw` in 2D (with the
+    bonds of eq. (12)), :class:`~stepcontact.contact.faceted.FacetedCoulombLaw` for CFEs with
+    two tangential components (the system's ``cfe.facets``, ``facet_angle``,
+    ``facet_stagger``).  ``kn``: the law's normal stiffness C_n (m,), N/m (default the
     CFEs' own ``cfe.kn``; infinite: rigid).  ``warn``: a
     :class:`~stepcontact.errors.ContactHeldWarning` names the active CFEs whose relative
     motion supports hold (they carry nothing in that component)."""
@@ -58,8 +62,13 @@ def contact_law(system: System, *, plan=None, stage: int | None = None, kn=None,
         else:
             active = plan.active_cfes(stage)
             warn_held(cfe, held_n & active, held_t & active)
-    return CoulombLaw(np.arange(cfe.m), friction, cfe.kn if kn is None else kn, cfe.kt,
-                      held_n, held_t, bond=bond)
+    kn = cfe.kn if kn is None else kn
+    if system.layout.n_t > 1:  # two tangential components: Coulomb on a faceted cone
+        return FacetedCoulombLaw(np.arange(cfe.m), friction, kn, cfe.kt, facets=cfe.facets,
+                                 angle=cfe.facet_angle, stagger=cfe.facet_stagger,
+                                 adaptive=getattr(cfe, "facet_adaptive", False),
+                                 held_normal=held_n, held_tangent=held_t)
+    return CoulombLaw(np.arange(cfe.m), friction, kn, cfe.kt, held_n, held_t, bond=bond)
 
 
 def warn_held(cfe, held_n: np.ndarray, held_t: np.ndarray) -> None:

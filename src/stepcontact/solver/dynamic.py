@@ -105,6 +105,7 @@ import scipy.sparse as sp
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import Status
+from stepcontact.enums import slipping as _slipping
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
@@ -388,7 +389,7 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     tangential row; for a compliant one (Jenkins: C_τ in series with the slider, eq. (11)) the
     slip velocity is u̇_τ − Q̇/C_τ with Newmark's u̇_τ,end = c₁ Δu_τ + c_v u̇_τ + c_a ü_τ (the
     row carries no drift) and Q̇ = ΔQ/Δt (Q linear over the step)."""
-    slipping = (old == SLIP_POS) | (old == SLIP_NEG)
+    slipping = _slipping(old)
     ks = changed[slipping[changed] & (new[changed] != OPEN)]
     if ks.size == 0:
         return {}
@@ -430,7 +431,7 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     the engine sees the step's mean slip rate Δu_τ/Δt (a compliant row has no drift), which
     keeps its sign until the zero of the velocity lies in the first half of the step — the
     stop would be found a step late.  They stop at the zero (:func:`_stick_times`)."""
-    sl = ((dec.new == SLIP_POS) | (dec.new == SLIP_NEG)) & ~law.rigid_t & law.frictional
+    sl = _slipping(dec.new) & ~law.rigid_t & law.frictional
     ks = np.flatnonzero(sl & (dec.old == dec.new))
     if ks.size == 0:
         return ks
@@ -450,7 +451,7 @@ def _deferred(old, new, changed, law, damped) -> np.ndarray:
     the state), a closing (an impact) or a stop (a friction force that jumps)."""
     k = changed[(old[changed] != BONDED) & ~np.isin(changed, damped) & ~law.inert[changed]]
     opens = (old[k] != OPEN) & (new[k] == OPEN)
-    slips = (old[k] == STICK) & np.isin(new[k], (SLIP_POS, SLIP_NEG))
+    slips = (old[k] == STICK) & _slipping(new[k])
     return k[opens | slips]
 
 
@@ -959,14 +960,13 @@ class _DynamicRun:
         """The Coulomb law of the CFEs (eq. (1); compliant layers eq. (11), damped ones with
         Newmark's c₁, :class:`_DampedLayers`; bonds eq. (12)) and the event engine on the
         condensed K̂; refuses the combinations a dynamic interval does not follow.  Built by
-        :func:`~stepcontact.solver.contactlaws.contact_law`: after stages, the stage's (CFEs
-        not active, and components held by supports on both ends, inert); without stages,
-        no component is held by supports (``held_by_supports=False``, unlike the static
-        driver)."""
+        :func:`~stepcontact.solver.contactlaws.contact_law` as in the static driver: the
+        components held by supports on both ends are inert (their supports carry them), and
+        after stages the CFEs not active at the stage."""
         cfe = self.cfe
         plan, stage = self.staged
-        _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage,
-                                        held_by_supports=False)
+        _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage)
+        self.bond_cols = bond_cols
         if bond_cols is not None:
             bonded = ~np.isnan(np.asarray(bond_cols, float)[:, 0])
             damped_bond = bonded & (cfe.cn > 0)
@@ -993,7 +993,7 @@ class _DynamicRun:
         self.law = law = contact_law(
             self.system, plan=plan, stage=stage,
             kn=_DampedLayers.law_stiffness(cfe, _Newmark(self.dt0, self.alpha).c1),
-            held_by_supports=plan is not None)
+            held_by_supports=True)
         self.layers = _DampedLayers(cfe, law, self.layout)
         self.bonds_on = bool(law.has_bond.any())
         self.eng = EventEngine(self.schemes, [law], self.system.w0, rtol=self.rtol,
@@ -1712,7 +1712,7 @@ class _DynamicRun:
         # and a rigid slip that stops here: its friction force jumps to what equilibrium
         # at t requires (re-solved in accelerations, not the slip's f p)
         stops = (self.all_rigid or self.split) and bool(np.any(
-            np.isin(old[now], (SLIP_POS, SLIP_NEG)) & (dec.new[now] == STICK)
+            _slipping(old[now]) & (dec.new[now] == STICK)
             & law.rigid_t[now]))
         if self.zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
                                        or stops):
@@ -1861,14 +1861,14 @@ class _DynamicRun:
         self.F = F_i
         if self.bond_brk is not None:  # the bonds break: their forces are released here
             self.a = self.load_jump(np.zeros(self.ndof), t_i, n, brk=self.bond_brk)
-        elif closing.size or np.any(np.isin(old, (SLIP_POS, SLIP_NEG))
-                                    & ~np.isin(new_states, (SLIP_POS, SLIP_NEG, OPEN))):
+        elif closing.size or np.any(_slipping(old) & ~_slipping(new_states)
+                                    & (new_states != OPEN)):
             self.a = self.accel_forces(t_i)  # the forces jump: an impact, a slip that stops
             # a stop that the forces at this instant undo (the CFE slips on the same way: its
             # velocity only touched zero) is no event: the rate problem in accelerations
             # decided the state
             undone = ((old != new_states) & (new_states == STICK) & (eng.states == old)
-                      & np.isin(old, (SLIP_POS, SLIP_NEG)))
+                      & _slipping(old))
             if undone.any():
                 rec.events[n_logged:] = [e for e in rec.events[n_logged:]
                                          if not undone[e.cfe]]
@@ -2006,7 +2006,7 @@ class _DynamicRun:
         stage_arrays, extra = self.stage_arrays, self.extra
         return build_result(
             rec, cls=DynamicResult, cfe=cfe,
-            cfe_data=cfe_arrays(cfe, bond=self.law_in.get("bond") if self.bonds_on else None,
+            cfe_data=cfe_arrays(cfe, bond=self.bond_cols if self.bonds_on else None,
                                 damping=True),
             pattern_names=self.names, segments=[("dynamic", 0.0, float(self.t))],
             status=status, message=message, counters=counters,

@@ -13,13 +13,14 @@ from __future__ import annotations
 import numpy as np
 
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import ContactState, Transition
+from stepcontact.enums import Transition
 from stepcontact.results.events import Event
 
 #: the multiplier a transition is the first of (a bond that breaks is none: the breaking
 #: CFE's new state is, :func:`~stepcontact.solver.bonds.break_bonds`)
 FIRST_OF = {Transition.OPENED: "first_opening", Transition.CLOSED: "first_closing",
-            Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip"}
+            Transition.SLIP_POS: "first_slip", Transition.SLIP_NEG: "first_slip",
+            Transition.SLIP: "first_slip"}
 
 
 class EventLog:
@@ -39,7 +40,7 @@ class EventLog:
         entry for this transition (:data:`FIRST_OF`) is set to ``lam`` if it is None (None:
         none is set)."""
         cfe, lay = self.cfe, self.layout
-        tr = Transition.between(ContactState(int(was)), ContactState(int(now)))
+        tr = Transition.between(int(was), int(now))
         pn, qt = (0.0, 0.0) if impulse is None else impulse
         ev = Event(
             step=step, state=state, segment=segment, pattern=pattern, lam=lam, cfe=int(k),
@@ -47,7 +48,8 @@ class EventLog:
             local=int(cfe.local[k]), position=float(cfe.s[k]),
             x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
             y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
-            transition=tr, N=float(-lay.normal(s)[k]), Q=float(lay.tangential(s)[k]),
+            transition=tr, N=float(-lay.normal(s)[k]),
+            Q=float(lay.tangential(s)[k]) if lay.n_t == 1 else lay.tangential(s)[k].copy(),
             impulse_n=pn, impulse_t=qt)
         self.rec.events.append(ev)
         if first is not None:

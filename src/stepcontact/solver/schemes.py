@@ -2,23 +2,23 @@
 low-rank (Woodbury) row updates, and the rates of a scheme.
 
 With t = s − D ŵ and ŵ = ĥ − G t (see :mod:`stepcontact.solver.condensation`), the relations
-of a working scheme (one per CFE component, :class:`stepcontact.contact.laws.Relations`)::
+of a working scheme (per CFE a small block, :class:`stepcontact.contact.laws.Relations`: row j,
+component i of CFE k, reads Σ_c S_jc s_c' + W_jc w_c' = r_j over the CFE's components c)
+become one dense system A t' = b of size n = m (1 + n_t) with rows
 
-    FIXED:   w_j' = r_j                 rw = 1,    rs = 0
-    SPRING:  s_j' − C_j w_j' = r_j      rw = −C_j, rs = 1
-    FREE:    s_j' + c_j s_P' = r_j      rw = 0,    rs = 1   (P: the CFE's other component)
+    A_j = Σ_c S_jc e_c − Σ_c (S_jc d_c + W_jc) G_c
+    b_j = r_j − Σ_c (W_jc (ĥ_c + e_c) + S_jc d_c ĥ_c)
 
-become one dense system A t' = b of size 2m with rows
+In 2D the kinds of a row are FIXED (w_j' = r_j: S = 0, W_jj = 1), SPRING (s_j' − C_j w_j' = r_j:
+S_jj = 1, W_jj = −C_j) and FREE (s_j' + c_j s_P' = r_j: S_jj = 1, S_jP = c_j, P the CFE's
+other component).  The diagonal (rs_j = S_jj, rw_j = W_jj) is formed for every row in one pass
+over G; only the rows with a coupling (an off-diagonal entry of their block) take a second
+product with the coupled rows of G.  A singular A is a working scheme that is a mechanism.
 
-    A_j = rs_j e_j − (rw_j + d_j rs_j) G_j + c_j (e_P − d_P G_P)
-    b_j = r_j − rw_j (ĥ_j + e_j) − rs_j d_j ĥ_j − c_j d_P ĥ_P
-
-A singular A is a working scheme that is a mechanism.
-
-Row j of A and of b depends on the relation of component j alone, so two schemes differ only
-in the rows of the components whose relation changed.  That is what the event loop exploits
-(:class:`SchemeSolver`): one LU of a base scheme, and every later scheme as a low-rank row
-update of it, with what the updates share cached on the base.
+Row j of A and of b depends on the relation row of component j alone (its block row S_j·,
+W_j·), so two schemes differ only in the rows of the components whose relation changed.  That
+is what the event loop exploits (:class:`SchemeSolver`): one LU of a base scheme, and every
+later scheme as a low-rank row update of it, with what the updates share cached on the base.
 
 For large interfaces the dense work runs in float32 (G held as D G − I, see
 :func:`scheme_rows`), and every solve is refined to float64 accuracy against the exact operator
@@ -32,12 +32,12 @@ import warnings
 import weakref
 from collections import OrderedDict
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
 
-from stepcontact.contact.laws import FIXED, SPRING, Relations
-from stepcontact.contact.layout import ContactLayout
+from stepcontact.contact.laws import Relations
 
 #: a scheme matrix whose reciprocal condition number (rows equilibrated) is below this is
 #: singular: a mechanism.  G carries a relative round-off of about eps·cond(K₀), so exact
@@ -228,39 +228,59 @@ class MechanismError(Exception):
         super().__init__("working scheme is a mechanism")
 
 
-def _coefficients(rel: Relations, idx=None):
-    kind = rel.kind if idx is None else rel.kind[idx]
-    stiff = rel.stiff if idx is None else rel.stiff[idx]
-    rw = np.where(kind == FIXED, 1.0, np.where(kind == SPRING, -stiff, 0.0))
-    rw = np.where(np.isfinite(rw), rw, 0.0)
-    rs = np.where(kind == FIXED, 0.0, 1.0)
-    return rw, rs
+def _coefficients(rel: Relations, idx: np.ndarray | None = None):
+    """The relations ``rel`` row by row (row j = i m + k of the component-major contact vector:
+    component i of CFE k, :meth:`Relations.by_rows`), for all rows or the rows ``idx``: the
+    diagonal coefficients rs = S_jj and rw = W_jj, and per offset o = 1 … n_c − 1 a triple
+    (s, w, col) of the coefficients of component (i + o) mod n_c of the same CFE and its row
+    col = (j + o m) mod n (in 2D the one partner component P)."""
+    R = rel.by_rows()
+    cols = _offset_rows(rel.layout.m, rel.layout.n_c)
+    if idx is not None:
+        R, cols = R[:, :, idx], cols[:, idx]
+    Sx, Wx = R
+    return Sx[0], Wx[0], [(Sx[o], Wx[o], cols[o]) for o in range(1, len(Sx))]
 
 
-def partner(j: np.ndarray, m: int) -> np.ndarray:
-    """The other component of the same CFE (tangential j ↔ normal m + j; 2D,
-    :meth:`ContactLayout.partner <stepcontact.contact.layout.ContactLayout.partner>`)."""
-    return ContactLayout(m).partner(j)
+@lru_cache(maxsize=16)
+def _offset_rows(m: int, nc: int) -> np.ndarray:
+    """The rows (j + o m) mod n (n_c, n) of the CFE's component at offset o from row j."""
+    n = m * nc
+    cols = (np.arange(n)[None, :] + np.arange(nc)[:, None] * m) % n
+    cols.setflags(write=False)
+    return cols
+
+
+def _inverse_offsets(offs: list) -> list:
+    """The rows that offset o's ``col`` maps back: col of offset n_c − o (a permutation)."""
+    return [c for _, _, c in offs[::-1]]
+
+
+def _check(rel: Relations, n: int) -> None:
+    if rel.layout.n != n:
+        raise ValueError(f"relations of {rel.layout.n} contact unknowns for a scheme of {n}")
 
 
 def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
                 shifted: bool = False):
     """Rows ``idx`` of A, each divided by its largest entry (stuck rows scale like 1/d, free
     rows like 1: equilibrated, the condition estimate measures a mechanism, not the units).
-    Returns (rows (k, 2m) in G's precision, Fortran-ordered so that an LU can overwrite them,
-    row scales (k,)).
+    Returns (rows (k, n) in G's precision, Fortran-ordered so that an LU can overwrite them,
+    row scales (k,)).  Every row is one pass over its row of G; a row that couples other
+    components of its CFE (S_jc or W_jc ≠ 0, c ≠ j) a further pass over each of their rows.
 
     ``shifted``: the array is M = D G − I (the float32 form, see
-    :class:`~stepcontact.solver.condensation.Condensation`); then, with G_j = (M_j + e_j)/d_j,
+    :class:`~stepcontact.solver.condensation.Condensation`); then, with G_c = (M_c + e_c)/d_c,
 
-        A_j = −(rw_j/d_j + rs_j) M_j − (rw_j/d_j) e_j − c_j M_P
+        A_j = −Σ_c (S_jc + W_jc/d_c) M_c − Σ_c (W_jc/d_c) e_c
 
-    in which no entry is a difference of nearly equal numbers."""
-    lay = ContactLayout.of_size(G.shape[0])
+    (2D: A_j = −(rw_j/d_j + rs_j) M_j − (rw_j/d_j) e_j − c_j M_P) in which no entry is a
+    difference of nearly equal numbers."""
+    _check(rel, G.shape[0])
     dt = G.dtype
-    rw, rs = _coefficients(rel, idx)
+    rs, rw, offs = _coefficients(rel, idx)
     if shifted:
-        return _shifted_rows(G, d, rel, idx, rw, rs)
+        return _shifted_rows(G, d, idx, rs, rw, offs)
     coef = (-(rw + d[idx] * rs)).astype(dt)
     rows = np.empty((len(idx), G.shape[1]), dt, order="F")
     if len(idx) == G.shape[0] and np.array_equal(idx, np.arange(len(idx))):
@@ -268,20 +288,27 @@ def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
     else:
         np.multiply(G[idx], coef[:, None], out=rows)
     rows[np.arange(len(idx)), idx] += rs.astype(dt)
-    c = rel.couple[idx]
-    cp = np.flatnonzero(c != 0)
-    if cp.size:
-        P = lay.partners[idx[cp]]
-        rows[cp, P] += c[cp].astype(dt)
-        rows[cp] -= (d[P] * c[cp]).astype(dt)[:, None] * G[P]
+    for s, w, col in offs:
+        cp = np.flatnonzero((s != 0) | (w != 0))
+        if not cp.size:
+            continue
+        P, c = col[cp], s[cp]
+        rows[cp, P] += c.astype(dt)
+        a = d[P] * c
+        if w[cp].any():
+            a = a + w[cp]
+        rows[cp] -= a.astype(dt)[:, None] * G[P]
+    return _equilibrate(rows)
+
+
+def _equilibrate(rows: np.ndarray):
     big = np.maximum(rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0))
     scale = 1.0 / np.maximum(big.astype(np.float64), 1e-300)
-    rows *= scale.astype(dt)[:, None]
+    rows *= scale.astype(rows.dtype)[:, None]
     return rows, scale
 
 
-def _shifted_rows(M, d, rel, idx, rw, rs):
-    lay = ContactLayout.of_size(M.shape[0])
+def _shifted_rows(M, d, idx, rs, rw, offs):
     dt = M.dtype
     rwd = rw / d[idx]
     rows = np.empty((len(idx), M.shape[1]), dt, order="F")
@@ -290,65 +317,107 @@ def _shifted_rows(M, d, rel, idx, rw, rs):
     else:
         np.multiply(M[idx], (-(rwd + rs)).astype(dt)[:, None], out=rows)
     rows[np.arange(len(idx)), idx] -= rwd.astype(dt)
-    c = rel.couple[idx]
-    cp = np.flatnonzero(c != 0)
-    if cp.size:
-        rows[cp] -= c[cp].astype(dt)[:, None] * M[lay.partners[idx[cp]]]
-    big = np.maximum(rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0))
-    scale = 1.0 / np.maximum(big.astype(np.float64), 1e-300)
-    rows *= scale.astype(dt)[:, None]
-    return rows, scale
+    for s, w, col in offs:
+        cp = np.flatnonzero((s != 0) | (w != 0))
+        if not cp.size:
+            continue
+        P, a, wc = col[cp], s[cp], w[cp]
+        if wc.any():
+            a = a + wc / d[P]
+        rows[cp] -= a.astype(dt)[:, None] * M[P]
+        if wc.any():
+            rows[cp, P] -= (wc / d[P]).astype(dt)
+    return _equilibrate(rows)
 
 
 def scheme_apply(d: np.ndarray, rel: Relations, scale: np.ndarray, t: np.ndarray,
                  Gt: np.ndarray) -> np.ndarray:
     """A t for the scheme ``rel`` with row scales ``scale``, from t and the product G t (of
     the exact operator): the residual of the float32 schemes' refinement (vectors or
-    (2m, k) blocks)."""
-    rw, rs = _coefficients(rel)
-    c = rel.couple
-    P = ContactLayout.of_size(len(d)).partners
+    (n, k) blocks)."""
+    rs, rw, offs = _coefficients(rel)
     if t.ndim == 2:
-        rw, rs, d, c, scale = rw[:, None], rs[:, None], d[:, None], c[:, None], scale[:, None]
-    return scale * (rs * t - (rw + d * rs) * Gt + c * (t[P] - d[P] * Gt[P]))
+        rw, rs, d, scale = rw[:, None], rs[:, None], d[:, None], scale[:, None]
+    out = rs * t - (rw + d * rs) * Gt
+    for s, w, P in offs:
+        if t.ndim == 2:
+            s, w = s[:, None], w[:, None]
+        out = out + s * (t[P] - d[P] * Gt[P])
+        if w.any():
+            out = out - w * Gt[P]
+    return scale * out
 
 
 def scheme_rhs(d: np.ndarray, rel: Relations, hhat, e, r):
     """b (unscaled) of A t' = b for load rates (ĥ, e) and relation right-hand sides r (vectors
-    or (2m, k) blocks)."""
-    rw, rs = _coefficients(rel)
-    if np.ndim(r) == 2 or np.ndim(hhat) == 2:
-        rw, rs, dd, c = rw[:, None], rs[:, None], d[:, None], rel.couple[:, None]
+    or (n, k) blocks)."""
+    rs, rw, offs = _coefficients(rel)
+    two = np.ndim(r) == 2 or np.ndim(hhat) == 2
+    if two:
+        rw, rs, dd = rw[:, None], rs[:, None], d[:, None]
     else:
-        dd, c = d, rel.couple
+        dd = d
     dh = dd * hhat
-    P = ContactLayout.of_size(len(d)).partners
-    return r - rw * (hhat + e) - rs * dh - c * dh[P]
+    he = hhat + e
+    b = r - rw * he - rs * dh
+    for s, w, P in offs:
+        if two:
+            s, w = s[:, None], w[:, None]
+        b = b - s * dh[P]
+        if w.any():
+            b = b - w * np.broadcast_to(he, np.broadcast_shapes(np.shape(he), dh.shape))[P]
+    return b
 
 
 def _load_rhs_rows(d: np.ndarray, rel: Relations, idx: np.ndarray, hhat, e) -> np.ndarray:
     """Rows ``idx`` of :func:`scheme_rhs` for load rates (ĥ, e) and r = 0 (vectors)."""
-    rw, rs = _coefficients(rel, idx)
-    P = ContactLayout.of_size(len(d)).partners[idx]
-    return -rw * (hhat[idx] + e[idx]) - rs * d[idx] * hhat[idx] - rel.couple[idx] * d[P] * hhat[P]
+    rs, rw, offs = _coefficients(rel, idx)
+    b = -rw * (hhat[idx] + e[idx]) - rs * d[idx] * hhat[idx]
+    for s, w, P in offs:
+        b = b - s * d[P] * hhat[P]
+        if w.any():
+            b = b - w * (hhat[P] + e[P])
+    return b
 
 
 def scheme_apply_t(d: np.ndarray, rel: Relations, scale: np.ndarray, y: np.ndarray,
                    product) -> np.ndarray:
     """Aᵀ y for the scheme ``rel`` with row scales ``scale`` (G symmetric, ``product``:
-    t ↦ G t exact).  With A = S [R + C Π − (diag(a) + C D_Π Π) G] (R = diag(rs),
-    a = rw + d·rs, Π the swap of each CFE's components, D_Π = diag(d_P), C = diag(c)):
+    t ↦ G t exact).  With A = Sc [R + Σ_o C_o Π_o − (diag(a) + Σ_o diag(c_o d_o + w_o) Π_o) G]
+    (Sc = diag(scale), R = diag(rs), a = rw + d·rs, Π_o the map of each row to its CFE's
+    component at offset o, C_o = diag(c_o) and w_o its coefficients; 2D: one offset, Π the
+    swap of each CFE's components, c the couple, w = 0):
 
-        Aᵀ y = R u + Π (c u) − G (a u + Π (c d_P u)),   u = S y."""
-    rw, rs = _coefficients(rel)
-    c = rel.couple
-    P = ContactLayout.of_size(len(d)).partners
+        Aᵀ y = R u + Σ_o Π_oᵀ (c_o u) − G (a u + Σ_o Π_oᵀ ((c_o d_o + w_o) u)),   u = Sc y."""
+    rs, rw, offs = _coefficients(rel)
     a = rw + d * rs
-    cdp = c * d[P]
-    if y.ndim == 2:
-        rs, c, a, cdp, scale = rs[:, None], c[:, None], a[:, None], cdp[:, None], scale[:, None]
+    two = y.ndim == 2
+    if two:
+        rs, a, scale = rs[:, None], a[:, None], scale[:, None]
     u = scale * y
-    return rs * u + (c * u)[P] - product(a * u + (cdp * u)[P])
+    x, z = rs * u, a * u
+    for (s, w, P), back in zip(offs, _inverse_offsets(offs), strict=True):
+        cd = s * d[P]
+        if w.any():
+            cd = cd + w
+        if two:
+            s, cd = s[:, None], cd[:, None]
+        x = x + (s * u)[back]
+        z = z + (cd * u)[back]
+    return x - product(z)
+
+
+def _block_rows(rel: Relations, idx: np.ndarray) -> np.ndarray:
+    """The block rows (S_j·, W_j·) of the rows ``idx``, (len(idx), 2 n_c) in the order of
+    :meth:`Relations.by_rows`."""
+    R = rel.by_rows()
+    return R.reshape(-1, R.shape[2])[:, idx].T
+
+
+def _changed_rows(rel: Relations, base: Relations) -> np.ndarray:
+    """The rows (component-major, sorted) whose relation differs between two schemes."""
+    R, R0 = rel.by_rows(), base.by_rows()
+    return np.flatnonzero((R != R0).any(axis=(0, 1)))
 
 
 class _Base:
@@ -362,9 +431,8 @@ class _Base:
     and its load rates O(k n) plus one product with G."""
 
     def __init__(self, rel: Relations, n: int, scale: np.ndarray, f, rc: float):
-        self.kind = rel.kind.copy()
-        self.couple = rel.couple.copy()
-        self.rel = Relations(self.kind, rel.stiff, self.couple)
+        rel.by_rows()  # S and W are read-only from now on: the base keeps the relations
+        self.rel = rel
         # the base matrix itself is not kept (its LU overwrote it): a changed row's difference
         # from it is formed from G, as it was
         self.n, self.scale, self.lu, self.rcond = n, scale, f, rc
@@ -376,8 +444,8 @@ class _Base:
         self.V = np.empty((cap, n), self.dtype)
         self.VZ = np.empty((cap, cap), self.dtype)
         self.vscale = np.empty(cap)
-        self.vkind = np.empty(cap, rel.kind.dtype)
-        self.vcouple = np.empty(cap)
+        #: the block row (S_j·, W_j·) of each slot's latest relation (:func:`_block_rows`)
+        self.vrow = np.empty((cap, 2 * rel.layout.n_c))
         self.loads: OrderedDict[int, tuple] = OrderedDict()
 
     def _grow(self, need: int) -> None:
@@ -395,8 +463,9 @@ class _Base:
         VZ = np.empty((new, new), self.dtype)
         VZ[:k, :k] = self.VZ[:k, :k]
         self.V, self.VZ = V, VZ
-        for name in ("vscale", "vkind", "vcouple"):
-            a = np.empty(new, getattr(self, name).dtype)
+        for name in ("vscale", "vrow"):
+            old = getattr(self, name)
+            a = np.empty((new,) + old.shape[1:], old.dtype)
             a[:k] = getattr(self, name)[:k]
             setattr(self, name, a)
 
@@ -416,9 +485,9 @@ class _Base:
             solver.counters["scheme_columns"] += new_rows.size
         slots = self.slot[idx]
         k = self.k
-        stale = ((slots >= k0) | (self.vkind[slots] != rel.kind[idx])
-                 | (self.vcouple[slots] != rel.couple[idx]))
-        rows_j, stale = idx[stale], slots[stale]
+        row = _block_rows(rel, idx)
+        stale = (slots >= k0) | (self.vrow[slots] != row).any(axis=1)
+        rows_j, row, stale = idx[stale], row[stale], slots[stale]
         if new_rows.size and k0:  # new columns of V Z (rows about to change are redone below)
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
         if stale.size:
@@ -426,8 +495,7 @@ class _Base:
             R0, _ = scheme_rows(solver.G, solver.d, self.rel, rows_j, solver.shifted)
             self.V[stale] = R - R0
             self.vscale[stale] = sc
-            self.vkind[stale] = rel.kind[rows_j]
-            self.vcouple[stale] = rel.couple[rows_j]
+            self.vrow[stale] = row
             self.VZ[stale, :k] = self.V[stale] @ self.Z[:, :k]
         return slots
 
@@ -563,8 +631,9 @@ class SchemeFactor:
 class SchemeSolver:
     """Solves working schemes that differ from a factorised base scheme in a few rows.
 
-    The dense scheme matrix A (2m × 2m) is LU-factorised for a base scheme, its condition
-    estimated from the LU (LAPACK gecon, O(n²)): rcond ≤ ``RCOND_MECHANISM`` is a mechanism.
+    The dense scheme matrix A (n × n, n = m (1 + n_t)) is LU-factorised for a base scheme, its
+    condition estimated from the LU (LAPACK gecon, O(n²)): rcond ≤ ``RCOND_MECHANISM`` is a
+    mechanism.
     A scheme that differs from the base in k rows is solved by the Woodbury identity with the
     columns A₀⁻¹ e_j of its changed rows, cached on the base as rows change (one solve per row
     that changes while the base lives), so that a new scheme costs O(n k) beyond its new
@@ -693,7 +762,7 @@ class SchemeSolver:
         if self.base is None:
             self._refactor(rel)
         b = self.base
-        idx = np.flatnonzero((rel.kind != b.kind) | (rel.couple != b.couple))
+        idx = _changed_rows(rel, b.rel)
         if idx.size > self.max_rank:
             self._refactor(rel)
             return self._plain(rel)

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK
-from stepcontact.enums import ContactState, SlipTreatment, Status
+from stepcontact.contact.laws import BONDED, OPEN, STICK
+from stepcontact.enums import SlipTreatment, Status, slipping, state_label
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, load_moments, load_resultants
 from stepcontact.model import DiscreteModel, Model
@@ -918,7 +918,7 @@ class StaticSolver:
             self.mechanism = {
                 "lam": lam, "segment": seg, "pattern": pattern, "bodies": bodies,
                 "n_open": int(np.sum(states == OPEN)),
-                "n_slip": int(np.sum((states == SLIP_POS) | (states == SLIP_NEG))),
+                "n_slip": int(np.sum(slipping(states))),
                 "n_cfe": self.cfe.m,
             }
             mult["equilibrium_lost"] = lam
@@ -938,7 +938,7 @@ class StaticSolver:
         self._lose_cohesion(new == OPEN)  # an opened joint has no residual cohesion
         switched = dec.switched
         if switched or first or fired.any() or (self.article and np.any(
-                (new == SLIP_POS) | (new == SLIP_NEG))):
+                slipping(new))):
             eng.snap()
         if self.article:
             ds, dw = eng.rates(new, forcing, article=True)
@@ -963,7 +963,7 @@ class StaticSolver:
             self._log_events(old, new, lam, seg, pattern, i, first=mult)
             info = StepInfo(self.step, seg, pattern, lam, len(self.rec.events),
                             int(np.sum(new == OPEN)),
-                            int(np.sum((new == SLIP_POS) | (new == SLIP_NEG))))
+                            int(np.sum(slipping(new))))
             for hk in self.hooks:
                 if hasattr(hk, "after_event"):
                     hk.after_event(info)
@@ -1002,12 +1002,11 @@ class StaticSolver:
         out = dec.outcome
         cfe = self.cfe
         L = out.cfes
-        label = {int(s): s.label for s in ContactState}
         self.rec.nonunique.append({
             "lam": lam, "segment": seg, "pattern": pattern,
             "cfes": [f"{cfe.names[cfe.interface[k]]}[{cfe.local[k]}]" for k in L],
-            "followed": [label[int(v)] for v in dec.new[L]],
-            "alternatives": [[label[int(v)] for v in alt] for alt in out.alternatives],
+            "followed": [state_label(v) for v in dec.new[L]],
+            "alternatives": [[state_label(v) for v in alt] for alt in out.alternatives],
             "why": out.method,
         })
 
