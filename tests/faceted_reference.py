@@ -178,7 +178,8 @@ def sweep(d, k_s: float, fN: float, k: int, angle: float = 0.0, x0=None) -> Path
     facet or vertex.  Same output as :func:`return_mapping`, and the events: ``path.events``,
     a list of (position, old code, new code), the position in steps (step j − 1 + the
     fraction of step j at which the state changed: with one step per leg of the driver, the
-    load factor within the leg)."""
+    load factor within the leg).  A state of no duration is no event of its own: a vertex
+    passed from one facet onto the next is one event, facet i → facet i + 1."""
     d = np.asarray(d, dtype=float)
     n = len(d) - 1
     th = facet_normal_angles(k, angle)
@@ -202,8 +203,11 @@ def sweep(d, k_s: float, fN: float, k: int, angle: float = 0.0, x0=None) -> Path
 
     def go(wh: str, i: int) -> tuple[str, int]:
         old, new = code_of(where, idx), code_of(wh, i)
+        at = step - 1 + 1.0 - rem
+        if events and events[-1][0] == at:  # a state of no duration (a vertex passed)
+            old = events.pop()[1]
         if new != old:
-            events.append((step - 1 + 1.0 - rem, old, new))
+            events.append((at, old, new))
         return wh, i
 
     for step in range(1, n + 1):
