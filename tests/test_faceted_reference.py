@@ -340,3 +340,20 @@ def test_sweep_events_at_the_closed_form_points():
                                       (fr.FACET_SLIP + 4, fr.VERTEX_SLIP + vminus)]
     np.testing.assert_allclose([e[0] for e in after], [1 + tH / A, 1 + s_b / A], rtol=1e-12)
     assert path.events[2] == (1.0, fr.VERTEX_SLIP + 0, fr.STICK)  # the reversal: stick
+
+
+def test_sweep_reports_a_vertex_passed_without_rest_as_one_event():
+    """Circular drive in the "pass" regime (k = 8, R = 2a, 64 straight legs per revolution):
+    after the first revolution Q goes round the polygon facet after facet without resting,
+    so every event is facet i → facet i + 1, one per 2π/k of driver angle (8 legs ± 1)."""
+    k, R = 8, 2.0 * A_
+    assert fr.circle_orbit(FN, k, KS, R).regime == "pass"
+    beta = 2.0 * np.pi * np.arange(3 * 64 + 1) / 64
+    path = fr.sweep(R * np.column_stack([np.cos(beta), np.sin(beta)]), KS, FN, k)
+    late = [e for e in path.events if e[0] > 64]
+    assert len(late) == 2 * k
+    for _pos, old, new in late:
+        assert fr.FACET_SLIP <= old < fr.VERTEX_SLIP and new == fr.FACET_SLIP + (
+            old - fr.FACET_SLIP + 1) % k
+    gaps = np.diff([e[0] for e in late])
+    assert np.all(np.abs(gaps - 64 / k) <= 1.0)
