@@ -82,6 +82,8 @@ class ContactElements:
         Direction of vertex 0 of each CFE's polygon, rad, from t₁ towards t₂ (0 in 2D).
     facet_stagger : bool
         Every other CFE's polygon (odd k) turned by π/k more (the law applies it).
+    facet_adaptive : bool
+        Each CFE's polygon turned at its first slip so that a vertex lies on its force.
     """
 
     names: tuple[str, ...]
@@ -106,6 +108,7 @@ class ContactElements:
     facets: int = 2
     facet_angle: np.ndarray | None = None
     facet_stagger: bool = False
+    facet_adaptive: bool = False
 
     def __post_init__(self):
         if self.cn is None:

@@ -38,6 +38,7 @@ def discrete_contact(dm: DiscreteModel) -> ContactElements:
         dm.friction.copy(), dm.gaps.copy(), dm.kn.copy(), dm.kt.copy(), dm.cn.copy(),
         dm.bond.copy(), n_t=dm.n_t, facets=dm.facets if dm.n_t > 1 else 2,
         facet_angle=dm.facet_angle.copy(), facet_stagger=dm.facet_stagger,
+        facet_adaptive=dm.facet_adaptive,
     )
 
 

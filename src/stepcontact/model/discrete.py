@@ -164,6 +164,9 @@ class DiscreteModel:
     facet_stagger : bool
         Turn every other CFE's polygon (the odd-numbered CFEs) by π/k more, so that
         neighbouring CFEs do not share their facet directions (3D only).
+    facet_adaptive : bool
+        Turn each CFE's polygon at its first slip so that a vertex lies on its tangential
+        force, the direction a cone would slip in (once, at that event; 3D only).
 
     In 3D (``tangent2_rows`` given) the faceted law does not yet take bonded joints
     (``bond``), contact-layer damping (``cn`` > 0) or a ground acceleration (``dof_axes``):
@@ -203,6 +206,7 @@ class DiscreteModel:
     facets: int = 8
     facet_angle: object = 0.0
     facet_stagger: bool = False
+    facet_adaptive: bool = False
 
     def __post_init__(self):
         put = object.__setattr__
@@ -327,14 +331,16 @@ class DiscreteModel:
         return 1 if self.tangent2_rows is None else 2
 
     def _facet_options(self, m: int) -> None:
-        """Check and store ``facets``, ``facet_angle`` (m,) and ``facet_stagger``."""
+        """Check and store ``facets``, ``facet_angle`` (m,), ``facet_stagger`` and
+        ``facet_adaptive``."""
         put = object.__setattr__
         k = self.facets
         if isinstance(k, bool) or not isinstance(k, int | np.integer):
             raise ModelError("facets", f"must be an integer number of facets, got {k!r}")
-        stagger = self.facet_stagger
-        if not isinstance(stagger, bool | np.bool_):
-            raise ModelError("facet_stagger", f"must be True or False, got {stagger!r}")
+        stagger, adaptive = self.facet_stagger, self.facet_adaptive
+        for item, flag in (("facet_stagger", stagger), ("facet_adaptive", adaptive)):
+            if not isinstance(flag, bool | np.bool_):
+                raise ModelError(item, f"must be True or False, got {flag!r}")
         try:
             angle = np.asarray(self.facet_angle, dtype=float)
         except (TypeError, ValueError):
@@ -349,7 +355,8 @@ class DiscreteModel:
             raise ModelError(f"facet_angle[{c}]", f"must be finite (rad), got {angle[c]}")
         if self.tangent2_rows is None:
             for item, bad in (("facets", int(k) != 8), ("facet_angle", np.any(angle != 0.0)),
-                              ("facet_stagger", bool(stagger))):
+                              ("facet_stagger", bool(stagger)),
+                              ("facet_adaptive", bool(adaptive))):
                 if bad:
                     raise ModelError(item, "a faceted cone needs two tangential directions "
                                      "(tangent2_rows); in 2D the friction limit has exactly "
@@ -360,6 +367,7 @@ class DiscreteModel:
         put(self, "facets", int(k))
         put(self, "facet_angle", angle)
         put(self, "facet_stagger", bool(stagger))
+        put(self, "facet_adaptive", bool(adaptive))
 
     def _refuse_3d(self, At: sp.csr_matrix, At2: sp.csr_matrix, frictional: np.ndarray) -> None:
         """What the faceted (3D) law does not take yet, and parallel tangent rows."""
