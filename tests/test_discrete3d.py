@@ -200,9 +200,6 @@ def test_the_solver_builds_the_faceted_law_from_the_options():
     np.testing.assert_array_equal(law.theta, [0.2, 0.2 + np.pi / 12, 0.2])
 
 
-@pytest.mark.xfail(strict=True, raises=ValueError, reason=(
-    "solver/staging.held_components slices the operator's rows as 2D ([T; A], zero[m:]): "
-    "with n_t = 2 its normal mask has 2m entries; to be fixed in solver/ (lead)"))
 def test_the_supports_held_components_in_3d():
     """CFE 1's rows touch only a fixed DOF: its normal and tangential components are held;
     the law is built with held masks of m entries."""
@@ -240,11 +237,6 @@ def _point_on_plane(legs, k: int, angle: float, ks: float, P: float, f: float):
         facets=k, facet_angle=angle)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the static driver does not run a 3D model yet: solver/staging.held_components slices "
-    "2D, FacetedCoulombLaw has no `residual` (static._lose_cohesion), and "
-    "solver/condensation.Condensed.layout infers n_t = 1 from G's size; with those three "
-    "fixed (tried in a scratch run) this test passes"))
 def test_static_runs_match_the_faceted_reference():
     """A point on a rough plane pulled by a spring along piecewise-linear driver paths
     (a line back and forth oblique to the facets, k = 8 and 5; a polygonal circle, k = 8,

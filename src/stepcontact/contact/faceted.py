@@ -107,6 +107,8 @@ class FacetedCoulombLaw:
         #: (K,) bool: the CFE's polygon was turned at its first slip (``adaptive``)
         self.oriented = np.zeros(K, bool)
         self.has_bond = np.zeros(K, bool)
+        #: no bonds and no residual cohesion on a faceted cone (yet): what drivers read
+        self.residual = np.zeros(K)
         self.cohesion_lost = np.zeros(K, bool)
         self.n_columns = self.k + 2
         self.column_kinds = np.r_[np.zeros(self.k + 1, int), 1]

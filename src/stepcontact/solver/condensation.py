@@ -435,8 +435,8 @@ class Condensed:
 
     @property
     def layout(self) -> ContactLayout:
-        """The layout of the contact unknowns (the rows of G)."""
-        return ContactLayout.of_size(self.G.shape[0])
+        """The layout of the contact unknowns (the rows of G): the system's."""
+        return self.system.layout
 
     @property
     def m(self) -> int:

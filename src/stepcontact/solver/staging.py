@@ -39,7 +39,8 @@ _DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
 
 def held_components(system: System) -> tuple[np.ndarray, np.ndarray]:
     """CFE components whose relative motion is held by supports on both ends (their row of
-    the contact operator on the free DOFs is zero): (normal (m,), tangential (m,)) masks."""
+    the contact operator on the free DOFs is zero): (normal (m,), tangential (m,)) masks; with
+    two tangential components a CFE is held tangentially when both are."""
     m = system.m
     if m == 0:
         return np.zeros(0, bool), np.zeros(0, bool)
@@ -49,7 +50,9 @@ def held_components(system: System) -> tuple[np.ndarray, np.ndarray]:
     Bf = B[:, np.flatnonzero(free)]
     on_free = np.sqrt(np.asarray(Bf.multiply(Bf).sum(axis=1)).ravel())
     zero = on_free <= 1e-12 * np.maximum(full, 1e-300)
-    return zero[m:], zero[:m]
+    lay = system.layout
+    held_t = zero[lay.tangential_rows]
+    return zero[lay.normal_rows], held_t if lay.n_t == 1 else held_t.all(axis=1)
 
 
 def in_stages(system: System) -> bool:
