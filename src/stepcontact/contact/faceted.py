@@ -179,14 +179,22 @@ class FacetedCoulombLaw:
     def slipping(states: np.ndarray) -> np.ndarray:
         return _slipping(states)
 
-    def state_options(self, j: int, normal_lim: bool, state: int) -> list[int]:
-        """Every state of CFE j (local): open (from its normal limit), closed, and where it is
-        frictional the slip on each facet and at each vertex."""
+    def state_options(self, j: int, normal_lim: bool, state: int, hint=None) -> list[int]:
+        """The states CFE j (local) may take where every scheme is tried: open (from its normal
+        limit), closed, and where it is frictional the slip states — with ``hint`` (its
+        tangential force rate in a stuck scheme, (2,)) the facet nearest that direction and
+        its two vertices (a slip follows the force; nothing else is tried), without it the
+        state it slips in now, if any, else every facet and vertex."""
         opts = ([OPEN] if normal_lim or state == OPEN else []) + [int(self.closed_state()[j])]
-        if self.frictional[j]:
-            opts += [FACET_SLIP + i for i in range(self.k)]
-            opts += [VERTEX_SLIP + i for i in range(self.k)]
-        return opts
+        if not self.frictional[j]:
+            return opts
+        if hint is not None and np.linalg.norm(hint) > 0:
+            i = int(np.argmax(self.D[j] @ np.asarray(hint, float)))
+            return opts + [FACET_SLIP + i, VERTEX_SLIP + i, VERTEX_SLIP + (i + 1) % self.k]
+        if state >= FACET_SLIP:
+            return opts + [int(state)]
+        return (opts + [FACET_SLIP + i for i in range(self.k)]
+                + [VERTEX_SLIP + i for i in range(self.k)])
 
     # ---- relations (eqs. (1), (11)) ---------------------------------------------------------
     def relations(self, states: np.ndarray, rel: Relations, m, article: bool = False) -> None:

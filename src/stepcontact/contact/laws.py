@@ -204,7 +204,7 @@ class ContactLaw(Protocol):
     def basis_options(self, kind, facet) -> list[list[int]]: ...
     def states_from_active(self, base, var_local, var_kind, active, z, facet=None
                            ) -> np.ndarray: ...
-    def state_options(self, j: int, normal_lim: bool, state: int) -> list[int]: ...
+    def state_options(self, j: int, normal_lim: bool, state: int, hint=None) -> list[int]: ...
     def consistent(self, trial, Q, dQ, dp, dun, dut, normal_lim, two_sided, rf, rw, *, p=None,
                    tf: float = 0.0) -> np.ndarray: ...
     def snap(self, states, Q, p, un): ...
@@ -579,10 +579,11 @@ class CoulombLaw:
             opts += [o, *(o + [i] for i in slips)]
         return opts
 
-    def state_options(self, j: int, normal_lim: bool, state: int) -> list[int]:
+    def state_options(self, j: int, normal_lim: bool, state: int, hint=None) -> list[int]:
         """The states CFE j (local) may take at a point where every scheme is tried: open (from
         its normal limit), closed, slip± where frictional; a bond holds (its break is the
-        driver's)."""
+        driver's).  (``hint``, the tangential force rate of a stuck scheme, is for the laws
+        with many slip states.)"""
         if state == BONDED:
             return [BONDED]
         opts = ([OPEN] if normal_lim or state == OPEN else []) + [int(self.closed_state()[j])]

@@ -286,6 +286,18 @@ class StaticResult:
         """Tangential contact stress Q_t/A_k with the tangential axis, (n_states, m, n_t), Pa."""
         return self.Q_t / self.cfe["area"][None, :, None]
 
+    @property
+    def cone_ratio(self) -> np.ndarray:
+        """The true-cone ratio |Q| / (f |N|) of every CFE at every state, (n_states, m): 1 on
+        the Coulomb cone; a faceted cone's polygon (3D, k facets) reaches it at its vertices
+        and cos(π/k) in its facets' middles, so a slipping CFE's ratio lies in
+        [cos(π/k), 1].  NaN where f |N| = 0 (open, or frictionless)."""
+        f = np.asarray(self.cfe.get("friction", np.full(self.Q_t.shape[1], np.nan)), float)
+        fN = f[None, :] * np.abs(np.asarray(self.N))
+        q = np.linalg.norm(self.Q_t, axis=2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(fN > 0, q / np.where(fN > 0, fN, 1.0), np.nan)
+
     def state_labels(self, i: int) -> list[str]:
         """What users see for the state of every CFE at state ``i`` (``"stick"``,
         ``"slip+"``, ``"slip (facet 3)"`` …: :func:`~stepcontact.enums.state_label`)."""

@@ -312,8 +312,18 @@ class EventEngine:
             return False
         rel = self.relations(states, article=False)
         A, scale = self.schemes.dense(rel)
-        f = lu(A)
-        Y = null_modes(A, f, trans=1, apply=self.schemes.exact_apply(rel, scale, trans=1))
+        if A.shape[0] <= SELF_STRESS_MAX and not self.schemes.shifted:
+            # the whole left null space from the SVD (inverse iteration on an LU finds one
+            # direction of a null space of several: the later pivots of a rank-deficient LU
+            # are round-off of any size)
+            import scipy.linalg as sla
+
+            U, sv, _ = sla.svd(A, check_finite=False)
+            tol = max(1e-10, 100 * np.finfo(float).eps) * max(float(sv[0]), 1e-300)
+            Y = U[:, sv <= tol]
+        else:
+            Y = null_modes(A, lu(A), trans=1,
+                           apply=self.schemes.exact_apply(rel, scale, trans=1))
         b = scale * scheme_rhs(self.schemes.d, rel, h, e, self.layout.zeros())
         # a row of A that is exactly zero has a huge scale: normalise before the norm (its
         # squares would overflow)

@@ -29,6 +29,7 @@ problem has no solution found, reported with the ray as certificate.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 from dataclasses import dataclass, field
 
@@ -42,6 +43,9 @@ from stepcontact.solver.schemes import MechanismError
 #: rate problems with at most this many CFEs (and 3 variables each) are checked for other
 #: solutions by enumeration when M is not positive definite (P-matrix: the answer is unique)
 ENUMERATE_CFES = 5
+#: … and with at most this many complementary bases in all (6⁵ = 7 776 in 2D: every 2D problem
+#: of ENUMERATE_CFES CFEs; a faceted cone's k facets give 2 (1 + 2k) bases per CFE)
+ENUMERATE_BASES = 8000
 
 
 class RateProblemFailure(Exception):
@@ -268,13 +272,24 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
     if len(L) > ENUMERATE_CFES:
         raise RateProblemFailure(Status.RATE_PROBLEM, L, "the stuck scheme of the point is "
                                  "singular but the load does no work on its free modes")
+    # the tangential force rates of the stuck scheme (its indeterminate part split by the
+    # CFEs' capacities): a faceted cone offers the slip states around their direction only
+    hint = None
+    if eng.layout.n_t > 1:
+        stuck = guess.copy()
+        for law in eng.laws:
+            inl = np.isin(law.cfes, L)
+            stuck[law.cfes[inl]] = law.base_state(stuck[law.cfes])[inl]
+        with contextlib.suppress(MechanismError):
+            hint = eng.layout.tangential(eng.rates_redundant(stuck, forcing)[0])
     options = []
     for k in cfes:
         law = next(lw for lw in eng.laws if k in lw.cfes)
         j = int(np.searchsorted(law.cfes, k))
         # (a closed CFE opens only from its normal limit, N = 0; a bond holds: its break is
         # the driver's)
-        options.append(law.state_options(j, bool(normal_lim[k]), int(guess[k])))
+        options.append(law.state_options(j, bool(normal_lim[k]), int(guess[k]),
+                                         hint=None if hint is None else hint[k]))
     driven = None
     # the schemes closest to the guess first (a non-unique point continues the current scheme
     # with the natural transitions where it can: a rigid body stuck on two corners whose
@@ -372,6 +387,8 @@ def _bases(eng, var: RateVariables) -> np.ndarray | None:
         law = next(lw for lw in eng.laws if k in lw.cfes)
         opts = law.basis_options(var.kind[idx], var.facet[idx])
         choices.append([[int(idx[i]) for i in o] for o in opts])
+    if np.prod([float(len(c)) for c in choices]) > ENUMERATE_BASES:
+        return None  # (a faceted cone's many facets: too many bases to try)
     rows = []
     for combo in itertools.product(*choices):
         b = np.zeros(len(var.cfe), bool)

@@ -298,14 +298,37 @@ def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
         if w[cp].any():
             a = a + w[cp]
         rows[cp] -= a.astype(dt)[:, None] * G[P]
-    return _equilibrate(rows)
+    return _equilibrate(rows, _force_size(rs, offs))
 
 
-def _equilibrate(rows: np.ndarray):
+#: a free row whose entries are all below this multiple of float64's eps times its force
+#: coefficients is round-off of a cancellation (e_j − d_j G_j with d_j G_j = e_j: the relation
+#: of a component that the structure's other rows determine, e.g. the normals of a rigid body
+#: on as many contacts as it has normal freedoms, K = 0): it is zero, not a row to equilibrate
+ZERO_ROW = 64 * np.finfo(np.float64).eps
+
+
+def _equilibrate(rows: np.ndarray, ref: np.ndarray):
+    """Rows divided by their largest entries (row scales returned); a row below
+    :data:`ZERO_ROW` of ``ref`` (the size of its force coefficients) is set to zero (its scale
+    1/ref): scaled up, its round-off would pass for a relation."""
     big = np.maximum(rows.max(axis=1, initial=0.0), -rows.min(axis=1, initial=0.0))
-    scale = 1.0 / np.maximum(big.astype(np.float64), 1e-300)
+    big = big.astype(np.float64)
+    noise = big <= ZERO_ROW * ref
+    if noise.any():
+        rows[noise] = 0.0
+        big = np.where(noise, ref, big)
+    scale = 1.0 / np.maximum(big, 1e-300)
     rows *= scale.astype(rows.dtype)[:, None]
     return rows, scale
+
+
+def _force_size(rs: np.ndarray, offs) -> np.ndarray:
+    """|S_jj| + Σ_c≠j |S_jc| of each row: the size of its force terms (0 for a FIXED row)."""
+    ref = np.abs(rs).astype(np.float64)
+    for s, _w, _col in offs:
+        ref = ref + np.abs(s)
+    return ref
 
 
 def _shifted_rows(M, d, idx, rs, rw, offs):
@@ -327,7 +350,7 @@ def _shifted_rows(M, d, idx, rs, rw, offs):
         rows[cp] -= a.astype(dt)[:, None] * M[P]
         if wc.any():
             rows[cp, P] -= (wc / d[P]).astype(dt)
-    return _equilibrate(rows)
+    return _equilibrate(rows, _force_size(rs, offs))
 
 
 def scheme_apply(d: np.ndarray, rel: Relations, scale: np.ndarray, t: np.ndarray,
@@ -773,7 +796,10 @@ class SchemeSolver:
         C[np.diag_indices_from(C)] += 1.0
         C_lu = lu(C)
         self.counters["scheme_updates"] += 1
-        if not rcond(C_lu, C) > self.rcond_update:
+        # (measured against ‖I‖ = 1 at least: C = I + V Z and det A = det A₀ det C, so a
+        # C far below the identity is singular even where it is 1 × 1 — whose own condition
+        # number is always 1)
+        if not rcond(C_lu, C, max(norm1(C), 1.0)) > self.rcond_update:
             # ill-conditioned update, possibly singular: a full factorisation of this scheme
             self._refactor(rel)
             return self._plain(rel)
