@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import math
 
-import faceted_reference as fr
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import faceted_reference as fr
 import stepcontact as sc
 from stepcontact.enums import FACET_SLIP, slipping
 
@@ -224,11 +224,13 @@ def test_degenerate_start_no_cycling_no_false_mechanism(k, theta, f, q, corners)
 
 
 def test_faceted_slip_states_are_named():
-    """The result names a faceted slip by its facet (enums.state_label) and its events are
-    'slip' transitions."""
+    """The result names a faceted slip by its facet (enums.state_label), its events are
+    'slip' transitions, and its message states the polygon's limit error."""
     res = sc.solve_static(pushed_point(8, 0.3))
     codes = np.asarray(res.state)[:, 0]
     assert np.any(codes >= FACET_SLIP)
     assert any(e.transition == sc.Transition.SLIP for e in res.events)
     labels = res.state_labels(int(np.flatnonzero(codes >= FACET_SLIP)[0]))
     assert labels[0].startswith("slip (")
+    # the polygon's limit error is stated: 1 − cos(π/8) = 7.61 %
+    assert "8-gon" in res.message and f"{100 * (1 - math.cos(math.pi / 8)):.3g} %" in res.message

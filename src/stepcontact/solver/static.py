@@ -1049,6 +1049,10 @@ class StaticSolver:
             "precision_bits": 8 * self.cond.G.dtype.itemsize,
         })
         status, message = self.status, self.message
+        if hasattr(self.law, "limit_error"):  # a faceted Coulomb cone (3D): state its error
+            message += (f"; friction cone as the inscribed {self.law.k}-gon: its limit is up to "
+                        f"{100 * self.law.limit_error:.3g} % below f|N| (1 − cos(π/k)), "
+                        "result.cone_ratio gives |Q| / (f|N|)")
         if partial:
             status = Status.INCOMPLETE
             message = (f"run in progress: reached λ = {r.lam.view[-1]:.10g} in segment "
