@@ -217,26 +217,6 @@ def test_the_supports_held_components_in_3d():
     np.testing.assert_array_equal(law.inert, [False, True, False])
 
 
-def _point_on_plane(legs, k: int, angle: float, ks: float, P: float, f: float):
-    """A point (u_x, u_y, u_z) on a rough plane (f), pressed by P, held by an isotropic
-    spring ks to a driver (d_x, d_y) that moves along ``legs`` (one prescribed pattern and
-    one segment per leg): tests/faceted_reference.py's problem as a 3D discrete model."""
-    K = np.zeros((5, 5))
-    for a, b in ((0, 3), (1, 4)):
-        K[a, a] += ks
-        K[b, b] += ks
-        K[a, b] -= ks
-        K[b, a] -= ks
-    K[2, 2] += 1e3
-    prescribed = {f"leg{i}": {"dx": dx, "dy": dy} for i, (dx, dy) in enumerate(legs)}
-    program = [sc.Segment("press", P)] + [sc.Segment(f"leg{i}", 1.0) for i in range(len(legs))]
-    return sc.DiscreteModel(
-        K=K, normal_rows=[[0, 0, 1, 0, 0]], tangent_rows=[[1, 0, 0, 0, 0]],
-        tangent2_rows=[[0, 1, 0, 0, 0]], friction=f, loads={"press": {"uz": -1.0}},
-        prescribed=prescribed, dof_names=("ux", "uy", "uz", "dx", "dy"), program=program,
-        facets=k, facet_angle=angle)
-
-
 def test_static_runs_match_the_faceted_reference():
     """A point on a rough plane pulled by a spring along piecewise-linear driver paths
     (a line back and forth oblique to the facets, k = 8 and 5; a polygonal circle, k = 8,
@@ -245,6 +225,7 @@ def test_static_runs_match_the_faceted_reference():
     its leg (1e-10; measured ≤ 3e-14 in the scratch run) with the same state code, and the
     force at every leg's end is the sweep's (1e-10 f|N|; measured 2e-15 N)."""
     import faceted_reference as fr
+    from test_faceted_cone import driven_point
 
     ks, P, f = 100.0, 10.0, 0.2
     fN, a = f * P, f * P / ks
@@ -259,7 +240,7 @@ def test_static_runs_match_the_faceted_reference():
     legs[0] = 0.0
     cases.append((8, 0.1, legs))
     for k, angle, steps in cases:
-        res = sc.solve_static(_point_on_plane(np.diff(steps, axis=0), k, angle, ks, P, f))
+        res = sc.solve_static(driven_point(steps, k, angle=angle, ks=ks, P=P, f=f))
         ref = fr.sweep(steps, ks, fN, k, angle)
         codes = np.asarray(res.state)[:, 0]
         ev = res.events_table()
