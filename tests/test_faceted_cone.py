@@ -234,3 +234,24 @@ def test_faceted_slip_states_are_named():
     assert labels[0].startswith("slip (")
     # the polygon's limit error is stated: 1 − cos(π/8) = 7.61 %
     assert "8-gon" in res.message and f"{100 * (1 - math.cos(math.pi / 8)):.3g} %" in res.message
+
+
+@pytest.mark.parametrize("theta", [0.3, 1.0, 2.5, 4.4])
+def test_adaptive_orientation_slips_on_the_cone(theta):
+    """``facet_adaptive``: at its first contact with the polygon the CFE's polygon turns so
+    that a vertex lies on its force; it then slips at the cone's limit f N in any direction
+    (1e-12) and slides exactly along the load (the vertex's normal cone holds the direction:
+    1e-12 rad)."""
+    res = sc.solve_static(pushed_point(8, theta).replace(facet_adaptive=True))
+    assert res.status == sc.Status.COMPLETED, res.message
+    assert res.multipliers[1].first_slip == pytest.approx(50.0, rel=1e-12)
+    u = np.asarray(res.ut_t)[-1, 0]
+    assert abs(math.remainder(math.atan2(u[1], u[0]) - theta, 2 * math.pi)) <= 1e-12
+    assert_admissible(res)
+
+
+def test_dynamics_in_3d_is_refused_by_name():
+    """A dynamic interval of a model with two tangential directions is refused with a
+    ModelError naming ``tangent2_rows`` (not a crash inside the solver)."""
+    with pytest.raises(sc.ModelError, match="tangent2_rows"):
+        sc.solve_dynamic(pushed_point(8, 0.3), dt=1e-3, duration=1e-2, mass=np.eye(3))

@@ -964,6 +964,10 @@ class _DynamicRun:
         components held by supports on both ends are inert (their supports carry them), and
         after stages the CFEs not active at the stage."""
         cfe = self.cfe
+        if self.system.layout.n_t > 1:
+            raise ModelError("tangent2_rows", "a dynamic interval with two tangential "
+                             "directions per contact (the faceted Coulomb cone) is not "
+                             "available yet: 3D contact runs in static load programs")
         plan, stage = self.staged
         _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage)
         self.bond_cols = bond_cols
