@@ -48,6 +48,9 @@ _INF = np.inf
 #: the self-stresses of a singular scheme are found (by an SVD, O((2m)³)) up to this many
 #: contact unknowns; beyond, a redundant scheme takes the minimum-norm rates
 SELF_STRESS_MAX = 2000
+#: a singular scheme that inverse iteration finds not driven is checked against its whole left
+#: null space (an SVD, O((2m)³)) up to this many contact unknowns
+DRIVES_SVD_MAX = 400
 
 
 @dataclass
@@ -312,24 +315,26 @@ class EventEngine:
             return False
         rel = self.relations(states, article=False)
         A, scale = self.schemes.dense(rel)
-        if A.shape[0] <= SELF_STRESS_MAX and not self.schemes.shifted:
-            # the whole left null space from the SVD (inverse iteration on an LU finds one
-            # direction of a null space of several: the later pivots of a rank-deficient LU
-            # are round-off of any size)
-            import scipy.linalg as sla
-
-            U, sv, _ = sla.svd(A, check_finite=False)
-            tol = max(1e-10, 100 * np.finfo(float).eps) * max(float(sv[0]), 1e-300)
-            Y = U[:, sv <= tol]
-        else:
-            Y = null_modes(A, lu(A), trans=1,
-                           apply=self.schemes.exact_apply(rel, scale, trans=1))
         b = scale * scheme_rhs(self.schemes.d, rel, h, e, self.layout.zeros())
         # a row of A that is exactly zero has a huge scale: normalise before the norm (its
         # squares would overflow)
         b = b / max(float(np.abs(b).max(initial=0)), 1e-300)
         bn = np.linalg.norm(b)
-        return bool(bn > 0 and np.abs(Y.T @ b).max(initial=0) > 1e-7 * bn)
+        if not bn > 0:
+            return False
+        Y = null_modes(A, lu(A), trans=1, apply=self.schemes.exact_apply(rel, scale, trans=1))
+        if np.abs(Y.T @ b).max(initial=0) > 1e-7 * bn:
+            return True
+        if A.shape[0] > DRIVES_SVD_MAX or self.schemes.shifted:
+            return False
+        # not driven along the directions inverse iteration found: it finds one direction of
+        # a null space of several (the later pivots of a rank-deficient LU are round-off of
+        # any size), so a small scheme is checked against its whole left null space (SVD)
+        import scipy.linalg as sla
+
+        U, sv, _ = sla.svd(A, check_finite=False)
+        tol = max(1e-10, 100 * np.finfo(float).eps) * max(float(sv[0]), 1e-300)
+        return bool(np.abs(U[:, sv <= tol].T @ b).max(initial=0) > 1e-7 * bn)
 
     # ---- event functions ----------------------------------------------------------------------
     def event_values(self, states, s, w, affine: bool = True) -> list[np.ndarray]:
