@@ -144,13 +144,6 @@ class ContactLayout:
         """The component (0 … n_t) of row j."""
         return np.asarray(j) // self.m
 
-    @cached_property
-    def partners(self) -> np.ndarray:
-        """:meth:`partner` of every row, (n,) (read-only)."""
-        P = self.partner(np.arange(self.n))
-        P.setflags(write=False)
-        return P
-
     def partner(self, j) -> np.ndarray:
         """The other component of row j's CFE in 2D (tangential k ↔ normal m + k), the one
         component a FREE relation row couples (slip: Q' = σ f p')."""

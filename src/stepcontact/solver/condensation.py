@@ -150,6 +150,8 @@ class Condensation:
     counters: dict[str, float] = field(default_factory=dict)
     #: row weights D of the shifted float32 form (None for float64 G)
     d: np.ndarray | None = None
+    #: tangential components per CFE of the contact unknowns (1 in 2D, 2 in 3D)
+    n_t: int = 1
 
     @classmethod
     def build(cls, A: sp.spmatrix, B: sp.spmatrix, backend: str = "auto", block: int = 256,
@@ -223,8 +225,8 @@ class Condensation:
 
     @property
     def layout(self) -> ContactLayout:
-        """The layout of the contact unknowns (the rows of G)."""
-        return ContactLayout.of_size(self.G.shape[0])
+        """The layout of the contact unknowns (the rows of G; ``n_t`` of the system)."""
+        return ContactLayout.of_size(self.G.shape[0], self.n_t)
 
     @property
     def m(self) -> int:
@@ -314,6 +316,7 @@ def _condense_operator(system: System, K0, Bf, d, backend: str,
     factor = factorize_checked(system, K0, free, backend, precision)
     t_factor = time.perf_counter() - t0
     c = Condensation.build(K0, Bf, backend, factor=factor, precision=precision, d=d)
+    c.n_t = system.layout.n_t
     c.counters["factor_seconds"] = t_factor
     return c
 
