@@ -18,29 +18,14 @@ import numpy as np
 from typer.testing import CliRunner
 
 import stepcontact as sc
+from model_toml import concrete_block
 from stepcontact.cli import app
 from stepcontact.io.modelfile import load_model
 
 runner = CliRunner()
 
-BRITTLE = """
-[model]
-name = "bonded block"
-
-[materials.concrete]
-E = 30e9
-nu = 0.2
-density = 2400
-
-[[bodies]]
-name = "block"
-kind = "rectangle"
-corner0 = [0.0, 0.0]
-corner1 = [2.0, 2.0]
-nx = 8
-ny = 8
-material = "concrete"
-
+BRITTLE = concrete_block("bonded block", material="concrete", corner1=(2.0, 2.0), nx=8,
+                         ny=8) + """
 [[obstacles]]
 name = "ground"
 points = [[-1.0, 0.0], [3.0, 0.0]]

@@ -26,6 +26,7 @@ from typer.testing import CliRunner
 
 import stepcontact as sc
 from cli_checks import assert_one_line_error
+from model_toml import concrete_block
 from stepcontact.cli.commands import app
 from stepcontact.enums import Status
 from stepcontact.errors import ModelError, StepContactError
@@ -194,24 +195,7 @@ def test_ground_acceleration_on_a_discrete_model_without_axes_is_refused():
                           floor_block()[0].dof_axes)
 
 
-CONTINUUM_BLOCK = """
-[model]
-name = "ground-block"
-
-[materials.c]
-E = 30e9
-nu = 0.2
-density = 2400
-
-[[bodies]]
-name = "block"
-kind = "rectangle"
-corner0 = [0.0, 0.0]
-corner1 = [1.0, 0.5]
-nx = 2
-ny = 1
-material = "c"
-
+CONTINUUM_BLOCK = concrete_block("ground-block") + """
 [node_sets.bottom]
 body = "block"
 y = 0.0

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import stepcontact as sc
+from model_toml import concrete_block
 from stepcontact.enums import Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.model.timefunction import Harmonic, Pulse, Tabulated
@@ -201,24 +202,7 @@ def test_a_dynamic_result_round_trips_through_the_result_file(tmp_path):
     assert [e.transition for e in back.events] == [e.transition for e in res.events]
 
 
-DYN_FILE = """
-[model]
-name = "dyn-block"
-
-[materials.c]
-E = 30e9
-nu = 0.2
-density = 2400
-
-[[bodies]]
-name = "block"
-kind = "rectangle"
-corner0 = [0.0, 0.0]
-corner1 = [1.0, 0.5]
-nx = 2
-ny = 1
-material = "c"
-
+DYN_FILE = concrete_block("dyn-block") + """
 [node_sets.bottom]
 body = "block"
 y = 0.0
