@@ -35,9 +35,11 @@ from stepcontact.results.result import load_result
 SRC = Path(sc.__file__).resolve().parents[1]
 DATA = Path(__file__).resolve().parents[1] / "examples" / "data"
 DEMO = (SRC / "stepcontact" / "data" / "demo.toml").read_text(encoding="utf-8")
-#: the demo block pushed to and fro below sliding: more cycles than any test waits for
+#: the demo block pushed to and fro below sliding: more cycles than any test waits for (about
+#: 50 s of run on an idle machine; every test stops it long before — with 400 cycles, 10 s, a
+#: loaded machine could see the run end before the signal was sent)
 CYCLIC = DEMO.replace('pattern = "push"\nend = 5.0',
-                      'pattern = "push"\namplitude = 2.4\ncycles = 400')
+                      'pattern = "push"\namplitude = 2.4\ncycles = 2000')
 W = 2400 * 9.81 * 2.0 * 1.0  # N, the block's weight (ρ g A, A = 2 m × 1 m)
 H = 1.0e4 * 1.0  # N per unit λ: the push, 10 kPa on the 1 m high left face
 runner = CliRunner()
