@@ -219,7 +219,7 @@ def test_checker_rejects_a_missing_citation():
     """An object whose docstring does not cite the equation is a problem (event_values cites
     (2), (3) and (12), not (5)); a module is judged by its own docstring (stepcontact.errors
     cites none); a method by its own, not its class's (CoulombLaw cites (1))."""
-    (problem,) = entry_problems(5, "stepcontact.contact.laws.CoulombLaw.event_values")
+    (problem,) = entry_problems(5, "stepcontact.contact.bond.BondedJointLaw.event_values")
     assert "does not cite eq. (5)" in problem and "(2), (3), (12)" in problem
     (problem,) = entry_problems(1, "stepcontact.errors")
     assert "does not cite eq. (1)" in problem

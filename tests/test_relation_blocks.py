@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from stepcontact.contact.bond import BondedJointLaw
 from stepcontact.contact.laws import (
     BONDED,
     CLOSED,
@@ -251,8 +252,8 @@ def test_coulomb_blocks_are_the_2d_relation_kinds():
     law = CoulombLaw(np.arange(m), [f, f, f, f, f, 0.0, f, f],
                      [inf, inf, kn, inf, kn, inf, inf, inf],
                      [inf, inf, kt, inf, kt, inf, inf, inf],
-                     held_normal=[False] * 7 + [True],
-                     bond=np.array([[np.nan] * 5] * 6 + [[1e3, 1e3, 0.5, 1.0, 0.0]] * 2))
+                     held_normal=[False] * 7 + [True])
+    law = BondedJointLaw(law, np.array([[np.nan] * 5] * 6 + [[1e3, 1e3, 0.5, 1.0, 0.0]] * 2))
     lay = ContactLayout(m)
     rel = Relations.empty(lay)
     law.relations(states, rel, lay)

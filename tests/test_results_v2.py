@@ -113,9 +113,10 @@ def test_a_3d_result_has_a_tangential_axis_in_the_layout_order(result3d):
     assert res.states_of(1) == [ContactState.STICK, FACET_SLIP + 3]
     ext = res.extremes().loc["Q"]  # |Q| largest: 8 N, state 2, CFE 0 component t2 (0·2 + 1)
     assert (ext["absmax"], ext["state"], ext["index"]) == (8.0, 2, 1)
-    # the event's vector and its magnitude (3-4-5 and 6-8-10 triangles)
-    assert res.events[0].Q_t == (1.5, 2.0) and res.events[0].Q == 2.5
-    assert res.events[1].Q == 10.0 and res.events[1].n_t == 2
+    # the event's vector (Q like result.Q: the components in 3D) and its magnitude (3-4-5
+    # and 6-8-10 triangles)
+    assert res.events[0].Q_t == res.events[0].Q == (1.5, 2.0) and res.events[0].Q_abs == 2.5
+    assert res.events[1].Q_abs == 10.0 and res.events[1].n_t == 2
 
 
 def test_a_3d_result_round_trips_through_the_result_file(result3d, tmp_path):
@@ -284,9 +285,9 @@ def test_a_3d_result_refuses_the_2d_joint_safety_by_name(result3d):
 
 
 def test_an_event_given_its_tangential_force_as_a_vector(result2d):
-    """Q given as the vector of components (any dimension): Q_t is it, Q its magnitude
-    (3-4-5) in 3D, the number itself in 2D."""
+    """Q given as the vector of components (any dimension): Q_t is it, Q the vector too in
+    3D (its magnitude Q_abs, 3-4-5), the number itself in 2D."""
     three = event(0, 1, np.array([-3.0, 4.0]), -10.0, Transition.SLIP)
-    assert three.Q_t == (-3.0, 4.0) and three.Q == 5.0
+    assert three.Q_t == three.Q == (-3.0, 4.0) and three.Q_abs == 5.0
     two = event(0, 1, np.array([-2.5]), -10.0, Transition.SLIP_NEG)
     assert two.Q_t == (-2.5,) and two.Q == -2.5 and isinstance(two.Q, float)

@@ -10,6 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from stepcontact.contact.bond import BondedJointLaw
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
 from stepcontact.enums import Transition
@@ -110,8 +111,8 @@ def test_a_bond_breaks_into_its_coulomb_state_and_drops_what_it_cannot_carry():
     opens and drops (Q, p) = (3, −2) N; CFE 1 pressed (p = 4 N) with Q = 5 N > f p = 2 N slips
     and drops Q − f p = 3 N; CFE 2 is not in ``brk`` and keeps its bond (hand calculation,
     exact in binary floating point)."""
-    law = CoulombLaw(np.arange(3), [0.5] * 3, [np.inf] * 3, [np.inf] * 3,
-                     bond=np.array([[10.0, 10.0, 0.0, 0.0]] * 3))
+    law = BondedJointLaw(CoulombLaw(np.arange(3), [0.5] * 3, [np.inf] * 3, [np.inf] * 3),
+                         np.array([[10.0, 10.0, 0.0, 0.0]] * 3))
     eng = _engine([3.0, 5.0, 1.0], [-2.0, 4.0, 1.0], [BONDED] * 3)
     rec = Recorder(eng.layout, 1, 0)
     first = {"first_slip": None, "first_opening": None, "first_closing": None}
@@ -130,8 +131,8 @@ def test_a_bond_breaks_into_its_coulomb_state_and_drops_what_it_cannot_carry():
 def test_a_bond_on_its_strength_surface_breaks_only_when_driven_beyond():
     """Q = Q_R = 10 N (on the shear facet Q_R − Q = 0): a rate dQ = +1 drives it beyond and
     breaks it, dQ = −1 does not; a bonded CFE among ``fired`` breaks whatever its rates."""
-    law = CoulombLaw(np.arange(1), [0.5], [np.inf], [np.inf],
-                     bond=np.array([[10.0, 10.0, 0.0, 0.0]]))
+    law = BondedJointLaw(CoulombLaw(np.arange(1), [0.5], [np.inf], [np.inf]),
+                         np.array([[10.0, 10.0, 0.0, 0.0]]))
     eng = _engine([10.0], [0.0], [BONDED])
     lay = eng.layout
     assert breaking(eng, law, lay.join(np.array([1.0]), np.array([0.0]))).tolist() == [True]

@@ -87,10 +87,10 @@ class Transition(StrEnum):
     def between(old: ContactState | int, new: ContactState | int) -> Transition:
         """The transition that takes a CFE from state code ``old`` to ``new`` (``old != new``;
         faceted-cone slip codes ≥ :data:`FACET_SLIP` included)."""
-        if int(new) >= FACET_SLIP:
-            return Transition.TURNED if int(old) >= FACET_SLIP else Transition.SLIP
         if old == ContactState.BONDED:
             return Transition.BROKEN
+        if int(new) >= FACET_SLIP:
+            return Transition.TURNED if int(old) >= FACET_SLIP else Transition.SLIP
         if new == ContactState.OPEN:
             return Transition.OPENED
         if old == ContactState.OPEN and new in (ContactState.STICK, ContactState.CLOSED):

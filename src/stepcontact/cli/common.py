@@ -160,7 +160,7 @@ def events_table(res: StaticResult, max_rows: int = TABLE_ROWS) -> Table:
             str(e.local),
             e.transition.value,
             _kN(e.N),
-            _kN(e.Q),
+            _kN(e.Q) if e.n_t == 1 else f"({', '.join(_kN(q) for q in e.Q_t)})",
             *((f"{e.impulse_n / 1e3:.4g}", f"{e.impulse_t / 1e3:.4g}") if impulses else ()),
         )
     return table

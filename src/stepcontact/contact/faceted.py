@@ -126,6 +126,69 @@ class FacetedCoulombLaw:
         phi = self.theta[local, None] + (2 * np.arange(self.k) + 1) * np.pi / self.k
         self.D[local] = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
 
+    def facet_normals(self) -> tuple[np.ndarray, float]:
+        """The facets' outward normals d (K, k, 2) and their distance factor c = cos(π/k): the
+        polygon is d_i · Q ≤ c f p (the directions a bond's strength surface is written in,
+        :class:`~stepcontact.contact.bond.BondedJointLaw`)."""
+        return self.D, float(np.cos(np.pi / self.k))
+
+    def vertices(self, p) -> np.ndarray:
+        """The polygon's vertices (K, k, 2) at compression p (K,): vertex i at f p on the
+        direction θ₀ + 2πi/k."""
+        phi = self.theta[:, None] + 2 * np.arange(self.k) * np.pi / self.k
+        return (self.f * p)[:, None, None] * np.stack([np.cos(phi), np.sin(phi)], axis=-1)
+
+    def _nearest(self, Q, p) -> tuple[np.ndarray, np.ndarray]:
+        """The point of each CFE's polygon nearest to Q (K, 2) and the slip state it lies on
+        (``FACET_SLIP + i`` on facet i, ``VERTEX_SLIP + i`` at vertex i; STICK where Q is
+        inside: the point is Q itself)."""
+        K = len(self.cfes)
+        g = self.margins(Q, p)
+        tol = 1e-12 * np.maximum(np.abs(self.f * p), np.linalg.norm(Q, axis=-1))
+        out = g.min(axis=1, initial=_INF) < -tol
+        x = np.array(Q, dtype=float, copy=True).reshape(K, 2)
+        state = np.full(K, STICK, dtype=np.int64)
+        if not out.any():
+            return x, state
+        # the foot of Q on each facet's line, and whether it lies on the facet
+        foot = Q[:, None, :] + g[:, :, None] * self.D  # (K, k, 2): Q − (d·Q − c f p) d
+        gf = self.mu[:, None, None] * p[:, None, None] - np.einsum("kij,klj->kli", self.D,
+                                                                   foot)
+        on = (g < -tol[:, None]) & (gf.min(axis=2) >= -tol[:, None])
+        face = out & on.any(axis=1)
+        i = np.argmax(np.where(on, -g, -_INF), axis=1)
+        x[face] = foot[face, i[face]]
+        state[face] = FACET_SLIP + i[face]
+        vert = out & ~face
+        if vert.any():
+            V = self.vertices(p)
+            j = np.argmin(np.linalg.norm(V - Q[:, None, :], axis=-1), axis=1)
+            x[vert] = V[vert, j[vert]]
+            state[vert] = VERTEX_SLIP + j[vert]
+        return x, state
+
+    def state_at(self, Q, p, tf: float = 0.0) -> np.ndarray:
+        """The state a CFE takes at forces (Q (K, 2), p) (a bond's break, eq. (12)): open where
+        it is in tension (p ≤ tf), closed where frictionless, stuck where Q is inside the
+        polygon, else slipping on the facet or at the vertex nearest to Q."""
+        Q = np.asarray(Q, dtype=float).reshape(len(self.cfes), 2)
+        st = np.where(self.frictional, self._nearest(Q, np.maximum(p, 0.0))[1], CLOSED)
+        return np.where(p <= tf, OPEN, st)
+
+    def released(self, states, Q, p) -> tuple[np.ndarray, np.ndarray]:
+        """The part (ΔQ (K, 2), Δp) of the forces (Q, p) that ``states`` cannot carry (open:
+        all of it; frictionless: Q; slipping: Q less its nearest point on the polygon): what
+        a broken bond (eq. (12)) releases."""
+        Q = np.asarray(Q, dtype=float).reshape(len(self.cfes), 2)
+        op = states == OPEN
+        dQ = np.zeros_like(Q)
+        sl = self.slipping(states) & ~op
+        if sl.any():
+            x, _ = self._nearest(Q, np.maximum(p, 0.0))
+            dQ[sl] = Q[sl] - x[sl]
+        dQ[op | (states == CLOSED)] = Q[op | (states == CLOSED)]
+        return dQ, np.where(op, p, 0.0)
+
     @property
     def limit_error(self) -> float:
         """1 − cos(π/k): the largest relative error of the polygon's limit against the cone."""
@@ -477,6 +540,15 @@ class FacetedCoulombLaw:
 
     def article_step(self, states, p, dp, eps_p: float) -> float:
         return _INF
+
+    # ---- the impulses of an impact -------------------------------------------------------------
+    @staticmethod
+    def impulse_pulls(states: np.ndarray) -> np.ndarray:
+        return np.zeros(len(states), bool)
+
+    def impulse_limit(self, states: np.ndarray, P: np.ndarray) -> np.ndarray:
+        """|T| ≤ f P (the cone's radius; dynamics on a faceted cone is not available yet)."""
+        return np.where(P > 0, self.f * P, 0.0)
 
     # ---- what the drivers ask of every law (no bonds, no cohesion on a faceted cone yet) ----
     def losing_cohesion(self, states, p, tf: float) -> np.ndarray:

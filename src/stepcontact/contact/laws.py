@@ -20,9 +20,10 @@ about load factors, time or matrices:
 * the **measure of violation** of its conditions at a state.
 
 The faceted form of friction: the Coulomb limit in 2D is two facets f p + C ∓ Q ≥ 0 (slip+ and
-slip−; C the residual cohesion of a broken bond, 0 for plain Coulomb contact); the strength
-surface of a bonded joint (eq. (12)) is four more facets in (N, Q), and a faceted cone in 3D a
-further law with more facets, added without touching the engine.
+slip−; C the residual cohesion of a broken bond, 0 for plain Coulomb contact); a faceted cone in
+3D is a further law with more facets (:mod:`stepcontact.contact.faceted`), and a bonded joint
+(eq. (12)) a sibling law whose strength surface is more facets
+(:mod:`stepcontact.contact.bond`), added without touching the engine.
 """
 
 from __future__ import annotations
@@ -39,7 +40,8 @@ OPEN, STICK, SLIP_POS, SLIP_NEG, CLOSED, BONDED = (int(s) for s in (
     ContactState.OPEN, ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG,
     ContactState.CLOSED, ContactState.BONDED))
 
-#: columns of a bond's strength (``bond`` of :class:`CoulombLaw`): N_R, Q_R (N), α_R,
+#: columns of a bond's strength (eq. (12); ``bond`` of
+#: :class:`~stepcontact.contact.bond.BondedJointLaw`): N_R, Q_R (N), α_R,
 #: 1/α_t (the slope of the tension facets; 0: a tension cut-off N ≤ N_R) and the residual
 #: cohesion C_r A (N) that the CFE keeps after the break, until it opens
 BOND_COLUMNS = ("tensile", "shear", "alpha", "inv_alpha_t", "residual_cohesion")
@@ -175,7 +177,10 @@ class ContactLaw(Protocol):
     """What the engine, the rate problem and the drivers ask a contact law (its CFEs ``cfes``
     and their state codes; the law alone knows what a state means).
 
-    * states: :meth:`closed_state`, :meth:`base_state`, :meth:`slipping`, :meth:`state_options`;
+    * states: :meth:`closed_state`, :meth:`base_state`, :meth:`slipping`, :meth:`state_options`,
+      and at given forces :meth:`state_at` with what that state cannot carry,
+      :meth:`released` (a bond's break, eq. (12)); the facet normals of the friction limit,
+      :meth:`facet_normals` (the directions a bond's strength surface is written in);
     * relations per state (eqs. (1), (11), (12)): :meth:`relations` writes the CFEs' blocks;
     * event functions (eqs. (2), (3), (12)): :meth:`event_values`, affine in (s, w), with
       ``column_kinds`` (0 a force, 1 a gap) and ``column_names``; :meth:`fire` the natural
@@ -183,7 +188,9 @@ class ContactLaw(Protocol):
     * the rate problem at a degenerate point: :meth:`limits`, :meth:`rate_variables` (vector
       effect and complement per variable), :meth:`active_for`, :meth:`basis_options`,
       :meth:`states_from_active`, :meth:`consistent`;
-    * corrections: :meth:`snap`, :meth:`violation`, :meth:`article_step`.
+    * corrections: :meth:`snap`, :meth:`violation`, :meth:`article_step`;
+    * the impulses of an impact: :meth:`impulse_pulls` (a normal impulse that may pull) and
+      :meth:`impulse_limit` (the bound of the tangential impulse).
     """
 
     cfes: np.ndarray
@@ -194,6 +201,9 @@ class ContactLaw(Protocol):
     def closed_state(self) -> np.ndarray: ...
     def base_state(self, states: np.ndarray) -> np.ndarray: ...
     def slipping(self, states: np.ndarray) -> np.ndarray: ...
+    def facet_normals(self) -> tuple[np.ndarray, float]: ...
+    def state_at(self, Q, p, tf: float = 0.0) -> np.ndarray: ...
+    def released(self, states, Q, p): ...
     def relations(self, states, rel: Relations, m, article: bool = False) -> None: ...
     def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray: ...
     def fire(self, states: np.ndarray, col: np.ndarray, Q=None) -> np.ndarray: ...
@@ -210,59 +220,48 @@ class ContactLaw(Protocol):
     def snap(self, states, Q, p, un): ...
     def violation(self, states, Q, p, un, F: float, W: float) -> float: ...
     def article_step(self, states, p, dp, eps_p: float) -> float: ...
+    def impulse_pulls(self, states: np.ndarray) -> np.ndarray: ...
+    def impulse_limit(self, states: np.ndarray, P: np.ndarray) -> np.ndarray: ...
 
 
 class CoulombLaw:
     """Unilateral contact with Coulomb friction, rigid or with a compliant layer (eqs. (1), (11)),
-    and joints with initial strength (eq. (12)) that break into it.
+    in 2D (one tangential component).  A joint with initial strength (eq. (12)) is the sibling
+    law :class:`~stepcontact.contact.bond.BondedJointLaw`, which hands its CFEs over to this one
+    when their bonds break.
 
     States: OPEN (S3c: N = Q = 0, u_n ≤ 0), STICK (S1c: closed, |Q| ≤ −f N, no slip),
     SLIP_POS / SLIP_NEG (S2c: Q = ∓ f N … written Q = σ f p), CLOSED for frictionless CFEs
-    (f = 0: closed, Q = 0; there is no stick or slip to tell apart), and BONDED (eq. (12)):
-    the bond is intact, the CFE carries tension and shear with no relative motion (or the
-    compliance of its layer), inside the strength surface
+    (f = 0: closed, Q = 0; there is no stick or slip to tell apart).
 
-        N + |Q| / α_t ≤ N_R  (tension facets),     |Q| ≤ Q_R − α_R N  (shear facets)
-
-    (N_R, Q_R the CFE's limit tensile and shear forces, N; the article's eq. (12) has
-    α_t = α_R, the Mohr–Coulomb form a tension cut-off, 1/α_t = 0).  Reaching the surface
-    breaks the bond: from then on the CFE is a Coulomb one with friction f (its target state
-    from :meth:`broken_state`; the driver releases the forces it can no longer carry,
-    :meth:`released`).
-
-    **Residual cohesion** (:data:`BOND_COLUMNS` ``residual_cohesion``, C = C_r A_k): a broken
-    bond may keep a cohesion, and its friction facets are then f p + C ∓ Q ≥ 0 (slip at
-    |Q| = f p + C; the slip relation's rate form Q' = σ f p' is unchanged).  The cohesion is
-    lost when the CFE opens (an opened joint has none): ``cohesion_lost`` (k,) bool is part of
-    the contact state, set by the driver (:meth:`lose_cohesion`; a closed CFE reaching p = 0
-    with cohesion, :meth:`losing_cohesion`, is handled like a break: the shear it carried is
-    released at the same load factor).  A CFE with f = 0 but C > 0 sticks and slips like a
-    frictional one until it loses C.
+    **Residual cohesion** (``cohesion``, C = C_r A_k; :data:`BOND_COLUMNS`
+    ``residual_cohesion`` of a broken bond): the friction facets are then f p + C ∓ Q ≥ 0
+    (slip at |Q| = f p + C; the slip relation's rate form Q' = σ f p' is unchanged).  The
+    cohesion is lost when the CFE opens (an opened joint has none): ``cohesion_lost`` (k,)
+    bool is part of the contact state, set by the driver (:meth:`lose_cohesion`; a closed CFE
+    reaching p = 0 with cohesion, :meth:`losing_cohesion`, is handled like a break: the shear
+    it carried is released at the same load factor).  A CFE with f = 0 but C > 0 sticks and
+    slips like a frictional one until it loses C.
 
     Event functions (columns), each ≥ 0 while the state holds:
 
     0. p = −N                (closed → open, eq. (3))
     1. f p + C − Q           (stick → slip+, eq. (2))
     2. f p + C + Q           (stick → slip−, eq. (2))
-    3. N_R + p − Q / α_t     (bonded → broken, tension facet, Q > 0; eq. (12))
-    4. N_R + p + Q / α_t     (bonded → broken, tension facet, Q < 0)
-    5. Q_R + α_R p − Q       (bonded → broken, shear facet, Q > 0)
-    6. Q_R + α_R p + Q       (bonded → broken, shear facet, Q < 0)
-    7. −u_n                  (open → closed, eq. (3))
+    3. −u_n                  (open → closed, eq. (3))
 
     Parameters
     ----------
     cfes : (k,) int
         Global indices of the CFEs governed by this law.
     friction, kn, kt : (k,) float
-        f, C_n, C_τ (N/m; ``inf`` for rigid contact) of those CFEs (f: after a bond broke).
+        f, C_n, C_τ (N/m; ``inf`` for rigid contact) of those CFEs.
     held_normal, held_tangent : (k,) bool, optional
         Components whose relative motion is held by supports on both sides (their row of the
         contact operator is zero): the supports carry that component.  A CFE held normally
         carries nothing (it stays OPEN); one held tangentially is frictionless.
-    bond : (k, 5) float, optional
-        The strength of bonded CFEs (:data:`BOND_COLUMNS`: N_R, Q_R in N, α_R, 1/α_t, C_r A in
-        N; four columns: no residual cohesion); rows of NaN for CFEs without a bond.
+    cohesion : (k,) float, optional
+        C (N), the residual cohesion of CFEs whose bond broke (0 or NaN: none).
 
     Two arrays that a driver may set between steps (zero by default, as in statics):
     ``offset`` (N), the closed compliant relation p = C_n u_n + offset, and ``surface`` (m),
@@ -272,14 +271,13 @@ class CoulombLaw:
     (:mod:`stepcontact.solver.dynamic`).
     """
 
-    n_columns = 8
+    n_columns = 4
     #: the event-function columns: 0 a force, 1 a gap (their tolerances and rate scales)
-    column_kinds = np.array([0, 0, 0, 0, 0, 0, 0, 1])
-    column_names = ("p", "slip+", "slip-", "tension+", "tension-", "shear+", "shear-", "gap")
-    #: the event-function columns of the bond's facets
-    BOND_FACETS = slice(3, 7)
+    column_kinds = np.array([0, 0, 0, 1])
+    column_names = ("p", "slip+", "slip-", "gap")
 
-    def __init__(self, cfes, friction, kn, kt, held_normal=None, held_tangent=None, bond=None):
+    def __init__(self, cfes, friction, kn, kt, held_normal=None, held_tangent=None,
+                 cohesion=None):
         self.cfes = np.asarray(cfes, dtype=np.int64)
         k = len(self.cfes)
         self.inert = np.zeros(k, bool) if held_normal is None else np.asarray(held_normal, bool)
@@ -291,12 +289,12 @@ class CoulombLaw:
         self.rigid_t = ~np.isfinite(self.kt)
         self.offset = np.zeros(k)
         self.surface = np.zeros(k)
-        b = np.full((k, 4), np.nan) if bond is None else np.asarray(bond, dtype=float)
-        self.has_bond = ~np.isnan(b[:, 0]) & ~self.inert
-        b = np.where(self.has_bond[:, None], b, 0.0)
-        self.NR, self.QR, self.alpha, self.iat = b[:, 0], b[:, 1], b[:, 2], b[:, 3]
+        #: no bonds in this law (a bonded joint is
+        #: :class:`~stepcontact.contact.bond.BondedJointLaw` over it): what drivers read
+        self.has_bond = np.zeros(k, bool)
         #: C_r A (N) of each CFE after its bond broke (0: none; held tangentially: none)
-        self.residual = b[:, 4].copy() if b.shape[1] > 4 else np.zeros(k)
+        self.residual = (np.zeros(k) if cohesion is None
+                         else np.nan_to_num(np.asarray(cohesion, dtype=float)).copy())
         self.residual[ht | self.inert] = 0.0
         #: (k,) bool, part of the contact state: the CFE opened after its bond broke and has
         #: no residual cohesion any more (set by the driver, :meth:`lose_cohesion`)
@@ -332,7 +330,7 @@ class CoulombLaw:
         open here and lose it (the driver releases the shear they carried)."""
         if not self._any_residual:
             return np.zeros(len(states), bool)
-        coulomb = (states != OPEN) & (states != BONDED) & ~self.inert
+        coulomb = (states != OPEN) & ~self.inert
         return coulomb & (self.cohesion > 0) & (p <= tf)
 
     def lose_cohesion(self, mask) -> None:
@@ -346,31 +344,29 @@ class CoulombLaw:
 
     def base_state(self, states: np.ndarray) -> np.ndarray:
         """The base scheme of the rate problem: every CFE closed and stuck (the state it
-        takes when it closes), bonded ones bonded."""
-        return np.where(states == BONDED, BONDED, self.closed_state())
+        takes when it closes)."""
+        return self.closed_state()
 
-    def initial_states(self, states: np.ndarray) -> np.ndarray:
-        """``states`` with the bonded CFEs BONDED (the start of a run)."""
-        return np.where(self.has_bond, BONDED, states)
+    @staticmethod
+    def initial_states(states: np.ndarray) -> np.ndarray:
+        """The states at the start of a run (unchanged: no bonds here)."""
+        return states
 
     @staticmethod
     def slipping(states: np.ndarray) -> np.ndarray:
         return (states == SLIP_POS) | (states == SLIP_NEG)
 
-    # ---- bonds (eq. (12)) ---------------------------------------------------------------------
-    def bond_values(self, Q, p, affine: bool = True) -> np.ndarray:
-        """The four facets' values (k, 4) of eq. (12) at forces (Q, p); rates with
-        ``affine=False``."""
-        NR = self.NR if affine else 0.0
-        QR = self.QR if affine else 0.0
-        return np.column_stack([NR + p - Q * self.iat, NR + p + Q * self.iat,
-                                QR + self.alpha * p - Q, QR + self.alpha * p + Q])
+    def facet_normals(self) -> tuple[np.ndarray, float]:
+        """The outward normals d (k, 2, 1) of the friction limit's two facets, +1 (slip+) and
+        −1 (slip−), and their distance factor c = 1: the limit is d · Q ≤ c (f p + C)."""
+        D = np.empty((len(self.cfes), 2, 1))
+        D[:, 0, 0], D[:, 1, 0] = 1.0, -1.0
+        return D, 1.0
 
-    def broken_state(self, Q, p, tf: float = 0.0) -> np.ndarray:
-        """The Coulomb state a CFE takes when its bond breaks at forces (Q, p) (eq. (12)
-        holds no more; eqs. (1), (11) from then on): open where it is in tension (p ≤ tf),
-        else stuck or slipping (|Q| > f p + C: in the direction of Q), or closed where it is
-        frictionless."""
+    def state_at(self, Q, p, tf: float = 0.0) -> np.ndarray:
+        """The state a CFE takes at forces (Q, p) (a bond's break, eq. (12); eqs. (1), (11)
+        from then on): open where it is in tension (p ≤ tf), else stuck or slipping
+        (|Q| > f p + C: in the direction of Q), or closed where it is frictionless."""
         slip = np.where(Q > 0, SLIP_POS, SLIP_NEG)
         closed = np.where(self.frictional,
                           np.where(np.abs(Q) > self.friction_limit(p) + tf, slip, STICK), CLOSED)
@@ -379,7 +375,8 @@ class CoulombLaw:
     def released(self, states, Q, p) -> tuple[np.ndarray, np.ndarray]:
         """The part (ΔQ, Δp) of the forces (Q, p) that the relations of Coulomb ``states``
         cannot carry (open: all of it; slipping: Q − σ (f p + C); frictionless: Q): what a
-        broken bond (eq. (12)) or a lost residual cohesion releases."""
+        broken bond (eq. (12), :class:`~stepcontact.contact.bond.BondedJointLaw`) or a lost
+        residual cohesion releases."""
         op = states == OPEN
         sig = np.where(states == SLIP_POS, 1.0, -1.0)
         dQ = np.where(op | (states == CLOSED), Q,
@@ -391,10 +388,9 @@ class CoulombLaw:
     def relations(self, states: np.ndarray, rel: Relations, m: int | ContactLayout,
                   article: bool = False) -> None:
         """Write the relation rows of this law's CFEs in ``states`` into ``rel``: the
-        working-scheme form of conditions (1), of the compliant layer (eq. (11)) and of an
-        intact bond (eq. (12)).
+        working-scheme form of conditions (1) and of the compliant layer (eq. (11)).
 
-        Open: both forces zero (FREE).  Stick and bonded: tangential fixed (or spring C_τ),
+        Open: both forces zero (FREE).  Stick: tangential fixed (or spring C_τ),
         normal fixed (or spring C_n).  Closed frictionless: Q = 0, normal as stick.  Slip
         (exact): Q' − σ f p' = 0 (the rate of Q = σ (f p + C)); slip (article, eqs. (4)–(6)):
         Q held during the step (FREE) and corrected afterwards by compensating forces.
@@ -404,7 +400,7 @@ class CoulombLaw:
         nt = rel.layout.n_t
         closed = (states != OPEN) & ~self.inert
         slipping = self.slipping(states) & closed
-        frictionless = closed & ~self.frictional & (states != BONDED)
+        frictionless = closed & ~self.frictional
         held_t = closed & ~slipping & ~frictionless  # fixed (rigid) or spring (compliant)
         sigma = np.where(states == SLIP_POS, 1.0, -1.0)
         couple = np.where(slipping & ~frictionless & (not article), -sigma * self.f, 0.0)
@@ -418,19 +414,17 @@ class CoulombLaw:
         rel.S[self.cfes] = S
         rel.W[self.cfes] = W
 
-    # ---- event functions (eqs. (2), (3), (12)) ------------------------------------------------
+    # ---- event functions (eqs. (2), (3)) --------------------------------------------------------
     def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray:
-        """φ (k, 8) of the CFEs in ``states`` (``+inf`` where a function does not apply):
-        the event functions of eqs. (2), (3) and (12) — columns 1, 2 stick → slip (eq. (2)),
-        0 and 7 contact → open and open → contact (eq. (3)), 3–6 the bond's facets (eq. (12));
-        the class docstring lists them.
+        """φ (k, 4) of the CFEs in ``states`` (``+inf`` where a function does not apply):
+        the event functions of eqs. (2), (3) — columns 1, 2 stick → slip (eq. (2)), 0 and 3
+        contact → open and open → contact (eq. (3)); the class docstring lists them.
 
         With ``affine=False`` the constant part is dropped, which turns values into rates
         when (Q, p, u_n) are rates: φ' = event_values(states, Q', p', u_n', affine=False).
         """
         k = len(states)
-        bonded = (states == BONDED) & ~self.inert
-        closed = (states != OPEN) & ~self.inert & ~bonded
+        closed = (states != OPEN) & ~self.inert
         stick = (states == STICK) & closed & self.frictional
         out = np.full((k, self.n_columns), _INF)
         out[closed, 0] = p[closed]
@@ -439,28 +433,25 @@ class CoulombLaw:
             fp = fp + self.cohesion[stick]
         out[stick, 1] = fp - Q[stick]
         out[stick, 2] = fp + Q[stick]
-        if bonded.any():
-            out[bonded, self.BOND_FACETS] = self.bond_values(Q, p, affine)[bonded]
         op = (states == OPEN) & ~self.inert
-        out[op, 7] = (self.surface[op] if affine else 0.0) - un[op]
+        out[op, 3] = (self.surface[op] if affine else 0.0) - un[op]
         return out
 
     def fire(self, states: np.ndarray, col: np.ndarray, Q=None) -> np.ndarray:
         """The natural transition of each CFE whose event function ``col`` reached zero
-        (col < 0: none).  A bond's facet (3–6) leaves the CFE BONDED here: the break, which
-        releases forces, is the driver's (:meth:`broken_state`, :meth:`released`)."""
+        (col < 0: none)."""
         new = states.copy()
         new = np.where(col == 0, OPEN, new)
         new = np.where(col == 1, SLIP_POS, new)
         new = np.where(col == 2, SLIP_NEG, new)
-        return np.where(col == 7, self.closed_state(), new)
+        return np.where(col == 3, self.closed_state(), new)
 
     # ---- the consistency check at a degenerate point ------------------------------------------
     def limits(self, states, Q, p, un, tf: float, tw: float):
         """Which CFEs sit at their normal limit (p = 0 closed, u_n = 0 open), and which are
         two-sided in friction as well (Q = 0 and f p + C = 0; at the normal limit without
-        cohesion).  A bonded CFE has neither."""
-        free = ~self.inert & (states != BONDED)
+        cohesion)."""
+        free = ~self.inert
         normal = np.where(states == OPEN, self.surface - un <= tw, p <= tf) & free
         if not self._any_residual:
             two_sided = normal | ((np.abs(Q) <= tf) & (self.f * p <= tf))
@@ -478,15 +469,10 @@ class CoulombLaw:
         return ((c <= 0) | self.slipping(states)
                 | (np.abs(Q) >= self.f * p + c - tf))
 
-    def breaking(self, states, Q, p, dQ, dp, tf: float, rf: float) -> np.ndarray:
-        """Bonded CFEs on their strength surface (a facet within ``tf``) that the rates
-        (dQ, dp) drive beyond it (rate below −``rf``): their bonds break here."""
-        bonded = (states == BONDED) & self.has_bond
-        if not bonded.any():
-            return bonded
-        phi = self.bond_values(Q, p)
-        dphi = self.bond_values(dQ, dp, affine=False)
-        return bonded & np.any((phi <= tf) & (dphi < -rf), axis=1)
+    @staticmethod
+    def breaking(states, Q, p, dQ, dp, tf: float, rf: float) -> np.ndarray:
+        """No bonds here (:class:`~stepcontact.contact.bond.BondedJointLaw` has them)."""
+        return np.zeros(len(states), bool)
 
     def consistent(self, trial, Q, dQ, dp, dun, dut, normal_lim, two_sided, rf, rw, *, p=None,
                    tf: float = 0.0):
@@ -525,9 +511,8 @@ class CoulombLaw:
         """Variables of the rate problem for the CFEs ``local`` (indices into this law's CFEs):
         an opening rate o ≥ 0 where the CFE is at its normal limit (complement p' ≥ 0), and
         slip rates a± ≥ 0 on the friction facets it touches (complement f p' ∓ Q' ≥ 0: the
-        rate of f p + C ∓ Q).  A bonded CFE has none (its bond breaks, a jump the driver
-        follows); with the normal forces ``p`` (tolerance ``tf``) a CFE with residual cohesion
-        has slip rates only where it is on a facet.
+        rate of f p + C ∓ Q); with the normal forces ``p`` (tolerance ``tf``) a CFE with
+        residual cohesion has slip rates only where it is on a facet.
 
         Their effect on the stuck base scheme enters through the right-hand side of the
         relations: rigid u_n' = −o, u_τ' = a⁺ − a⁻; compliant p' − C_n u_n' = C_n o,
@@ -536,7 +521,7 @@ class CoulombLaw:
         sigma = np.where(states == SLIP_NEG, -1.0,
                          np.where(states == SLIP_POS, 1.0, np.sign(Q)))[local]
         op = normal_lim[local]
-        fr = self.frictional[local] & (states[local] != BONDED)
+        fr = self.frictional[local]
         if self._any_residual and p is not None:
             fr &= self._at_friction(states, Q, p, tf)[local]
         both = fr & (two_sided[local] | (sigma == 0))
@@ -581,11 +566,8 @@ class CoulombLaw:
 
     def state_options(self, j: int, normal_lim: bool, state: int, hint=None) -> list[int]:
         """The states CFE j (local) may take at a point where every scheme is tried: open (from
-        its normal limit), closed, slip± where frictional; a bond holds (its break is the
-        driver's).  (``hint``, the tangential force rate of a stuck scheme, is for the laws
-        with many slip states.)"""
-        if state == BONDED:
-            return [BONDED]
+        its normal limit), closed, slip± where frictional.  (``hint``, the tangential force
+        rate of a stuck scheme, is for the laws with many slip states.)"""
         opts = ([OPEN] if normal_lim or state == OPEN else []) + [int(self.closed_state()[j])]
         if self.frictional[j]:
             opts += [SLIP_POS, SLIP_NEG]
@@ -617,10 +599,23 @@ class CoulombLaw:
         new[opened] = OPEN
         return new
 
+    # ---- the impulses of an impact (Newton's law with Coulomb friction) ----------------------
+    @staticmethod
+    def impulse_pulls(states: np.ndarray) -> np.ndarray:
+        """(k,) bool: CFEs whose normal impulse at an impact may pull (none: contact pushes)."""
+        return np.zeros(len(states), bool)
+
+    def impulse_limit(self, states: np.ndarray, P: np.ndarray) -> np.ndarray:
+        """The bound of each CFE's tangential impulse at an impact with normal impulses P
+        (k,), N·s: Coulomb's |T| ≤ f P where P > 0 (the impulse form of eq. (1): the impact's
+        forces are of unbounded size over no time, so a residual cohesion adds nothing);
+        0 where no tangential impulse acts."""
+        return np.where(P > 0, self.f * P, 0.0)
+
     # ---- corrections and violation ----------------------------------------------------------
     def snap(self, states, Q, p, un):
         """Right-hand side (r_τ, r_n) that moves the state onto the relations of ``states`` at
-        a fixed load: open → N = Q = 0; closed rigid (and bonded) → u_n = 0; compliant →
+        a fixed load: open → N = Q = 0; closed rigid → u_n = 0; compliant →
         p = C_n u_n; slipping → Q = σ (f p + C) (in article mode this is the compensating
         correction δQ of eq. (4), which the engine applies as the compensating forces of
         eq. (6)); closed frictionless → Q = 0."""
@@ -635,14 +630,12 @@ class CoulombLaw:
         return r_t, r_n
 
     def violation(self, states, Q, p, un, F: float, W: float) -> float:
-        """Largest relative violation of conditions (1) (and of the slip law, and of the
-        strength surface of bonded CFEs) at a state: forces relative to ``F``, displacements
-        relative to ``W``."""
+        """Largest relative violation of conditions (1) (and of the slip law) at a state:
+        forces relative to ``F``, displacements relative to ``W``."""
         if len(states) == 0:
             return 0.0
-        bonded = states == BONDED
         closed = (states != OPEN) & ~self.inert
-        coulomb = ~self.inert & ~bonded
+        coulomb = ~self.inert
         sig = np.where(states == SLIP_POS, 1.0, -1.0)
         lim = self.friction_limit(p, states)
         v = [
@@ -653,9 +646,6 @@ class CoulombLaw:
             np.where(coulomb, np.maximum(np.abs(Q) - lim, 0), 0) / F,  # |Q| ≤ f(−N) + C
             np.where(self.slipping(states) & closed, np.abs(Q - sig * lim), 0) / F,
         ]
-        if bonded.any():  # inside the strength surface (eq. (12))
-            v.append(np.where(bonded, np.maximum(-self.bond_values(Q, p).min(axis=1), 0),
-                              0) / F)
         return float(max(x.max(initial=0) for x in v))
 
 

@@ -168,9 +168,12 @@ class DiscreteModel:
         Turn each CFE's polygon at its first slip so that a vertex lies on its tangential
         force, the direction a cone would slip in (once, at that event; 3D only).
 
-    In 3D (``tangent2_rows`` given) the faceted law does not yet take bonded joints
-    (``bond``), contact-layer damping (``cn`` > 0) or a ground acceleration (``dof_axes``):
-    they are refused with a :class:`~stepcontact.errors.ModelError`.
+    In 3D (``tangent2_rows`` given) a bonded joint (``bond``, eq. (12)) has its strength
+    surface written on the cone's polygon (|Q| ≤ … becomes d_i · Q ≤ cos(π/k) …, the same
+    inner approximation as the friction limit) and breaks into the faceted Coulomb law; the
+    faceted law does not yet take a residual cohesion after the break, contact-layer damping
+    (``cn`` > 0) or a ground acceleration (``dof_axes``): they are refused with a
+    :class:`~stepcontact.errors.ModelError`.
 
     The CFEs carry no geometry: in the result their coordinates and normals are NaN, their
     position along the interface is their number within their name and their area is 1 (so
@@ -372,10 +375,10 @@ class DiscreteModel:
     def _refuse_3d(self, At: sp.csr_matrix, At2: sp.csr_matrix, frictional: np.ndarray) -> None:
         """What the faceted (3D) law does not take yet, and parallel tangent rows."""
         why = "is not available with two tangential directions (tangent2_rows) yet"
-        bonded = ~np.isnan(self.bond[:, 0])
-        if bonded.any():
-            raise ModelError(f"bond[{int(np.flatnonzero(bonded)[0])}]",
-                             f"a bonded joint (eq. (12)) {why}")
+        residual = np.nan_to_num(self.bond[:, 4]) > 0 if self.bond.shape[1] > 4 else []
+        if np.any(residual):
+            raise ModelError(f"bond[{int(np.flatnonzero(residual)[0])}]",
+                             f"a residual cohesion after a bond's break {why}")
         if np.any(self.cn > 0):
             raise ModelError(f"cn[{int(np.flatnonzero(self.cn > 0)[0])}]",
                              f"contact-layer damping {why}")

@@ -39,23 +39,25 @@ class Event:
     x, y : float
         Coordinates of the CFE's S+ end, m.
     transition : Transition
-    N, Q : float
-        Normal and tangential force at the event, N (N ≤ 0 compression).  Q is the signed
-        tangential force in 2D; with two tangential components (3D, n_t = 2) it is the
-        magnitude |Q| = ‖Q_t‖ ≥ 0 of the tangential force vector ``Q_t``.
+    N : float
+        Normal force at the event, N (N ≤ 0 compression).
+    Q : float, or tuple of float in 3D
+        Tangential force at the event, N, as ``result.Q`` holds it: the signed force along
+        t₁ in 2D (a number), the vector of its components along t₁, t₂ with two tangential
+        components (3D, n_t = 2; its magnitude is :attr:`Q_abs`).
     impulse_n, impulse_t : float
         Normal and tangential impulse of an impact on the CFE at the event (dynamics, rigid
         contact closing), N·s (per metre of thickness in plane strain), in the sign
         convention of N and Q (impulse_n ≤ 0 compressive); 0 at other events.
     Q_t : tuple of float
         The tangential force as a vector of its n_t components along the CFE's tangents
-        t₁[, t₂], N: ``(Q,)`` in 2D (filled in from ``Q`` when not given).  Given with two
-        components (or ``Q`` given as the vector, e.g. ``lay.tangential(s)[k]`` in any
-        dimension), ``Q`` is set to their magnitude.
+        t₁[, t₂], N, in every dimension: ``(Q,)`` in 2D (filled in from ``Q`` when not
+        given).  Given (or ``Q`` given as a vector, e.g. ``lay.tangential(s)[k]``), it sets
+        ``Q``.
 
-    ``Q`` stays a number (not a vector of n_t components) so that 2D event logs keep what
-    they print, compare and tabulate (``f"{e.Q:.3f}"``, a pandas column of numbers);
-    ``Q_t`` carries the tangential axis in every dimension.
+    ``Q`` has the shape of ``result.Q``'s entries: a number in 2D, so that 2D event logs keep
+    what they print, compare and tabulate (``f"{e.Q:.3f}"``, a pandas column of numbers),
+    and a vector in 3D; ``Q_t`` carries the tangential axis in every dimension.
     """
 
     step: int
@@ -71,7 +73,7 @@ class Event:
     y: float
     transition: Transition
     N: float
-    Q: float
+    Q: float | tuple[float, ...]
     impulse_n: float = 0.0
     impulse_t: float = 0.0
     Q_t: tuple[float, ...] | None = None
@@ -80,13 +82,17 @@ class Event:
         # Q_t from Q when not given: a number (2D), or Q given as the vector of n_t components
         q = np.ravel(self.Q if self.Q_t is None else self.Q_t).astype(float)
         object.__setattr__(self, "Q_t", tuple(q.tolist()))
-        if len(q) > 1 or np.ndim(self.Q):
-            object.__setattr__(self, "Q", float(np.hypot(*q)) if len(q) > 1 else float(q[0]))
+        object.__setattr__(self, "Q", tuple(q.tolist()) if len(q) > 1 else float(q[0]))
 
     @property
     def n_t(self) -> int:
         """Number of tangential components (1 in 2D, 2 in 3D)."""
         return len(self.Q_t)
+
+    @property
+    def Q_abs(self) -> float:
+        """|Q| = ‖Q_t‖, the magnitude of the tangential force, N (≥ 0)."""
+        return float(np.linalg.norm(self.Q_t))
 
 
 @dataclass(frozen=True)

@@ -440,6 +440,8 @@ def _event_vars(res: Result, dv: dict[str, Any]) -> None:
     """One ``event_*`` column per field of :class:`Event` (:data:`_EVENT_SPEC`)."""
     for name, (kind, units, long_name) in _EVENT_SPEC.items():
         vals = [getattr(e, name) for e in res.events]
+        if name == "Q" and res.n_t > 1:  # the vector is event_Q_t; Q its magnitude
+            vals = [e.Q_abs for e in res.events]
         if kind == "vector":  # (event, tangent)
             dv[f"event_{name}"] = _var(("event", "tangent"), np.array(
                 vals, dtype=np.float64).reshape(len(vals), res.n_t), units, long_name)

@@ -2,7 +2,8 @@
 the break itself — for the static and the dynamic driver alike.
 
 A bonded CFE carries tension and shear inside its strength surface, whose four facets are
-event functions of the law (:meth:`~stepcontact.contact.laws.CoulombLaw.bond_values`).  A bond
+event functions of the law
+(:meth:`~stepcontact.contact.bond.BondedJointLaw.bond_values`).  A bond
 breaks where the engine's path reaches a facet (the event fired) or where it sits on a facet
 and the rates of the scheme decided there drive it beyond (:func:`breaking`).  It then takes
 its Coulomb state (open in tension, else stuck or slipping) and drops the part of its forces
@@ -25,7 +26,7 @@ def breaking(eng, law, ds: np.ndarray, fired: np.ndarray | None = None) -> np.nd
     """(m,) bool: the bonds of the engine ``eng``'s CFEs that break at its current point —
     those on a facet of their strength surface (within the engine's force tolerance) that
     the rates ``ds`` of the scheme decided drive beyond it (rate below 1e3 rtol max|ds|,
-    :meth:`~stepcontact.contact.laws.CoulombLaw.breaking`), and the bonded CFEs among
+    :meth:`~stepcontact.contact.bond.BondedJointLaw.breaking`), and the bonded CFEs among
     ``fired`` (the events the engine met on its way here), if given."""
     tf, _ = eng.tolerances()
     rf = 1e3 * eng.rtol * max(float(np.abs(ds).max(initial=0)), 1e-300)
@@ -39,9 +40,9 @@ def breaking(eng, law, ds: np.ndarray, fired: np.ndarray | None = None) -> np.nd
 def break_bonds(eng, law, brk: np.ndarray, events: EventLog, first: dict,
                 **where) -> tuple[np.ndarray, np.ndarray]:
     """Break the bonds of the CFEs ``brk`` (m,) at the engine ``eng``'s current point: each
-    takes its Coulomb state (:meth:`~stepcontact.contact.laws.CoulombLaw.broken_state`: open
+    takes its Coulomb state (:meth:`~stepcontact.contact.bond.BondedJointLaw.broken_state`: open
     where p ≤ the force tolerance, else stuck or slipping) and drops the forces g that state
-    cannot carry (:meth:`~stepcontact.contact.laws.CoulombLaw.released`): the engine's forces
+    cannot carry (:meth:`~stepcontact.contact.bond.BondedJointLaw.released`): the engine's forces
     become s − g, its states the new ones.  A closed Coulomb CFE in ``brk`` that lost its
     residual cohesion at p = 0 opens the same way.
 
@@ -65,7 +66,8 @@ def break_bonds(eng, law, brk: np.ndarray, events: EventLog, first: dict,
         if first[key] is None and hit.any():
             first[key] = lam
     dQ, dp = law.released(new, Q, p)
-    g = lay.join(np.where(brk, dQ, 0.0), np.where(brk, dp, 0.0))
+    g = lay.join(np.where(brk.reshape((-1,) + (1,) * (np.ndim(dQ) - 1)), dQ, 0.0),
+                 np.where(brk, dp, 0.0))
     eng.s = s_before - g
     eng.states = new
     return g, s_before

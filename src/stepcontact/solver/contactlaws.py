@@ -15,9 +15,10 @@ import warnings
 
 import numpy as np
 
+from stepcontact.contact.bond import BondedJointLaw
 from stepcontact.contact.faceted import FacetedCoulombLaw
 from stepcontact.contact.laws import ContactLaw, CoulombLaw
-from stepcontact.errors import ContactHeldWarning
+from stepcontact.errors import ContactHeldWarning, ModelError
 from stepcontact.fem.assembly import System
 from stepcontact.solver.staging import held_components
 
@@ -46,11 +47,12 @@ def law_inputs(system: System, *, plan=None, stage: int | None = None,
 def contact_law(system: System, *, plan=None, stage: int | None = None, kn=None,
                 held_by_supports: bool = True, warn: bool = False) -> ContactLaw:
     """The contact law of the CFEs of ``system`` (:func:`law_inputs` for ``plan``, ``stage``
-    and ``held_by_supports``): :class:`~stepcontact.contact.laws.CoulombLaw` in 2D (with the
-    bonds of eq. (12)), :class:`~stepcontact.contact.faceted.FacetedCoulombLaw` for CFEs with
-    two tangential components (the system's ``cfe.facets``, ``facet_angle``,
-    ``facet_stagger``).  ``kn``: the law's normal stiffness C_n (m,), N/m (default the
-    CFEs' own ``cfe.kn``; infinite: rigid).  ``warn``: a
+    and ``held_by_supports``): :class:`~stepcontact.contact.laws.CoulombLaw` in 2D,
+    :class:`~stepcontact.contact.faceted.FacetedCoulombLaw` for CFEs with two tangential
+    components (the system's ``cfe.facets``, ``facet_angle``, ``facet_stagger``), under a
+    :class:`~stepcontact.contact.bond.BondedJointLaw` where CFEs are bonded (eq. (12); the
+    bond's residual cohesion is the Coulomb law's).  ``kn``: the law's normal stiffness
+    C_n (m,), N/m (default the CFEs' own ``cfe.kn``; infinite: rigid).  ``warn``: a
     :class:`~stepcontact.errors.ContactHeldWarning` names the active CFEs whose relative
     motion supports hold (they carry nothing in that component)."""
     cfe = system.cfe
@@ -63,12 +65,26 @@ def contact_law(system: System, *, plan=None, stage: int | None = None, kn=None,
             active = plan.active_cfes(stage)
             warn_held(cfe, held_n & active, held_t & active)
     kn = cfe.kn if kn is None else kn
+    m = cfe.m
+    bond = np.full((m, 4), np.nan) if bond is None else np.asarray(bond, dtype=float)
+    bonded = ~np.isnan(bond[:, 0])
+    cohesion = (np.where(bonded, np.nan_to_num(bond[:, 4]), 0.0) if bond.shape[1] > 4
+                else np.zeros(m))
     if system.layout.n_t > 1:  # two tangential components: Coulomb on a faceted cone
-        return FacetedCoulombLaw(np.arange(cfe.m), friction, kn, cfe.kt, facets=cfe.facets,
-                                 angle=cfe.facet_angle, stagger=cfe.facet_stagger,
-                                 adaptive=getattr(cfe, "facet_adaptive", False),
-                                 held_normal=held_n, held_tangent=held_t)
-    return CoulombLaw(np.arange(cfe.m), friction, kn, cfe.kt, held_n, held_t, bond=bond)
+        if np.any(cohesion > 0):
+            k = int(np.flatnonzero(cohesion > 0)[0])
+            raise ModelError(f"bond[{k}]", "a residual cohesion after the break is not "
+                             "available on a faceted cone (3D) yet; give none")
+        after = FacetedCoulombLaw(np.arange(m), friction, kn, cfe.kt, facets=cfe.facets,
+                                  angle=cfe.facet_angle, stagger=cfe.facet_stagger,
+                                  adaptive=getattr(cfe, "facet_adaptive", False),
+                                  held_normal=held_n, held_tangent=held_t)
+    else:
+        after = CoulombLaw(np.arange(m), friction, kn, cfe.kt, held_n, held_t,
+                           cohesion=cohesion)
+    if not bonded.any():
+        return after
+    return BondedJointLaw(after, bond)  # eq. (12): bonded until the break, then ``after``
 
 
 def warn_held(cfe, held_n: np.ndarray, held_t: np.ndarray) -> None:

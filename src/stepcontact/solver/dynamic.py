@@ -498,8 +498,7 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
 
 
 def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
-            e: float, friction: np.ndarray, bonded: np.ndarray | None = None,
-            bonded_t: np.ndarray | None = None, impulses: dict | None = None):
+            e: float, law, states: np.ndarray, impulses: dict | None = None):
     """Velocities after an impact (Newton's law): impulses P ≥ 0 on the normal rows of the
     CFEs ``cand`` (closing and already closed) such that each active one leaves with the
     normal velocity −e u̇_n⁻ (closing) or 0 (closed): M Δv = −B_nᵀ P, by an active set (an
@@ -507,10 +506,11 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     (:func:`_friction_impulse`).  Returns (velocities, slip direction per CFE of ``cand``
     after the impact, 0 where it sticks).
 
-    ``bonded``, ``bonded_t`` (m,) bool: CFEs whose bond is intact (eq. (12)) hold both ways
-    — their normal impulse may pull, and (``bonded_t``: rigid in shear) their tangential one
-    is not limited: a rigid bond carries an impact's impulse (its strength is checked on the
-    forces after it).
+    The contact law ``law`` (over all CFEs, in ``states`` before the impact) says which
+    normal impulses may pull (:meth:`~stepcontact.contact.bond.BondedJointLaw.impulse_pulls`:
+    an intact bond, eq. (12), holds both ways) and bounds the tangential ones
+    (:meth:`~stepcontact.contact.laws.CoulombLaw.impulse_limit`: f P, unbounded for a bond
+    rigid in shear — its strength is checked on the forces after the impact).
 
     ``impulses``: a dict that receives the impulses per CFE of ``cand``, N·s (per metre of
     thickness in plane strain), in the sign convention of the forces s = [Q; p]: ``"p"`` the
@@ -527,7 +527,7 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
     target = np.where(np.isin(cand, closing), -np.asarray(e) * wd, 0.0)  # (e: one, or per
     # CFE of cand)
     X, W = minv(rows_n)  # M⁻¹ Bᵀ, B M⁻¹ Bᵀ
-    bil = np.zeros(len(cand), bool) if bonded is None else np.asarray(bonded)[cand]
+    bil = law.impulse_pulls(states)[cand]
     active = (wd > 0) | bil  # approaching (or closed and pushed on; bonded: held)
     P = np.zeros(len(cand))
     for _ in range(2 * len(cand) + 1):
@@ -543,9 +543,11 @@ def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.nda
         active = (active & ~neg) | pen
     out = v.copy()
     out[free] = vf - X(P)
-    bil_t = np.zeros(len(cand), bool) if bonded_t is None else np.asarray(bonded_t)[cand]
+    P_all = np.zeros(len(states))
+    P_all[cand] = P
+    limit = law.impulse_limit(states, P_all)[cand]
     T = np.zeros(len(cand))
-    sig = _friction_impulse(system, cond, minv, out, cand, P, friction, bil_t, T)
+    sig = _friction_impulse(system, cond, minv, out, cand, limit, T)
     if impulses is not None:
         impulses["p"], impulses["Q"] = P.copy(), T
     return out, sig
@@ -584,27 +586,25 @@ def _rebounding(cond, lay: ContactLayout, v0: np.ndarray, v: np.ndarray, cand: n
     return cand[(wn < -tol) & (old[cand] != BONDED)]
 
 
-def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray, P: np.ndarray,
-                      friction: np.ndarray, bil: np.ndarray | None = None,
-                      T_out: np.ndarray | None = None) -> np.ndarray:
-    """Tangential impulses of an impact, consistent with Coulomb's law (|T| ≤ f P): each
-    CFE with a normal impulse P > 0 and rigid friction stops sliding if the impulse that
-    stops it is within f P, else slides on with T = f P against its slip; a bonded one
-    (``bil``, eq. (12)) stops whatever the impulse.  Changes ``v`` in
-    place; returns per CFE of ``cand`` the slip direction after the impact (0: stuck), and
-    writes the tangential impulses (N·s, the sign of Q) into ``T_out`` (len(cand),) if given."""
-    free = cond.free
+def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray,
+                      limit: np.ndarray, T_out: np.ndarray | None = None) -> np.ndarray:
+    """Tangential impulses of an impact within the law's bounds ``limit`` (per CFE of
+    ``cand``, N·s: f P by Coulomb's law, ``inf`` for a bond rigid in shear, 0 where none
+    acts): each CFE with a bound stops sliding if the impulse that stops it is within the
+    bound, else slides on with |T| at the bound against its slip.  Changes ``v`` in place;
+    returns per CFE of ``cand`` the slip direction after the impact (0: stuck), and writes
+    the tangential impulses (N·s, the sign of Q) into ``T_out`` (len(cand),) if given."""
     sig = np.zeros(len(cand))
-    bil = np.zeros(len(cand), bool) if bil is None else bil
-    k = np.flatnonzero(((P > 0) & (friction[cand] > 0)) | bil)
+    k = np.flatnonzero(limit > 0)
     if k.size == 0:
         return sig
+    limit = limit[k]
+    free = cond.free
     cfes = cand[k]
     rows = system.layout.tangential_rows[cfes]
     Bt = cond.Bf[rows]  # tangential rows
     X, W = minv(rows)
     wt = Bt @ v[free]
-    limit = np.where(bil[k], np.inf, friction[cfes] * np.abs(P[k]))
     T = np.zeros(len(k))
     sliding = np.zeros(len(k), bool)
     for _ in range(2 * len(k) + 1):
@@ -1903,8 +1903,8 @@ class _DynamicRun:
         got: dict = {}
         v_before = v_i
         e_k = _restitution_of(cond, self.layout, self.restitution, v_i, self.a, cand, self.dt0)
-        v_new, sig = _impact(self.system, cond, self.minv, v_i, cand, closing, e_k,
-                             law.f, old == BONDED, (old == BONDED) & law.rigid_t, got)
+        v_new, sig = _impact(self.system, cond, self.minv, v_i, cand, closing, e_k, law, old,
+                             got)
         self.ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
         v_i = v_new
         # a CFE still sliding after its impact slips on (with its velocity)
