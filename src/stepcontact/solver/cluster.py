@@ -172,8 +172,9 @@ class ColumnJob:
 
     def result(self) -> tuple[np.ndarray, dict[str, float]]:
         """G (2m × 2m, not yet symmetrised) and the job's counters: ``cluster_workers`` (of
-        the cluster), ``cluster_factorizations`` (workers that factorised A: one per worker
-        that got a block), ``cluster_blocks``, ``cluster_seconds`` (waiting for the blocks)."""
+        the cluster), ``cluster_workers_used`` (that solved a block), ``cluster_factorizations``
+        (of A on the workers: one per worker used), ``cluster_blocks``, ``cluster_seconds``
+        (waiting for the blocks)."""
         from distributed import as_completed
 
         t0 = time.perf_counter()
@@ -193,6 +194,7 @@ class ColumnJob:
                               f"failed on the cluster ({why})") from e
         counters = {"cluster_workers": self.workers,
                     "cluster_factorizations": sum(per_worker.values()),
+                    "cluster_workers_used": len(per_worker),
                     "cluster_blocks": len(self._futures),
                     "cluster_seconds": time.perf_counter() - t0}
         self.per_worker = per_worker
