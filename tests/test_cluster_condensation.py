@@ -120,8 +120,8 @@ def test_build_in_many_blocks(client, backend, n):
     assert err <= G_RTOL, err
     k = dist.counters
     assert k["cluster_blocks"] == len(cluster.blocks(Bf.shape[0], 2, 8))
-    assert k["cluster_blocks"] >= 2 * Bf.shape[0] // 8 // 2
-    assert k["cluster_factorizations"] == k["cluster_workers_used"] <= 2
+    assert k["cluster_blocks"] >= Bf.shape[0] / 8 and k["cluster_blocks"] > 2
+    assert k["cluster_factorizations"] == k["cluster_workers_used"] <= 2  # one per worker
     assert dist.factor.name == serial.factor.name
     assert not cluster._FACTORS
 
