@@ -86,13 +86,14 @@ class _TimeProgress:
 def _run_program(
     model: Model, *, slip: SlipTreatment, eps_p: float, max_events: int, progress_bar: bool,
     output: Path | ResultWriter | None = None, precision: str = "auto",
-    after_static: Any = None, stop: Any = None,
+    after_static: Any = None, stop: Any = None, scheduler: str | None = None,
 ) -> ProgramResult:
     """Run the whole program of the model (:func:`stepcontact.run`) with a progress bar on
     stderr: one unit per load segment, then the final dynamic interval in simulated time.
     ``after_static(res)``: called when the static program ends (its bar gone), before the
     final interval; ``stop``: a :class:`~stepcontact.io.interrupt.StopRequest` that SIGTERM
-    and Ctrl-C set during the final interval (polled before every step) instead of raising."""
+    and Ctrl-C set during the final interval (polled before every step) instead of raising;
+    ``scheduler``: a dask scheduler's address to form the condensed matrix G on."""
     from stepcontact.io.interrupt import signals_stop
     from stepcontact.solver.program import run as run_program
 
@@ -121,5 +122,5 @@ def _run_program(
 
         return run_program(model, slip=slip.value, eps_p=eps_p, max_events=max_events,
                            hooks=hooks, output=output, precision=precision,
-                           dynamic_hooks=dynamic_hooks, after_static=static_done,
-                           before_dynamics=dynamics_start)
+                           scheduler=scheduler, dynamic_hooks=dynamic_hooks,
+                           after_static=static_done, before_dynamics=dynamics_start)

@@ -165,13 +165,15 @@ def _analyse(
     console: Console,
     precision: str = "auto",
     writer: ResultWriter | None = None,
+    scheduler: str | None = None,
 ) -> dict[str, Any]:
     """Solve, report, write the result file and the figure; return the JSON summary.
 
     The arguments are checked before solving; warnings (an empty or zero load pattern,
     displacements larger than the model) go to stderr, one line each.  ``writer``: the
     :class:`~stepcontact.results.file.ResultWriter` of ``result_path`` (its interval and
-    attributes; default: one with the default interval).  The static program is reported,
+    attributes; default: one with the default interval); ``scheduler``: a dask scheduler's
+    address to form the condensed matrix G on.  The static program is reported,
     drawn and its stages' dynamic intervals written as soon as it ends, before the final
     dynamic interval runs."""
     from stepcontact.fem.loadcheck import zero_patterns
@@ -202,7 +204,8 @@ def _analyse(
     stop = StopRequest()
     out = _run_program(model, slip=slip, eps_p=eps_p, max_events=max_events,
                        progress_bar=not quiet and not as_json, output=writer,
-                       precision=precision, after_static=static_done, stop=stop)
+                       precision=precision, after_static=static_done, stop=stop,
+                       scheduler=scheduler)
     (summary,) = summaries
     if out.dynamic is not None:
         summary["dynamics"] = _final_dynamics(model, out.dynamic, stop,
@@ -348,6 +351,13 @@ def run(
     as_json: JsonOption = False,
     precision: PrecisionOption = Precision.AUTO,
     write_interval: WriteIntervalOption = DEFAULT_WRITE_INTERVAL,
+    scheduler: Annotated[
+        str | None,
+        typer.Option("--scheduler", metavar="ADDRESS", help="Form the condensed contact "
+                     "matrix G on a dask.distributed cluster: the scheduler's address, e.g. "
+                     "tcp://10.0.0.5:8786 (each worker factorises once and solves a share of "
+                     "G's columns; the same result). Default: in this process."),
+    ] = None,
 ) -> None:
     """Run the load program of a model file.
 
@@ -372,6 +382,8 @@ def run(
         stepcontact run dam.toml --slip article --eps-p 0.01
 
         stepcontact run dam.toml --json --quiet   # JSON summary only
+
+        stepcontact run dam.toml --scheduler tcp://10.0.0.5:8786   # G on a dask cluster
     """
     from stepcontact.io.atomic import output_lock
     from stepcontact.io.interrupt import Terminated, signals_interrupt
@@ -394,7 +406,7 @@ def run(
                     plot_path=None if no_plot else (plot or result_path.with_suffix(".png")),
                     lams=lam, slip=slip, eps_p=eps_p, max_events=max_events, quiet=quiet,
                     as_json=as_json, console=console, precision=precision.value,
-                    writer=writer)
+                    writer=writer, scheduler=scheduler)
     except Terminated as e:
         raise _interrupted(e, writer, as_json) from None
     except _Failure as e:

@@ -27,9 +27,11 @@ Friction, gaps, loads and the load program do not enter it, so runs that differ 
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -38,6 +40,7 @@ from stepcontact.contact.layout import ContactLayout
 from stepcontact.errors import ModelError, SolverError
 from stepcontact.fem.assembly import System
 from stepcontact.model import size as _size
+from stepcontact.solver.cluster import ColumnJob
 from stepcontact.solver.linalg import Factor, factorize
 
 #: share of the machine's physical memory that the dense contact matrices may take
@@ -156,7 +159,8 @@ class Condensation:
     @classmethod
     def build(cls, A: sp.spmatrix, B: sp.spmatrix, backend: str = "auto", block: int = 256,
               factor: Factor | None = None, memory_limit: float | None = None,
-              precision: str = "auto", d: np.ndarray | None = None) -> Condensation:
+              precision: str = "auto", d: np.ndarray | None = None,
+              scheduler: Any = None, columns: ColumnJob | None = None) -> Condensation:
         """Factorise A (unless ``factor`` is given) with the DOFs that B touches ordered last,
         and read G off the trailing block of the factors (``Factor.condensed``, see
         :mod:`stepcontact.solver.linalg`) — or, for a backend without it or when that route
@@ -165,7 +169,13 @@ class Condensation:
         ``precision`` (:func:`dense_precision`): ``auto`` keeps G in float64 while the dense
         work fits in ``memory_limit`` bytes (default: half the physical memory), float32
         beyond; too many contact unknowns for either is a :class:`SolverError` raised before
-        any work.  Float32 holds D G − I (``d``: D's diagonal, default ones)."""
+        any work.  Float32 holds D G − I (``d``: D's diagonal, default ones).
+
+        ``scheduler``: a dask scheduler's address (``tcp://HOST:PORT``) or a
+        ``distributed.Client``: G's column blocks are solved on that cluster, each worker
+        factorising A once (:mod:`stepcontact.solver.cluster`), while A is factorised here for
+        the solves of the runs; G equals the serial one to round-off.  ``columns``: such a job
+        already submitted (:class:`~stepcontact.solver.cluster.ColumnJob`)."""
         t0 = time.perf_counter()
         A = sp.csc_matrix(A)
         B = sp.csr_matrix(B)
@@ -173,14 +183,35 @@ class Condensation:
         shifted = dtype != np.float64
         if shifted:
             d = np.ones(B.shape[0]) if d is None else np.asarray(d, dtype=float)
-        if factor is None:
-            last = contact_dofs(B)
-            factor = factorize(A, backend, last=last if schur_pays(A.shape[0], len(last),
-                                                                     B.shape[0]) else None)
-        t1 = time.perf_counter()
+        fingerprint = _fingerprint(A, B)
+        with contextlib.ExitStack() as own:
+            if columns is None and scheduler is not None and B.shape[0]:
+                columns = own.enter_context(ColumnJob(scheduler, A, B, fingerprint, backend,
+                                                      dtype, d if shifted else None, block))
+            if factor is None:
+                last = contact_dofs(B)
+                schur = columns is None and schur_pays(A.shape[0], len(last), B.shape[0])
+                factor = factorize(A, backend, last=last if schur else None)
+            t1 = time.perf_counter()
+            G, counters = cls._form(A, B, factor, dtype, d, block, columns)
+        counters.update({"factorizations": 1, "factor_seconds": t1 - t0,
+                         "condense_seconds": time.perf_counter() - t1})
+        return cls(A, B, factor, G, fingerprint, counters, d if shifted else None)
+
+    @staticmethod
+    def _form(A: sp.csc_matrix, B: sp.csr_matrix, factor: Factor, dtype: np.dtype,
+              d: np.ndarray | None, block: int,
+              columns: ColumnJob | None) -> tuple[np.ndarray, dict[str, float]]:
+        """G (float64, symmetrised) or D G − I (float32) from the cluster's ``columns``, the
+        factors' trailing block, or blocks of ``block`` solves; with its counters."""
         n2m = B.shape[0]
+        shifted = dtype != np.float64
+        extra: dict[str, float] = {}
         can = getattr(factor, "can_condense", lambda B: True)
-        if hasattr(factor, "condensed") and can(B):  # Schur complement: no solve per row of B
+        if columns is not None:  # on a cluster: the serial blocked route's arithmetic
+            G, extra = columns.result()
+            solves = n2m
+        elif hasattr(factor, "condensed") and can(B):  # Schur complement: no solve per row
             G = np.asarray(factor.condensed(B), dtype=float)
             if shifted:
                 _symmetrise(G)
@@ -201,9 +232,7 @@ class Condensation:
             solves = n2m
         if not shifted:
             _symmetrise(G)
-        counters = {"factorizations": 1, "solves": solves, "condensed_columns": solves,
-                    "factor_seconds": t1 - t0, "condense_seconds": time.perf_counter() - t1}
-        return cls(A, B, factor, G, _fingerprint(A, B), counters, d if shifted else None)
+        return G, {"solves": solves, "condensed_columns": solves, **extra}
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         """A⁻¹ b for a vector or a block of right-hand sides."""
@@ -296,42 +325,65 @@ def static_operator(system: System):
     return K0, Bf, d, free, presc, Kff, Kfp, Bp, K
 
 
-def condense(model, backend: str = "auto", precision: str = "auto") -> Condensation:
+def condense(model, backend: str = "auto", precision: str = "auto",
+             scheduler: Any = None) -> Condensation:
     """The reusable condensation of a model (or assembled system) for the static solver:
     K₀ factorised once and G = B_f K₀⁻¹ B_fᵀ (in ``precision``: :func:`dense_precision`).
     Pass it to :func:`solve_static` for every run that differs only in friction, gaps, loads
-    or load program."""
+    or load program.
+
+    ``scheduler``: a dask scheduler's address (``"tcp://10.0.0.5:8786"``) or a
+    ``distributed.Client``: G is formed on that cluster by column blocks, one factorisation
+    per worker (:mod:`stepcontact.solver.cluster`); the same G to round-off.  Default: here.
+
+    Example
+    -------
+    >>> with distributed.LocalCluster(n_workers=2) as cl, distributed.Client(cl) as client:
+    ...     c = sc.condense(model, scheduler=client)                     # doctest: +SKIP
+    """
     from stepcontact.fem.assembly import assemble
 
     system = model if isinstance(model, System) else assemble(model)
     K0, Bf, d, *_ = static_operator(system)
-    return _condense_operator(system, K0, Bf, d, backend, precision)
+    return _condense_operator(system, K0, Bf, d, backend, precision, scheduler)
 
 
-def _condense_operator(system: System, K0, Bf, d, backend: str,
-                       precision: str) -> Condensation:
-    """:func:`condense` from the pieces of :func:`static_operator` already at hand."""
+def _condense_operator(system: System, K0, Bf, d, backend: str, precision: str,
+                       scheduler: Any = None) -> Condensation:
+    """:func:`condense` from the pieces of :func:`static_operator` already at hand.  On a
+    cluster (``scheduler``) the column blocks are submitted first, so that the workers solve
+    while K₀ is factorised (and checked) here."""
     free = np.flatnonzero(~system.fixed)
-    t0 = time.perf_counter()
-    factor = factorize_checked(system, K0, free, backend, precision)
-    t_factor = time.perf_counter() - t0
-    c = Condensation.build(K0, Bf, backend, factor=factor, precision=precision, d=d)
+    with contextlib.ExitStack() as own:
+        columns = None
+        if scheduler is not None and Bf.shape[0]:
+            dtype = dense_precision(Bf.shape[0], precision)  # (refused before any work)
+            columns = own.enter_context(ColumnJob(
+                scheduler, sp.csc_matrix(K0), sp.csr_matrix(Bf), _fingerprint(K0, Bf),
+                backend, dtype, None if dtype == np.float64 else np.asarray(d, float)))
+        t0 = time.perf_counter()
+        factor = factorize_checked(system, K0, free, backend, precision,
+                                   schur=columns is None)
+        t_factor = time.perf_counter() - t0
+        c = Condensation.build(K0, Bf, backend, factor=factor, precision=precision, d=d,
+                               columns=columns)
     c.n_t = system.layout.n_t
     c.counters["factor_seconds"] = t_factor
     return c
 
 
 def factorize_checked(system: System, K0, free, backend: str,
-                      precision: str = "auto") -> Factor:
+                      precision: str = "auto", schur: bool = True) -> Factor:
     """Factorise K₀ and make sure the structure with every CFE stuck is not a mechanism (one
-    diagnosis naming the free bodies, whether the factorisation met a zero pivot or not)."""
+    diagnosis naming the free bodies, whether the factorisation met a zero pivot or not).
+    ``schur``: order the contact DOFs last when G is cheaper read off the factors
+    (:func:`schur_pays`); False when G is formed elsewhere (on a cluster)."""
     from stepcontact.solver.regularity import factorize_regular
 
     check_dense_memory(system.layout.n, precision=precision)
     last = contact_dofs(system.B[:, free])
-    return factorize_regular(system, K0, free, backend,
-                             last=last if schur_pays(len(free), len(last), system.layout.n)
-                             else None)
+    schur = schur and schur_pays(len(free), len(last), system.layout.n)
+    return factorize_regular(system, K0, free, backend, last=last if schur else None)
 
 
 def stabilisation(Kff: sp.spmatrix, Bf: sp.spmatrix) -> np.ndarray:
@@ -372,13 +424,15 @@ class Condensed:
     @classmethod
     def from_system(cls, system: System, backend: str = "auto",
                     condensation: Condensation | None = None,
-                    precision: str = "auto") -> Condensed:
-        """Condense ``system`` (one factorisation; G read off it or by 2m block solves), or
-        reuse ``condensation`` when it was built for the same K₀ and B (checked)."""
+                    precision: str = "auto", scheduler: Any = None) -> Condensed:
+        """Condense ``system`` (one factorisation; G read off it or by 2m block solves, or on
+        the dask cluster ``scheduler``), or reuse ``condensation`` when it was built for the
+        same K₀ and B (checked)."""
         K0, Bf, d, free, presc, Kff, Kfp, Bp, K = static_operator(system)
         del Kff  # K_ff u = K₀ u − B_fᵀ D B_f u: K₀ (held by the condensation) serves
         if condensation is None:
-            condensation = _condense_operator(system, K0, Bf, d, backend, precision)
+            condensation = _condense_operator(system, K0, Bf, d, backend, precision,
+                                              scheduler)
             reused = 0
         else:
             if condensation.fingerprint != _fingerprint(K0, Bf):

@@ -318,6 +318,7 @@ def run(
     rate_solver: str | None = None,
     precision: str = "auto",
     condensation: Condensation | None = None,
+    scheduler=None,
     output=None,
     hooks: Sequence = (),
     dynamic_hooks: Sequence = (),
@@ -341,8 +342,9 @@ def run(
     ----------
     model : Model, DiscreteModel or System
         The model (assembled by each driver) or an assembled system.
-    slip, eps_p, max_events, store_fields, backend, rate_solver, precision, condensation
-        The static driver's options (:func:`~stepcontact.solver.static.solve_static`):
+    slip, eps_p, max_events, store_fields, backend, rate_solver, precision, condensation, scheduler
+        The static driver's options (:func:`~stepcontact.solver.static.solve_static`;
+        ``scheduler``: form G on a dask.distributed cluster):
         ``eps_p`` is eq. (5)'s ε_p (dimensionless), ``max_events`` the event budget of the
         static program; ``store_fields``, ``backend``, ``rate_solver`` and ``condensation``
         left at None take the driver's defaults (``ends``, ``auto``, ``pivoting``, none).
@@ -378,7 +380,8 @@ def run(
     """
     check_dynamic_mass(model)
     given = {k: v for k, v in (("store_fields", store_fields), ("backend", backend),
-                               ("rate_solver", rate_solver), ("condensation", condensation))
+                               ("rate_solver", rate_solver), ("condensation", condensation),
+                               ("scheduler", scheduler))
              if v is not None}  # (the others: the driver's defaults)
     static = _static.solve_static(model, slip=slip, eps_p=eps_p, max_events=max_events,
                                   hooks=hooks, output=output, precision=precision, **given)

@@ -91,12 +91,15 @@ class StaticSolver:
         rate_solver: str = "pivoting",
         condensation: Condensation | None = None,
         precision: str = "auto",
+        scheduler=None,
     ):
         #: construction stages (:mod:`stepcontact.solver.staging`): the stage systems, the
         #: automatic patterns and segments; None without stages
         self.plan = None
         self.stage = 0
         self.backend, self.precision = backend, precision
+        #: where G is formed: None (here) or a dask scheduler's address or Client
+        self.scheduler = scheduler
         if getattr(system.model, "stages", ()) and system.discrete is None:
             from stepcontact.solver.staging import StagePlan
 
@@ -124,7 +127,8 @@ class StaticSolver:
         self.max_events = max_events
         self.hooks = tuple(hooks)
         t0 = time.perf_counter()
-        self.cond = Condensed.from_system(system, backend, condensation, precision)
+        self.cond = Condensed.from_system(system, backend, condensation, precision,
+                                          scheduler)
         self.t_setup = time.perf_counter() - t0
         cfe = self.cfe
         #: the layout of the contact unknowns s = [Q; p], w = [u_τ; u_n] (the same at every
@@ -238,7 +242,8 @@ class StaticSolver:
         self.stage = k
         system = plan.system(k)
         self.sys = system
-        self.cond = Condensed.from_system(system, self.backend, None, self.precision)
+        self.cond = Condensed.from_system(system, self.backend, None, self.precision,
+                                          self.scheduler)
         lost = self.law.cohesion_lost & ~grouted  # (a grouted joint has its cohesion again)
         self._cohesion_lost_at[grouted] = -1
         self.law = contact_law(system, plan=plan, stage=k)
@@ -1093,6 +1098,7 @@ def solve_static(
     condensation: Condensation | None = None,
     precision: str = "auto",
     output=None,
+    scheduler=None,
 ) -> StaticResult:
     """Trace the exact quasi-static load path of ``model`` through its load program.
 
@@ -1150,6 +1156,11 @@ def solve_static(
         the run (:func:`~stepcontact.atomic.output_lock`: a second run writing it is
         refused); a :class:`~stepcontact.results.file.ResultWriter` is used as it is (its
         interval, its attributes; the caller holds the lock).
+    scheduler : str or distributed.Client, optional
+        Form the condensed matrix G (of every stage) on a dask.distributed cluster: the
+        scheduler's address (``"tcp://10.0.0.5:8786"``) or a Client; each worker factorises
+        K₀ once and solves its column blocks (:mod:`stepcontact.solver.cluster`).  The same G
+        to round-off, so the same run.  Default: here.
 
     Returns
     -------
@@ -1186,7 +1197,7 @@ def solve_static(
         solver = StaticSolver(system, slip=slip, eps_p=eps_p, store_fields=store_fields,
                               max_events=max_events, hooks=hooks, backend=backend,
                               rate_solver=rate_solver, condensation=condensation,
-                              precision=precision)
+                              precision=precision, scheduler=scheduler)
         res = solver.run()
         if writer is not None:
             writer.finish(res)
