@@ -90,7 +90,7 @@ from stepcontact.solver.linalg import factorize
 
 if os.path.dirname(os.path.abspath(__file__)) not in sys.path:  # also when run by runpy
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import Times, Timer, repeat  # noqa: E402  (benchmarks/_timing.py)
+from _timing import Timer, Times, repeat  # noqa: E402  (benchmarks/_timing.py)
 
 MB = 2**20
 #: prefix of the line on which a child process hands its figures back (JSON)
