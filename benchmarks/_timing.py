@@ -24,6 +24,7 @@ over repetitions), so per-event or per-step figures keep all three clocks.
 
 from __future__ import annotations
 
+import statistics
 import time
 from dataclasses import dataclass
 
@@ -103,6 +104,12 @@ class Timer:
     @property
     def thread(self) -> float:
         return self.times.thread
+
+
+def median(times) -> Times:
+    """The median of each clock over ``times`` (an iterable of :class:`Times`)."""
+    times = list(times)
+    return Times(*(statistics.median(getattr(t, c) for t in times) for c in CLOCKS))
 
 
 def timed(fn, *args, **kwargs):
