@@ -106,6 +106,18 @@ class Timer:
         return self.times.thread
 
 
+class LoopStart:
+    """Solver hook (``solve_static(..., hooks=[LoopStart()])``): the :class:`Times` at which
+    the event loop starts (``before_run``: after the factorisation, G and the load solves), so
+    that ``Times.now() - hook.start`` after the run is the time of the loop and of building the
+    result.  It has no ``after_segment``: the solver builds no result per segment for it."""
+
+    start: Times | None = None
+
+    def before_run(self, segments) -> None:
+        self.start = Times.now()
+
+
 def median(times) -> Times:
     """The median of each clock over ``times`` (an iterable of :class:`Times`)."""
     times = list(times)

@@ -55,17 +55,8 @@ from stepcontact.solver.static import SMALL_DENSE
 
 if os.path.dirname(os.path.abspath(__file__)) not in sys.path:  # also when run by runpy
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import Timer, Times, repeat  # noqa: E402  (benchmarks/_timing.py)
+from _timing import LoopStart, Timer, Times, repeat  # noqa: E402  (benchmarks/_timing.py)
 from slab_on_foundation import _warm_up, factor_and_condense, slab_model  # noqa: E402
-
-
-class LoopStart:
-    """Hook: the :class:`Times` at which the event loop starts (``before_run``)."""
-
-    start: Times | None = None
-
-    def before_run(self, segments) -> None:
-        self.start = Times.now()
 
 
 def _median(fn, reps: int, batches: int) -> Times:
