@@ -105,12 +105,13 @@ class PeakMemory:
     for this window when the high-water mark could be reset at entry (``hwm_reset``), else an
     upper bound (it may be an earlier peak of the process).
 
-    ``watch_cpu``: the CPU time of the sampling thread, s, to take off the process CPU time of
-    the work measured inside the window."""
+    ``watch_cpu``: the CPU time of the sampling thread so far (to its last sample), s, to take
+    off the process CPU time of the work measured inside the window."""
 
     def __enter__(self) -> PeakMemory:
         self.hwm_reset = self._reset_hwm()
         self.start = self.peak = self._rss()
+        self.watch_cpu = 0.0
         self._stop = threading.Event()
         self._t = threading.Thread(target=self._watch, daemon=True)
         self._t.start()
@@ -133,7 +134,8 @@ class PeakMemory:
     def _watch(self) -> None:
         while not self._stop.wait(0.002):
             self.peak = max(self.peak, self._rss())
-        self.watch_cpu = time.thread_time()  # this thread's CPU time since it started
+            self.watch_cpu = time.thread_time()  # this thread's CPU time since it started
+        self.watch_cpu = time.thread_time()
 
     @staticmethod
     def _maxrss() -> int:
