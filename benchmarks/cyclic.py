@@ -11,15 +11,18 @@ the heel or the toe (partial slip: the block does not slide), about 9 events per
 Protocol: one warm-up run (1 cycle, not timed), then per n (``--cycles``, default 10 50 200)
 ``--repeats`` runs (default 1; the median is printed) of ``sc.solve_static(model)`` (assembly,
 condensation and the event loop; the model built beforehand).  Printed per n: segments (2n + 1,
-the weight's included), events, states, seconds, seconds per segment and per event, the event
-loop's seconds per segment (``run_seconds``, without the fixed set-up: assembly and
+the weight's included), events, states, the time (wall, process CPU, main-thread CPU:
+``benchmarks/_timing.py``), main-thread CPU per segment and per event, the event loop's per
+segment (from the solver's ``before_run`` hook on, without the fixed set-up: assembly and
 factorisation), the largest residual and contact violation of the run, and the horizontal
 displacement of the block's top-left corner at the last positive and negative peaks (the loop
 is stable: the same after 10 and 200 cycles).  Last the ratios: per-segment time of the largest
 n over the smallest (total, and event loop only; 1 means a linear total cost), and within one
 more run of the largest n (timed segment by segment by an ``after_segment`` hook, so less
 exposed to the machine's load varying between runs) the median time per segment over its last
-10 % of segments over that of its first 10 %.
+10 % of segments over that of its first 10 %.  The ratios are from main-thread CPU time (the
+run is single-threaded: the dense backend, BLAS held to one thread), the process CPU and wall
+ratios beside them; T_OpenSees / T_stepcontact from process CPU time.
 
 ``--output``: the same runs also with ``output=`` (the result file written as the run goes,
 :class:`stepcontact.results.file.ResultWriter`: at most one write per second, and writing at
@@ -43,7 +46,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import statistics
 import sys
 import tempfile
 import time
@@ -58,6 +60,7 @@ for _d in (HERE, HERE.parent / "examples"):  # block_on_base.py, vs_opensees.py
     if str(_d) not in sys.path:
         sys.path.insert(0, str(_d))
 
+from _timing import LoopStart, Times, median  # noqa: E402  (benchmarks/_timing.py)
 from block_on_base import block_model  # noqa: E402
 
 WEIGHT = 2.0 * 1.0 * 2400.0 * 9.81  # N per metre run
@@ -87,13 +90,15 @@ def run(model: sc.Model, repeats: int = 1, output: bool = False) -> dict:
     for _ in range(repeats):
         with tempfile.TemporaryDirectory() as tmp:
             kw = {"output": Path(tmp) / "run.nc"} if output else {}
-            t0 = time.perf_counter()
-            res = sc.solve_static(model, **kw)
-            times.append(time.perf_counter() - t0)
-        loops.append(res.counters["run_seconds"])
+            clock = LoopStart()
+            start = Times.now()
+            res = sc.solve_static(model, hooks=(clock,), **kw)
+            end = Times.now()
+        times.append(end - start)
+        loops.append(end - clock.start)
     assert res is not None
     segments = len(model.program)
-    t, loop = statistics.median(times), statistics.median(loops)
+    t, loop = median(times), median(loops)
     return {
         "segments": segments, "events": len(res.events), "states": res.n_states,
         "status": res.status.value, "seconds": t, "per_segment": t / segments,
@@ -107,16 +112,16 @@ class SegmentClock:
     """Solver hook: the time at the end of every segment (``after_segment``)."""
 
     def __init__(self) -> None:
-        self.t: list[float] = [time.perf_counter()]
+        self.t: list[float] = [time.thread_time()]
 
     def after_segment(self, result: sc.StaticResult) -> None:
-        self.t.append(time.perf_counter())
+        self.t.append(time.thread_time())
 
 
 def within_run(model: sc.Model, share: float = 0.1) -> tuple[float, float]:
-    """Median seconds per segment over the first and the last ``share`` of the segments of
-    one run of ``model`` (the weight's segment left out): flat when the cost per segment does
-    not grow along the run (the same run, so the machine's load matters less)."""
+    """Median main-thread CPU seconds per segment over the first and the last ``share`` of the
+    segments of one run of ``model`` (the weight's segment left out): flat when the cost per
+    segment does not grow along the run (the same run, so the machine's load matters less)."""
     clock = SegmentClock()
     sc.solve_static(model, hooks=(clock,))
     dt = np.diff(clock.t)[1:]
@@ -127,9 +132,10 @@ def within_run(model: sc.Model, share: float = 0.1) -> tuple[float, float]:
 def report(n: int, r: dict, label: str = "") -> str:
     up, down = r["peaks"]
     return (f"{n:5d} cycles{label}: {r['segments']:4d} segments, {r['events']:5d} events, "
-            f"{r['states']:5d} states, {r['status']}, {r['seconds']:7.2f} s, "
-            f"{r['per_segment'] * 1e3:6.2f} ms/segment ({r['loop_per_segment'] * 1e3:6.2f} in "
-            f"the event loop), {r['per_event'] * 1e3:5.2f} ms/event; residual "
+            f"{r['states']:5d} states, {r['status']}, {r['seconds']}; main-thread CPU "
+            f"{r['per_segment'].thread * 1e3:6.2f} ms/segment "
+            f"({r['loop_per_segment'].thread * 1e3:6.2f} in the event loop), "
+            f"{r['per_event'].thread * 1e3:5.2f} ms/event; residual "
             f"{r['residual']:.1e}, violation {r['violation']:.1e}; corner u_x at the last peaks "
             f"{up * 1e6:+.6f} / {down * 1e6:+.6f} µm")
 
@@ -140,7 +146,7 @@ def run_opensees_cycles(ops, mesh, setup, n: int, amplitude: float = P0) -> dict
     ``setup.steps`` steps per unit change of the push factor; the corner's u_x at the peaks."""
     from vs_opensees import WEIGHT_STEPS, build_opensees, load_control
 
-    t0 = time.perf_counter()
+    start = Times.now()
     build_opensees(ops, mesh, setup)
     load_control(ops, 1.0 / WEIGHT_STEPS, setup)
     fails = iters = 0
@@ -164,7 +170,7 @@ def run_opensees_cycles(ops, mesh, setup, n: int, amplitude: float = P0) -> dict
             iters += ops.testIter()
         lam = target
         ux.append(ops.nodeDisp(node, 1) * setup.unit)
-    t = time.perf_counter() - t0
+    t = Times.now() - start
     ops.wipe()
     return {"seconds": t, "segments": 2 * n + 1, "fails": fails, "iters": iters,
             "peaks": (ux[-2], ux[-1])}
@@ -193,12 +199,15 @@ def compare_opensees(args: argparse.Namespace) -> None:
         su, sd = s["peaks"]
         print(f"{n:5d} cycles (OpenSees):                  {o['segments']:4d} segments, "
               f"{o['iters']} Newton iterations, {o['fails']} failed steps, "
-              f"{o['seconds']:7.2f} s, {o['seconds'] / o['segments'] * 1e3:6.2f} ms/segment; "
+              f"{o['seconds']}, {o['seconds'].thread / o['segments'] * 1e3:6.2f} ms/segment "
+              f"(main-thread CPU); "
               f"corner u_x at the last peaks {up * 1e6:+.6f} / {down * 1e6:+.6f} µm "
               f"({up / su - 1:+.1e} / {down / sd - 1:+.1e} from stepcontact)")
     for n, s, o in rows:
-        print(f"ratio T_OpenSees / T_stepcontact at {n} cycles: "
-              f"{o['seconds'] / s['seconds']:.2f}")
+        so, ss = o["seconds"], s["seconds"]
+        print(f"ratio T_OpenSees / T_stepcontact at {n} cycles: {so.process / ss.process:.2f} "
+              f"from process CPU (OpenSees's BLAS may be threaded) [main-thread CPU "
+              f"{so.thread / ss.thread:.2f}; wall {so.wall / ss.wall:.2f}]")
 
 
 def main() -> None:
@@ -234,18 +243,26 @@ def main() -> None:
             print(report(n, written[n], " with output="), flush=True)
     lo, hi = min(args.cycles), max(args.cycles)
     a, b = results[lo], results[hi]
-    print(f"ratio of the time per segment, {hi} over {lo} cycles: "
-          f"{b['per_segment'] / a['per_segment']:.3f} (total), "
-          f"{b['loop_per_segment'] / a['loop_per_segment']:.3f} (event loop); per event "
-          f"{b['per_event'] / a['per_event']:.3f}")
     first, last = within_run(cyclic(base, hi))
+    print("ratios (last), from main-thread CPU time (the run is single-threaded: dense "
+          "backend, BLAS held to one thread) [process CPU; wall]:")
+
+    def ratio(key: str, x: dict, y: dict) -> str:  # x[key] / y[key]
+        p, q = x[key], y[key]
+        return (f"{p.thread / q.thread:.3f} [{p.process / q.process:.3f}; "
+                f"{p.wall / q.wall:.3f}]")
+
+    print(f"time per segment, {hi} over {lo} cycles: {ratio('per_segment', b, a)} (total), "
+          f"{ratio('loop_per_segment', b, a)} (event loop); per event "
+          f"{ratio('per_event', b, a)}")
     print(f"within one run of {hi} cycles: median {first * 1e3:.2f} ms/segment over its first "
           f"10 % of segments, {last * 1e3:.2f} over its last 10 %: ratio {last / first:.3f}")
     if args.output:
         a, b = written[lo], written[hi]
-        print(f"ratio of the time per segment with output=, {hi} over {lo} cycles: "
-              f"{b['per_segment'] / a['per_segment']:.3f}; {hi} cycles with output= over "
-              f"without: {b['seconds'] / results[hi]['seconds']:.3f}")
+        print(f"time per segment with output=, {hi} over {lo} cycles: "
+              f"{ratio('per_segment', b, a)}; "
+              f"{hi} cycles with output= over without: "
+              f"{ratio('seconds', written[hi], results[hi])}")
     if args.opensees:
         compare_opensees(args)
     print(f"load average at end: {os.getloadavg()}")

@@ -73,6 +73,8 @@ steps, stepcontact's events (by kind) and impacts and status, OpenSees's Newton 
 failed / recovered steps (per contact integration), both lift-off times and their difference
 in Δt, and last the ratios T_OpenSees / T_stepcontact (marked as a lower bound when OpenSees
 stopped before the end: its time up to there against stepcontact's for the whole duration).
+Every time is printed as wall, process CPU and main-thread CPU (``benchmarks/_timing.py``);
+the ratios are from process CPU time, the main-thread CPU and wall ratios beside them.
 ``os.getloadavg()`` is printed at the start and the end (the machine may be shared).  The
 programs run one after the other, never side by side.
 
@@ -86,7 +88,7 @@ import argparse
 import dataclasses
 import os
 import runpy
-import time
+import sys
 from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
@@ -99,6 +101,10 @@ from stepcontact.enums import ContactState, Transition
 from stepcontact.fem.mass import mass as mass_matrix
 
 _HERE = Path(__file__).parent
+if str(_HERE.resolve()) not in sys.path:  # also when run by runpy
+    sys.path.insert(0, str(_HERE.resolve()))
+from _timing import Times  # noqa: E402  (benchmarks/_timing.py)
+
 slab_model = runpy.run_path(str(_HERE / "slab_on_foundation.py"),
                             run_name="slab_on_foundation")["slab_model"]
 _VS = runpy.run_path(str(_HERE / "vs_opensees.py"), run_name="vs_opensees")
@@ -124,13 +130,13 @@ def base_model(k: int) -> sc.Model:
 
 def run_stepcontact(k: int, dt: float, duration: float) -> dict:
     """Build, assemble, rest under the weight, then the pulse in time; all timed."""
-    t0 = time.perf_counter()
+    t0 = Times.now()
     system = sc.assemble(base_model(k))
     rest = sc.solve_static(system)
-    t1 = time.perf_counter()
+    t1 = Times.now()
     res = sc.solve_dynamic(system, dt=dt, duration=duration, initial=rest, mass="lumped",
                            alpha=ALPHA, loads={"uplift": PULSE})
-    t2 = time.perf_counter()
+    t2 = Times.now()
     opened = [e.lam for e in res.events if e.transition == Transition.OPENED]
     closed = [e.lam for e in res.events if e.transition == Transition.CLOSED]
     n_open = (np.asarray(res.state) == ContactState.OPEN).sum(axis=1)
@@ -266,7 +272,7 @@ class Gaps:
 
     def __init__(self, ops: ModuleType, tags: list[int], u: float, upstream: int) -> None:
         self.ops, self.tags, self.u, self.upstream = ops, tags, u, upstream
-        self.seconds = 0.0
+        self.seconds = Times()
         self.lift_off: float | None = None
         self.last_close: float | None = None
         self.max_open, self.max_open_at = 0, 0.0
@@ -279,7 +285,7 @@ class Gaps:
         return np.array([resp(t, "localDisplacement")[0] for t in self.tags]) * self.u
 
     def check(self, t: float) -> None:
-        t0 = time.perf_counter()
+        t0 = Times.now()
         g = self.gaps()
         is_open = g > 0.0
         if is_open.any() and self.lift_off is None:
@@ -292,14 +298,14 @@ class Gaps:
             self.max_open, self.max_open_at = int(is_open.sum()), t
         if g[self.upstream] > self.uplift:
             self.uplift, self.uplift_at = float(g[self.upstream]), t
-        self.seconds += time.perf_counter() - t0
+        self.seconds += Times.now() - t0
 
 
 def run_opensees(ops: ModuleType, mesh: Mesh, setup: Setup, dt: float,
                  duration: float) -> dict:
     """Self-weight (load control), then HHT steps of dt until ``duration``; timed."""
     u = setup.unit
-    t0 = time.perf_counter()
+    t0 = Times.now()
     tags = build_opensees(ops, mesh, u, setup.implex)
     watch = Gaps(ops, tags, u, mesh.upstream)
     iters = 0
@@ -314,9 +320,9 @@ def run_opensees(ops: ModuleType, mesh: Mesh, setup: Setup, dt: float,
         iters += ops.testIter()
         if not weight_ok:
             break
-    q0 = time.perf_counter()
+    q0 = Times.now()
     g0 = watch.gaps()
-    watch.seconds += time.perf_counter() - q0
+    watch.seconds += Times.now() - q0
     out = {"weight_ok": weight_ok, "gap_weight": (float(g0.min()), float(g0.max()))}
     steps = failed = sub_steps = 0
     remedied: Counter = Counter()
@@ -365,7 +371,7 @@ def run_opensees(ops: ModuleType, mesh: Mesh, setup: Setup, dt: float,
                 break
             steps += 1
             watch.check(target)
-    t = time.perf_counter() - t0 - watch.seconds
+    t = Times.now() - t0 - watch.seconds
     ops.wipe()
     return out | {
         "time": t, "steps": steps, "iters": iters, "failed": failed, "sub_steps": sub_steps,
@@ -389,8 +395,9 @@ def report_stepcontact(k: int, s: dict, mesh: Mesh, dt: float, duration: float) 
     return (
         f"k={k}: {s['ndof']} DOFs (OpenSees {mesh.ndof}), {s['pairs']} contact pairs; "
         f"{round(duration / dt)} steps of {dt * 1e3:g} ms\n"
-        f"    stepcontact: T = {s['time']:.2f} s (build + assembly + static {s['t_static']:.2f}"
-        f" s, dynamic {s['t_dynamic']:.2f} s); {s['steps']} steps (event cuts included), "
+        f"    stepcontact: T = {s['time']} (build + assembly + static "
+        f"{s['t_static'].process:.2f} s, dynamic {s['t_dynamic'].process:.2f} s process CPU); "
+        f"{s['steps']} steps (event cuts included), "
         f"{s['events']} events ({kinds}), {s['impacts']} impacts; status {s['status']} at "
         f"t = {s['end_time']:.4f} s ({s['message']})\n"
         f"        lift-off (first opening) {fmt_t(s['lift_off'])}, last re-closing "
@@ -405,10 +412,10 @@ def report_opensees(s: dict, o: dict, mesh: Mesh, dt: float, duration: float,
     scaled = os_duration < duration
     name = "IMPL-EX" if setup.implex else "implicit"
     lines = [
-        f"    OpenSees, contact {name}: T = {o['time']:.2f} s over {os_duration:g} s of "
+        f"    OpenSees, contact {name}: T = {o['time']} over {os_duration:g} s of "
         f"response"
-        + (f" -> SCALED to {duration:g} s: {o['time'] * duration / os_duration:.2f} s (not "
-           f"measured)" if scaled else "")
+        + (f" -> SCALED to {duration:g} s: {o['time'].process * duration / os_duration:.2f} s "
+           f"process CPU (not measured)" if scaled else "")
         + f"; {o['steps']} converged steps, {o['iters']} Newton iterations in all "
         f"(self-weight's included; {setup.algorithm}, NormUnbalance "
         f"{setup.rel_tol * mesh.slab_weight:.2g} N); {o['failed']} steps failed with "
@@ -419,7 +426,7 @@ def report_opensees(s: dict, o: dict, mesh: Mesh, dt: float, duration: float,
            f"{os_duration:g} s not run" if o["stopped"] is not None else "no step given up")
         + f"; self-weight converged: {o['weight_ok']}, normal gaps under it "
         f"{o['gap_weight'][0]:.2e} … {o['gap_weight'][1]:.2e} m; gap queries "
-        f"{o['query_seconds']:.2f} s, not counted; {penalty_note}",
+        f"{o['query_seconds'].process:.2f} s process CPU, not counted; {penalty_note}",
         f"        lift-off {fmt_t(o['lift_off'])} (end of the first step with a gap > 0)"
         + (f", {(o['lift_off'] - s['lift_off']) / dt:+.2f} Δt from stepcontact's"
            if s["lift_off"] is not None and o["lift_off"] is not None else "")
@@ -474,9 +481,11 @@ def main() -> None:
                   flush=True)
             rows.append((k, s["ndof"], variant, o, s["time"]))
     print(f"load average at end: {os.getloadavg()}")
-    print(f"\nratio (last): T_OpenSees / T_stepcontact for {args.duration:g} s of response")
+    print(f"\nratio (last): T_OpenSees / T_stepcontact for {args.duration:g} s of response, "
+          f"from process CPU time (both programs in this process; OpenSees's solver and BLAS "
+          f"may use several threads) [main-thread CPU; wall]")
     for k, ndof, variant, o, t_sc in rows:
-        t_os = o["time"] * args.duration / os_duration
+        t_os = o["time"] * (args.duration / os_duration)
         note = ""
         if o["stopped"] is not None:
             t_os = o["time"]
@@ -484,7 +493,9 @@ def main() -> None:
                     f"time up to there against stepcontact's for {args.duration:g} s)")
         elif os_duration < args.duration:
             note = f"  (OpenSees time SCALED from {os_duration:g} s)"
-        print(f"k={k} ({ndof} DOFs), OpenSees contact {variant}: {t_os / t_sc:.2f}{note}")
+        print(f"k={k} ({ndof} DOFs), OpenSees contact {variant}: "
+              f"{t_os.process / t_sc.process:.2f} [{t_os.thread / t_sc.thread:.2f}; "
+              f"{t_os.wall / t_sc.wall:.2f}]{note}")
 
 
 if __name__ == "__main__":

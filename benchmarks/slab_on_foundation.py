@@ -13,6 +13,11 @@ factorisation alone, what the run holds besides the factorisation, and last the 
     T_total / (E·(T_F + T_S))        (against refactorising at every event)
     M_run / M_F                      (target ≤ 2: peak memory against the factorisation's)
 
+Times (``benchmarks/_timing.py``): each is printed as wall time, process CPU time (every
+thread) and main-thread CPU time; the ratios are from process CPU time (PARDISO factorises
+with several threads; the event loop holds BLAS to one), with the main-thread and the wall
+ratios beside them.  The CPU time of the memory windows' sampling thread is taken off.
+
 Memory protocol.  M_run and M_F are measured in two fresh processes (this script started
 again with a hidden ``--child run|factor``), one after the other, never in the process that
 measured the other: memory a run frees stays in the process's heap and a later measurement
@@ -83,6 +88,10 @@ from stepcontact.solver.condensation import (
 )
 from stepcontact.solver.linalg import factorize
 
+if os.path.dirname(os.path.abspath(__file__)) not in sys.path:  # also when run by runpy
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _timing import Timer, Times, repeat  # noqa: E402  (benchmarks/_timing.py)
+
 MB = 2**20
 #: prefix of the line on which a child process hands its figures back (JSON)
 _MARK = "@@slab-benchmark-child@@ "
@@ -94,11 +103,15 @@ class PeakMemory:
 
     ``maxrss_mb``: the kernel's high-water mark at exit above the level at entry, MB — exact
     for this window when the high-water mark could be reset at entry (``hwm_reset``), else an
-    upper bound (it may be an earlier peak of the process)."""
+    upper bound (it may be an earlier peak of the process).
+
+    ``watch_cpu``: the CPU time of the sampling thread so far (to its last sample), s, to take
+    off the process CPU time of the work measured inside the window."""
 
     def __enter__(self) -> PeakMemory:
         self.hwm_reset = self._reset_hwm()
         self.start = self.peak = self._rss()
+        self.watch_cpu = 0.0
         self._stop = threading.Event()
         self._t = threading.Thread(target=self._watch, daemon=True)
         self._t.start()
@@ -121,6 +134,8 @@ class PeakMemory:
     def _watch(self) -> None:
         while not self._stop.wait(0.002):
             self.peak = max(self.peak, self._rss())
+            self.watch_cpu = time.thread_time()  # this thread's CPU time since it started
+        self.watch_cpu = time.thread_time()
 
     @staticmethod
     def _maxrss() -> int:
@@ -236,32 +251,34 @@ def slab_model(k: int) -> sc.Model:
 
 def _assembled(k: int, backend: str):
     model = slab_model(k)
-    t0 = time.perf_counter()
-    system = assemble(model)
-    t_asm = time.perf_counter() - t0
+    with Timer() as t:
+        system = assemble(model)
     _warm_up(backend)
     _settle()
-    return model, system, t_asm
+    return model, system, t.times
+
+
+def _less_watch(t: Times, mem: PeakMemory) -> dict:
+    """``t`` without the CPU time of the memory window's sampling thread (process CPU)."""
+    return dataclasses.replace(t, process=t.process - mem.watch_cpu).as_dict()
 
 
 def child_run(k: int, backend: str = "auto", save: str | None = None) -> dict:
     """In a fresh process: the run's time and its peak memory above the level after
     assembly, and the sizes of what it holds."""
     _model, system, t_asm = _assembled(k, backend)
-    t0 = time.perf_counter()
-    with PeakMemory() as mem:
+    with Timer() as t, PeakMemory() as mem:
         res = sc.solve_static(system, backend=backend)
         if save:
             res.save(save)
-    t_total = time.perf_counter() - t0
     return {
         "ndof": system.ndof,
         "cfes": system.m,
         "events": len(res.events),
         "event_points": res.counters["event_points"],
         "status": res.status.value,
-        "t_assembly": t_asm,
-        "t_total": t_total,
+        "t_assembly": t_asm.as_dict(),
+        "t_total": _less_watch(t.times, mem),
         "t_setup": res.counters["setup_seconds"],
         "condensed_columns": res.counters.get("condensed_columns", 0),
         "M_run": mem.mb,
@@ -278,6 +295,15 @@ def child_factor(k: int, backend: str = "auto") -> dict:
     """In a fresh process: forming K₀, then one factorisation of it exactly as the run does
     it (peak memory above the level before it, time), then T_G and T_S."""
     system = _assembled(k, backend)[1]
+    out, _c = factor_and_condense(system, backend)
+    return out
+
+
+def factor_and_condense(system, backend: str = "auto"):
+    """One factorisation of K₀ of ``system`` exactly as the run factorises it (peak memory
+    above the level before it; :class:`Times` T_F), G formed from it as the run forms it
+    (T_G: ``Condensation.build`` with the factor given) and one solve (T_S, the mean of 5);
+    the figures (times as dicts of wall, process and thread seconds) and the condensation."""
     with PeakMemory() as mem_k0:
         K0, Bf, _d, free, _presc, Kff, Kfp, Bp, _K = static_operator(system)
         del _K, Kff  # the run keeps neither K nor K_ff
@@ -287,24 +313,18 @@ def child_factor(k: int, backend: str = "auto") -> dict:
     groups = system.dofs.node_of()[free]  # the node of each DOF: the run's ordering
     sparse_bytes = _nbytes([K0, Kfp, Bf, Bp], set())
     _settle()
-    with PeakMemory() as mem_f:
-        t0 = time.perf_counter()
+    with PeakMemory() as mem_f, Timer() as t_f:
         F = factorize(K0, backend, last=last if schur else None, groups=groups)
-        t_f = time.perf_counter() - t0
     f_bytes, f_how, transient = _factor_bytes(F)
-    c = Condensation.build(K0, Bf, backend, factor=F)
-    t_g = c.counters["condense_seconds"]
+    with Timer() as t_g:
+        c = Condensation.build(K0, Bf, backend, factor=F)
     b = np.random.default_rng(0).standard_normal(K0.shape[0])
-    reps = 5
-    t0 = time.perf_counter()
-    for _ in range(reps):
-        F.solve(b)
-    t_s = (time.perf_counter() - t0) / reps
+    t_s = repeat(lambda: F.solve(b), 5)
     return {
         "backend": F.name,
-        "T_F": t_f,
-        "T_G": t_g,
-        "T_S": t_s,
+        "T_F": _less_watch(t_f.times, mem_f),
+        "T_G": t_g.times.as_dict(),
+        "T_S": t_s.as_dict(),
         "G_method": "Schur block of the factors" if c.counters["condensed_columns"] == 0
         else "2m solves",
         "schur": schur,
@@ -317,7 +337,7 @@ def child_factor(k: int, backend: str = "auto") -> dict:
         "factor_reported_how": f_how,
         "transient_bytes": transient,
         "sparse_bytes": sparse_bytes,
-    }
+    }, c
 
 
 def _in_child(which: str, k: int, backend: str, save: str | None = None) -> dict:
@@ -340,13 +360,21 @@ def run(k: int, backend: str = "auto", save: str | None = None) -> dict:
     f = _in_child("factor", k, backend)
     E, n2m = r["events"], 2 * r["cfes"]
     dense = dense_memory(n2m, f["c"] if f["schur"] else 0)
+    t_total, t_f, t_g, t_s = (Times.from_dict(x) for x in (r["t_total"], f["T_F"], f["T_G"],
+                                                          f["T_S"]))
+
+    def ratios(clock: str) -> dict:  # the time ratios from one clock
+        T, F, G, S = (getattr(x, clock) for x in (t_total, t_f, t_g, t_s))
+        return {"ratio": T / (F + E * S), "ratio_G": T / (F + G),
+                "ratio_refactor": T / (E * (F + S))}
+
     return r | f | {
         "k": k,
         "hwm_reset": r["hwm_reset"] and f["hwm_reset"],
-        "T_col": f["T_G"] / n2m,
-        "ratio": r["t_total"] / (f["T_F"] + E * f["T_S"]),
-        "ratio_G": r["t_total"] / (f["T_F"] + f["T_G"]),
-        "ratio_refactor": r["t_total"] / (E * (f["T_F"] + f["T_S"])),
+        "t_assembly": Times.from_dict(r["t_assembly"]),
+        "t_total": t_total, "T_F": t_f, "T_G": t_g, "T_S": t_s,
+        "T_col": t_g / n2m,
+        "ratios": {c: ratios(c) for c in ("process", "thread", "wall")},
         "ratio_mem": r["M_run"] / max(f["M_F"], 1e-9),
         "ratio_mem_maxrss": r["M_run_maxrss"] / max(f["M_F_maxrss"], 1e-9),
         "bytes_G": dense["G"],
@@ -359,21 +387,19 @@ def sweep(k: int, n: int = 20, backend: str = "auto") -> dict:
     """Time of an n-case friction sweep reusing one condensation against n independent runs."""
     model = slab_model(k)
     fs = np.linspace(0.3, 1.0, n)
-    t0 = time.perf_counter()
-    c = sc.condense(model, backend)
-    reused = [sc.solve_static(model.with_friction(f), condensation=c, backend=backend)
-              for f in fs]
-    t_reuse = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    indep = [sc.solve_static(model.with_friction(f), backend=backend) for f in fs]
-    t_indep = time.perf_counter() - t0
+    with Timer() as t_reuse:
+        c = sc.condense(model, backend)
+        reused = [sc.solve_static(model.with_friction(f), condensation=c, backend=backend)
+                  for f in fs]
+    with Timer() as t_indep:
+        indep = [sc.solve_static(model.with_friction(f), backend=backend) for f in fs]
     # the same path: the same events, λ equal to round-off (a multithreaded backend does not
     # promise bitwise-equal factors from one factorisation to the next)
     same = all([(e.cfe, e.transition) for e in a.events] == [(e.cfe, e.transition)
                                                              for e in b.events]
                and np.allclose(a.lam, b.lam, rtol=1e-9, atol=0.0)
                for a, b in zip(reused, indep, strict=True))
-    return {"k": k, "n": n, "t_reuse": t_reuse, "t_indep": t_indep, "same": same,
+    return {"k": k, "n": n, "t_reuse": t_reuse.times, "t_indep": t_indep.times, "same": same,
             "ndof": reused[0].counters["ndof"],
             "events": [len(r.events) for r in reused]}
 
@@ -387,10 +413,12 @@ def _report(r: dict) -> str:
     return (
         f"k={r['k']}: {r['ndof']} DOFs, {r['cfes']} CFEs, {r['events']} events "
         f"({r['event_points']} event points), status {r['status']}\n"
-        f"    assembly {r['t_assembly']:.2f} s, T_total {r['t_total']:.2f} s "
-        f"(setup {r['t_setup']:.2f} s), T_F {r['T_F']:.3f} s, T_G {r['T_G']:.3f} s "
-        f"(T_col {r['T_col']:.2e} s, {r['G_method']}), T_S {r['T_S']:.4f} s "
-        f"[{r['backend']}]\n"
+        f"    assembly {r['t_assembly']}\n"
+        f"    T_total {r['t_total']} (setup {r['t_setup']:.2f} s wall) [{r['backend']}]\n"
+        f"    T_F {r['T_F'].fmt(digits=3)}\n"
+        f"    T_G {r['T_G'].fmt(digits=3)} ({r['G_method']}; T_col = T_G/2m "
+        f"{r['T_col'].process:.2e} s process CPU)\n"
+        f"    T_S {r['T_S'].fmt('ms', 2)}\n"
         f"    peak memory above assembly, each in a fresh process: run {r['M_run']:.0f} MB "
         f"(ru_maxrss {le}{r['M_run_maxrss']:.0f} MB), factorisation {r['M_F']:.0f} MB "
         f"(ru_maxrss {le}{r['M_F_maxrss']:.0f} MB; {r['factor_reported_how']}: "
@@ -430,20 +458,27 @@ def main() -> None:
     if sw:
         print(f"friction sweep, k={sw['k']} ({sw['ndof']} DOFs), {sw['n']} cases "
               f"(events {min(sw['events'])}–{max(sw['events'])}): one condensation "
-              f"{sw['t_reuse']:.2f} s, independent runs {sw['t_indep']:.2f} s, the same paths "
+              f"{sw['t_reuse']}; independent runs {sw['t_indep']}; the same paths "
               f"(events, λ to 1e-9): {sw['same']}", flush=True)
-    print("\nratios (last):")
+    print("\nratios (last), time ratios from process CPU time (every thread: PARDISO's "
+          "factorisation is multithreaded) [from main-thread CPU; from wall]:")
     for r in rows:
+        p, t, w = (r["ratios"][c] for c in ("process", "thread", "wall"))
         print(
-            f"k={r['k']}: T_total/(T_F+E*T_S) = {r['ratio']:.2f}   "
-            f"T_total/(T_F+2m*T_col) = {r['ratio_G']:.2f} (target <= 1.5)   "
-            f"T_total/(E*(T_F+T_S)) [vs refactorising per event] = {r['ratio_refactor']:.4f}   "
+            f"k={r['k']}: T_total/(T_F+E*T_S) = {p['ratio']:.2f} [{t['ratio']:.2f}; "
+            f"{w['ratio']:.2f}]   "
+            f"T_total/(T_F+2m*T_col) = {p['ratio_G']:.2f} [{t['ratio_G']:.2f}; "
+            f"{w['ratio_G']:.2f}] (target <= 1.5)   "
+            f"T_total/(E*(T_F+T_S)) [vs refactorising per event] = {p['ratio_refactor']:.4f} "
+            f"[{t['ratio_refactor']:.4f}; {w['ratio_refactor']:.4f}]   "
             f"M_run/M_F = {r['ratio_mem']:.2f} (target <= 2; from ru_maxrss "
             f"{r['ratio_mem_maxrss']:.2f}) [{r['backend']}]"
         )
     if sw:
         print(f"friction sweep k={sw['k']}: T(one condensation)/T(20 independent runs) = "
-              f"{sw['t_reuse'] / sw['t_indep']:.2f}")
+              f"{sw['t_reuse'].process / sw['t_indep'].process:.2f} (process CPU) "
+              f"[{sw['t_reuse'].thread / sw['t_indep'].thread:.2f} main-thread CPU; "
+              f"{sw['t_reuse'].wall / sw['t_indep'].wall:.2f} wall]")
     print(f"load average at end: {os.getloadavg()}")
 
 

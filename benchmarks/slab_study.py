@@ -17,7 +17,10 @@ results), run with ``rerun=True`` into a fresh store per executor:
 
 Per executor: wall time, cases per minute, and the sum of the cases' own times (measured in
 the workers) against workers × wall time (the share of the wall time the workers spent in
-cases); then whether the three datasets agree (h_limit to 1e-12 relative).
+cases); the CPU time of this process (process and main thread, ``benchmarks/_timing.py``) and
+of its child processes (the pool's workers, the cluster's; ``os.times``, counted once they have
+been shut down: the cluster's over its whole life, start and close included); then whether the
+three datasets agree (h_limit to 1e-12 relative).
 
 The dynamic case: ``BasinStudy()`` (40 × 4 slab cells), one impulse (x/L_p = 0.5, up, 1.0 s),
 one ``check`` at a fixed thickness 2·h_kr with the options ``BasinCase`` uses (Δt = duration /
@@ -30,7 +33,10 @@ at the moment, ``--workers`` on a quiet machine; again at the end); last the rat
 pool's and the LocalCluster's speed-up over serial, and the dynamic case's cost against a
 quick case: seconds of one check × the mean number of runs of a limit search (the quick
 study's ``runs`` output) over the measured serial seconds per case (with ``--full``, the
-same mesh on both sides: the share of a limit search that the checks explain).
+same mesh on both sides: the share of a limit search that the checks explain).  Speed-ups
+are wall-time ratios (what parallel execution is for), each followed by the CPU time of
+every process of the run over the serial run's (the work that the parallel run adds); the
+dynamic case's ratio is from process CPU time [main-thread CPU; wall].
 
 Run:  python benchmarks/slab_study.py [--cases 6] [--workers 2] [--skip-dask] [--pinned]
                                       [--full] [--store DIR]
@@ -42,6 +48,7 @@ import argparse
 import math
 import os
 import shutil
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -51,6 +58,10 @@ import numpy as np
 from stepcontact.study.basin import BasinCase, BasinStudy, quick
 from stepcontact.study.slab import check, slab_model
 from stepcontact.study.sweep import run_sweep
+
+if os.path.dirname(os.path.abspath(__file__)) not in sys.path:  # also when run by runpy
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _timing import Timer, children_cpu  # noqa: E402  (benchmarks/_timing.py)
 
 
 def _spin(barrier, queue, n: int) -> None:
@@ -103,17 +114,20 @@ def sweep(study: BasinStudy, cases: list, store: Path, executor, workers: int | 
         shutil.rmtree(store)
     seconds: list[float] = []
     func = BasinCase(study, str(store / "results"))
-    t0 = time.perf_counter()
-    ds = run_sweep(cases, func, store, executor=executor, workers=workers, progress=False,
-                   rerun=True, name="slab study", on_result=lambda o: seconds.append(o.seconds))
-    wall = time.perf_counter() - t0
-    return {"ds": ds, "wall": wall, "case_seconds": float(sum(seconds)),
+    c0 = children_cpu()
+    with Timer() as t:
+        ds = run_sweep(cases, func, store, executor=executor, workers=workers, progress=False,
+                       rerun=True, name="slab study",
+                       on_result=lambda o: seconds.append(o.seconds))
+    return {"ds": ds, "wall": t.wall, "times": t.times, "children": children_cpu() - c0,
+            "case_seconds": float(sum(seconds)),
             "failed": int(ds.attrs["failed"]), "missing": int(ds.attrs["missing"])}
 
 
 def dask_sweep(study: BasinStudy, cases: list, store: Path, workers: int) -> dict:
     from distributed import Client, LocalCluster
 
+    c0 = children_cpu()
     t0 = time.perf_counter()
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                            host="127.0.0.1", dashboard_address=None)
@@ -127,7 +141,8 @@ def dask_sweep(study: BasinStudy, cases: list, store: Path, workers: int) -> dic
         client.close()
         cluster.close()
         close = time.perf_counter() - t1
-    return r | {"start": start, "close": close}
+    # the workers' CPU over the cluster's life (start, sweep, close), once they are reaped
+    return r | {"start": start, "close": close, "children": children_cpu() - c0}
 
 
 def dynamic_case() -> dict:
@@ -141,20 +156,18 @@ def dynamic_case() -> dict:
     slab = st.slab(2.0 * st.h_kr)
     opts = {"criterion": st.criterion, "no_slip": st.no_slip, "alpha": st.alpha,
             "dt": imp.duration / st.steps, "duration": imp.start + 1.5 * imp.duration}
-    t0 = time.perf_counter()
-    system = assemble(slab_model(slab, imp))
-    t_assemble = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    static = solve_static(system)
-    t_static = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    out = check(slab, imp, keep=True, **opts)
-    t_check = time.perf_counter() - t0
+    with Timer() as t_assemble:
+        system = assemble(slab_model(slab, imp))
+    with Timer() as t_static:
+        static = solve_static(system)
+    with Timer() as t_check:
+        out = check(slab, imp, keep=True, **opts)
     res = out.result
     c = res.counters if out.phase != "static" else {}
     return {"ndof": system.ndof, "cfes": system.m, "h": slab.thickness, "dt": opts["dt"],
-            "duration": opts["duration"], "alpha": st.alpha, "t_assemble": t_assemble,
-            "t_static": t_static, "static_events": len(static.events), "t_check": t_check,
+            "duration": opts["duration"], "alpha": st.alpha, "t_assemble": t_assemble.times,
+            "t_static": t_static.times, "static_events": len(static.events),
+            "t_check": t_check.times,
             "steps": int(c.get("steps", 0)), "events": len(res.events),
             "impacts": int(c.get("impacts", 0)), "run_seconds": float(c.get("run_seconds",
                                                                              math.nan)),
@@ -235,7 +248,8 @@ def main() -> None:
         print(f"{labels[name]}: {r['wall']:.1f} s for {n} cases, {n / r['wall'] * 60:.2f} "
               f"cases/min; cases' own time {r['case_seconds']:.1f} s = "
               f"{r['case_seconds'] / (w * r['wall']):.0%} of {w} × wall; "
-              f"failed {r['failed']}{extra}")
+              f"failed {r['failed']}{extra}\n"
+              f"    this process: {r['times']}; child processes: CPU {r['children']:.1f} s")
     ds = results["serial"]["ds"]
     runs = np.asarray(ds["runs"].values, float)
     failing = np.asarray(ds["h_failing"].values, float)
@@ -251,34 +265,45 @@ def main() -> None:
     print(f"\ndynamic case (BasinStudy() mesh, impulse x/L_p = 0.5 up 1.0 s, h = 2·h_kr = "
           f"{dyn['h']:.2f} m, Δt {dyn['dt'] * 1e3:.2f} ms, {dyn['duration']:g} s, "
           f"α {dyn['alpha']:g}): {dyn['ndof']} DOFs, {dyn['cfes']} CFEs, {dyn['steps']} steps, "
-          f"{dyn['events']} events ({dyn['impacts']} impacts); check {dyn['t_check']:.2f} s "
-          f"(dynamic run {dyn['run_seconds']:.2f} s); outcome: "
+          f"{dyn['events']} events ({dyn['impacts']} impacts); check {dyn['t_check']} "
+          f"(dynamic run {dyn['run_seconds']:.2f} s wall); outcome: "
           f"{'passes' if o.passes else 'lifts off' if o.lifted else 'slides'}"
           + (f" at t = {o.when:.3f} s" if o.when is not None else ""))
-    print(f"static run alone: assembly {dyn['t_assemble']:.2f} s, solve_static "
-          f"{dyn['t_static']:.2f} s ({dyn['static_events']} events)")
+    print(f"static run alone: assembly {dyn['t_assemble']}; solve_static "
+          f"{dyn['t_static']} ({dyn['static_events']} events)")
     t1, cap = capacity(args.workers)
     print(f"load average at end: {', '.join(f'{v:.2f}' for v in os.getloadavg())}; "
           f"{args.workers} busy loops: {cap:.2f} loops' worth (one alone: {t1:.2f} s)")
 
     serial = results["serial"]["wall"]
-    per_case = serial / n
-    print("\nratios (last):")
+
+    def cpu(r: dict) -> float:  # the CPU time of every process of a sweep, s
+        return r["times"].process + r["children"]
+
+    def work(r: dict) -> str:
+        return f"CPU of all processes / serial's {cpu(r) / cpu(results['serial']):.2f}"
+
+    print("\nratios (last): speed-ups from wall time, each with its CPU time against the "
+          "serial run's; the dynamic case from process CPU time [main-thread CPU; wall]")
     print(f"pool speed-up over serial ({args.workers} processes): "
-          f"{serial / results['pool']['wall']:.2f}")
+          f"{serial / results['pool']['wall']:.2f} ({work(results['pool'])})")
     if "pinned" in results:
         print(f"serial with BLAS on one thread, speed-up over serial: "
-              f"{serial / results['pinned']['wall']:.2f}")
+              f"{serial / results['pinned']['wall']:.2f} ({work(results['pinned'])})")
     if "dask" in results:
         r = results["dask"]
         print(f"LocalCluster speed-up over serial ({args.workers} workers): "
               f"{serial / r['wall']:.2f} (with its start-up: "
-              f"{serial / (r['wall'] + r['start']):.2f})")
+              f"{serial / (r['wall'] + r['start']):.2f}; {work(r)}, the workers' over the "
+              f"cluster's life)")
     side = "same mesh" if args.full else "default mesh against the quick study's"
-    print(f"dynamic case × mean runs / serial s per case ({side}): {dyn['t_check']:.2f} s × "
-          f"{runs.mean():.2f} / {per_case:.2f} s = {dyn['t_check'] * runs.mean() / per_case:.2f}"
-          f" (with the re-run, × {checks.mean():.2f}: "
-          f"{dyn['t_check'] * checks.mean() / per_case:.2f})")
+    chk, per_case = dyn["t_check"], results["serial"]["times"] / n
+    ratio = {c: getattr(chk, c) * runs.mean() / getattr(per_case, c)
+             for c in ("process", "thread", "wall")}
+    print(f"dynamic case × mean runs / serial s per case ({side}): {chk.process:.2f} s × "
+          f"{runs.mean():.2f} / {per_case.process:.2f} s = {ratio['process']:.2f} "
+          f"[{ratio['thread']:.2f}; {ratio['wall']:.2f}] (with the re-run, × "
+          f"{checks.mean():.2f}: {ratio['process'] / runs.mean() * checks.mean():.2f})")
 
 
 if __name__ == "__main__":

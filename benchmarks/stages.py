@@ -27,8 +27,12 @@ interval (setup and steps, from the interval's counters) and of the static stage
 handover (the rest: the static run to the interval, the settle pattern's refactorisation and
 the segments after it); its ratio whole / interval shows what the handover costs.
 
-The load average (``os.getloadavg()``) is printed at the start and the end (the machine may
-be shared).
+Every time is printed as wall, process CPU and main-thread CPU (``benchmarks/_timing.py``);
+the ratios are from process CPU time (each stage's factorisation may use several threads), the
+main-thread CPU and wall ratios beside them; the dynamic interval's share is from wall time
+(the interval's counters, ``setup_seconds`` and ``run_seconds``, are the only record of its
+time and are wall times).  The load average (``os.getloadavg()``) is printed at the start and
+the end (the machine may be shared).
 
 Run:  python benchmarks/stages.py [--lifts 1 2 5 10 15] [--repeats 1]
 """
@@ -38,8 +42,7 @@ from __future__ import annotations
 import argparse
 import os
 import runpy
-import statistics
-import time
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -48,6 +51,10 @@ import stepcontact as sc
 from stepcontact.enums import Transition
 
 HERE = Path(__file__).resolve().parent
+if str(HERE) not in sys.path:  # also when run by runpy
+    sys.path.insert(0, str(HERE))
+from _timing import Timer, Times, median  # noqa: E402  (benchmarks/_timing.py)
+
 dam = runpy.run_path(str(HERE.parent / "examples" / "cracked_base.py"), run_name="cracked_base")
 HEIGHT, CREST = dam["HEIGHT"], dam["CREST"]
 BASE_BOND = sc.Bond.mohr_coulomb(500e3, 50e3, 40.0)
@@ -63,13 +70,18 @@ def model(n: int, staged: bool) -> sc.Model:
                             levels=(H_DESIGN,), lifts=lifts, staged=staged)
 
 
-def timed(m: sc.Model, repeats: int) -> tuple[sc.StaticResult, float]:
+def timed(m: sc.Model, repeats: int) -> tuple[sc.StaticResult, Times]:
     times, res = [], None
     for _ in range(repeats):
-        t0 = time.perf_counter()
-        res = sc.solve_static(m)
-        times.append(time.perf_counter() - t0)
-    return res, statistics.median(times)
+        with Timer() as t:
+            res = sc.solve_static(m)
+        times.append(t.times)
+    return res, median(times)
+
+
+def ratio(a: Times, b: Times) -> str:
+    """a / b from process CPU time [main-thread CPU; wall]."""
+    return f"{a.process / b.process:.2f} [{a.thread / b.thread:.2f}; {a.wall / b.wall:.2f}]"
 
 
 def first_crack(res: sc.StaticResult) -> float:
@@ -107,7 +119,7 @@ def main(argv=None) -> None:
         sys_ = sc.assemble(model(n, True))
         print(f"{n:3d} lifts: {sys_.ndof} DOFs, {staged.m} CFEs, {stages} stages, "
               f"{len(staged.segments)} segments, {len(staged.events)} events; staged "
-              f"{t_s:.2f} s ({t_s / stages:.3f} s per stage), at once {t_1:.2f} s; first "
+              f"{t_s} ({t_s.process / stages:.3f} s process CPU per stage), at once {t_1}; first "
               f"cracking h = {first_crack(staged):.4f} m staged, {first_crack(once):.4f} m at "
               f"once; crest u_y after construction {crest_settlement(staged, n) * 1e3:.3f} mm "
               f"staged, {crest_settlement(once, n) * 1e3:.3f} mm at once; residual "
@@ -120,17 +132,20 @@ def main(argv=None) -> None:
     t_dyn = dres.counters["setup_seconds"] + dres.counters["run_seconds"]
     print(f"dynamic interval between stages (staged_shock.toml): {len(shock.segments)} "
           f"segments, {len(shock.events)} static events, {dres.counters['steps']} steps and "
-          f"{len(dres.events)} events in the interval; whole run {t_shock:.2f} s, interval "
-          f"{t_dyn:.2f} s, static stages and handover {t_shock - t_dyn:.2f} s; residual "
+          f"{len(dres.events)} events in the interval; whole run {t_shock}; interval "
+          f"{t_dyn:.2f} s wall, static stages and handover {t_shock.wall - t_dyn:.2f} s wall; "
+          f"residual "
           f"{shock.residual.max():.1e}", flush=True)
     print(f"load average at end: {os.getloadavg()[0]:.2f}")
-    print("ratios:")
-    print(f"  dynamic interval between stages: whole run / interval = {t_shock / t_dyn:.2f}")
+    print("ratios (last), from process CPU time [main-thread CPU; wall]:")
+    print(f"  dynamic interval between stages: whole run / interval = "
+          f"{t_shock.wall / t_dyn:.2f} (wall only: the interval's own times are wall)")
     for n, _, _, t_s, t_1, _ in rows:
-        print(f"  {n:3d} lifts: staged / at once = {t_s / t_1:.2f}")
+        print(f"  {n:3d} lifts: staged / at once = {ratio(t_s, t_1)}")
     big = max(a.lifts)
     if 2 in per_stage and big > 2:
-        print(f"  seconds per stage, {big} lifts / 2 lifts = {per_stage[big] / per_stage[2]:.2f}")
+        print(f"  seconds per stage, {big} lifts / 2 lifts = "
+              f"{ratio(per_stage[big], per_stage[2])}")
 
 
 if __name__ == "__main__":
