@@ -451,62 +451,92 @@ class NodeToFacet:
     basis: np.ndarray
 
 
+def _newton_matrix(J: np.ndarray, r: np.ndarray, H2: np.ndarray) -> np.ndarray:
+    """The Hessian JᵀJ − r · ∂²X of ½ |x − X(ξ)|² where it is positive definite, else the
+    Gauss–Newton matrix JᵀJ (far from a minimum on a curved facet)."""
+    JtJ = np.einsum("pda,pdb->pab", J, J)
+    H = JtJ - np.einsum("pd,pdab->pab", r, H2)
+    det = H[:, 0, 0] * H[:, 1, 1] - H[:, 0, 1] * H[:, 1, 0]
+    ok = (H[:, 0, 0] > 0) & (det > 1e-12 * np.einsum("paa->p", JtJ) ** 2)
+    return np.where(ok[:, None, None], H, JtJ)
+
+
 def _closest_on_facets(surf: Surface, x: np.ndarray, f: np.ndarray):
     """Closest points of x[i] on facets f[i]: (ξ (P, 2), X (P, 3), distance (P,)).
 
-    Inside the facet: Gauss–Newton on |x − X(ξ)|² (one step for a flat triangle; quadratic
-    convergence for a flat quadrilateral; 30 steps at most).  Where that point lies outside,
-    the closest point on the facet's sides (each side projected by clamped Newton along it;
-    exact for straight sides)."""
+    The foot of the perpendicular, by Newton's method on ½ |x − X(ξ)|² (one step for a flat
+    triangle, quadratic convergence otherwise; the second derivatives of X by central
+    differences of ∂X/∂ξ, exact for the quadratic facets), kept where it lies in the facet;
+    and the closest point of each side (Newton along it, clamped to its ends).  The nearest of
+    these is the closest point."""
     kind = surf.kind
     P = len(x)
-    fac = surf.facets[f]
-    Xe = surf.points[fac]  # (P, k, 3)
+    Xe = surf.points[surf.facets[f]]  # (P, k, 3)
+    hd = 1e-4
 
     def at(xi):
         N, dN = shape(kind, xi)
         return np.einsum("pk,pkd->pd", N, Xe), np.einsum("pka,pkd->pda", dN, Xe)
 
+    def at_some(xi, rows):
+        N, dN = shape(kind, xi)
+        Xr = Xe[rows]
+        return np.einsum("pk,pkd->pd", N, Xr), np.einsum("pka,pkd->pda", dN, Xr)
+
+    def second_some(xi, rows):  # ∂²X/∂ξ_a∂ξ_b, (P, 3, 2, 2); 0 on a triangle
+        if kind == "tri3":
+            return np.zeros((len(xi), 3, 2, 2))
+        cols = []
+        for b in range(2):
+            e = np.zeros(2)
+            e[b] = hd
+            cols.append((at_some(xi + e, rows)[1] - at_some(xi - e, rows)[1]) / (2 * hd))
+        return np.stack(cols, axis=-1)
+
+    def second(xi):
+        return second_some(xi, slice(None))
+
     xi = np.broadcast_to(_centre(kind), (P, 2)).copy()
-    for _ in range(30):
-        X, J = at(xi)
-        r = x - X
-        JtJ = np.einsum("pda,pdb->pab", J, J)
-        step = np.linalg.solve(JtJ, np.einsum("pda,pd->pa", J, r)[..., None])[..., 0]
-        xi = xi + step
-        if np.all(np.abs(step) <= _EPS) or not np.all(np.isfinite(xi)):
+    active = np.arange(P)  # points still moving; those that leave the facet stop
+    for _ in range(50):
+        Xa, Ja = at_some(xi[active], active)
+        r = x[active] - Xa
+        H = _newton_matrix(Ja, r, second_some(xi[active], active))
+        step = np.linalg.solve(H, np.einsum("pda,pd->pa", Ja, r)[..., None])[..., 0]
+        xi[active] += step
+        moving = np.any(np.abs(step) > _EPS, axis=1) & _inside(kind, xi[active], 1.0)
+        active = active[moving]
+        if active.size == 0:
             break
-        xi = np.clip(xi, -10.0, 10.0)  # far outside: the sides decide
     inside = _inside(kind, xi)
     xi = np.where(inside[:, None], xi, _clamp(kind, xi))
     X, _ = at(xi)
-    d = np.linalg.norm(x - X, axis=1)
-    out = np.flatnonzero(~inside)
-    if out.size:
-        a, b = _reference_sides(kind)
-        best_d = np.full(out.size, np.inf)
-        best_xi = xi[out]
-        xo, Xo = x[out], Xe[out]
-        for s in range(len(a)):  # 3 or 4 sides: vectorised over the points
-            t = np.full(out.size, 0.5)
-            ab = b[s] - a[s]
-            for _ in range(20):
-                N, dN = shape(kind, a[s] + t[:, None] * ab)
-                Xs = np.einsum("pk,pkd->pd", N, Xo)
-                dXs = np.einsum("pka,a,pkd->pd", dN, ab, Xo)
-                dt = np.einsum("pd,pd->p", xo - Xs, dXs) / np.einsum("pd,pd->p", dXs, dXs)
-                t_new = np.clip(t + dt, 0.0, 1.0)
-                done = np.all(np.abs(t_new - t) <= _EPS)
-                t = t_new
-                if done:
-                    break
-            N, _ = shape(kind, a[s] + t[:, None] * ab)
-            ds = np.linalg.norm(xo - np.einsum("pk,pkd->pd", N, Xo), axis=1)
-            better = ds < best_d
-            best_d = np.where(better, ds, best_d)
-            best_xi = np.where(better[:, None], a[s] + t[:, None] * ab, best_xi)
-        xi[out], d[out] = best_xi, best_d
-        X[out] = np.einsum("pk,pkd->pd", shape(kind, best_xi)[0], Xo)
+    d = np.where(inside, np.linalg.norm(x - X, axis=1), np.inf)
+    a, b = _reference_sides(kind)
+    for s in range(len(a)):  # 3 or 4 sides, vectorised over the points
+        ab = b[s] - a[s]
+        t = np.full(P, 0.5)
+        for _ in range(50):
+            p = a[s] + t[:, None] * ab
+            Xs, J = at(p)
+            d1 = J @ ab
+            d2 = np.einsum("pdab,a,b->pd", second(p), ab, ab)
+            r = x - Xs
+            g = np.einsum("pd,pd->p", r, d1)
+            h = np.einsum("pd,pd->p", d1, d1)
+            hn = h - np.einsum("pd,pd->p", r, d2)
+            t_new = np.clip(t + g / np.where(hn > 1e-12 * h, hn, h), 0.0, 1.0)
+            done = np.all(np.abs(t_new - t) <= _EPS)
+            t = t_new
+            if done:
+                break
+        p = a[s] + t[:, None] * ab
+        Xs, _ = at(p)
+        ds = np.linalg.norm(x - Xs, axis=1)
+        better = ds < d * (1 - _EPS) - _EPS * surf.size  # the foot inside wins a tie
+        d = np.where(better, ds, d)
+        xi = np.where(better[:, None], p, xi)
+        X = np.where(better[:, None], Xs, X)
     return xi, X, d
 
 
@@ -537,7 +567,12 @@ def closest_facets(surf: Surface, x: np.ndarray):
     _, _, d = _closest_on_facets(surf, x[rows], cand.ravel())
     best = d.reshape(len(x), -1).min(axis=1)
     rmax = float(surf.radii.max())
-    rows, cols = _near(tree, x, best + rmax + 1e-12 * (best + rmax + surf.size))
+    slack = 1e-12 * (best + rmax + surf.size)
+    rows, cols = _near(tree, x, best + rmax + slack)
+    # a facet can hold a point within ``best`` of x only if its centroid is within best + r_f
+    near = (np.linalg.norm(x[rows] - surf.centroids[cols], axis=1)
+            <= best[rows] + surf.radii[cols] + slack[rows])
+    rows, cols = rows[near], cols[near]
     xi, X, d = _closest_on_facets(surf, x[rows], cols)
     tie = _EPS * (surf.size + 1.0)
     dq = np.round(d / tie)  # equal within round-off: the lowest facet index wins
@@ -710,8 +745,10 @@ def _pairs(plus: Surface, minus: Surface) -> tuple[np.ndarray, np.ndarray]:
     tol = _EPS * max(plus.size, minus.size, 1.0)
     radius = d + plus.radii + float(minus.radii.max()) + tol
     e, f = _near(cKDTree(minus.centroids), plus.centroids, radius)
+    near = (np.linalg.norm(plus.centroids[e] - minus.centroids[f], axis=1)
+            <= d[e] + plus.radii[e] + minus.radii[f] + tol)
     facing = np.einsum("ij,ij->i", plus.normals[e], minus.normals[f]) < -1e-9
-    return e[facing], f[facing]
+    return e[near & facing], f[near & facing]
 
 
 def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mortar:
@@ -756,6 +793,10 @@ def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mor
     if bad.size:
         raise ModelError(f"plus surface '{plus.name}' facet {int(e[bad[0]])}",
                          "is not convex in its own plane")
+    # projections whose bounding boxes do not meet cannot overlap
+    meet = np.all((cm.min(axis=1) < cp.max(axis=1) - tol) & (cp.min(axis=1) < cm.max(axis=1)
+                                                              - tol), axis=1)
+    e, f, cp, cm, c0, ax = e[meet], f[meet], cp[meet], cm[meet], c0[meet], ax[meet]
     poly, cnt = clip_polygons(cm[:, ::-1], np.full(len(e), n_m_c), cp,
                               np.full(len(e), n_p_c), tol)
     area = polygon_areas(poly, cnt)
