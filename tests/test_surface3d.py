@@ -94,6 +94,20 @@ def test_named_boundary_and_its_errors():
         surface_of_mesh(skfem.MeshTri())
 
 
+def test_orientation_check():
+    """Surfaces from meshes are consistently oriented; one facet turned the other way is named
+    (the facet found is one of the two running through the shared side alike)."""
+    for element in MESHES:
+        surface_of_mesh(_box(element), element).check_orientation()
+    S = surface_of_mesh(_box("hex8"))
+    fac = S.facets.copy()
+    fac[5] = fac[5, ::-1]
+    with pytest.raises(ModelError, match=r"facet (5|\d+).*not consistently oriented") as err:
+        Surface(S.points, fac, "quad4").check_orientation()
+    bad = int(err.value.item.split()[-1])
+    assert bad == 5 or len(np.intersect1d(fac[bad], fac[5])) == 2
+
+
 def test_plain_surface_errors_name_the_facet():
     """Bad arrays: a node id out of range and a degenerate facet, each named."""
     pts = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0]])
@@ -347,6 +361,24 @@ def test_mortar_in_a_tilted_plane():
     minus_r = Surface(minus.points @ R.T, minus.facets, minus.kind)
     mo = _check_patch(plus_r, minus_r, 1.0)
     assert_allclose(mo.normal, np.tile(R[:, 2], (len(mo.nodes), 1)), atol=1e-14)
+
+
+def test_mortar_on_matching_meshes_ties_node_to_node():
+    """Matching hex grids: each S+ node's weights are 1 at the S− node at its place and 0
+    elsewhere (1e-14), the areas the tributary areas h_x h_y / 4 · (facets at the node), the
+    gaps 0 (1e-15 m)."""
+    xs, ys = np.linspace(0, 1, 5), np.linspace(0, 1, 6)
+    m = skfem.MeshHex.init_tensor(xs, ys, np.array([-0.4, 0.0])).with_defaults()
+    minus = surface_of_mesh(m, boundary="back")  # z = 0, normal +z
+    mp = skfem.MeshHex.init_tensor(xs, ys, np.array([0.0, 0.3])).with_defaults()
+    plus = surface_of_mesh(mp, boundary="front")
+    mo = mortar(plus, minus)
+    hit = np.take_along_axis(mo.cols, mo.weights.argmax(axis=1)[:, None], axis=1)[:, 0]
+    assert_allclose(minus.points[hit], plus.points[mo.nodes], atol=0)
+    assert_allclose(mo.weights.max(axis=1), 1.0, atol=1e-14)
+    assert_allclose(np.sort(mo.weights, axis=1)[:, :-1], 0.0, atol=1e-14)
+    assert_allclose(mo.area, plus.nodal_areas()[mo.nodes], atol=1e-15)
+    assert_allclose(mo.gap, 0.0, atol=1e-15)
 
 
 def test_mortar_refuses_quadratic_facets():

@@ -276,6 +276,25 @@ class Surface:
         facets and flat quadratic ones with straight sides)."""
         return self._jacobians()[1].sum(axis=1)
 
+    def check_orientation(self) -> None:
+        """Raise a ModelError naming the first facet whose corners turn the other way than a
+        neighbour's (consistently oriented facets run through each shared side in opposite
+        directions), or a side shared by more than two facets."""
+        c = self.corners
+        a, b = c.ravel(), np.roll(c, -1, axis=1).ravel()
+        n = len(self.points)
+        directed = a * n + b
+        undirected = np.minimum(a, b) * n + np.maximum(a, b)
+        _, inv, cnt = np.unique(undirected, return_inverse=True, return_counts=True)
+        _, dinv, dcnt = np.unique(directed, return_inverse=True, return_counts=True)
+        bad = np.flatnonzero((cnt[inv] > 2) | (dcnt[dinv] > 1))
+        if bad.size:
+            f = int(bad[0] // c.shape[1])
+            raise ModelError(f"{self.name} facet {f}",
+                             f"side ({int(a[bad[0]])}, {int(b[bad[0]])}) is run through in "
+                             "the same direction by another facet, or shared by more than two: "
+                             "the facets are not consistently oriented")
+
     def nodal_areas(self) -> np.ndarray:
         """(n,) tributary areas A_i = Σ_facets ∫ φ_i dA of every node (0 off the surface), m².
 
@@ -705,6 +724,11 @@ class Mortar:
         Rows t₁, t₂, n (:func:`local_basis`).
     overlap_area : float
         The area of the overlap, m².
+    x : (m, 3) float
+        The S+ nodes' coordinates, m.
+    gap : (m,) float
+        The initial gap at each node, its signed distance to S− (:func:`project_points`: > 0
+        apart), m; at the node, not a weighted mean, as for the 2D mortar CFEs.
     """
 
     D: object
@@ -717,6 +741,8 @@ class Mortar:
     normal: np.ndarray
     basis: np.ndarray
     overlap_area: float
+    x: np.ndarray
+    gap: np.ndarray
 
 
 def _inverse_map(kind: str, corners: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -779,6 +805,9 @@ def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mor
     n_p, n_m = len(plus.points), len(minus.points)
     tol = _EPS * max(plus.size, minus.size, 1.0)
     e, f = _pairs(plus, minus)
+    if e.size == 0:
+        raise ModelError(f"plus surface '{plus.name}'", f"no facet faces the minus surface "
+                                                        f"'{minus.name}' (no overlap)")
     # the auxiliary plane of each S+ facet: origin its centroid, axes t₁, t₂ ⊥ its normal
     B = local_basis(plus.normals)
     ax = B[e, :2]  # (P, 2, 3)
@@ -860,8 +889,10 @@ def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mor
     cols[r, pos] = rows.indices
     wts[r, pos] = rows.data / Dd[nodes][r]
     nrm = nd[nodes] / np.linalg.norm(nd[nodes], axis=1)[:, None]
+    x = plus.points[nodes]
     return Mortar(D=D, M=M, M_dual=Md, nodes=nodes, area=Dd[nodes], cols=cols, weights=wts,
-                  normal=nrm, basis=local_basis(nrm, axis), overlap_area=float(w.sum()))
+                  normal=nrm, basis=local_basis(nrm, axis), overlap_area=float(w.sum()), x=x,
+                  gap=project_points(x, minus).gap)
 
 
 __all__ = ["ELEMENT_FACETS", "FACET_KINDS", "Mortar", "NodeToFacet", "Surface", "clip_polygons",
