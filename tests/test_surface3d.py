@@ -381,7 +381,35 @@ def test_mortar_on_matching_meshes_ties_node_to_node():
     assert_allclose(mo.gap, 0.0, atol=1e-15)
 
 
-def test_mortar_refuses_quadratic_facets():
-    S = surface_of_mesh(_box("hex27"), "hex27")
-    with pytest.raises(ModelError, match="quad9"):
+@pytest.mark.parametrize("plus_el, minus_el", [("hex27", "tet10"), ("hex27", "hex20"),
+                                               ("hex8", "tet10")])
+def test_mortar_patch_quadratic(plus_el, minus_el):
+    """Quadratic facets (quad9 on S+, tri6 or quad8 on S−), S− turned by 20°: Σ D = Σ M = 1 m²,
+    a linear field carried exactly, and the quadratic field x² + xy − y² too where both sides
+    hold it (1e-12)."""
+    def mesh(el, n, lo, hi, zs):
+        return MESHES[el].init_tensor(np.linspace(lo, hi, n), np.linspace(lo, hi, n + 1), zs)
+
+    mm = mesh(minus_el, 4, -0.5, 1.5, np.array([-0.4, 0.0]))
+    c, s = np.cos(np.radians(20)), np.sin(np.radians(20))
+    p = mm.p.copy()
+    p[:2] = np.array([[c, -s], [s, c]]) @ (p[:2] - 0.5) + 0.5
+    minus = surface_of_mesh(type(mm)(p, mm.t), minus_el)
+    plus = surface_of_mesh(mesh(plus_el, 3, 0.0, 1.0, np.array([0.0, 0.3])).with_defaults(),
+                           plus_el, boundary="front")
+    mo = _check_patch(plus, minus, 1.0)
+    if plus_el == "hex27":  # quad9, tri6 and quad8 all hold the full quadratics
+        def quad(q):
+            return q[:, 0] ** 2 + q[:, 0] * q[:, 1] - q[:, 1] ** 2
+        u = quad(minus.points)
+        carried = (mo.weights * u[np.maximum(mo.cols, 0)] * (mo.cols >= 0)).sum(axis=1)
+        assert_allclose(carried, quad(plus.points[mo.nodes]), atol=1e-12)
+
+
+@pytest.mark.parametrize("element", ["tet10", "hex20"])
+def test_mortar_refuses_tri6_and_quad8_on_the_cfe_side(element):
+    """tri6 and quad8 facets have corners with ∫ φ ≤ 0: mortar CFEs on them are refused with
+    the reason; as the S− side they are accepted (previous test)."""
+    S = surface_of_mesh(_box(element), element)
+    with pytest.raises(ModelError, match="∫ φ ≤ 0"):
         mortar(S, S)

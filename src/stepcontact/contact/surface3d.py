@@ -694,8 +694,12 @@ def clip_polygons(subject: np.ndarray, n_subject: np.ndarray, clip: np.ndarray,
 
 # ---- mortar -----------------------------------------------------------------------------------
 #: Gauss points per direction on each triangle of an overlap (collapsed rule, exact for
-#: polynomials of degree 4: the products φ_i ψ_l of linear facets have degree 2)
+#: polynomials of degree 4: the products φ_i ψ_l of linear facets have degree 2); one more
+#: (degree 6) where a facet is quadratic
 MORTAR_GAUSS = 3
+#: facet kinds of the side that carries mortar CFEs: those whose ∫ φ_i > 0 at every node
+#: (a flat tri6 has 0 at its corners, a quad8 −A/12)
+MORTAR_KINDS = ("tri3", "quad4", "quad9")
 
 
 @dataclass(frozen=True, eq=False)
@@ -746,9 +750,9 @@ class Mortar:
 
 
 def _inverse_map(kind: str, corners: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Local coordinates ξ (T, G, 2) of plane points y (T, G, 2) in linear facets whose corners
-    are projected to the plane (T, nc, 2): barycentric (one Newton step) for triangles, the
-    bilinear inverse for quadrilaterals (Newton to round-off)."""
+    """Local coordinates ξ (T, G, 2) of plane points y (T, G, 2) in facets whose nodes are
+    projected to the plane (T, k, 2): barycentric (one Newton step) for linear triangles, the
+    bilinear (or quadratic) inverse otherwise (Newton to round-off)."""
     xi = np.broadcast_to(_centre(kind), y.shape).copy()
     for _ in range(25):
         N, dN = shape(kind, xi)
@@ -778,30 +782,36 @@ def _pairs(plus: Surface, minus: Surface) -> tuple[np.ndarray, np.ndarray]:
 
 
 def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mortar:
-    """Mortar CFEs on the nodes of S+ (segment-based integration, linear facets).
+    """Mortar CFEs on the nodes of S+ (segment-based integration): S+ of ``tri3``, ``quad4``
+    or ``quad9`` facets (:data:`MORTAR_KINDS`), S− of any kind.
 
     For every pair of facing facets (e on S+, f on S−): both are projected onto the auxiliary
     plane of e (through its centroid, ⊥ its normal at the centre, exact for flat facets), the
     projection of f clipped by that of e (:func:`clip_polygons`), the overlap cut into a fan of
     triangles, and on each MORTAR_GAUSS² Gauss points the shape functions φ of e and ψ of f
     evaluated at the points of e and f that project there (barycentric / bilinear inverse).
-    Where S− facets lie at several distances under e (the far side of a body), only those
-    within one facet size of the nearest are kept.
+    The polygons are the facets' corners: exact for flat facets with straight sides (curved
+    quadratic facets are cut along their chords).  Where S− facets lie at several distances
+    under e (the far side of a body), only those within one facet size of the nearest are
+    kept.
 
     D, M are the standard mortar matrices.  The CFEs use the dual functions
     φ*_i = Σ_j A_ij φ_j of each S+ facet, A = D_e M_e⁻¹ with M_e = ∫ φ φᵀ and D_e =
     diag(∫ φ) over the facet's overlap, so that ∫ φ*_i φ_j = δ_ij D_i: D is diagonal exactly,
     not lumped, and the S− end of CFE i is the row D_i⁻¹ ∫ φ*_i ψ_l.  Then Σ_l M_il = D_i
     (a constant is carried exactly) and Σ_l M_il u_l = D_i u_i for any field linear on flat
-    coincident surfaces (the patch condition), whatever the Gauss rule.  For CFEs on S−,
+    coincident surfaces (the patch condition; quadratic too where both sides are quadratic),
+    whatever the Gauss rule.  For CFEs on S−,
     call ``mortar(minus, plus)`` and reverse the normal.
     """
     from scipy.sparse import coo_matrix
 
-    for s, side in ((plus, "plus"), (minus, "minus")):
-        if s.kind not in ("tri3", "quad4"):
-            raise ModelError(f"{side} surface '{s.name}'", f"mortar CFEs on '{s.kind}' facets "
-                                                           "are not implemented (tri3, quad4)")
+    if plus.kind not in MORTAR_KINDS:
+        raise ModelError(f"plus surface '{plus.name}'",
+                         f"mortar CFEs on '{plus.kind}' facets are not implemented (one of "
+                         f"{MORTAR_KINDS}): their corners have ∫ φ ≤ 0, so the dual basis "
+                         "gives them no CFE; put the CFEs on the other side or use "
+                         "node-to-facet")
     n_p, n_m = len(plus.points), len(minus.points)
     tol = _EPS * max(plus.size, minus.size, 1.0)
     e, f = _pairs(plus, minus)
@@ -839,12 +849,16 @@ def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mor
     hmin = np.full(len(plus), np.inf)
     np.minimum.at(hmin, e[keep], h[keep])
     keep &= h <= hmin[e] + np.maximum(plus.radii[e], minus.radii[f]) + tol
-    e, f, poly, cnt, cp, cm = e[keep], f[keep], poly[keep], cnt[keep], cp[keep], cm[keep]
+    e, f, poly, cnt, c0, ax = e[keep], f[keep], poly[keep], cnt[keep], c0[keep], ax[keep]
+    # all the facets' nodes in the auxiliary planes, for the inverse maps
+    cp = np.einsum("pkd,pad->pka", plus.points[plus.facets[e]] - c0[:, None], ax)
+    cm = np.einsum("pkd,pad->pka", minus.points[minus.facets[f]] - c0[:, None], ax)
     # fan triangles (0, j, j + 1) of each overlap, and their Gauss points
     j = np.arange(1, poly.shape[1] - 1)
     tp, tj = np.nonzero(j[None] < cnt[:, None] - 1)
     tri = np.stack([poly[tp, 0], poly[tp, j[tj]], poly[tp, j[tj] + 1]], axis=1)  # (T, 3, 2)
-    g, wg = _gauss_triangle(MORTAR_GAUSS)
+    quadratic = FACET_KINDS[plus.kind][1] > 4 or FACET_KINDS[minus.kind][1] > 4
+    g, wg = _gauss_triangle(MORTAR_GAUSS + quadratic)
     L = np.column_stack([1 - g.sum(1), g])
     y = np.einsum("gk,tkd->tgd", L, tri)
     at = 2 * polygon_areas(tri, np.full(len(tri), 3))
