@@ -58,10 +58,10 @@ def test_box_area_and_outward_normals(element):
     assert_allclose(S.areas.sum(), 22.0, rtol=1e-13)
     c = S.centroids
     dims = np.array([1.0, 2.0, 3.0])
-    on = np.isclose(c, 0.0, atol=1e-12) | np.isclose(c, dims, atol=1e-12)
+    on = np.isclose(c, 0.0, atol=1e-12, rtol=0) | np.isclose(c, dims, atol=1e-12, rtol=0)
     assert np.all(on.sum(axis=1) == 1)  # each centroid on exactly one face
-    expect = np.where(on, np.where(np.isclose(c, 0.0, atol=1e-12), -1.0, 1.0), 0.0)
-    assert_allclose(S.normals, expect, atol=1e-14)
+    expect = np.where(on, np.where(np.isclose(c, 0.0, atol=1e-12, rtol=0), -1.0, 1.0), 0.0)
+    assert_allclose(S.normals, expect, atol=1e-14, rtol=0)
 
 
 @pytest.mark.parametrize("element", ["tet10", "hex20", "hex27"])
@@ -72,9 +72,10 @@ def test_quadratic_facet_nodes_at_midpoints(element):
     P = S.points[S.facets]
     nc = 3 if element == "tet10" else 4
     corners = P[:, :nc]
-    assert_allclose(P[:, nc:2 * nc], 0.5 * (corners + np.roll(corners, -1, axis=1)), atol=1e-14)
+    mid = 0.5 * (corners + np.roll(corners, -1, axis=1))
+    assert_allclose(P[:, nc:2 * nc], mid, atol=1e-14, rtol=0)
     if element == "hex27":
-        assert_allclose(P[:, 8], corners.mean(axis=1), atol=1e-14)
+        assert_allclose(P[:, 8], corners.mean(axis=1), atol=1e-14, rtol=0)
 
 
 def test_named_boundary_and_its_errors():
@@ -83,8 +84,8 @@ def test_named_boundary_and_its_errors():
     m = _box("hex8")
     S = surface_of_mesh(m, boundary="top")
     assert_allclose(S.areas.sum(), 3.0, rtol=1e-13)
-    assert_allclose(S.normals, np.tile([0.0, 1.0, 0.0], (len(S), 1)), atol=1e-14)
-    assert_allclose(S.points[S.nodes, 1], 2.0, atol=1e-14)
+    assert_allclose(S.normals, np.tile([0.0, 1.0, 0.0], (len(S), 1)), atol=1e-14, rtol=0)
+    assert_allclose(S.points[S.nodes, 1], 2.0, atol=1e-14, rtol=0)
     with pytest.raises(ModelError, match="boundary 'roof'"):
         surface_of_mesh(m, boundary="roof")
     inner = np.setdiff1d(np.arange(m.facets.shape[1]), m.boundary_facets())[:1]
@@ -132,14 +133,14 @@ def test_nodal_areas_of_squares_and_triangles():
     edges = np.isclose(x, 0) | np.isclose(x, 2.0)
     edges_y = np.isclose(y, 0) | np.isclose(y, 1.5)
     expect = h * h / 2.0 ** (edges.astype(int) + edges_y.astype(int))
-    assert_allclose(A, expect, atol=1e-14)
+    assert_allclose(A, expect, atol=1e-14, rtol=0)
 
     T = surface_of_mesh(_box("tet4"))
     P = T.points[T.facets]
     fa = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
     ref = np.zeros(len(T.points))
     np.add.at(ref, T.facets, fa[:, None] / 3)
-    assert_allclose(T.nodal_areas(), ref, atol=1e-14)
+    assert_allclose(T.nodal_areas(), ref, atol=1e-14, rtol=0)
     for element in MESHES:
         S = surface_of_mesh(_box(element), element)
         assert_allclose(S.nodal_areas().sum(), 22.0, rtol=1e-13)
@@ -163,12 +164,13 @@ def test_projection_on_a_tilted_triangle():
     q = q_local @ R.T + [1.0, -2.0, 0.5]
     r = project_points(q, S)
     foot = np.array([[0.5, 0.25, 0], [1.0, 1.0, 0], [0.0, 0.0, 0]])
-    assert_allclose(r.x_minus, foot @ R.T + [1.0, -2.0, 0.5], atol=1e-14)
+    assert_allclose(r.x_minus, foot @ R.T + [1.0, -2.0, 0.5], atol=1e-14, rtol=0)
     assert_allclose(r.weights, [[0.625, 0.25, 0.125], [0.0, 0.5, 0.5], [1.0, 0.0, 0.0]],
-                    atol=1e-14)
-    assert_allclose(r.normal, np.tile(R[:, 2], (3, 1)), atol=1e-14)
-    assert_allclose(r.gap, [0.3, -0.2, 0.4], atol=1e-14)
-    assert_allclose(r.distance, [0.3, np.sqrt(0.5 + 0.04), np.sqrt(1.25 + 0.16)], atol=1e-14)
+                    atol=1e-14, rtol=0)
+    assert_allclose(r.normal, np.tile(R[:, 2], (3, 1)), atol=1e-14, rtol=0)
+    assert_allclose(r.gap, [0.3, -0.2, 0.4], atol=1e-14, rtol=0)
+    assert_allclose(r.distance, [0.3, np.sqrt(0.5 + 0.04), np.sqrt(1.25 + 0.16)], atol=1e-14,
+                    rtol=0)
 
 
 def test_projection_on_a_tilted_trapezoid():
@@ -180,9 +182,9 @@ def test_projection_on_a_tilted_trapezoid():
     S = Surface(local @ R.T, np.array([[0, 1, 2, 3]]), "quad4")
     ql = np.array([[1.2, 0.9, 0.7], [2.3, 0.2, -0.1]])
     r = project_points(ql @ R.T, S)
-    assert_allclose(r.x_minus, ql * [1, 1, 0] @ R.T, atol=1e-13)
-    assert_allclose(np.einsum("pk,kd->pd", r.weights, S.points), r.x_minus, atol=1e-13)
-    assert_allclose(r.gap, ql[:, 2], atol=1e-13)
+    assert_allclose(r.x_minus, ql * [1, 1, 0] @ R.T, atol=1e-13, rtol=0)
+    assert_allclose(np.einsum("pk,kd->pd", r.weights, S.points), r.x_minus, atol=1e-13, rtol=0)
+    assert_allclose(r.gap, ql[:, 2], atol=1e-13, rtol=0)
     assert np.all(np.abs(r.xi) < 1)
 
 
@@ -201,9 +203,9 @@ def test_projection_on_a_parabolic_facet():
         roots = np.roots([4.0, 0.0, 2 - 4 * z0, -2 * x0])
         roots = roots[np.abs(roots.imag) < 1e-12].real
         x = roots[np.argmin((roots - x0) ** 2 + (roots ** 2 - z0) ** 2)]
-        assert_allclose(r.x_minus[k], [x, y0, x * x], atol=1e-12)
+        assert_allclose(r.x_minus[k], [x, y0, x * x], atol=1e-12, rtol=0)
         n = np.array([-2 * x, 0.0, 1.0]) / np.hypot(2 * x, 1.0)
-        assert_allclose(r.normal[k], n, atol=1e-12)
+        assert_allclose(r.normal[k], n, atol=1e-12, rtol=0)
 
 
 def test_projection_on_a_box_and_matching_nodes():
@@ -215,15 +217,15 @@ def test_projection_on_a_box_and_matching_nodes():
     S = surface_of_mesh(m)
     q = np.array([[0.2, 0.3, 0.1], [0.5, 0.5, -0.01], [1.5, 0.5, 0.2]])
     r = project_points(q, S)
-    assert_allclose(r.x_minus, [[0.2, 0.3, 0], [0.5, 0.5, 0], [1.0, 0.5, 0]], atol=1e-15)
-    assert_allclose(r.distance, [0.1, 0.01, np.hypot(0.5, 0.2)], atol=1e-15)
-    assert_allclose(r.gap[:2], [0.1, -0.01], atol=1e-15)
+    assert_allclose(r.x_minus, [[0.2, 0.3, 0], [0.5, 0.5, 0], [1.0, 0.5, 0]], atol=1e-15, rtol=0)
+    assert_allclose(r.distance, [0.1, 0.01, np.hypot(0.5, 0.2)], atol=1e-15, rtol=0)
+    assert_allclose(r.gap[:2], [0.1, -0.01], atol=1e-15, rtol=0)
     top = S.nodes[np.isclose(S.points[S.nodes, 2], 0.0)]
     r = project_points(S.points[top], S)
     assert np.all(np.sort(r.weights, axis=1)[:, :-1] == 0.0)
     assert np.all(r.weights.max(axis=1) == 1.0)
     hit = np.take_along_axis(r.nodes, r.weights.argmax(axis=1)[:, None], axis=1)[:, 0]
-    assert_allclose(S.points[hit], S.points[top], atol=0)
+    assert_allclose(S.points[hit], S.points[top], atol=0, rtol=0)
 
 
 def test_local_basis_is_orthonormal_and_right_handed():
@@ -233,12 +235,13 @@ def test_local_basis_is_orthonormal_and_right_handed():
     rng = np.random.default_rng(7)
     n = rng.normal(size=(200, 3))
     B = local_basis(n)
-    assert_allclose(np.einsum("mij,mkj->mik", B, B), np.tile(np.eye(3), (200, 1, 1)), atol=1e-14)
-    assert_allclose(np.linalg.det(B), 1.0, atol=1e-14)
-    assert_allclose(B[:, 2], n / np.linalg.norm(n, axis=1)[:, None], atol=1e-15)
+    assert_allclose(np.einsum("mij,mkj->mik", B, B), np.tile(np.eye(3), (200, 1, 1)),
+                    atol=1e-14, rtol=0)
+    assert_allclose(np.linalg.det(B), 1.0, atol=1e-14, rtol=0)
+    assert_allclose(B[:, 2], n / np.linalg.norm(n, axis=1)[:, None], atol=1e-15, rtol=0)
     assert np.array_equal(local_basis([0.0, 0.0, 1.0])[0], np.eye(3))
     Bx = local_basis(np.tile([0.0, 0.6, 0.8], (2, 1)), axis=[0.0, 1.0, 0.0])
-    assert_allclose(Bx[0, 0], [0.0, 0.8, -0.6], atol=1e-15)
+    assert_allclose(Bx[0, 0], [0.0, 0.8, -0.6], atol=1e-15, rtol=0)
     with pytest.raises(ModelError, match="parallel"):
         local_basis([0.0, 0.0, 1.0], axis=[0.0, 0.0, 2.0])
 
@@ -261,8 +264,8 @@ def test_clipping_two_turned_squares():
     poly, cnt = clip_polygons(subj, np.full(5, 4), clip, np.full(5, 4))
     leg1 = 1 - np.tan(th / 2)
     leg2 = (np.cos(th) + np.sin(th) - 1) / np.cos(th)
-    assert_allclose(polygon_areas(poly, cnt), 4 - 2 * leg1 * leg2, atol=1e-14)
-    assert_allclose(polygon_areas(poly[2:3], cnt[2:3]), 8 * np.tan(np.pi / 8), atol=1e-14)
+    assert_allclose(polygon_areas(poly, cnt), 4 - 2 * leg1 * leg2, atol=1e-14, rtol=0)
+    assert_allclose(polygon_areas(poly[2:3], cnt[2:3]), 8 * np.tan(np.pi / 8), atol=1e-14, rtol=0)
     assert np.all(cnt == 8)
     for p, k, t in zip(poly, cnt, th, strict=True):
         v = p[:k]
@@ -279,7 +282,7 @@ def test_clipping_triangle_containment_and_no_overlap():
     subj = np.stack([unit, _square(0.3, 0.2), _square(0.0, 0.4, (3.0, 0.0))])
     clip = np.stack([tri, _square(0.0), _square(0.0)])
     poly, cnt = clip_polygons(subj, np.array([4, 4, 4]), clip, np.array([3, 4, 4]))
-    assert_allclose(polygon_areas(poly, cnt), [0.875, 0.16, 0.0], atol=1e-15)
+    assert_allclose(polygon_areas(poly, cnt), [0.875, 0.16, 0.0], atol=1e-15, rtol=0)
     assert cnt[2] == 0
 
 
@@ -309,17 +312,17 @@ def _linear(p):
     return 1.0 + 2.0 * p[:, 0] - 3.0 * p[:, 1] + 0.5 * p[:, 2]
 
 
-def _check_patch(plus, minus, area, tol=1e-12):
+def _check_patch(plus, minus, area, tol=1e-12, std_tol=1e-12):
     mo = mortar(plus, minus)
     assert_allclose(mo.overlap_area, area, rtol=tol)
     assert_allclose([mo.D.sum(), mo.M.sum(), mo.M_dual.sum(), mo.area.sum()], area, rtol=tol)
-    assert_allclose(mo.weights.sum(axis=1), 1.0, atol=tol)
+    assert_allclose(mo.weights.sum(axis=1), 1.0, atol=tol, rtol=0)
     u = _linear(minus.points)
     carried = (mo.weights * u[np.maximum(mo.cols, 0)] * (mo.cols >= 0)).sum(axis=1)
-    assert_allclose(carried, _linear(plus.points[mo.nodes]), atol=tol)
+    assert_allclose(carried, _linear(plus.points[mo.nodes]), atol=tol, rtol=0)
     idx = mo.nodes
     std = spsolve(mo.D[idx][:, idx].tocsc(), mo.M[idx] @ u)
-    assert_allclose(std, _linear(plus.points[idx]), atol=tol)
+    assert_allclose(std, _linear(plus.points[idx]), atol=std_tol, rtol=0)
     return mo
 
 
@@ -337,16 +340,18 @@ def test_mortar_patch_on_non_matching_meshes(plus_el, minus_el, n_plus, n_minus)
                                 trapez=True)
     mo = _check_patch(plus, minus, 1.0)
     assert len(mo.nodes) == len(plus.nodes)
-    assert_allclose(mo.normal, np.tile([0.0, 0.0, 1.0], (len(mo.nodes), 1)), atol=1e-14)
-    assert_allclose(np.linalg.det(mo.basis), 1.0, atol=1e-14)
+    assert_allclose(mo.normal, np.tile([0.0, 0.0, 1.0], (len(mo.nodes), 1)), atol=1e-14, rtol=0)
+    assert_allclose(np.linalg.det(mo.basis), 1.0, atol=1e-14, rtol=0)
 
 
 def test_mortar_partial_overlap():
     """S− (unturned, [−0.5, 1.5]² shifted by (0.83, 0.61)) covers only [0.33, 1] × [0.11, 1] of
     S+: overlap area 0.67 × 0.89 m² (1e-12); the patch condition holds on the CFEs there, which
-    are the nodes of the S+ facets reaching into that rectangle."""
+    are the nodes of the S+ facets reaching into that rectangle: by the dual weights to 1e-12,
+    by D⁻¹ M to 1e-10 (D restricted to the overlap is ill-conditioned at the barely covered
+    facets' nodes; measured 2e-12)."""
     plus, minus = _plane_meshes("hex8", "tet4", 6, 5, shift=(0.83, 0.61))
-    mo = _check_patch(plus, minus, 0.67 * 0.89)
+    mo = _check_patch(plus, minus, 0.67 * 0.89, std_tol=1e-10)
     far = plus.points[plus.facets].max(axis=1)
     reach = (far[:, 0] > 0.33 + 1e-9) & (far[:, 1] > 0.11 + 1e-9)
     assert np.array_equal(mo.nodes, np.unique(plus.facets[reach]))
@@ -360,7 +365,7 @@ def test_mortar_in_a_tilted_plane():
     plus_r = Surface(plus.points @ R.T, plus.facets, plus.kind)
     minus_r = Surface(minus.points @ R.T, minus.facets, minus.kind)
     mo = _check_patch(plus_r, minus_r, 1.0)
-    assert_allclose(mo.normal, np.tile(R[:, 2], (len(mo.nodes), 1)), atol=1e-14)
+    assert_allclose(mo.normal, np.tile(R[:, 2], (len(mo.nodes), 1)), atol=1e-14, rtol=0)
 
 
 def test_mortar_on_matching_meshes_ties_node_to_node():
@@ -374,11 +379,11 @@ def test_mortar_on_matching_meshes_ties_node_to_node():
     plus = surface_of_mesh(mp, boundary="front")
     mo = mortar(plus, minus)
     hit = np.take_along_axis(mo.cols, mo.weights.argmax(axis=1)[:, None], axis=1)[:, 0]
-    assert_allclose(minus.points[hit], plus.points[mo.nodes], atol=0)
-    assert_allclose(mo.weights.max(axis=1), 1.0, atol=1e-14)
-    assert_allclose(np.sort(mo.weights, axis=1)[:, :-1], 0.0, atol=1e-14)
-    assert_allclose(mo.area, plus.nodal_areas()[mo.nodes], atol=1e-15)
-    assert_allclose(mo.gap, 0.0, atol=1e-15)
+    assert_allclose(minus.points[hit], plus.points[mo.nodes], atol=0, rtol=0)
+    assert_allclose(mo.weights.max(axis=1), 1.0, atol=1e-14, rtol=0)
+    assert_allclose(np.sort(mo.weights, axis=1)[:, :-1], 0.0, atol=1e-14, rtol=0)
+    assert_allclose(mo.area, plus.nodal_areas()[mo.nodes], atol=1e-15, rtol=0)
+    assert_allclose(mo.gap, 0.0, atol=1e-15, rtol=0)
 
 
 @pytest.mark.parametrize("plus_el, minus_el", [("hex27", "tet10"), ("hex27", "hex20"),
@@ -403,7 +408,7 @@ def test_mortar_patch_quadratic(plus_el, minus_el):
             return q[:, 0] ** 2 + q[:, 0] * q[:, 1] - q[:, 1] ** 2
         u = quad(minus.points)
         carried = (mo.weights * u[np.maximum(mo.cols, 0)] * (mo.cols >= 0)).sum(axis=1)
-        assert_allclose(carried, quad(plus.points[mo.nodes]), atol=1e-12)
+        assert_allclose(carried, quad(plus.points[mo.nodes]), atol=1e-12, rtol=0)
 
 
 @pytest.mark.parametrize("element", ["tet10", "hex20"])
@@ -413,3 +418,21 @@ def test_mortar_refuses_tri6_and_quad8_on_the_cfe_side(element):
     S = surface_of_mesh(_box(element), element)
     with pytest.raises(ModelError, match="∫ φ ≤ 0"):
         mortar(S, S)
+
+
+def test_curved_quadratic_sphere_area_converges():
+    """MeshTet2.init_ball(n) (tet10, nodes on the unit sphere): the surface area of its tri6
+    facets tends to 4π at the rate of the quadratic isoparametric surface, h⁴: the slope of
+    log error on log h (np.polyfit, h ∝ 2⁻ⁿ) is 3.5 … 4.5, the finest error below 1e-3
+    relative; normals point outward (n · x > 0.9 at the facets' centroids on the finest)."""
+    errs, hs = [], []
+    for n in (1, 2, 3):
+        S = surface_of_mesh(skfem.MeshTet2.init_ball(n))
+        assert S.kind == "tri6"
+        errs.append(abs(S.areas.sum() - 4 * np.pi) / (4 * np.pi))
+        hs.append(2.0 ** -n)
+    slope = np.polyfit(np.log(hs), np.log(errs), 1)[0]
+    assert 3.5 <= slope <= 4.5, slope
+    assert errs[-1] < 1e-3
+    assert np.min(np.einsum("ij,ij->i", S.normals, S.centroids)) > 0.9
+    S.check_orientation()
