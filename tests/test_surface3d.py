@@ -228,6 +228,28 @@ def test_projection_on_a_box_and_matching_nodes():
     assert_allclose(S.points[hit], S.points[top], atol=0, rtol=0)
 
 
+@pytest.mark.parametrize("kind", ["tet4", "hex27"])
+def test_closest_facet_search_is_exact(kind):
+    """The k-d tree search finds the closest facet: 300 random points within 0.5 m of a
+    sphere's surface (MeshTet.init_ball, tri3) or of a box's (quad9), against the minimum over
+    all facets (every pair tried); distances to 1e-14 m."""
+    from stepcontact.contact.surface3d import _closest_on_facets, closest_facets
+
+    rng = np.random.default_rng(3)
+    if kind == "tet4":
+        S = surface_of_mesh(skfem.MeshTet.init_ball(2))
+        x = rng.normal(size=(300, 3))
+        x *= (1 + rng.uniform(-0.5, 0.5, 300) / np.linalg.norm(x, axis=1))[:, None]
+    else:
+        S = surface_of_mesh(_box("hex27"), "hex27")
+        x = rng.uniform(-0.5, 1.0, size=(300, 3)) * [2.0, 3.0, 4.0]
+    f, _, X, d = closest_facets(S, x)
+    rows = np.repeat(np.arange(len(x)), len(S))
+    _, _, d_all = _closest_on_facets(S, x[rows], np.tile(np.arange(len(S)), len(x)))
+    assert_allclose(d, d_all.reshape(len(x), -1).min(axis=1), atol=1e-14, rtol=0)
+    assert_allclose(np.linalg.norm(x - X, axis=1), d, atol=1e-14, rtol=0)
+
+
 def test_local_basis_is_orthonormal_and_right_handed():
     """Random normals: B Bᵀ = I and det B = +1 to 1e-14, the last row n; n = +z gives
     t₁ = +x, t₂ = +y exactly; a given axis is followed (its projection); an axis along n is
