@@ -342,21 +342,183 @@ class _Diagonal:
         return b * (self.inv if b.ndim == 1 else self.inv[:, None])
 
 
-def _spd_solve(W: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """x with W x = b for a small symmetric positive semi-definite W (B_r M⁻¹ B_rᵀ):
+def _spd_factor(W: np.ndarray):
+    """b ↦ x with W x = b for a small symmetric positive semi-definite W (B_r M⁻¹ B_rᵀ):
     Cholesky, or the least-squares (minimum-norm) solution where W is singular (rows that
-    depend on each other, e.g. at a corner; a pivot below 1e-12 of the largest diagonal)."""
+    depend on each other, e.g. at a corner; a pivot below 1e-12 of the largest diagonal).
+    The factor is formed once: the returned function solves for any b."""
     import scipy.linalg as sla
 
     if W.size == 0:
-        return np.zeros(0)
+        return lambda b: np.zeros(0)
     try:
         c = sla.cho_factor(W, check_finite=False)
         if np.diag(c[0]).min() ** 2 > 1e-12 * np.diag(W).max():  # not nearly singular
-            return sla.cho_solve(c, b, check_finite=False)
+            return lambda b: sla.cho_solve(c, b, check_finite=False)
     except np.linalg.LinAlgError:
         pass
-    return np.linalg.lstsq(W, b, rcond=None)[0]
+    return lambda b: np.linalg.lstsq(W, b, rcond=None)[0]
+
+
+def _spd_solve(W: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x with W x = b for a small symmetric positive semi-definite W (:func:`_spd_factor`)."""
+    return _spd_factor(W)(b)
+
+
+class _TrackedFactor:
+    """The Cholesky factor L Lᵀ = W_r of W_r = B_r M⁻¹ B_rᵀ (a principal block of GM) for a
+    row set r that changes by a few rows between uses (the closed and stuck rows of the
+    projection after a cut, :func:`_project`), updated instead of formed again:
+
+    * rows that leave: with p the first of them in the factor's order, the leading block
+      L₁₁ (p × p) and the rows of L below it on its columns stay; the trailing block is the
+      Cholesky factor of W₂₂ − L₂₁ L₂₁ᵀ on the rows that remain after p;
+    * rows that join are appended: L₂₁ = (L₁₁⁻¹ W₁₂)ᵀ, L₂₂ = chol(W₂₂ − L₂₁ L₂₁ᵀ)
+
+    — O(r² k) for k rows joining at the end (and O((r − p)² r) where rows leave at p), against
+    O(r³) for a new factor; an unchanged set reuses the factor as it is.  A set whose factor
+    has a pivot below the criterion of :func:`_spd_factor` (rows that depend on each other)
+    is solved as there (least squares on W_r) and the tracking starts again from the next
+    set."""
+
+    def __init__(self, GM: np.ndarray):
+        self.GM = GM
+        self.diag = np.ascontiguousarray(np.diag(GM))
+        self.order: np.ndarray | None = None  # the rows of r in the factor's order
+        self.L = np.zeros((0, 0))
+        self.pos = np.full(len(GM), -1, np.int64)  # row → its place in ``order`` (or −1)
+        self.singular: tuple[bytes, object] | None = None  # (set, solver) of a singular W_r
+
+    def _regular(self, L: np.ndarray, rows: np.ndarray) -> bool:
+        """:func:`_spd_factor`'s criterion: no pivot below 1e-12 of the largest diagonal."""
+        return bool(np.diag(L).min() ** 2 > 1e-12 * self.diag[rows].max())
+
+    def _set(self, order: np.ndarray, L: np.ndarray) -> None:
+        if self.order is not None:
+            self.pos[self.order] = -1
+        self.order, self.L = order, L
+        self.pos[order] = np.arange(len(order))
+
+    def _factor(self, rows: np.ndarray) -> bool:
+        """A new factor of W_r (rows in the order given); False where it is singular."""
+        import scipy.linalg as sla
+
+        try:
+            L = sla.cholesky(self.GM[np.ix_(rows, rows)], lower=True, check_finite=False)
+        except np.linalg.LinAlgError:
+            return False
+        if not self._regular(L, rows):
+            return False
+        self._set(rows.copy(), L)
+        return True
+
+    def _update(self, rows: np.ndarray) -> bool:
+        """The factor of the set ``rows`` from the current one (class docstring); False where
+        the result is singular."""
+        import scipy.linalg as sla
+
+        order, L, GM = self.order, self.L, self.GM
+        stays = np.zeros(len(GM), bool)
+        stays[rows] = True
+        kept = stays[order]
+        added = rows[self.pos[rows] < 0]
+        if kept.all() and not added.size:
+            return True  # the same set
+        p = int(np.argmin(kept)) if not kept.all() else len(order)
+        head, tail_kept = order[:p], order[p:][kept[p:]]
+        L21 = L[p:, :p][kept[p:]]
+        if added.size:
+            L21_add = (sla.solve_triangular(L[:p, :p], GM[np.ix_(head, added)], lower=True,
+                                            check_finite=False).T if p
+                       else np.zeros((len(added), 0)))
+            L21 = np.vstack([L21, L21_add])
+        tail = np.r_[tail_kept, added].astype(np.int64)
+        S = GM[np.ix_(tail, tail)] - L21 @ L21.T
+        try:
+            L22 = sla.cholesky(S, lower=True, check_finite=False)
+        except np.linalg.LinAlgError:
+            return False
+        r = p + len(tail)
+        Ln = np.zeros((r, r))
+        Ln[:p, :p] = L[:p, :p]
+        Ln[p:, :p] = L21
+        Ln[p:, p:] = L22
+        new_order = np.r_[head, tail].astype(np.int64)
+        if not self._regular(Ln, new_order):
+            return False
+        self._set(new_order, Ln)
+        return True
+
+    def solve(self, rows: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """λ with W_r λ = b (``b`` in the order of ``rows``)."""
+        import scipy.linalg as sla
+
+        rows = np.asarray(rows, dtype=np.int64)
+        if rows.size == 0:
+            return np.zeros(0)
+        done = self.order is not None and self._update(rows)
+        if not done:
+            done = self._factor(rows)
+        if not done:  # singular (dependent rows): least squares, as _spd_factor
+            if self.order is not None:  # the tracking starts again from the next set
+                self.pos[self.order] = -1
+                self.order, self.L = None, np.zeros((0, 0))
+            key = rows.tobytes()
+            if self.singular is None or self.singular[0] != key:
+                self.singular = (key, _spd_factor(self.GM[np.ix_(rows, rows)]))
+            return self.singular[1](b)
+        at = self.pos[rows]
+        bo = np.zeros(len(self.order))
+        bo[at] = b
+        return sla.cho_solve((self.L, True), bo, check_finite=False)[at]
+
+
+class _ContactMetric:
+    """The contact rows in the metric of the mass matrix: X = M⁻¹ B_fᵀ (n_free × 2m, formed
+    once: 2m solves with M, or a scaling of Bᵀ for a lumped M) and GM = B_f M⁻¹ B_fᵀ (2m × 2m)
+    — for the impacts, the projection after a cut and the contact problem in accelerations.
+
+    The projection after a cut (:func:`_project`) solves with W_r = B_r M⁻¹ B_rᵀ on the closed
+    and stuck rows and on the closed ones; between cuts these sets change by a few CFEs or not
+    at all, so their factors are kept and updated (:class:`_TrackedFactor`, one per set:
+    ``tracked(name)``)."""
+
+    def __init__(self, X, GM: np.ndarray, layout: ContactLayout):
+        self.X, self.GM, self.layout = X, GM, layout
+        self._tracked: dict[str, _TrackedFactor] = {}
+
+    def apply(self, rows: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """M⁻¹ B_rᵀ z on the free DOFs (without copying columns of X)."""
+        full = self.layout.zeros()
+        full[rows] = z
+        return self.X @ full
+
+    def gram(self, rows: np.ndarray) -> np.ndarray:
+        """W_r = B_r M⁻¹ B_rᵀ (a copy)."""
+        return self.GM[np.ix_(rows, rows)]
+
+    def tracked(self, name: str) -> _TrackedFactor:
+        """The kept factor of the row set ``name`` (:class:`_TrackedFactor`)."""
+        if name not in self._tracked:
+            self._tracked[name] = _TrackedFactor(self.GM)
+        return self._tracked[name]
+
+
+class _Rows:
+    """The recorded fields (u, u̇, ü) of a run, one copy of an (ndof,) vector per state, stacked
+    once at the end: no regrowth of an (states × ndof) array while the run records (the
+    doubling copies and the fresh pages of a :class:`GrowingArray` cost about a sparse solve
+    per state at 21k DOFs)."""
+
+    def __init__(self, ndof: int):
+        self.ndof = ndof
+        self.rows: list[np.ndarray] = []
+
+    def append(self, row: np.ndarray) -> None:
+        self.rows.append(np.array(row, dtype=float, copy=True))
+
+    def array(self) -> np.ndarray:
+        return np.stack(self.rows) if self.rows else np.zeros((0, self.ndof))
 
 
 class _Memo:
@@ -455,11 +617,16 @@ def _deferred(old, new, changed, law, damped) -> np.ndarray:
     return k[opens | slips]
 
 
-def _project(system, cond, minv, u, v, states, law, rigid_n):
+def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     """The state after a cut onto the constraints of its scheme (in the metric of M): the
     closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
     velocity to zero — so that no round-off of the interpolation (8) seeds the alternating
-    velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating."""
+    velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating.
+
+    The corrections are M-orthogonal: Δu̇ = −M⁻¹ B_rᵀ λ with W_r λ = B_r u̇ (W_r = B_r M⁻¹ B_rᵀ,
+    r the closed normal and stuck tangential rows), and likewise for u on the closed normal
+    rows; the relative motions are one product with B_f each, the factors of W_r are kept
+    and updated between cuts (:class:`_TrackedFactor`)."""
     lay = system.layout
     nr = lay.normal_rows  # the normal rows of B
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
@@ -468,28 +635,26 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
     rows_v = np.r_[nr[closed], lay.tangential_rows[stuck]].astype(np.int64)
     if rows_v.size == 0:
         return u, v
-    free = cond.free
-    Bc = cond.Bf[rows_v]
-    X, W = minv(rows_v)
+    free, Bf = cond.free, cond.Bf
+    vf = v[free]
+    lam = metric.tracked("v").solve(rows_v, (Bf @ vf)[rows_v])
     u, v = u.copy(), v.copy()
-    lam = _spd_solve(W, Bc @ v[free])
-    v[free] -= X(lam)
+    v[free] = vf - metric.apply(rows_v, lam)
     # positions: closed rigid CFEs onto their obstacles, and an open one that the cut's
     # interpolation (or a neighbour's correction on shared nodes of mortar CFEs) left
     # penetrating onto its obstacle too (an active set: no open CFE ends inside)
     rig = np.flatnonzero(~law.inert & rigid_n)
     act = states[rig] != OPEN
     uf = u[free]
-    B_rig, w0_rig = cond.Bf[nr[rig]], system.w0[nr[rig]]
-    w_all = B_rig @ uf + w0_rig
+    r_rig, w0_rig = nr[rig], system.w0[nr[rig]]
+    w_all = (Bf @ uf)[r_rig] + w0_rig
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
     u_try = uf
     for _ in range(len(rig) + 1):
-        rows = nr[rig[act]].astype(np.int64)
+        rows = r_rig[act].astype(np.int64)
         if rows.size:
-            Xa, Wa = minv(rows)
-            u_try = uf - Xa(_spd_solve(Wa, w_all[act]))
-        pen = ~act & (B_rig @ u_try + w0_rig > tol)
+            u_try = uf - metric.apply(rows, metric.tracked("u").solve(rows, w_all[act]))
+        pen = ~act & ((Bf @ u_try)[r_rig] + w0_rig > tol)
         if not pen.any():
             break
         act |= pen
@@ -1080,8 +1245,7 @@ class _DynamicRun:
         ndof = self.ndof
         self.rec = Recorder(self.layout, len(self.names), 0)
         self.events = EventLog(self.rec, cfe, self.layout)
-        self.extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
-                      "a": GrowingArray((ndof,))}
+        self.extra = {"u": _Rows(ndof), "v": _Rows(ndof), "a": _Rows(ndof)}
         self.energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
         self.ledger = dict.fromkeys(ENERGY_TERMS, 0.0)
         # the scale of mutual displacements: at rest on closed rigid contact they are
@@ -1156,37 +1320,37 @@ class _DynamicRun:
 
     # -- the contact problem in accelerations (jumps of the forces at fixed time) -----------
 
-    def minv(self, rows: np.ndarray):
-        """(z ↦ M⁻¹ B_rᵀ z, B_r M⁻¹ B_rᵀ) for contact rows r: columns of M⁻¹ Bᵀ formed once (2m
-        solves with the mass matrix) and kept for every impact, projection and force jump."""
-        accel, m, M_lu = self.accel, self.m, self.M_lu
-        if "X" not in accel:
+    def metric(self) -> _ContactMetric:
+        """The contact rows in the metric of M (:class:`_ContactMetric`): the columns of
+        M⁻¹ Bᵀ formed once (2m solves with the mass matrix; a lumped one: a scaling of Bᵀ)
+        and kept for every impact, projection and force jump."""
+        accel, M_lu = self.accel, self.M_lu
+        if "metric" not in accel:
             Bf, BfT = self.Bf, self.BfT
             if isinstance(M_lu, _Diagonal):  # lumped: M⁻¹ Bᵀ is as sparse as Bᵀ
                 X = (sp.diags(M_lu.inv) @ BfT).tocsr()
                 GM = (Bf @ X).toarray()
             else:
-                X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if m else np.zeros(
+                X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if self.m else np.zeros(
                     (len(self.free), 0))
                 X = X.reshape(len(self.free), self.layout.n)
                 GM = np.asarray(Bf @ X)
             accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
+            accel["metric"] = _ContactMetric(X, accel["GM"], self.layout)
+        return accel["metric"]
+
+    def minv(self, rows: np.ndarray):
+        """(z ↦ M⁻¹ B_rᵀ z, B_r M⁻¹ B_rᵀ) for contact rows r (:meth:`metric`)."""
+        metric = self.metric()
         rows = np.asarray(rows, dtype=np.int64)
-        X, lay = accel["X"], self.layout
-
-        def apply(z: np.ndarray) -> np.ndarray:  # M⁻¹ B_rᵀ z without copying columns
-            full = lay.zeros()
-            full[rows] = z
-            return X @ full
-
-        return apply, accel["GM"][np.ix_(rows, rows)]
+        return functools.partial(metric.apply, rows), metric.gram(rows)
 
     def accel_engine(self) -> EventEngine:
         """The event engine of the contact problem in accelerations: M ü + Bᵀ s = f with
         the contact conditions on (s, B ü), condensed to B M⁻¹ Bᵀ (built on first use)."""
         accel = self.accel
         if "eng" not in accel:
-            self.minv(np.zeros(0, np.int64))
+            self.metric()
             lay = self.layout
             accel["eng"] = EventEngine(SchemeSolver(accel["GM"], lay.zeros()), [self.law],
                                        lay.zeros(), rtol=self.rtol, layout=lay)
@@ -1489,7 +1653,7 @@ class _DynamicRun:
         # of u_n = 0 (a rigid body at rest has no displacement scale to judge it against)
         on0 = (eng.states != OPEN) & rigid_n & ~law.inert
         if on0.any():
-            self.u, self.v = _project(self.system, self.cond, self.minv, self.u, self.v,
+            self.u, self.v = _project(self.system, self.cond, self.metric(), self.u, self.v,
                                       eng.states, law, rigid_n)
             eng.w = self.system.B @ self.u + self.system.w0  # (the projected fields')
             self.layout.normal(eng.w)[on0] = 0.0
@@ -1849,7 +2013,7 @@ class _DynamicRun:
         eng.states = new_states.copy()
         Mx, Kx = self.Mx, self.Kx
         e_before = 0.5 * v_i @ (Mx(v_i)) + 0.5 * u_i @ (Kx(u_i))
-        u_i, v_i = _project(system, self.cond, self.minv, u_i, v_i, new_states, law,
+        u_i, v_i = _project(system, self.cond, self.metric(), u_i, v_i, new_states, law,
                             self.rigid_n)
         # the projection onto the new scheme's constraints: the integrator's share
         d_num = float(e_before - 0.5 * v_i @ (Mx(v_i)) - 0.5 * u_i @ (Kx(u_i)))
@@ -2017,7 +2181,7 @@ class _DynamicRun:
             geometry=result_geometry(system), crack=self.crack is not None,
             units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                    "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
-            u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
+            u=extra["u"].array(), v=extra["v"].array(), a=extra["a"].array(),
             energy={k: g.view.copy() for k, g in self.energy.items()}, dt=self.dt0,
             impulses=_impulse_arrays(self.impulse_log),
             _recover=None if system.discrete is not None else _Stresses(system),
