@@ -271,35 +271,35 @@ class _Newmark:
     #: short steps are cuts of whole steps: this one can gain energy where ü jumps)
     stretch: float = 1.0
 
-    @property
+    @functools.cached_property
     def beta(self) -> float:
         return (1 + self.alpha) ** 2 / 4 * self.stretch**2
 
-    @property
+    @functools.cached_property
     def gamma(self) -> float:
         return (0.5 + self.alpha) * self.stretch
 
-    @property
+    @functools.cached_property
     def c0(self) -> float:
         return 1.0 / (self.beta * self.h**2)
 
-    @property
+    @functools.cached_property
     def c1(self) -> float:
         return self.gamma / (self.beta * self.h)
 
-    @property
+    @functools.cached_property
     def c2(self) -> float:
         return 1.0 / (self.beta * self.h)
 
-    @property
+    @functools.cached_property
     def c3(self) -> float:
         return 1.0 / (2 * self.beta) - 1.0
 
-    @property
+    @functools.cached_property
     def cv(self) -> float:
         return 1.0 - self.gamma / self.beta
 
-    @property
+    @functools.cached_property
     def ca(self) -> float:
         return self.h * (1.0 - self.gamma / (2 * self.beta))
 
@@ -307,17 +307,25 @@ class _Newmark:
         return (self.c0 * M + (1 - self.alpha) * (self.c1 * C + K)).tocsr()
 
     def rhs(self, K, M, C, F1, F0, u, v, a):
+        """F̂ (the right-hand side of K̂ u₁ = F̂ − Bᵀ s₁); C without entries (``C.empty``, a
+        :class:`_Memo`): no damping terms formed."""
         al = self.alpha
+        damped = not getattr(C, "empty", False)
         out = (1 - al) * F1 + M @ (self.c0 * u + self.c2 * v + self.c3 * a)
-        out = out + (1 - al) * (C @ (self.c1 * u - self.cv * v - self.ca * a))
+        if damped:
+            out = out + (1 - al) * (C @ (self.c1 * u - self.cv * v - self.ca * a))
         if al:
-            out = out + al * (F0 - C @ v - K @ u)
+            out = out + al * ((F0 - C @ v if damped else F0) - K @ u)
         return out
 
     def end(self, u1, u, v, a):
         du = u1 - u
         return (self.c0 * du - self.c2 * v - self.c3 * a,
                 self.c1 * du + self.cv * v + self.ca * a)
+
+    def velocity(self, u1, u, v, a):
+        """v₁ alone (as :meth:`end`)."""
+        return self.c1 * (u1 - u) + self.cv * v + self.ca * a
 
     def drift(self, wdot, wacc):
         """Δw that makes the end velocity zero: −(cv ẇ₀ + ca ẅ₀)/c1."""
@@ -340,6 +348,28 @@ class _Diagonal:
     def solve(self, b: np.ndarray) -> np.ndarray:
         b = np.asarray(b)
         return b * (self.inv if b.ndim == 1 else self.inv[:, None])
+
+
+def _direct_solve(factor):
+    """``factor.solve`` — for a small model's dense Cholesky factor (the ``dense`` backend of
+    :mod:`stepcontact.solver.linalg`) LAPACK's ``potrs`` on its factor called directly: the
+    same computation as SciPy's ``cho_solve`` without its checks and dispatch, which cost
+    more than the solve itself on a model of a few DOFs (every step makes two)."""
+    import scipy.linalg as sla
+
+    cf = getattr(factor, "cf", None)
+    if getattr(factor, "name", "") != "dense" or not isinstance(cf, tuple) or len(cf) != 2:
+        return factor.solve
+    c, lower = cf
+    potrs = sla.get_lapack_funcs("potrs", (c,))
+
+    def solve(b: np.ndarray) -> np.ndarray:
+        x, info = potrs(c, np.asarray(b, dtype=float), lower=lower, overwrite_b=False)
+        if info != 0:
+            return factor.solve(b)
+        return x
+
+    return solve
 
 
 def _spd_factor(W: np.ndarray):
@@ -529,8 +559,14 @@ class _Memo:
     def __init__(self, A, keep: int = 6):
         self.A, self.keep = A, keep
         self._last: list[tuple[np.ndarray, np.ndarray]] = []
+        #: a matrix without entries (no damping): its products are zero, not formed
+        self.empty = A.nnz == 0
+        self._zero = np.zeros(A.shape[0])
+        self._zero.flags.writeable = False
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
+        if self.empty:
+            return self._zero
         for xx, y in self._last:
             if xx is x:
                 return y
@@ -1114,11 +1150,13 @@ class _DynamicRun:
             C = (C + dashpots(system.model, system.dofs)).tocsr()  # the springs' dashpots
         self.M, self.K, self.C = M, K, C
         self.dt0 = float(iv.dt)
+        self.nm0 = _Newmark(self.dt0, self.alpha)
         self.Kx, self.Mx, self.Cx = _Memo(K), _Memo(M), _Memo(C)  # products kept
         t0 = time.perf_counter()
         self.cond = Condensed.from_system(dataclasses.replace(
             system, K=_Newmark(self.dt0, self.alpha).stiffness(K, M, C)), backend)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
+        self.solve_hat = _direct_solve(self.cond.factor)  # K̂⁻¹ b on the free DOFs
         self.t_setup = time.perf_counter() - t0
 
     def _contact_law(self) -> None:
@@ -1197,6 +1235,7 @@ class _DynamicRun:
         self.names = list(system.loads)
         self.f_of = {n: system.loads[n].f for n in self.names}
         self.r_ground = None
+        self._factors_last: tuple[float, dict] | None = None
         if self.ground_acceleration is not None:
             self.r_ground = -(self.M @ _ground_translation(system,
                                                            self.ground_acceleration[1]))
@@ -1226,7 +1265,7 @@ class _DynamicRun:
         cond, free, M = self.cond, self.free, self.M
         self.Bf = cond.Bf
         self.BfT = self.Bf.T.tocsr()
-        rhs = (self.F_held[free] - (self.Kx(self.u))[free] - (self.Cx(self.v))[free]
+        rhs = (self.rest_force(self.F_held, self.u, self.v)
                - self.BfT @ self.s_init)
         Mff = M[free][:, free].tocsc()
         try:
@@ -1275,10 +1314,16 @@ class _DynamicRun:
     # -- loads -------------------------------------------------------------------------------
 
     def factors_at(self, t: float) -> dict[str, float]:
-        """The patterns' factors at time t: held ones plus the time functions g(t)."""
+        """The patterns' factors at time t: held ones plus the time functions g(t) (the last
+        instant's kept: the load and the record at a step's end ask for the same; not to be
+        changed by the caller)."""
+        last = self._factors_last
+        if last is not None and last[0] == t:
+            return last[1]
         c = dict(self.static)
         for name, g in self.loads.items():
             c[name] = c.get(name, 0.0) + float(g(t))
+        self._factors_last = (t, c)
         return c
 
     def water_at(self, t: float, c: dict | None = None) -> np.ndarray:
@@ -1310,11 +1355,19 @@ class _DynamicRun:
             F += self.water_load(self.water_at(t, c_t))
         return F
 
+    def rest_force(self, F: np.ndarray, u, v) -> np.ndarray:
+        """F − K u − C u̇ on the free DOFs (C without entries: not formed)."""
+        free = self.free
+        out = F[free] - (self.Kx(u))[free]
+        if not self.Cx.empty:
+            out = out - (self.Cx(v))[free]
+        return out
+
     def _rest_accel(self, F: np.ndarray, u, v) -> np.ndarray:
         """ü = M⁻¹ (F − K u − C u̇ − Bᵀ s) on the free DOFs (eq. (7)) with the engine's s."""
         out = np.zeros(self.ndof)
         free = self.free
-        out[free] = self.M_lu.solve(F[free] - (self.Kx(u))[free] - (self.Cx(v))[free]
+        out[free] = self.M_lu.solve(self.rest_force(F, u, v)
                                     - self.BfT @ self.eng.s)
         return out
 
@@ -1364,7 +1417,7 @@ class _DynamicRun:
         eng, law, m, free, lay = self.eng, self.law, self.m, self.free, self.layout
         M_lu, Bf, BfT = self.M_lu, self.Bf, self.BfT
         Fn = self.force_at(t_now)
-        f_rest = Fn[free] - (self.Kx(self.u))[free] - (self.Cx(self.v))[free]
+        f_rest = self.rest_force(Fn, self.u, self.v)
         out = np.zeros(self.ndof)
         if m and (self.all_rigid or self.split):  # (a compliant layer's force is its
             # spring's: it does not jump, it is held at its value as a load)
@@ -1548,7 +1601,7 @@ class _DynamicRun:
             return F_new, self.load_jump(F_new - F_left, t_now, step)
         free = self.free
         a_new = np.zeros(self.ndof)
-        a_new[free] = self.M_lu.solve(F_new[free] - (self.Kx(u_))[free] - (self.Cx(v_))[free])
+        a_new[free] = self.M_lu.solve(self.rest_force(F_new, u_, v_))
         return F_new, a_new
 
     # -- energy, records, events -------------------------------------------------------------
@@ -1640,7 +1693,7 @@ class _DynamicRun:
         else:
             free = self.free
             a = np.zeros(self.ndof)
-            a[free] = self.M_lu.solve(F[free] - (self.Kx(u))[free] - (self.Cx(v))[free]
+            a[free] = self.M_lu.solve(self.rest_force(F, u, v)
                                       - self.BfT @ self.s_init)
             self.a = a
         if self.crack is not None and self.initial is not None and self.settle_water(0.0, 0):
@@ -1718,7 +1771,7 @@ class _DynamicRun:
         land = 1.0
         if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
             land = (stop_at - t) / dt0
-        nm = _Newmark(dt, self.alpha)
+        nm = self.nm0  # (every step has Δt's coefficients: a short one is a cut of it)
         t1 = t + land * dt
         at_break = bool(ahead.size) and t1 >= float(ahead[0]) - 1e-6 * dt0
         if at_break:
@@ -1731,7 +1784,7 @@ class _DynamicRun:
         if land < 1.0:  # the load's rate over the part step continued to t + Δt
             F1 = F + (F1 - F) / land
         Fhat = nm.rhs(self.Kx, self.Mx, self.Cx, F1, F, self.u, self.v, self.a)
-        y = cond.factor.solve(np.ascontiguousarray(Fhat[self.free]))
+        y = self.solve_hat(np.ascontiguousarray(Fhat[self.free]))
         h_end = self.Bf @ y
         # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
         w_hat = eng.w - system.w0
@@ -1932,9 +1985,9 @@ class _DynamicRun:
         w_end = eng.w + (1.0 - mu) * dw_o + self.drift
         tv = s_end - cond.d * (w_end - system.w0)
         u_end = np.zeros(self.ndof)
-        u_end[self.free] = cond.factor.solve(np.ascontiguousarray(self.Fhat[self.free]
+        u_end[self.free] = self.solve_hat(np.ascontiguousarray(self.Fhat[self.free]
                                                                   - self.BfT @ tv))
-        _a_end, v_end = self.nm.end(u_end, u, v, self.a)
+        v_end = self.nm.velocity(u_end, u, v, self.a)
         tau = frac * self.dt
         # linear between the step's ends (a convex combination of two Newmark states: stable
         # for the stiff modes, where the expansion (8) in powers of τ is not)
@@ -1959,7 +2012,8 @@ class _DynamicRun:
                           - self.layer_energy(s_start, x_start)))
         contact = self.book_contact(diss)
         works = {"external": frac * float(du_w @ (0.5 * (F + F_end))),
-                 "damping": frac * float(du_w @ (self.C @ (0.5 * (v + v_end))))
+                 "damping": (frac * float(du_w @ (self.C @ (0.5 * (v + v_end))))
+                             if not self.Cx.empty else 0.0)
                  + contact["damping"],
                  "friction": contact["friction"], "impact": contact["impact"]}
         ledger = self.ledger
@@ -2111,15 +2165,17 @@ class _DynamicRun:
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
         u_new = np.zeros(self.ndof)
-        u_new[self.free] = cond.factor.solve(np.ascontiguousarray(self.Fhat[self.free]
+        u_new[self.free] = self.solve_hat(np.ascontiguousarray(self.Fhat[self.free]
                                                                   - self.BfT @ tvec))
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
         e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
         ledger["external"] += float(du @ (0.5 * (F + F1)))
         F_prev, F = F, F1
-        vbar = 0.5 * (v + v_new)
-        ledger["damping"] += float(du @ (Cx(vbar)))
+        damped = not Cx.empty
+        vbar = 0.5 * (v + v_new) if damped else None
+        w_damp = float(du @ (Cx(vbar))) if damped else 0.0
+        ledger["damping"] += w_damp
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
         # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
@@ -2130,7 +2186,7 @@ class _DynamicRun:
         if self.alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what
             # the works leave
             e_step1 = 0.5 * v_new @ (Mx(v_new)) + self.strain_energy(u_new, eng.s)
-            d_num = (float(du @ (0.5 * (F_prev + F1))) - float(du @ (Cx(vbar)))
+            d_num = (float(du @ (0.5 * (F_prev + F1))) - w_damp
                      - float(diss.sum()) - (e_step1 - e_step0))
             ledger["numerical"] += d_num
             self.parts["hht" if dt == dt0 else "short_steps"] += d_num
