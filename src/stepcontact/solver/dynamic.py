@@ -110,7 +110,7 @@ from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
 from stepcontact.results.build import build_result, cfe_arrays, stage_fields
-from stepcontact.results.recorder import GrowingArray, Recorder
+from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import (
     ENERGY_TERMS,
     DynamicResult,
@@ -641,7 +641,10 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     the engine sees the step's mean slip rate Δu_τ/Δt (a compliant row has no drift), which
     keeps its sign until the zero of the velocity lies in the first half of the step — the
     stop would be found a step late.  They stop at the zero (:func:`_stick_times`)."""
-    sl = _slipping(dec.new) & ~law.rigid_t & law.frictional
+    sl = ~law.rigid_t & law.frictional
+    if not sl.any():  # (rigid friction only)
+        return np.zeros(0, np.int64)
+    sl &= _slipping(dec.new)
     ks = np.flatnonzero(sl & (dec.old == dec.new))
     if ks.size == 0:
         return ks
@@ -1302,7 +1305,7 @@ class _DynamicRun:
         states += states // 4 + 8
         self.extra = {"u": _Rows(ndof, states), "v": _Rows(ndof, states),
                       "a": _Rows(ndof, states)}
-        self.energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
+        self.energy: list[tuple[float, ...]] = []  # the ledger's terms per state
         self.ledger = dict.fromkeys(ENERGY_TERMS, 0.0)
         # the scale of mutual displacements: at rest on closed rigid contact they are
         # round-off, so the fields' displacements set it (the contact conditions are judged
@@ -1314,6 +1317,9 @@ class _DynamicRun:
         lay = self.layout
         self.stiff = lay.join(cfe.kt, cfe.kn)
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
+        self.any_soft = bool(self.soft.any())
+        self.no_layer_energy = lay.zeros()
+        self.no_layer_energy.flags.writeable = False
         self.damped = lay.zeros(dtype=bool)
         # Kelvin–Voigt layers: ½ C_n x², the dashpot's
         lay.normal(self.damped)[self.layers.k] = True
@@ -1637,6 +1643,8 @@ class _DynamicRun:
         """½ s²/C of every component of a compliant layer (2m,), J (eq. (11); ½ C_n x² of a
         damped layer of compression x, :class:`_DampedLayers`)."""
         soft, layers = self.soft, self.layers
+        if not layers and not self.any_soft:  # rigid contact stores nothing
+            return self.no_layer_energy
         out = np.where(soft, 0.5 * s_**2 / np.where(soft, self.stiff, 1.0), 0.0)
         if layers:
             self.layout.normal(out)[layers.k] = layers.energy(x_)
@@ -1679,8 +1687,7 @@ class _DynamicRun:
             self.status_box[:] = [Status.VIOLATION, broken]
         for k, arr in (("u", u), ("v", v), ("a", self.a)):
             self.extra[k].append(arr)
-        for k in ENERGY_TERMS:
-            self.energy[k].append(ledger[k])
+        self.energy.append(tuple(ledger[k] for k in ENERGY_TERMS))
         return i
 
     def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
@@ -2265,7 +2272,8 @@ class _DynamicRun:
             units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                    "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
             u=extra["u"].array(), v=extra["v"].array(), a=extra["a"].array(),
-            energy={k: g.view.copy() for k, g in self.energy.items()}, dt=self.dt0,
+            energy=dict(zip(ENERGY_TERMS, np.array(self.energy, float).reshape(
+                -1, len(ENERGY_TERMS)).T.copy(), strict=True)), dt=self.dt0,
             impulses=_impulse_arrays(self.impulse_log),
             _recover=None if system.discrete is not None else _Stresses(system),
             **({} if stage_arrays is None else stage_fields(
