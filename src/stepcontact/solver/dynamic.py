@@ -516,6 +516,7 @@ class _ContactMetric:
     def __init__(self, X, GM: np.ndarray, layout: ContactLayout):
         self.X, self.GM, self.layout = X, GM, layout
         self._tracked: dict[str, _TrackedFactor] = {}
+        self.XtKX: np.ndarray | None = None  # (formed by the driver on first use)
 
     def apply(self, rows: np.ndarray, z: np.ndarray) -> np.ndarray:
         """M⁻¹ B_rᵀ z on the free DOFs (without copying columns of X)."""
@@ -677,7 +678,9 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     The corrections are M-orthogonal: Δu̇ = −M⁻¹ B_rᵀ λ with W_r λ = B_r u̇ (W_r = B_r M⁻¹ B_rᵀ,
     r the closed normal and stuck tangential rows), and likewise for u on the closed normal
     rows; the relative motions are one product with B_f each, the factors of W_r are kept
-    and updated between cuts (:class:`_TrackedFactor`)."""
+    and updated between cuts (:class:`_TrackedFactor`).  Returns (u, u̇, corrections):
+    corrections = (z_u, z_v, X z_u, X z_v) with X = M⁻¹ B_fᵀ (z on the 2m contact rows; the
+    displacement and velocity taken off the free DOFs), None where nothing was projected."""
     lay = system.layout
     nr = lay.normal_rows  # the normal rows of B
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
@@ -685,12 +688,14 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
                            & law.rigid_t & ~law.inert)
     rows_v = np.r_[nr[closed], lay.tangential_rows[stuck]].astype(np.int64)
     if rows_v.size == 0:
-        return u, v
+        return u, v, None
     free, Bf = cond.free, cond.Bf
     vf = v[free]
-    lam = metric.tracked("v").solve(rows_v, (Bf @ vf)[rows_v])
+    zv = metric.layout.zeros()
+    zv[rows_v] = metric.tracked("v").solve(rows_v, (Bf @ vf)[rows_v])
     u, v = u.copy(), v.copy()
-    v[free] = vf - metric.apply(rows_v, lam)
+    dv = metric.X @ zv
+    v[free] = vf - dv
     # positions: closed rigid CFEs onto their obstacles, and an open one that the cut's
     # interpolation (or a neighbour's correction on shared nodes of mortar CFEs) left
     # penetrating onto its obstacle too (an active set: no open CFE ends inside)
@@ -701,16 +706,20 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     w_all = (Bf @ uf)[r_rig] + w0_rig
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
     u_try = uf
+    zu, du = metric.layout.zeros(), np.zeros(len(uf))
     for _ in range(len(rig) + 1):
         rows = r_rig[act].astype(np.int64)
         if rows.size:
-            u_try = uf - metric.apply(rows, metric.tracked("u").solve(rows, w_all[act]))
+            zu = metric.layout.zeros()
+            zu[rows] = metric.tracked("u").solve(rows, w_all[act])
+            du = metric.X @ zu
+            u_try = uf - du
         pen = ~act & ((Bf @ u_try)[r_rig] + w0_rig > tol)
         if not pen.any():
             break
         act |= pen
     u[free] = u_try
-    return u, v
+    return u, v, (zu, zv, du, dv)
 
 
 def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
@@ -1740,8 +1749,8 @@ class _DynamicRun:
         # of u_n = 0 (a rigid body at rest has no displacement scale to judge it against)
         on0 = (eng.states != OPEN) & rigid_n & ~law.inert
         if on0.any():
-            self.u, self.v = _project(self.system, self.cond, self.metric(), self.u, self.v,
-                                      eng.states, law, rigid_n)
+            self.u, self.v, _ = _project(self.system, self.cond, self.metric(), self.u,
+                                         self.v, eng.states, law, rigid_n)
             eng.w = self.system.B @ self.u + self.system.w0  # (the projected fields')
             self.layout.normal(eng.w)[on0] = 0.0
         # the scales the start's conditions are judged against (as every step's)
@@ -2011,6 +2020,7 @@ class _DynamicRun:
         break's left limit for a landing).  Returns (u, v, s, w, F) there."""
         eng, system, cond, layers = self.eng, self.system, self.cond, self.layers
         u, v, t = self.u, self.v, self.t
+        self._cut_books = None
         if frac == 0.0 and mu == 0.0:  # a restart at the step's start: nothing moved
             return (u, v, eng.s.copy(), system.B @ u + system.w0,
                     self.force_at(t) if F_i is None else F_i)
@@ -2054,14 +2064,13 @@ class _DynamicRun:
         for key, val in works.items():
             ledger[key] += val
         # the interpolation (8) is not a Newmark step: what it adds or removes is the
-        # integrator's (numerical) share of the part step
-        Mx = self.Mx
-        d_energy = (0.5 * v_i @ (Mx(v_i)) + self.strain_energy(u_i, s_i, x_i)
-                    - 0.5 * v @ (Mx(v)) - self.strain_energy(u, s_start, x_start))
-        d_num = (works["external"] - works["damping"] - works["friction"] - works["impact"]
-                 - d_energy)
-        ledger["numerical"] += d_num
-        self.parts[part] += d_num
+        # integrator's (numerical) share of the part step, booked by _restart with the
+        # state's energy (from the projected state's, :meth:`_book_cut`: no products of K
+        # and M with the state at the cut)
+        e_start = 0.5 * v @ (self.Mx(v)) + self.strain_energy(u, s_start, x_start)
+        self._cut_books = (part, works["external"] - works["damping"] - works["friction"]
+                           - works["impact"], e_start,
+                           float(self.layer_energy(s_i, x_i).sum()))
         return u_i, v_i, s_i, w_i, F_i
 
     def _restart(self, restart, landing: bool) -> None:
@@ -2086,9 +2095,12 @@ class _DynamicRun:
         lay.normal(w_i)[closing] = 0.0  # on the obstacle (the root of eq. (10))
         imp: dict[int, tuple[float, float]] = {}  # CFE → (normal, tangential) impulse
         bounced = closed_as = np.zeros(0, np.int64)
+        ke_impact = 0.0  # the kinetic energy the impact takes
         if closing.size:  # an impact: normal velocities jump (Newton's law)
+            ke0 = self.ledger["impact"]
             v_i, imp, bounced, closed_as = self._impact_at(old, new_states, closing, s_i,
                                                            v_i, t_i)
+            ke_impact = self.ledger["impact"] - ke0
         new_states = self.layers.closing_states(old, new_states)
         for k in bounced:  # the contact of a rebound lasts an instant: closed, opened
             if old[k] == OPEN:
@@ -2099,14 +2111,9 @@ class _DynamicRun:
             self.log_event(n, k, old[k], new_states[k], times.get(int(k), t_i),
                            impulse=imp.get(int(k)))
         eng.states = new_states.copy()
-        Mx, Kx = self.Mx, self.Kx
-        e_before = 0.5 * v_i @ (Mx(v_i)) + 0.5 * u_i @ (Kx(u_i))
-        u_i, v_i = _project(system, self.cond, self.metric(), u_i, v_i, new_states, law,
-                            self.rigid_n)
-        # the projection onto the new scheme's constraints: the integrator's share
-        d_num = float(e_before - 0.5 * v_i @ (Mx(v_i)) - 0.5 * u_i @ (Kx(u_i)))
-        self.ledger["numerical"] += d_num
-        self.parts["projection"] += d_num
+        u_i, v_i, corrections = _project(system, self.cond, self.metric(), u_i, v_i,
+                                         new_states, law, self.rigid_n)
+        self._book_cut(u_i, v_i, corrections, ke_impact)
         w_i = system.B @ u_i + system.w0
         on = (new_states != OPEN) & self.rigid_n
         lay.normal(w_i)[on] = 0.0  # on the obstacle (round-off of the projection)
@@ -2140,6 +2147,56 @@ class _DynamicRun:
             for hk in self.hooks:
                 if hasattr(hk, "after_step"):
                     hk.after_step(n, t, self.end_time)
+
+    def _book_cut(self, u_p, v_p, corrections, ke_impact: float) -> None:
+        """The integrator's (numerical) shares of a cut (:meth:`cut`) and of the projection
+        after it (:func:`_project`) in the ledger, from the energy of the projected state
+        (u_p, v_p), whose products with K and M the next steps use anyway: the state at the
+        cut differs from it by the projection's corrections Δu = M⁻¹ B_rᵀ z_u, Δu̇ = M⁻¹ B_rᵀ
+        z_v (on the free DOFs), so its energy is that of (u_p, v_p) plus
+
+            z_vᵀ Xᵀ (M u̇_p) + ½ z_vᵀ (B M⁻¹ Bᵀ) z_v + z_uᵀ Xᵀ (K u_p) + ½ z_uᵀ (Xᵀ K X) z_u
+
+        (X = M⁻¹ B_fᵀ) — the projection's share, without the round-off of two large energies'
+        difference — and the kinetic energy an impact at the cut took (booked as ``impact``)."""
+        Mx, Kx = self.Mx, self.Kx
+        e_p = 0.5 * v_p @ (Mx(v_p)) + 0.5 * u_p @ (Kx(u_p))
+        d_proj = self.projection_energy(u_p, v_p, *corrections) if corrections else 0.0
+        self.ledger["numerical"] += d_proj
+        self.parts["projection"] += d_proj
+        if self._cut_books is None:  # (a restart at the step's start: nothing moved)
+            return
+        part, works, e_start, layer_i = self._cut_books
+        self._cut_books = None
+        d_num = float(works - (e_p + d_proj + ke_impact + layer_i - e_start))
+        self.ledger["numerical"] += d_num
+        self.parts[part] += d_num
+
+    def projection_energy(self, u_p, v_p, zu: np.ndarray, zv: np.ndarray, du: np.ndarray,
+                          dv: np.ndarray) -> float:
+        """The energy ½ u̇ᵀMu̇ + ½ uᵀKu that the projection (:func:`_project`) removed from the
+        state it made (u_p, v_p) by the corrections −du = −X z_u, −dv = −X z_v on the free
+        DOFs (``zu``, ``zv`` (2m,), X = M⁻¹ B_fᵀ): see :meth:`_book_cut`.  XᵀKX (2m × 2m) is
+        formed once where X is sparse (a lumped mass); else the correction's product with K
+        is made."""
+        metric, free = self.metric(), self.free
+        X = metric.X
+        out = 0.0
+        if zv.any():
+            out += float(dv @ self.Mx(v_p)[free] + 0.5 * zv @ (metric.GM @ zv))
+        if zu.any():
+            if sp.issparse(X):
+                if metric.XtKX is None:
+                    Kff = self.K[free][:, free]
+                    XtKX = (X.T @ (Kff @ X)).toarray()
+                    metric.XtKX = 0.5 * (XtKX + XtKX.T)
+                quad = float(zu @ (metric.XtKX @ zu))
+            else:
+                du_all = np.zeros(self.ndof)
+                du_all[free] = du
+                quad = float(du_all @ (self.K @ du_all))
+            out += float(du @ self.Kx(u_p)[free]) + 0.5 * quad
+        return out
 
     def _impact_at(self, old, new_states, closing, s_i, v_i, t_i):
         """An impact where rigid CFEs ``closing`` close at t_i: the normal velocities of the
