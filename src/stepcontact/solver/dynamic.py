@@ -110,7 +110,7 @@ from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
 from stepcontact.results.build import build_result, cfe_arrays, stage_fields
-from stepcontact.results.recorder import GrowingArray, Recorder
+from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import (
     ENERGY_TERMS,
     DynamicResult,
@@ -271,35 +271,35 @@ class _Newmark:
     #: short steps are cuts of whole steps: this one can gain energy where ü jumps)
     stretch: float = 1.0
 
-    @property
+    @functools.cached_property
     def beta(self) -> float:
         return (1 + self.alpha) ** 2 / 4 * self.stretch**2
 
-    @property
+    @functools.cached_property
     def gamma(self) -> float:
         return (0.5 + self.alpha) * self.stretch
 
-    @property
+    @functools.cached_property
     def c0(self) -> float:
         return 1.0 / (self.beta * self.h**2)
 
-    @property
+    @functools.cached_property
     def c1(self) -> float:
         return self.gamma / (self.beta * self.h)
 
-    @property
+    @functools.cached_property
     def c2(self) -> float:
         return 1.0 / (self.beta * self.h)
 
-    @property
+    @functools.cached_property
     def c3(self) -> float:
         return 1.0 / (2 * self.beta) - 1.0
 
-    @property
+    @functools.cached_property
     def cv(self) -> float:
         return 1.0 - self.gamma / self.beta
 
-    @property
+    @functools.cached_property
     def ca(self) -> float:
         return self.h * (1.0 - self.gamma / (2 * self.beta))
 
@@ -307,17 +307,25 @@ class _Newmark:
         return (self.c0 * M + (1 - self.alpha) * (self.c1 * C + K)).tocsr()
 
     def rhs(self, K, M, C, F1, F0, u, v, a):
+        """F̂ (the right-hand side of K̂ u₁ = F̂ − Bᵀ s₁); C without entries (``C.empty``, a
+        :class:`_Memo`): no damping terms formed."""
         al = self.alpha
+        damped = not getattr(C, "empty", False)
         out = (1 - al) * F1 + M @ (self.c0 * u + self.c2 * v + self.c3 * a)
-        out = out + (1 - al) * (C @ (self.c1 * u - self.cv * v - self.ca * a))
+        if damped:
+            out = out + (1 - al) * (C @ (self.c1 * u - self.cv * v - self.ca * a))
         if al:
-            out = out + al * (F0 - C @ v - K @ u)
+            out = out + al * ((F0 - C @ v if damped else F0) - K @ u)
         return out
 
     def end(self, u1, u, v, a):
         du = u1 - u
         return (self.c0 * du - self.c2 * v - self.c3 * a,
                 self.c1 * du + self.cv * v + self.ca * a)
+
+    def velocity(self, u1, u, v, a):
+        """v₁ alone (as :meth:`end`)."""
+        return self.c1 * (u1 - u) + self.cv * v + self.ca * a
 
     def drift(self, wdot, wacc):
         """Δw that makes the end velocity zero: −(cv ẇ₀ + ca ẅ₀)/c1."""
@@ -342,21 +350,218 @@ class _Diagonal:
         return b * (self.inv if b.ndim == 1 else self.inv[:, None])
 
 
-def _spd_solve(W: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """x with W x = b for a small symmetric positive semi-definite W (B_r M⁻¹ B_rᵀ):
+def _direct_solve(factor):
+    """``factor.solve`` — for a small model's dense Cholesky factor (the ``dense`` backend of
+    :mod:`stepcontact.solver.linalg`) LAPACK's ``potrs`` on its factor called directly: the
+    same computation as SciPy's ``cho_solve`` without its checks and dispatch, which cost
+    more than the solve itself on a model of a few DOFs (every step makes two)."""
+    import scipy.linalg as sla
+
+    cf = getattr(factor, "cf", None)
+    if getattr(factor, "name", "") != "dense" or not isinstance(cf, tuple) or len(cf) != 2:
+        return factor.solve
+    c, lower = cf
+    potrs = sla.get_lapack_funcs("potrs", (c,))
+
+    def solve(b: np.ndarray) -> np.ndarray:
+        x, info = potrs(c, np.asarray(b, dtype=float), lower=lower, overwrite_b=False)
+        if info != 0:
+            return factor.solve(b)
+        return x
+
+    return solve
+
+
+def _spd_factor(W: np.ndarray):
+    """b ↦ x with W x = b for a small symmetric positive semi-definite W (B_r M⁻¹ B_rᵀ):
     Cholesky, or the least-squares (minimum-norm) solution where W is singular (rows that
-    depend on each other, e.g. at a corner; a pivot below 1e-12 of the largest diagonal)."""
+    depend on each other, e.g. at a corner; a pivot below 1e-12 of the largest diagonal).
+    The factor is formed once: the returned function solves for any b."""
     import scipy.linalg as sla
 
     if W.size == 0:
-        return np.zeros(0)
+        return lambda b: np.zeros(0)
     try:
         c = sla.cho_factor(W, check_finite=False)
         if np.diag(c[0]).min() ** 2 > 1e-12 * np.diag(W).max():  # not nearly singular
-            return sla.cho_solve(c, b, check_finite=False)
+            return lambda b: sla.cho_solve(c, b, check_finite=False)
     except np.linalg.LinAlgError:
         pass
-    return np.linalg.lstsq(W, b, rcond=None)[0]
+    return lambda b: np.linalg.lstsq(W, b, rcond=None)[0]
+
+
+def _spd_solve(W: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x with W x = b for a small symmetric positive semi-definite W (:func:`_spd_factor`)."""
+    return _spd_factor(W)(b)
+
+
+class _TrackedFactor:
+    """The Cholesky factor L Lᵀ = W_r of W_r = B_r M⁻¹ B_rᵀ (a principal block of GM) for a
+    row set r that changes by a few rows between uses (the closed and stuck rows of the
+    projection after a cut, :func:`_project`), updated instead of formed again:
+
+    * rows that leave: with p the first of them in the factor's order, the leading block
+      L₁₁ (p × p) and the rows of L below it on its columns stay; the trailing block is the
+      Cholesky factor of W₂₂ − L₂₁ L₂₁ᵀ on the rows that remain after p;
+    * rows that join are appended: L₂₁ = (L₁₁⁻¹ W₁₂)ᵀ, L₂₂ = chol(W₂₂ − L₂₁ L₂₁ᵀ)
+
+    — O(r² k) for k rows joining at the end (and O((r − p)² r) where rows leave at p), against
+    O(r³) for a new factor; an unchanged set reuses the factor as it is.  A set whose factor
+    has a pivot below the criterion of :func:`_spd_factor` (rows that depend on each other)
+    is solved as there (least squares on W_r) and the tracking starts again from the next
+    set."""
+
+    def __init__(self, GM: np.ndarray):
+        self.GM = GM
+        self.diag = np.ascontiguousarray(np.diag(GM))
+        self.order: np.ndarray | None = None  # the rows of r in the factor's order
+        self.L = np.zeros((0, 0))
+        self.pos = np.full(len(GM), -1, np.int64)  # row → its place in ``order`` (or −1)
+        self.singular: tuple[bytes, object] | None = None  # (set, solver) of a singular W_r
+
+    def _regular(self, L: np.ndarray, rows: np.ndarray) -> bool:
+        """:func:`_spd_factor`'s criterion: no pivot below 1e-12 of the largest diagonal."""
+        return bool(np.diag(L).min() ** 2 > 1e-12 * self.diag[rows].max())
+
+    def _set(self, order: np.ndarray, L: np.ndarray) -> None:
+        if self.order is not None:
+            self.pos[self.order] = -1
+        self.order, self.L = order, L
+        self.pos[order] = np.arange(len(order))
+
+    def _factor(self, rows: np.ndarray) -> bool:
+        """A new factor of W_r (rows in the order given); False where it is singular."""
+        import scipy.linalg as sla
+
+        try:
+            L = sla.cholesky(self.GM[np.ix_(rows, rows)], lower=True, check_finite=False)
+        except np.linalg.LinAlgError:
+            return False
+        if not self._regular(L, rows):
+            return False
+        self._set(rows.copy(), L)
+        return True
+
+    def _update(self, rows: np.ndarray) -> bool:
+        """The factor of the set ``rows`` from the current one (class docstring); False where
+        the result is singular."""
+        import scipy.linalg as sla
+
+        order, L, GM = self.order, self.L, self.GM
+        stays = np.zeros(len(GM), bool)
+        stays[rows] = True
+        kept = stays[order]
+        added = rows[self.pos[rows] < 0]
+        if kept.all() and not added.size:
+            return True  # the same set
+        p = int(np.argmin(kept)) if not kept.all() else len(order)
+        head, tail_kept = order[:p], order[p:][kept[p:]]
+        L21 = L[p:, :p][kept[p:]]
+        if added.size:
+            L21_add = (sla.solve_triangular(L[:p, :p], GM[np.ix_(head, added)], lower=True,
+                                            check_finite=False).T if p
+                       else np.zeros((len(added), 0)))
+            L21 = np.vstack([L21, L21_add])
+        tail = np.r_[tail_kept, added].astype(np.int64)
+        S = GM[np.ix_(tail, tail)] - L21 @ L21.T
+        try:
+            L22 = sla.cholesky(S, lower=True, check_finite=False)
+        except np.linalg.LinAlgError:
+            return False
+        r = p + len(tail)
+        Ln = np.zeros((r, r))
+        Ln[:p, :p] = L[:p, :p]
+        Ln[p:, :p] = L21
+        Ln[p:, p:] = L22
+        new_order = np.r_[head, tail].astype(np.int64)
+        if not self._regular(Ln, new_order):
+            return False
+        self._set(new_order, Ln)
+        return True
+
+    def solve(self, rows: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """λ with W_r λ = b (``b`` in the order of ``rows``)."""
+        import scipy.linalg as sla
+
+        rows = np.asarray(rows, dtype=np.int64)
+        if rows.size == 0:
+            return np.zeros(0)
+        done = self.order is not None and self._update(rows)
+        if not done:
+            done = self._factor(rows)
+        if not done:  # singular (dependent rows): least squares, as _spd_factor
+            if self.order is not None:  # the tracking starts again from the next set
+                self.pos[self.order] = -1
+                self.order, self.L = None, np.zeros((0, 0))
+            key = rows.tobytes()
+            if self.singular is None or self.singular[0] != key:
+                self.singular = (key, _spd_factor(self.GM[np.ix_(rows, rows)]))
+            return self.singular[1](b)
+        at = self.pos[rows]
+        bo = np.zeros(len(self.order))
+        bo[at] = b
+        return sla.cho_solve((self.L, True), bo, check_finite=False)[at]
+
+
+class _ContactMetric:
+    """The contact rows in the metric of the mass matrix: X = M⁻¹ B_fᵀ (n_free × 2m, formed
+    once: 2m solves with M, or a scaling of Bᵀ for a lumped M) and GM = B_f M⁻¹ B_fᵀ (2m × 2m)
+    — for the impacts, the projection after a cut and the contact problem in accelerations.
+
+    The projection after a cut (:func:`_project`) solves with W_r = B_r M⁻¹ B_rᵀ on the closed
+    and stuck rows and on the closed ones; between cuts these sets change by a few CFEs or not
+    at all, so their factors are kept and updated (:class:`_TrackedFactor`, one per set:
+    ``tracked(name)``)."""
+
+    def __init__(self, X, GM: np.ndarray, layout: ContactLayout):
+        self.X, self.GM, self.layout = X, GM, layout
+        self._tracked: dict[str, _TrackedFactor] = {}
+        self.XtKX: np.ndarray | None = None  # (formed by the driver on first use)
+
+    def apply(self, rows: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """M⁻¹ B_rᵀ z on the free DOFs (without copying columns of X)."""
+        full = self.layout.zeros()
+        full[rows] = z
+        return self.X @ full
+
+    def gram(self, rows: np.ndarray) -> np.ndarray:
+        """W_r = B_r M⁻¹ B_rᵀ (a copy)."""
+        return self.GM[np.ix_(rows, rows)]
+
+    def tracked(self, name: str) -> _TrackedFactor:
+        """The kept factor of the row set ``name`` (:class:`_TrackedFactor`)."""
+        if name not in self._tracked:
+            self._tracked[name] = _TrackedFactor(self.GM)
+        return self._tracked[name]
+
+
+class _Rows:
+    """The recorded fields (u, u̇, ü) of a run, one (ndof,) row per state, in one buffer that
+    is given to the result as it is: sized for the run's steps, grown (doubled) and trimmed
+    at the end in place (``ndarray.resize``: the allocator remaps a large block rather than
+    copying it), never copied whole — at 82k DOFs a copy of the three arrays of 758 states
+    took about as long as 200 sparse solves."""
+
+    #: the first buffer holds at most this many bytes (it grows by doubling beyond)
+    FIRST_BYTES = 256 * 2**20
+
+    def __init__(self, ndof: int, states: int = 64):
+        rows = max(1, min(int(states), max(64, self.FIRST_BYTES // (8 * max(ndof, 1)))))
+        self.buf: np.ndarray | None = np.empty((rows, ndof))
+        self.n = 0
+
+    def append(self, row: np.ndarray) -> None:
+        buf = self.buf
+        if self.n == len(buf):
+            buf.resize((2 * len(buf), buf.shape[1]), refcheck=False)  # (no view of it lives)
+        buf[self.n] = row
+        self.n += 1
+
+    def array(self) -> np.ndarray:
+        """The (states, ndof) array; the buffer is handed over (no more rows after this)."""
+        buf, self.buf = self.buf, None
+        buf.resize((self.n, buf.shape[1]), refcheck=False)
+        return buf
 
 
 class _Memo:
@@ -367,8 +572,14 @@ class _Memo:
     def __init__(self, A, keep: int = 6):
         self.A, self.keep = A, keep
         self._last: list[tuple[np.ndarray, np.ndarray]] = []
+        #: a matrix without entries (no damping): its products are zero, not formed
+        self.empty = A.nnz == 0
+        self._zero = np.zeros(A.shape[0])
+        self._zero.flags.writeable = False
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
+        if self.empty:
+            return self._zero
         for xx, y in self._last:
             if xx is x:
                 return y
@@ -431,7 +642,10 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     the engine sees the step's mean slip rate Δu_τ/Δt (a compliant row has no drift), which
     keeps its sign until the zero of the velocity lies in the first half of the step — the
     stop would be found a step late.  They stop at the zero (:func:`_stick_times`)."""
-    sl = _slipping(dec.new) & ~law.rigid_t & law.frictional
+    sl = ~law.rigid_t & law.frictional
+    if not sl.any():  # (rigid friction only)
+        return np.zeros(0, np.int64)
+    sl &= _slipping(dec.new)
     ks = np.flatnonzero(sl & (dec.old == dec.new))
     if ks.size == 0:
         return ks
@@ -455,11 +669,18 @@ def _deferred(old, new, changed, law, damped) -> np.ndarray:
     return k[opens | slips]
 
 
-def _project(system, cond, minv, u, v, states, law, rigid_n):
+def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     """The state after a cut onto the constraints of its scheme (in the metric of M): the
     closed rigid CFEs' normal gap and normal velocity to zero, the stuck rigid CFEs' slip
     velocity to zero — so that no round-off of the interpolation (8) seeds the alternating
-    velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating."""
+    velocities of Newmark's constrained DOFs — and no open rigid CFE penetrating.
+
+    The corrections are M-orthogonal: Δu̇ = −M⁻¹ B_rᵀ λ with W_r λ = B_r u̇ (W_r = B_r M⁻¹ B_rᵀ,
+    r the closed normal and stuck tangential rows), and likewise for u on the closed normal
+    rows; the relative motions are one product with B_f each, the factors of W_r are kept
+    and updated between cuts (:class:`_TrackedFactor`).  Returns (u, u̇, corrections):
+    corrections = (z_u, z_v, X z_u, X z_v) with X = M⁻¹ B_fᵀ (z on the 2m contact rows; the
+    displacement and velocity taken off the free DOFs), None where nothing was projected."""
     lay = system.layout
     nr = lay.normal_rows  # the normal rows of B
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
@@ -467,34 +688,38 @@ def _project(system, cond, minv, u, v, states, law, rigid_n):
                            & law.rigid_t & ~law.inert)
     rows_v = np.r_[nr[closed], lay.tangential_rows[stuck]].astype(np.int64)
     if rows_v.size == 0:
-        return u, v
-    free = cond.free
-    Bc = cond.Bf[rows_v]
-    X, W = minv(rows_v)
+        return u, v, None
+    free, Bf = cond.free, cond.Bf
+    vf = v[free]
+    zv = metric.layout.zeros()
+    zv[rows_v] = metric.tracked("v").solve(rows_v, (Bf @ vf)[rows_v])
     u, v = u.copy(), v.copy()
-    lam = _spd_solve(W, Bc @ v[free])
-    v[free] -= X(lam)
+    dv = metric.X @ zv
+    v[free] = vf - dv
     # positions: closed rigid CFEs onto their obstacles, and an open one that the cut's
     # interpolation (or a neighbour's correction on shared nodes of mortar CFEs) left
     # penetrating onto its obstacle too (an active set: no open CFE ends inside)
     rig = np.flatnonzero(~law.inert & rigid_n)
     act = states[rig] != OPEN
     uf = u[free]
-    B_rig, w0_rig = cond.Bf[nr[rig]], system.w0[nr[rig]]
-    w_all = B_rig @ uf + w0_rig
+    r_rig, w0_rig = nr[rig], system.w0[nr[rig]]
+    w_all = (Bf @ uf)[r_rig] + w0_rig
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
     u_try = uf
+    zu, du = metric.layout.zeros(), np.zeros(len(uf))
     for _ in range(len(rig) + 1):
-        rows = nr[rig[act]].astype(np.int64)
+        rows = r_rig[act].astype(np.int64)
         if rows.size:
-            Xa, Wa = minv(rows)
-            u_try = uf - Xa(_spd_solve(Wa, w_all[act]))
-        pen = ~act & (B_rig @ u_try + w0_rig > tol)
+            zu = metric.layout.zeros()
+            zu[rows] = metric.tracked("u").solve(rows, w_all[act])
+            du = metric.X @ zu
+            u_try = uf - du
+        pen = ~act & ((Bf @ u_try)[r_rig] + w0_rig > tol)
         if not pen.any():
             break
         act |= pen
     u[free] = u_try
-    return u, v
+    return u, v, (zu, zv, du, dv)
 
 
 def _impact(system, cond, minv, v: np.ndarray, cand: np.ndarray, closing: np.ndarray,
@@ -949,11 +1174,13 @@ class _DynamicRun:
             C = (C + dashpots(system.model, system.dofs)).tocsr()  # the springs' dashpots
         self.M, self.K, self.C = M, K, C
         self.dt0 = float(iv.dt)
+        self.nm0 = _Newmark(self.dt0, self.alpha)
         self.Kx, self.Mx, self.Cx = _Memo(K), _Memo(M), _Memo(C)  # products kept
         t0 = time.perf_counter()
         self.cond = Condensed.from_system(dataclasses.replace(
             system, K=_Newmark(self.dt0, self.alpha).stiffness(K, M, C)), backend)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
+        self.solve_hat = _direct_solve(self.cond.factor)  # K̂⁻¹ b on the free DOFs
         self.t_setup = time.perf_counter() - t0
 
     def _contact_law(self) -> None:
@@ -1032,6 +1259,8 @@ class _DynamicRun:
         self.names = list(system.loads)
         self.f_of = {n: system.loads[n].f for n in self.names}
         self.r_ground = None
+        self._factors_last: tuple[float, dict] | None = None
+        self._F_held_part: tuple[bool, np.ndarray] | None = None
         if self.ground_acceleration is not None:
             self.r_ground = -(self.M @ _ground_translation(system,
                                                            self.ground_acceleration[1]))
@@ -1061,7 +1290,7 @@ class _DynamicRun:
         cond, free, M = self.cond, self.free, self.M
         self.Bf = cond.Bf
         self.BfT = self.Bf.T.tocsr()
-        rhs = (self.F_held[free] - (self.Kx(self.u))[free] - (self.Cx(self.v))[free]
+        rhs = (self.rest_force(self.F_held, self.u, self.v)
                - self.BfT @ self.s_init)
         Mff = M[free][:, free].tocsc()
         try:
@@ -1080,9 +1309,12 @@ class _DynamicRun:
         ndof = self.ndof
         self.rec = Recorder(self.layout, len(self.names), 0)
         self.events = EventLog(self.rec, cfe, self.layout)
-        self.extra = {"u": GrowingArray((ndof,)), "v": GrowingArray((ndof,)),
-                      "a": GrowingArray((ndof,))}
-        self.energy = {k: GrowingArray(()) for k in ENERGY_TERMS}
+        # the states the run records: every record_every-th step, the events, the cuts
+        states = int(self.iv.duration / self.dt0 / max(self.record_every, 1)) + 2
+        states += states // 4 + 8
+        self.extra = {"u": _Rows(ndof, states), "v": _Rows(ndof, states),
+                      "a": _Rows(ndof, states)}
+        self.energy: list[tuple[float, ...]] = []  # the ledger's terms per state
         self.ledger = dict.fromkeys(ENERGY_TERMS, 0.0)
         # the scale of mutual displacements: at rest on closed rigid contact they are
         # round-off, so the fields' displacements set it (the contact conditions are judged
@@ -1094,6 +1326,9 @@ class _DynamicRun:
         lay = self.layout
         self.stiff = lay.join(cfe.kt, cfe.kn)
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
+        self.any_soft = bool(self.soft.any())
+        self.no_layer_energy = lay.zeros()
+        self.no_layer_energy.flags.writeable = False
         self.damped = lay.zeros(dtype=bool)
         # Kelvin–Voigt layers: ½ C_n x², the dashpot's
         lay.normal(self.damped)[self.layers.k] = True
@@ -1111,10 +1346,16 @@ class _DynamicRun:
     # -- loads -------------------------------------------------------------------------------
 
     def factors_at(self, t: float) -> dict[str, float]:
-        """The patterns' factors at time t: held ones plus the time functions g(t)."""
+        """The patterns' factors at time t: held ones plus the time functions g(t) (the last
+        instant's kept: the load and the record at a step's end ask for the same; not to be
+        changed by the caller)."""
+        last = self._factors_last
+        if last is not None and last[0] == t:
+            return last[1]
         c = dict(self.static)
         for name, g in self.loads.items():
             c[name] = c.get(name, 0.0) + float(g(t))
+        self._factors_last = (t, c)
         return c
 
     def water_at(self, t: float, c: dict | None = None) -> np.ndarray:
@@ -1134,11 +1375,21 @@ class _DynamicRun:
     def force_at(self, t: float) -> np.ndarray:
         """F(t) of eq. (7) (ndof,), N: the patterns times their factors, the ground
         acceleration's −M r a_g(t) and the crack water's load."""
-        F = np.zeros(self.ndof)
         c_t = self.factors_at(t)
         f_of = self.f_of
+        if self._F_held_part is None:  # the held patterns' sum, in the order of the loop
+            # below, formed once — where no time function scales a held pattern too
+            shared = any(n in self.loads for n in self.static)
+            F0 = np.zeros(self.ndof)
+            for name, c in self.static.items():
+                if c and not shared:
+                    F0 += c * f_of[name]
+            F0.flags.writeable = False
+            self._F_held_part = (shared, F0)
+        shared, F0 = self._F_held_part
+        F = F0.copy()
         for name, c in c_t.items():
-            if c:
+            if c and (shared or name not in self.static):
                 F += c * f_of[name]
         if self.r_ground is not None:
             F += float(self.ground_acceleration[0](t)) * self.r_ground
@@ -1146,47 +1397,55 @@ class _DynamicRun:
             F += self.water_load(self.water_at(t, c_t))
         return F
 
+    def rest_force(self, F: np.ndarray, u, v) -> np.ndarray:
+        """F − K u − C u̇ on the free DOFs (C without entries: not formed)."""
+        free = self.free
+        out = F[free] - (self.Kx(u))[free]
+        if not self.Cx.empty:
+            out = out - (self.Cx(v))[free]
+        return out
+
     def _rest_accel(self, F: np.ndarray, u, v) -> np.ndarray:
         """ü = M⁻¹ (F − K u − C u̇ − Bᵀ s) on the free DOFs (eq. (7)) with the engine's s."""
         out = np.zeros(self.ndof)
         free = self.free
-        out[free] = self.M_lu.solve(F[free] - (self.Kx(u))[free] - (self.Cx(v))[free]
+        out[free] = self.M_lu.solve(self.rest_force(F, u, v)
                                     - self.BfT @ self.eng.s)
         return out
 
     # -- the contact problem in accelerations (jumps of the forces at fixed time) -----------
 
-    def minv(self, rows: np.ndarray):
-        """(z ↦ M⁻¹ B_rᵀ z, B_r M⁻¹ B_rᵀ) for contact rows r: columns of M⁻¹ Bᵀ formed once (2m
-        solves with the mass matrix) and kept for every impact, projection and force jump."""
-        accel, m, M_lu = self.accel, self.m, self.M_lu
-        if "X" not in accel:
+    def metric(self) -> _ContactMetric:
+        """The contact rows in the metric of M (:class:`_ContactMetric`): the columns of
+        M⁻¹ Bᵀ formed once (2m solves with the mass matrix; a lumped one: a scaling of Bᵀ)
+        and kept for every impact, projection and force jump."""
+        accel, M_lu = self.accel, self.M_lu
+        if "metric" not in accel:
             Bf, BfT = self.Bf, self.BfT
             if isinstance(M_lu, _Diagonal):  # lumped: M⁻¹ Bᵀ is as sparse as Bᵀ
                 X = (sp.diags(M_lu.inv) @ BfT).tocsr()
                 GM = (Bf @ X).toarray()
             else:
-                X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if m else np.zeros(
+                X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if self.m else np.zeros(
                     (len(self.free), 0))
                 X = X.reshape(len(self.free), self.layout.n)
                 GM = np.asarray(Bf @ X)
             accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
+            accel["metric"] = _ContactMetric(X, accel["GM"], self.layout)
+        return accel["metric"]
+
+    def minv(self, rows: np.ndarray):
+        """(z ↦ M⁻¹ B_rᵀ z, B_r M⁻¹ B_rᵀ) for contact rows r (:meth:`metric`)."""
+        metric = self.metric()
         rows = np.asarray(rows, dtype=np.int64)
-        X, lay = accel["X"], self.layout
-
-        def apply(z: np.ndarray) -> np.ndarray:  # M⁻¹ B_rᵀ z without copying columns
-            full = lay.zeros()
-            full[rows] = z
-            return X @ full
-
-        return apply, accel["GM"][np.ix_(rows, rows)]
+        return functools.partial(metric.apply, rows), metric.gram(rows)
 
     def accel_engine(self) -> EventEngine:
         """The event engine of the contact problem in accelerations: M ü + Bᵀ s = f with
         the contact conditions on (s, B ü), condensed to B M⁻¹ Bᵀ (built on first use)."""
         accel = self.accel
         if "eng" not in accel:
-            self.minv(np.zeros(0, np.int64))
+            self.metric()
             lay = self.layout
             accel["eng"] = EventEngine(SchemeSolver(accel["GM"], lay.zeros()), [self.law],
                                        lay.zeros(), rtol=self.rtol, layout=lay)
@@ -1200,7 +1459,7 @@ class _DynamicRun:
         eng, law, m, free, lay = self.eng, self.law, self.m, self.free, self.layout
         M_lu, Bf, BfT = self.M_lu, self.Bf, self.BfT
         Fn = self.force_at(t_now)
-        f_rest = Fn[free] - (self.Kx(self.u))[free] - (self.Cx(self.v))[free]
+        f_rest = self.rest_force(Fn, self.u, self.v)
         out = np.zeros(self.ndof)
         if m and (self.all_rigid or self.split):  # (a compliant layer's force is its
             # spring's: it does not jump, it is held at its value as a load)
@@ -1384,7 +1643,7 @@ class _DynamicRun:
             return F_new, self.load_jump(F_new - F_left, t_now, step)
         free = self.free
         a_new = np.zeros(self.ndof)
-        a_new[free] = self.M_lu.solve(F_new[free] - (self.Kx(u_))[free] - (self.Cx(v_))[free])
+        a_new[free] = self.M_lu.solve(self.rest_force(F_new, u_, v_))
         return F_new, a_new
 
     # -- energy, records, events -------------------------------------------------------------
@@ -1393,6 +1652,8 @@ class _DynamicRun:
         """½ s²/C of every component of a compliant layer (2m,), J (eq. (11); ½ C_n x² of a
         damped layer of compression x, :class:`_DampedLayers`)."""
         soft, layers = self.soft, self.layers
+        if not layers and not self.any_soft:  # rigid contact stores nothing
+            return self.no_layer_energy
         out = np.where(soft, 0.5 * s_**2 / np.where(soft, self.stiff, 1.0), 0.0)
         if layers:
             self.layout.normal(out)[layers.k] = layers.energy(x_)
@@ -1435,8 +1696,7 @@ class _DynamicRun:
             self.status_box[:] = [Status.VIOLATION, broken]
         for k, arr in (("u", u), ("v", v), ("a", self.a)):
             self.extra[k].append(arr)
-        for k in ENERGY_TERMS:
-            self.energy[k].append(ledger[k])
+        self.energy.append(tuple(ledger[k] for k in ENERGY_TERMS))
         return i
 
     def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
@@ -1476,7 +1736,7 @@ class _DynamicRun:
         else:
             free = self.free
             a = np.zeros(self.ndof)
-            a[free] = self.M_lu.solve(F[free] - (self.Kx(u))[free] - (self.Cx(v))[free]
+            a[free] = self.M_lu.solve(self.rest_force(F, u, v)
                                       - self.BfT @ self.s_init)
             self.a = a
         if self.crack is not None and self.initial is not None and self.settle_water(0.0, 0):
@@ -1489,8 +1749,8 @@ class _DynamicRun:
         # of u_n = 0 (a rigid body at rest has no displacement scale to judge it against)
         on0 = (eng.states != OPEN) & rigid_n & ~law.inert
         if on0.any():
-            self.u, self.v = _project(self.system, self.cond, self.minv, self.u, self.v,
-                                      eng.states, law, rigid_n)
+            self.u, self.v, _ = _project(self.system, self.cond, self.metric(), self.u,
+                                         self.v, eng.states, law, rigid_n)
             eng.w = self.system.B @ self.u + self.system.w0  # (the projected fields')
             self.layout.normal(eng.w)[on0] = 0.0
         # the scales the start's conditions are judged against (as every step's)
@@ -1554,7 +1814,7 @@ class _DynamicRun:
         land = 1.0
         if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
             land = (stop_at - t) / dt0
-        nm = _Newmark(dt, self.alpha)
+        nm = self.nm0  # (every step has Δt's coefficients: a short one is a cut of it)
         t1 = t + land * dt
         at_break = bool(ahead.size) and t1 >= float(ahead[0]) - 1e-6 * dt0
         if at_break:
@@ -1567,7 +1827,7 @@ class _DynamicRun:
         if land < 1.0:  # the load's rate over the part step continued to t + Δt
             F1 = F + (F1 - F) / land
         Fhat = nm.rhs(self.Kx, self.Mx, self.Cx, F1, F, self.u, self.v, self.a)
-        y = cond.factor.solve(np.ascontiguousarray(Fhat[self.free]))
+        y = self.solve_hat(np.ascontiguousarray(Fhat[self.free]))
         h_end = self.Bf @ y
         # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
         w_hat = eng.w - system.w0
@@ -1760,6 +2020,7 @@ class _DynamicRun:
         break's left limit for a landing).  Returns (u, v, s, w, F) there."""
         eng, system, cond, layers = self.eng, self.system, self.cond, self.layers
         u, v, t = self.u, self.v, self.t
+        self._cut_books = None
         if frac == 0.0 and mu == 0.0:  # a restart at the step's start: nothing moved
             return (u, v, eng.s.copy(), system.B @ u + system.w0,
                     self.force_at(t) if F_i is None else F_i)
@@ -1768,9 +2029,9 @@ class _DynamicRun:
         w_end = eng.w + (1.0 - mu) * dw_o + self.drift
         tv = s_end - cond.d * (w_end - system.w0)
         u_end = np.zeros(self.ndof)
-        u_end[self.free] = cond.factor.solve(np.ascontiguousarray(self.Fhat[self.free]
+        u_end[self.free] = self.solve_hat(np.ascontiguousarray(self.Fhat[self.free]
                                                                   - self.BfT @ tv))
-        _a_end, v_end = self.nm.end(u_end, u, v, self.a)
+        v_end = self.nm.velocity(u_end, u, v, self.a)
         tau = frac * self.dt
         # linear between the step's ends (a convex combination of two Newmark states: stable
         # for the stiff modes, where the expansion (8) in powers of τ is not)
@@ -1795,21 +2056,21 @@ class _DynamicRun:
                           - self.layer_energy(s_start, x_start)))
         contact = self.book_contact(diss)
         works = {"external": frac * float(du_w @ (0.5 * (F + F_end))),
-                 "damping": frac * float(du_w @ (self.C @ (0.5 * (v + v_end))))
+                 "damping": (frac * float(du_w @ (self.C @ (0.5 * (v + v_end))))
+                             if not self.Cx.empty else 0.0)
                  + contact["damping"],
                  "friction": contact["friction"], "impact": contact["impact"]}
         ledger = self.ledger
         for key, val in works.items():
             ledger[key] += val
         # the interpolation (8) is not a Newmark step: what it adds or removes is the
-        # integrator's (numerical) share of the part step
-        Mx = self.Mx
-        d_energy = (0.5 * v_i @ (Mx(v_i)) + self.strain_energy(u_i, s_i, x_i)
-                    - 0.5 * v @ (Mx(v)) - self.strain_energy(u, s_start, x_start))
-        d_num = (works["external"] - works["damping"] - works["friction"] - works["impact"]
-                 - d_energy)
-        ledger["numerical"] += d_num
-        self.parts[part] += d_num
+        # integrator's (numerical) share of the part step, booked by _restart with the
+        # state's energy (from the projected state's, :meth:`_book_cut`: no products of K
+        # and M with the state at the cut)
+        e_start = 0.5 * v @ (self.Mx(v)) + self.strain_energy(u, s_start, x_start)
+        self._cut_books = (part, works["external"] - works["damping"] - works["friction"]
+                           - works["impact"], e_start,
+                           float(self.layer_energy(s_i, x_i).sum()))
         return u_i, v_i, s_i, w_i, F_i
 
     def _restart(self, restart, landing: bool) -> None:
@@ -1834,9 +2095,12 @@ class _DynamicRun:
         lay.normal(w_i)[closing] = 0.0  # on the obstacle (the root of eq. (10))
         imp: dict[int, tuple[float, float]] = {}  # CFE → (normal, tangential) impulse
         bounced = closed_as = np.zeros(0, np.int64)
+        ke_impact = 0.0  # the kinetic energy the impact takes
         if closing.size:  # an impact: normal velocities jump (Newton's law)
+            ke0 = self.ledger["impact"]
             v_i, imp, bounced, closed_as = self._impact_at(old, new_states, closing, s_i,
                                                            v_i, t_i)
+            ke_impact = self.ledger["impact"] - ke0
         new_states = self.layers.closing_states(old, new_states)
         for k in bounced:  # the contact of a rebound lasts an instant: closed, opened
             if old[k] == OPEN:
@@ -1847,14 +2111,9 @@ class _DynamicRun:
             self.log_event(n, k, old[k], new_states[k], times.get(int(k), t_i),
                            impulse=imp.get(int(k)))
         eng.states = new_states.copy()
-        Mx, Kx = self.Mx, self.Kx
-        e_before = 0.5 * v_i @ (Mx(v_i)) + 0.5 * u_i @ (Kx(u_i))
-        u_i, v_i = _project(system, self.cond, self.minv, u_i, v_i, new_states, law,
-                            self.rigid_n)
-        # the projection onto the new scheme's constraints: the integrator's share
-        d_num = float(e_before - 0.5 * v_i @ (Mx(v_i)) - 0.5 * u_i @ (Kx(u_i)))
-        self.ledger["numerical"] += d_num
-        self.parts["projection"] += d_num
+        u_i, v_i, corrections = _project(system, self.cond, self.metric(), u_i, v_i,
+                                         new_states, law, self.rigid_n)
+        self._book_cut(u_i, v_i, corrections, ke_impact)
         w_i = system.B @ u_i + system.w0
         on = (new_states != OPEN) & self.rigid_n
         lay.normal(w_i)[on] = 0.0  # on the obstacle (round-off of the projection)
@@ -1888,6 +2147,56 @@ class _DynamicRun:
             for hk in self.hooks:
                 if hasattr(hk, "after_step"):
                     hk.after_step(n, t, self.end_time)
+
+    def _book_cut(self, u_p, v_p, corrections, ke_impact: float) -> None:
+        """The integrator's (numerical) shares of a cut (:meth:`cut`) and of the projection
+        after it (:func:`_project`) in the ledger, from the energy of the projected state
+        (u_p, v_p), whose products with K and M the next steps use anyway: the state at the
+        cut differs from it by the projection's corrections Δu = M⁻¹ B_rᵀ z_u, Δu̇ = M⁻¹ B_rᵀ
+        z_v (on the free DOFs), so its energy is that of (u_p, v_p) plus
+
+            z_vᵀ Xᵀ (M u̇_p) + ½ z_vᵀ (B M⁻¹ Bᵀ) z_v + z_uᵀ Xᵀ (K u_p) + ½ z_uᵀ (Xᵀ K X) z_u
+
+        (X = M⁻¹ B_fᵀ) — the projection's share, without the round-off of two large energies'
+        difference — and the kinetic energy an impact at the cut took (booked as ``impact``)."""
+        Mx, Kx = self.Mx, self.Kx
+        e_p = 0.5 * v_p @ (Mx(v_p)) + 0.5 * u_p @ (Kx(u_p))
+        d_proj = self.projection_energy(u_p, v_p, *corrections) if corrections else 0.0
+        self.ledger["numerical"] += d_proj
+        self.parts["projection"] += d_proj
+        if self._cut_books is None:  # (a restart at the step's start: nothing moved)
+            return
+        part, works, e_start, layer_i = self._cut_books
+        self._cut_books = None
+        d_num = float(works - (e_p + d_proj + ke_impact + layer_i - e_start))
+        self.ledger["numerical"] += d_num
+        self.parts[part] += d_num
+
+    def projection_energy(self, u_p, v_p, zu: np.ndarray, zv: np.ndarray, du: np.ndarray,
+                          dv: np.ndarray) -> float:
+        """The energy ½ u̇ᵀMu̇ + ½ uᵀKu that the projection (:func:`_project`) removed from the
+        state it made (u_p, v_p) by the corrections −du = −X z_u, −dv = −X z_v on the free
+        DOFs (``zu``, ``zv`` (2m,), X = M⁻¹ B_fᵀ): see :meth:`_book_cut`.  XᵀKX (2m × 2m) is
+        formed once where X is sparse (a lumped mass); else the correction's product with K
+        is made."""
+        metric, free = self.metric(), self.free
+        X = metric.X
+        out = 0.0
+        if zv.any():
+            out += float(dv @ self.Mx(v_p)[free] + 0.5 * zv @ (metric.GM @ zv))
+        if zu.any():
+            if sp.issparse(X):
+                if metric.XtKX is None:
+                    Kff = self.K[free][:, free]
+                    XtKX = (X.T @ (Kff @ X)).toarray()
+                    metric.XtKX = 0.5 * (XtKX + XtKX.T)
+                quad = float(zu @ (metric.XtKX @ zu))
+            else:
+                du_all = np.zeros(self.ndof)
+                du_all[free] = du
+                quad = float(du_all @ (self.K @ du_all))
+            out += float(du @ self.Kx(u_p)[free]) + 0.5 * quad
+        return out
 
     def _impact_at(self, old, new_states, closing, s_i, v_i, t_i):
         """An impact where rigid CFEs ``closing`` close at t_i: the normal velocities of the
@@ -1947,15 +2256,17 @@ class _DynamicRun:
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
         u_new = np.zeros(self.ndof)
-        u_new[self.free] = cond.factor.solve(np.ascontiguousarray(self.Fhat[self.free]
+        u_new[self.free] = self.solve_hat(np.ascontiguousarray(self.Fhat[self.free]
                                                                   - self.BfT @ tvec))
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
         e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
         ledger["external"] += float(du @ (0.5 * (F + F1)))
         F_prev, F = F, F1
-        vbar = 0.5 * (v + v_new)
-        ledger["damping"] += float(du @ (Cx(vbar)))
+        damped = not Cx.empty
+        vbar = 0.5 * (v + v_new) if damped else None
+        w_damp = float(du @ (Cx(vbar))) if damped else 0.0
+        ledger["damping"] += w_damp
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
         # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
@@ -1966,7 +2277,7 @@ class _DynamicRun:
         if self.alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what
             # the works leave
             e_step1 = 0.5 * v_new @ (Mx(v_new)) + self.strain_energy(u_new, eng.s)
-            d_num = (float(du @ (0.5 * (F_prev + F1))) - float(du @ (Cx(vbar)))
+            d_num = (float(du @ (0.5 * (F_prev + F1))) - w_damp
                      - float(diss.sum()) - (e_step1 - e_step0))
             ledger["numerical"] += d_num
             self.parts["hht" if dt == dt0 else "short_steps"] += d_num
@@ -2017,8 +2328,9 @@ class _DynamicRun:
             geometry=result_geometry(system), crack=self.crack is not None,
             units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                    "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
-            u=extra["u"].view.copy(), v=extra["v"].view.copy(), a=extra["a"].view.copy(),
-            energy={k: g.view.copy() for k, g in self.energy.items()}, dt=self.dt0,
+            u=extra["u"].array(), v=extra["v"].array(), a=extra["a"].array(),
+            energy=dict(zip(ENERGY_TERMS, np.array(self.energy, float).reshape(
+                -1, len(ENERGY_TERMS)).T.copy(), strict=True)), dt=self.dt0,
             impulses=_impulse_arrays(self.impulse_log),
             _recover=None if system.discrete is not None else _Stresses(system),
             **({} if stage_arrays is None else stage_fields(
