@@ -51,6 +51,11 @@ SELF_STRESS_MAX = 2000
 #: a singular scheme that inverse iteration finds not driven is checked against its whole left
 #: null space (an SVD, O((2m)³)) up to this many contact unknowns
 DRIVES_SVD_MAX = 400
+#: the G t kept current along the path (:meth:`EventEngine.tracked_product`) serves a check when
+#: the bound of its error is at most this fraction of ‖G t‖∞, for this many checks in a row
+#: before it is formed in full again
+TRACK_TOL = 1e-13
+TRACK_REFRESH = 32
 
 
 @dataclass
@@ -113,6 +118,11 @@ class EventEngine:
         #: load rates at or below this (absolute, m) are round-off: they drive nothing
         #: (:meth:`drives`; set by the dynamic driver per step, −1 on a static path)
         self.rest_scale = -1.0
+        #: G t of the state kept current as the engine moves it (:meth:`tracked_product`):
+        #: (solver, t, G t, products since the last full one) or None; and the recent rates
+        #: with their scheme solutions y and products G y, ``(s', w', y, G y)``
+        self._track: tuple | None = None
+        self._pairs: list[tuple] = []
 
     # ---- scales and tolerances ---------------------------------------------------------------
     def update_scales(self, ds=None, dw=None, span: float = 1.0) -> None:
@@ -166,10 +176,64 @@ class EventEngine:
         self.counters["rate_solves"] += 1
         h, e = forcing
         try:  # (a float32 update that does not refine is refactorised: maybe singular)
-            return fact.load_rates(h, e) if r is None else fact.solve(h, e, r)
+            out = fact.load_rates(h, e) if r is None else fact.solve(h, e, r)
         except MechanismError as exc:
             exc.states = states.copy()
             raise
+        self._note(*out)
+        return out
+
+    # ---- G t of the state, kept current (the residual check of a recorded state) -------------
+    def _note(self, ds, dw) -> None:
+        """Keep (s', w') with the solution y and product G y the scheme solver formed for
+        them (``SchemeSolver.last_product``), for :meth:`_follow`."""
+        lp = self.schemes.last_product
+        self.schemes.last_product = None
+        if lp is not None and lp[0] is ds and np.ndim(ds) == 1:
+            self._pairs.append((ds, dw, lp[1], lp[2]))
+            if len(self._pairs) > 8:
+                del self._pairs[0]
+
+    def _follow(self, ds, dw, scale: float) -> None:
+        """The state moved by ``scale`` (s', w'): t = s − D ŵ moves by ``scale`` y and G t by
+        ``scale`` G y, with the y and G y of those rates (:meth:`_note`); rates without them
+        end the tracking (the next check forms G t afresh)."""
+        if self._track is None or scale == 0.0:
+            return
+        for a, b, y, gy in reversed(self._pairs):
+            if a is ds and b is dw:
+                _, t, gt, _ = self._track
+                t += scale * y
+                gt += scale * gy
+                return
+        self._track = None
+
+    def tracked_product(self, t: np.ndarray, full) -> tuple[np.ndarray, float]:
+        """G t for the residual check of the state, t = s − D ŵ (given by the driver from the
+        state's s, w and load factors), and a bound of its error (0 when formed in full).
+
+        The engine keeps G t current as it moves the state: every move along rates adds the
+        step times the product G y that the scheme solver formed for them (y = t', the
+        change of t per unit step, whatever the load moves; the snap's correction likewise),
+        O(n) per move instead of a pass over G.  The tracked t is compared with the
+        driver's: the product of their difference δ is bounded by ‖G‖∞ ‖δ‖∞ (both are sums
+        of the same steps, so δ is round-off), and that bound is returned to be added to
+        the residual — never an underestimate.  G t is formed in full (``full(t)``, one
+        pass; then the bound is 0) at the first check, whenever the state moved other than
+        along tracked rates (a stage, a dynamic interval, crack water, rates of a degenerate
+        point's LCP), when the bound exceeds ``TRACK_TOL`` of ‖G t‖∞, and after
+        ``TRACK_REFRESH`` tracked checks (the sum of the steps' products drifts by
+        round-off, like the state itself)."""
+        tr = self._track
+        if tr is not None and tr[0] is self.schemes and tr[3] < TRACK_REFRESH:
+            _, tt, gt, k = tr
+            bound = self.schemes.g_norm() * float(np.abs(t - tt).max(initial=0.0))
+            if bound <= TRACK_TOL * float(np.abs(gt).max(initial=0.0)):
+                self._track = (tr[0], tt, gt, k + 1)
+                return gt.copy(), bound
+        gt = np.asarray(full(t), float)
+        self._track = (self.schemes, np.array(t, float), gt.copy(), 0)
+        return gt, 0.0
 
     def rates_singular(self, states, forcing):
         """Rates of a singular scheme that the load does not drive: the minimum-norm solution
@@ -417,6 +481,8 @@ class EventEngine:
         for j, (ds, dw) in enumerate(zip(dss, dws, strict=True), start=1):
             self.s += dmu**j * ds
             self.w += dmu**j * dw
+            if np.any(ds) or np.any(dw):
+                self._follow(ds, dw, dmu**j)
 
     def article_step(self, ds) -> float:
         """Step limit of the article's slip treatment, eq. (5): |ΔQ_p / Q_p| ≤ ε_p (each law's
@@ -428,6 +494,7 @@ class EventEngine:
     def advance(self, dmu: float, ds, dw) -> None:
         self.s += dmu * ds
         self.w += dmu * dw
+        self._follow(ds, dw, dmu)
 
     # ---- the decision at a point ------------------------------------------------------------
     def at_limit(self, fired: np.ndarray):
@@ -506,8 +573,10 @@ class EventEngine:
                                 floor=float(np.abs(self.s).max(initial=0.0)))
         except MechanismError:
             return
+        self._note(ds, dw)
         self.s += ds
         self.w += dw
+        self._follow(ds, dw, 1.0)
         self.counters["corrections"] += 1
 
     def violation(self) -> float:

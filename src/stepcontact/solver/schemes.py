@@ -615,9 +615,20 @@ class SchemeFactor:
                 return o.refactored(self).solve(hhat, e, r, floor)
         else:
             Gy = o.G @ y
+        return self._rates(y, Gy, hhat, e)
+
+    def _rates(self, y: np.ndarray, Gy: np.ndarray, hhat, e):
+        """(s', w') from the scheme's solution y = t' and its product G y: ŵ' = ĥ − G y,
+        s' = y + D ŵ', w' = ŵ' + e.  The solver keeps (s', y, G y) of the last rates
+        (``last_product``): y is the change of t = s − D ŵ per unit step, whatever e is, so
+        a driver that moves along s' can keep G t current without a product
+        (:meth:`~stepcontact.solver.engine.EventEngine.tracked_product`)."""
+        d = self.owner.d
         w_hat = hhat - Gy
         dd = d if y.ndim == 1 else d[:, None]
-        return y + dd * w_hat, w_hat + e
+        ds = y + dd * w_hat
+        self.owner.last_product = (ds, y, Gy)
+        return ds, w_hat + e
 
     def load_rates(self, hhat: np.ndarray, e: np.ndarray):
         """Rates (s', w') of this scheme for the load rates (ĥ, e) (vectors) and r = 0: from
@@ -647,8 +658,7 @@ class SchemeFactor:
                 return o.refactored(self).load_rates(hhat, e)
         else:
             Gy = o.G @ y
-        w_hat = hhat - Gy
-        return y + d * w_hat, w_hat + e
+        return self._rates(y, Gy, hhat, e)
 
 
 class SchemeSolver:
@@ -701,6 +711,25 @@ class SchemeSolver:
         self._singular: tuple | None = None
         self.counters = {"scheme_factorizations": 0, "scheme_updates": 0, "scheme_columns": 0,
                          "scheme_solves": 0, "refinements": 0}
+        #: (s', y, G y) of the rates solved last (:meth:`SchemeFactor._rates`)
+        self.last_product: tuple | None = None
+        self._gnorm: float | None = None
+
+    def g_norm(self) -> float:
+        """‖G‖∞ (largest absolute row sum of G, float64; of (M + I)/d for the shifted float32
+        form M = D G − I), computed once by blocks of rows: it bounds the product of a small
+        difference, ‖G δ‖∞ ≤ ‖G‖∞ ‖δ‖∞."""
+        if self._gnorm is None:
+            G, n, out = self.G, self.n, 0.0
+            for i in range(0, n, 256):
+                blk = np.abs(np.asarray(G[i : i + 256], np.float64))
+                if self.shifted:
+                    j = np.arange(blk.shape[0])
+                    blk[j, i + j] = np.abs(np.asarray(G[i + j, i + j], np.float64) + 1.0)
+                    blk /= self.d[i : i + 256, None]
+                out = max(out, float(blk.sum(axis=1).max(initial=0.0)))
+            self._gnorm = out
+        return self._gnorm
 
     @property
     def n(self) -> int:
