@@ -56,6 +56,9 @@ DRIVES_SVD_MAX = 400
 #: before it is formed in full again
 TRACK_TOL = 1e-13
 TRACK_REFRESH = 32
+#: a snap whose right-hand sides are all at most this fraction of the path's scales only
+#: corrects round-off, and is made CFE by CFE (:meth:`EventEngine._snap_roundoff`)
+SNAP_ROUNDOFF = 16 * np.finfo(float).eps
 
 
 @dataclass
@@ -564,6 +567,9 @@ class EventEngine:
             rQ[c], rp[c] = law.snap(self.states[c], Q, p, un)
         if not np.any(np.abs(r) > 0):
             return
+        if self._snap_roundoff(r):
+            self.counters["corrections"] += 1
+            return
         try:
             fact = self.factor(self.states)
         except MechanismError:
@@ -578,6 +584,49 @@ class EventEngine:
         self.w += dw
         self._follow(ds, dw, 1.0)
         self.counters["corrections"] += 1
+
+    def _snap_roundoff(self, r: np.ndarray) -> bool:
+        """Snap a state that is off the relations by round-off only, in O(m): every row's
+        right-hand side r_j at most ``SNAP_ROUNDOFF`` of the path's scale in that row's units
+        (F_scale for a row with a force of its own, S_jj ≠ 0; W_scale for a displacement row,
+        S_jj = 0).  Each CFE's block of relations is then satisfied exactly by changing, in
+        each of its rows, the row's own unknown (s_j where S_jj ≠ 0, else w_j): per CFE the
+        small system Σ_c M_ic x_c = r_i, M_ic the coefficient of component c's chosen unknown
+        in row i.  Equilibrium moves by that round-off (ŵ and t change by O(ε) of their
+        scales), as it does along any step, instead of a solve of the whole scheme (a pass
+        over the factor and one over G) that would only move round-off.  False (nothing
+        done) when a row is beyond round-off — a CFE snapped onto a limit it reached within
+        the path's tolerance, the article's corrections of eq. (4) — or a block is singular:
+        then the scheme's solve (:meth:`snap`)."""
+        lay = self.layout
+        m, nc = lay.m, lay.n_c
+        rel = self.relations(self.states)
+        S, Wr = rel.S, rel.W
+        j = np.arange(nc)
+        own = S[:, j, j] != 0  # (m, nc): the row's chosen unknown is its force
+        rk = r.reshape(nc, m).T
+        F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
+        if np.any(np.abs(rk) > SNAP_ROUNDOFF * np.where(own, F, W)):
+            return False
+        M = np.where(own[:, None, :], S, Wr)  # M[k, i, c]
+        if nc == 2:
+            det = M[:, 0, 0] * M[:, 1, 1] - M[:, 0, 1] * M[:, 1, 0]
+            size = np.abs(M).max(axis=(1, 2))
+            if np.any(~(np.abs(det) > 1e-12 * size * size)):
+                return False
+            x0 = (M[:, 1, 1] * rk[:, 0] - M[:, 0, 1] * rk[:, 1]) / det
+            x1 = (M[:, 0, 0] * rk[:, 1] - M[:, 1, 0] * rk[:, 0]) / det
+            x = np.stack([x0, x1], axis=1)
+        else:
+            try:
+                x = np.linalg.solve(M, rk[:, :, None])[:, :, 0]
+            except np.linalg.LinAlgError:
+                return False
+            if not np.all(np.isfinite(x)):
+                return False
+        self.s += np.where(own, x, 0.0).T.ravel()
+        self.w += np.where(own, 0.0, x).T.ravel()
+        return True
 
     def violation(self) -> float:
         """Largest relative violation of every law's conditions at the current state."""

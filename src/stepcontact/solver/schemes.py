@@ -465,6 +465,8 @@ class _Base:
         cap = min(n, 32)
         self.Z = np.empty((n, cap), self.dtype, order="F")
         self.V = np.empty((cap, n), self.dtype)
+        #: each slot's row of the base scheme (formed once; V = R − R0 as the row changes)
+        self.R0 = np.empty((cap, n), self.dtype)
         self.VZ = np.empty((cap, cap), self.dtype)
         self.vscale = np.empty(cap)
         #: the block row (S_j·, W_j·) of each slot's latest relation (:func:`_block_rows`)
@@ -481,12 +483,10 @@ class _Base:
         Z = np.empty((n, new), self.dtype, order="F")
         Z[:, :k] = self.Z[:, :k]
         self.Z = Z
-        V = np.empty((new, n), self.dtype)
-        V[:k] = self.V[:k]
         VZ = np.empty((new, new), self.dtype)
         VZ[:k, :k] = self.VZ[:k, :k]
-        self.V, self.VZ = V, VZ
-        for name in ("vscale", "vrow"):
+        self.VZ = VZ
+        for name in ("V", "R0", "vscale", "vrow"):
             old = getattr(self, name)
             a = np.empty((new,) + old.shape[1:], old.dtype)
             a[:k] = getattr(self, name)[:k]
@@ -515,8 +515,11 @@ class _Base:
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
         if stale.size:
             R, sc = scheme_rows(solver.G, solver.d, rel, rows_j, solver.shifted)
-            R0, _ = scheme_rows(solver.G, solver.d, self.rel, rows_j, solver.shifted)
-            self.V[stale] = R - R0
+            fresh = stale >= k0  # new slots: their base rows, formed once
+            if fresh.any():
+                self.R0[stale[fresh]] = scheme_rows(solver.G, solver.d, self.rel,
+                                                    rows_j[fresh], solver.shifted)[0]
+            self.V[stale] = R - self.R0[stale]
             self.vscale[stale] = sc
             self.vrow[stale] = row
             self.VZ[stale, :k] = self.V[stale] @ self.Z[:, :k]
@@ -823,12 +826,13 @@ class SchemeSolver:
         slots = b.prepare(self, rel, idx)
         C = b.VZ[np.ix_(slots, slots)]
         C[np.diag_indices_from(C)] += 1.0
-        C_lu = lu(C)
-        self.counters["scheme_updates"] += 1
         # (measured against ‖I‖ = 1 at least: C = I + V Z and det A = det A₀ det C, so a
         # C far below the identity is singular even where it is 1 × 1 — whose own condition
         # number is always 1)
-        if not rcond(C_lu, C, max(norm1(C), 1.0)) > self.rcond_update:
+        cnorm = max(float(np.abs(C).sum(axis=0).max()), 1.0)
+        C_lu = _lapack("getrf", C)(C, overwrite_a=1)[:2]  # (small: LAPACK directly)
+        self.counters["scheme_updates"] += 1
+        if not rcond(C_lu, anorm=cnorm) > self.rcond_update:
             # ill-conditioned update, possibly singular: a full factorisation of this scheme
             self._refactor(rel)
             return self._plain(rel)
