@@ -581,13 +581,15 @@ class Condensed:
         return float(np.abs(r).max(initial=0) / scale), kin
 
     def condensed_residual(self, factors: dict[str, float], s: np.ndarray, w: np.ndarray,
-                           w_scale: float = 0.0) -> float:
+                           w_scale: float = 0.0, product=None) -> float:
         """Relative residual of the condensed equilibrium equations (no solve):
 
             ‖ŵ + G (s − D ŵ) − Σ_P c_P ĥ_P‖ / max(‖ŵ‖, ‖Σ c ĥ‖, w_scale),   ŵ = w − w⁰ − Σ c e_P
 
         Exactly equivalent to ‖K u + Bᵀ s − f‖ = 0 with u recovered from (s, w); used at the
         states whose displacement field is not computed (large models, intermediate events).
+        ``product``: t ↦ (G t, a bound of its error, added to the residual's norm), e.g. the
+        G t an event engine keeps current (default: G t formed, bound 0).
         """
         e = self.layout.zeros()
         h = self.layout.zeros()
@@ -596,9 +598,11 @@ class Condensed:
                 e += c * self.e[name]
                 h += c * self.hhat[name]
         w_hat = w - self.system.w0 - e
-        r = w_hat + self.product(s - self.d * w_hat) - h
+        t = s - self.d * w_hat
+        gt, bound = (self.product(t), 0.0) if product is None else product(t)
+        r = w_hat + gt - h
         scale = max(np.abs(w_hat).max(initial=0), np.abs(h).max(initial=0), w_scale, 1e-300)
-        return float(np.abs(r).max(initial=0) / scale)
+        return float((np.abs(r).max(initial=0) + bound) / scale)
 
     def mode_displacement(self, t: np.ndarray) -> np.ndarray:
         """Displacement of a mechanism mode t of the condensed unknowns."""

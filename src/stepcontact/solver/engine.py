@@ -51,6 +51,14 @@ SELF_STRESS_MAX = 2000
 #: a singular scheme that inverse iteration finds not driven is checked against its whole left
 #: null space (an SVD, O((2m)³)) up to this many contact unknowns
 DRIVES_SVD_MAX = 400
+#: the G t kept current along the path (:meth:`EventEngine.tracked_product`) serves a check when
+#: the bound of its error is at most this fraction of ‖G t‖∞, for this many checks in a row
+#: before it is formed in full again
+TRACK_TOL = 1e-13
+TRACK_REFRESH = 32
+#: a snap whose right-hand sides are all at most this fraction of the path's scales only
+#: corrects round-off, and is made CFE by CFE (:meth:`EventEngine._snap_roundoff`)
+SNAP_ROUNDOFF = 16 * np.finfo(float).eps
 
 
 @dataclass
@@ -113,6 +121,11 @@ class EventEngine:
         #: load rates at or below this (absolute, m) are round-off: they drive nothing
         #: (:meth:`drives`; set by the dynamic driver per step, −1 on a static path)
         self.rest_scale = -1.0
+        #: G t of the state kept current as the engine moves it (:meth:`tracked_product`):
+        #: (solver, t, G t, products since the last full one) or None; and the recent rates
+        #: with their scheme solutions y and products G y, ``(s', w', y, G y)``
+        self._track: tuple | None = None
+        self._pairs: list[tuple] = []
 
     # ---- scales and tolerances ---------------------------------------------------------------
     def update_scales(self, ds=None, dw=None, span: float = 1.0) -> None:
@@ -166,10 +179,64 @@ class EventEngine:
         self.counters["rate_solves"] += 1
         h, e = forcing
         try:  # (a float32 update that does not refine is refactorised: maybe singular)
-            return fact.load_rates(h, e) if r is None else fact.solve(h, e, r)
+            out = fact.load_rates(h, e) if r is None else fact.solve(h, e, r)
         except MechanismError as exc:
             exc.states = states.copy()
             raise
+        self._note(*out)
+        return out
+
+    # ---- G t of the state, kept current (the residual check of a recorded state) -------------
+    def _note(self, ds, dw) -> None:
+        """Keep (s', w') with the solution y and product G y the scheme solver formed for
+        them (``SchemeSolver.last_product``), for :meth:`_follow`."""
+        lp = self.schemes.last_product
+        self.schemes.last_product = None
+        if lp is not None and lp[0] is ds and np.ndim(ds) == 1:
+            self._pairs.append((ds, dw, lp[1], lp[2]))
+            if len(self._pairs) > 8:
+                del self._pairs[0]
+
+    def _follow(self, ds, dw, scale: float) -> None:
+        """The state moved by ``scale`` (s', w'): t = s − D ŵ moves by ``scale`` y and G t by
+        ``scale`` G y, with the y and G y of those rates (:meth:`_note`); rates without them
+        end the tracking (the next check forms G t afresh)."""
+        if self._track is None or scale == 0.0:
+            return
+        for a, b, y, gy in reversed(self._pairs):
+            if a is ds and b is dw:
+                _, t, gt, _ = self._track
+                t += scale * y
+                gt += scale * gy
+                return
+        self._track = None
+
+    def tracked_product(self, t: np.ndarray, full) -> tuple[np.ndarray, float]:
+        """G t for the residual check of the state, t = s − D ŵ (given by the driver from the
+        state's s, w and load factors), and a bound of its error (0 when formed in full).
+
+        The engine keeps G t current as it moves the state: every move along rates adds the
+        step times the product G y that the scheme solver formed for them (y = t', the
+        change of t per unit step, whatever the load moves; the snap's correction likewise),
+        O(n) per move instead of a pass over G.  The tracked t is compared with the
+        driver's: the product of their difference δ is bounded by ‖G‖∞ ‖δ‖∞ (both are sums
+        of the same steps, so δ is round-off), and that bound is returned to be added to
+        the residual — never an underestimate.  G t is formed in full (``full(t)``, one
+        pass; then the bound is 0) at the first check, whenever the state moved other than
+        along tracked rates (a stage, a dynamic interval, crack water, rates of a degenerate
+        point's LCP), when the bound exceeds ``TRACK_TOL`` of ‖G t‖∞, and after
+        ``TRACK_REFRESH`` tracked checks (the sum of the steps' products drifts by
+        round-off, like the state itself)."""
+        tr = self._track
+        if tr is not None and tr[0] is self.schemes and tr[3] < TRACK_REFRESH:
+            _, tt, gt, k = tr
+            bound = self.schemes.g_norm() * float(np.abs(t - tt).max(initial=0.0))
+            if bound <= TRACK_TOL * float(np.abs(gt).max(initial=0.0)):
+                self._track = (tr[0], tt, gt, k + 1)
+                return gt.copy(), bound
+        gt = np.asarray(full(t), float)
+        self._track = (self.schemes, np.array(t, float), gt.copy(), 0)
+        return gt, 0.0
 
     def rates_singular(self, states, forcing):
         """Rates of a singular scheme that the load does not drive: the minimum-norm solution
@@ -417,6 +484,8 @@ class EventEngine:
         for j, (ds, dw) in enumerate(zip(dss, dws, strict=True), start=1):
             self.s += dmu**j * ds
             self.w += dmu**j * dw
+            if np.any(ds) or np.any(dw):
+                self._follow(ds, dw, dmu**j)
 
     def article_step(self, ds) -> float:
         """Step limit of the article's slip treatment, eq. (5): |ΔQ_p / Q_p| ≤ ε_p (each law's
@@ -428,6 +497,7 @@ class EventEngine:
     def advance(self, dmu: float, ds, dw) -> None:
         self.s += dmu * ds
         self.w += dmu * dw
+        self._follow(ds, dw, dmu)
 
     # ---- the decision at a point ------------------------------------------------------------
     def at_limit(self, fired: np.ndarray):
@@ -497,6 +567,9 @@ class EventEngine:
             rQ[c], rp[c] = law.snap(self.states[c], Q, p, un)
         if not np.any(np.abs(r) > 0):
             return
+        if self._snap_roundoff(r):
+            self.counters["corrections"] += 1
+            return
         try:
             fact = self.factor(self.states)
         except MechanismError:
@@ -506,9 +579,54 @@ class EventEngine:
                                 floor=float(np.abs(self.s).max(initial=0.0)))
         except MechanismError:
             return
+        self._note(ds, dw)
         self.s += ds
         self.w += dw
+        self._follow(ds, dw, 1.0)
         self.counters["corrections"] += 1
+
+    def _snap_roundoff(self, r: np.ndarray) -> bool:
+        """Snap a state that is off the relations by round-off only, in O(m): every row's
+        right-hand side r_j at most ``SNAP_ROUNDOFF`` of the path's scale in that row's units
+        (F_scale for a row with a force of its own, S_jj ≠ 0; W_scale for a displacement row,
+        S_jj = 0).  Each CFE's block of relations is then satisfied exactly by changing, in
+        each of its rows, the row's own unknown (s_j where S_jj ≠ 0, else w_j): per CFE the
+        small system Σ_c M_ic x_c = r_i, M_ic the coefficient of component c's chosen unknown
+        in row i.  Equilibrium moves by that round-off (ŵ and t change by O(ε) of their
+        scales), as it does along any step, instead of a solve of the whole scheme (a pass
+        over the factor and one over G) that would only move round-off.  False (nothing
+        done) when a row is beyond round-off — a CFE snapped onto a limit it reached within
+        the path's tolerance, the article's corrections of eq. (4) — or a block is singular:
+        then the scheme's solve (:meth:`snap`)."""
+        lay = self.layout
+        m, nc = lay.m, lay.n_c
+        rel = self.relations(self.states)
+        S, Wr = rel.S, rel.W
+        j = np.arange(nc)
+        own = S[:, j, j] != 0  # (m, nc): the row's chosen unknown is its force
+        rk = r.reshape(nc, m).T
+        F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
+        if np.any(np.abs(rk) > SNAP_ROUNDOFF * np.where(own, F, W)):
+            return False
+        M = np.where(own[:, None, :], S, Wr)  # M[k, i, c]
+        if nc == 2:
+            det = M[:, 0, 0] * M[:, 1, 1] - M[:, 0, 1] * M[:, 1, 0]
+            size = np.abs(M).max(axis=(1, 2))
+            if np.any(~(np.abs(det) > 1e-12 * size * size)):
+                return False
+            x0 = (M[:, 1, 1] * rk[:, 0] - M[:, 0, 1] * rk[:, 1]) / det
+            x1 = (M[:, 0, 0] * rk[:, 1] - M[:, 1, 0] * rk[:, 0]) / det
+            x = np.stack([x0, x1], axis=1)
+        else:
+            try:
+                x = np.linalg.solve(M, rk[:, :, None])[:, :, 0]
+            except np.linalg.LinAlgError:
+                return False
+            if not np.all(np.isfinite(x)):
+                return False
+        self.s += np.where(own, x, 0.0).T.ravel()
+        self.w += np.where(own, 0.0, x).T.ravel()
+        return True
 
     def violation(self) -> float:
         """Largest relative violation of every law's conditions at the current state."""

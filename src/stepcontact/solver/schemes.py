@@ -465,6 +465,8 @@ class _Base:
         cap = min(n, 32)
         self.Z = np.empty((n, cap), self.dtype, order="F")
         self.V = np.empty((cap, n), self.dtype)
+        #: each slot's row of the base scheme (formed once; V = R − R0 as the row changes)
+        self.R0 = np.empty((cap, n), self.dtype)
         self.VZ = np.empty((cap, cap), self.dtype)
         self.vscale = np.empty(cap)
         #: the block row (S_j·, W_j·) of each slot's latest relation (:func:`_block_rows`)
@@ -481,12 +483,10 @@ class _Base:
         Z = np.empty((n, new), self.dtype, order="F")
         Z[:, :k] = self.Z[:, :k]
         self.Z = Z
-        V = np.empty((new, n), self.dtype)
-        V[:k] = self.V[:k]
         VZ = np.empty((new, new), self.dtype)
         VZ[:k, :k] = self.VZ[:k, :k]
-        self.V, self.VZ = V, VZ
-        for name in ("vscale", "vrow"):
+        self.VZ = VZ
+        for name in ("V", "R0", "vscale", "vrow"):
             old = getattr(self, name)
             a = np.empty((new,) + old.shape[1:], old.dtype)
             a[:k] = getattr(self, name)[:k]
@@ -515,8 +515,11 @@ class _Base:
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
         if stale.size:
             R, sc = scheme_rows(solver.G, solver.d, rel, rows_j, solver.shifted)
-            R0, _ = scheme_rows(solver.G, solver.d, self.rel, rows_j, solver.shifted)
-            self.V[stale] = R - R0
+            fresh = stale >= k0  # new slots: their base rows, formed once
+            if fresh.any():
+                self.R0[stale[fresh]] = scheme_rows(solver.G, solver.d, self.rel,
+                                                    rows_j[fresh], solver.shifted)[0]
+            self.V[stale] = R - self.R0[stale]
             self.vscale[stale] = sc
             self.vrow[stale] = row
             self.VZ[stale, :k] = self.V[stale] @ self.Z[:, :k]
@@ -615,9 +618,20 @@ class SchemeFactor:
                 return o.refactored(self).solve(hhat, e, r, floor)
         else:
             Gy = o.G @ y
+        return self._rates(y, Gy, hhat, e)
+
+    def _rates(self, y: np.ndarray, Gy: np.ndarray, hhat, e):
+        """(s', w') from the scheme's solution y = t' and its product G y: ŵ' = ĥ − G y,
+        s' = y + D ŵ', w' = ŵ' + e.  The solver keeps (s', y, G y) of the last rates
+        (``last_product``): y is the change of t = s − D ŵ per unit step, whatever e is, so
+        a driver that moves along s' can keep G t current without a product
+        (:meth:`~stepcontact.solver.engine.EventEngine.tracked_product`)."""
+        d = self.owner.d
         w_hat = hhat - Gy
         dd = d if y.ndim == 1 else d[:, None]
-        return y + dd * w_hat, w_hat + e
+        ds = y + dd * w_hat
+        self.owner.last_product = (ds, y, Gy)
+        return ds, w_hat + e
 
     def load_rates(self, hhat: np.ndarray, e: np.ndarray):
         """Rates (s', w') of this scheme for the load rates (ĥ, e) (vectors) and r = 0: from
@@ -647,8 +661,7 @@ class SchemeFactor:
                 return o.refactored(self).load_rates(hhat, e)
         else:
             Gy = o.G @ y
-        w_hat = hhat - Gy
-        return y + d * w_hat, w_hat + e
+        return self._rates(y, Gy, hhat, e)
 
 
 class SchemeSolver:
@@ -701,6 +714,25 @@ class SchemeSolver:
         self._singular: tuple | None = None
         self.counters = {"scheme_factorizations": 0, "scheme_updates": 0, "scheme_columns": 0,
                          "scheme_solves": 0, "refinements": 0}
+        #: (s', y, G y) of the rates solved last (:meth:`SchemeFactor._rates`)
+        self.last_product: tuple | None = None
+        self._gnorm: float | None = None
+
+    def g_norm(self) -> float:
+        """‖G‖∞ (largest absolute row sum of G, float64; of (M + I)/d for the shifted float32
+        form M = D G − I), computed once by blocks of rows: it bounds the product of a small
+        difference, ‖G δ‖∞ ≤ ‖G‖∞ ‖δ‖∞."""
+        if self._gnorm is None:
+            G, n, out = self.G, self.n, 0.0
+            for i in range(0, n, 256):
+                blk = np.abs(np.asarray(G[i : i + 256], np.float64))
+                if self.shifted:
+                    j = np.arange(blk.shape[0])
+                    blk[j, i + j] = np.abs(np.asarray(G[i + j, i + j], np.float64) + 1.0)
+                    blk /= self.d[i : i + 256, None]
+                out = max(out, float(blk.sum(axis=1).max(initial=0.0)))
+            self._gnorm = out
+        return self._gnorm
 
     @property
     def n(self) -> int:
@@ -794,12 +826,13 @@ class SchemeSolver:
         slots = b.prepare(self, rel, idx)
         C = b.VZ[np.ix_(slots, slots)]
         C[np.diag_indices_from(C)] += 1.0
-        C_lu = lu(C)
-        self.counters["scheme_updates"] += 1
         # (measured against ‖I‖ = 1 at least: C = I + V Z and det A = det A₀ det C, so a
         # C far below the identity is singular even where it is 1 × 1 — whose own condition
         # number is always 1)
-        if not rcond(C_lu, C, max(norm1(C), 1.0)) > self.rcond_update:
+        cnorm = max(float(np.abs(C).sum(axis=0).max()), 1.0)
+        C_lu = _lapack("getrf", C)(C, overwrite_a=1)[:2]  # (small: LAPACK directly)
+        self.counters["scheme_updates"] += 1
+        if not rcond(C_lu, anorm=cnorm) > self.rcond_update:
             # ill-conditioned update, possibly singular: a full factorisation of this scheme
             self._refactor(rel)
             return self._plain(rel)

@@ -632,8 +632,13 @@ class StaticSolver:
         if store:  # full field: residual of the whole model and kinematics B u + w⁰ = w
             u = self.cond.displacement(self.c, st, eng.w)
             res, kin = self.cond.check(self.c, st, eng.w, u, eng.W_scale)
-        else:  # no solve: the condensed equations (exactly equivalent)
-            res, kin = self.cond.condensed_residual(self.c, st, eng.w, eng.W_scale), 0.0
+        else:  # no solve: the condensed equations (exactly equivalent), with the G t that
+            # the engine keeps current along the path (no pass over G; a bound of its error
+            # is added: EventEngine.tracked_product)
+            res = self.cond.condensed_residual(
+                self.c, st, eng.w, eng.W_scale,
+                product=lambda t: eng.tracked_product(t, self.cond.product))
+            kin = 0.0
         viol = max(kin, eng.violation())
         i = self.rec.append(
             lam=lam, segment=seg, kind=kind, factors=[self.c[n] for n in self.c], s=eng.s,
