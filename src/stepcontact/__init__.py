@@ -37,6 +37,7 @@ from stepcontact.model import (
 )
 from stepcontact.model.bond import Bond
 from stepcontact.model.mesh import (
+    box,
     half_disc,
     polygon_region,
     quad_region,
@@ -123,6 +124,7 @@ __all__ = [
     "Tie",
     "Transition",
     "rectangle",
+    "box",
     "quad_region",
     "half_disc",
     "polygon_region",

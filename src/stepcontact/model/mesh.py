@@ -7,6 +7,8 @@
   arc, for Hertz-type contact;
 * :func:`polygon_region` — a triangle (structured: a triangular dam section) or any simple
   polygon (meshed by gmsh);
+* :func:`box` — a 3D box of tetrahedra or hexahedra with named faces (left, right, front,
+  back, bottom, top);
 * :func:`rotate`, :func:`translate` — a body, a frame or a whole model moved rigidly.
 
 Any other scikit-fem ``MeshTri``/``MeshQuad`` (or a meshio mesh converted with
@@ -22,10 +24,10 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
-from skfem import MeshQuad, MeshTri
+from skfem import MeshHex, MeshQuad, MeshTet, MeshTri
 
 from stepcontact.errors import ModelError
-from stepcontact.model.bodies import ELEMENT_KINDS, Body, Frame, Material
+from stepcontact.model.bodies import ELEMENT_KINDS, SOLID_KINDS, Body, Frame, Material
 from stepcontact.model.loads import BodyForce, PrescribedDisplacement
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.structure import Model
@@ -148,6 +150,84 @@ def rectangle(
     else:
         raise ModelError(f"body '{name}'", f"unknown element '{element}'")
     return Body.from_mesh(name, mesh, element, material)
+
+
+# --------------------------------------------------------------------------------------------
+# 3D boxes
+# --------------------------------------------------------------------------------------------
+#: the named faces of a box: (axis, end) with end 0 at the lower coordinate, 1 at the upper;
+#: left/right along x and bottom/top along z (up) as for a rectangle's sides, front/back along y
+BOX_FACES: dict[str, tuple[int, int]] = {"left": (0, 0), "right": (0, 1), "front": (1, 0),
+                                         "back": (1, 1), "bottom": (2, 0), "top": (2, 1)}
+
+
+def box(
+    name: str,
+    corner0: tuple[float, float, float],
+    corner1: tuple[float, float, float],
+    n: tuple[int, int, int],
+    material: Material,
+    element: str = "hex8",
+) -> Body:
+    """A box [x0, x1] × [y0, y1] × [z0, z1] (m) meshed with ``n`` = (nx, ny, nz) cells.
+
+    ``element`` is ``hex8``, ``hex20`` (serendipity), ``hex27`` (scikit-fem ``MeshHex`` with
+    ``ElementHex1``, ``ElementHexS2``, ``ElementHex2``), ``tet4`` or ``tet10`` (``MeshTet``,
+    each cell cut into tetrahedra by scikit-fem's ``init_tensor``, with ``ElementTetP1``,
+    ``ElementTetP2``).  The faces are named boundaries of the mesh (:data:`BOX_FACES`):
+    ``left``/``right`` at x0/x1, ``front``/``back`` at y0/y1, ``bottom``/``top`` at z0/z1 —
+    select their nodes with ``model.select(name, boundary="top")``.  z is up: the default
+    gravity of a 3D body acts along −z.
+
+    Example
+    -------
+    >>> from stepcontact import Material
+    >>> from stepcontact.model.mesh import box
+    >>> b = box("block", (0, 0, 0), (2, 1, 1), (4, 2, 2), Material(30e9, 0.2, 2400))
+    >>> b.n_nodes, b.dim, b.boundary_names
+    (45, 3, ('left', 'right', 'front', 'back', 'bottom', 'top'))
+    """
+    item = f"body '{name}'"
+    if element not in SOLID_KINDS:
+        raise ModelError(f"{item}.element",
+                         f"unknown element '{element}' for a box, use {', '.join(SOLID_KINDS)}")
+    lo = _point3(f"{item}.corner0", corner0)
+    hi = _point3(f"{item}.corner1", corner1)
+    if np.any(hi <= lo):
+        raise ModelError(item, "corner1 must lie beyond corner0 along x, y and z")
+    try:
+        counts = tuple(n)
+    except TypeError:
+        counts = ()
+    if len(counts) != 3:
+        raise ModelError(f"{item}.n", f"must be three cell counts (nx, ny, nz), got {n!r}")
+    nx, ny, nz = (_check_count(name, f"n[{i}]", v) for i, v in enumerate(counts))
+    from stepcontact.model.size import check_size
+
+    per = 2 if element in ("tet10", "hex20", "hex27") else 1  # nodes per cell side, at most
+    nodes = (per * nx + 1) * (per * ny + 1) * (per * nz + 1)
+    check_size(3 * nodes, item, f"the {nx} × {ny} × {nz} {element} mesh of body '{name}'")
+    axes = [np.linspace(lo[c], hi[c], k + 1) for c, k in enumerate((nx, ny, nz))]
+    cls = MeshTet if element.startswith("tet") else MeshHex
+    mesh = cls.init_tensor(*axes)
+    tol = 1e-9 * float(np.max(hi - lo))
+
+    def on(axis: int, value: float):
+        return lambda x: np.abs(x[axis] - value) <= tol
+
+    mesh = mesh.with_boundaries({face: on(axis, (lo, hi)[end][axis])
+                                 for face, (axis, end) in BOX_FACES.items()})
+    return Body.from_mesh(name, mesh, element, material)
+
+
+def _point3(item: str, v) -> np.ndarray:
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        a = np.zeros(0)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise ModelError(item, f"must be a finite point (x, y, z), m; got {v!r}")
+    return a
 
 
 # --------------------------------------------------------------------------------------------
@@ -815,4 +895,5 @@ def translate(item, offset: tuple[float, float]):
                         interfaces=tuple(_moved_obstacle(i, f) for i in item.interfaces))
 
 
-__all__ = ["QUAD_EDGES", "half_disc", "quad_region", "rectangle", "rotate", "translate"]
+__all__ = ["BOX_FACES", "QUAD_EDGES", "box", "half_disc", "quad_region", "rectangle", "rotate",
+           "translate"]
