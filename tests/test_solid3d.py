@@ -247,3 +247,58 @@ def test_2d_gravity_or_tangential_load_on_a_3d_body_is_refused():
             "body 'b'.element", "unknown element 'quad4' for a box")
     _raises(lambda: sc.box("b", (0, 0, 0), (1, 1, 1), (1, 0, 1), sc.Material(E, NU)),
             "body 'b'.n[1]", "must be an integer >= 1")
+
+
+# ---- extruded (prismatic) bodies ----------------------------------------------------------------
+@pytest.mark.parametrize("element", ["quad4", "tri3", "quad8", "tri6", "quad9"])
+def test_extruded_rectangle_is_a_conforming_bar(element):
+    """A 3 × 2 rectangle swept along z in 2 layers: conforming (every inner face shared by two
+    elements, so the boundary faces are exactly the 2 × 6 cells of the ends (× 2 for
+    triangles) and 2 per perimeter edge and layer for triangles, 1 for quadrilaterals — a
+    face that does not match its neighbour's would be counted as boundary), and pulled along z
+    the linear field u_z = ε z, u_x = −ν ε x, u_y = −ν ε y to 1e-10 of the end displacement."""
+    from stepcontact.model.mesh import extrude
+
+    sec = sc.rectangle("sec", (0, 0), (2, 1), 3, 2, sc.Material(E, NU), element)
+    bar = extrude(sec, (0.0, 1.5), 2, name="bar")
+    tri = element.startswith("tri")
+    assert len(bar.boundary) == 2 * 6 * (2 if tri else 1) + 2 * 10 * (2 if tri else 1)
+    m = sc.Model(bodies=(bar,))
+    m = m.add(sc.Support("x0", m.select("bar", x=0.0), "x"),
+              sc.Support("y0", m.select("bar", y=0.0), "y"),
+              sc.Support("start", m.select("bar", boundary="start"), "z"),
+              sc.LoadPattern("pull", [sc.EdgeForce(m.select("bar", boundary="end"), fz=4e4)]),
+              sc.Segment("pull", 1.0))
+    u = sc.solve_static(m).displacement(-1).reshape(-1, 3)
+    eps = 4e4 / (E * 2.0)
+    x, y, z = bar.points.T
+    exact = np.column_stack([-NU * eps * x, -NU * eps * y, eps * z])
+    assert np.abs(u - exact).max() <= 1e-10 * eps * 1.5
+
+
+def test_extruded_quad_region_weighs_its_volume():
+    """A trapezoid (area 8 m²) swept 2 m along z: its weight under g = (0, −9.81, 0) (the
+    section's y up) is ρ g × 16 m³ at the centroid, to 1e-12 (the resultant of the assembled
+    load vector); the extruded mesh of triangles has 3 tetrahedra per prism."""
+    from stepcontact.model.mesh import extrude
+
+    sec = sc.quad_region("w", [(0, 0), (4, 0), (4, 1), (0, 3)], 4, 3,
+                         sc.Material(E, NU, RHO), "tri3")
+    body = extrude(sec, (0.0, 2.0), 3)
+    assert body.element == "tet4" and len(body.cells) == 3 * 3 * len(sec.cells)
+    m = sc.Model(bodies=(body,))
+    m = m.add(sc.Support("base", m.select("w", y=0.0), "xyz"),
+              sc.LoadPattern("w", [sc.BodyForce(g=(0.0, -G, 0.0))]))
+    s = assemble(m)
+    r = load_resultant(m, s.dofs, s.loads["w"].f)
+    W = RHO * G * 8.0 * 2.0
+    # the centroid of the section, from its two triangles (independent of the mesh)
+    tris = np.array([[(0, 0), (4, 0), (4, 1)], [(0, 0), (4, 1), (0, 3)]], float)
+    d1, d2 = tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    a = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+    assert a.sum() == 8.0
+    cx, cy = (a[:, None] * tris.mean(axis=1)).sum(axis=0) / a.sum()
+    force = np.array([0.0, -W, 0.0])
+    at = np.array([cx, cy, 1.0])
+    np.testing.assert_allclose(r[:3], force, rtol=0, atol=1e-12 * W)
+    np.testing.assert_allclose(r[3:], np.cross(at, force), rtol=0, atol=1e-12 * W * 5)

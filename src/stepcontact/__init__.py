@@ -38,6 +38,7 @@ from stepcontact.model import (
 from stepcontact.model.bond import Bond
 from stepcontact.model.mesh import (
     box,
+    extrude,
     half_disc,
     polygon_region,
     quad_region,
@@ -125,6 +126,7 @@ __all__ = [
     "Transition",
     "rectangle",
     "box",
+    "extrude",
     "quad_region",
     "half_disc",
     "polygon_region",

@@ -55,22 +55,25 @@ class NodeSet:
 # --------------------------------------------------------------------------------------------
 # supports, ties, springs
 # --------------------------------------------------------------------------------------------
-def _parse_dofs(dofs: str | Sequence[str], item: str) -> tuple[str, ...]:
-    """"xy", "x", "rz", "xyrz", "xyz" or a sequence of names -> tuple of DOF names."""
+def _parse_dofs(dofs: str | Sequence[str], item: str,
+                names: tuple[str, ...] = DOF_NAMES) -> tuple[str, ...]:
+    """"xy", "x", "rz", "xyrz" (and "z", "xyz" when ``names`` has z) or a sequence of names
+    -> tuple of DOF names, each one of ``names`` (default: those of a 2D node)."""
+    use = ", ".join(DOF_NAMES) if names == DOF_NAMES else \
+        f"{', '.join(DOF_NAMES)} (2D) or {', '.join(DOF_NAMES_3D)} (3D)"
+    letters = [d for d in ("x", "y", "z") if d in names]
     if isinstance(dofs, str):
         text = dofs.replace(",", "").replace(" ", "")
         rz = "rz" in text
         text = text.replace("rz", "")
-        bad = set(text) - {"x", "y", "z"}
+        bad = set(text) - set(letters)
         if bad:
-            raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use "
-                             f"{', '.join(DOF_NAMES)} (2D) or {', '.join(DOF_NAMES_3D)} (3D)")
-        dofs = [d for d in ("x", "y", "z") if d in text] + (["rz"] if rz else [])
+            raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use {use}")
+        dofs = [d for d in letters if d in text] + (["rz"] if rz else [])
     out = tuple(dict.fromkeys(dofs))
     for d in out:
-        if d not in _ALL_DOFS:
-            raise ModelError(item, f"unknown degree of freedom '{d}', use "
-                             f"{', '.join(DOF_NAMES)} (2D) or {', '.join(DOF_NAMES_3D)} (3D)")
+        if d not in names:
+            raise ModelError(item, f"unknown degree of freedom '{d}', use {use}")
     return out
 
 
@@ -84,7 +87,8 @@ class Support:
     dofs: tuple[str, ...] = ("x", "y")
 
     def __post_init__(self):
-        object.__setattr__(self, "dofs", _parse_dofs(self.dofs, f"support '{self.name}'.dofs"))
+        object.__setattr__(self, "dofs", _parse_dofs(self.dofs, f"support '{self.name}'.dofs",
+                                                     _ALL_DOFS))
 
 
 @dataclass(frozen=True, eq=False)
