@@ -302,3 +302,32 @@ def test_extruded_quad_region_weighs_its_volume():
     at = np.array([cx, cy, 1.0])
     np.testing.assert_allclose(r[:3], force, rtol=0, atol=1e-12 * W)
     np.testing.assert_allclose(r[3:], np.cross(at, force), rtol=0, atol=1e-12 * W * 5)
+
+
+def test_3d_stages_give_the_program_result_and_results_know_no_rotation():
+    """Two construction stages (the weight, then a push) end where the same segments as one
+    program end: displacements equal to 1e-12 of their largest (the same linear solves); a
+    3D result refuses 'rz' (its third DOF is u_z) instead of returning u_z under that name."""
+    b = sc.box("b", (0, 0, 0), (1, 1, 2), (1, 1, 2), sc.Material(E, NU, RHO), "hex20")
+    m = sc.Model(bodies=(b,))
+    common = [sc.Support("base", m.select("b", boundary="bottom"), "xyz"),
+              sc.LoadPattern("w", [sc.BodyForce()]),
+              sc.LoadPattern("push", [sc.EdgeForce(m.select("b", boundary="top"), fx=1e4)])]
+    r1 = sc.solve_static(m.add(*common, sc.Segment("w", 1.0), sc.Segment("push", 1.0)))
+    r2 = sc.solve_static(m.add(*common, sc.Stage("one", program=[sc.Segment("w", 1.0)]),
+                               sc.Stage("two", program=[sc.Segment("push", 1.0)])))
+    u1, u2 = r1.displacement(-1), r2.displacement(-1)
+    assert np.abs(u1 - u2).max() <= 1e-12 * np.abs(u1).max()
+    top = m.select("b", boundary="top")
+    np.testing.assert_array_equal(r1.node_history(top, "ux")[-1], u1.reshape(-1, 3)[top.index, 0])
+    with pytest.raises(ValueError, match="no rotation"):
+        r1.node_history(top, "rz")
+    with pytest.raises(ValueError, match="no rotation"):
+        r1.reaction_history(top, "rz")
+
+
+def test_water_loads_on_a_3d_body_are_refused():
+    m = sc.Model(bodies=(_solid(),))
+    _raises(lambda: m.add(sc.LoadPattern("water", [
+        sc.WaterLoad(m.select("solid", boundary="left"), level=1.0)])),
+        "load pattern 'water' load 0", "water loads on 3D bodies are not available yet")
