@@ -331,3 +331,31 @@ def test_water_loads_on_a_3d_body_are_refused():
     _raises(lambda: m.add(sc.LoadPattern("water", [
         sc.WaterLoad(m.select("solid", boundary="left"), level=1.0)])),
         "load pattern 'water' load 0", "water loads on 3D bodies are not available yet")
+
+
+def test_pressure_function_on_faces_integrates_exactly():
+    """A pressure p(x, y, z) = p0 (1 + x / 2) on the top face [0, 2] × [0, 1] of a hex8 box
+    pushes down with ∫ p dA = p0 (2 + 1) · 1 = 3 p0 (a linear p, integrated exactly by the
+    face quadrature), its line of action at x̄ = ∫ x p dA / ∫ p dA = (10/3) / 3 = 10/9; to
+    1e-12."""
+    p0 = 1.0e3
+    b = sc.box("b", (0, 0, 0), (2, 1, 1), (4, 2, 1), sc.Material(E, NU), "hex8")
+    m = sc.Model(bodies=(b,))
+    m = m.add(sc.Support("base", m.select("b", boundary="bottom"), "xyz"),
+              sc.LoadPattern("p", [sc.EdgeLoad(m.select("b", boundary="top"),
+                                               normal=lambda x, y, z: p0 * (1 + x / 2))]))
+    s = assemble(m)
+    r = load_resultant(m, s.dofs, s.loads["p"].f)
+    F = 3 * p0
+    np.testing.assert_allclose(r[:3], [0.0, 0.0, -F], rtol=0, atol=1e-12 * F)
+    # M = x̄ × F about the origin: M_x = y F_z, M_y = −x F_z with (x̄, ȳ) = (10/9, 1/2)
+    np.testing.assert_allclose(r[3:5], [0.5 * -F, -(10 / 9) * -F], rtol=0, atol=1e-12 * F)
+
+
+def test_degenerate_tetrahedron_is_refused_by_name():
+    from skfem import MeshTet
+
+    flat = MeshTet(np.array([[0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0], [0.0, 0.0, 0.0, 0.0]]),
+                   np.array([[0], [1], [2], [3]]))
+    _raises(lambda: sc.Body.from_mesh("flat", flat, "tet4", sc.Material(E, NU)),
+            "body 'flat' element 0", "is degenerate (zero volume)")
