@@ -264,7 +264,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             else:
                 if b.dim == 3 and ld.tangential is not None:
                     raise ModelError(f"{item}.tangential", "has no direction on the faces of "
-                                     f"3D body '{b.name}': give traction=(tx, ty, tz), Pa")
+                                     f"3D body '{b.name}': give a pressure (normal) or a total "
+                                     "force (EdgeForce with fx, fy, fz)")
                 if b.dim == 3 and ld.traction is not None:
                     raise ModelError(f"{item}.traction", f"is a 2D traction (tx, ty); on the "
                                      f"faces of 3D body '{b.name}' give a pressure (normal) or "
