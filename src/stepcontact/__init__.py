@@ -37,6 +37,8 @@ from stepcontact.model import (
 )
 from stepcontact.model.bond import Bond
 from stepcontact.model.mesh import (
+    box,
+    extrude,
     half_disc,
     polygon_region,
     quad_region,
@@ -123,6 +125,8 @@ __all__ = [
     "Tie",
     "Transition",
     "rectangle",
+    "box",
+    "extrude",
     "quad_region",
     "half_disc",
     "polygon_region",

@@ -128,7 +128,17 @@ def outward_normals(body: Body | Frame, edges: np.ndarray) -> np.ndarray | None:
 
 
 def edge_facets(body: Body, edges: np.ndarray) -> np.ndarray:
-    """The mesh facets (scikit-fem numbering) of boundary edges of a continuum body."""
+    """The mesh facets (scikit-fem numbering) of boundary edges of a continuum body (of
+    boundary faces, rows of ``body.boundary``, for a 3D body)."""
+    if body.dim == 3:  # faces: matched by their sorted corners (3 or 4)
+        nc = 3 if body.element.startswith("tet") else 4
+        keys = np.sort(np.vstack([body.boundary[:, :nc], edges[:, :nc]]), axis=1)
+        _, inv = np.unique(keys, axis=0, return_inverse=True)
+        inv = inv.ravel()
+        nb = len(body.boundary)
+        pos = np.empty(int(inv.max()) + 1, dtype=np.int64)
+        pos[inv[:nb]] = np.arange(nb)
+        return body.boundary_facets[pos[inv[nb:]]]
     key_b = np.sort(body.boundary[:, :2], axis=1)
     key_e = np.sort(edges[:, :2], axis=1)
     nn = body.n_nodes

@@ -1,6 +1,7 @@
 """Assembly: model -> global stiffness, load vectors and contact operators.
 
-Degrees of freedom: every node has ux, uy; frame nodes also rz.  Tied nodes
+Degrees of freedom: every node has ux, uy; frame nodes also rz.  In a 3D model (solid
+bodies, :attr:`~stepcontact.model.Model.dim` = 3) every node has ux, uy, uz.  Tied nodes
 (:class:`~stepcontact.model.Tie`) share their translations.  All element matrices are built
 for all elements at once and scattered through one COO -> CSR conversion (:func:`scatter`).
 
@@ -37,6 +38,16 @@ from stepcontact.model import (
 _DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
 
 
+def _dof_column(dofs: DofMap, name: str, item: str, model: Model) -> int:
+    """The column of ``dofs.of`` of the DOF ``name``; a ModelError naming ``item`` when the
+    model's nodes have no such DOF (z on a 2D model, rz on a 3D one)."""
+    c = dofs.column(name)
+    if c is None:
+        raise ModelError(item, f"names the DOF '{name}', but the model is {model.dim}D (its "
+                         f"nodes have {', '.join(dofs.names)})")
+    return c
+
+
 def scatter(rows: np.ndarray, cols: np.ndarray, vals: np.ndarray, shape) -> sp.csr_matrix:
     """Sum COO triplets (any shape, flattened) into a CSR matrix; the one scatter helper."""
     r, c, v = (np.asarray(a).ravel() for a in (rows, cols, vals))
@@ -68,6 +79,9 @@ def dof_map(model: Model) -> DofMap:
                 parent[max(ri, rj)] = min(ri, rj)
     root = np.array([find(i) for i in range(n)]) if model.ties else parent
     uniq, inv = np.unique(root, return_inverse=True)
+    if model.dim == 3:  # solids: ux, uy, uz per node (no frames, Model checks)
+        of = 3 * inv[:, None] + np.arange(3)[None, :]
+        return DofMap(of.astype(np.int64), 3 * len(uniq), ("x", "y", "z"))
     of = np.full((n, 3), -1, dtype=np.int64)
     of[:, 0] = 2 * inv
     of[:, 1] = 2 * inv + 1
@@ -121,7 +135,7 @@ def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
         ids = off[b.name] + np.arange(b.n_nodes)
         if isinstance(b, Body):
             Kb = _fem.stiffness(b, model.plane, model.thickness).tocoo()
-            gd = dofs.of[ids][:, :2].ravel()  # body-local vector DOF 2i+c -> global
+            gd = dofs.of[ids][:, :b.dim].ravel()  # body-local vector DOF d·i+c -> global
             rows.append(gd[Kb.row])
             cols.append(gd[Kb.col])
             vals.append(Kb.data)
@@ -174,7 +188,8 @@ def dashpots(model: Model, dofs: DofMap) -> sp.csr_matrix:
 
 
 def _pressure_function(spec, body, ns, item: str):
-    """Turn a pressure spec (constant, (start, end) pair, callable) into p(x, y)."""
+    """Turn a pressure spec (constant, (start, end) pair, callable) into p(x, y) (p(x, y, z)
+    on a 3D body, where a (start, end) pair along a curve has no meaning)."""
     if spec is None:
         return None
     if callable(spec):
@@ -183,7 +198,10 @@ def _pressure_function(spec, body, ns, item: str):
         v = float(spec)
         if not np.isfinite(v):
             raise ModelError(item, f"pressure is {v}")
-        return lambda x, y: v + 0.0 * x
+        return lambda x, *yz: v + 0.0 * x
+    if body.dim == 3:
+        raise ModelError(item, f"a (start, end) pair {tuple(spec)!r} varies along a curve; on "
+                         "the faces of a 3D body give a constant or a function p(x, y, z)")
     p0, p1 = (float(v) for v in spec)
     if not (np.isfinite(p0) and np.isfinite(p1)):
         raise ModelError(item, "pressure is NaN or inf")
@@ -217,9 +235,11 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
         item = f"load pattern '{name}' load {i}"
         if isinstance(ld, NodalLoad):
             ids = model.global_nodes(ld.nodes)
-            for c, v in enumerate((ld.fx, ld.fy, ld.mz)):
+            for dname, key, v in (("x", "fx", ld.fx), ("y", "fy", ld.fy), ("rz", "mz", ld.mz),
+                                  ("z", "fz", ld.fz)):
                 if v == 0:
                     continue
+                c = _dof_column(dofs, dname, f"{item}.{key}", model)
                 if not np.isfinite(v):
                     raise ModelError(item, f"nodal force component {c} is {v}")
                 d = dofs.of[ids, c]
@@ -231,13 +251,25 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             facets = edge_facets(b, edges)
             if isinstance(ld, EdgeForce):
                 # the total force as a uniform traction F / (L · thickness) over the edges
-                if not (np.isfinite(ld.fx) and np.isfinite(ld.fy)):
-                    raise ModelError(item, f"edge force ({ld.fx}, {ld.fy}) is NaN or inf")
-                area = _fem.edge_length(b, facets) * model.thickness
+                # (F / A over the faces of a 3D body)
+                if not (np.isfinite(ld.fx) and np.isfinite(ld.fy) and np.isfinite(ld.fz)):
+                    raise ModelError(item, f"edge force ({ld.fx}, {ld.fy}, {ld.fz}) is NaN or "
+                                     "inf")
+                if b.dim == 2 and ld.fz != 0:
+                    _dof_column(dofs, "z", f"{item}.fz", model)  # raises: a 2D model
+                area = _fem.edge_length(b, facets) * (model.thickness if b.dim == 2 else 1.0)
                 pn = pt = None
                 trac = tuple(_pressure_function(v / area, b, ld.nodes, item)
-                             for v in (ld.fx, ld.fy))
+                             for v in (ld.fx, ld.fy, ld.fz)[:b.dim])
             else:
+                if b.dim == 3 and ld.tangential is not None:
+                    raise ModelError(f"{item}.tangential", "has no direction on the faces of "
+                                     f"3D body '{b.name}': give a pressure (normal) or a total "
+                                     "force (EdgeForce with fx, fy, fz)")
+                if b.dim == 3 and ld.traction is not None:
+                    raise ModelError(f"{item}.traction", f"is a 2D traction (tx, ty); on the "
+                                     f"faces of 3D body '{b.name}' give a pressure (normal) or "
+                                     "a total force (EdgeForce with fx, fy, fz)")
                 pn = _pressure_function(ld.normal, b, ld.nodes, item)
                 pt = _pressure_function(ld.tangential, b, ld.nodes, item)
                 trac = None if ld.traction is None else tuple(
@@ -247,7 +279,7 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             if not np.all(np.isfinite(fb)):
                 raise ModelError(item, "pressure function gives NaN or inf")
             ids = off[b.name] + np.arange(b.n_nodes)
-            np.add.at(f, dofs.of[ids][:, :2].ravel(), fb)
+            np.add.at(f, dofs.of[ids][:, :b.dim].ravel(), fb)
         elif getattr(ld, "follows_level", False):
             continue  # a water load whose level is the factor: stepcontact.fem.level
         elif getattr(ld, "in_crack", False):
@@ -265,16 +297,20 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             for bn in names:
                 b = model.body(bn)
                 ids = off[b.name] + np.arange(b.n_nodes)
+                try:
+                    g = ld.vector(b.dim)
+                except ModelError as err:
+                    raise ModelError(f"{item} on body '{b.name}'", err.problem) from None
                 if isinstance(b, Body):
-                    fb = _fem.body_force(b, ld.g, model.thickness)
-                    np.add.at(f, dofs.of[ids][:, :2].ravel(), fb)
+                    fb = _fem.body_force(b, g, model.thickness)
+                    np.add.at(f, dofs.of[ids][:, :b.dim].ravel(), fb)
                 else:
                     # consistent loads of a uniform line load q = ρ A g (N/m): q L/2 at each
                     # end and the end moments ±q⊥ L²/12 of its part normal to the bar
                     c = b.cells
                     d = b.points[c[:, 1]] - b.points[c[:, 0]]
                     L = np.linalg.norm(d, axis=1)
-                    q = b.density * b.A * np.asarray(ld.g, float)
+                    q = b.density * b.A * np.asarray(g, float)
                     q_perp = (-d[:, 1] * q[0] + d[:, 0] * q[1]) / L
                     for end, sign in ((0, 1.0), (1, -1.0)):
                         nodes = dofs.of[ids[c[:, end]]]
@@ -282,12 +318,13 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                             np.add.at(f, nodes[:, comp], q[comp] * L / 2)
                         np.add.at(f, nodes[:, 2], sign * q_perp * L**2 / 12)
         elif isinstance(ld, PrescribedDisplacement):
-            if ld.dof not in _DOF_INDEX:
+            if ld.dof not in _DOF_INDEX and ld.dof != "z":
                 raise ModelError(item, f"unknown dof '{ld.dof}'")
+            c = _dof_column(dofs, ld.dof, item, model)
             if not np.isfinite(ld.value):
                 raise ModelError(item, f"prescribed value is {ld.value}")
             ids = model.global_nodes(ld.nodes)
-            d = dofs.of[ids, _DOF_INDEX[ld.dof]]
+            d = dofs.of[ids, c]
             if np.any(d < 0):
                 raise ModelError(item, "rotation prescribed on a node without rotation")
             u[d] = ld.value
@@ -314,6 +351,9 @@ def load_resultant(model: Model, dofs: DofMap, f: np.ndarray) -> np.ndarray:
     with (x, y) the coordinates of the node of each DOF and m_z the nodal moments of frames.
     Prescribed displacements are not forces and do not count.
 
+    In a 3D model: [F_x, F_y, F_z, M_x, M_y, M_z], F = Σ f_i and M = Σ x_i × f_i about the
+    origin.
+
     Example
     -------
     >>> sysm = assemble(model)                                           # doctest: +SKIP
@@ -328,6 +368,10 @@ def load_resultant(model: Model, dofs: DofMap, f: np.ndarray) -> np.ndarray:
     node, comp = node[first], comp[first]
     xy = model.points[node]
     fd = f[d]
+    if dofs.dim == 3:
+        F = np.zeros((len(model.points), 3))
+        np.add.at(F, (node, comp), fd)
+        return np.r_[F.sum(axis=0), np.cross(model.points, F).sum(axis=0)]
     fx = float(np.sum(fd[comp == 0]))
     fy = float(np.sum(fd[comp == 1]))
     mz = float(np.sum(xy[comp == 1, 0] * fd[comp == 1]) - np.sum(xy[comp == 0, 1] * fd[comp == 0])
@@ -432,7 +476,7 @@ def assemble(model: Model | DiscreteModel) -> System:
     for s in model.supports:
         ids = model.global_nodes(s.nodes)
         for dname in s.dofs:
-            d = dofs.of[ids, _DOF_INDEX[dname]]
+            d = dofs.of[ids, _dof_column(dofs, dname, f"support '{s.name}'.dofs", model)]
             if np.any(d < 0):
                 raise ModelError(f"support '{s.name}'", "fixes rz of a node without rotation")
             groups.append((f"{s.name}:{dname}", d))
@@ -461,7 +505,7 @@ def assemble(model: Model | DiscreteModel) -> System:
         fixed[lv.dofs] = True
         if len(lv.dofs):
             comp = comp_of[lv.dofs]
-            for c, dname in enumerate(("x", "y", "rz")):
+            for c, dname in enumerate(dofs.names):
                 if np.any(comp == c):
                     groups.append((f"{name} (prescribed):{dname}", lv.dofs[comp == c]))
     cfe = build_contact(model)

@@ -24,13 +24,15 @@ from stepcontact.model.elements import scalar_element
 
 
 def basis_of(body, vector: bool = True) -> Basis:
-    """scikit-fem basis of a body (vector-valued by default: DOF 2i+c is node i, component c)."""
+    """scikit-fem basis of a body (vector-valued by default: DOF d·i+c is node i, component c,
+    d = 2 or 3 the body's dimension)."""
     e = scalar_element(body.element)
     return Basis(body.mesh, ElementVector(e) if vector else e)
 
 
 def plane_lame(E: float, nu: float, plane: str) -> tuple[float, float]:
-    """Lamé parameters (λ, μ) in Pa for plane strain, or the plane-stress equivalents."""
+    """Lamé parameters (λ, μ) in Pa for plane strain (and 3D), or the plane-stress
+    equivalents: λ = E ν / ((1 + ν)(1 − 2ν)), μ = E / (2 (1 + ν))."""
     lam = E * nu / ((1 + nu) * (1 - 2 * nu))
     mu = E / (2 * (1 + nu))
     if plane == "stress":
@@ -38,8 +40,18 @@ def plane_lame(E: float, nu: float, plane: str) -> tuple[float, float]:
     return lam, mu
 
 
+def _plane_and_thickness(body, plane: str, thickness: float) -> tuple[str, float]:
+    """The plane kind and thickness a body's forms use: as given in 2D; in 3D the full 3D
+    Lamé parameters (those of plane strain) and no thickness (the volume is integrated)."""
+    return (plane, thickness) if body.dim == 2 else ("strain", 1.0)
+
+
 def stiffness(body, plane: str, thickness: float):
-    """Stiffness matrix (CSR, body-local vector DOFs) of a continuum body, N/m."""
+    """Stiffness matrix (CSR, body-local vector DOFs) of a continuum body, N/m.
+
+    K = ∫ (2μ ε(u):ε(v) + λ tr ε(u) tr ε(v)) t dA in 2D (thickness t) and ∫ … dV in 3D
+    (isotropic Hooke's law, the form of ``skfem.models.elasticity.linear_elasticity``)."""
+    plane, thickness = _plane_and_thickness(body, plane, thickness)
     lam, mu = plane_lame(body.material.E, body.material.nu, plane)
 
     @BilinearForm
@@ -53,19 +65,25 @@ def stiffness(body, plane: str, thickness: float):
 
 
 def body_force(body, g, thickness: float) -> np.ndarray:
-    """Consistent nodal forces of the self-weight ρ g (body-local vector DOFs), N."""
+    """Consistent nodal forces of the self-weight ρ g (body-local vector DOFs), N:
+    f_i = ∫ ρ g · φ_i t dA (2D) or ∫ ρ g · φ_i dV (3D); ``g`` has the body's dimension."""
+    _, thickness = _plane_and_thickness(body, "strain", thickness)
     rho = body.material.density
     gv = np.asarray(g, dtype=float)
+    if gv.shape != (body.dim,):
+        raise ValueError(f"body '{body.name}': g {tuple(gv)} for a {body.dim}D body")
 
     @LinearForm
     def form(v, w):
-        return thickness * rho * (gv[0] * v[0] + gv[1] * v[1])
+        return thickness * rho * sum(gv[c] * v[c] for c in range(len(gv)))
 
     return asm(form, basis_of(body))
 
 
 def edge_load(body, facets: np.ndarray, pn, pt, thickness: float, traction=None) -> np.ndarray:
-    """Consistent nodal forces of edge tractions on the given boundary facets, N.
+    """Consistent nodal forces of edge tractions on the given boundary facets, N (of surface
+    tractions on boundary faces for a 3D body: q = −p_n n + (q_x, q_y, q_z), no p_t, the
+    functions taking (x, y, z), integrated over the faces' area).
 
     The traction is q = −p_n n + p_t t + (q_x, q_y) with n the outward unit normal and
     t = (n_y, −n_x) the outward normal turned clockwise (the CFE tangent convention).
@@ -74,34 +92,39 @@ def edge_load(body, facets: np.ndarray, pn, pt, thickness: float, traction=None)
     components (Pa).  All are callables evaluated at the quadrature points, or None.
     """
     fb = FacetBasis(body.mesh, ElementVector(scalar_element(body.element)), facets=facets)
+    _, thickness = _plane_and_thickness(body, "strain", thickness)
+    if body.dim == 3 and pt is not None:
+        raise ValueError("a tangential traction has no direction on a face: give traction")
 
     @LinearForm
     def form(v, w):
         n = w.n
-        t = np.array([n[1], -n[0]])
-        x, y = w.x[0], w.x[1]
+        xs = tuple(w.x[c] for c in range(body.dim))  # (x, y) or (x, y, z)
         trac = 0.0 * n
         if pn is not None:
-            trac = trac - pn(x, y) * n
+            trac = trac - pn(*xs) * n
         if pt is not None:
-            trac = trac + pt(x, y) * t
+            t = np.array([n[1], -n[0]])
+            trac = trac + pt(*xs) * t
         if traction is not None:
             for c, q in enumerate(traction):
                 if q is not None:
-                    trac[c] = trac[c] + q(x, y)
+                    trac[c] = trac[c] + q(*xs)
         return thickness * dot(trac, v)
 
     return asm(form, fb)
 
 
 def edge_length(body, facets: np.ndarray) -> float:
-    """Total length of the given boundary facets, m (exact for curved quadratic edges)."""
+    """Total length of the given boundary facets, m (exact for curved quadratic edges); their
+    total area, m², for a 3D body."""
     fb = FacetBasis(body.mesh, scalar_element(body.element), facets=facets)
     return float(np.sum(fb.dx))
 
 
 def stresses(body, u_body: np.ndarray, plane: str) -> np.ndarray:
-    """Element-averaged stresses (nel, 4): σxx, σyy, σxy, σzz in Pa.
+    """Element-averaged stresses (nel, 4): σxx, σyy, σxy, σzz in Pa; for a 3D body (nel, 6):
+    σxx, σyy, σzz, σxy, σyz, σxz (:data:`STRESS_COMPONENTS_3D`).
 
     σzz = λ(εxx+εyy) = ν(σxx+σyy) in plane strain and 0 in plane stress.  Each value is the
     quadrature-weighted mean over the element of the stress at its quadrature points.
@@ -111,7 +134,7 @@ def stresses(body, u_body: np.ndarray, plane: str) -> np.ndarray:
     Goes through the operator of :func:`stress_operator` (built once per body, plane and
     material, then cached): use :class:`StressRecovery` to hold the operators of a model.
     """
-    return _apply(stress_operator(body, plane), u_body, body.name)
+    return _apply(stress_operator(body, plane), u_body, body.name, body.dim)
 
 
 #: stress operators of live bodies: body -> {(plane, E, nu): CSR matrix}
@@ -138,13 +161,13 @@ _MEAN_GRADIENTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 def _mean_gradients(body, basis: Basis | None = None) -> tuple[np.ndarray, np.ndarray, int]:
     """Element means of the gradients of the body's scalar basis functions, once per body.
 
-    Returns ``Gs`` (Nbfun_scalar, 2, nel), 1/m: Gs[j, d, e] = Σ_q ∂φ_j/∂x_d(x_q) dx_q / Σ_q dx_q
-    over the quadrature points of element e; the element DOFs of the vector basis
-    (2·Nbfun_scalar, nel); and its number of DOFs.  Read from ``basis`` (the body's vector
+    Returns ``Gs`` (Nbfun_scalar, dim, nel), 1/m: Gs[j, d, e] = Σ_q ∂φ_j/∂x_d(x_q) dx_q /
+    Σ_q dx_q over the quadrature points of element e; the element DOFs of the vector basis
+    (dim·Nbfun_scalar, nel); and its number of DOFs.  Read from ``basis`` (the body's vector
     basis of :func:`basis_of`, as assembly builds it for the stiffness) or from a new one,
     then cached while the body lives: the stress operator needs no basis of its own.  Vector
-    basis function i is scalar function i // 2 in component i % 2 (scikit-fem's ElementVector),
-    so its component-(i % 2) gradient is the scalar one.
+    basis function i is scalar function i // dim in component i % dim (scikit-fem's
+    ElementVector), so its component-(i % dim) gradient is the scalar one.
     """
     cached = _MEAN_GRADIENTS.get(body)
     if cached is not None and cached[0] is body.mesh and cached[1] == body.element:
@@ -153,7 +176,8 @@ def _mean_gradients(body, basis: Basis | None = None) -> tuple[np.ndarray, np.nd
         basis = basis_of(body)
     dx = basis.dx  # (nel, nqp)
     w = dx / dx.sum(axis=1, keepdims=True)
-    Gs = np.stack([np.einsum("deq,eq->de", phi[0].grad[0], w) for phi in basis.basis[::2]])
+    Gs = np.stack([np.einsum("deq,eq->de", phi[0].grad[0], w)
+                   for phi in basis.basis[::body.dim]])
     out = (Gs, basis.element_dofs, int(basis.N))
     _MEAN_GRADIENTS[body] = (body.mesh, body.element, *out)
     return out
@@ -171,6 +195,8 @@ def _build_stress_operator(body, plane: str) -> sparse.csr_matrix:
     """
     if plane not in ("strain", "stress"):
         raise ValueError(f"plane={plane!r}: use 'strain' or 'stress'")
+    if body.dim == 3:
+        return _build_stress_operator_3d(body)
     Gs, element_dofs, ndofs = _mean_gradients(body)
     lam, mu = plane_lame(body.material.E, body.material.nu, plane)
     nb, nel = element_dofs.shape
@@ -190,27 +216,60 @@ def _build_stress_operator(body, plane: str) -> sparse.csr_matrix:
     data[:, 3] = body.material.nu * (data[:, 0] + data[:, 1]) if plane == "strain" else 0.0
     # CSR arrays directly: row 4e + k (element e, stress k) holds data[e, k] in the columns of
     # the element's DOFs (distinct: no duplicates to sum)
+    return _stress_csr(data, element_dofs, ndofs)
+
+
+def _stress_csr(data: np.ndarray, element_dofs: np.ndarray, ndofs: int) -> sparse.csr_matrix:
+    """The stress operator's CSR matrix from ``data`` (nel, k, nb): row k·e + j (element e,
+    stress j) holds data[e, j] in the columns of the element's DOFs (distinct: no duplicates
+    to sum)."""
+    nel, k, nb = data.shape
     idx = np.int32 if max(ndofs, data.size) <= np.iinfo(np.int32).max else np.int64
     indices = np.broadcast_to(element_dofs.T[:, None, :], data.shape).astype(idx).ravel()
     indptr = np.arange(0, data.size + 1, nb, dtype=idx)
-    S = sparse.csr_matrix((data.ravel(), indices, indptr), shape=(4 * nel, ndofs))
+    S = sparse.csr_matrix((data.ravel(), indices, indptr), shape=(k * nel, ndofs))
     S.eliminate_zeros()
     S.sort_indices()
     return S
 
 
-def _apply(S: sparse.csr_matrix, u_body, name: str) -> np.ndarray:
+#: the stress components of a 3D body, in the order of :func:`stresses` (ParaView's order of
+#: a symmetric tensor)
+STRESS_COMPONENTS_3D = ("xx", "yy", "zz", "xy", "yz", "xz")
+
+
+def _build_stress_operator_3d(body) -> sparse.csr_matrix:
+    """The stress operator of a 3D body: rows 6e + j the element means of σ_j, j in
+    :data:`STRESS_COMPONENTS_3D`, by Hooke's law σ = 2μ ε + λ tr(ε) I from the element-mean
+    gradients of the basis functions (as in 2D, :func:`_build_stress_operator`)."""
+    Gs, element_dofs, ndofs = _mean_gradients(body)
+    lam, mu = plane_lame(body.material.E, body.material.nu, "strain")
+    nb, nel = element_dofs.shape
+    G = np.zeros((3, 3, nel, nb))  # element mean of ∂(φ_i)_c/∂x_d
+    Gt = Gs.transpose(1, 2, 0)  # (3, nel, Nbfun / 3)
+    for c in range(3):
+        G[c, :, :, c::3] = Gt
+    tr = G[0, 0] + G[1, 1] + G[2, 2]
+    data = np.empty((nel, 6, nb))
+    for j, (a, b) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
+        eps = 0.5 * (G[a, b] + G[b, a])
+        data[:, j] = 2 * mu * eps + (lam * tr if a == b else 0.0)
+    return _stress_csr(data, element_dofs, ndofs)
+
+
+def _apply(S: sparse.csr_matrix, u_body, name: str, dim: int = 2) -> np.ndarray:
     u = np.asarray(u_body, dtype=float)
     if u.ndim not in (1, 2) or u.shape[0] != S.shape[1]:
         raise ValueError(
             f"body '{name}': displacement of shape {u.shape}, expected ({S.shape[1]},) or "
-            f"({S.shape[1]}, k) (2 DOFs per node)"
+            f"({S.shape[1]}, k) ({dim} DOFs per node)"
         )
-    nel = S.shape[0] // 4
+    k = 4 if dim == 2 else 6
+    nel = S.shape[0] // k
     out = S @ u
     if u.ndim == 1:
-        return out.reshape(nel, 4)
-    return np.ascontiguousarray(out.reshape(nel, 4, -1).transpose(2, 0, 1))
+        return out.reshape(nel, k)
+    return np.ascontiguousarray(out.reshape(nel, k, -1).transpose(2, 0, 1))
 
 
 class StressRecovery:
@@ -251,7 +310,7 @@ class StressRecovery:
         S = self.operators.get(name)
         if S is None:
             raise KeyError(f"no continuum body '{name}'; bodies: {', '.join(self.operators)}")
-        return _apply(S, u_body, name)
+        return _apply(S, u_body, name, self.bodies[name].dim)
 
     def of(self, u_per_body: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """Stresses of every body in ``u_per_body`` (body name -> local displacements)."""

@@ -20,10 +20,22 @@ from stepcontact.model import Model
 
 @dataclass(frozen=True, eq=False)
 class DofMap:
-    """Global DOF numbers: ``of[node, c]`` for c = x, y, rz (−1 where the node has none)."""
+    """Global DOF numbers: ``of[node, c]`` for the DOF named ``names[c]`` (−1 where the node has
+    none): c = x, y, rz in 2D, c = x, y, z in 3D.  The first ``dim`` columns are the
+    translations."""
 
     of: np.ndarray
     ndof: int
+    names: tuple[str, ...] = ("x", "y", "rz")
+
+    @property
+    def dim(self) -> int:
+        """Number of translation components per node: 2 or 3."""
+        return 3 if "z" in self.names else 2
+
+    def column(self, name: str) -> int | None:
+        """The column of ``of`` of the DOF called ``name``, None when no node has it."""
+        return self.names.index(name) if name in self.names else None
 
     def nodes(self, nodes: np.ndarray, c: int) -> np.ndarray:
         return self.of[nodes, c]

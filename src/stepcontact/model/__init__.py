@@ -13,6 +13,8 @@ from stepcontact.model.loads import (
     iter_loads,
 )
 from stepcontact.model.mesh import (
+    box,
+    extrude,
     half_disc,
     polygon_region,
     quad_region,
@@ -24,7 +26,8 @@ from stepcontact.model.structure import DynamicInterval, Model, Segment
 from stepcontact.model.supports import NodeSet, Spring, Support, Tie, select_nodes
 
 __all__ = [
-    "Body", "BodyForce", "ContactLayer", "DynamicInterval", "EdgeForce", "EdgeLoad", "Frame",
+    "Body", "BodyForce", "box", "extrude", "ContactLayer", "DynamicInterval", "EdgeForce",
+    "EdgeLoad", "Frame",
     "Interface", "LoadPattern", "Material", "Model", "NodalLoad", "NodeSet",
     "PrescribedDisplacement", "Segment", "Spring", "Support", "Tie", "half_disc", "iter_loads",
     "polygon_region",

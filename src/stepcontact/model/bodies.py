@@ -22,8 +22,14 @@ PlaneKind = Literal["strain", "stress"]
 PLANE_KINDS: tuple[str, ...] = get_args(PlaneKind)
 ElementKind = Literal["tri3", "tri6", "quad4", "quad8", "quad9"]
 ELEMENT_KINDS: tuple[str, ...] = get_args(ElementKind)
+#: the element kinds of 3D continua (scikit-fem's ElementTetP1, ElementTetP2, ElementHex1,
+#: ElementHexS2, ElementHex2 on a MeshTet or MeshHex)
+SolidKind = Literal["tet4", "tet10", "hex8", "hex20", "hex27"]
+SOLID_KINDS: tuple[str, ...] = get_args(SolidKind)
 DofName = Literal["x", "y", "rz"]
 DOF_NAMES: tuple[str, ...] = get_args(DofName)
+#: the DOFs of a node of a 3D continuum (translations along x, y, z)
+DOF_NAMES_3D: tuple[str, ...] = ("x", "y", "z")
 
 
 def _either(kinds: tuple) -> str:
@@ -94,7 +100,10 @@ class Material:
 class Body:
     """A linear-elastic continuum body meshed with one scikit-fem element kind.
 
-    Use :func:`stepcontact.model.mesh.rectangle` or :meth:`Body.from_mesh` to make one.
+    Use :func:`stepcontact.model.mesh.rectangle` (2D), :func:`stepcontact.model.mesh.box`
+    (3D) or :meth:`Body.from_mesh` to make one.  The dimension follows from the mesh: a
+    ``MeshTri``/``MeshQuad`` body is 2D (DOFs ux, uy per node), a ``MeshTet``/``MeshHex``
+    body is 3D (ux, uy, uz).
 
     Attributes
     ----------
@@ -104,17 +113,19 @@ class Body:
         The scikit-fem mesh (its geometry; for quadratic elements the mid-side nodes are the
         degrees of freedom of the quadratic basis).
     element : str
-        ``"tri3"``, ``"tri6"``, ``"quad4"``, ``"quad8"`` or ``"quad9"``.
+        2D: ``"tri3"``, ``"tri6"``, ``"quad4"``, ``"quad8"`` or ``"quad9"``; 3D: ``"tet4"``,
+        ``"tet10"``, ``"hex8"``, ``"hex20"`` or ``"hex27"``.
     material : Material
-    points : ndarray (n, 2)
+    points : ndarray (n, 2) or (n, 3)
         Coordinates of the body's nodes (the scalar degrees of freedom of the basis), m.
     cells : ndarray (n_elements, nodes_per_element)
         Local node indices of each element (scikit-fem's local DOF order).
-    boundary : ndarray (n_facets, 2 or 3)
-        Local node indices of each boundary edge: two end nodes, then the mid-side node for
-        quadratic elements.
+    boundary : ndarray (n_facets, k)
+        Local node indices of each boundary facet.  2D: the edge's two end nodes, then the
+        mid-side node for quadratic elements.  3D: the face's corners, then its mid-edge nodes
+        and its centre node for quadratic elements (scikit-fem's order).
     boundary_facets : ndarray (n_facets,)
-        Indices of those edges among the mesh facets (scikit-fem numbering).
+        Indices of those facets among the mesh facets (scikit-fem numbering).
     """
 
     name: str
@@ -129,9 +140,12 @@ class Body:
 
     @classmethod
     def from_mesh(cls, name: str, mesh, element: str, material: Material) -> Body:
-        """Build a body from a scikit-fem mesh (``MeshTri``/``MeshQuad`` or their P2 variants)."""
-        if element not in ELEMENT_KINDS:
-            raise ModelError(f"body '{name}'", f"unknown element '{element}', use {ELEMENT_KINDS}")
+        """Build a body from a scikit-fem mesh (``MeshTri``/``MeshQuad``, ``MeshTet``/``MeshHex``
+        or their quadratic variants).  Named boundaries of the mesh (``mesh.boundaries``) can be
+        selected by name (:meth:`stepcontact.model.Model.select` with ``boundary="name"``)."""
+        if element not in ELEMENT_KINDS + SOLID_KINDS:
+            raise ModelError(f"body '{name}'", f"unknown element '{element}', use "
+                             f"{ELEMENT_KINDS + SOLID_KINDS}")
         material.check(f"body '{name}'.material")
         pts, cells, bnd, bfac = body_arrays(name, mesh, element)
         return cls(name, mesh, element, material, pts, cells, bnd, bfac)
@@ -139,6 +153,36 @@ class Body:
     @property
     def n_nodes(self) -> int:
         return len(self.points)
+
+    @property
+    def dim(self) -> int:
+        """2 for a plane body, 3 for a solid."""
+        return int(self.points.shape[1])
+
+    @property
+    def boundary_names(self) -> tuple[str, ...]:
+        """The named boundaries of the body's mesh (``mesh.boundaries``), e.g. those of
+        :func:`stepcontact.model.mesh.box`: left, right, front, back, bottom, top."""
+        return tuple(getattr(self.mesh, "boundaries", None) or {})
+
+    def boundary_rows(self, name: str) -> np.ndarray:
+        """Rows of :attr:`boundary` (the body's boundary facets) of the named boundary
+        ``name``; ModelError naming the body and the boundary when the mesh has no such
+        boundary or it holds facets inside the body."""
+        named = getattr(self.mesh, "boundaries", None) or {}
+        item = f"body '{self.name}' boundary '{name}'"
+        if name not in named:
+            known = ", ".join(repr(k) for k in named) or "none"
+            raise ModelError(item, f"no such boundary (known: {known})")
+        facets = np.asarray(named[name], dtype=np.int64)
+        pos = np.full(int(max(facets.max(initial=-1), self.boundary_facets.max(initial=-1))) + 1,
+                      -1, dtype=np.int64)
+        pos[self.boundary_facets] = np.arange(len(self.boundary_facets))
+        rows = pos[facets]
+        if np.any(rows < 0):
+            raise ModelError(item, f"facet {int(facets[rows < 0][0])} is not on the body's "
+                                   "boundary (an inner facet)")
+        return rows
 
 
 @dataclass(frozen=True, eq=False)
@@ -200,6 +244,11 @@ class Frame:
     @property
     def n_nodes(self) -> int:
         return len(self.points)
+
+    @property
+    def dim(self) -> int:
+        """2: a plane frame (space frames are not available yet)."""
+        return 2
 
     @classmethod
     def line(

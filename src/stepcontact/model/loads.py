@@ -16,21 +16,35 @@ from stepcontact.model.supports import NodeSet
 # --------------------------------------------------------------------------------------------
 # loads
 # --------------------------------------------------------------------------------------------
+#: standard gravity, m/s² (the default of :class:`BodyForce`)
+G_STANDARD = 9.81
+
+
+class _Downward(tuple):
+    """The default ``g`` of :class:`BodyForce`: standard gravity downwards.  It is the 2D
+    vector (0, −9.81); on a 3D body it acts along −z (:meth:`BodyForce.vector`)."""
+
+
+#: the default gravity of :class:`BodyForce`: (0, −9.81) m/s², along −z on a 3D body
+DOWNWARD = _Downward((0.0, -G_STANDARD))
+
 PressureSpec = float | tuple[float, float] | Callable[[np.ndarray, np.ndarray], np.ndarray] | None
 
 
 @dataclass(frozen=True, eq=False)
 class NodalLoad:
-    """The same force on **every** node of a node set: fx, fy in N, mz in N·m (frames only).
+    """The same force on **every** node of a node set: fx, fy (and fz on a 3D body) in N, mz
+    in N·m (frames only).
 
-    A set of n nodes receives n × (fx, fy) in total.  For a *total* force spread along the
-    edges of a set (consistent nodal forces of a uniform traction) use :class:`EdgeForce`.
+    A set of n nodes receives n × (fx, fy[, fz]) in total.  For a *total* force spread along
+    the edges of a set (consistent nodal forces of a uniform traction) use :class:`EdgeForce`.
     """
 
     nodes: NodeSet
     fx: float = 0.0
     fy: float = 0.0
     mz: float = 0.0
+    fz: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,6 +70,11 @@ class EdgeLoad:
     ``(p_start, p_end)`` varying linearly along the node set (from its first to its last node,
     by arc length), or a function ``p(x, y)`` of position (vectorised, arrays in m, returns
     Pa).
+
+    On a 3D body the load acts on the boundary **faces** whose nodes all lie in ``nodes``
+    (e.g. ``model.select(body, boundary="top")``): ``normal`` is a pressure on them (a
+    constant or a function p(x, y, z)); ``tangential``, ``traction`` and (start, end) pairs
+    are refused there (a total force on faces is an :class:`EdgeForce` with fz).
 
     Example
     -------
@@ -84,6 +103,8 @@ class EdgeForce:
     all lie in ``nodes``: the uniform traction (fx, fy) / (L · thickness) over the edges'
     total length L, turned into consistent nodal forces.  The nodal forces sum exactly to
     (fx, fy) whatever the mesh; compare :class:`NodalLoad`, which puts its value on every node.
+    On a 3D body: the total force (fx, fy, fz) over the boundary faces in ``nodes``, the
+    uniform traction F / A over their area A.
 
     Example
     -------
@@ -93,21 +114,39 @@ class EdgeForce:
     nodes: NodeSet
     fx: float = 0.0
     fy: float = 0.0
+    fz: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
 class BodyForce:
-    """Self-weight: density × acceleration ``g`` (m/s²) on the named bodies (all when empty)."""
+    """Self-weight: density × acceleration ``g`` (m/s²) on the named bodies (all when empty).
 
-    g: tuple[float, float] = (0.0, -9.81)
+    ``g`` is (gx, gy) for 2D bodies and (gx, gy, gz) for 3D ones.  The default,
+    :data:`DOWNWARD`, is standard gravity :data:`G_STANDARD` downwards: (0, −9.81) as a 2D
+    vector, along −z on a 3D body (:meth:`vector`).
+    """
+
+    g: tuple[float, ...] = DOWNWARD
     bodies: tuple[str, ...] = ()
 
     def __post_init__(self):
         g = np.asarray(self.g, dtype=float)
-        if g.shape != (2,) or not np.all(np.isfinite(g)):
-            raise ModelError("body force.g", f"must be a finite vector (gx, gy), m/s², got "
-                             f"{self.g!r}")
-        plausible.warn("gravity", float(np.hypot(*g)), "body force |g|", stacklevel=4)
+        if g.shape not in ((2,), (3,)) or not np.all(np.isfinite(g)):
+            raise ModelError("body force.g", f"must be a finite vector (gx, gy) or (gx, gy, gz), "
+                             f"m/s², got {self.g!r}")
+        plausible.warn("gravity", float(np.linalg.norm(g)), "body force |g|", stacklevel=4)
+
+    def vector(self, dim: int = 2) -> tuple[float, ...]:
+        """The acceleration (m/s²) on a body of dimension ``dim``: ``g`` as given, or
+        :data:`G_STANDARD` along −y (2D) or −z (3D) by default; a ``g`` of the other
+        dimension is a ModelError."""
+        if isinstance(self.g, _Downward):
+            return (0.0, -G_STANDARD) if dim == 2 else (0.0, 0.0, -G_STANDARD)
+        if len(self.g) != dim:
+            raise ModelError("body force.g", f"has {len(self.g)} components {tuple(self.g)!r}, "
+                             f"but acts on a {dim}D body: give "
+                             f"{'(gx, gy)' if dim == 2 else '(gx, gy, gz)'}, m/s²")
+        return tuple(float(v) for v in self.g)
 
 
 @dataclass(frozen=True, eq=False)

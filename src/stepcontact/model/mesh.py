@@ -7,6 +7,10 @@
   arc, for Hertz-type contact;
 * :func:`polygon_region` — a triangle (structured: a triangular dam section) or any simple
   polygon (meshed by gmsh);
+* :func:`box` — a 3D box of tetrahedra or hexahedra with named faces (left, right, front,
+  back, bottom, top);
+* :func:`extrude` — a 2D body swept along z into a prismatic 3D body (quadrilaterals into
+  hexahedra, triangles into tetrahedra);
 * :func:`rotate`, :func:`translate` — a body, a frame or a whole model moved rigidly.
 
 Any other scikit-fem ``MeshTri``/``MeshQuad`` (or a meshio mesh converted with
@@ -22,10 +26,10 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
-from skfem import MeshQuad, MeshTri
+from skfem import MeshHex, MeshQuad, MeshTet, MeshTri
 
 from stepcontact.errors import ModelError
-from stepcontact.model.bodies import ELEMENT_KINDS, Body, Frame, Material
+from stepcontact.model.bodies import ELEMENT_KINDS, SOLID_KINDS, Body, Frame, Material
 from stepcontact.model.loads import BodyForce, PrescribedDisplacement
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.structure import Model
@@ -148,6 +152,157 @@ def rectangle(
     else:
         raise ModelError(f"body '{name}'", f"unknown element '{element}'")
     return Body.from_mesh(name, mesh, element, material)
+
+
+# --------------------------------------------------------------------------------------------
+# 3D boxes
+# --------------------------------------------------------------------------------------------
+#: the named faces of a box: (axis, end) with end 0 at the lower coordinate, 1 at the upper;
+#: left/right along x and bottom/top along z (up) as for a rectangle's sides, front/back along y
+BOX_FACES: dict[str, tuple[int, int]] = {"left": (0, 0), "right": (0, 1), "front": (1, 0),
+                                         "back": (1, 1), "bottom": (2, 0), "top": (2, 1)}
+
+
+def box(
+    name: str,
+    corner0: tuple[float, float, float],
+    corner1: tuple[float, float, float],
+    n: tuple[int, int, int],
+    material: Material,
+    element: str = "hex8",
+) -> Body:
+    """A box [x0, x1] × [y0, y1] × [z0, z1] (m) meshed with ``n`` = (nx, ny, nz) cells.
+
+    ``element`` is ``hex8``, ``hex20`` (serendipity), ``hex27`` (scikit-fem ``MeshHex`` with
+    ``ElementHex1``, ``ElementHexS2``, ``ElementHex2``), ``tet4`` or ``tet10`` (``MeshTet``,
+    each cell cut into tetrahedra by scikit-fem's ``init_tensor``, with ``ElementTetP1``,
+    ``ElementTetP2``).  The faces are named boundaries of the mesh (:data:`BOX_FACES`):
+    ``left``/``right`` at x0/x1, ``front``/``back`` at y0/y1, ``bottom``/``top`` at z0/z1 —
+    select their nodes with ``model.select(name, boundary="top")``.  z is up: the default
+    gravity of a 3D body acts along −z.
+
+    Example
+    -------
+    >>> from stepcontact import Material
+    >>> from stepcontact.model.mesh import box
+    >>> b = box("block", (0, 0, 0), (2, 1, 1), (4, 2, 2), Material(30e9, 0.2, 2400))
+    >>> b.n_nodes, b.dim, b.boundary_names
+    (45, 3, ('left', 'right', 'front', 'back', 'bottom', 'top'))
+    """
+    item = f"body '{name}'"
+    if element not in SOLID_KINDS:
+        raise ModelError(f"{item}.element",
+                         f"unknown element '{element}' for a box, use {', '.join(SOLID_KINDS)}")
+    lo = _point3(f"{item}.corner0", corner0)
+    hi = _point3(f"{item}.corner1", corner1)
+    if np.any(hi <= lo):
+        raise ModelError(item, "corner1 must lie beyond corner0 along x, y and z")
+    try:
+        counts = tuple(n)
+    except TypeError:
+        counts = ()
+    if len(counts) != 3:
+        raise ModelError(f"{item}.n", f"must be three cell counts (nx, ny, nz), got {n!r}")
+    nx, ny, nz = (_check_count(name, f"n[{i}]", v) for i, v in enumerate(counts))
+    from stepcontact.model.size import check_size
+
+    per = 2 if element in ("tet10", "hex20", "hex27") else 1  # nodes per cell side, at most
+    nodes = (per * nx + 1) * (per * ny + 1) * (per * nz + 1)
+    check_size(3 * nodes, item, f"the {nx} × {ny} × {nz} {element} mesh of body '{name}'")
+    axes = [np.linspace(lo[c], hi[c], k + 1) for c, k in enumerate((nx, ny, nz))]
+    cls = MeshTet if element.startswith("tet") else MeshHex
+    mesh = cls.init_tensor(*axes)
+    tol = 1e-9 * float(np.max(hi - lo))
+
+    def on(axis: int, value: float):
+        return lambda x: np.abs(x[axis] - value) <= tol
+
+    mesh = mesh.with_boundaries({face: on(axis, (lo, hi)[end][axis])
+                                 for face, (axis, end) in BOX_FACES.items()})
+    return Body.from_mesh(name, mesh, element, material)
+
+
+#: the 3D element of an extruded 2D element
+EXTRUDED_ELEMENT: dict[str, str] = {"tri3": "tet4", "tri6": "tet10", "quad4": "hex8",
+                                    "quad8": "hex20", "quad9": "hex27"}
+
+
+def extrude(body: Body, z: tuple[float, float], nz: int, *, name: str | None = None) -> Body:
+    """A prismatic 3D body: the 2D ``body`` (its section in the x–y plane) swept along z from
+    ``z[0]`` to ``z[1]`` (m) in ``nz`` layers, with its material.
+
+    Quadrilaterals become hexahedra (``quad4``, ``quad8``, ``quad9`` → ``hex8``, ``hex20``,
+    ``hex27``); each triangular prism is cut into three tetrahedra (``tri3``, ``tri6`` →
+    ``tet4``, ``tet10``) by the rule of the vertices' numbers (on every side face the
+    diagonal joins the higher-numbered bottom vertex to the lower-numbered top one), so that
+    neighbouring prisms share their faces' diagonals and the mesh is conforming.  The end faces
+    are the named boundaries ``start`` (z = z[0]) and ``end`` (z = z[1]).  The section's
+    mesh must have straight edges (a linear scikit-fem geometry, as the generators of this
+    module give).  The section keeps its axes: with a section whose y is up, give gravity
+    explicitly, ``BodyForce(g=(0, -9.81, 0))``.
+
+    Example
+    -------
+    >>> from stepcontact import Material, rectangle
+    >>> from stepcontact.model.mesh import extrude
+    >>> slab = extrude(rectangle("slab", (0, 0), (4, 1), 4, 1, Material(30e9, 0.2)), (0, 2), 2)
+    >>> slab.element, slab.n_nodes, slab.boundary_names
+    ('hex8', 30, ('start', 'end'))
+    """
+    item = f"body '{body.name}'"
+    if not isinstance(body, Body) or body.dim != 2:
+        raise ModelError("extrude", f"needs a 2D continuum body, got {type(body).__name__} "
+                         f"'{getattr(body, 'name', '?')}'")
+    if type(body.mesh).__name__.endswith("2"):
+        raise ModelError(item, "has a curved (quadratic) geometry: extrude takes a mesh with "
+                               "straight edges")
+    zz = np.asarray(z, dtype=float) if np.ndim(z) == 1 else np.zeros(0)
+    if zz.shape != (2,) or not np.all(np.isfinite(zz)) or zz[1] <= zz[0]:
+        raise ModelError(f"{item} extrusion.z", f"must be (z0, z1) with z1 > z0, m; got {z!r}")
+    nz = _check_count(body.name, "extrusion.nz", nz)
+    from stepcontact.model.size import check_size
+
+    per = 2 if body.element in ("tri6", "quad8", "quad9") else 1
+    check_size(3 * body.n_nodes * (per * nz + 1), item,
+               f"the extrusion of body '{body.name}' in {nz} layers")
+    section = _counter_clockwise(body.mesh)
+    p2, t2 = section.p, section.t
+    nv = p2.shape[1]
+    zs = np.linspace(zz[0], zz[1], nz + 1)
+    points = np.vstack([np.tile(p2, nz + 1), np.repeat(zs, nv)])
+    layer = nv * np.arange(nz)  # the first vertex of each layer's bottom
+    if t2.shape[0] == 4:
+        # scikit-fem's local hex order from its unit cube: node l at offsets (dx, dy, dz);
+        # (dx, dy) is the corner of the counter-clockwise quad at (s, t) = (dx, dy)
+        unit = MeshHex.init_tensor(np.array([0.0, 1.0]), np.array([0.0, 1.0]),
+                                   np.array([0.0, 1.0]))
+        off = np.rint(unit.p[:, unit.t[:, 0]]).astype(np.int64)  # (3, 8)
+        corner = np.array([[0, 3], [1, 2]])[off[0], off[1]]
+        t = (t2[corner][:, :, None] + layer[None, None, :]
+             + nv * off[2][:, None, None]).reshape(8, -1)
+        mesh = MeshHex(points, t)
+    else:
+        v = np.sort(t2, axis=0)  # v0 < v1 < v2 of each triangle
+        b = v[:, :, None] + layer[None, None, :]  # bottom, (3, nel, nz)
+        u = b + nv  # top
+        t = np.stack([np.stack([b[0], b[1], b[2], u[0]]), np.stack([b[1], b[2], u[0], u[1]]),
+                      np.stack([b[2], u[0], u[1], u[2]])], axis=1).reshape(4, -1)
+        mesh = MeshTet(points, t)
+    tol = 1e-9 * float(max(np.ptp(points, axis=1).max(), 1.0))
+    mesh = mesh.with_boundaries({"start": lambda x: np.abs(x[2] - zz[0]) <= tol,
+                                 "end": lambda x: np.abs(x[2] - zz[1]) <= tol})
+    return Body.from_mesh(name or body.name, mesh, EXTRUDED_ELEMENT[body.element],
+                          body.material)
+
+
+def _point3(item: str, v) -> np.ndarray:
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        a = np.zeros(0)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise ModelError(item, f"must be a finite point (x, y, z), m; got {v!r}")
+    return a
 
 
 # --------------------------------------------------------------------------------------------
@@ -815,4 +970,5 @@ def translate(item, offset: tuple[float, float]):
                         interfaces=tuple(_moved_obstacle(i, f) for i in item.interfaces))
 
 
-__all__ = ["QUAD_EDGES", "half_disc", "quad_region", "rectangle", "rotate", "translate"]
+__all__ = ["BOX_FACES", "EXTRUDED_ELEMENT", "QUAD_EDGES", "box", "extrude", "half_disc",
+           "quad_region", "rectangle", "rotate", "translate"]

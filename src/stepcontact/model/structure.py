@@ -72,6 +72,40 @@ def _check_stiffness_ratio(bodies: Sequence) -> None:
         )
 
 
+def _check_dimension(model: Model) -> None:
+    """All bodies of one dimension; a 3D model has no 2D-only items (frames, the plane and
+    thickness options, interfaces and rigid obstacles, dynamics, water loads: not available in
+    3D yet)."""
+    solids = [b for b in model.bodies if getattr(b, "dim", 2) == 3]
+    if not solids:
+        return
+    first = solids[0]
+    for b in model.bodies:
+        if isinstance(b, Frame):
+            raise ModelError(f"frame '{b.name}'", f"is a plane frame, but body '{first.name}' "
+                             "is 3D: space frames are not available yet")
+        if b.dim != 3:
+            raise ModelError(f"body '{b.name}'", f"is 2D, but body '{first.name}' is 3D: all "
+                             "bodies of a model have one dimension")
+    if model.plane != "strain":
+        raise ModelError(f"body '{first.name}'", f"is 3D: model.plane = '{model.plane}' (plane "
+                         "strain or stress) applies to 2D bodies only; leave it at its default")
+    if model.thickness != 1.0:
+        raise ModelError(f"body '{first.name}'", f"is 3D: model.thickness = {model.thickness:g} "
+                         "applies to 2D bodies only; leave it at its default (1)")
+    if model.interfaces:
+        raise ModelError(f"interface '{model.interfaces[0].name}'", "contact between 3D bodies "
+                         "is not available yet (3D bodies take supports, springs and loads)")
+    if model.dynamics is not None:
+        raise ModelError("model.dynamics", "dynamics of 3D bodies is not available yet")
+    for p in model.patterns:
+        for i, ld in enumerate(p.loads):
+            if hasattr(ld, "edge_loads") or getattr(ld, "in_crack", False):
+                raise ModelError(f"load pattern '{p.name}' load {i}", f"{type(ld).__name__} "
+                                 "acts on 2D bodies only: water loads on 3D bodies are not "
+                                 "available yet")
+
+
 @dataclass(frozen=True, eq=False)
 class DynamicInterval:
     """A dynamic interval after the load program (method.md §4): Newmark time integration
@@ -124,15 +158,17 @@ class DynamicInterval:
 
 @dataclass(frozen=True, eq=False)
 class Model:
-    """A 2D structural model.
+    """A structural model, 2D or 3D (the dimension follows from the bodies' meshes,
+    :attr:`dim`).
 
     Parameters
     ----------
     bodies : tuple of Body or Frame
         Global node numbering follows this order: the nodes of ``bodies[0]`` first, etc.
     plane : "strain" or "stress"
+        2D only (a 3D model leaves it at its default).
     thickness : float
-        Out-of-plane thickness, m (1 m for plane strain per metre run).
+        Out-of-plane thickness, m (1 m for plane strain per metre run); 2D only.
     """
 
     bodies: tuple = ()
@@ -178,6 +214,7 @@ class Model:
                 raise ModelError(f"body '{b.name}'", "duplicate body name")
             seen.add(b.name)
         _check_stiffness_ratio(self.bodies)
+        _check_dimension(self)
         for kind, items in (("pattern", self.patterns), ("interface", self.interfaces)):
             names = [it.name for it in items]
             dup = {n for n in names if names.count(n) > 1}
@@ -306,8 +343,14 @@ class Model:
                 + sum(o.n_nodes for o in self.moving_obstacles))
 
     @property
+    def dim(self) -> int:
+        """The model's dimension, from its bodies' meshes: 3 when its bodies are solids
+        (``MeshTet``/``MeshHex``), else 2."""
+        return 3 if any(getattr(b, "dim", 2) == 3 for b in self.bodies) else 2
+
+    @property
     def points(self) -> np.ndarray:
-        """Coordinates of all nodes, (n_nodes, 2), m, in global numbering (the bodies' nodes,
+        """Coordinates of all nodes, (n_nodes, dim), m, in global numbering (the bodies' nodes,
         then the vertices of the moving obstacles)."""
         parts = [b.points for b in self.bodies] + [o.points for o in self.moving_obstacles]
         if not parts:
@@ -328,17 +371,27 @@ class Model:
         *,
         x: float | None = None,
         y: float | None = None,
-        boundary: bool = True,
+        z: float | None = None,
+        boundary: bool | str = True,
         name: str = "",
         atol: float | None = None,
     ) -> NodeSet:
-        """Nodes of ``body`` by a predicate ``where(x, y)`` or by coordinate (``x=``/``y=``).
+        """Nodes of ``body`` by a predicate ``where(x, y)`` (``where(x, y, z)`` for a 3D body)
+        or by coordinate (``x=``/``y=``/``z=``).
 
         With ``boundary=True`` (default) only nodes on the body's boundary are returned,
-        which is what loads, supports and interfaces need.  An empty selection is an error.
+        which is what loads, supports and interfaces need.  ``boundary="top"`` takes the nodes
+        of a named boundary of the body's mesh (those of :func:`~stepcontact.model.mesh.box`:
+        ``left``/``right`` at x min/max, ``front``/``back`` at y min/max, ``bottom``/``top`` at
+        z min/max); an unknown name is an error naming the body and the boundary.  An empty
+        selection is an error.
+
+        Example
+        -------
+        >>> base = m.select("column", boundary="bottom")               # doctest: +SKIP
         """
         b = self.body(body)
-        return select_nodes(b, where, x=x, y=y, boundary=boundary, name=name, atol=atol)
+        return select_nodes(b, where, x=x, y=y, z=z, boundary=boundary, name=name, atol=atol)
 
     def segments_resolved(self) -> list[tuple[str, float, float]]:
         """The load program as (pattern or segment name, start, end), with starts filled in and

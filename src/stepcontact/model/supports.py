@@ -9,7 +9,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.errors import ModelError
-from stepcontact.model.bodies import DOF_NAMES, Body, Frame
+from stepcontact.model.bodies import DOF_NAMES, DOF_NAMES_3D, Body, Frame
+
+#: every DOF name a support may give (which of them a node has follows from its body: x, y,
+#: rz in 2D, x, y, z in 3D; checked on assembly)
+_ALL_DOFS: tuple[str, ...] = tuple(dict.fromkeys(DOF_NAMES + DOF_NAMES_3D))
 
 
 # --------------------------------------------------------------------------------------------
@@ -51,34 +55,40 @@ class NodeSet:
 # --------------------------------------------------------------------------------------------
 # supports, ties, springs
 # --------------------------------------------------------------------------------------------
-def _parse_dofs(dofs: str | Sequence[str], item: str) -> tuple[str, ...]:
-    """"xy", "x", "rz", "xyrz" or a sequence of names -> tuple of DOF names."""
+def _parse_dofs(dofs: str | Sequence[str], item: str,
+                names: tuple[str, ...] = DOF_NAMES) -> tuple[str, ...]:
+    """"xy", "x", "rz", "xyrz" (and "z", "xyz" when ``names`` has z) or a sequence of names
+    -> tuple of DOF names, each one of ``names`` (default: those of a 2D node)."""
+    use = ", ".join(DOF_NAMES) if names == DOF_NAMES else \
+        f"{', '.join(DOF_NAMES)} (2D) or {', '.join(DOF_NAMES_3D)} (3D)"
+    letters = [d for d in ("x", "y", "z") if d in names]
     if isinstance(dofs, str):
         text = dofs.replace(",", "").replace(" ", "")
         rz = "rz" in text
         text = text.replace("rz", "")
-        bad = set(text) - {"x", "y"}
+        bad = set(text) - set(letters)
         if bad:
-            raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use "
-                             f"{', '.join(DOF_NAMES)}")
-        dofs = [d for d in ("x", "y") if d in text] + (["rz"] if rz else [])
+            raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use {use}")
+        dofs = [d for d in letters if d in text] + (["rz"] if rz else [])
     out = tuple(dict.fromkeys(dofs))
     for d in out:
-        if d not in DOF_NAMES:
-            raise ModelError(item, f"unknown degree of freedom '{d}', use {', '.join(DOF_NAMES)}")
+        if d not in names:
+            raise ModelError(item, f"unknown degree of freedom '{d}', use {use}")
     return out
 
 
 @dataclass(frozen=True, eq=False)
 class Support:
-    """Fixed degrees of freedom (``dofs`` any of ``"x"``, ``"y"``, ``"rz"``) of a node set."""
+    """Fixed degrees of freedom of a node set: ``dofs`` any of ``"x"``, ``"y"``, ``"rz"`` (2D)
+    or of ``"x"``, ``"y"``, ``"z"`` (3D bodies), e.g. ``"xy"``, ``"z"``, ``"xyz"``."""
 
     name: str
     nodes: NodeSet
     dofs: tuple[str, ...] = ("x", "y")
 
     def __post_init__(self):
-        object.__setattr__(self, "dofs", _parse_dofs(self.dofs, f"support '{self.name}'.dofs"))
+        object.__setattr__(self, "dofs", _parse_dofs(self.dofs, f"support '{self.name}'.dofs",
+                                                     _ALL_DOFS))
 
 
 @dataclass(frozen=True, eq=False)
@@ -175,23 +185,33 @@ def select_nodes(
     *,
     x: float | None = None,
     y: float | None = None,
-    boundary: bool = True,
+    z: float | None = None,
+    boundary: bool | str = True,
     name: str = "",
     atol: float | None = None,
 ) -> NodeSet:
     """Node set of one body by predicate or coordinates; see :meth:`Model.select`."""
     pts = b.points
+    dim = pts.shape[1]
     if atol is None:
         atol = 1e-9 * max(1.0, float(np.ptp(pts, axis=0).max()) if len(pts) else 1.0)
     mask = np.ones(len(pts), dtype=bool)
+    if z is not None and dim < 3:
+        raise ModelError(f"node set '{name}'" if name else f"selection on body '{b.name}'",
+                         f"selects by z, but body '{b.name}' is 2D")
     if where is not None:
-        mask &= np.asarray(where(pts[:, 0], pts[:, 1]), dtype=bool)
-    if x is not None:
-        mask &= np.abs(pts[:, 0] - x) <= atol
-    if y is not None:
-        mask &= np.abs(pts[:, 1] - y) <= atol
+        mask &= np.asarray(where(*(pts[:, c] for c in range(dim))), dtype=bool)
+    for c, v in enumerate((x, y, z)):
+        if v is not None:
+            mask &= np.abs(pts[:, c] - v) <= atol
     interior = 0
-    if boundary and isinstance(b, Body):
+    if isinstance(boundary, str):  # the nodes of a named boundary of the mesh
+        if not isinstance(b, Body):
+            raise ModelError(f"frame '{b.name}'", f"has no boundary '{boundary}'")
+        on_b = np.zeros(len(pts), dtype=bool)
+        on_b[b.boundary[b.boundary_rows(boundary)].ravel()] = True
+        mask &= on_b
+    elif boundary and isinstance(b, Body):
         on_b = np.zeros(len(pts), dtype=bool)
         on_b[b.boundary.ravel()] = True
         interior = int(np.sum(mask & ~on_b))
@@ -202,6 +222,7 @@ def select_nodes(
         hint = (f"; {interior} interior node(s) match: select them with boundary=False"
                 if interior else "")
         lo, hi = pts.min(axis=0), pts.max(axis=0)
-        raise ModelError(label, f"selects no node (the body spans x {lo[0]:g} … {hi[0]:g}, "
-                                f"y {lo[1]:g} … {hi[1]:g} m){hint}")
+        span = ", ".join(f"{a} {lo[c]:g} … {hi[c]:g}" for c, a in enumerate("xyz"[:dim]))
+        on = f" on boundary '{boundary}'" if isinstance(boundary, str) else ""
+        raise ModelError(label, f"selects no node{on} (the body spans {span} m){hint}")
     return NodeSet(b.name, idx, name)

@@ -415,6 +415,12 @@ class StaticResult:
         nodes = np.asarray(geo.get("node_set_nodes", []), dtype=np.int64)
         return {n: nodes[off[j]:off[j + 1]] for j, n in enumerate(names)}
 
+    @property
+    def _dim(self) -> int:
+        """3 when the result's nodes have three coordinates (a 3D model), else 2."""
+        pts = self.geometry.get("points") if isinstance(self.geometry, dict) else None
+        return 3 if pts is not None and np.ndim(pts) == 2 and np.shape(pts)[1] == 3 else 2
+
     def node_ids(self, nodes=None, *, point=None, body: str | None = None) -> np.ndarray:
         """Global node indices (k,) of ``nodes``, or of the node nearest ``point``.
 
@@ -550,6 +556,10 @@ class StaticResult:
             raise ValueError(f"quantity={quantity!r}: use one of "
                              f"{', '.join(map(repr, _NODE_QUANTITIES))}")
         kind, comp = _NODE_QUANTITIES[quantity]
+        if comp == 2 and self._dim == 3:  # column 2 of a 3D model's DOFs is u_z, no rotation
+            raise ValueError(f"quantity={quantity!r}: the nodes of a 3D model have no rotation "
+                             "(their third DOF is u_z, not a nodal quantity yet: take it from "
+                             "res.displacements())")
         single = point is not None or (
             nodes is not None and not isinstance(nodes, str) and not hasattr(nodes, "body")
             and np.ndim(nodes) in (0, 1) and (np.ndim(nodes) == 0
@@ -584,6 +594,10 @@ class StaticResult:
         """
         if dof not in ("x", "y", "rz"):
             raise ValueError(f"dof={dof!r}: use 'x', 'y' or 'rz'")
+        if dof == "rz" and self._dim == 3:
+            raise ValueError("dof='rz': the nodes of a 3D model have no rotation (reactions "
+                             "at nodes of 3D models are not available yet; a support's is "
+                             "res.reaction(support, 'z'))")
         if isinstance(nodes, str) and point is None:
             try:
                 return self.reaction(nodes, dof)

@@ -162,7 +162,7 @@ class Stresses:
         off = model.node_offsets
         #: global DOFs (ux, uy per node) of every continuum body with a stress operator
         self.body_dofs = {
-            b.name: system.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
+            b.name: system.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :b.dim].ravel()
             for b in model.bodies if isinstance(b, Body) and b.name in self.stress}
 
     def stresses(self, u: np.ndarray) -> dict[str, np.ndarray]:

@@ -34,8 +34,6 @@ from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import LoadVectors, System
 from stepcontact.model.stages import list_problems
 
-_DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
-
 
 def held_components(system: System) -> tuple[np.ndarray, np.ndarray]:
     """CFE components whose relative motion is held by supports on both ends (their row of
@@ -127,7 +125,7 @@ class StagePlan:
         for s in model.supports:
             ids = model.global_nodes(s.nodes)
             self.sup_dofs[s.name] = np.unique(np.concatenate(
-                [dofs.of[ids, _DOF_INDEX[c]] for c in s.dofs]))
+                [dofs.of[ids, dofs.column(c)] for c in s.dofs]))
         all_sup = np.zeros(system.ndof, bool)
         for d in self.sup_dofs.values():
             all_sup[d] = True

@@ -1024,7 +1024,9 @@ class StaticSolver:
         """(n_patterns, 3) resultant F_x, F_y (N), M_z about the origin (N·m) of every
         pattern's forces per unit λ, computed once."""
         if getattr(self, "_load_resultants", None) is None:
-            if self.sys.discrete is not None:  # DOFs without coordinates: no resultants
+            # DOFs without coordinates (a discrete model): no resultants; a 3D model's
+            # (F, M about the origin, six components) are not stored in results yet
+            if self.sys.discrete is not None or self.sys.dofs.dim == 3:
                 self._load_resultants = np.zeros((0, 3))
                 return self._load_resultants
             r = load_resultants(self.sys)
@@ -1036,7 +1038,7 @@ class StaticSolver:
         nodal moments per unit λ on every body (:func:`~stepcontact.fem.assembly.load_moments`),
         computed once; None for a discrete model (DOFs without coordinates)."""
         if getattr(self, "_load_moments", None) is None:
-            if self.sys.discrete is not None:
+            if self.sys.discrete is not None or self.sys.dofs.dim == 3:
                 return None
             names = list(self.sys.loads)
             lm = load_moments(self.sys)
