@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import time
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -40,6 +39,7 @@ from stepcontact.contact.layout import ContactLayout
 from stepcontact.errors import ModelError, SolverError
 from stepcontact.fem.assembly import System
 from stepcontact.model import size as _size
+from stepcontact.solver.clock import Stopwatch
 from stepcontact.solver.cluster import ColumnJob
 from stepcontact.solver.linalg import Factor, factorize
 
@@ -176,7 +176,7 @@ class Condensation:
         factorising A once (:mod:`stepcontact.solver.cluster`), while A is factorised here for
         the solves of the runs; G equals the serial one to round-off.  ``columns``: such a job
         already submitted (:class:`~stepcontact.solver.cluster.ColumnJob`)."""
-        t0 = time.perf_counter()
+        t0 = Stopwatch.start()
         A = sp.csc_matrix(A)
         B = sp.csr_matrix(B)
         dtype = dense_precision(B.shape[0], precision, memory_limit)
@@ -192,10 +192,10 @@ class Condensation:
                 last = contact_dofs(B)
                 schur = columns is None and schur_pays(A.shape[0], len(last), B.shape[0])
                 factor = factorize(A, backend, last=last if schur else None)
-            t1 = time.perf_counter()
+            t1 = Stopwatch.start()
             G, counters = cls._form(A, B, factor, dtype, d, block, columns)
-        counters.update({"factorizations": 1, "factor_seconds": t1 - t0,
-                         "condense_seconds": time.perf_counter() - t1})
+        counters.update({"factorizations": 1, **t0.counters("factor", t1),
+                         **t1.counters("condense")})
         return cls(A, B, factor, G, fingerprint, counters, d if shifted else None)
 
     @staticmethod
@@ -361,14 +361,14 @@ def _condense_operator(system: System, K0, Bf, d, backend: str, precision: str,
             columns = own.enter_context(ColumnJob(
                 scheduler, sp.csc_matrix(K0), sp.csr_matrix(Bf), _fingerprint(K0, Bf),
                 backend, dtype, None if dtype == np.float64 else np.asarray(d, float)))
-        t0 = time.perf_counter()
+        t0 = Stopwatch.start()
         factor = factorize_checked(system, K0, free, backend, precision,
                                    schur=columns is None)
-        t_factor = time.perf_counter() - t0
+        t_factor = t0.counters("factor")
         c = Condensation.build(K0, Bf, backend, factor=factor, precision=precision, d=d,
                                columns=columns)
     c.n_t = system.layout.n_t
-    c.counters["factor_seconds"] = t_factor
+    c.counters.update(t_factor)
     return c
 
 
@@ -467,7 +467,10 @@ class Condensed:
         counters = {"factorizations": 0 if reused else 1,
                     "solves": nsolve + (0 if reused else c.get("condensed_columns", 0)),
                     "condensed_columns": 0 if reused else c.get("condensed_columns", 0),
-                    "condensation_reused": reused}
+                    "condensation_reused": reused,
+                    # the clocks of the factorisation and of G (not when reused: none ran)
+                    **({} if reused else {k: v for k, v in c.items()
+                                          if k.endswith("seconds")})}
         return cls(system, free, presc, factor, Bf, Bp, Kfp, d, condensation.G, hhat, e, y,
                    counters, r_load, R_s, R_t, condensation)
 

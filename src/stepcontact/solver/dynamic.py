@@ -95,7 +95,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -119,6 +118,7 @@ from stepcontact.results.result import (
 )
 from stepcontact.solver.bonds import break_bonds as _break_bonds
 from stepcontact.solver.bonds import breaking
+from stepcontact.solver.clock import Stopwatch
 from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.contactlaws import contact_law, law_inputs
 from stepcontact.solver.engine import EventEngine
@@ -1176,12 +1176,12 @@ class _DynamicRun:
         self.dt0 = float(iv.dt)
         self.nm0 = _Newmark(self.dt0, self.alpha)
         self.Kx, self.Mx, self.Cx = _Memo(K), _Memo(M), _Memo(C)  # products kept
-        t0 = time.perf_counter()
+        t0 = Stopwatch.start()
         self.cond = Condensed.from_system(dataclasses.replace(
             system, K=_Newmark(self.dt0, self.alpha).stiffness(K, M, C)), backend)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
         self.solve_hat = _direct_solve(self.cond.factor)  # K̂⁻¹ b on the free DOFs
-        self.t_setup = time.perf_counter() - t0
+        self.t_setup = t0.counters("setup")
 
     def _contact_law(self) -> None:
         """The Coulomb law of the CFEs (eq. (1); compliant layers eq. (11), damped ones with
@@ -1758,7 +1758,7 @@ class _DynamicRun:
         eng.F_scale = max(eng.F_scale, float(np.abs(self.F).max(initial=0.0)),
                           float(np.abs(F_held).max(initial=0.0)))
         self.record(0.0, "start", 0.0)
-        self.t_run = time.perf_counter()
+        self.t_run = Stopwatch.start()
         self.t = 0.0
         self.n = 0
         self.n_impacts = 0
@@ -2315,9 +2315,9 @@ class _DynamicRun:
         rec.multipliers.append(Multipliers(0, "dynamic", **mult))
         counters = dict(self.cond.counters) | self.schemes.counters | self.eng.counters | {
             "events": len(rec.events), "steps": self.n, "impacts": self.n_impacts,
-            "setup_seconds": self.t_setup,
+            **self.t_setup,
             **{f"numerical_{k}": v for k, v in self.parts.items()},
-            "run_seconds": time.perf_counter() - self.t_run, "ndof": self.ndof, "cfes": m}
+            **self.t_run.counters("run"), "ndof": self.ndof, "cfes": m}
         stage_arrays, extra = self.stage_arrays, self.extra
         return build_result(
             rec, cls=DynamicResult, cfe=cfe,

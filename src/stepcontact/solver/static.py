@@ -33,6 +33,7 @@ from stepcontact.results.build import build_result, cfe_arrays, stage_fields
 from stepcontact.results.recorder import Recorder
 from stepcontact.results.result import Multipliers, StaticResult
 from stepcontact.solver.bonds import break_bonds, breaking
+from stepcontact.solver.clock import Stopwatch
 from stepcontact.solver.condensation import Condensation, Condensed
 from stepcontact.solver.contactlaws import contact_law
 from stepcontact.solver.engine import EventEngine
@@ -126,10 +127,11 @@ class StaticSolver:
         self.violation_limit = max(VIOLATION_LIMIT, eps_p) if self.article else VIOLATION_LIMIT
         self.max_events = max_events
         self.hooks = tuple(hooks)
-        t0 = time.perf_counter()
+        t0 = Stopwatch.start()
         self.cond = Condensed.from_system(system, backend, condensation, precision,
                                           scheduler)
-        self.t_setup = time.perf_counter() - t0
+        self.t_setup = t0.counters("setup")
+        self._watch = t0  # (the run's clock: set again where the run starts)
         cfe = self.cfe
         #: the layout of the contact unknowns s = [Q; p], w = [u_τ; u_n] (the same at every
         #: stage: the stage systems share the CFEs)
@@ -692,6 +694,7 @@ class StaticSolver:
         from threadpoolctl import threadpool_limits
 
         t0 = self._t0 = time.perf_counter()
+        self._watch = Stopwatch.start()
         small = self.schemes.n <= SMALL_DENSE
         try:
             with (threadpool_limits(limits=1, user_api="blas") if small
@@ -1056,7 +1059,7 @@ class StaticSolver:
                 cohesion_lost = self._cohesion_lost_at.copy()
         counters = (dict(self.cond.counters) | self.schemes.counters | self.engine.counters | {
             "events": len(r.events), "event_points": self.step,
-            "setup_seconds": self.t_setup, "run_seconds": elapsed,
+            **self.t_setup, **self._watch.counters("run"), "run_seconds": elapsed,
             "ndof": self.sys.ndof, "cfes": cfe.m,
             "precision_bits": 8 * self.cond.G.dtype.itemsize,
         })
