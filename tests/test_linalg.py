@@ -238,3 +238,35 @@ def test_pardiso_schur_complement_and_solves_share_one_factorisation(monkeypatch
     again = F.condensed(Bf)
     assert phases[:2] == [12, 33] and set(phases[2:]) == {33}
     assert np.abs(again - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_small_models_never_look_for_mkl(monkeypatch):
+    """The backend rule for small systems: below DENSE_BELOW DOFs ``auto`` chooses the dense
+    factorisation without consulting the sparse backends, so MKL is never located or loaded
+    (``_mkl_pardiso`` is made to fail the test if it is called): a static run of the 2-DOF
+    point and of the block model (318 DOFs), and a dynamic run of a 2-DOF block on a floor
+    pushed by P = 2fW for t_p = 0.2 s (200 steps).  Reference for the dynamic run: the rigid
+    block's slip ½ a t_p², a = (P − fW)/m, at the end of the push, to 1e-2 relative
+    (Newmark's trapezoidal rule shifts the pulse's end by half a step: O(Δt/t_p) = 5e-3)."""
+    from stepcontact.model.timefunction import Pulse
+    from stepcontact.solver import linalg
+    from stepcontact.solver.program import solve_dynamic
+
+    def no_mkl():
+        raise AssertionError("a small model looked for MKL PARDISO")
+
+    monkeypatch.setattr(linalg, "_mkl_pardiso", no_mkl)
+    for model in (_two_dof(), _block_model()):
+        res = sc.solve_static(model)
+        assert res.status.value == "completed"
+        assert sc.condense(model).factor.name == "dense"
+    m_, f, g, tp = 1000.0, 0.3, 9.81, 0.2
+    dm = sc.DiscreteModel(K=[[0.0, 0.0], [0.0, 0.0]], normal_rows=[[0, 1]], tangent_rows=[[1, 0]],
+                          loads={"weight": {"uy": -m_ * g}, "push": {"ux": 1.0}}, friction=f,
+                          dof_names=("ux", "uy"), program=[sc.Segment("weight", 1.0)])
+    P = 2 * f * m_ * g
+    res = solve_dynamic(dm, dt=1e-3, duration=0.2, loads={"push": Pulse(P, 0.0, tp,
+                                                                          "rectangular")},
+                        mass=np.diag([m_, m_]), initial=sc.solve_static(dm))
+    a1 = (P - f * m_ * g) / m_
+    assert res.u[-1][0] == pytest.approx(0.5 * a1 * tp**2, rel=1e-2)
