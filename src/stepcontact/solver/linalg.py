@@ -38,6 +38,7 @@ available of the sparse ones):
 
 from __future__ import annotations
 
+import contextlib
 import functools
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -89,12 +90,40 @@ class _SuperLU:
         """G = B K⁻¹ Bᵀ from the trailing blocks of L and U (see the module docstring)."""
         n, c = len(self.perm), self.n_last
         Bc = sp.csr_matrix(B)[:, self.perm[n - c:]].toarray()
-        Lcc = self.lu.L.tocsc()[n - c:, n - c:].toarray()
-        Y = sla.solve_triangular(Lcc, Bc.T, lower=True, unit_diagonal=True, check_finite=False)
-        del Lcc
-        Ucc = self.lu.U.tocsc()[n - c:, n - c:].toarray()
-        Z = sla.solve_triangular(Ucc, Y, lower=False, check_finite=False)
-        return Bc @ Z
+        with one_blas_thread(c):
+            Lcc = self.lu.L.tocsc()[n - c:, n - c:].toarray()
+            Y = sla.solve_triangular(Lcc, Bc.T, lower=True, unit_diagonal=True,
+                                     check_finite=False)
+            del Lcc
+            Ucc = self.lu.U.tocsc()[n - c:, n - c:].toarray()
+            Z = sla.solve_triangular(Ucc, Y, lower=False, check_finite=False)
+            return Bc @ Z
+
+
+#: dense factorisations (and their block solves) of up to this many unknowns run with BLAS
+#: held to one thread: a Cholesky factorisation of 2000 takes about 0.1 s on one core, and on
+#: a loaded machine a second BLAS thread makes smaller ones erratic (measured on 2 busy cores:
+#: 400 unknowns 3 ms on one thread, up to 0.26 s CPU on two; 516, the Schur block of the
+#: 50k-DOF block-on-base model, 2–5 ms against up to 0.55 s); the same bound as the static
+#: event loop's (``solver.static.SMALL_DENSE``)
+ONE_THREAD_UP_TO = 2000
+
+
+@functools.cache
+def _blas_threads():
+    """One threadpoolctl controller per process (its creation scans the loaded libraries,
+    about 3 ms; a limit through it costs about 20 µs)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
+
+
+def one_blas_thread(n: int):
+    """Context holding BLAS to one thread for dense work of size n ≤ :data:`ONE_THREAD_UP_TO`
+    (else nothing)."""
+    if n > ONE_THREAD_UP_TO:
+        return contextlib.nullcontext()
+    return _blas_threads().limit(limits=1, user_api="blas")
 
 
 #: below this many DOFs ``backend="auto"`` factorises K densely (:class:`_Dense`): the dense
@@ -123,7 +152,8 @@ class _Dense:
     def condensed(self, B: sp.spmatrix) -> np.ndarray:
         """G = B K⁻¹ Bᵀ by one dense block solve."""
         Bd = sp.csr_matrix(B).toarray()
-        return Bd @ self.solve(Bd.T)
+        with one_blas_thread(self.n):
+            return Bd @ self.solve(Bd.T)
 
 
 def _dense(K: sp.spmatrix) -> _Dense:
@@ -134,7 +164,8 @@ def _dense(K: sp.spmatrix) -> _Dense:
     if n == 0:
         return _Dense(None, 0)
     try:
-        cf = sla.cho_factor(K.toarray(), lower=True, overwrite_a=True, check_finite=True)
+        with one_blas_thread(n):
+            cf = sla.cho_factor(K.toarray(), lower=True, overwrite_a=True, check_finite=True)
     except np.linalg.LinAlgError as exc:
         raise RuntimeError(f"dense Cholesky: {exc}") from exc
     return _Dense(cf, n)
@@ -197,7 +228,8 @@ class _Pardiso:
         S = np.zeros((c, c))
         self._call(self.pt, self.iparm, 12, self._perm, np.zeros(self.n), S, 0)
         try:
-            return sla.cho_factor(S, lower=True, overwrite_a=True, check_finite=False)
+            with one_blas_thread(c):
+                return sla.cho_factor(S, lower=True, overwrite_a=True, check_finite=False)
         except np.linalg.LinAlgError as exc:  # reported like a singular factorisation
             raise RuntimeError("PARDISO error -4 (matrix not positive definite: singular): "
                                "its Schur complement on the contact DOFs is not") from exc
@@ -256,7 +288,8 @@ class _Pardiso:
                 G[:, s : s + block] = B @ self.solve(BT[:, s : s + block].toarray())
             return G
         Bc = B[:, self.last].toarray()
-        return Bc @ sla.cho_solve(cf, Bc.T, check_finite=False)
+        with one_blas_thread(len(self.last)):
+            return Bc @ sla.cho_solve(cf, Bc.T, check_finite=False)
 
     def _release(self) -> None:
         """Free PARDISO's memory of this factorisation (phase −1), once."""
