@@ -125,3 +125,53 @@ def test_model_stiffness_and_mass_equal_the_generic_assembly(monkeypatch):
     ref = assembly.assemble(m)
     assert _rel(system.K, ref.K) <= RTOL
     assert _rel(M, mass.mass(m, ref.dofs)) <= RTOL
+
+
+@pytest.mark.parametrize("kind", ["tet4", "hex8"])
+def test_kernels_are_ready_for_3d_solids(kind):
+    """The same kernels on tetrahedra and hexahedra (for 3D continua) equal scikit-fem's
+    assembly of ∫ (2μ ε:ε + λ tr ε tr ε) dV and of ∫ ρ φ_i φ_j dV to 1e-12 relative, on a
+    2 × 2 × 2 box with its inner node moved off the centre (general hexahedra)."""
+    from skfem import (
+        Basis,
+        BilinearForm,
+        ElementHex1,
+        ElementTetP1,
+        ElementVector,
+        MeshHex,
+        MeshTet,
+        asm,
+    )
+    from skfem.helpers import ddot, sym_grad, trace
+
+    mesh_cls, elem = (MeshTet, ElementTetP1()) if kind == "tet4" else (MeshHex, ElementHex1())
+    m = mesh_cls.init_tensor(*([np.linspace(0.0, 1.0, 3)] * 3))
+    p = m.p.copy()
+    p[:, np.argmin(np.linalg.norm(p - 0.5, axis=0))] += [0.07, -0.05, 0.04]
+    m = mesh_cls(p, m.t)
+    lam, mu, rho = 1.2e10, 0.8e10, 2400.0
+
+    @BilinearForm
+    def elastic(u, v, w):
+        eu, ev = sym_grad(u), sym_grad(v)
+        return 2 * mu * ddot(eu, ev) + lam * trace(eu) * trace(ev)
+
+    @BilinearForm
+    def mass(u, v, w):
+        return rho * u * v
+
+    ref_K = asm(elastic, Basis(m, ElementVector(elem, dim=3)))
+    ref_M = asm(mass, Basis(m, elem))
+    grad, phi, dx = continuum.isoparametric_data(m.p.T, m.t.T, elem)
+    dofs = continuum.vector_dofs(m.t.T, 3)
+    Ke = continuum.element_stiffness(grad, dx, lam, mu)
+    n = 3 * m.p.shape[1]
+    K = sp.coo_matrix((Ke.ravel(), (np.repeat(dofs, dofs.shape[1], axis=1).ravel(),
+                                    np.tile(dofs, dofs.shape[1]).ravel())), shape=(n, n))
+    Me = rho * np.einsum("eq,qi,qj->eij", dx, phi, phi)
+    cells = m.t.T
+    M = sp.coo_matrix((Me.ravel(), (np.repeat(cells, cells.shape[1], axis=1).ravel(),
+                                    np.tile(cells, cells.shape[1]).ravel())),
+                      shape=(m.p.shape[1],) * 2)
+    assert _rel(K.tocsr(), ref_K) <= RTOL
+    assert _rel(M.tocsr(), ref_M) <= RTOL
