@@ -51,8 +51,10 @@ def _dof_column(dofs: DofMap, name: str, item: str, model: Model) -> int:
 def scatter(rows: np.ndarray, cols: np.ndarray, vals: np.ndarray, shape) -> sp.csr_matrix:
     """Sum COO triplets (any shape, flattened) into a CSR matrix; the one scatter helper."""
     r, c, v = (np.asarray(a).ravel() for a in (rows, cols, vals))
-    keep = (r >= 0) & (c >= 0)
-    return sp.coo_matrix((v[keep], (r[keep], c[keep])), shape=shape).tocsr()
+    if r.size and min(r.min(), c.min()) < 0:  # DOFs that do not exist (-1): dropped
+        keep = (r >= 0) & (c >= 0)
+        r, c, v = r[keep], c[keep], v[keep]
+    return sp.coo_matrix((v, (r, c)), shape=shape).tocsr()
 
 
 def dof_map(model: Model) -> DofMap:
@@ -128,17 +130,19 @@ def _frame_stiffness(fr: Frame, gdofs: np.ndarray):
 
 
 def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
-    """Global stiffness of continua (scikit-fem), frames and springs, N/m."""
+    """Global stiffness of continua (element kernels or scikit-fem), frames and springs, N/m:
+    the triplets of every body in one COO -> CSR conversion."""
     rows, cols, vals = [], [], []
     off = model.node_offsets
     for b in model.bodies:
         ids = off[b.name] + np.arange(b.n_nodes)
         if isinstance(b, Body):
-            Kb = _fem.stiffness(b, model.plane, model.thickness).tocoo()
+            r, c, v = _fem.stiffness_triplets(b, model.plane, model.thickness)
             gd = dofs.of[ids][:, :b.dim].ravel()  # body-local vector DOF d·i+c -> global
-            rows.append(gd[Kb.row])
-            cols.append(gd[Kb.col])
-            vals.append(Kb.data)
+            gd = gd.astype(np.int32) if dofs.ndof < 2**31 else gd  # half the index traffic
+            rows.append(gd[r].ravel())
+            cols.append(gd[c].ravel())
+            vals.append(np.ravel(v))
         else:
             gd = dofs.of[ids]  # (n, 3)
             r, c, v = _frame_stiffness(b, gd)

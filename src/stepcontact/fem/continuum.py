@@ -1,7 +1,12 @@
 """scikit-fem glue: bases, element stiffness, edge and body loads, stresses of continuum bodies.
 
 Private: users go through :mod:`stepcontact.model` and :mod:`stepcontact.fem.assembly`.
-Everything is vectorised over the elements by scikit-fem; nothing here loops over elements.
+Everything is vectorised over the elements; nothing here loops over elements.  The stiffness
+and mass of the linear elements on straight-sided meshes (tri3, quad4: :func:`linear_kernel`;
+the kernels take tet4 and hex8 too, for 3D continua) are NumPy element kernels, all elements
+at once, with scikit-fem's own quadrature rule; the other elements go through scikit-fem's
+generic form assembly (:func:`_stiffness_generic`), which gives the same matrices to round-off
+but spends most of its time evaluating the form per pair of basis functions.
 """
 
 from __future__ import annotations
@@ -19,6 +24,8 @@ from skfem import (
     asm,
 )
 from skfem.helpers import ddot, dot, sym_grad, trace
+from skfem.mesh.mesh_2d_2 import Mesh2D2
+from skfem.quadrature import get_quadrature
 
 from stepcontact.model.elements import scalar_element
 
@@ -46,13 +53,39 @@ def _plane_and_thickness(body, plane: str, thickness: float) -> tuple[str, float
     return (plane, thickness) if body.dim == 2 else ("strain", 1.0)
 
 
-def stiffness(body, plane: str, thickness: float):
+def stiffness(body, plane: str, thickness: float) -> sparse.csr_matrix:
     """Stiffness matrix (CSR, body-local vector DOFs) of a continuum body, N/m.
 
     K = ∫ (2μ ε(u):ε(v) + λ tr ε(u) tr ε(v)) t dA in 2D (thickness t) and ∫ … dV in 3D
     (isotropic Hooke's law, the form of ``skfem.models.elasticity.linear_elasticity``)."""
+    r, c, v = stiffness_triplets(body, plane, thickness)
+    n = body.dim * body.n_nodes
+    return sparse.coo_matrix((v.ravel(), (r.ravel(), c.ravel())), shape=(n, n)).tocsr()
+
+
+def stiffness_triplets(body, plane: str, thickness: float):
+    """COO triplets (rows, cols, values; body-local vector DOFs d·i + c) of the stiffness of
+    a continuum body, N/m, duplicates not yet summed: the element matrices of
+    :func:`element_stiffness` for tri3 and quad4 on straight-sided meshes, else scikit-fem's
+    generic assembly (:func:`_stiffness_generic`; every 3D element)."""
     plane, thickness = _plane_and_thickness(body, plane, thickness)
     lam, mu = plane_lame(body.material.E, body.material.nu, plane)
+    data = linear_kernel(body)
+    if data is None:
+        K = _stiffness_generic(body, lam, mu, thickness).tocoo()
+        return K.row, K.col, K.data
+    grad, _, dx = data
+    _cache_mean_gradients(body, grad, dx)
+    Ke = element_stiffness(grad, dx, lam, mu, thickness)
+    dofs = vector_dofs(body.cells)
+    nd = dofs.shape[1]
+    return (np.broadcast_to(dofs[:, :, None], (len(dofs), nd, nd)),
+            np.broadcast_to(dofs[:, None, :], (len(dofs), nd, nd)), Ke)
+
+
+def _stiffness_generic(body, lam: float, mu: float, thickness: float) -> sparse.csr_matrix:
+    """scikit-fem's form assembly of ∫ t (2μ ε(u):ε(v) + λ tr ε(u) tr ε(v)) dA, N/m (any
+    element; the reference of :func:`element_stiffness`)."""
 
     @BilinearForm
     def form(u, v, w):
@@ -62,6 +95,87 @@ def stiffness(body, plane: str, thickness: float):
     basis = basis_of(body)
     _mean_gradients(body, basis)  # kept for the stress operator: no second basis later
     return asm(form, basis).tocsr()
+
+
+def linear_kernel(body):
+    """Basis-function data (:func:`isoparametric_data`) of a tri3 or quad4 body on a
+    straight-sided mesh, for the element kernels; None for another element or a curved
+    (quadratic) geometry."""
+    if body.element not in ("tri3", "quad4") or isinstance(body.mesh, Mesh2D2):
+        return None
+    return isoparametric_data(body.points, body.cells, scalar_element(body.element))
+
+
+def isoparametric_data(points: np.ndarray, cells: np.ndarray, elem):
+    """Gradients, values and quadrature weights of the scalar basis functions of a mesh whose
+    geometry is interpolated by the element itself (tri3, quad4; tet4, hex8 in 3D), all
+    elements at once.
+
+    With scikit-fem's quadrature (X_q, W_q) of order 2·maxdeg on the reference element (what
+    its :class:`~skfem.Basis` uses: 3 points on a triangle, 3 × 3 on a quadrilateral) and the
+    reference functions φ̂_i with gradients ∇̂φ̂_i, the map of element e gives
+
+        J_eq = Σ_i x_ei ⊗ ∇̂φ̂_i(X_q),   ∇φ_i(x_eq) = J_eq⁻ᵀ ∇̂φ̂_i(X_q),   dx_eq = |det J_eq| W_q
+
+    (simplices: J constant, the affine map).  ``points`` (n, d) in m, ``cells`` (nel, nb) the
+    element's local node order, ``elem`` the scalar scikit-fem element.  Returns ``grad``
+    (nel, nq, nb, d) in 1/m, ``phi`` (nq, nb) and ``dx`` (nel, nq) in m^d."""
+    X, W = get_quadrature(elem.refdom, 2 * elem.maxdeg)
+    cells = np.asarray(cells)
+    nb = cells.shape[1]
+    ref = [elem.lbasis(X, i) for i in range(nb)]
+    phi = np.stack([np.broadcast_to(v, X.shape[1:]) for v, _ in ref], axis=1)  # (nq, nb)
+    dref = np.stack([np.broadcast_to(g, X.shape) for _, g in ref], axis=0)  # (nb, d, nq)
+    xe = np.asarray(points, dtype=float)[cells]  # (nel, nb, d)
+    J = np.einsum("eia,ibq->eqab", xe, dref)  # ∂x_a/∂X_b
+    if J.shape[-1] == 2:  # closed form: half the time of a batched inverse
+        det = J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0]
+        inv_t = np.empty_like(J)  # J⁻ᵀ
+        inv_t[..., 0, 0] = J[..., 1, 1] / det
+        inv_t[..., 0, 1] = -J[..., 1, 0] / det
+        inv_t[..., 1, 0] = -J[..., 0, 1] / det
+        inv_t[..., 1, 1] = J[..., 0, 0] / det
+    else:
+        det = np.linalg.det(J)
+        inv_t = np.linalg.inv(J).swapaxes(-1, -2)
+    grad = np.einsum("eqab,ibq->eqia", inv_t, dref)
+    return grad, phi, np.abs(det) * W
+
+
+def element_stiffness(grad: np.ndarray, dx: np.ndarray, lam: float, mu: float,
+                      thickness: float = 1.0) -> np.ndarray:
+    """Element stiffness matrices (nel, d·nb, d·nb) of linear elasticity, all elements at
+    once: with local DOF d·i + a (node i, component a),
+
+        K_e[d·i+a, d·j+b] = t Σ_q dx_q (λ ∂_aφ_i ∂_bφ_j + μ ∂_bφ_i ∂_aφ_j + μ δ_ab ∇φ_i·∇φ_j)
+
+    the matrix of ∫ t (2μ ε(u):ε(v) + λ tr ε(u) tr ε(v)) dA in the plane (λ, μ:
+    :func:`plane_lame`, Pa; t the thickness, m: N/m), of ∫ (…) dV in 3D (t = 1: N/m);
+    ``grad``, ``dx`` of :func:`isoparametric_data`."""
+    nel, nq, nb, d = grad.shape
+    Gf = grad.reshape(nel, nq, d * nb)  # column d·i + a: ∂_aφ_i
+    T = np.matmul((Gf * dx[:, :, None]).transpose(0, 2, 1), Gf)  # Σ_q dx ∂_aφ_i ∂_bφ_j
+    T = T.reshape(nel, nb, d, nb, d)
+    dot_ij = sum(T[:, :, a, :, a] for a in range(d))  # Σ_q dx ∇φ_i·∇φ_j
+    K = lam * T + mu * T.transpose(0, 1, 4, 3, 2)
+    for a in range(d):
+        K[:, :, a, :, a] += mu * dot_ij
+    return thickness * K.reshape(nel, d * nb, d * nb)
+
+
+def vector_dofs(cells: np.ndarray, dim: int = 2) -> np.ndarray:
+    """Local vector DOFs (nel, dim·nb) of the elements: dim·node + component."""
+    cells = np.asarray(cells)
+    return (dim * cells[:, :, None] + np.arange(dim)).reshape(len(cells), -1)
+
+
+def _cache_mean_gradients(body, grad: np.ndarray, dx: np.ndarray) -> None:
+    """Fill :func:`_mean_gradients`'s cache from the kernel's data (no basis for the stress
+    operator): Ḡ_j = Σ_q ∇φ_j dx_q / Σ_q dx_q."""
+    w = dx / dx.sum(axis=1, keepdims=True)
+    Gs = np.einsum("eqjd,eq->jde", grad, w)
+    out = (Gs, np.ascontiguousarray(vector_dofs(body.cells).T), 2 * body.n_nodes)
+    _MEAN_GRADIENTS[body] = (body.mesh, body.element, *out)
 
 
 def body_force(body, g, thickness: float) -> np.ndarray:

@@ -1,6 +1,7 @@
 """Mass matrices and Rayleigh damping (method.md §4, the dynamics of article eqs. (7)–(10)).
 
-* continua: the consistent mass M = ∫ ρ t N_iᵀ N_j dA (scikit-fem), or lumped by the HRZ rule
+* continua: the consistent mass M = ∫ ρ t N_iᵀ N_j dA (element kernel for tri3 and quad4,
+  scikit-fem's form assembly for the others), or lumped by the HRZ rule
   (Hinton, Rock & Zienkiewicz 1976): in every element the diagonal of the consistent matrix is
   scaled so that it sums to the element's mass — positive for quadratic elements too, where
   row-sum lumping gives zero or negative corner masses (tri6);
@@ -18,16 +19,37 @@ import scipy.sparse as sp
 from skfem import BilinearForm, asm
 
 from stepcontact.errors import ModelError
-from stepcontact.fem.continuum import basis_of
+from stepcontact.fem.continuum import basis_of, linear_kernel
 
 
 def continuum_mass(body, thickness: float, lumped: bool = False) -> sp.csr_matrix:
     """Mass matrix (CSR, body-local vector DOFs 2i + c) of a continuum body, kg.
 
-    ``lumped``: the HRZ diagonal (element-wise scaled diagonal of the consistent matrix)."""
+    ``lumped``: the HRZ diagonal (element-wise scaled diagonal of the consistent matrix).
+    tri3 and quad4 on straight-sided meshes by the element kernel (``M_e[i, j] = ρ t Σ_q dx_q
+    φ_i(X_q) φ_j(X_q)`` with the data of :func:`~stepcontact.fem.continuum.linear_kernel`,
+    all elements at once), other elements by scikit-fem's form assembly."""
+    data = linear_kernel(body)
+    if data is None:
+        return _mass_generic(body, thickness, lumped)
+    rho_t = thickness * float(body.material.density)
+    _, phi, dx = data  # phi (n_qp, Nbfun), dx (n_el, n_qp): weights × |J|
+    cells = np.asarray(body.cells)
+    n = body.n_nodes
+    if not lumped:
+        Me = rho_t * np.einsum("eq,qi,qj->eij", dx, phi, phi)
+        r = np.broadcast_to(cells[:, :, None], Me.shape).ravel()
+        c = np.broadcast_to(cells[:, None, :], Me.shape).ravel()
+        Ms = sp.coo_matrix((Me.ravel(), (r, c)), shape=(n, n)).tocsr()
+        return sp.kron(Ms, sp.identity(2, format="csr"), format="csr")
+    diag = np.einsum("qi,eq->ie", phi**2, dx)
+    return _hrz(diag, dx.sum(axis=1), cells.T, n, rho_t)
+
+
+def _mass_generic(body, thickness: float, lumped: bool) -> sp.csr_matrix:
+    """:func:`continuum_mass` by scikit-fem's form assembly (any element)."""
     rho = float(body.material.density)
     basis = basis_of(body, vector=False)
-    n = body.n_nodes
     if not lumped:
 
         @BilinearForm
@@ -36,13 +58,19 @@ def continuum_mass(body, thickness: float, lumped: bool = False) -> sp.csr_matri
 
         Ms = asm(form, basis).tocsr()  # scalar: the same for x and y
         return sp.kron(Ms, sp.identity(2, format="csr"), format="csr")
-    dx = basis.dx  # (n_el, n_qp) weights × |J|
-    diag = np.array([((basis.basis[i][0].value ** 2) * dx).sum(axis=1)
+    diag = np.array([((basis.basis[i][0].value ** 2) * basis.dx).sum(axis=1)
                      for i in range(basis.Nbfun)])  # (Nbfun, n_el)
-    m_el = dx.sum(axis=1)
+    return _hrz(diag, basis.dx.sum(axis=1), basis.element_dofs, body.n_nodes, thickness * rho)
+
+
+def _hrz(diag: np.ndarray, m_el: np.ndarray, element_dofs: np.ndarray, n: int,
+         rho_t: float) -> sp.csr_matrix:
+    """HRZ lumping: the diagonal ``diag`` (Nbfun, n_el) of each element's consistent matrix
+    (per unit ρ t) scaled to sum to the element's area ``m_el`` (m²), summed at the nodes,
+    times ρ t; kg on both translations of each node."""
     scale = m_el / diag.sum(axis=0)
-    nodal = np.bincount(basis.element_dofs.ravel(), (diag * scale).ravel(), minlength=n)
-    return sp.diags(np.repeat(thickness * rho * nodal, 2), format="csr")
+    nodal = np.bincount(element_dofs.ravel(), (diag * scale).ravel(), minlength=n)
+    return sp.diags(np.repeat(rho_t * nodal, 2), format="csr")
 
 
 def rayleigh_coefficients(zeta1: float, f1: float, zeta2: float, f2: float

@@ -27,7 +27,8 @@ available of the sparse ones):
   dense, 18–52 ms sparse).
 - ``pypardiso``: MKL PARDISO (``pip install "stepcontact[fast]"``; wheels of MKL exist for
   Linux and Windows on x86-64), nested-dissection ordering, multithreaded; G from PARDISO's own
-  Schur complement on the contact DOFs.
+  Schur complement on the contact DOFs, formed by the one factorisation that then serves the
+  solves.
 - ``scipy``: SciPy's SuperLU, always available: minimum degree on the compressed graph (one
   vertex per node) with the contact DOFs last, symmetric mode without pivoting; G from the
   trailing block of its factors.
@@ -37,6 +38,7 @@ available of the sparse ones):
 
 from __future__ import annotations
 
+import contextlib
 import functools
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -88,12 +90,40 @@ class _SuperLU:
         """G = B K⁻¹ Bᵀ from the trailing blocks of L and U (see the module docstring)."""
         n, c = len(self.perm), self.n_last
         Bc = sp.csr_matrix(B)[:, self.perm[n - c:]].toarray()
-        Lcc = self.lu.L.tocsc()[n - c:, n - c:].toarray()
-        Y = sla.solve_triangular(Lcc, Bc.T, lower=True, unit_diagonal=True, check_finite=False)
-        del Lcc
-        Ucc = self.lu.U.tocsc()[n - c:, n - c:].toarray()
-        Z = sla.solve_triangular(Ucc, Y, lower=False, check_finite=False)
-        return Bc @ Z
+        with one_blas_thread(c):
+            Lcc = self.lu.L.tocsc()[n - c:, n - c:].toarray()
+            Y = sla.solve_triangular(Lcc, Bc.T, lower=True, unit_diagonal=True,
+                                     check_finite=False)
+            del Lcc
+            Ucc = self.lu.U.tocsc()[n - c:, n - c:].toarray()
+            Z = sla.solve_triangular(Ucc, Y, lower=False, check_finite=False)
+            return Bc @ Z
+
+
+#: dense factorisations (and their block solves) of up to this many unknowns run with BLAS
+#: held to one thread: a Cholesky factorisation of 2000 takes about 0.1 s on one core, and on
+#: a loaded machine a second BLAS thread makes smaller ones erratic (measured on 2 busy cores:
+#: 400 unknowns 3 ms on one thread, up to 0.26 s CPU on two; 516, the Schur block of the
+#: 50k-DOF block-on-base model, 2–5 ms against up to 0.55 s); the same bound as the static
+#: event loop's (``solver.static.SMALL_DENSE``)
+ONE_THREAD_UP_TO = 2000
+
+
+@functools.cache
+def _blas_threads():
+    """One threadpoolctl controller per process (its creation scans the loaded libraries,
+    about 3 ms; a limit through it costs about 20 µs)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
+
+
+def one_blas_thread(n: int):
+    """Context holding BLAS to one thread for dense work of size n ≤ :data:`ONE_THREAD_UP_TO`
+    (else nothing)."""
+    if n > ONE_THREAD_UP_TO:
+        return contextlib.nullcontext()
+    return _blas_threads().limit(limits=1, user_api="blas")
 
 
 #: below this many DOFs ``backend="auto"`` factorises K densely (:class:`_Dense`): the dense
@@ -122,7 +152,8 @@ class _Dense:
     def condensed(self, B: sp.spmatrix) -> np.ndarray:
         """G = B K⁻¹ Bᵀ by one dense block solve."""
         Bd = sp.csr_matrix(B).toarray()
-        return Bd @ self.solve(Bd.T)
+        with one_blas_thread(self.n):
+            return Bd @ self.solve(Bd.T)
 
 
 def _dense(K: sp.spmatrix) -> _Dense:
@@ -133,7 +164,8 @@ def _dense(K: sp.spmatrix) -> _Dense:
     if n == 0:
         return _Dense(None, 0)
     try:
-        cf = sla.cho_factor(K.toarray(), lower=True, overwrite_a=True, check_finite=True)
+        with one_blas_thread(n):
+            cf = sla.cho_factor(K.toarray(), lower=True, overwrite_a=True, check_finite=True)
     except np.linalg.LinAlgError as exc:
         raise RuntimeError(f"dense Cholesky: {exc}") from exc
     return _Dense(cf, n)
@@ -151,12 +183,19 @@ class _Cholmod:
 class _Pardiso:
     """MKL PARDISO from the MKL runtime pypardiso uses (``pip install "stepcontact[fast]"``;
     located and loaded once per process by :func:`_mkl_pardiso`):
-    K is SPD (matrix type 2, upper triangle), factorised with PARDISO's nested dissection.
-    With DOFs ``last``, a first factorisation forms the Schur complement S on them (PARDISO's
-    iparm[35]) and is released at once, keeping S's dense Cholesky factor for
-    G = B_c S⁻¹ B_cᵀ (:meth:`condensed`); then K is factorised for solves.  In that order the
-    two factorisations never hold memory together: the peak is the larger of the two, not
-    their sum."""
+    K is SPD (matrix type 2, upper triangle), factorised once with PARDISO's nested dissection.
+
+    With DOFs ``last`` (c of them, the rest i) that one factorisation is PARDISO's partial one
+    (iparm[35] = 1): the Cholesky factor L of K_ii and the dense Schur complement
+    S = K_cc − K_ci K_ii⁻¹ K_ic, of which this keeps the dense Cholesky factor.  S gives
+    G = B_c S⁻¹ B_cᵀ (:meth:`condensed`), and a solve K x = b is block elimination through
+    the same factors (:meth:`solve`): PARDISO's forward substitution (phase 331) gives
+    y_i = L⁻¹ b_i and y_c = b_c − K_ci K_ii⁻¹ b_i, then x_c = S⁻¹ y_c (dense), and its
+    backward substitution (phase 333) x_i = L⁻ᵀ (y_i − L⁻¹ K_ic x_c).  The contact DOFs come
+    last in PARDISO's ordering: on the block-on-base benchmark (50k DOFs) the factors have as
+    many entries (within 1.5 %) as with an unconstrained nested dissection.  (PARDISO can also
+    factorise S itself and keep the whole factorisation, iparm[35] = 2, but on a loaded machine
+    its threaded dense factorisation of S took 3× the CPU time in about half of the runs.)"""
 
     name = "pypardiso"
 
@@ -171,25 +210,30 @@ class _Pardiso:
         self._ia = self.U.indptr.astype(np.int32) + 1
         self._ja = self.U.indices.astype(np.int32) + 1
         self.last = None if last is None else np.unique(last)
-        self._schur = None if self.last is None or not len(self.last) else self._schur_factor()
         self.pt, self.iparm = self._handle()
-        self._call(self.pt, self.iparm, 12, np.zeros(0, np.int32), np.zeros(1), np.zeros(1), 1)
+        self._perm = np.zeros(0, np.int32)  # no Schur complement: perm is not read
+        self._schur = None
+        try:
+            if self.last is None or not len(self.last):
+                self._call(self.pt, self.iparm, 12, self._perm, np.zeros(1), np.zeros(1), 1)
+            else:
+                self._schur = self._factor_with_schur()
+        except BaseException:
+            self._release()
+            raise
 
-    def _schur_factor(self):
-        """Cholesky factor of the Schur complement S of K on the DOFs ``last``, from a
-        factorisation of its own that is released before this returns."""
+    def _factor_with_schur(self):
+        """The partial factorisation (phases 11–22, iparm[35] = 1) and the Schur complement
+        S on the DOFs ``last``; returns S's dense Cholesky factor (kept: solves need it)."""
         c = len(self.last)
-        pt, iparm = self._handle()
-        iparm[35] = 1  # Schur complement on the rows marked in perm, returned dense in x
-        perm = np.zeros(self.n, np.int32)
-        perm[self.last] = 1
+        self.iparm[35] = 1  # Schur complement on the rows marked in perm, dense in x
+        self._perm = np.zeros(self.n, np.int32)
+        self._perm[self.last] = 1
         S = np.zeros((c, c))
+        self._call(self.pt, self.iparm, 12, self._perm, np.zeros(self.n), S, 0)
         try:
-            self._call(pt, iparm, 12, perm, np.zeros(self.n), S, 0)
-        finally:
-            self._call(pt, iparm, -1, perm, np.zeros(1), np.zeros(1), 1)  # release it
-        try:
-            return sla.cho_factor(S, lower=True, overwrite_a=True, check_finite=False)
+            with one_blas_thread(c):
+                return sla.cho_factor(S, lower=True, overwrite_a=True, check_finite=False)
         except np.linalg.LinAlgError as exc:  # reported like a singular factorisation
             raise RuntimeError("PARDISO error -4 (matrix not positive definite: singular): "
                                "its Schur complement on the contact DOFs is not") from exc
@@ -222,10 +266,20 @@ class _Pardiso:
                                   if err.value == -4 else ""))
 
     def solve(self, b: np.ndarray) -> np.ndarray:
+        """K⁻¹ b for a vector or a block (n, k): phase 33, or with a Schur complement the
+        block elimination of the class docstring (phases 331 and 333 around x_c = S⁻¹ y_c)."""
         b = np.asarray(b, dtype=float)
         bf = np.asfortranarray(b.reshape(self.n, -1))
+        k = bf.shape[1]
         x = np.zeros_like(bf)
-        self._call(self.pt, self.iparm, 33, np.zeros(0, np.int32), bf, x, bf.shape[1])
+        if self._schur is None:
+            self._call(self.pt, self.iparm, 33, self._perm, bf, x, k)
+            return x.reshape(b.shape)
+        y = np.zeros_like(bf)
+        self._call(self.pt, self.iparm, 331, self._perm, bf, y, k)
+        with one_blas_thread(len(self.last)):
+            y[self.last] = sla.cho_solve(self._schur, y[self.last], check_finite=False)
+        self._call(self.pt, self.iparm, 333, self._perm, y, x, k)
         return x.reshape(b.shape)
 
     def can_condense(self, B: sp.spmatrix) -> bool:
@@ -236,17 +290,20 @@ class _Pardiso:
         return sp.csc_matrix(B)[:, np.flatnonzero(outside)].nnz == 0
 
     def condensed(self, B: sp.spmatrix) -> np.ndarray:
-        """G = B_c S⁻¹ B_cᵀ from the Schur factor formed with the factorisation (which is
-        then dropped: G is formed once)."""
-        cf = self._schur if self._schur is not None else self._schur_factor()
-        self._schur = None
+        """G = B_c S⁻¹ B_cᵀ from the Schur factor of the factorisation."""
         Bc = sp.csr_matrix(B)[:, self.last].toarray()
-        return Bc @ sla.cho_solve(cf, Bc.T, check_finite=False)
+        with one_blas_thread(len(self.last)):
+            return Bc @ sla.cho_solve(self._schur, Bc.T, check_finite=False)
+
+    def _release(self) -> None:
+        """Free PARDISO's memory of this factorisation (phase −1), once."""
+        if self.pt.any():
+            self._call(self.pt, self.iparm, -1, self._perm, np.zeros(1), np.zeros(1), 1)
+            self.pt[:] = 0
 
     def __del__(self) -> None:
         try:
-            self._call(self.pt, self.iparm, -1, np.zeros(0, np.int32), np.zeros(1),
-                       np.zeros(1), 1)
+            self._release()
         except Exception:  # noqa: BLE001 - interpreter shutdown: nothing to release into
             pass
 
