@@ -156,5 +156,15 @@ def edge_shape(xi: np.ndarray, quadratic: bool) -> np.ndarray:
     return np.column_stack([(1 - xi) * (1 - 2 * xi), xi * (2 * xi - 1), 4 * xi * (1 - xi)])
 
 
+def near_pairs(tree, x: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (i, j) of a contact search: the points j of ``tree`` (a
+    :class:`scipy.spatial.cKDTree`) within ``radius[i]`` (m) of x[i], grouped by i."""
+    lists = tree.query_ball_point(x, radius)
+    counts = np.fromiter((len(v) for v in lists), dtype=np.int64, count=len(lists))
+    rows = np.repeat(np.arange(len(x)), counts)
+    cols = np.fromiter((c for v in lists for c in v), dtype=np.int64, count=int(counts.sum()))
+    return rows, cols
+
+
 __all__ = ["chain_order", "continuum_edges", "curve_edges", "edge_facets", "edge_shape",
-           "outward_normals", "tributary_lengths"]
+           "near_pairs", "outward_normals", "tributary_lengths"]

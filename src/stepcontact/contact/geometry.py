@@ -26,6 +26,7 @@ from stepcontact.contact.boundary import (
     chain_order,
     curve_edges,
     edge_shape,
+    near_pairs,
     outward_normals,
     tributary_lengths,
 )
@@ -164,15 +165,6 @@ def _to_segments(x: np.ndarray, a: np.ndarray, b: np.ndarray, j: np.ndarray):
     return t, np.linalg.norm(x - (a[j] + t[:, None] * ab), axis=1)
 
 
-def _near(tree, x: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs (i, j): the points of ``tree`` within ``radius[i]`` of x[i], grouped by i."""
-    lists = tree.query_ball_point(x, radius)
-    counts = np.fromiter((len(v) for v in lists), dtype=np.int64, count=len(lists))
-    rows = np.repeat(np.arange(len(x)), counts)
-    cols = np.fromiter((c for v in lists for c in v), dtype=np.int64, count=int(counts.sum()))
-    return rows, cols
-
-
 def _project(x: np.ndarray, a: np.ndarray, b: np.ndarray):
     """Closest point of each x on the segments [a_j, b_j]: (segment index, ξ in [0,1], dist).
 
@@ -190,7 +182,7 @@ def _project(x: np.ndarray, a: np.ndarray, b: np.ndarray):
     cand = np.asarray(cand).reshape(len(x), -1)
     _, d = _to_segments(np.repeat(x, cand.shape[1], axis=0), a, b, cand.ravel())
     best = d.reshape(len(x), -1).min(axis=1)
-    rows, cols = _near(tree, x, best + half + 1e-12 * (best + half + 1.0))
+    rows, cols = near_pairs(tree, x, best + half + 1e-12 * (best + half + 1.0))
     t, d = _to_segments(x[rows], a, b, cols)
     order = np.lexsort((cols, d, rows))  # by point, then distance, then segment index
     first = np.searchsorted(rows[order], np.arange(len(x)))
@@ -380,7 +372,7 @@ def _mortar_pairs(pa, pb, ma, mb, tol):
     Lm = np.linalg.norm(mb - ma, axis=1)
     cp = 0.5 * (pa + pb)
     _, _, d = _project(cp, ma, mb)
-    e, f = _near(cKDTree(0.5 * (ma + mb)), cp, d + 2.5 * (L + Lm.max(initial=0.0)) + tol)
+    e, f = near_pairs(cKDTree(0.5 * (ma + mb)), cp, d + 2.5 * (L + Lm.max(initial=0.0)) + tol)
     xa = np.einsum("ik,ik->i", ma[f] - pa[e], e1[e]) / L[e]
     xb = np.einsum("ik,ik->i", mb[f] - pa[e], e1[e]) / L[e]
     lo = np.clip(np.minimum(xa, xb), 0.0, 1.0)

@@ -35,6 +35,7 @@ from functools import cached_property
 
 import numpy as np
 
+from stepcontact.contact.boundary import near_pairs
 from stepcontact.errors import ModelError
 
 #: facet kinds: (corners, nodes); the nodes are the corners (counter-clockwise seen from
@@ -559,15 +560,6 @@ def _closest_on_facets(surf: Surface, x: np.ndarray, f: np.ndarray):
     return xi, X, d
 
 
-def _near(tree, x: np.ndarray, radius: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs (i, j): the points of ``tree`` within ``radius[i]`` of x[i], grouped by i."""
-    lists = tree.query_ball_point(x, radius)
-    counts = np.fromiter((len(v) for v in lists), dtype=np.int64, count=len(lists))
-    rows = np.repeat(np.arange(len(x)), counts)
-    cols = np.fromiter((c for v in lists for c in v), dtype=np.int64, count=int(counts.sum()))
-    return rows, cols
-
-
 def closest_facets(surf: Surface, x: np.ndarray):
     """The closest point of each x (m, 3) on the surface: (facet, ξ, X, distance).
 
@@ -587,7 +579,7 @@ def closest_facets(surf: Surface, x: np.ndarray):
     best = d.reshape(len(x), -1).min(axis=1)
     rmax = float(surf.radii.max())
     slack = 1e-12 * (best + rmax + surf.size)
-    rows, cols = _near(tree, x, best + rmax + slack)
+    rows, cols = near_pairs(tree, x, best + rmax + slack)
     # a facet can hold a point within ``best`` of x only if its centroid is within best + r_f
     near = (np.linalg.norm(x[rows] - surf.centroids[cols], axis=1)
             <= best[rows] + surf.radii[cols] + slack[rows])
@@ -774,7 +766,7 @@ def _pairs(plus: Surface, minus: Surface) -> tuple[np.ndarray, np.ndarray]:
     _, _, _, d = closest_facets(minus, plus.centroids)
     tol = _EPS * max(plus.size, minus.size, 1.0)
     radius = d + plus.radii + float(minus.radii.max()) + tol
-    e, f = _near(cKDTree(minus.centroids), plus.centroids, radius)
+    e, f = near_pairs(cKDTree(minus.centroids), plus.centroids, radius)
     near = (np.linalg.norm(plus.centroids[e] - minus.centroids[f], axis=1)
             <= d[e] + plus.radii[e] + minus.radii[f] + tol)
     facing = np.einsum("ij,ij->i", plus.normals[e], minus.normals[f]) < -1e-9

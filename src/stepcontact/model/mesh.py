@@ -193,8 +193,8 @@ def box(
     if element not in SOLID_KINDS:
         raise ModelError(f"{item}.element",
                          f"unknown element '{element}' for a box, use {', '.join(SOLID_KINDS)}")
-    lo = _point3(f"{item}.corner0", corner0)
-    hi = _point3(f"{item}.corner1", corner1)
+    lo = _vector(f"{item}.corner0", corner0, "point", 3)
+    hi = _vector(f"{item}.corner1", corner1, "point", 3)
     if np.any(hi <= lo):
         raise ModelError(item, "corner1 must lie beyond corner0 along x, y and z")
     try:
@@ -294,15 +294,6 @@ def extrude(body: Body, z: tuple[float, float], nz: int, *, name: str | None = N
     return Body.from_mesh(name or body.name, mesh, EXTRUDED_ELEMENT[body.element],
                           body.material)
 
-
-def _point3(item: str, v) -> np.ndarray:
-    try:
-        a = np.asarray(v, dtype=float)
-    except (TypeError, ValueError):
-        a = np.zeros(0)
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise ModelError(item, f"must be a finite point (x, y, z), m; got {v!r}")
-    return a
 
 
 # --------------------------------------------------------------------------------------------
@@ -804,13 +795,16 @@ def _arc_split(N: int, r: float) -> tuple[int, int]:
 # --------------------------------------------------------------------------------------------
 # rigid motions
 # --------------------------------------------------------------------------------------------
-def _vector(item: str, v, what: str) -> np.ndarray:
+def _vector(item: str, v, what: str, dim: int = 2) -> np.ndarray:
+    """``v`` as a finite point or vector of ``dim`` coordinates (m), else a ModelError naming
+    ``item``."""
     try:
         a = np.asarray(v, dtype=float)
     except (TypeError, ValueError):
         a = np.zeros(0)
-    if a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise ModelError(item, f"must be a finite {what} (x, y), m; got {v!r}")
+    if a.shape != (dim,) or not np.all(np.isfinite(a)):
+        axes = "(x, y)" if dim == 2 else "(x, y, z)"
+        raise ModelError(item, f"must be a finite {what} {axes}, m; got {v!r}")
     return a
 
 
