@@ -247,6 +247,40 @@ def test_pardiso_schur_complement_and_solves_share_one_factorisation(monkeypatch
     assert phases == [12, 331, 333, 331, 333]
 
 
+@pytest.mark.skipif("pypardiso" not in available_backends(),
+                    reason="MKL PARDISO (pypardiso and mkl_rt) is not installed")
+def test_pardiso_for_many_solves_keeps_a_full_factorisation_for_the_solves(monkeypatch):
+    """A driver that solves at every step (dynamics) asks for a second, full factorisation
+    beside the partial one: then a solve is one phase 33 on it, not the block elimination.
+    References: G from the partial factorisation and the solves (a vector and a block of 4)
+    against numpy's dense solve, 1e-12 relative (K₀ of the block model, condition about 1e3);
+    the phases called: 12 (partial, with Schur), 12 (full, once), then 33 per solve."""
+    from stepcontact.fem.assembly import assemble
+    from stepcontact.solver import linalg
+    from stepcontact.solver.condensation import contact_dofs, static_operator
+
+    K0, Bf, *_ = static_operator(assemble(_block_model(2)))
+    Kd = K0.toarray()
+    phases = []
+    call = linalg._Pardiso._call
+
+    def spy(self, pt, iparm, phase, *args):
+        phases.append(int(phase))
+        return call(self, pt, iparm, phase, *args)
+
+    monkeypatch.setattr(linalg._Pardiso, "_call", spy)
+    F = factorize(K0, "pypardiso", last=contact_dofs(Bf))
+    F.for_many_solves()
+    F.for_many_solves()  # (once is enough: a second call does nothing)
+    ref = Bf @ np.linalg.solve(Kd, Bf.T.toarray())
+    assert np.abs(F.condensed(Bf) - ref).max() <= 1e-12 * np.abs(ref).max()
+    b = np.random.default_rng(3).standard_normal((K0.shape[0], 4))
+    for rhs in (b[:, 0], b):
+        x_ref = np.linalg.solve(Kd, rhs)
+        assert np.abs(F.solve(rhs) - x_ref).max() <= 1e-12 * np.abs(x_ref).max()
+    assert phases == [12, 12, 33, 33]
+
+
 def test_small_models_never_look_for_mkl(monkeypatch):
     """The backend rule for small systems: below DENSE_BELOW DOFs ``auto`` chooses the dense
     factorisation without consulting the sparse backends, so MKL is never located or loaded

@@ -1180,6 +1180,9 @@ class _DynamicRun:
         self.cond = Condensed.from_system(dataclasses.replace(
             system, K=_Newmark(self.dt0, self.alpha).stiffness(K, M, C)), backend)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
+        # every step solves with K̂: PARDISO keeps a full factorisation for the solves beside
+        # the partial one G was read off (one call per solve instead of three)
+        getattr(self.cond.factor, "for_many_solves", lambda: None)()
         self.solve_hat = _direct_solve(self.cond.factor)  # K̂⁻¹ b on the free DOFs
         self.t_setup = t0.counters("setup")
 

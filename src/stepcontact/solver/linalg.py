@@ -213,6 +213,7 @@ class _Pardiso:
         self.pt, self.iparm = self._handle()
         self._perm = np.zeros(0, np.int32)  # no Schur complement: perm is not read
         self._schur = None
+        self._full = None  # a second, full factorisation for the solves (for_many_solves)
         try:
             if self.last is None or not len(self.last):
                 self._call(self.pt, self.iparm, 12, self._perm, np.zeros(1), np.zeros(1), 1)
@@ -265,15 +266,34 @@ class _Pardiso:
                                + (" (matrix not positive definite: singular)"
                                   if err.value == -4 else ""))
 
+    def for_many_solves(self) -> None:
+        """Keep, beside the partial factorisation, a full one that serves the solves (phase 33:
+        one call instead of the block elimination's three and a dense solve): a driver that
+        solves at every step (dynamics) pays a second factorisation once to halve the cost of
+        each solve (measured on the dynamic slab: 0.59 → 0.32 ms per solve at 5.5k DOFs)."""
+        if self._schur is None or self._full is not None:
+            return
+        pt, iparm = self._handle()
+        try:
+            self._call(pt, iparm, 12, np.zeros(0, np.int32), np.zeros(1), np.zeros(1), 1)
+        except BaseException:
+            if pt.any():
+                self._call(pt, iparm, -1, np.zeros(0, np.int32), np.zeros(1), np.zeros(1), 1)
+            raise
+        self._full = (pt, iparm)
+
     def solve(self, b: np.ndarray) -> np.ndarray:
         """K⁻¹ b for a vector or a block (n, k): phase 33, or with a Schur complement the
-        block elimination of the class docstring (phases 331 and 333 around x_c = S⁻¹ y_c)."""
+        block elimination of the class docstring (phases 331 and 333 around x_c = S⁻¹ y_c)
+        unless a full factorisation is kept for the solves (:meth:`for_many_solves`)."""
         b = np.asarray(b, dtype=float)
         bf = np.asfortranarray(b.reshape(self.n, -1))
         k = bf.shape[1]
         x = np.zeros_like(bf)
-        if self._schur is None:
-            self._call(self.pt, self.iparm, 33, self._perm, bf, x, k)
+        if self._schur is None or self._full is not None:
+            pt, iparm = self._full if self._full is not None else (self.pt, self.iparm)
+            perm = self._perm if self._full is None else np.zeros(0, np.int32)
+            self._call(pt, iparm, 33, perm, bf, x, k)
             return x.reshape(b.shape)
         y = np.zeros_like(bf)
         self._call(self.pt, self.iparm, 331, self._perm, bf, y, k)
@@ -300,6 +320,10 @@ class _Pardiso:
         if self.pt.any():
             self._call(self.pt, self.iparm, -1, self._perm, np.zeros(1), np.zeros(1), 1)
             self.pt[:] = 0
+        if self._full is not None and self._full[0].any():
+            pt, iparm = self._full
+            self._call(pt, iparm, -1, np.zeros(0, np.int32), np.zeros(1), np.zeros(1), 1)
+            pt[:] = 0
 
     def __del__(self) -> None:
         try:
