@@ -206,6 +206,21 @@ def test_large_model_keeps_the_sparse_backend():
 
 
 # ---- PARDISO: one factorisation for the Schur complement and the solves ---------------------
+def _pardiso_phases(monkeypatch) -> list[int]:
+    """The PARDISO phases called from now on, in order (a spy on ``_Pardiso._call``)."""
+    from stepcontact.solver import linalg
+
+    phases: list[int] = []
+    call = linalg._Pardiso._call
+
+    def spy(self, pt, iparm, phase, *args):
+        phases.append(int(phase))
+        return call(self, pt, iparm, phase, *args)
+
+    monkeypatch.setattr(linalg._Pardiso, "_call", spy)
+    return phases
+
+
 @pytest.mark.skipif("pypardiso" not in available_backends(),
                     reason="MKL PARDISO (pypardiso and mkl_rt) is not installed")
 @pytest.mark.parametrize("spread", [False, True], ids=["contact DOFs", "scattered DOFs"])
@@ -218,7 +233,6 @@ def test_pardiso_schur_complement_and_solves_share_one_factorisation(monkeypatch
     2e-14 for the solves).  Also with a set of "last" DOFs scattered over the model (every 7th
     DOF), not a separator."""
     from stepcontact.fem.assembly import assemble
-    from stepcontact.solver import linalg
     from stepcontact.solver.condensation import contact_dofs, static_operator
 
     K0, Bf, *_ = static_operator(assemble(_block_model(2)))
@@ -226,14 +240,7 @@ def test_pardiso_schur_complement_and_solves_share_one_factorisation(monkeypatch
     B = sp.csr_matrix(np.eye(K0.shape[0])[last[::3]]) if spread else Bf
     Kd = K0.toarray()
     ref = B @ np.linalg.solve(Kd, B.T.toarray())
-    phases = []
-    call = linalg._Pardiso._call
-
-    def spy(self, pt, iparm, phase, *args):
-        phases.append(int(phase))
-        return call(self, pt, iparm, phase, *args)
-
-    monkeypatch.setattr(linalg._Pardiso, "_call", spy)
+    phases = _pardiso_phases(monkeypatch)
     F = factorize(K0, "pypardiso", last=last)
     assert F.can_condense(B)
     G = F.condensed(B)
@@ -256,19 +263,11 @@ def test_pardiso_for_many_solves_keeps_a_full_factorisation_for_the_solves(monke
     against numpy's dense solve, 1e-12 relative (K₀ of the block model, condition about 1e3);
     the phases called: 12 (partial, with Schur), 12 (full, once), then 33 per solve."""
     from stepcontact.fem.assembly import assemble
-    from stepcontact.solver import linalg
     from stepcontact.solver.condensation import contact_dofs, static_operator
 
     K0, Bf, *_ = static_operator(assemble(_block_model(2)))
     Kd = K0.toarray()
-    phases = []
-    call = linalg._Pardiso._call
-
-    def spy(self, pt, iparm, phase, *args):
-        phases.append(int(phase))
-        return call(self, pt, iparm, phase, *args)
-
-    monkeypatch.setattr(linalg._Pardiso, "_call", spy)
+    phases = _pardiso_phases(monkeypatch)
     F = factorize(K0, "pypardiso", last=contact_dofs(Bf))
     F.for_many_solves()
     F.for_many_solves()  # (once is enough: a second call does nothing)
