@@ -326,11 +326,12 @@ def test_3d_stages_give_the_program_result_and_results_know_no_rotation():
         r1.reaction_history(top, "rz")
 
 
-def test_water_loads_on_a_3d_body_are_refused():
+def test_crack_water_on_a_3d_body_is_refused():
+    """Water loads on faces work in 3D (tests/test_water3d.py); water in joints not yet."""
     m = sc.Model(bodies=(_solid(),))
-    _raises(lambda: m.add(sc.LoadPattern("water", [
-        sc.WaterLoad(m.select("solid", boundary="left"), level=1.0)])),
-        "load pattern 'water' load 0", "water loads on 3D bodies are not available yet")
+    _raises(lambda: m.add(sc.LoadPattern("water", [sc.CrackWater("base")])),
+            "load pattern 'water' load 0", "uplift and crack water on 3D bodies are not "
+            "available yet")
 
 
 def test_pressure_function_on_faces_integrates_exactly():

@@ -20,7 +20,7 @@ from stepcontact.contact.geometry import ContactElements, build_contact
 from stepcontact.errors import ModelError
 from stepcontact.fem import continuum as _fem
 from stepcontact.fem.discrete import assemble_discrete
-from stepcontact.fem.level import is_level_pattern, level_basis
+from stepcontact.fem.level import facet_water_forces, is_level_pattern, level_basis
 from stepcontact.fem.system import DofMap, LoadVectors, System, reaction_rows
 from stepcontact.model import (
     Body,
@@ -290,6 +290,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             continue  # water in opened joints: a load of the contact state (fem.crack)
         elif getattr(ld, "through", "faces") == "cfes":
             continue  # an uplift through the CFEs: added with the contact operator (assemble)
+        elif hasattr(ld, "follows_level") and model.body(ld.nodes.body).dim == 3:
+            f += facet_water_forces(model, dofs, ld, item)  # exact on the wet facets
         elif hasattr(ld, "edge_loads"):  # WaterLoad, Uplift (stepcontact.model.water)
             from stepcontact.fem._edge_kinks import water_forces
 

@@ -74,8 +74,8 @@ def _check_stiffness_ratio(bodies: Sequence) -> None:
 
 def _check_dimension(model: Model) -> None:
     """All bodies of one dimension; a 3D model has no 2D-only items (frames, the plane and
-    thickness options, interfaces and rigid obstacles, dynamics, water loads: not available in
-    3D yet)."""
+    thickness options, interfaces and rigid obstacles, dynamics, uplift and crack water: not
+    available in 3D yet)."""
     solids = [b for b in model.bodies if getattr(b, "dim", 2) == 3]
     if not solids:
         return
@@ -100,10 +100,11 @@ def _check_dimension(model: Model) -> None:
         raise ModelError("model.dynamics", "dynamics of 3D bodies is not available yet")
     for p in model.patterns:
         for i, ld in enumerate(p.loads):
-            if hasattr(ld, "edge_loads") or getattr(ld, "in_crack", False):
+            water = hasattr(ld, "follows_level")  # WaterLoad: on faces of 3D bodies too
+            if (hasattr(ld, "edge_loads") and not water) or getattr(ld, "in_crack", False):
                 raise ModelError(f"load pattern '{p.name}' load {i}", f"{type(ld).__name__} "
-                                 "acts on 2D bodies only: water loads on 3D bodies are not "
-                                 "available yet")
+                                 "acts on 2D bodies only: uplift and crack water on 3D "
+                                 "bodies are not available yet")
 
 
 @dataclass(frozen=True, eq=False)

@@ -356,7 +356,7 @@ class StaticSolver:
         now = np.array([self.c[n] for n in path.basis.names])
         start = path.basis.factors(lam0)
         if np.abs(start - now).max(initial=0) > 1e-12 * max(np.abs(start).max(initial=0), 1.0):
-            low = float(path.basis.y.min())
+            low = float(path.basis.levels.min())
             raise ModelError(item, f"the water level starts at {lam0:g} m, where it already "
                              f"loads the structure (its wetted faces reach down to y = {low:g} "
                              "m): start the level at or below that, or let an earlier segment "
