@@ -24,8 +24,7 @@ The CFE kinematics are those of 2D with two tangents: u_τ = (t₁, t₂) · (u�
 u_n = −n · (u⁺ − u⁻) − g⁰, forces N ≤ 0 in compression and Q = (Q₁, Q₂) with |Q| ≤ −f N
 (conditions (1) of the article, on the faceted cone of :mod:`stepcontact.contact.faceted`).
 
-Internal: no user-facing API yet.  The 3D bodies and the 3D :class:`ContactElements` will be
-built on this module; until then nothing outside the tests calls it.
+The CFEs of 3D interfaces are built on this module by :mod:`stepcontact.contact.interface3d`.
 """
 
 from __future__ import annotations
