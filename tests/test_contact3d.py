@@ -334,3 +334,53 @@ def test_3d_refusals_name_the_item():
         two.add(sc.Interface("j", two.select("b", y=0), sc.RigidPlane("p")))
     with pytest.raises(sc.ModelError, match="facets"):
         sc.Interface("j", two.select("b", y=0), line, facets=2)
+
+
+# --------------------------------------------------------------------------------------------
+# the contact patch test (mortar)
+# --------------------------------------------------------------------------------------------
+def pressed_blocks(lower: tuple[str, int], upper: tuple[str, int], P: float = 1e6) -> sc.Model:
+    """Two 1 × 1 × 0.5 m blocks one on the other, n × n × 1 cells of the given elements each
+    (non-matching meshes), mortar CFEs (f = 0.5), pressed by a total force P (N) spread
+    uniformly over the top; rollers on the planes x = 0, y = 0 and under the lower block:
+    uniaxial stress σ_zz = −P / 1 m² in both, no friction needed (same material)."""
+    mat = sc.Material(30e9, 0.25, RHO)
+    lo = sc.box("lower", (0, 0, -0.5), (1, 1, 0), (lower[1], lower[1], 1), mat, lower[0])
+    up = sc.box("upper", (0, 0, 0), (1, 1, 0.5), (upper[1], upper[1], 1), mat, upper[0])
+    m = sc.Model(bodies=(lo, up))
+    rollers = [sc.Support(f"{b}_{face}", m.select(b, boundary=face), d)
+               for b in ("lower", "upper") for face, d in (("left", "x"), ("front", "y"))]
+    return m.add(
+        sc.Support("bed", m.select("lower", boundary="bottom"), "z"), *rollers,
+        sc.Interface("joint", m.select("upper", boundary="bottom"),
+                     m.select("lower", boundary="top"), friction=F, cfe="mortar"),
+        sc.LoadPattern("press", [sc.EdgeForce(m.select("upper", boundary="top"), fz=-P)]),
+        sc.Segment("press", 1.0))
+
+
+@pytest.mark.parametrize("lower, upper", [
+    (("hex8", 2), ("hex8", 3)), (("hex8", 3), ("hex8", 2)),
+    (("tet4", 2), ("tet4", 3)), (("tet4", 3), ("tet4", 2)),
+    (("hex8", 3), ("tet4", 2)), (("hex27", 1), ("hex27", 2))])
+def test_contact_patch_test_non_matching_meshes(lower, upper):
+    """A uniform pressure p = P / 1 m² passes exactly through non-matching meshes, the finer
+    side on top or below, hexahedra and tetrahedra (and quadratic hex27): at every mortar CFE
+    σ_n = N / A_k = −p, the CFE areas add up to the 1 m² overlap, Q = 0, and every element of
+    both blocks has σ_zz = −p and no other stress — all to 1e-6 of p (measured: ~1e-14)."""
+    P = 1e6
+    res = sc.solve_static(pressed_blocks(lower, upper, P))
+    assert res.status == sc.Status.COMPLETED, res.message
+    N, A, Q = np.asarray(res.N)[-1], np.asarray(res.cfe["area"]), np.asarray(res.Q_t)[-1]
+    assert np.abs(N / A / P + 1).max() <= 1e-6
+    assert A.sum() == pytest.approx(1.0, rel=1e-12)
+    assert np.abs(Q).max() <= 1e-6 * P * A.min()
+    for body, sigma in res.stress(-1).items():
+        assert np.abs(sigma[:, 2] / P + 1).max() <= 1e-6, body
+        assert np.abs(sigma[:, [0, 1, 3, 4, 5]]).max() <= 1e-6 * P, body
+
+
+def test_mortar_between_quadratic_serendipity_faces_is_refused_by_name():
+    """tet10/hex20 faces (tri6, quad8: corner nodes with ∫ φ ≤ 0) on both sides give no dual
+    mortar CFEs: a ModelError naming the interface."""
+    with pytest.raises(sc.ModelError, match="interface 'joint'.*tri6"):
+        sc.solve_static(pressed_blocks(("tet10", 1), ("tet10", 2)))

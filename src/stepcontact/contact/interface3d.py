@@ -130,6 +130,11 @@ def _mortar(model: Model, itf: Interface, splus: Surface, sminus: Surface) -> di
     bp, bm = model.body(itf.plus.body), model.body(itf.minus.body)
     off = model.node_offsets
     axis = None if itf.axis is None else np.asarray(itf.axis, float)
+    if splus.kind not in MORTAR_KINDS and sminus.kind not in MORTAR_KINDS:
+        raise ModelError(f"interface '{itf.name}'", f"mortar CFEs need tri3, quad4 or quad9 "
+                         f"faces on one side at least; both sides have '{splus.kind}' and "
+                         f"'{sminus.kind}' faces (tet10/hex20 bodies), whose corner nodes have "
+                         "∫ φ ≤ 0: not available yet (mesh one side with tet4, hex8 or hex27)")
     if _coarser_side(splus, sminus):
         mo = mortar(splus, sminus, axis)
         n_m, wm = _ends(mo.cols, mo.weights, off[bm.name])
