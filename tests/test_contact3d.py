@@ -112,15 +112,21 @@ def test_block_on_a_rough_plane_slides_at_the_polygon_limit(k):
         assert_block_statics(model, res)
 
 
-@pytest.mark.parametrize("base, cfe", [((2, 2, 1), "node-to-node"), ((2, 2, 1), "auto"),
-                                       ((3, 3, 1), "mortar"), ((3, 3, 1), "node-to-segment"),
-                                       ((4, 4, 1), "auto")])
-def test_block_on_a_base_slides_at_the_polygon_limit(base, cfe):
+@pytest.mark.parametrize("base, cfe, element", [
+    ((2, 2, 1), "node-to-node", "hex8"), ((2, 2, 1), "auto", "hex8"),
+    ((3, 3, 1), "mortar", "hex8"), ((3, 3, 1), "node-to-segment", "hex8"),
+    ((4, 4, 1), "auto", "hex8"), ((3, 3, 1), "mortar", "tet4"),
+    ((3, 3, 1), "mortar", "hex27")])
+def test_block_on_a_base_slides_at_the_polygon_limit(base, cfe, element):
     """The block on an elastic base fixed at its bottom, CFEs node-to-node (a base whose top
     matches the block: also what 'auto' chooses), mortar and node-to-facet (non-matching), and
-    'auto' on a larger base (mortar: S− has nodes S+ has not, as in 2D): sliding at
-    f W cos(π/k) / cos(θ − θ_f), k = 8, θ = 0.3, to 1e-9 relative; the kind chosen is the
-    one asked for (node-to-node: one node at each end; otherwise an end interpolated)."""
+    'auto' on a larger base (mortar: S− has nodes S+ has not, as in 2D), on hexahedra,
+    tetrahedra and hex27: sliding at f W cos(π/k) / cos(θ − θ_f), k = 8, θ = 0.3, to 1e-9
+    relative, with equilibrium and the contact conditions to 1e-9 at every state; the kind
+    chosen is the one asked for (node-to-node: one node at each end; otherwise an end
+    interpolated).  The mortar CFEs sit on the block's face: the base's coarser facets face
+    it only in part (a dual basis fitted to slivers of quad9 facets lost equilibrium to
+    ~1e-7 here)."""
     k, theta = 8, 0.3
     if base == (2, 2, 1):  # a base of the block's own footprint: the meshes match
         model = block_model(k, theta, base=None)
@@ -131,7 +137,7 @@ def test_block_on_a_base_slides_at_the_polygon_limit(base, cfe):
             sc.Interface("joint", model.select("block", boundary="bottom"),
                          model.select("base", boundary="top"), friction=F, facets=k, cfe=cfe))
     else:
-        model = block_model(k, theta, base=base, cfe=cfe)
+        model = block_model(k, theta, base=base, cfe=cfe, element=element)
     res = sc.solve_static(model)
     assert res.status == sc.Status.EQUILIBRIUM_LOST, res.message
     assert res.lam[-1] == pytest.approx(fr.slip_limit(F * W, k, theta), rel=TOL)
@@ -142,6 +148,8 @@ def test_block_on_a_base_slides_at_the_polygon_limit(base, cfe):
         assert np.all(ends == 1)
     else:
         assert ends.max() > 1
+    if cfe == "mortar":  # on the block's nodes: S+ ends are single nodes
+        assert np.all(np.count_nonzero(np.asarray(res.cfe["plus_nodes"]) >= 0, axis=1) == 1)
 
 
 def test_loading_from_zero_every_cfe_closed_and_stuck():

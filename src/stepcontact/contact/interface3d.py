@@ -13,10 +13,12 @@ and bonds (eq. (12)) as in 2D.  How a CFE joins S+ to S− (``Interface.cfe``):
 * ``"node-to-segment"`` (node-to-facet in 3D): each S+ node to its closest point on an S−
   facet, interpolated from that facet's nodes (:func:`~stepcontact.contact.surface3d.
   project_points`);
-* ``"mortar"``: segment-based mortar with dual weights on the coarser side's nodes
-  (:func:`~stepcontact.contact.surface3d.mortar`): a CFE at each node of the side with the
-  larger mean facet area, its other end the row D⁻¹ M of the facets opposite, its area
-  D_i = ∫ φ_i dA; a uniform pressure passes exactly between non-matching meshes;
+* ``"mortar"``: segment-based mortar with dual weights (:func:`~stepcontact.contact.
+  surface3d.mortar`): a CFE at each node of the coarser side (larger mean facet area, as in
+  2D), or of the other side when some facets of the coarser one face it only in part and
+  none of its own do (a block's face on a larger base); its other end the row D⁻¹ M of the
+  facets opposite, its area D_i = ∫ φ_i dA; a uniform pressure passes exactly between
+  non-matching meshes;
 * ``"auto"``: node-to-node where the meshes match, mortar otherwise.
 
 Against a :class:`~stepcontact.model.obstacle.RigidPlane` every S+ node gets a CFE to the
@@ -103,13 +105,33 @@ def _positive_areas(item: str, surf: Surface, nodes: np.ndarray) -> np.ndarray:
     return a
 
 
-def _coarser_side(splus: Surface, sminus: Surface) -> bool:
-    """True when the mortar CFEs go on S+: the side with the larger mean facet area (S+ on a
-    tie), among the sides whose facets can carry them (:data:`MORTAR_KINDS`)."""
+def _partly_faced(overlap: np.ndarray, areas: np.ndarray) -> bool:
+    """Does a facet face the other side only in part (its ``overlap`` neither its whole area
+    nor nothing, to 1e-9; m²)?  Its dual functions are then fitted to that part."""
+    return bool(np.any((overlap > 1e-9 * areas) & (overlap < (1 - 1e-9) * areas)))
+
+
+def _mortar_sides(splus: Surface, sminus: Surface, axis):
+    """The mortar CFEs on one side: (on S+?, :class:`~stepcontact.contact.surface3d.Mortar`).
+
+    Among the sides whose facets can carry them (:data:`MORTAR_KINDS`), the coarser one (the
+    larger mean facet area, S+ on a tie, as in 2D), unless some of its facets face the other
+    side only in part and none of the other's do (a block's face on a larger base): then the
+    other one, so that no dual function is fitted to a sliver of a facet."""
     ok_p, ok_m = splus.kind in MORTAR_KINDS, sminus.kind in MORTAR_KINDS
     if ok_p != ok_m:
-        return ok_p
-    return float(splus.areas.mean()) >= float(sminus.areas.mean()) * (1 - 1e-9)
+        first = ok_p
+    else:
+        first = float(splus.areas.mean()) >= float(sminus.areas.mean()) * (1 - 1e-9)
+    order = (True, False) if first else (False, True)
+    tries = []
+    for on_plus in order if ok_p == ok_m else order[:1]:
+        mo = mortar(splus, sminus, axis) if on_plus else mortar(sminus, splus, axis)
+        side = splus if on_plus else sminus
+        if not _partly_faced(mo.facet_overlap, side.areas):
+            return on_plus, mo
+        tries.append((on_plus, mo))
+    return tries[0]
 
 
 def _obstacle(model: Model, itf: Interface, splus: Surface, nodes: np.ndarray) -> dict:
@@ -126,7 +148,8 @@ def _obstacle(model: Model, itf: Interface, splus: Surface, nodes: np.ndarray) -
 
 
 def _mortar(model: Model, itf: Interface, splus: Surface, sminus: Surface) -> dict:
-    """Mortar CFEs on the coarser side's nodes (dual weights, D_i their areas)."""
+    """Mortar CFEs on one side's nodes (:func:`_mortar_sides`; dual weights, D_i their
+    areas)."""
     bp, bm = model.body(itf.plus.body), model.body(itf.minus.body)
     off = model.node_offsets
     axis = None if itf.axis is None else np.asarray(itf.axis, float)
@@ -135,12 +158,12 @@ def _mortar(model: Model, itf: Interface, splus: Surface, sminus: Surface) -> di
                          f"faces on one side at least; both sides have '{splus.kind}' and "
                          f"'{sminus.kind}' faces (tet10/hex20 bodies), whose corner nodes have "
                          "∫ φ ≤ 0: not available yet (mesh one side with tet4, hex8 or hex27)")
-    if _coarser_side(splus, sminus):
-        mo = mortar(splus, sminus, axis)
+    on_plus, mo = _mortar_sides(splus, sminus, axis)
+    if on_plus:
         n_m, wm = _ends(mo.cols, mo.weights, off[bm.name])
         return dict(order=mo.nodes, xp=mo.x, xm=mo.x - mo.gap[:, None] * mo.normal,
                     nrm=mo.normal, trib=mo.area, n_m=n_m, wm=wm, geo_gap=mo.gap)
-    mo = mortar(sminus, splus, axis)  # CFEs on the S− nodes: their S+ end the weighted row
+    # CFEs on the S− nodes: their S+ end the weighted row
     n_p, wp = _ends(mo.cols, mo.weights, off[bp.name])
     n_m, wm = _ends(mo.nodes[:, None], np.ones((len(mo.nodes), 1)), off[bm.name])
     nrm = -mo.normal  # S−'s outward normal: from S− to S+
