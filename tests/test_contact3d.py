@@ -317,6 +317,28 @@ def test_a_compliant_layer_settles_by_the_weight_over_its_stiffness():
     assert np.asarray(res.N)[-1].sum() == pytest.approx(-W, rel=TOL)
 
 
+def test_a_bonded_cube_pulled_off_breaks_at_its_tensile_strength():
+    """A one-element cube bonded to a plane (eq. (12), a tension cut-off σ_R), pulled up by a
+    uniform traction on its top: by symmetry each of its 4 corner CFEs carries P/4, so all
+    bonds break together at P = σ_R · 1 m² (1e-9 relative) and the cube lifts off (the
+    mechanism: a translation along +z, 6 rigid modes of a 3D body)."""
+    sig = 2e5
+    cube = sc.box("cube", (0, 0, 0), (1, 1, 1), (1, 1, 1), CONCRETE)
+    m = sc.Model(bodies=(cube,))
+    m = m.add(sc.Interface("glue", m.select("cube", boundary="bottom"), sc.RigidPlane("ground"),
+                           friction=0.6, bond=sc.Bond(tensile=sig, shear=3e5, alpha=0.6,
+                                                      tension_alpha=math.inf)),
+              sc.LoadPattern("pull", [sc.EdgeForce(m.select("cube", boundary="top"), fz=1.0)]),
+              sc.Segment("pull", 1e6))
+    res = sc.solve_static(m)
+    assert res.status == sc.Status.EQUILIBRIUM_LOST, res.message
+    assert [e.transition for e in res.events] == [Transition.BROKEN] * 4
+    for e in res.events:
+        assert e.lam == pytest.approx(sig * 1.0, rel=TOL)
+    assert res.lam[-1] == pytest.approx(sig, rel=TOL)
+    assert [b["mode"] for b in res.mechanism["bodies"]] == ["lift-off"]
+
+
 def test_3d_refusals_name_the_item():
     """What 3D interfaces do not do yet is refused by name: dynamics (naming the interface),
     a 2D obstacle under a 3D body, node pairs, a moving plane; a 2D interface refuses the 3D

@@ -102,7 +102,8 @@ def _mode(engine: EventEngine, cond, system, states: np.ndarray, f: np.ndarray) 
     """Displacement (ndof,) of the mechanism of scheme ``states`` along the load rate ``f``."""
     rel = engine.relations(states, article=False)
     A, scale = engine.schemes.dense(rel)
-    k = min(3 * max(len(system.model.bodies), 1), A.shape[0])
+    per = 6 if system.discrete is None and system.dofs.dim == 3 else 3  # rigid modes a body
+    k = min(per * max(len(system.model.bodies), 1), A.shape[0])
     T = null_modes(A, lu(A), k=k, apply=engine.schemes.exact_apply(rel, scale))
     U = np.column_stack([cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
     work = f @ U
