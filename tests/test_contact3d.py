@@ -364,6 +364,11 @@ def test_3d_refusals_name_the_item():
         two.add(sc.Interface("j", two.select("b", y=0), sc.RigidPlane("p")))
     with pytest.raises(sc.ModelError, match="facets"):
         sc.Interface("j", two.select("b", y=0), line, facets=2)
+    with pytest.raises(sc.ModelError, match="normal"):
+        two.add(sc.Interface("j", two.select("b", y=0), line, normal=(0, 0, 1)))
+    with pytest.raises(sc.ModelError, match="normal"):
+        m.add(sc.Interface("j", m.select("block", boundary="bottom"), sc.RigidPlane("p"),
+                           normal=(0, 1)))
 
 
 # --------------------------------------------------------------------------------------------
@@ -414,3 +419,29 @@ def test_mortar_between_quadratic_serendipity_faces_is_refused_by_name():
     mortar CFEs: a ModelError naming the interface."""
     with pytest.raises(sc.ModelError, match="interface 'joint'.*tri6"):
         sc.solve_static(pressed_blocks(("tet10", 1), ("tet10", 2)))
+
+
+def test_gaps_and_normals_come_from_the_geometry():
+    """Initial gaps g⁰ of the CFEs from the geometry (assembled, no run): above a tilted
+    plane the distance (x⁺ − x₀) · n̂ of each node (1e-12 m); a block 2 mm above a
+    non-matching base, node-to-facet and mortar CFEs, 2 mm at every CFE with n = +z
+    (1e-12); w⁰ = [0; 0; −g⁰] in the contact layout."""
+    blk = sc.box("block", (0, 0, 0.002), (1, 1, 0.5), (2, 2, 1), CONCRETE)
+    m = sc.Model(bodies=(blk,))
+    x0, nrm = np.array([0.0, 0.0, -0.01]), np.array([0.1, 0.0, 1.0])
+    plane = sc.RigidPlane("tilted", point=tuple(x0), normal=tuple(nrm))
+    sysm = assemble(m.add(sc.Interface("j", m.select("block", boundary="bottom"), plane)))
+    xb = blk.points[np.asarray(sysm.cfe.plus_nodes)[:, 0]]
+    np.testing.assert_allclose(sysm.cfe.gap, (xb - x0) @ (nrm / np.linalg.norm(nrm)),
+                               atol=1e-12)
+    lay = sysm.layout
+    np.testing.assert_array_equal(lay.normal(sysm.w0), -sysm.cfe.gap)
+    assert not np.any(lay.tangential(sysm.w0))
+    base = sc.box("base", (-0.5, -0.5, -0.5), (1.5, 1.5, 0.0), (3, 3, 1), CONCRETE)
+    m2 = sc.Model(bodies=(blk, base))
+    m2 = m2.add(sc.Support("bed", m2.select("base", boundary="bottom"), "xyz"))
+    for cfe in ("node-to-segment", "mortar"):
+        s2 = assemble(m2.add(sc.Interface("j", m2.select("block", boundary="bottom"),
+                                          m2.select("base", boundary="top"), cfe=cfe)))
+        np.testing.assert_allclose(s2.cfe.gap, 0.002, atol=1e-12)
+        np.testing.assert_allclose(s2.cfe.normal, np.tile([0, 0, 1.0], (s2.m, 1)), atol=1e-12)

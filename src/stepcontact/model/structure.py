@@ -87,6 +87,9 @@ def _check_interface_dimension(model: Model, dim: int) -> None:
             if isinstance(itf.minus, RigidPlane):
                 raise ModelError(f"{item}.minus", f"obstacle '{itf.minus.name}' is a plane, "
                                  "for 3D bodies: a 2D body meets a RigidObstacle (a polyline)")
+        if itf.normal is not None and len(itf.normal) != dim:
+            raise ModelError(f"{item}.normal", f"is a {len(itf.normal)}-vector, but the model "
+                             f"is {dim}D: give a {dim}-vector")
     if dim == 3:
         for p in model.patterns:
             for i, ld in enumerate(p.loads):
