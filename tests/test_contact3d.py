@@ -445,3 +445,17 @@ def test_gaps_and_normals_come_from_the_geometry():
                                           m2.select("base", boundary="top"), cfe=cfe)))
         np.testing.assert_allclose(s2.cfe.gap, 0.002, atol=1e-12)
         np.testing.assert_allclose(s2.cfe.normal, np.tile([0, 0, 1.0], (s2.m, 1)), atol=1e-12)
+
+
+def test_node_to_facet_makes_no_cfe_beyond_the_border():
+    """A block (4 × 4 faces) overhanging a base that covers x ≤ 0.5 of it: node-to-facet CFEs
+    only at the 3 × 5 block nodes over the base (x ≤ 0.5 m), none on the overhang."""
+    blk = sc.box("block", (0, 0, 0), (1, 1, 0.5), (4, 4, 1), CONCRETE)
+    base = sc.box("base", (0, 0, -0.5), (0.5, 1, 0), (3, 3, 1), CONCRETE)
+    m = sc.Model(bodies=(blk, base))
+    m = m.add(sc.Support("bed", m.select("base", boundary="bottom"), "xyz"),
+              sc.Interface("j", m.select("block", boundary="bottom"),
+                           m.select("base", boundary="top"), cfe="node-to-segment"))
+    sysm = assemble(m)
+    assert sysm.m == 15
+    assert np.asarray(sysm.cfe.x)[:, 0].max() == pytest.approx(0.5, abs=1e-12)

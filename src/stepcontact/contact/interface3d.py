@@ -12,7 +12,7 @@ and bonds (eq. (12)) as in 2D.  How a CFE joins S+ to S− (``Interface.cfe``):
   outward normal there;
 * ``"node-to-segment"`` (node-to-facet in 3D): each S+ node to its closest point on an S−
   facet, interpolated from that facet's nodes (:func:`~stepcontact.contact.surface3d.
-  project_points`);
+  project_points`); S+ nodes beyond S−'s border get none;
 * ``"mortar"``: segment-based mortar with dual weights (:func:`~stepcontact.contact.
   surface3d.mortar`): a CFE at each node of the coarser side (larger mean facet area, as in
   2D), or of the other side when some facets of the coarser one face it only in part and
@@ -205,7 +205,7 @@ def interface_parts(model: Model, itf: Interface, tol: float) -> dict:
         if parts is None and itf.cfe in ("auto", "mortar"):
             parts = _mortar(model, itf, splus, sminus)
         if parts is None:
-            parts = _node_to_facet(model, itf, splus, sminus, nodes)
+            parts = _node_to_facet(model, itf, splus, sminus, nodes, tol)
     m = len(parts["order"])
     given = _given_normal(itf, m)
     if given is not None:
@@ -238,15 +238,23 @@ def _node_to_node(model: Model, itf: Interface, splus: Surface, sminus: Surface,
 
 
 def _node_to_facet(model: Model, itf: Interface, splus: Surface, sminus: Surface,
-                   nodes: np.ndarray) -> dict:
-    """Each S+ node joined to its closest point on S−, interpolated from that facet's nodes."""
+                   nodes: np.ndarray, tol: float) -> dict:
+    """Each S+ node joined to its closest point on S−, interpolated from that facet's nodes.
+    S+ nodes whose closest point is on S−'s border but not along its normal (beyond the
+    border, an overhang) get no CFE, as S+ nodes beyond the ends of a 2D obstacle."""
+    item = f"interface '{itf.name}'"
     bm = model.body(itf.minus.body)
-    xp = splus.points[nodes]
-    proj = project_points(xp, sminus)
-    n_m, wm = _ends(proj.nodes, proj.weights, model.node_offsets[bm.name])
-    return dict(order=nodes, xp=xp, xm=proj.x_minus, nrm=proj.normal,
-                trib=_positive_areas(f"interface '{itf.name}'", splus, nodes), n_m=n_m, wm=wm,
-                geo_gap=proj.gap)
+    trib = _positive_areas(item, splus, nodes)
+    proj = project_points(splus.points[nodes], sminus)
+    off = (splus.points[nodes] - proj.x_minus) - proj.gap[:, None] * proj.normal
+    keep = np.linalg.norm(off, axis=1) <= tol
+    if not keep.any():
+        raise ModelError(f"{item}.plus", "no node of S+ lies over S- (every one is beyond its "
+                         "border)")
+    nodes, trib = nodes[keep], trib[keep]
+    n_m, wm = _ends(proj.nodes[keep], proj.weights[keep], model.node_offsets[bm.name])
+    return dict(order=nodes, xp=splus.points[nodes], xm=proj.x_minus[keep],
+                nrm=proj.normal[keep], trib=trib, n_m=n_m, wm=wm, geo_gap=proj.gap[keep])
 
 
 __all__ = ["face_surface", "interface_parts"]
