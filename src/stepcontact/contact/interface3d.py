@@ -210,7 +210,8 @@ def interface_parts(model: Model, itf: Interface, tol: float) -> dict:
     given = _given_normal(itf, m)
     if given is not None:
         parts["nrm"] = given
-        parts["geo_gap"] = np.einsum("ij,ij->i", parts["xp"] - parts["xm"], given)
+        if "plus" not in parts:  # (mortar CFEs on S−: the gap stays the distance to S+)
+            parts["geo_gap"] = np.einsum("ij,ij->i", parts["xp"] - parts["xm"], given)
     basis = local_basis(parts["nrm"], axis) if m else np.zeros((0, 3, 3))
     parts["nrm"] = basis[:, 2]
     parts["tan"] = basis[:, :2]
