@@ -459,3 +459,21 @@ def test_node_to_facet_makes_no_cfe_beyond_the_border():
     sysm = assemble(m)
     assert sysm.m == 15
     assert np.asarray(sysm.cfe.x)[:, 0].max() == pytest.approx(0.5, abs=1e-12)
+
+
+def test_program_path_stages_and_a_shared_condensation():
+    """The same 3D model through the program path (sc.run), in two construction stages (the
+    base, then the block with its joint and the program) and with another friction on one
+    condensation (sc.condense, Model.with_friction): each slides at f W cos(π/k) /
+    cos(θ − θ_f) for its f (1e-9 relative)."""
+    k, theta = 8, 0.3
+    model = block_model(k, theta, base=(3, 3, 1), cfe="mortar")
+    ref = fr.slip_limit(F * W, k, theta)
+    assert sc.run(model).static.lam[-1] == pytest.approx(ref, rel=TOL)
+    staged = model.replace(program=(), stages=(
+        sc.Stage("base", bodies=("base",), supports=("bed",)),
+        sc.Stage("block", bodies=("block",), interfaces=("joint",), program=model.program)))
+    assert sc.solve_static(staged).lam[-1] == pytest.approx(ref, rel=TOL)
+    cond = sc.condense(model)
+    res = sc.solve_static(model.with_friction(0.3), condensation=cond)
+    assert res.lam[-1] == pytest.approx(fr.slip_limit(0.3 * W, k, theta), rel=TOL)
