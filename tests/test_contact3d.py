@@ -116,7 +116,7 @@ def test_block_on_a_rough_plane_slides_at_the_polygon_limit(k):
     ((2, 2, 1), "node-to-node", "hex8"), ((2, 2, 1), "auto", "hex8"),
     ((3, 3, 1), "mortar", "hex8"), ((3, 3, 1), "node-to-segment", "hex8"),
     ((4, 4, 1), "auto", "hex8"), ((3, 3, 1), "mortar", "tet4"),
-    ((3, 3, 1), "mortar", "hex27")])
+    pytest.param((3, 3, 1), "mortar", "hex27", marks=pytest.mark.slow)])
 def test_block_on_a_base_slides_at_the_polygon_limit(base, cfe, element):
     """The block on an elastic base fixed at its bottom, CFEs node-to-node (a base whose top
     matches the block: also what 'auto' chooses), mortar and node-to-facet (non-matching), and
