@@ -46,7 +46,7 @@ from stepcontact.model.mesh import (
     rotate,
     translate,
 )
-from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
@@ -113,6 +113,7 @@ __all__ = [
     "ObstacleMotion",
     "PrescribedDisplacement",
     "RigidObstacle",
+    "RigidPlane",
     "Segment",
     "cycles",
     "SlipTreatment",

@@ -30,6 +30,7 @@ from stepcontact.contact.boundary import (
     outward_normals,
     tributary_lengths,
 )
+from stepcontact.contact.interface3d import interface_parts
 from stepcontact.contact.layout import ContactLayout
 from stepcontact.errors import ModelError
 from stepcontact.model import Body, Frame, Interface, Model, RigidObstacle
@@ -191,9 +192,16 @@ def _project(x: np.ndarray, a: np.ndarray, b: np.ndarray):
 
 
 def interface_elements(model: Model, itf: Interface) -> dict[str, np.ndarray]:
-    """Arrays of the CFEs of one interface (see :class:`ContactElements`)."""
+    """Arrays of the CFEs of one interface (see :class:`ContactElements`); those of a 3D
+    model from :func:`stepcontact.contact.interface3d.interface_parts`."""
     item = f"interface '{itf.name}'"
     bp = model.body(itf.plus.body)
+    if model.dim == 3:
+        scale = max(1.0, float(np.ptp(model.points, axis=0).max()))
+        p = interface_parts(model, itf, 1e-9 * scale)
+        return _finish(model, itf, p["order"], p["xp"], p["xm"], p["nrm"], p["s"], p["trib"],
+                       p["n_m"], p["wm"], 1e-9 * scale, scale, plus=p.get("plus"),
+                       geo_gap=p["geo_gap"], tan=p["tan"])
     obstacle = isinstance(itf.minus, RigidObstacle)
     bm = None if obstacle else model.body(itf.minus.body)
     model.global_nodes(itf.plus)
@@ -824,17 +832,19 @@ def _pair_elements(model: Model, itf: Interface, order, xp, s, trib, tol, scale)
 
 def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, tol, scale,
             plus: tuple[np.ndarray, np.ndarray] | None = None,
-            geo_gap: np.ndarray | None = None):
-    """Gaps, areas, layer stiffnesses and the S+ ends: the arrays of one interface.
+            geo_gap: np.ndarray | None = None, tan: np.ndarray | None = None):
+    """Gaps, areas, layer stiffnesses and the S+ ends: the arrays of one interface (2D or 3D).
 
     ``plus`` = (nodes, weights) of the S+ ends when they are not the S+ nodes themselves
-    (mortar CFEs); ``geo_gap`` their geometric gap when it is not (x⁺ − x⁻)·n.
+    (mortar CFEs); ``geo_gap`` their geometric gap when it is not (x⁺ − x⁻)·n; ``tan`` the
+    tangents (m, 2, 3) of 3D CFEs (2D: t = (n_y, −n_x)).
     """
     item = f"interface '{itf.name}'"
     bp = model.body(itf.plus.body)
     off = model.node_offsets
     m = len(order)
-    tan = np.column_stack([nrm[:, 1], -nrm[:, 0]])
+    if tan is None:
+        tan = np.column_stack([nrm[:, 1], -nrm[:, 0]])
     if geo_gap is None:
         geo_gap = np.einsum("ij,ij->i", xp - xm, nrm)
     if itf.gap is None:
@@ -843,7 +853,7 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
         if bad.size:
             k = int(bad[0])
             raise ModelError(
-                f"{item} CFE {k} at ({xp[k, 0]:.6g}, {xp[k, 1]:.6g})",
+                f"{item} CFE {k} at {_point(xp[k])}",
                 f"S+ penetrates {minus_label(itf)} by {-gap[k]:.3g} m; give a gap or fix the "
                 "geometry" + (" (or the obstacle's side: the bodies lie on its left, walking "
                               "along its points, unless side='right')"
@@ -852,7 +862,7 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
         gap = np.maximum(gap, 0.0)
         gap[np.abs(gap) <= tol] = 0.0
     elif callable(itf.gap):
-        gap = np.asarray(itf.gap(xp[:, 0], xp[:, 1]), float) * np.ones(m)
+        gap = np.asarray(itf.gap(*xp.T), float) * np.ones(m)
         if np.any(~np.isfinite(gap)) or np.any(gap < 0):
             k = int(np.flatnonzero(~(np.isfinite(gap) & (gap >= 0)))[0])
             raise ModelError(f"{item}.gap", f"gap function gives {gap[k]} at CFE {k}")
@@ -878,7 +888,7 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
         if np.any(open_):
             k = int(np.flatnonzero(open_)[0])
             raise ModelError(f"{item}.bond", f"a bonded joint must be closed: CFE {k} at "
-                             f"({xp[k, 0]:g}, {xp[k, 1]:g}) has a gap of {gap[k]:g} m")
+                             f"{_point(xp[k])} has a gap of {gap[k]:g} m")
         bond = itf.bond.arrays(xp, area, item)
         if itf.bond.friction is not None:
             friction[:] = float(itf.bond.friction)
@@ -912,6 +922,11 @@ def _finish(model: Model, itf: Interface, order, xp, xm, nrm, s, trib, n_m, wm, 
 
 
 
+def _point(x: np.ndarray) -> str:
+    """A point (x, y) or (x, y, z) for a message, m."""
+    return "(" + ", ".join(f"{v:.6g}" for v in x) + ")"
+
+
 def minus_label(itf: Interface) -> str:
     """``S-`` or ``obstacle 'NAME'`` (the S− side of an interface, for messages)."""
     return f"obstacle '{itf.minus.name}'" if isinstance(itf.minus, RigidObstacle) else "S-"
@@ -931,4 +946,15 @@ def build_contact(model: Model) -> ContactElements:
             p[key] = _widen(p[key], width, fill)
     cat = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
     iface = np.concatenate([np.full(len(p["local"]), i) for i, p in enumerate(parts)])
-    return ContactElements(names=tuple(i.name for i in model.interfaces), interface=iface, **cat)
+    names = tuple(i.name for i in model.interfaces)
+    if model.dim != 3:
+        return ContactElements(names=names, interface=iface, **cat)
+    # 3D: two tangential components on the faceted cone of the interfaces' k facets
+    counts = {i.facet_count() for i in model.interfaces}
+    if len(counts) > 1:
+        raise ModelError(f"interface '{model.interfaces[-1].name}'.facets", "the interfaces of "
+                         f"a model share one facet count k, got {sorted(counts)}")
+    angle = np.concatenate([np.full(len(p["local"]), float(i.facet_angle))
+                            for i, p in zip(model.interfaces, parts, strict=True)])
+    return ContactElements(names=names, interface=iface, **cat, n_t=2, facets=counts.pop(),
+                           facet_angle=angle)

@@ -24,8 +24,7 @@ The CFE kinematics are those of 2D with two tangents: u_τ = (t₁, t₂) · (u�
 u_n = −n · (u⁺ − u⁻) − g⁰, forces N ≤ 0 in compression and Q = (Q₁, Q₂) with |Q| ≤ −f N
 (conditions (1) of the article, on the faceted cone of :mod:`stepcontact.contact.faceted`).
 
-Internal: no user-facing API yet.  The 3D bodies and the 3D :class:`ContactElements` will be
-built on this module; until then nothing outside the tests calls it.
+The CFEs of 3D interfaces are built on this module by :mod:`stepcontact.contact.interface3d`.
 """
 
 from __future__ import annotations
@@ -725,6 +724,9 @@ class Mortar:
     gap : (m,) float
         The initial gap at each node, its signed distance to S− (:func:`project_points`: > 0
         apart), m; at the node, not a weighted mean, as for the 2D mortar CFEs.
+    facet_overlap : (F⁺,) float
+        The area of each S+ facet that faces S−, m² (its area when wholly faced, 0 when not
+        at all): facets faced only in part have dual functions fitted to a part of them.
     """
 
     D: object
@@ -739,6 +741,7 @@ class Mortar:
     overlap_area: float
     x: np.ndarray
     gap: np.ndarray
+    facet_overlap: np.ndarray | None = None
 
 
 def _inverse_map(kind: str, corners: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -898,7 +901,8 @@ def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mor
     x = plus.points[nodes]
     return Mortar(D=D, M=M, M_dual=Md, nodes=nodes, area=Dd[nodes], cols=cols, weights=wts,
                   normal=nrm, basis=local_basis(nrm, axis), overlap_area=float(w.sum()), x=x,
-                  gap=project_points(x, minus).gap)
+                  gap=project_points(x, minus).gap,
+                  facet_overlap=np.bincount(e[tp], w.sum(axis=1), minlength=len(plus)))
 
 
 __all__ = ["ELEMENT_FACETS", "FACET_KINDS", "Mortar", "NodeToFacet", "Surface", "clip_polygons",

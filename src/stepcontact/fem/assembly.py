@@ -571,11 +571,11 @@ def _check_restrained(model: Model, dofs: DofMap, K, B, fixed,
         loose = ~grounded[lab[d]]
         if loose.any() and not loose.all():  # the mesh falls apart (e.g. duplicate nodes)
             k = int(np.flatnonzero(loose)[0])
-            x, y = np.asarray(b.points)[k]
+            at = ", ".join(f"{v:.6g}" for v in np.asarray(b.points)[k])
             raise ModelError(
                 f"body '{b.name}'",
                 f"part of it is not restrained: {int(loose.sum())} of its {b.n_nodes} nodes "
-                f"(e.g. node {k} at ({x:.6g}, {y:.6g})) are connected to no support; its mesh "
+                f"(e.g. node {k} at ({at})) are connected to no support; its mesh "
                 "falls apart into pieces (duplicate nodes along a line?)",
             )
         if loose.any():

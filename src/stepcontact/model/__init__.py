@@ -45,9 +45,9 @@ from stepcontact.model.bond import Bond  # noqa: E402
 __all__ += ["Bond"]
 
 # rigid obstacles (fixed or moving lines and polylines, not meshed)
-from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle  # noqa: E402
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane  # noqa: E402
 
-__all__ += ["ObstacleMotion", "RigidObstacle"]
+__all__ += ["ObstacleMotion", "RigidObstacle", "RigidPlane"]
 
 # a structure given by its matrices (stiffness, contact rows, loads)
 from stepcontact.model.discrete import DiscreteModel  # noqa: E402

@@ -9,6 +9,7 @@ from typing import Literal, get_args
 
 import numpy as np
 
+from stepcontact.enums import MAX_FACETS
 from stepcontact.errors import ModelError
 from stepcontact.model import plausible
 from stepcontact.model.bodies import NU_RANGE
@@ -138,6 +139,23 @@ class Interface:
         :class:`~stepcontact.model.bond.Bond`): its CFEs start bonded and break into
         unilateral contact with friction (``friction``, or the bond's own).  The joint must be
         closed (zero gap).
+    facets : int or None
+        3D only: the number k of facets of the faceted Coulomb cone
+        (:class:`~stepcontact.contact.faceted.FacetedCoulombLaw`, 3 … 128; None: 8).  The
+        polygon is inscribed in the disc |Q| ≤ f p: its limit errs by at most 1 − cos(π/k).
+        All interfaces of a model share one k.
+    facet_angle : float
+        3D only: the direction θ₀ of the polygon's vertex 0 from t₁ towards t₂, rad.
+    axis : (3,) or None
+        3D only: the direction of each CFE's first tangent t₁ (projected on the plane ⊥ n);
+        None: the global axis along which n has its smallest component (+x for a horizontal
+        joint, :func:`~stepcontact.contact.surface3d.local_basis`).  t₂ = n × t₁.
+
+    In 3D (interfaces between 3D bodies, or a 3D body on a
+    :class:`~stepcontact.model.obstacle.RigidPlane`) ``plus`` and ``minus`` are node sets of
+    faces (triangles or quadrilaterals), ``"node-to-segment"`` ties each S+ node to its
+    closest point on an S− facet (node-to-facet), mortar is segment-based on the facets
+    (:mod:`stepcontact.contact.interface3d`), and ``gap`` as a function is g(x, y, z).
     """
 
     name: str
@@ -151,16 +169,24 @@ class Interface:
     area: float | None = None
     cfe: str = "auto"
     bond: object = None
+    facets: int | None = None
+    facet_angle: float = 0.0
+    axis: tuple[float, float, float] | None = None
 
     @staticmethod
     def normal_problem(normal) -> str | None:
-        """Why a given normal is refused (None: it is not, or none is given)."""
+        """Why a given normal is refused (None: it is not, or none is given); a 3-vector is a
+        normal of a 3D interface."""
         if normal is None:
             return None
         n = np.asarray(normal, float)
-        if n.shape != (2,) or not np.all(np.isfinite(n)) or np.linalg.norm(n) == 0:
-            return "must be a non-zero 2-vector"
+        if n.shape not in ((2,), (3,)) or not np.all(np.isfinite(n)) or np.linalg.norm(n) == 0:
+            return "must be a non-zero 2-vector (3-vector in 3D)"
         return None
+
+    def facet_count(self) -> int:
+        """k, the number of facets of the faceted Coulomb cone in 3D (8 when not given)."""
+        return 8 if self.facets is None else int(self.facets)
 
     def __post_init__(self):
         item = f"interface '{self.name}'"
@@ -205,9 +231,27 @@ class Interface:
             raise ModelError(f"{item}.normal", text)
         if self.area is not None and not (np.isfinite(self.area) and self.area > 0):
             raise ModelError(f"{item}.area", f"must be > 0 m², got {self.area}")
+        self._check_facet_options(item)
         if self.pairs and len(self.plus) != len(self.minus):  # (never an obstacle here)
             raise ModelError(
                 f"{item}.pairs",
                 f"plus has {len(self.plus)} nodes and minus {len(self.minus)}: node pairs need "
                 "the same number on both sides",
             )
+
+    def _check_facet_options(self, item: str) -> None:
+        """``facets`` an integer 3 … MAX_FACETS, ``facet_angle`` finite, ``axis`` a non-zero
+        finite 3-vector."""
+        k = self.facets
+        if k is not None and (isinstance(k, bool) or not isinstance(k, int | np.integer)
+                              or not 3 <= k <= MAX_FACETS):
+            raise ModelError(f"{item}.facets", f"a faceted Coulomb cone has 3 … {MAX_FACETS} "
+                             f"facets (an integer), got {k!r}")
+        if not np.isfinite(self.facet_angle):
+            raise ModelError(f"{item}.facet_angle", f"must be finite (rad), got "
+                             f"{self.facet_angle!r}")
+        if self.axis is not None:
+            a = np.asarray(self.axis, float)
+            if a.shape != (3,) or not np.all(np.isfinite(a)) or not np.any(a):
+                raise ModelError(f"{item}.axis", f"must be a non-zero 3-vector (the direction "
+                                 f"of t1), got {self.axis!r}")

@@ -50,7 +50,7 @@ from stepcontact.model.loads import (
     PressureSpec,
     iter_loads,
 )
-from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.structure import DynamicInterval, Model, Segment, _check_stiffness_ratio
 from stepcontact.model.supports import NodeSet, Spring, Support, Tie, _parse_dofs, select_nodes
 
@@ -59,7 +59,7 @@ __all__ = [
     "PLANE_KINDS", "Body", "BodyForce", "Bond", "CfeKind", "ContactLayer", "DofName",
     "DynamicInterval", "EdgeForce", "EdgeLoad", "ElementKind", "Frame", "Interface", "Load",
     "LoadPattern", "Material", "Model", "NodalLoad", "NodeSet", "ObstacleMotion", "PlaneKind",
-    "PrescribedDisplacement", "PressureSpec", "RigidObstacle", "Segment", "Spring", "Support",
-    "Tie", "_check_stiffness_ratio", "_either", "_parse_dofs", "iter_loads", "modulus_problem",
-    "select_nodes",
+    "PrescribedDisplacement", "PressureSpec", "RigidObstacle", "RigidPlane", "Segment",
+    "Spring", "Support", "Tie", "_check_stiffness_ratio", "_either", "_parse_dofs", "iter_loads",
+    "modulus_problem", "select_nodes",
 ]

@@ -112,6 +112,74 @@ class RigidObstacle:
 
 
 @dataclass(frozen=True, eq=False)
+class RigidPlane(RigidObstacle):
+    """A fixed rigid plane that 3D bodies may touch (the 3D twin of a one-segment
+    :class:`RigidObstacle`; not meshed, no nodes, no DOFs).
+
+    It enters a 3D model as the S− side of an :class:`~stepcontact.model.Interface`: every S+
+    node gets one CFE whose S− end is the ground, with the plane's normal n and the gap
+    g⁰ = (x⁺ − x₀) · n (:mod:`stepcontact.contact.interface3d`).  A plane cannot be moved
+    (an :class:`ObstacleMotion` of it is refused).
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    point : (x, y, z)
+        A point x₀ of the plane, m.
+    normal : (n_x, n_y, n_z)
+        The plane's normal, pointing towards the bodies (need not be unit; default +z: bodies
+        above the plane).
+
+    Example
+    -------
+    >>> import stepcontact as sc
+    >>> ground = sc.RigidPlane("ground", point=(0.0, 0.0, 0.0))    # bodies above z = 0
+    >>> ground.normal
+    array([0., 0., 1.])
+    """
+
+    points: np.ndarray | None = None
+    point: tuple = (0.0, 0.0, 0.0)
+    normal: tuple = (0.0, 0.0, 1.0)
+
+    def __post_init__(self):
+        item = f"obstacle '{self.name}'"
+        if not isinstance(self.name, str) or not self.name:
+            raise ModelError("obstacle", f"needs a non-empty name, got {self.name!r}")
+        vals = {}
+        for key in ("point", "normal"):
+            try:
+                v = np.asarray(getattr(self, key), dtype=float).ravel()
+            except (TypeError, ValueError):
+                v = np.zeros(0)
+            if v.shape != (3,) or not np.all(np.isfinite(v)):
+                raise ModelError(f"{item}.{key}", f"must be three finite numbers (x, y, z), got "
+                                                  f"{getattr(self, key)!r}")
+            vals[key] = v
+        size = float(np.linalg.norm(vals["normal"]))
+        if size == 0.0:
+            raise ModelError(f"{item}.normal", "is the zero vector")
+        n = vals["normal"] / size
+        n.setflags(write=False)
+        x0 = vals["point"].copy()
+        x0.setflags(write=False)
+        object.__setattr__(self, "normal", n)
+        object.__setattr__(self, "point", x0)
+        object.__setattr__(self, "points", x0[None, :])
+
+    @property
+    def normals(self) -> np.ndarray:
+        """The plane's unit normal (1, 3), pointing towards the bodies."""
+        return self.normal[None, :]
+
+    def same_as(self, other: RigidObstacle) -> bool:
+        """The same plane (point and normal)."""
+        return (isinstance(other, RigidPlane) and bool(np.array_equal(self.point, other.point))
+                and bool(np.array_equal(self.normal, other.normal)))
+
+
+@dataclass(frozen=True, eq=False)
 class ObstacleMotion:
     """A rigid motion of an obstacle, per unit λ of its load pattern (a load, like a
     prescribed displacement: its vertices are at u = λ_P · (this motion)).
@@ -177,4 +245,4 @@ class ObstacleMotion:
                                 self.dy + self.rotation * r[:, 0]])
 
 
-__all__ = ["OBSTACLE_SIDES", "ObstacleMotion", "RigidObstacle"]
+__all__ = ["OBSTACLE_SIDES", "ObstacleMotion", "RigidObstacle", "RigidPlane"]

@@ -15,7 +15,7 @@ from stepcontact.errors import ModelError
 from stepcontact.model.bodies import E_RATIO_MIN, PLANE_KINDS, Body, Frame, _either
 from stepcontact.model.interfaces import Interface
 from stepcontact.model.loads import LoadPattern
-from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.supports import NodeSet, Spring, Support, Tie, select_nodes
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
 
@@ -72,11 +72,39 @@ def _check_stiffness_ratio(bodies: Sequence) -> None:
         )
 
 
+def _check_interface_dimension(model: Model, dim: int) -> None:
+    """The interfaces' options of the other dimension are refused by name: a 2D model's
+    interfaces take no facet options, axis or rigid plane; a 3D model's no moving obstacle."""
+    for itf in model.interfaces:
+        item = f"interface '{itf.name}'"
+        if dim == 2:
+            for key, given in (("facets", itf.facets is not None),
+                               ("facet_angle", itf.facet_angle != 0.0),
+                               ("axis", itf.axis is not None)):
+                if given:
+                    raise ModelError(f"{item}.{key}", "applies to interfaces between 3D bodies "
+                                     "only (a 2D interface has the two facets slip+ and slip−)")
+            if isinstance(itf.minus, RigidPlane):
+                raise ModelError(f"{item}.minus", f"obstacle '{itf.minus.name}' is a plane, "
+                                 "for 3D bodies: a 2D body meets a RigidObstacle (a polyline)")
+        if itf.normal is not None and len(itf.normal) != dim:
+            raise ModelError(f"{item}.normal", f"is a {len(itf.normal)}-vector, but the model "
+                             f"is {dim}D: give a {dim}-vector")
+    if dim == 3:
+        for p in model.patterns:
+            for i, ld in enumerate(p.loads):
+                if isinstance(ld, ObstacleMotion):
+                    raise ModelError(f"load pattern '{p.name}' load {i}", f"moves obstacle "
+                                     f"'{ld.name}': moving obstacles of 3D models are not "
+                                     "available yet (a RigidPlane is fixed)")
+
+
 def _check_dimension(model: Model) -> None:
     """All bodies of one dimension; a 3D model has no 2D-only items (frames, the plane and
-    thickness options, interfaces and rigid obstacles, dynamics, uplift and crack water: not
-    available in 3D yet)."""
+    thickness options, moving obstacles, dynamics, uplift and crack water: not available in
+    3D yet); interfaces of a 3D model join faces of its bodies or a body and a rigid plane."""
     solids = [b for b in model.bodies if getattr(b, "dim", 2) == 3]
+    _check_interface_dimension(model, 3 if solids else 2)
     if not solids:
         return
     first = solids[0]
@@ -93,11 +121,10 @@ def _check_dimension(model: Model) -> None:
     if model.thickness != 1.0:
         raise ModelError(f"body '{first.name}'", f"is 3D: model.thickness = {model.thickness:g} "
                          "applies to 2D bodies only; leave it at its default (1)")
-    if model.interfaces:
-        raise ModelError(f"interface '{model.interfaces[0].name}'", "contact between 3D bodies "
-                         "is not available yet (3D bodies take supports, springs and loads)")
     if model.dynamics is not None:
-        raise ModelError("model.dynamics", "dynamics of 3D bodies is not available yet")
+        named = (f" (interface '{model.interfaces[0].name}' would need the dynamic 3D contact)"
+                 if model.interfaces else "")
+        raise ModelError("model.dynamics", f"dynamics of 3D bodies is not available yet{named}")
     for p in model.patterns:
         for i, ld in enumerate(p.loads):
             water = hasattr(ld, "follows_level")  # WaterLoad: on faces of 3D bodies too

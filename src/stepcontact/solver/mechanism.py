@@ -51,6 +51,36 @@ def classify(points: np.ndarray, u: np.ndarray) -> dict:
             "centre": None if centre is None else [float(c) for c in centre]}
 
 
+def classify3d(points: np.ndarray, u: np.ndarray) -> dict:
+    """Name the rigid motion ``u`` (n, 3) of a 3D body: the least-squares fit
+    u ≈ T + ω × (x − x̄); a rotation when it moves the body's extent by at least
+    ``TRANSLATION_RTOL`` of the translation, else lift-off/sinking (T mostly along ±z) or
+    sliding."""
+    xc = points.mean(axis=0)
+    x = points - xc
+    n = len(x)
+    A = np.zeros((3 * n, 6))
+    for c in range(3):
+        A[c::3, c] = 1.0
+    # ω × x = (ω_y z − ω_z y, ω_z x − ω_x z, ω_x y − ω_y x)
+    A[0::3, 4], A[0::3, 5] = x[:, 2], -x[:, 1]
+    A[1::3, 5], A[1::3, 3] = x[:, 0], -x[:, 2]
+    A[2::3, 3], A[2::3, 4] = x[:, 1], -x[:, 0]
+    sol = np.linalg.lstsq(A, u.ravel(), rcond=None)[0]
+    T, w = sol[:3], sol[3:]
+    size = float(np.ptp(points, axis=0).max()) or 1.0
+    t = float(np.abs(T).max())
+    if np.linalg.norm(w) * size > TRANSLATION_RTOL * t:
+        axis = w / np.linalg.norm(w)
+        mode = f"rotation about the axis ({axis[0]:.3g}, {axis[1]:.3g}, {axis[2]:.3g})"
+    elif abs(T[2]) > np.hypot(T[0], T[1]):
+        mode = "lift-off" if T[2] > 0 else "sinking"
+    else:
+        mode = "sliding"
+    return {"mode": mode, "translation": [float(v) for v in T],
+            "rotation": [float(v) for v in w], "centre": None}
+
+
 def dof_mode(discrete, u: np.ndarray, limit: int = 8) -> dict:
     """The mechanism of a discrete model: ``{"body": its name, "mode": "moves along …",
     "dofs": {DOF name: component}}``, the mode scaled to a largest component of 1 (its sign
@@ -72,7 +102,8 @@ def _mode(engine: EventEngine, cond, system, states: np.ndarray, f: np.ndarray) 
     """Displacement (ndof,) of the mechanism of scheme ``states`` along the load rate ``f``."""
     rel = engine.relations(states, article=False)
     A, scale = engine.schemes.dense(rel)
-    k = min(3 * max(len(system.model.bodies), 1), A.shape[0])
+    per = 6 if system.discrete is None and system.dofs.dim == 3 else 3  # rigid modes a body
+    k = min(per * max(len(system.model.bodies), 1), A.shape[0])
     T = null_modes(A, lu(A), k=k, apply=engine.schemes.exact_apply(rel, scale))
     U = np.column_stack([cond.mode_displacement(T[:, j]) for j in range(T.shape[1])])
     work = f @ U
@@ -141,8 +172,9 @@ def describe_mechanism(engine: EventEngine, cond, system, states: np.ndarray,
     bodies = []
     for b in model.bodies:
         ids = off[b.name] + np.arange(b.n_nodes)
-        ub = u[system.dofs.of[ids][:, :2]] / umax
+        dim = b.points.shape[1]
+        ub = u[system.dofs.of[ids][:, :dim]] / umax
         if np.abs(ub).max() < 1e-3:
             continue
-        bodies.append({"body": b.name, **classify(b.points, ub)})
+        bodies.append({"body": b.name, **(classify3d if dim == 3 else classify)(b.points, ub)})
     return bodies
