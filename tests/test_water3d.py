@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 from skfem import MeshHex, MeshTet
 
+import faceted_reference as fr
 import stepcontact as sc
 from stepcontact.errors import ModelError
 from stepcontact.model.mesh import box
@@ -149,8 +150,61 @@ def test_a_warped_wetted_face_is_refused_by_name():
         sc.assemble(m.add(sc.LoadPattern("w", [sc.WaterLoad(face, level=5.0)])))
 
 
-def test_uplift_on_3d_bodies_is_still_refused():
+def test_crack_water_on_3d_bodies_is_still_refused():
     m, face = block("tet4")
     assert isinstance(m.body("dam").mesh, MeshTet)
-    with pytest.raises(ModelError, match="uplift and crack water on 3D"):
+    with pytest.raises(ModelError, match="crack water on 3D bodies is not available"):
         m.add(sc.LoadPattern("u", [sc.CrackWater("base")]))
+
+
+# --------------------------------------------------------------------------------------------
+# uplift in a 3D joint (through the CFEs)
+# --------------------------------------------------------------------------------------------
+def uplift_block(k: int = 8, push: float = 0.0) -> tuple[sc.Model, float, float]:
+    """A 2 × 1 × 1 m block (hex8, 4 × 2 × 1 cells) on a rough rigid plane z = 0 (f = 0.6):
+    its weight, then a uniform uplift of 1 m head per unit λ through the CFEs (and a push
+    ``push`` · W along x with it).  Returns (model, W, uplift force per unit λ)."""
+    rho, g, f = 2400.0, 9.81, 0.6
+    blk = box("block", (0, 0, 0), (2.0, 1.0, 1.0), (4, 2, 1), sc.Material(25e9, 0.2, rho))
+    m = sc.Model(bodies=[blk])
+    W = rho * g * 2.0
+    m = m.add(
+        sc.Interface("joint", m.select("block", boundary="bottom"), sc.RigidPlane("ground"),
+                     friction=f, facets=k),
+        sc.LoadPattern("weight", [sc.BodyForce(g=(0, 0, -g))]),
+        sc.LoadPattern("uplift", [sc.Uplift("joint", head=1.0, through="cfes")]
+                       + ([sc.EdgeForce(m.select("block", boundary="top"), fx=push * W)]
+                          if push else [])),
+        sc.Segment("weight", 1.0), sc.Segment("uplift", 10.0))
+    return m, W, GAMMA * 2.0
+
+
+def test_uniform_uplift_lifts_the_block_off_at_its_weight():
+    """Every CFE's normal force drops by A_k γ_w λ (the effective stress), and the block lifts
+    off at λ = W / (γ_w A) — an event located exactly (1e-9)."""
+    m, W, U = uplift_block()
+    res = sc.solve_static(m)
+    assert res.status == sc.Status.EQUILIBRIUM_LOST, res.message
+    assert res.lam[-1] == pytest.approx(W / U, rel=1e-9)
+    N = np.asarray(res.N)
+    fac = np.asarray(res.factors)
+    lam_w, lam = (fac[:, res.pattern_names.index(p)] for p in ("weight", "uplift"))
+    assert np.abs(N.sum(axis=1) - (-W * lam_w + U * lam)).max() <= 1e-9 * W
+
+
+def test_uplift_reduces_the_sliding_resistance():
+    """Pushed along x by 0.2 W per unit λ with the uplift: slides when 0.2 W λ = s (W − γ_w A
+    λ), s the inscribed 8-gon's limit per unit normal force along x
+    (faceted_reference.slip_limit), to 1e-9."""
+    m, W, U = uplift_block(8, 0.2)
+    res = sc.solve_static(m)
+    assert res.status == sc.Status.EQUILIBRIUM_LOST, res.message
+    # slip when 0.2 W λ = s (W − U λ), s = slip_limit(f, 8, 0) per unit normal force
+    s = fr.slip_limit(0.6, 8, 0.0)
+    assert res.lam[-1] == pytest.approx(s * W / (0.2 * W + s * U), rel=1e-9)
+
+
+def test_uplift_on_the_faces_of_a_3d_joint_is_refused():
+    m, _, _ = uplift_block()
+    with pytest.raises(ModelError, match=r"load 0\.through.*through='cfes'"):
+        m.add(sc.LoadPattern("u2", [sc.Uplift("joint", head=1.0)]))

@@ -101,8 +101,9 @@ def _check_interface_dimension(model: Model, dim: int) -> None:
 
 def _check_dimension(model: Model) -> None:
     """All bodies of one dimension; a 3D model has no 2D-only items (frames, the plane and
-    thickness options, moving obstacles, dynamics, uplift and crack water: not available in
-    3D yet); interfaces of a 3D model join faces of its bodies or a body and a rigid plane."""
+    thickness options, moving obstacles, dynamics, crack water and uplift on faces (an
+    uplift acts through the CFEs): not available in 3D yet); interfaces of a 3D model join
+    faces of its bodies or a body and a rigid plane."""
     solids = [b for b in model.bodies if getattr(b, "dim", 2) == 3]
     _check_interface_dimension(model, 3 if solids else 2)
     if not solids:
@@ -127,11 +128,14 @@ def _check_dimension(model: Model) -> None:
         raise ModelError("model.dynamics", f"dynamics of 3D bodies is not available yet{named}")
     for p in model.patterns:
         for i, ld in enumerate(p.loads):
-            water = hasattr(ld, "follows_level")  # WaterLoad: on faces of 3D bodies too
-            if (hasattr(ld, "edge_loads") and not water) or getattr(ld, "in_crack", False):
-                raise ModelError(f"load pattern '{p.name}' load {i}", f"{type(ld).__name__} "
-                                 "acts on 2D bodies only: uplift and crack water on 3D "
-                                 "bodies are not available yet")
+            item = f"load pattern '{p.name}' load {i}"
+            if getattr(ld, "in_crack", False):
+                raise ModelError(item, f"{type(ld).__name__} acts on 2D bodies only: crack "
+                                 "water on 3D bodies is not available yet")
+            if getattr(ld, "through", None) == "faces":  # an Uplift on the faces
+                raise ModelError(f"{item}.through", "an uplift in a 3D joint acts through its "
+                                 "CFEs: give through='cfes' (the pressure p(x, y) at each "
+                                 "CFE's plan position, A_k p across each CFE)")
 
 
 @dataclass(frozen=True, eq=False)

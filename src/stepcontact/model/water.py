@@ -211,6 +211,9 @@ class Uplift:
     ``"faces"`` on non-matching meshes the two faces' nodal forces do not cancel CFE by CFE,
     and a uniform uplift on a closed joint can open it locally.  Use ``"cfes"`` for joints
     between non-matching meshes (the slab study does).
+
+    In a 3D joint the uplift acts through the CFEs (``through="cfes"``; ``"faces"`` is
+    refused), with p evaluated at the plan coordinates (x, y) of each CFE's S+ point.
     """
 
     interface: Interface | str
