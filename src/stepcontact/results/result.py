@@ -29,6 +29,7 @@ from stepcontact.results.file import (
     tangent_labels,
 )
 from stepcontact.results.safety import interface_safety
+from stepcontact.results.safety3d import interface_safety_3d
 
 #: a model is the one of a result when a stored displacement field, recomputed from its contact
 #: unknowns, agrees to this (relative to the largest displacement) ...
@@ -952,10 +953,13 @@ class StaticResult:
         heel (default: the first CFE); ``cohesion``: a design cohesion, Pa, replacing the
         joint's own.
         """
-        if self.n_t > 1:
-            raise ValueError(f"interface_safety('{interface}'): the safety of a joint sums N, Q "
-                             "and their moments in the plane of a 2D model; this result has "
-                             f"{self.n_t} tangential components per CFE (3D)")
+        if self.n_t > 1:  # a joint between 3D bodies: stepcontact.results.safety3d
+            given = {"design": design, "heel": heel, "cohesion": cohesion, "pattern": pattern}
+            extra = [k for k, v in given.items() if v is not None]
+            if extra:
+                raise ValueError(f"interface_safety('{interface}'): {', '.join(extra)} apply to "
+                                 "the joints of 2D models; a 3D joint's safety takes none")
+            return interface_safety_3d(self, interface)
         return interface_safety(self, interface, design, heel=heel, cohesion=cohesion,
                                 pattern=pattern)
 
