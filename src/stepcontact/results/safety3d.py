@@ -30,14 +30,15 @@ are those of the loads whatever the elasticity (``tests/test_safety3d.py``).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
 from stepcontact.enums import ContactState
 
-if TYPE_CHECKING:
-    from stepcontact.results.result import StaticResult
+#: a :class:`~stepcontact.results.result.StaticResult`, read through its attributes (the
+#: result module imports this one)
+StaticResult = Any
 
 
 @dataclass(frozen=True)
