@@ -520,9 +520,8 @@ def assemble(model: Model | DiscreteModel) -> System:
         for i, ld in enumerate(p.loads):
             if getattr(ld, "through", "faces") != "cfes":
                 continue
-            if p.name in levels:
-                raise ModelError(f"load pattern '{p.name}' load {i}", "an uplift through the "
-                                 "CFEs cannot move with a water level: give it its own pattern")
+            # in a pattern whose factor is a water level it acts per metre of water (the
+            # pattern's own vector, factor h), as an uplift on the faces does
             lv = loads[p.name]
             loads[p.name] = LoadVectors(lv.f + uplift_through_cfes(cfe, B, ld), lv.u, lv.dofs)
     if not fixed.any() and cfe.m == 0 and not any(sp_.b is None for sp_ in model.springs):

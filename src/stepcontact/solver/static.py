@@ -75,6 +75,10 @@ def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
 SMALL_DENSE = 2000
 
 
+#: a Taylor coefficient of a level path whose load over its piece is below this fraction of
+#: the largest one's is round-off of the fit (:meth:`StaticSolver._level_rates`)
+ROUNDOFF_COEFFICIENT = 1e-9
+
 class StaticSolver:
     """Event-driven static analysis of one model.  Use :func:`solve_static`."""
 
@@ -364,10 +368,16 @@ class StaticSolver:
         self.c.update(path.factors(0.0))
         return path
 
-    def _level_rates(self, forcings, coefs, lead: int, ds, dw):
+    def _level_rates(self, forcings, coefs, lead: int, ds, dw, reach: float = 1.0):
         """Rates of the current scheme under every Taylor coefficient of a level path (the
-        decision's own for the leading one)."""
+        decision's own for the leading one).  On a scheme with a mechanism the load does not
+        drive (:meth:`EventEngine.rates_any`), a coefficient whose load over the piece
+        (|c_j| reach^(j+1), ``reach`` the piece's length in m) is round-off of the Taylor fit
+        (below :data:`ROUNDOFF_COEFFICIENT` of the largest) is zero: its direction is noise
+        and may seem to drive the mechanism."""
         eng = self.engine
+        size = np.array([np.abs(c).max(initial=0.0) for c in coefs]) * reach ** np.arange(
+            1, len(coefs) + 1)
         dss, dws = [], []
         for j, fj in enumerate(forcings):
             if j == lead:
@@ -375,7 +385,12 @@ class StaticSolver:
             elif not (np.any(fj[0]) or np.any(fj[1])):
                 a, b = np.zeros_like(ds), np.zeros_like(dw)
             else:
-                a, b = eng.rates(eng.states, fj)
+                try:
+                    a, b = eng.rates_any(eng.states, fj)
+                except MechanismError:
+                    if size[j] > ROUNDOFF_COEFFICIENT * size.max():
+                        raise
+                    a, b = np.zeros_like(ds), np.zeros_like(dw)
             dss.append(a)
             dws.append(b)
         return dss, dws
@@ -790,7 +805,7 @@ class StaticSolver:
                 if path is None:
                     dmu, dmu_ev, fired = eng.next_event(ds, dw, remaining, grp)
                 else:
-                    dss, dws = self._level_rates(forcings, coefs, lead, ds, dw)
+                    dss, dws = self._level_rates(forcings, coefs, lead, ds, dw, remaining)
                     dmu, dmu_ev, fired = eng.next_event_poly(dss, dws, remaining, grp)
                 if self.article:
                     dmu_p = eng.article_step(ds)
