@@ -81,9 +81,9 @@ def _check_dimension(model: Model) -> None:
         return
     first = solids[0]
     for b in model.bodies:
-        if isinstance(b, Frame):
-            raise ModelError(f"frame '{b.name}'", f"is a plane frame, but body '{first.name}' "
-                             "is 3D: space frames are not available yet")
+        if isinstance(b, Frame) and b.dim != 3:
+            raise ModelError(f"frame '{b.name}'", f"is a plane frame (2D points), but "
+                             f"'{first.name}' is 3D: space frames take 3D points (x, y, z)")
         if b.dim != 3:
             raise ModelError(f"body '{b.name}'", f"is 2D, but body '{first.name}' is 3D: all "
                              "bodies of a model have one dimension")
