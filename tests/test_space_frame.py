@@ -17,6 +17,8 @@ Tolerances: 1e-9 relative to the closed form's value (round-off of a handful of 
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -109,12 +111,15 @@ def test_oblique_cantilever_with_oblique_orientation_is_exact():
 def test_cantilever_under_self_weight_and_nu_gives_g():
     """Self-weight along −z (the default BodyForce on a 3D model) of a horizontal cantilever:
     δ = q L⁴/(8 E Iz), θ = q L³/(6 E Iz) with q = ρ A g (consistent loads: exact at the nodes,
-    1e-9); the clamp carries the weight q L (1e-12).  G from ν: E/(2(1 + ν)) exactly."""
+    1e-9); the clamp carries the weight q L (1e-12).  G from ν: E/(2(1 + ν)) exactly; the
+    frame moved (translate) keeps its section (a copy re-checks it)."""
     L, rho = 5.0, 7850.0
     m = _cantilever((0, 0, 0), (L, 0, 0), n=6, density=rho, G=None, nu=0.25)
-    assert m.body("beam").G == E / 2.5
+    assert m.body("beam").shear_modulus == E / 2.5
     m = m.add(sc.LoadPattern("weight", [sc.BodyForce()]), sc.Segment("weight", 1.0))
     res, dofs = _solve(m)
+    moved = dataclasses.replace(m.body("beam"), points=m.body("beam").points + 1.0)
+    assert moved.shear_modulus == E / 2.5 and moved.Iz == IZ
     q = rho * A * 9.81
     u = _node(res, dofs, 6)
     np.testing.assert_allclose(u[[2, 4]], [-q * L**4 / (8 * E * IZ), q * L**3 / (6 * E * IZ)],

@@ -70,7 +70,7 @@ def frame_stiffness(fr: Frame, gdofs: np.ndarray):
     if fr.dim == 2:
         k = local_stiffness(L, fr.E * fr.A, fr.E * fr.I)[:, _PLANE][:, :, _PLANE]
     else:
-        k = local_stiffness(L, fr.E * fr.A, fr.E * fr.Iz, fr.E * fr.Iy, fr.G * fr.J)
+        k = local_stiffness(L, fr.E * fr.A, fr.E * fr.Iz, fr.E * fr.Iy, fr.shear_modulus * fr.J)
     T = _transformation(fr)
     kg = np.einsum("eji,ejk,ekl->eil", T, k, T)
     nd = kg.shape[1]

@@ -309,8 +309,8 @@ class Frame:
             if not np.isfinite(self.nu) or not NU_RANGE[0] < self.nu < NU_RANGE[1]:
                 raise ModelError(f"{item}.nu", f"Poisson's ratio nu must lie in "
                                  f"({NU_RANGE[0]:g}, {NU_RANGE[1]:g}), got {self.nu}")
-            object.__setattr__(self, "G", float(self.E) / (2.0 * (1.0 + float(self.nu))))
-        self._check_positive(("G",))
+        else:
+            self._check_positive(("G",))
         if self.orientation is not None:
             v = np.asarray(self.orientation, dtype=float)
             if v.shape not in ((3,), (len(self.cells), 3)) or not np.all(np.isfinite(v)):
@@ -322,6 +322,14 @@ class Frame:
     @property
     def n_nodes(self) -> int:
         return len(self.points)
+
+    @property
+    def shear_modulus(self) -> float | None:
+        """A space frame's shear modulus, Pa: ``G``, or E / (2 (1 + ν)) from ``nu`` (None for
+        a plane frame)."""
+        if self.G is not None:
+            return float(self.G)
+        return None if self.nu is None else float(self.E) / (2.0 * (1.0 + float(self.nu)))
 
     @property
     def dim(self) -> int:
