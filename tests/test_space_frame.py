@@ -298,3 +298,16 @@ def test_moments_and_rotations_on_nodes_without_rotation_are_refused():
     m3 = sc.Model(bodies=(flat,)).add(sc.Support("s", sc.NodeSet("flat", [0]), "xyrz"),
                                       sc.Spring("k", sc.NodeSet("flat", [2]), kz=1.0))
     _raises(lambda: assemble(m3), "spring 'k'", "2D")
+
+
+def test_prescribed_twist_gives_the_torque_of_saint_venant():
+    """A prescribed rotation rx = φ at the tip of a clamped bar (PrescribedDisplacement on a
+    rotation): a linear twist, φ/2 at mid-length, and the clamp's torque −G J φ / L (1e-9)."""
+    L, phi = 2.0, 1.0e-3
+    m = _cantilever((0, 0, 0), (L, 0, 0), n=2)
+    m = m.add(sc.LoadPattern("twist", [sc.PrescribedDisplacement(sc.NodeSet("beam", [2]), "rx",
+                                                                 phi)]),
+              sc.Segment("twist", 1.0))
+    res, dofs = _solve(m)
+    assert abs(_node(res, dofs, 1)[3] - phi / 2) <= 1e-9 * phi
+    assert abs(res.reaction("clamp", "rx")[-1] + G * J * phi / L) <= 1e-9 * G * J * phi / L

@@ -38,6 +38,8 @@ from stepcontact.model import (
     PrescribedDisplacement,
 )
 
+#: the columns of a 2D model's DofMap.of (a 3D model's: DofMap.column)
+_DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
 #: every DOF name a load may prescribe (which of them the model's nodes have: DofMap.names)
 _DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 
