@@ -70,6 +70,26 @@ def test_cylinder_under_uniform_pressure_is_a_linear_field(element):
     assert np.abs(u - exact).max() <= 1e-10 * p * H / E
 
 
+@pytest.mark.parametrize("element", ["tri3", "quad4"])
+def test_prism_on_a_polygon_weighs_its_volume(element):
+    """A prism on an L-shaped polygon (area 3 m², centroid (5/6, 5/6)) meshed by gmsh and
+    swept 1.5 m along z (extrude): its weight ρ g × 4.5 m³ at the centroid (the resultant of
+    the consistent nodal forces, 1e-12); the end faces are its named boundaries."""
+    pytest.importorskip("gmsh")
+    L = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
+    sec = sc.polygon_region("L", L, sc.Material(E, NU, RHO), element, size=0.5)
+    prism = sc.extrude(sec, (0.0, 1.5), 3)
+    assert prism.element == {"tri3": "tet4", "quad4": "hex8"}[element]
+    f = body_force(prism, (0.0, 0.0, -G), 1.0).reshape(-1, 3)
+    W = RHO * G * 3.0 * 1.5
+    force = np.array([0.0, 0.0, -W])
+    np.testing.assert_allclose(f.sum(axis=0), force, rtol=0, atol=1e-12 * W)
+    np.testing.assert_allclose(np.cross(prism.points, f).sum(axis=0),
+                               np.cross([5 / 6, 5 / 6, 0.75], force), rtol=0, atol=1e-12 * W * 3)
+    assert prism.boundary_names == ("start", "end")
+    assert np.all(prism.points[np.unique(prism.boundary[prism.boundary_rows("end")]), 2] == 1.5)
+
+
 def test_cylinder_arguments_are_checked_by_name():
     mat = sc.Material(E, NU)
     for kwargs, item, text in (
