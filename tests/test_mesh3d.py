@@ -321,3 +321,20 @@ def test_curved_second_order_elements_are_refused(tmp_path):
         sc.read_msh(path).body("pier", sc.Material(E, NU))
     assert info.value.item == "physical volume 'pier'"
     assert "curved second-order elements are not supported" in info.value.problem
+
+
+def test_second_order_mesh_through_scikit_fem_says_where_its_boundaries_went(tmp_path):
+    """A tet10 gmsh box: scikit-fem's from_meshio gives a MeshTet2 without the named surfaces
+    (its reader takes no quadratic facets); selecting one is a ModelError that says so and
+    names read_msh, which keeps them (the same file)."""
+    from skfem.io.meshio import from_meshio
+
+    meshio = pytest.importorskip("meshio")
+    path = _gmsh_box(tmp_path / "box.msh", order=2, size=1.0)
+    body = sc.Body.from_mesh("block", from_meshio(meshio.read(path)), "tet10",
+                             sc.Material(E, NU))
+    with pytest.raises(sc.ModelError) as info:
+        body.boundary_rows("left")
+    assert "from_meshio loses its named boundaries" in info.value.problem
+    assert "read_msh" in info.value.problem
+    assert "left" in sc.read_msh(path).body("block", sc.Material(E, NU)).boundary_names

@@ -173,7 +173,12 @@ class Body:
         item = f"body '{self.name}' boundary '{name}'"
         if name not in named:
             known = ", ".join(repr(k) for k in named) or "none"
-            raise ModelError(item, f"no such boundary (known: {known})")
+            hint = ""
+            if not named and type(self.mesh).__name__.endswith("2"):
+                # skfem.io.meshio.from_meshio drops the boundaries of second-order meshes
+                hint = ("; a second-order mesh converted by scikit-fem's from_meshio loses its "
+                        "named boundaries: read the .msh with stepcontact.read_msh")
+            raise ModelError(item, f"no such boundary (known: {known}){hint}")
         facets = np.asarray(named[name], dtype=np.int64)
         pos = np.full(int(max(facets.max(initial=-1), self.boundary_facets.max(initial=-1))) + 1,
                       -1, dtype=np.int64)
