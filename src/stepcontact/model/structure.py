@@ -73,7 +73,7 @@ def _check_stiffness_ratio(bodies: Sequence) -> None:
 
 
 def _check_dimension(model: Model) -> None:
-    """All bodies of one dimension; a 3D model has no 2D-only items (frames, the plane and
+    """All bodies of one dimension; a 3D model has no 2D-only items (plane frames, the plane and
     thickness options, interfaces and rigid obstacles, dynamics, water loads: not available in
     3D yet)."""
     solids = [b for b in model.bodies if getattr(b, "dim", 2) == 3]
