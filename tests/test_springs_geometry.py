@@ -60,7 +60,7 @@ def test_spring_direction_is_normalised_and_stiffness_is_k_d_outer_d():
     ({"k": 1.0, "direction": (0.0, 0.0)}, "spring 's'.direction", "is zero"),
     ({"k": 1.0}, "spring 's'.direction", "is needed with k"),
     ({"k": 1.0, "direction": (1.0, np.nan)}, "spring 's'.direction", "finite"),
-    ({"k": 1.0, "direction": (1.0, 0.0, 0.0)}, "spring 's'.direction", "finite vector"),
+    ({"k": 1.0, "direction": (1.0, 0.0, 0.0, 0.0)}, "spring 's'.direction", "finite vector"),
     ({"k": -1.0, "direction": (1.0, 0.0)}, "spring 's'.k", ">= 0"),
     ({"damping": -1.0}, "spring 's'.damping", ">= 0"),
 ])

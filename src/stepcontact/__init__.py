@@ -38,6 +38,7 @@ from stepcontact.model import (
 from stepcontact.model.bond import Bond
 from stepcontact.model.mesh import (
     box,
+    cylinder,
     extrude,
     half_disc,
     polygon_region,
@@ -127,6 +128,7 @@ __all__ = [
     "Transition",
     "rectangle",
     "box",
+    "cylinder",
     "extrude",
     "quad_region",
     "half_disc",

@@ -1,9 +1,11 @@
 """Assembly: model -> global stiffness, load vectors and contact operators.
 
 Degrees of freedom: every node has ux, uy; frame nodes also rz.  In a 3D model (solid
-bodies, :attr:`~stepcontact.model.Model.dim` = 3) every node has ux, uy, uz.  Tied nodes
-(:class:`~stepcontact.model.Tie`) share their translations.  All element matrices are built
-for all elements at once and scattered through one COO -> CSR conversion (:func:`scatter`).
+bodies or space frames, :attr:`~stepcontact.model.Model.dim` = 3) every node has ux, uy, uz;
+space-frame nodes also rx, ry, rz (numbered after all the translations, as the rotations of
+plane frames are).  Tied nodes (:class:`~stepcontact.model.Tie`) share their translations.
+All element matrices are built for all elements at once and scattered through one COO -> CSR
+conversion (:func:`scatter`).
 
 The contact operator B (2m × ndof) gives the mutual displacements of the CFEs,
 w = B u + w⁰ with rows 0..m-1 = u_τ and rows m..2m-1 = u_n
@@ -19,6 +21,7 @@ from stepcontact.contact.boundary import chain_order, continuum_edges, edge_face
 from stepcontact.contact.geometry import ContactElements, build_contact
 from stepcontact.errors import ModelError
 from stepcontact.fem import continuum as _fem
+from stepcontact.fem.beam import add_self_weight, frame_stiffness
 from stepcontact.fem.discrete import assemble_discrete
 from stepcontact.fem.level import facet_water_forces, is_level_pattern, level_basis
 from stepcontact.fem.system import DofMap, LoadVectors, System, reaction_rows
@@ -35,7 +38,10 @@ from stepcontact.model import (
     PrescribedDisplacement,
 )
 
+#: the columns of a 2D model's DofMap.of (a 3D model's: DofMap.column)
 _DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
+#: every DOF name a load may prescribe (which of them the model's nodes have: DofMap.names)
+_DOF_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 
 
 def _dof_column(dofs: DofMap, name: str, item: str, model: Model) -> int:
@@ -81,9 +87,18 @@ def dof_map(model: Model) -> DofMap:
                 parent[max(ri, rj)] = min(ri, rj)
     root = np.array([find(i) for i in range(n)]) if model.ties else parent
     uniq, inv = np.unique(root, return_inverse=True)
-    if model.dim == 3:  # solids: ux, uy, uz per node (no frames, Model checks)
-        of = 3 * inv[:, None] + np.arange(3)[None, :]
-        return DofMap(of.astype(np.int64), 3 * len(uniq), ("x", "y", "z"))
+    if model.dim == 3:  # ux, uy, uz per node; rx, ry, rz of space-frame nodes after them
+        of = (3 * inv[:, None] + np.arange(3)[None, :]).astype(np.int64)
+        frames = [b for b in model.bodies if isinstance(b, Frame)]
+        if not frames:
+            return DofMap(of, 3 * len(uniq), ("x", "y", "z"))
+        of = np.column_stack([of, np.full((n, 3), -1, dtype=np.int64)])
+        ndof = 3 * len(uniq)
+        for b in frames:
+            ids = model.node_offsets[b.name] + np.arange(b.n_nodes)
+            of[ids, 3:] = ndof + np.arange(3 * b.n_nodes).reshape(-1, 3)
+            ndof += 3 * b.n_nodes
+        return DofMap(of, ndof, b.dof_names)
     of = np.full((n, 3), -1, dtype=np.int64)
     of[:, 0] = 2 * inv
     of[:, 1] = 2 * inv + 1
@@ -95,38 +110,6 @@ def dof_map(model: Model) -> DofMap:
             of[ids, 2] = ndof + np.arange(b.n_nodes)
             ndof += b.n_nodes
     return DofMap(of, ndof)
-
-
-def _frame_stiffness(fr: Frame, gdofs: np.ndarray):
-    """COO triplets of 2D Euler–Bernoulli frame elements (vectorised over the bars)."""
-    p = fr.points
-    c = fr.cells
-    d = p[c[:, 1]] - p[c[:, 0]]
-    L = np.linalg.norm(d, axis=1)
-    cs, sn = d[:, 0] / L, d[:, 1] / L
-    ne = len(c)
-    EA, EI = fr.E * fr.A, fr.E * fr.I
-    k = np.zeros((ne, 6, 6))
-    a = EA / L
-    b12, b6, b4, b2 = 12 * EI / L**3, 6 * EI / L**2, 4 * EI / L, 2 * EI / L
-    k[:, 0, 0] = k[:, 3, 3] = a
-    k[:, 0, 3] = k[:, 3, 0] = -a
-    k[:, 1, 1] = k[:, 4, 4] = b12
-    k[:, 1, 4] = k[:, 4, 1] = -b12
-    k[:, 1, 2] = k[:, 2, 1] = k[:, 1, 5] = k[:, 5, 1] = b6
-    k[:, 4, 2] = k[:, 2, 4] = k[:, 4, 5] = k[:, 5, 4] = -b6
-    k[:, 2, 2] = k[:, 5, 5] = b4
-    k[:, 2, 5] = k[:, 5, 2] = b2
-    T = np.zeros((ne, 6, 6))
-    for o in (0, 3):
-        T[:, o, o] = cs
-        T[:, o, o + 1] = sn
-        T[:, o + 1, o] = -sn
-        T[:, o + 1, o + 1] = cs
-        T[:, o + 2, o + 2] = 1.0
-    kg = np.einsum("eji,ejk,ekl->eil", T, k, T)
-    ed = np.column_stack([gdofs[c[:, 0]], gdofs[c[:, 1]]])  # (ne, 6)
-    return np.repeat(ed[:, :, None], 6, 2), np.repeat(ed[:, None, :], 6, 1), kg
 
 
 def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
@@ -144,8 +127,7 @@ def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
             cols.append(gd[c].ravel())
             vals.append(np.ravel(v))
         else:
-            gd = dofs.of[ids]  # (n, 3)
-            r, c, v = _frame_stiffness(b, gd)
+            r, c, v = frame_stiffness(b, dofs.of[ids])  # (n, 3) plane, (n, 6) space
             rows.append(r.ravel())
             cols.append(c.ravel())
             vals.append(v.ravel())
@@ -160,9 +142,13 @@ def stiffness(model: Model, dofs: DofMap) -> sp.csr_matrix:
 
 
 def _spring_triplets(model: Model, dofs: DofMap, matrix_of):
-    """(rows, cols, values) of every spring's 2 × 2 matrix ``matrix_of(spring)`` (N/m or
-    N·s/m) on its nodes' translations: [[k, −k], [−k, k]] per pair, k alone to the ground."""
+    """(rows, cols, values) of every spring's 2 × 2 (3 × 3) matrix ``matrix_of(spring)`` (N/m
+    or N·s/m) on its nodes' translations: [[k, −k], [−k, k]] per pair, k alone to the
+    ground."""
     for s in model.springs:
+        if s.dim > dofs.dim:
+            raise ModelError(f"spring '{s.name}'", "has kz or a direction (dx, dy, dz), but the "
+                             "model is 2D: give kx, ky and a direction (dx, dy)")
         a = model.global_nodes(s.a)
         if s.b is not None:
             bb = model.global_nodes(s.b)
@@ -240,7 +226,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
         if isinstance(ld, NodalLoad):
             ids = model.global_nodes(ld.nodes)
             for dname, key, v in (("x", "fx", ld.fx), ("y", "fy", ld.fy), ("rz", "mz", ld.mz),
-                                  ("z", "fz", ld.fz)):
+                                  ("z", "fz", ld.fz), ("rx", "mx", ld.mx),
+                                  ("ry", "my", ld.my)):
                 if v == 0:
                     continue
                 c = _dof_column(dofs, dname, f"{item}.{key}", model)
@@ -248,7 +235,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                     raise ModelError(item, f"nodal force component {c} is {v}")
                 d = dofs.of[ids, c]
                 if np.any(d < 0):
-                    raise ModelError(item, "moment on a node without rotation (not a frame node)")
+                    raise ModelError(f"{item}.{key}", "moment on a node without rotation (not a "
+                                     "frame node)")
                 np.add.at(f, d, v)
         elif isinstance(ld, EdgeLoad | EdgeForce):
             b, edges = continuum_edges(model, ld.nodes, item, "edge loads")
@@ -310,21 +298,10 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
                 if isinstance(b, Body):
                     fb = _fem.body_force(b, g, model.thickness)
                     np.add.at(f, dofs.of[ids][:, :b.dim].ravel(), fb)
-                else:
-                    # consistent loads of a uniform line load q = ρ A g (N/m): q L/2 at each
-                    # end and the end moments ±q⊥ L²/12 of its part normal to the bar
-                    c = b.cells
-                    d = b.points[c[:, 1]] - b.points[c[:, 0]]
-                    L = np.linalg.norm(d, axis=1)
-                    q = b.density * b.A * np.asarray(g, float)
-                    q_perp = (-d[:, 1] * q[0] + d[:, 0] * q[1]) / L
-                    for end, sign in ((0, 1.0), (1, -1.0)):
-                        nodes = dofs.of[ids[c[:, end]]]
-                        for comp in (0, 1):
-                            np.add.at(f, nodes[:, comp], q[comp] * L / 2)
-                        np.add.at(f, nodes[:, 2], sign * q_perp * L**2 / 12)
+                else:  # consistent loads of the uniform line load ρ A g (fem.beam)
+                    add_self_weight(f, b, dofs.of[ids], g)
         elif isinstance(ld, PrescribedDisplacement):
-            if ld.dof not in _DOF_INDEX and ld.dof != "z":
+            if ld.dof not in _DOF_NAMES:
                 raise ModelError(item, f"unknown dof '{ld.dof}'")
             c = _dof_column(dofs, ld.dof, item, model)
             if not np.isfinite(ld.value):
@@ -332,7 +309,8 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
             ids = model.global_nodes(ld.nodes)
             d = dofs.of[ids, c]
             if np.any(d < 0):
-                raise ModelError(item, "rotation prescribed on a node without rotation")
+                raise ModelError(item, f"rotation {ld.dof} prescribed on a node without "
+                                 "rotation (not a frame node)")
             u[d] = ld.value
             pdofs.append(d)
         elif isinstance(ld, ObstacleMotion):
@@ -357,8 +335,8 @@ def load_resultant(model: Model, dofs: DofMap, f: np.ndarray) -> np.ndarray:
     with (x, y) the coordinates of the node of each DOF and m_z the nodal moments of frames.
     Prescribed displacements are not forces and do not count.
 
-    In a 3D model: [F_x, F_y, F_z, M_x, M_y, M_z], F = Σ f_i and M = Σ x_i × f_i about the
-    origin.
+    In a 3D model: [F_x, F_y, F_z, M_x, M_y, M_z], F = Σ f_i and M = Σ x_i × f_i + Σ m_i
+    about the origin (m_i the nodal moments of space frames).
 
     Example
     -------
@@ -374,10 +352,11 @@ def load_resultant(model: Model, dofs: DofMap, f: np.ndarray) -> np.ndarray:
     node, comp = node[first], comp[first]
     xy = model.points[node]
     fd = f[d]
-    if dofs.dim == 3:
-        F = np.zeros((len(model.points), 3))
+    if dofs.dim == 3:  # forces, then the nodal moments of space frames (columns 3-5)
+        F = np.zeros((len(model.points), 6))
         np.add.at(F, (node, comp), fd)
-        return np.r_[F.sum(axis=0), np.cross(model.points, F).sum(axis=0)]
+        return np.r_[F[:, :3].sum(axis=0),
+                     np.cross(model.points, F[:, :3]).sum(axis=0) + F[:, 3:].sum(axis=0)]
     fx = float(np.sum(fd[comp == 0]))
     fy = float(np.sum(fd[comp == 1]))
     mz = float(np.sum(xy[comp == 1, 0] * fd[comp == 1]) - np.sum(xy[comp == 0, 1] * fd[comp == 0])
@@ -484,7 +463,8 @@ def assemble(model: Model | DiscreteModel) -> System:
         for dname in s.dofs:
             d = dofs.of[ids, _dof_column(dofs, dname, f"support '{s.name}'.dofs", model)]
             if np.any(d < 0):
-                raise ModelError(f"support '{s.name}'", "fixes rz of a node without rotation")
+                raise ModelError(f"support '{s.name}'", f"fixes {dname} of a node without "
+                                 "rotation (not a frame node)")
             groups.append((f"{s.name}:{dname}", d))
             fixed[d] = True
     for obs in model.moving_obstacles:  # vertex nodes, prescribed: the obstacle's reaction
@@ -517,7 +497,7 @@ def assemble(model: Model | DiscreteModel) -> System:
     cfe = build_contact(model)
     B, w0 = contact_operator(cfe, dofs)
     for p in model.patterns:
-        for i, ld in enumerate(p.loads):
+        for ld in p.loads:
             if getattr(ld, "through", "faces") != "cfes":
                 continue
             # in a pattern whose factor is a water level it acts per metre of water (the

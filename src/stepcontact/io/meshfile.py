@@ -1,4 +1,6 @@
-"""Gmsh meshes: physical surfaces become bodies, physical curves and points become node sets.
+"""Gmsh meshes: physical surfaces become bodies, physical curves and points become node sets;
+in a 3D mesh physical volumes become bodies and physical surfaces node sets (and named
+boundaries of the bodies, :mod:`stepcontact.io.meshfile3d`).
 
 A ``.msh`` file (any version meshio reads) is read with :func:`read_msh`.  Each *physical
 surface* is one :class:`~stepcontact.model.Body` made of the cells of that group only, with its
@@ -15,7 +17,9 @@ A linear mesh may be used with the quadratic element of the same shape (``elemen
 triangles, ``"quad8"``/``"quad9"`` on quads).  Clockwise cells are reordered counter-clockwise;
 cells folded over a neighbour (both on the same side of their common edge), self-crossing or
 non-convex quads and zero-area cells are errors naming the physical group and the element.
-Coordinates are in metres; the mesh must lie in the plane z = 0.
+Coordinates are in metres; a 2D mesh must lie in the plane z = 0.  A mesh with volume cells
+(or physical volumes) is 3D (:attr:`MeshFile.dim`): see :mod:`stepcontact.io.meshfile3d` for
+its element types and checks.
 
 :func:`mesh_geo` meshes a ``.geo`` file (or runs a gmsh Python script) when the ``gmsh``
 package is installed (``pip install gmsh``).
@@ -35,6 +39,7 @@ Example
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import subprocess
 import sys
@@ -46,6 +51,7 @@ from pathlib import Path
 import numpy as np
 
 from stepcontact.errors import ModelError
+from stepcontact.io import meshfile3d as _3d
 from stepcontact.model import Body, Material, NodeSet
 from stepcontact.model.gmsh_api import gmsh_session
 from stepcontact.model.mesh import REVERSED_NODE_ORDER
@@ -76,7 +82,8 @@ _CORNERS = {"triangle": 3, "triangle6": 3, "quad": 4, "quad8": 4, "quad9": 4}
 
 @dataclass(frozen=True)
 class PhysicalGroup:
-    """A gmsh physical group: ``dim`` 0 (point), 1 (curve) or 2 (surface), and its tag."""
+    """A gmsh physical group: ``dim`` 0 (point), 1 (curve), 2 (surface) or 3 (volume), and
+    its tag."""
 
     name: str
     dim: int
@@ -111,6 +118,9 @@ class _Built:
     n_nodes: int
     edges: np.ndarray | None = None
     mid: np.ndarray | None = None
+    #: 3D: physical surface -> (the body's nodes of its faces, first face not on the body's
+    #: boundary or None)
+    faces: dict = field(default_factory=dict)
 
 
 @dataclass(eq=False)
@@ -120,24 +130,41 @@ class MeshFile:
     Attributes
     ----------
     path : Path
-    points : ndarray (n, 2)
+    points : ndarray (n, 2) or (n, 3)
         All nodes of the file (0-based, in file order), m.
     groups : dict of PhysicalGroup
-        By name; unnamed groups are called ``surface_<tag>``, ``curve_<tag>``, ``point_<tag>``.
+        By name; unnamed groups are called ``volume_<tag>``, ``surface_<tag>``,
+        ``curve_<tag>``, ``point_<tag>``.
     blocks : dict of tuple of CellBlock
         The cells of each group.
+    dim : int
+        2, or 3 for a mesh with volume cells or physical volumes (then the bodies are the
+        physical volumes).
+    cell_counts : dict
+        The number of cells of each type in the file.
     """
 
     path: Path
     points: np.ndarray
     groups: dict[str, PhysicalGroup]
     blocks: dict[str, tuple[CellBlock, ...]]
+    dim: int = 2
+    cell_counts: dict = field(default_factory=dict)
     _built: dict[str, _Built] = field(default_factory=dict, repr=False)
 
     # ---- groups ---------------------------------------------------------------------------
     def names(self, dim: int | None = None) -> list[str]:
         """Names of the physical groups (of one dimension: 0 points, 1 curves, 2 surfaces)."""
         return [n for n, g in self.groups.items() if dim is None or g.dim == dim]
+
+    @property
+    def volumes(self) -> list[str]:
+        return self.names(3)
+
+    @property
+    def body_groups(self) -> list[str]:
+        """The groups that are bodies: physical surfaces (2D), physical volumes (3D)."""
+        return self.names(self.dim)
 
     @property
     def surfaces(self) -> list[str]:
@@ -171,7 +198,7 @@ class MeshFile:
     def describe(self) -> str:
         """``surfaces 'a', 'b'; curves 'c'; points none`` (for messages)."""
         parts = []
-        for dim in (2, 1, 0):
+        for dim in (3, 2, 1, 0) if self.dim == 3 else (2, 1, 0):
             names = self.names(dim)
             listed = ", ".join(repr(n) for n in names) if names else "none"
             parts.append(f"{GROUP_KINDS[dim]}s {listed}")
@@ -224,6 +251,17 @@ class MeshFile:
         return CELL_KINDS[self.cells(surface)[0]]
 
     # ---- bodies -----------------------------------------------------------------------------
+    def contents(self) -> str:
+        """``element types found: tetra (5), triangle (2); physical volumes 'block'`` (for
+        messages)."""
+        what = []
+        if self.cell_counts:
+            what.append("element types found: " + ", ".join(
+                f"{t} ({n})" for t, n in self.cell_counts.items()))
+        if self.volumes:
+            what.append("physical volumes " + ", ".join(f"'{v}'" for v in self.volumes))
+        return "; ".join(what)
+
     def body(
         self,
         surface: str,
@@ -233,7 +271,10 @@ class MeshFile:
         element: str | None = None,
     ) -> Body:
         """The body made of the cells of physical surface ``surface`` (named ``name``, default
-        the group name), with the group's element kind or a compatible ``element``."""
+        the group name), with the group's element kind or a compatible ``element``; in a 3D
+        mesh, of physical volume ``surface`` (:meth:`solid`)."""
+        if self.dim == 3:
+            return self.solid(surface, material, name=name, element=element)
         name = surface if name is None else name
         kind, cells = self.cells(surface)
         native = CELL_KINDS[kind]
@@ -273,15 +314,55 @@ class MeshFile:
         self._built[name] = _Built(surface, of_file, body.n_nodes, edges, mid)
         return body
 
+    def solid(self, volume: str, material: Material, *, name: str | None = None,
+              element: str | None = None) -> Body:
+        """The 3D body made of the cells of physical volume ``volume`` (named ``name``, default
+        the group name), with the group's element kind or a compatible ``element`` (tet10 on
+        tetra, hex20 or hex27 on hexahedron).  Its named boundaries are the physical surfaces
+        whose faces all lie on its boundary (``model.select(name, boundary="top")``)."""
+        name = volume if name is None else name
+        g = self.group(volume, (3,))
+        kind, cells = _3d.volume_cells(g.label, self.blocks[volume])
+        native = _3d.VOLUME_KINDS[kind]
+        element = native if element is None else element
+        if element not in _3d.VOLUME_COMPATIBLE[native]:
+            raise ModelError(g.label, f"has {native} cells: element '{element}' cannot be used, "
+                             f"use one of {', '.join(_3d.VOLUME_COMPATIBLE[native])}")
+        mesh, _ = _3d.corner_mesh(kind, self.points, cells)
+        try:
+            body = Body.from_mesh(name, mesh, element, material)
+        except ModelError as e:
+            raise ModelError(e.item.replace(f"body '{name}'", g.label), e.problem) from None
+        of_file = _3d.file_to_body(g.label, kind, self.points, cells, body)
+        faces, named = {}, {}
+        for s in self.surfaces:
+            ids = [b.cells[:, : _3d.SURFACE_CORNERS[b.type]] for b in self.blocks[s]
+                   if b.type in _3d.SURFACE_CORNERS]
+            if not ids or len({a.shape[1] for a in ids}) > 1:
+                continue
+            local = of_file[np.vstack(ids)]
+            if np.any(local < 0):
+                continue  # not (all) on this body
+            rows, bad = _3d.surface_rows(body, local)
+            # the body's nodes of the faces (mid-edge and centre nodes of quadratic elements)
+            faces[s] = (np.unique(body.boundary[rows].ravel()), bad)
+            if bad is None:
+                named[s] = body.boundary_facets[rows]
+        if named:
+            body = dataclasses.replace(body, mesh=body.mesh.with_boundaries(named))
+        self._built[name] = _Built(volume, of_file, body.n_nodes, faces=faces)
+        return body
+
     def bodies(
         self, materials: Material | Mapping[str, Material], element: str | None = None
     ) -> list[Body]:
-        """One body per physical surface (named like the group), in the file's group order.
+        """One body per physical surface (named like the group), in the file's group order; in
+        a 3D mesh one per physical volume.
 
-        ``materials`` is one material for all, or a mapping from surface name to material.
+        ``materials`` is one material for all, or a mapping from group name to material.
         """
         out = []
-        for s in self.surfaces:
+        for s in self.body_groups:
             mat = materials if isinstance(materials, Material) else materials.get(s)
             if mat is None:
                 raise ModelError(self.groups[s].label, "has no material")
@@ -300,10 +381,12 @@ class MeshFile:
         return seq[np.sort(first)]
 
     def owners(self, group: str) -> list[str]:
-        """Physical surfaces whose cells contain every node of a curve or point group."""
-        ids = self.node_ids(group)
+        """Physical surfaces (3D: volumes) whose cells contain every node of a curve or point
+        group (3D: or surface)."""
+        ids = self.node_ids(group) if self.groups[group].dim < 2 else np.unique(
+            np.concatenate([b.cells.ravel() for b in self.blocks[group]] or [np.zeros(0, int)]))
         out = []
-        for s in self.surfaces:
+        for s in self.body_groups:
             nodes = np.concatenate([b.cells.ravel() for b in self.blocks[s]] or [np.zeros(0, int)])
             if ids.size and np.isin(ids, nodes).all():
                 out.append(s)
@@ -314,7 +397,13 @@ class MeshFile:
 
         ``body`` (a name or the Body) is needed only when the group's nodes belong to several
         bodies (a curve shared by two conforming surfaces).  ``name`` defaults to the group's.
+
+        In a 3D mesh a physical surface is a node set too: the nodes of its faces on the body
+        (with the mid-edge and centre nodes of quadratic elements); a surface that is not on
+        the body's boundary (an inner face) is a ModelError.
         """
+        if self.dim == 3:
+            return self._solid_node_set(group, body, name)
         g = self.group(group, (0, 1))
         ids = self.node_ids(group)
         if ids.size == 0:
@@ -377,10 +466,51 @@ class MeshFile:
         _, first = np.unique(s, return_index=True)
         return s[np.sort(first)]
 
+    def _solid_node_set(self, group: str, body: str | Body | None, name: str) -> NodeSet:
+        """:meth:`node_set` in a 3D mesh: points, curves (their file nodes) and surfaces (the
+        nodes of their boundary faces on the body)."""
+        g = self.group(group, (0, 1, 2))
+        name = name or group
+        if isinstance(body, Body):
+            body = body.name
+        if body is not None and body not in self._built:
+            made = ", ".join(repr(b) for b in self._built) or "none yet"
+            raise ModelError(g.label, f"body '{body}' was not made from this mesh (bodies "
+                             f"made: {made})")
+        cand = [body] if body is not None else list(self._built)
+        ids = self.node_ids(group) if g.dim < 2 else np.unique(
+            np.concatenate([b.cells.ravel() for b in self.blocks[group]] or [np.zeros(0, int)]))
+        if ids.size == 0:
+            raise ModelError(g.label, "has no nodes")
+        hits = [b for b in cand if (self._built[b].of_file[ids] >= 0).all()]
+        if not hits:
+            where = f"body '{body}'" if body is not None else "any body made from this mesh"
+            owners = [o for o in self.owners(group) if o not in {
+                self._built[b].surface for b in self._built}]
+            also = (f" (it lies on physical volume {', '.join(repr(o) for o in owners)}, "
+                    "which is not a body of the model)") if owners else ""
+            raise ModelError(g.label, f"is not on {where}{also}")
+        if len(hits) > 1:
+            raise ModelError(g.label, f"lies on bodies {', '.join(repr(h) for h in hits)} (a "
+                             "surface shared by conforming meshes): say which body the node "
+                             "set belongs to")
+        built = self._built[hits[0]]
+        if g.dim < 2:
+            return NodeSet(hits[0], built.of_file[ids], name)
+        nodes, bad = built.faces.get(group, (np.zeros(0, dtype=np.int64), 0))
+        if bad is not None:
+            cell = np.vstack([b.cells for b in self.blocks[group]])[bad]
+            c = self.points[cell].mean(axis=0)
+            raise ModelError(g.label, f"face {bad} (centroid ({c[0]:.6g}, {c[1]:.6g}, "
+                             f"{c[2]:.6g})) is not a face on the boundary of body "
+                             f"'{hits[0]}' (an inner face, or no face of its elements): node "
+                             "sets and interfaces of a 3D body lie on its boundary")
+        return NodeSet(hits[0], nodes, name)
+
     def orphan_nodes(self) -> np.ndarray:
-        """File node indices used by no cell of any physical surface."""
+        """File node indices used by no cell of any physical surface (3D: volume)."""
         used = np.zeros(len(self.points), dtype=bool)
-        for s in self.surfaces:
+        for s in self.body_groups:
             for b in self.blocks[s]:
                 used[b.cells.ravel()] = True
         return np.flatnonzero(~used)
@@ -390,52 +520,50 @@ class MeshFile:
 # reading
 # --------------------------------------------------------------------------------------------
 def _dim(cell_type: str) -> int | None:
-    """Dimension of a meshio cell type (None for 3D cells)."""
+    """Dimension of a meshio cell type (None for a type that is no cell of a mesh)."""
     if cell_type == "vertex":
         return 0
     if cell_type.startswith("line"):
         return 1
     if cell_type.startswith(("triangle", "quad", "polygon")):
         return 2
+    if cell_type.startswith(("tetra", "hexahedron", "wedge", "pyramid")):
+        return 3
     return None
 
 
-def _refuse_3d(item: str, m, pts: np.ndarray, named: dict[str, tuple[int, int]]) -> None:
-    """A :class:`ModelError` on ``item`` (the mesh file) when the mesh is 3D — volume cells
-    (tetrahedra, hexahedra, …), physical volumes, or points off one plane z = const — naming
-    the element types found, the physical volumes and the z range: only 2D models (a
-    cross-section in the plane z = 0) are supported yet."""
+def _mesh_dim(item: str, m, pts: np.ndarray, named: dict[str, tuple[int, int]]
+              ) -> tuple[int, dict[str, int]]:
+    """The mesh's dimension — 3 with volume cells (tetrahedra, hexahedra, …) or physical
+    volumes, else 2 — and its cell counts by type; a :class:`ModelError` on ``item`` (the mesh
+    file) for a surface mesh whose points leave the plane z = const, naming the z range."""
     counts: dict[str, int] = {}
     for blk in m.cells:
         counts[blk.type] = counts.get(blk.type, 0) + len(blk.data)
-    solid = [t for t in counts if _dim(t) is None]
-    volumes = [n for n, (dim, _) in named.items() if dim == 3]
+    if any(_dim(t) == 3 for t in counts) or any(d == 3 for d, _ in named.values()):
+        return 3, counts
     size = float(np.ptp(pts[:, :2], axis=0).max()) if len(pts) else 1.0
     zs = pts[:, 2] if pts.shape[1] > 2 and len(pts) else np.zeros(1)
-    spread = bool(np.ptp(zs) > 1e-9 * max(size, 1.0))
-    if not (solid or volumes or spread):
-        return
-    what = []
-    if counts:
-        what.append("element types found: " + ", ".join(f"{t} ({n})" for t, n in counts.items()))
-    if volumes:
-        what.append("physical volumes " + ", ".join(f"'{v}'" for v in volumes))
-    if spread:
-        what.append(f"points at z = {zs.min():.6g} … {zs.max():.6g} m")
-    kind = "a 3D mesh" if solid or volumes else "not planar"
-    raise ModelError(item, f"is {kind} ({'; '.join(what)}): 3D models are not supported yet; "
-                     "stepcontact needs a 2D mesh of the cross-section in the plane z = 0 "
-                     "(triangles or quads, meshed in gmsh with Mesh 2)")
+    if np.ptp(zs) > 1e-9 * max(size, 1.0):
+        found = ", ".join(f"{t} ({n})" for t, n in counts.items())
+        raise ModelError(item, f"is not planar (element types found: {found}; points at z = "
+                         f"{zs.min():.6g} … {zs.max():.6g} m): a surface mesh in space is "
+                         "neither a 2D section (the plane z = 0) nor a 3D body (volume cells, "
+                         "meshed in gmsh with Mesh 3)")
+    return 2, counts
 
 
 def read_msh(path: str | os.PathLike) -> MeshFile:
     """Read a gmsh ``.msh`` file (format 2.2 or 4.1) with its physical groups.
 
+    A mesh with volume cells or physical volumes is 3D (:attr:`MeshFile.dim`): its points
+    keep their three coordinates and its physical volumes are the bodies.
+
     Raises
     ------
     ModelError
-        When the file is missing or unreadable (``item`` is the file name), 3D (volume cells or
-        groups: not supported yet) or not planar, or has no physical group.
+        When the file is missing or unreadable (``item`` is the file name), a surface mesh that
+        is not planar, or has no physical group.
     """
     import meshio
 
@@ -458,8 +586,10 @@ def read_msh(path: str | os.PathLike) -> MeshFile:
     if pts.ndim != 2 or pts.shape[1] < 2:
         raise ModelError(item, "has no 2D points")
     named = {str(k): (int(v[1]), int(v[0])) for k, v in (m.field_data or {}).items()}
-    _refuse_3d(item, m, pts, named)
-    pts = np.ascontiguousarray(pts[:, :2])
+    mesh_dim, counts = _mesh_dim(item, m, pts, named)
+    pts = np.ascontiguousarray(pts[:, :mesh_dim])
+    if pts.shape[1] < mesh_dim:
+        raise ModelError(item, "has volume cells but 2D points")
 
     physical = m.cell_data.get("gmsh:physical")
     entity = m.cell_data.get("gmsh:geometrical")
@@ -477,7 +607,8 @@ def read_msh(path: str | os.PathLike) -> MeshFile:
                     by_tag[(dim, int(t))] = n
     if not groups:
         raise ModelError(
-            item, "has no physical groups: define Physical Surface / Curve / Point in gmsh"
+            item, "has no physical groups: define Physical Volume / Surface / Curve / Point "
+            "in gmsh"
         )
     sets = {k: v for k, v in (m.cell_sets or {}).items() if not k.startswith("gmsh:")}
     blocks: dict[str, list[CellBlock]] = {n: [] for n in groups}
@@ -498,7 +629,8 @@ def read_msh(path: str | os.PathLike) -> MeshFile:
                 continue
             if idx.size:
                 blocks[n].append(CellBlock(blk.type, data[idx], ent[idx]))
-    return MeshFile(path, pts, groups, {n: tuple(v) for n, v in blocks.items()})
+    return MeshFile(path, pts, groups, {n: tuple(v) for n, v in blocks.items()}, mesh_dim,
+                    counts)
 
 
 def _orient(
@@ -590,11 +722,12 @@ def mesh_geo(
     Parameters
     ----------
     path : path
-        A ``.geo`` file, meshed in 2D with the gmsh API; or a ``.py`` script, run as
+        A ``.geo`` file, meshed with the gmsh API (in 3D when it has volumes, else in 2D); or a
+        ``.py`` script, run as
         ``python script.py OUT.msh`` in its own directory, which must write the mesh to the
         file named by its first argument.
     order : 1 or 2
-        Element order (2: ``triangle6`` or ``quad9`` cells).
+        Element order (2: ``triangle6`` or ``quad9`` cells; ``tetra10`` or ``hexahedron27``).
     element : "tri" or "quad"
         ``"quad"`` recombines the triangles into quads (``.geo`` only).
     size : float, optional
@@ -632,7 +765,9 @@ def mesh_geo(
             raise ModelError(f"mesh '{path}'", f"gmsh cannot read it: {e}") from None
         for k, v in options.items():  # over the file's own
             gmsh.option.setNumber(k, v)
-        gmsh.model.mesh.generate(2)
+        # a geometry with volumes is meshed in 3D (tetrahedra; hexahedra where it is
+        # transfinite and recombined, or extruded with Recombine)
+        gmsh.model.mesh.generate(3 if gmsh.model.getEntities(3) else 2)
         if order == 2:
             gmsh.model.mesh.setOrder(2)
         out.parent.mkdir(parents=True, exist_ok=True)

@@ -14,6 +14,7 @@ from stepcontact.model.loads import (
 )
 from stepcontact.model.mesh import (
     box,
+    cylinder,
     extrude,
     half_disc,
     polygon_region,
@@ -26,8 +27,8 @@ from stepcontact.model.structure import DynamicInterval, Model, Segment
 from stepcontact.model.supports import NodeSet, Spring, Support, Tie, select_nodes
 
 __all__ = [
-    "Body", "BodyForce", "box", "extrude", "ContactLayer", "DynamicInterval", "EdgeForce",
-    "EdgeLoad", "Frame",
+    "Body", "BodyForce", "box", "cylinder", "extrude", "ContactLayer", "DynamicInterval",
+    "EdgeForce", "EdgeLoad", "Frame",
     "Interface", "LoadPattern", "Material", "Model", "NodalLoad", "NodeSet",
     "PrescribedDisplacement", "Segment", "Spring", "Support", "Tie", "half_disc", "iter_loads",
     "polygon_region",

@@ -34,7 +34,7 @@ PressureSpec = float | tuple[float, float] | Callable[[np.ndarray, np.ndarray], 
 @dataclass(frozen=True, eq=False)
 class NodalLoad:
     """The same force on **every** node of a node set: fx, fy (and fz on a 3D body) in N, mz
-    in N·m (frames only).
+    in N·m (frames only; mx, my too on a space frame: moments about the global axes).
 
     A set of n nodes receives n × (fx, fy[, fz]) in total.  For a *total* force spread along
     the edges of a set (consistent nodal forces of a uniform traction) use :class:`EdgeForce`.
@@ -45,6 +45,8 @@ class NodalLoad:
     fy: float = 0.0
     mz: float = 0.0
     fz: float = 0.0
+    mx: float = 0.0
+    my: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)

@@ -11,6 +11,8 @@
   back, bottom, top);
 * :func:`extrude` — a 2D body swept along z into a prismatic 3D body (quadrilaterals into
   hexahedra, triangles into tetrahedra);
+* :func:`cylinder` — a circular cylinder along z (an O-grid section swept along z) with named
+  bottom, top and side;
 * :func:`rotate`, :func:`translate` — a body, a frame or a whole model moved rigidly.
 
 Any other scikit-fem ``MeshTri``/``MeshQuad`` (or a meshio mesh converted with
@@ -265,7 +267,19 @@ def extrude(body: Body, z: tuple[float, float], nz: int, *, name: str | None = N
     per = 2 if body.element in ("tri6", "quad8", "quad9") else 1
     check_size(3 * body.n_nodes * (per * nz + 1), item,
                f"the extrusion of body '{body.name}' in {nz} layers")
-    section = _counter_clockwise(body.mesh)
+    mesh = _extruded_mesh(body.mesh, zz, nz)
+    points = mesh.p
+    tol = 1e-9 * float(max(np.ptp(points, axis=1).max(), 1.0))
+    mesh = mesh.with_boundaries({"start": lambda x: np.abs(x[2] - zz[0]) <= tol,
+                                 "end": lambda x: np.abs(x[2] - zz[1]) <= tol})
+    return Body.from_mesh(name or body.name, mesh, EXTRUDED_ELEMENT[body.element],
+                          body.material)
+
+
+def _extruded_mesh(section, zz: np.ndarray, nz: int):
+    """The MeshHex (quadrilaterals) or MeshTet (triangles) of a linear 2D mesh swept along z
+    from zz[0] to zz[1] in nz layers (see :func:`extrude`), without named boundaries."""
+    section = _counter_clockwise(section)
     p2, t2 = section.p, section.t
     nv = p2.shape[1]
     zs = np.linspace(zz[0], zz[1], nz + 1)
@@ -288,11 +302,114 @@ def extrude(body: Body, z: tuple[float, float], nz: int, *, name: str | None = N
         t = np.stack([np.stack([b[0], b[1], b[2], u[0]]), np.stack([b[1], b[2], u[0], u[1]]),
                       np.stack([b[2], u[0], u[1], u[2]])], axis=1).reshape(4, -1)
         mesh = MeshTet(points, t)
-    tol = 1e-9 * float(max(np.ptp(points, axis=1).max(), 1.0))
-    mesh = mesh.with_boundaries({"start": lambda x: np.abs(x[2] - zz[0]) <= tol,
-                                 "end": lambda x: np.abs(x[2] - zz[1]) <= tol})
-    return Body.from_mesh(name or body.name, mesh, EXTRUDED_ELEMENT[body.element],
-                          body.material)
+    return mesh
+
+
+#: the section element of each 3D element kind (the inverse of :data:`EXTRUDED_ELEMENT`)
+SECTION_ELEMENT: dict[str, str] = {v: k for k, v in EXTRUDED_ELEMENT.items()}
+#: the cells around a cylinder: a multiple of 4, at least this many
+CYLINDER_MIN_AROUND = 8
+
+
+def cylinder(
+    name: str,
+    centre: tuple[float, float, float],
+    radius: float,
+    height: float,
+    n: tuple[int, int, int],
+    material: Material,
+    element: str = "hex8",
+) -> Body:
+    """A circular cylinder with its axis along z: the base centred at ``centre`` (m), of
+    ``radius`` and ``height`` (m), meshed with ``n`` = (n_around, n_radial, n_height) cells.
+
+    The section is an O-grid: a central square of (n_around / 4)² quadrilaterals and
+    ``n_radial`` rings of ``n_around`` quadrilaterals out to the circle, swept along z in
+    ``n_height`` layers (:func:`extrude`: hexahedra, or each quadrilateral cut into two
+    triangles and each prism into three tetrahedra).  The circle is the polygon of its
+    ``n_around`` nodes (straight element edges, also for the quadratic elements): the volume is
+    (N/2) r² sin(2π/N) H, N = n_around, which tends to π r² H.  ``n_around`` is a multiple of 4,
+    at least :data:`CYLINDER_MIN_AROUND`.  Named boundaries: ``bottom`` (z = z₀), ``top``
+    (z = z₀ + H) and ``side`` (the lateral faces, every node at the radius).
+
+    Example
+    -------
+    >>> from stepcontact import Material
+    >>> from stepcontact.model.mesh import cylinder
+    >>> c = cylinder("pier", (0, 0, 0), 0.5, 2.0, (16, 2, 4), Material(30e9, 0.2))
+    >>> c.element, c.boundary_names
+    ('hex8', ('bottom', 'top', 'side'))
+    """
+    item = f"body '{name}'"
+    if element not in SOLID_KINDS:
+        raise ModelError(f"{item}.element", f"unknown element '{element}' for a cylinder, use "
+                         f"{', '.join(SOLID_KINDS)}")
+    c0 = _vector(f"{item}.centre", centre, "point", 3)
+    for key, v in (("radius", radius), ("height", height)):
+        if not isinstance(v, int | float | np.number) or not np.isfinite(v) or v <= 0:
+            raise ModelError(f"{item}.{key}", f"must be a positive length, m; got {v!r}")
+    try:
+        counts = tuple(n)
+    except TypeError:
+        counts = ()
+    if len(counts) != 3:
+        raise ModelError(f"{item}.n", "must be three cell counts (n_around, n_radial, "
+                         f"n_height), got {n!r}")
+    around = _check_count(name, "n[0]", counts[0], CYLINDER_MIN_AROUND)
+    if around % 4:
+        raise ModelError(f"{item}.n[0]", f"the cells around must be a multiple of 4, got "
+                         f"{around}")
+    radial = _check_count(name, "n[1]", counts[1])
+    layers = _check_count(name, "n[2]", counts[2])
+    from stepcontact.model.size import check_size
+
+    per = 2 if element in ("tet10", "hex20", "hex27") else 1
+    section_nodes = (per * around // 4 + 1) ** 2 + per * around * per * radial
+    check_size(3 * section_nodes * (per * layers + 1), item,
+               f"the {around} × {radial} × {layers} {element} cylinder '{name}'")
+    section = _disc(float(radius), around // 4, radial, quads=element.startswith("hex"))
+    section = dataclasses.replace(section, doflocs=section.doflocs + c0[:2, None])
+    zz = np.array([c0[2], c0[2] + float(height)])
+    mesh = _extruded_mesh(section, zz, layers)
+    tol = 1e-9 * float(max(radius, height))
+    facets = mesh.boundary_facets()
+    corners = mesh.p[:, mesh.facets[:, facets]]  # (3, corners, nf)
+    r = np.hypot(corners[0] - c0[0], corners[1] - c0[1])
+    faces = {"bottom": facets[np.all(np.abs(corners[2] - zz[0]) <= tol, axis=0)],
+             "top": facets[np.all(np.abs(corners[2] - zz[1]) <= tol, axis=0)],
+             "side": facets[np.all(np.abs(r - radius) <= tol, axis=0)]}
+    return Body.from_mesh(name, mesh.with_boundaries(faces), element, material)
+
+
+def _disc(r: float, k: int, rings: int, quads: bool):
+    """The O-grid of a disc of radius r about the origin: a k × k square of quadrilaterals
+    (half side 0.35 r) and ``rings`` rings of 4k quadrilaterals blended linearly from the
+    square's boundary to the 4k points of the circle at the angles −π/4 + 2πi/(4k) (the
+    square's corners at −π/4, π/4, …); triangles (each quadrilateral cut in two) when
+    ``quads`` is False."""
+    a = 0.35 * r
+    s = np.linspace(-a, a, k + 1)
+    gx, gy = np.meshgrid(s, s)  # grid node (ix, iy) is iy (k + 1) + ix
+    grid = np.column_stack([gx.ravel(), gy.ravel()])
+    g = np.arange((k + 1) ** 2).reshape(k + 1, k + 1)  # g[iy, ix]
+    inner = np.column_stack([g[:-1, :-1].ravel(), g[:-1, 1:].ravel(), g[1:, 1:].ravel(),
+                             g[1:, :-1].ravel()])
+    # the square's boundary counter-clockwise from the corner (a, −a): right, top, left, bottom
+    ring0 = np.r_[g[:k, k], g[k, k:0:-1], g[k:0:-1, 0], g[0, :k]]
+    theta = -np.pi / 4 + 2 * np.pi * np.arange(4 * k) / (4 * k)
+    circle = r * np.column_stack([np.cos(theta), np.sin(theta)])
+    t = np.arange(1, rings + 1)[:, None, None] / rings
+    layers = (1 - t) * grid[ring0][None] + t * circle[None]  # (rings, 4k, 2)
+    ids = np.vstack([ring0, len(grid) + np.arange(rings * 4 * k).reshape(rings, 4 * k)])
+    nxt = np.roll(ids, -1, axis=1)
+    outer = np.column_stack([ids[:-1].ravel(), nxt[:-1].ravel(), nxt[1:].ravel(),
+                             ids[1:].ravel()])
+    points = np.vstack([grid, layers.reshape(-1, 2)]).T
+    cells = np.vstack([inner, outer])
+    if quads:
+        return MeshQuad(points, cells.T.copy())
+    tris = np.vstack([cells[:, [0, 1, 2]], cells[:, [0, 2, 3]]])
+    return MeshTri(points, tris.T.copy(), sort_t=False)
 
 
 
@@ -964,5 +1081,5 @@ def translate(item, offset: tuple[float, float]):
                         interfaces=tuple(_moved_obstacle(i, f) for i in item.interfaces))
 
 
-__all__ = ["BOX_FACES", "EXTRUDED_ELEMENT", "QUAD_EDGES", "box", "extrude", "half_disc",
-           "quad_region", "rectangle", "rotate", "translate"]
+__all__ = ["BOX_FACES", "EXTRUDED_ELEMENT", "QUAD_EDGES", "box", "cylinder", "extrude",
+           "half_disc", "quad_region", "rectangle", "rotate", "translate"]

@@ -100,7 +100,7 @@ def _check_interface_dimension(model: Model, dim: int) -> None:
 
 
 def _check_dimension(model: Model) -> None:
-    """All bodies of one dimension; a 3D model has no 2D-only items (frames, the plane and
+    """All bodies of one dimension; a 3D model has no 2D-only items (plane frames, the plane and
     thickness options, moving obstacles, dynamics, crack water and uplift on faces (an
     uplift acts through the CFEs): not available in 3D yet); interfaces of a 3D model join
     faces of its bodies or a body and a rigid plane."""
@@ -110,9 +110,9 @@ def _check_dimension(model: Model) -> None:
         return
     first = solids[0]
     for b in model.bodies:
-        if isinstance(b, Frame):
-            raise ModelError(f"frame '{b.name}'", f"is a plane frame, but body '{first.name}' "
-                             "is 3D: space frames are not available yet")
+        if isinstance(b, Frame) and b.dim != 3:
+            raise ModelError(f"frame '{b.name}'", f"is a plane frame (2D points), but "
+                             f"'{first.name}' is 3D: space frames take 3D points (x, y, z)")
         if b.dim != 3:
             raise ModelError(f"body '{b.name}'", f"is 2D, but body '{first.name}' is 3D: all "
                              "bodies of a model have one dimension")

@@ -9,11 +9,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from stepcontact.errors import ModelError
-from stepcontact.model.bodies import DOF_NAMES, DOF_NAMES_3D, Body, Frame
+from stepcontact.model.bodies import DOF_NAMES, DOF_NAMES_3D, DOF_NAMES_FRAME_3D, Body, Frame
 
 #: every DOF name a support may give (which of them a node has follows from its body: x, y,
-#: rz in 2D, x, y, z in 3D; checked on assembly)
-_ALL_DOFS: tuple[str, ...] = tuple(dict.fromkeys(DOF_NAMES + DOF_NAMES_3D))
+#: rz in 2D, x, y, z in 3D, x, y, z, rx, ry, rz on a space frame; checked on assembly)
+_ALL_DOFS: tuple[str, ...] = tuple(dict.fromkeys(DOF_NAMES + DOF_NAMES_FRAME_3D))
+#: the rotations, as they may be written in a string of DOF names ("xyzrxryrz")
+_ROTATIONS: tuple[str, ...] = ("rx", "ry", "rz")
 
 
 # --------------------------------------------------------------------------------------------
@@ -57,19 +59,22 @@ class NodeSet:
 # --------------------------------------------------------------------------------------------
 def _parse_dofs(dofs: str | Sequence[str], item: str,
                 names: tuple[str, ...] = DOF_NAMES) -> tuple[str, ...]:
-    """"xy", "x", "rz", "xyrz" (and "z", "xyz" when ``names`` has z) or a sequence of names
-    -> tuple of DOF names, each one of ``names`` (default: those of a 2D node)."""
+    """"xy", "x", "rz", "xyrz" (and "z", "xyz", "rx", "xyzrxryrz" when ``names`` has them) or
+    a sequence of names -> tuple of DOF names, each one of ``names`` (default: those of a 2D
+    node)."""
     use = ", ".join(DOF_NAMES) if names == DOF_NAMES else \
-        f"{', '.join(DOF_NAMES)} (2D) or {', '.join(DOF_NAMES_3D)} (3D)"
+        (f"{', '.join(DOF_NAMES)} (2D), {', '.join(DOF_NAMES_3D)} (3D) or "
+         f"{', '.join(DOF_NAMES_FRAME_3D)} (space frames)")
     letters = [d for d in ("x", "y", "z") if d in names]
     if isinstance(dofs, str):
         text = dofs.replace(",", "").replace(" ", "")
-        rz = "rz" in text
-        text = text.replace("rz", "")
+        turns = [r for r in _ROTATIONS if r in text and r in names]
+        for r in turns:
+            text = text.replace(r, "")
         bad = set(text) - set(letters)
         if bad:
             raise ModelError(item, f"unknown degree of freedom '{sorted(bad)[0]}', use {use}")
-        dofs = [d for d in letters if d in text] + (["rz"] if rz else [])
+        dofs = [d for d in letters if d in text] + turns
     out = tuple(dict.fromkeys(dofs))
     for d in out:
         if d not in names:
@@ -79,8 +84,10 @@ def _parse_dofs(dofs: str | Sequence[str], item: str,
 
 @dataclass(frozen=True, eq=False)
 class Support:
-    """Fixed degrees of freedom of a node set: ``dofs`` any of ``"x"``, ``"y"``, ``"rz"`` (2D)
-    or of ``"x"``, ``"y"``, ``"z"`` (3D bodies), e.g. ``"xy"``, ``"z"``, ``"xyz"``."""
+    """Fixed degrees of freedom of a node set: ``dofs`` any of ``"x"``, ``"y"``, ``"rz"`` (2D),
+    of ``"x"``, ``"y"``, ``"z"`` (3D bodies) or of ``"x"``, ``"y"``, ``"z"``, ``"rx"``,
+    ``"ry"``, ``"rz"`` (space frames), e.g. ``"xy"``, ``"z"``, ``"xyz"``, ``"xyzrxryrz"``
+    (clamped)."""
 
     name: str
     nodes: NodeSet
@@ -117,6 +124,10 @@ class Spring:
     are springs along the axes; ``k`` is a spring along ``direction`` d (any non-zero vector,
     stored normalised), e.g. a strut along a slope.  Both kinds may be given together.
 
+    In a 3D model a spring may also have ``kz`` (along z) and a direction (dx, dy, dz): its
+    stiffness is then the 3 × 3 k_x e_x⊗e_x + k_y e_y⊗e_y + k_z e_z⊗e_z + k d⊗d (a spring with
+    neither acts on x and y only, as in 2D); in a 2D model they are refused.
+
     ``damping`` is a dashpot coefficient c, N·s/m, acting along ``direction`` (along x and y
     alike when no direction is given), in parallel with the spring: dynamic analyses
     (:func:`stepcontact.solve_dynamic`) add it to the damping matrix; static analyses do not
@@ -140,43 +151,52 @@ class Spring:
     kx: float = 0.0
     ky: float = 0.0
     k: float = 0.0
-    direction: tuple[float, float] | None = None
+    direction: tuple[float, ...] | None = None
     damping: float = 0.0
+    kz: float = 0.0
 
     def __post_init__(self):
         item = f"spring '{self.name}'"
-        for key in ("kx", "ky", "k", "damping"):
+        for key in ("kx", "ky", "kz", "k", "damping"):
             v = getattr(self, key)
             if not np.isfinite(v) or v < 0:
                 raise ModelError(f"{item}.{key}", f"must be >= 0, got {v}")
         if self.direction is not None:
             d = np.asarray(self.direction, dtype=float)
-            if d.shape != (2,) or not np.all(np.isfinite(d)):
-                raise ModelError(f"{item}.direction",
-                                 f"must be a finite vector (dx, dy), got {self.direction}")
-            norm = float(np.hypot(d[0], d[1]))
+            if d.shape not in ((2,), (3,)) or not np.all(np.isfinite(d)):
+                raise ModelError(f"{item}.direction", "must be a finite vector (dx, dy) or "
+                                 f"(dx, dy, dz), got {self.direction}")
+            norm = float(np.linalg.norm(d))
             if norm == 0.0:
                 raise ModelError(f"{item}.direction", "is zero: give the spring's axis (dx, dy)")
-            object.__setattr__(self, "direction", (float(d[0] / norm), float(d[1] / norm)))
+            object.__setattr__(self, "direction", tuple(float(c / norm) for c in d))
         elif self.k > 0:
             raise ModelError(f"{item}.direction",
                              f"is needed with k = {self.k:g} N/m (the axis of the spring)")
 
+    @property
+    def dim(self) -> int:
+        """3 when the spring has ``kz`` or a 3D direction (it needs a 3D model), else 2."""
+        return 3 if self.kz or (self.direction is not None and len(self.direction) == 3) else 2
+
     def stiffness_matrix(self) -> np.ndarray:
-        """The 2 × 2 stiffness k_x e_x⊗e_x + k_y e_y⊗e_y + k d⊗d of each spring, N/m."""
-        K = np.diag([float(self.kx), float(self.ky)])
+        """The 2 × 2 (3 × 3, :attr:`dim` 3) stiffness k_x e_x⊗e_x + k_y e_y⊗e_y (+ k_z e_z⊗e_z)
+        + k d⊗d of each spring, N/m."""
+        K = np.diag([float(self.kx), float(self.ky), float(self.kz)][:self.dim])
         if self.direction is not None and self.k:
-            d = np.asarray(self.direction)
+            d = np.zeros(self.dim)
+            d[:len(self.direction)] = self.direction
             K += self.k * np.outer(d, d)
         return K
 
     def damping_matrix(self) -> np.ndarray:
-        """The 2 × 2 dashpot matrix of each spring, N·s/m: c d⊗d along ``direction``, c I
-        (x and y alike) without one."""
+        """The 2 × 2 (3 × 3) dashpot matrix of each spring, N·s/m: c d⊗d along ``direction``,
+        c I (every axis alike) without one."""
         if self.direction is None:
-            return float(self.damping) * np.eye(2)
-        return float(self.damping) * np.outer(self.direction, self.direction)
-
+            return float(self.damping) * np.eye(self.dim)
+        d = np.zeros(self.dim)
+        d[:len(self.direction)] = self.direction
+        return float(self.damping) * np.outer(d, d)
 
 
 def select_nodes(

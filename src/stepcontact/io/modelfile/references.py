@@ -74,7 +74,13 @@ class _References:
         path = Path(ms.file).expanduser()
         path = Path(os.path.normpath(path if path.is_absolute() else self.base / path))
         try:
-            self.mesh = read_mesh(path, ms.order or 1, ms.element or "tri", ms.size)
+            mesh = read_mesh(path, ms.order or 1, ms.element or "tri", ms.size)
+            if mesh.dim == 3:
+                raise ModelError(f"mesh '{path}'", f"is a 3D mesh ({mesh.contents()}): 3D "
+                                 "models are not supported yet in the model file; read it in "
+                                 "Python with stepcontact.read_msh (physical volumes become "
+                                 "bodies)")
+            self.mesh = mesh
         except ModelError as e:
             self.mesh_failed = True
             where = str(path)
