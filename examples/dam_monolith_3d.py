@@ -105,3 +105,7 @@ print(f"  eccentricities (e₁, e₂) = ({d['eccentricity'][0]:.4f}, {d['eccentr
       f"of {sf.area:.2f} m²")
 assert abs(d["eccentricity"][1]) < 1e-9  # symmetric across the width
 print(f"margin against sliding h_slide / h_d = {sf.lam_sliding / H_D:.4f}")
+
+# the joint in its own plane at the design level and where the monolith slides
+sc.plot_interface_map(res, "base", [i, len(res.lam) - 1], path="dam_monolith_3d_joint.png")
+print("wrote dam_monolith_3d_joint.png")

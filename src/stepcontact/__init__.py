@@ -58,7 +58,8 @@ from stepcontact.solver.dynamic import DynamicResult
 from stepcontact.solver.program import ProgramResult, run, solve_dynamic
 from stepcontact.solver.static import StepInfo, solve_static
 
-_PLOTS = ("plot_interfaces", "plot_load_path", "plot_deformed", "plot_load_displacement",
+_PLOTS = ("plot_interfaces", "plot_interface_map", "plot_load_path", "plot_deformed",
+          "plot_load_displacement",
           "plot_event_timeline", "plot_safety", "plot_time_history", "plot_energy")
 
 

@@ -52,6 +52,7 @@ from stepcontact.post.common import (
 )
 from stepcontact.post.deformed import plot_deformed
 from stepcontact.post.dynamics import MAX_HISTORY_NODES, plot_energy, plot_time_history  # noqa: F401
+from stepcontact.post.interface_map import plot_interface_map
 from stepcontact.post.interfaces import (
     CORNER_NOTE,  # noqa: F401
     CORNER_RATIO,  # noqa: F401
@@ -70,6 +71,7 @@ __all__ = [
     "save_figure",
     "plot_deformed",
     "plot_event_timeline",
+    "plot_interface_map",
     "plot_interfaces",
     "plot_load_displacement",
     "plot_load_path",

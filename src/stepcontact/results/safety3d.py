@@ -118,6 +118,16 @@ def _joint_axes(normal: np.ndarray, tangent: np.ndarray, area: np.ndarray) -> np
     return np.stack([t, np.cross(n, t), n])
 
 
+def joint_frame(res: StaticResult, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The centroid x̄ (3,) of the CFEs ``k`` (area-weighted, m) and the joint's axes (3, 3),
+    rows e₁, e₂, n̄ (module docstring)."""
+    x = np.asarray(res.cfe["x"], float)[k]
+    area = np.asarray(res.cfe["area"], float)[k]
+    axes = _joint_axes(np.asarray(res.cfe["normal"], float)[k],
+                       np.asarray(res.cfe["tangent"], float)[k], area)
+    return area @ x / area.sum(), axes
+
+
 def interface_safety_3d(res: StaticResult, interface: str) -> InterfaceSafety3D:
     """The :class:`InterfaceSafety3D` of ``interface`` along the path of a 3D result."""
     names = list(res.interface_names)
@@ -134,8 +144,7 @@ def interface_safety_3d(res: StaticResult, interface: str) -> InterfaceSafety3D:
     fric = np.asarray(res.cfe["friction"], float)[k]
     N = np.asarray(res.N, float)[:, k]
     Q = np.asarray(res.Q_t, float)[:, k]
-    axes = _joint_axes(nrm, tan, area)
-    centroid = area @ x / area.sum()
+    centroid, axes = joint_frame(res, k)
     local = (x - centroid) @ axes[:2].T  # (K, 2) in-plane coordinates
     extent = np.ptp(local, axis=0)
     force = -N[..., None] * nrm[None] - np.einsum("skj,kjd->skd", Q, tan)  # (n, K, 3)
@@ -175,4 +184,4 @@ def _limits(res: StaticResult) -> tuple[float | None, float | None]:
             lam if any(m.startswith("rotation") for m in modes) else None)
 
 
-__all__ = ["InterfaceSafety3D", "interface_safety_3d"]
+__all__ = ["InterfaceSafety3D", "interface_safety_3d", "joint_frame"]
