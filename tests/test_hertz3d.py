@@ -1,0 +1,227 @@
+"""Hertz and Cattaneo–Mindlin point contact in 3D (issue 28 §5): a body with a spherical
+tip (:func:`stepcontact.model.mesh.spherical_block`, hex8, refined towards the contact point)
+pressed on a flat, then pushed sideways, through the static driver.
+
+References (closed forms, independent of the code under test) and tolerances, per test:
+
+* Hertz (frictionless, f = 0, a quarter model on a rigid plane, E* = E / (1 − ν²)): contact
+  radius a = (3 P R / (4 E*))^(1/3), peak pressure p₀ = 3 P / (2 π a²), pressure
+  p(r) = p₀ √(1 − r²/a²).  Measured on four meshes h = a/2, a/3, a/4, a/6 at the contact:
+  the centre CFE's pressure −N/A against p₀ (1 %, every mesh), and against Hertz's pressure
+  averaged with that CFE's own weight φ (the bilinear hat over its cell, the average a nodal
+  force measures), the contact radius from the second moment of the CFE forces
+  (Σ N r² / Σ N = 2a²/5 for Hertz's pressure) and the contact edge (midway between the last
+  closed and the first open CFE along x, within one element h); the errors' order of
+  convergence by ``np.polyfit`` of log error on log h (≥ 1) and the finest errors (stated
+  below); equilibrium Σ N = −P/4 to 1e-9.
+* Cattaneo–Mindlin (f = 0.5, the tip on an elastic block of the same material: Dundurs' β = 0,
+  so pressing causes no shear and shear no pressure; E* = E / (2 (1 − ν²))): the top pressed
+  down, then moved sideways along x (a rigid clamp); at every state the stick radius is
+  c = a (1 − Q / (f_k P))^(1/3) within one element h (every stuck CFE at r ≤ c + h, every
+  slipping one at r ≥ c − h), a from the measured P; gross sliding at Q = f_k Σ|N| (1e-9).
+  The faceted cone with k facets (``facets``, vertices at ``facet_angle`` + 2πi/k) changes
+  the friction coefficient along Q: f_k = f when Q points at a vertex (between two facets,
+  the vertex is on the true cone) and f_k = f cos(π/k) when Q is along a facet's normal (the
+  facet's distance from the axis); symmetric about Q either way, so the slip zone stays an
+  annulus and Q₂ = 0 (1e-9 P).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.polynomial.legendre import leggauss
+from skfem import MeshHex
+
+import stepcontact as sc
+from stepcontact.enums import ContactState
+from stepcontact.model.mesh import spherical_block
+
+R = 0.1  # sphere radius, m
+STEEL = sc.Material(210e9, 0.3, 7850.0)
+A_NOM = 0.1 * R  # the nominal contact radius the meshes are refined for, m
+TOL = 1e-9
+
+
+def graded(length: float, h0: float, uniform: float, growth: float = 1.4) -> np.ndarray:
+    """Grid lines on [0, length] (m): steps h0 up to ``uniform``, then growing by about
+    ``growth`` each, the grown part scaled to end at ``length``."""
+    k = int(math.ceil(uniform / h0 - 1e-9))
+    x, h = list(h0 * np.arange(k + 1)), h0
+    while x[-1] < length:
+        h *= growth
+        x.append(x[-1] + h)
+    x = np.asarray(x)
+    tail = x > k * h0
+    x[tail] = k * h0 + (x[tail] - k * h0) * (length - k * h0) / (x[-1] - k * h0)
+    return x
+
+
+def hertz(P: float, e_star: float) -> tuple[float, float]:
+    """Hertz's point contact of a sphere of radius R: a = (3 P R / (4 E*))^(1/3) (m) and
+    p₀ = 3 P / (2 π a²) (Pa), P the whole load (N)."""
+    a = (3 * P * R / (4 * e_star)) ** (1 / 3)
+    return a, 3 * P / (2 * math.pi * a**2)
+
+
+# --------------------------------------------------------------------------------------------
+# Hertz: a quarter of the tip on a rigid plane, frictionless
+# --------------------------------------------------------------------------------------------
+E_RIGID = STEEL.E / (1 - STEEL.nu**2)  # E* of an elastic sphere on a rigid flat, Pa
+P_HERTZ = 4 * E_RIGID * A_NOM**3 / (3 * R)  # the load giving a = A_NOM, N (whole sphere)
+
+
+def hertz_quarter(h0: float) -> sc.Model:
+    """The quarter x, y ≥ 0 of a tip of radius R, 0.5 R × 0.5 R × 0.5 R (= 5a each way),
+    steps h0 up to 1.5 a from the contact point, on the rigid plane z = 0 (no friction):
+    symmetry supports on x = 0 (u_x) and y = 0 (u_y), P/4 spread uniformly over the top;
+    CFEs at the bottom nodes within 2a of the axis (the rest stays far from the plane)."""
+    L = 0.5 * R
+    xs = graded(L, h0, 1.5 * A_NOM)
+    zeta = graded(L, h0, 0.5 * A_NOM, 1.5) / L
+    m = sc.Model(bodies=(spherical_block("tip", R, xs, xs, L, zeta, STEEL),))
+    near = m.select("tip", lambda x, y, z: x**2 + y**2 <= (2 * A_NOM) ** 2 + 1e-12,
+                    boundary="bottom")
+    return m.add(
+        sc.Support("sym_x", m.select("tip", boundary="left"), "x"),
+        sc.Support("sym_y", m.select("tip", boundary="front"), "y"),
+        sc.Interface("hertz", near, sc.RigidPlane("flat"), friction=0.0),
+        sc.LoadPattern("P", [sc.EdgeForce(m.select("tip", boundary="top"), fz=-P_HERTZ / 4)]),
+        sc.Segment("P", 1.0))
+
+
+def centre_average(p0: float, a: float, h: float, n: int = 16) -> float:
+    """Hertz's pressure p₀ √(1 − r²/a²) averaged over [0, h]² with the centre node's bilinear
+    weight φ = (1 − x/h)(1 − y/h) (Gauss–Legendre, n × n points), Pa."""
+    g, w = leggauss(n)
+    X, Y = np.meshgrid(0.5 * h * (g + 1), 0.5 * h * (g + 1), indexing="ij")
+    W = np.outer(w, w) * (1 - X / h) * (1 - Y / h)
+    p = p0 * np.sqrt(np.maximum(1 - (X**2 + Y**2) / a**2, 0.0))
+    return float((W * p).sum() / W.sum())
+
+
+def test_hertz_sphere_on_a_rigid_flat_converges():
+    """The frictionless quarter tip on a rigid plane, h = a/2, a/3, a/4, a/6 at the contact
+    (1 152 … 7 680 DOFs, 15 … 111 CFEs): Σ N = −P/4 (1e-9); the centre CFE's pressure within
+    1 % of p₀ on every mesh (measured −0.8 % … +0.6 %); against Hertz's pressure averaged with
+    its weight the error falls as h^q, q ≥ 1 (measured 5.2 %, 1.1 %, 0.77 %, 0.11 %: q ≈ 3.2),
+    finest ≤ 0.5 %; the second-moment radius √(5/2 Σ N r² / Σ N) converges to a with q ≥ 1
+    (measured 3.7 %, 2.2 %, 0.78 %, 0.39 %: q ≈ 2.1), finest ≤ 1 %; the contact edge along x
+    within one element of a on every mesh."""
+    a, p0 = hertz(P_HERTZ, E_RIGID)
+    assert a == pytest.approx(A_NOM, rel=1e-12)
+    hs, p_err, a_err = [], [], []
+    for div in (2, 3, 4, 6):
+        h0 = a / div
+        res = sc.solve_static(hertz_quarter(h0))
+        assert res.status == sc.Status.COMPLETED, res.message
+        N = np.asarray(res.N)[-1]
+        A = np.asarray(res.cfe["area"])
+        x = np.asarray(res.cfe["x"])
+        r = np.hypot(x[:, 0], x[:, 1])
+        assert N.sum() == pytest.approx(-P_HERTZ / 4, rel=TOL)
+        centre = int(np.argmin(r))
+        assert r[centre] == 0.0
+        peak = -N[centre] / A[centre]
+        assert peak == pytest.approx(p0, rel=0.01), f"a/{div}: {peak / p0 - 1:+.4f}"
+        p_err.append(abs(peak / centre_average(p0, a, h0) - 1))
+        a_err.append(abs(math.sqrt(2.5 * (N * r**2).sum() / N.sum()) / a - 1))
+        closed = N < -1e-9 * np.abs(N).max()
+        on_x = np.abs(x[:, 1]) <= 1e-12 * R
+        last = r[on_x & closed].max()
+        first = r[on_x & ~closed & (r > last)].min()
+        assert abs(0.5 * (last + first) - a) <= first - last, (div, last / a, first / a)
+        hs.append(h0)
+    for name, err, finest in (("peak pressure", p_err, 0.005), ("contact radius", a_err, 0.01)):
+        order = np.polyfit(np.log(hs), np.log(err), 1)[0]
+        assert order >= 1.0, (name, order, err)
+        assert err[-1] <= finest, (name, err)
+
+
+# --------------------------------------------------------------------------------------------
+# Cattaneo–Mindlin: the whole tip on an elastic block of the same material
+# --------------------------------------------------------------------------------------------
+F = 0.5
+E_SAME = STEEL.E / (2 * (1 - STEEL.nu**2))  # E* of two equal bodies, Pa
+
+
+def mindlin_model(k: int, facet_angle: float, div: float = 3.0) -> tuple[sc.Model, float]:
+    """The whole tip, [−4a, 4a]² × 4a high, steps h0 = a/``div`` up to 1.2 a from the axis,
+    on a block [−4a, 4a]² × 4a deep with the same (x, y) grid (node-to-facet CFEs: each tip
+    node faces a block node), fixed at its bottom; f = 0.5 on the k-faceted cone.  The tip's
+    top is a rigid clamp: pressed down by a²/R (segment 'press'), then moved along +x by
+    a²/R (segment 'shift', far past gross sliding).  Returns (model, h0)."""
+    L, h0 = 4 * A_NOM, A_NOM / div
+    g = graded(L, h0, 1.2 * A_NOM, 1.5)
+    xs = np.r_[-g[:0:-1], g]
+    zeta = graded(L, h0, 0.5 * A_NOM, 1.6) / L
+    tip = spherical_block("tip", R, xs, xs, L, zeta, STEEL)
+    tol = 1e-9 * L
+    mesh = MeshHex.init_tensor(xs, xs, -zeta[::-1] * L).with_boundaries(
+        {"bottom": lambda q: np.abs(q[2] + L) <= tol, "top": lambda q: np.abs(q[2]) <= tol})
+    flat = sc.Body.from_mesh("flat", mesh, "hex8", STEEL)
+    m = sc.Model(bodies=(tip, flat))
+    near = m.select("tip", lambda x, y, z: x**2 + y**2 <= (1.3 * A_NOM) ** 2 + 1e-12,
+                    boundary="bottom")
+    under = m.select("flat", lambda x, y, z: x**2 + y**2 <= (1.6 * A_NOM) ** 2 + 1e-12,
+                     boundary="top")
+    top = m.select("tip", boundary="top")
+    d = A_NOM**2 / R
+    return m.add(
+        sc.Support("bed", m.select("flat", boundary="bottom"), "xyz"),
+        sc.Interface("joint", near, under, friction=F, facets=k, facet_angle=facet_angle,
+                     cfe="node-to-segment"),
+        sc.LoadPattern("press", [sc.PrescribedDisplacement(top, "z", -1.0)]),
+        sc.LoadPattern("shift", [sc.PrescribedDisplacement(top, "x", 1.0)]),
+        sc.Segment("press", d), sc.Segment("shift", d)), h0
+
+
+CLOSED = [int(s) for s in ContactState if s.closed]
+
+
+@pytest.mark.parametrize("k, facet_angle, f_k", [
+    (8, 0.0, F),  # Q at a vertex, between two facets: the true cone's f
+    (4, math.pi / 4, F * math.cos(math.pi / 4)),  # Q along a facet's normal: f cos(π/k)
+], ids=["between-facets", "facet-normal"])
+def test_cattaneo_mindlin_stick_radius(k, facet_angle, f_k):
+    """The tip pressed on the block, then sheared: after pressing every closed CFE sticks and
+    Σ Q = 0 (1e-9 P, β = 0); during the shift P stays constant (1e-3, measured ~1e-4: the
+    unequal bodies' small coupling); at every state with 0 < Q < f_k P the stick zone's edge
+    lies within one element h = a/3 of c = a (1 − Q/(f_k P))^(1/3) (a from the measured P:
+    stuck CFEs at r ≤ c + h, slipping ones at r ≥ c − h), the closed zone's edge within h of
+    a; at the end the tip slides as a whole at Q = f_k Σ|N| (1e-9), Q₂ = 0 (1e-9 P)."""
+    model, h = mindlin_model(k, facet_angle)
+    res = sc.solve_static(model)
+    assert res.status == sc.Status.COMPLETED, res.message
+    assert f"inscribed {k}-gon" in res.message
+    N, Q = np.asarray(res.N), np.asarray(res.Q_t)
+    state, seg = np.asarray(res.state), np.asarray(res.segment)
+    x = np.asarray(res.cfe["x"])
+    r = np.hypot(x[:, 0], x[:, 1])
+    pressed = int(np.flatnonzero(seg == 0)[-1])
+    P = -N[pressed].sum()
+    closed = np.isin(state[pressed], CLOSED)
+    assert np.all(state[pressed][closed] == ContactState.STICK)
+    assert np.abs(Q[pressed].sum(axis=0)).max() <= TOL * P
+    a, _ = hertz(P, E_SAME)
+    assert abs(r[closed].max() - a) <= h
+    checked = 0
+    for i in np.flatnonzero(seg == 1):
+        Pi, (Qx, Qy) = -N[i].sum(), Q[i].sum(axis=0)
+        assert Pi == pytest.approx(P, rel=1e-3)
+        assert abs(Qy) <= TOL * Pi
+        ratio = abs(Qx) / (f_k * Pi)
+        if not 0 < ratio < 1 - 1e-9:
+            continue
+        c = hertz(Pi, E_SAME)[0] * (1 - ratio) ** (1 / 3)
+        stuck = state[i] == ContactState.STICK
+        slipping = np.isin(state[i], CLOSED) & ~stuck
+        assert np.all(r[stuck] <= c + h), (i, ratio, r[stuck].max() / h, c / h)
+        assert np.all(r[slipping] >= c - h), (i, ratio, r[slipping].min() / h, c / h)
+        checked += 1
+    assert checked >= 10
+    last = len(res.lam) - 1
+    assert not np.any(state[last] == ContactState.STICK)
+    assert abs(Q[last].sum(axis=0)[0]) == pytest.approx(f_k * -N[last].sum(), rel=TOL)
