@@ -66,6 +66,48 @@ def hertz(P: float, e_star: float) -> tuple[float, float]:
     return a, 3 * P / (2 * math.pi * a**2)
 
 
+def test_spherical_block_puts_its_bottom_on_the_sphere():
+    """spherical_block: every node of the named face 'bottom' on the sphere |x − (0, 0, R)| = R
+    (1e-12 R), the top at z = top, the other faces at the grid's ends (1e-12 R), the nodes of
+    each column evenly spread by the layers' fractions; positive volume (Σ over elements = the
+    integral of top − z_s over the block to 1e-2 relative: the bilinear faces cut below the
+    sphere by about h²/(8R) = 0.1 mm here, measured 0.4 %);
+    refusals name the body and the field."""
+    xs, top = np.linspace(-0.03, 0.04, 8), 0.05
+    tip = spherical_block("tip", R, xs, xs[:5], top, [0, 0.2, 0.5, 1.0], STEEL, "hex8")
+    p, mesh = tip.points, tip.mesh
+    face = {b: np.unique(mesh.facets[:, mesh.boundaries[b]]) for b in tip.boundary_names}
+    centre = np.array([0.0, 0.0, R])
+    np.testing.assert_allclose(np.linalg.norm(p[face["bottom"]] - centre, axis=1), R,
+                               atol=1e-12 * R)
+    assert len(face["bottom"]) == 8 * 5
+    np.testing.assert_allclose(p[face["top"], 2], top, atol=1e-12 * R)
+    for b, (axis, value) in {"left": (0, -0.03), "right": (0, 0.04), "front": (1, -0.03),
+                             "back": (1, xs[4])}.items():
+        np.testing.assert_allclose(p[face[b], axis], value, atol=1e-12 * R)
+    corner = np.flatnonzero((p[:, 0] == xs[0]) & (p[:, 1] == xs[0]))
+    zs = R - math.sqrt(R**2 - 2 * xs[0] ** 2)
+    np.testing.assert_allclose(np.sort(p[corner, 2]), zs + np.array([0, 0.2, 0.5, 1.0])
+                               * (top - zs), atol=1e-12 * R)
+    from skfem import Basis, ElementHex1, Functional
+
+    vol = Functional(lambda w: 1.0 + 0 * w.x[0]).assemble(Basis(mesh, ElementHex1()))
+    g, w = leggauss(20)
+    X, Y = np.meshgrid(0.035 * g + 0.005, 0.02 * g - 0.01, indexing="ij")
+    exact = 0.035 * 0.02 * (np.outer(w, w) * (top - R + np.sqrt(R**2 - X**2 - Y**2))).sum()
+    assert vol == pytest.approx(exact, rel=1e-2)
+    with pytest.raises(sc.ModelError, match="body 'tip'.radius"):
+        spherical_block("tip", -1.0, xs, xs, top, 2, STEEL)
+    with pytest.raises(sc.ModelError, match="body 'tip'.*inside the sphere"):
+        spherical_block("tip", 0.04, xs, xs, top, 2, STEEL)
+    with pytest.raises(sc.ModelError, match="body 'tip'.*below the top"):
+        spherical_block("tip", R, xs, xs, 0.001, 2, STEEL)
+    with pytest.raises(sc.ModelError, match="body 'tip'.layers"):
+        spherical_block("tip", R, xs, xs, top, [0, 0.5], STEEL)
+    with pytest.raises(sc.ModelError, match="body 'tip'.element"):
+        spherical_block("tip", R, xs, xs, top, 2, STEEL, "quad4")
+
+
 # --------------------------------------------------------------------------------------------
 # Hertz: a quarter of the tip on a rigid plane, frictionless
 # --------------------------------------------------------------------------------------------

@@ -1006,10 +1006,12 @@ def spherical_block(
             or radius <= 0:
         raise ModelError(f"{item}.radius", f"must be positive and finite, got {radius!r}")
     R = float(radius)
-    x = _grid(name, "xs", xs, *np.asarray(xs, float)[[0, -1]]) if np.ndim(xs) == 1 else None
-    y = _grid(name, "ys", ys, *np.asarray(ys, float)[[0, -1]]) if np.ndim(ys) == 1 else None
+    x, y = (_grid(name, field, v, *np.asarray(v, float)[[0, -1]])
+            if np.ndim(v) == 1 and len(v) >= 2 else None for field, v in (("xs", xs), ("ys", ys)))
     if x is None or y is None:
-        raise ModelError(item, "xs and ys must be lists of grid lines (m)")
+        raise ModelError(item, "xs and ys must be lists of at least two grid lines (m)")
+    if not isinstance(top, int | float | np.floating | np.integer) or not np.isfinite(top):
+        raise ModelError(f"{item}.top", f"must be a finite height (m), got {top!r}")
     if np.ndim(layers) == 0:
         zeta = np.linspace(0.0, 1.0, _check_count(name, "layers", layers) + 1)
     else:
@@ -1024,12 +1026,12 @@ def spherical_block(
     check_size(3 * (per * len(x) - per + 1) * (per * len(y) - per + 1)
                * (per * len(zeta) - per + 1), item, f"the mesh of body '{name}'")
     cls = MeshTet if element.startswith("tet") else MeshHex
-    tol = 1e-9
+    tol = 1e-9 * np.array([x[-1] - x[0], y[-1] - y[0], 1.0])  # per axis, m (ζ: 1)
     ends = {"left": (0, x[0]), "right": (0, x[-1]), "front": (1, y[0]), "back": (1, y[-1]),
             "bottom": (2, 0.0), "top": (2, 1.0)}
 
     def on(axis: int, value: float):
-        return lambda q: np.abs(q[axis] - value) <= tol * max(1.0, abs(value))
+        return lambda q: np.abs(q[axis] - value) <= tol[axis]
 
     # the faces named on the parameter grid (x, y, ζ), then the nodes moved onto the sphere
     mesh = cls.init_tensor(x, y, zeta).with_boundaries({f: on(*e) for f, e in ends.items()})
