@@ -68,8 +68,8 @@ def hertz(P: float, e_star: float) -> tuple[float, float]:
 
 def test_spherical_block_puts_its_bottom_on_the_sphere():
     """spherical_block: every node of the named face 'bottom' on the sphere |x − (0, 0, R)| = R
-    (1e-12 R), the top at z = top, the other faces at the grid's ends (1e-12 R), the nodes of
-    each column evenly spread by the layers' fractions; positive volume (Σ over elements = the
+    (1e-12 R), the top at z = top, the other faces at the grid's ends (1e-12 R), a column's
+    nodes at z_s + ζ (top − z_s) for the layers' fractions ζ; the volume (Σ over elements = the
     integral of top − z_s over the block to 1e-2 relative: the bilinear faces cut below the
     sphere by about h²/(8R) = 0.1 mm here, measured 0.4 %);
     refusals name the body and the field."""
