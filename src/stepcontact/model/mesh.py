@@ -1081,5 +1081,83 @@ def translate(item, offset: tuple[float, float]):
                         interfaces=tuple(_moved_obstacle(i, f) for i in item.interfaces))
 
 
+# --------------------------------------------------------------------------------------------
+# a block with a spherical face (Hertz contact in 3D)
+# --------------------------------------------------------------------------------------------
+def spherical_block(
+    name: str,
+    radius: float,
+    xs,
+    ys,
+    top: float,
+    layers,
+    material: Material,
+    element: str = "hex8",
+) -> Body:
+    """A block over [x0, x1] × [y0, y1] whose bottom is the sphere of ``radius`` R (m) resting
+    on the plane z = 0 at the origin, z_s(x, y) = R − √(R² − x² − y²), and whose top is the
+    plane z = ``top`` (m): a spherical tip (a ball's cap) for Hertz-type point contact.
+
+    ``xs``, ``ys`` are the grid lines (m, increasing; x² + y² < R² and z_s < top over the
+    block), so the mesh can be refined towards the contact point; ``layers`` are the grid
+    lines through the thickness as fractions ζ from 0 (the sphere) to 1 (the top), each
+    column of nodes at z = z_s + ζ (top − z_s) (an integer n: n uniform layers).  The nodes of
+    the bottom lie on the sphere (the faces are flat between them).  ``element`` as for
+    :func:`box`; the faces are named boundaries as a box's (:data:`BOX_FACES`: ``bottom`` the
+    spherical face, ``top``, ``left``/``right`` at x0/x1, ``front``/``back`` at y0/y1).
+
+    Example
+    -------
+    >>> from stepcontact import Material
+    >>> from stepcontact.model.mesh import spherical_block
+    >>> tip = spherical_block("tip", 0.1, [0, 0.02, 0.05], [0, 0.02, 0.05], 0.05, 2,
+    ...                       Material(210e9, 0.3))
+    >>> bool(abs(tip.points.min(axis=0)).max() == 0.0), tip.n_nodes   # touches z = 0 at 0
+    (True, 27)
+    """
+    item = f"body '{name}'"
+    if element not in SOLID_KINDS:
+        raise ModelError(f"{item}.element",
+                         f"unknown element '{element}', use {', '.join(SOLID_KINDS)}")
+    if not isinstance(radius, int | float | np.floating | np.integer) or not np.isfinite(radius) \
+            or radius <= 0:
+        raise ModelError(f"{item}.radius", f"must be positive and finite, got {radius!r}")
+    R = float(radius)
+    x, y = (_grid(name, field, v, *np.asarray(v, float)[[0, -1]])
+            if np.ndim(v) == 1 and len(v) >= 2 else None for field, v in (("xs", xs), ("ys", ys)))
+    if x is None or y is None:
+        raise ModelError(item, "xs and ys must be lists of at least two grid lines (m)")
+    if not isinstance(top, int | float | np.floating | np.integer) or not np.isfinite(top):
+        raise ModelError(f"{item}.top", f"must be a finite height (m), got {top!r}")
+    if np.ndim(layers) == 0:
+        zeta = np.linspace(0.0, 1.0, _check_count(name, "layers", layers) + 1)
+    else:
+        zeta = _grid(name, "layers", layers, 0.0, 1.0)
+    r2 = max(x[0] ** 2, x[-1] ** 2) + max(y[0] ** 2, y[-1] ** 2)
+    if r2 >= R * R or R - np.sqrt(R * R - r2) >= top:
+        raise ModelError(item, "the block's corners must lie inside the sphere's radius and "
+                         "below the top (x² + y² < R², z_s < top)")
+    from stepcontact.model.size import check_size
+
+    per = 2 if element in ("tet10", "hex20", "hex27") else 1
+    check_size(3 * (per * len(x) - per + 1) * (per * len(y) - per + 1)
+               * (per * len(zeta) - per + 1), item, f"the mesh of body '{name}'")
+    cls = MeshTet if element.startswith("tet") else MeshHex
+    tol = 1e-9 * np.array([x[-1] - x[0], y[-1] - y[0], 1.0])  # per axis, m (ζ: 1)
+    ends = {"left": (0, x[0]), "right": (0, x[-1]), "front": (1, y[0]), "back": (1, y[-1]),
+            "bottom": (2, 0.0), "top": (2, 1.0)}
+
+    def on(axis: int, value: float):
+        return lambda q: np.abs(q[axis] - value) <= tol[axis]
+
+    # the faces named on the parameter grid (x, y, ζ), then the nodes moved onto the sphere
+    mesh = cls.init_tensor(x, y, zeta).with_boundaries({f: on(*e) for f, e in ends.items()})
+    p = mesh.doflocs.copy()
+    zs = R - np.sqrt(R * R - p[0] ** 2 - p[1] ** 2)
+    p[2] = zs + p[2] * (top - zs)
+    mesh = dataclasses.replace(mesh, doflocs=p)
+    return Body.from_mesh(name, mesh, element, material)
+
+
 __all__ = ["BOX_FACES", "EXTRUDED_ELEMENT", "QUAD_EDGES", "box", "cylinder", "extrude",
-           "half_disc", "quad_region", "rectangle", "rotate", "translate"]
+           "half_disc", "quad_region", "rectangle", "rotate", "spherical_block", "translate"]
