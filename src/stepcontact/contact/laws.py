@@ -29,12 +29,13 @@ slip−; C the residual cohesion of a broken bond, 0 for plain Coulomb contact);
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cache
 from typing import Protocol
 
 import numpy as np
 
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import ContactState
+from stepcontact.enums import MAX_FACETS, VERTEX_SLIP, ContactState
 
 OPEN, STICK, SLIP_POS, SLIP_NEG, CLOSED, BONDED = (int(s) for s in (
     ContactState.OPEN, ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG,
@@ -139,10 +140,14 @@ class Relations:
         return self._rows[1]
 
 
+@cache
 def _row_order(nc: int) -> np.ndarray:
-    """The entries (i, (i + o) mod n_c) of a raveled n_c × n_c block, in the order (o, i)."""
+    """The entries (i, (i + o) mod n_c) of a raveled n_c × n_c block, in the order (o, i)
+    (read-only: one array per n_c)."""
     i, o = np.arange(nc)[None, :], np.arange(nc)[:, None]
-    return (i * nc + (i + o) % nc).reshape(-1)
+    out = (i * nc + (i + o) % nc).reshape(-1)
+    out.setflags(write=False)
+    return out
 
 
 @dataclass
@@ -231,43 +236,64 @@ _MASK_CACHE = 8
 _FIRED = np.array([OPEN, SLIP_POS, SLIP_NEG, CLOSED])
 
 
+def _mask_table() -> tuple[np.ndarray, np.ndarray]:
+    """The masks of :class:`_StateMasks` for every pair (state code c, CFE flags g) as the
+    columns 8 c + g of a table (one row per mask; flags g: 1 held by supports, 2 frictional,
+    4 rigid normally), and σ (+1 slip+, −1 else) per code: an array of states then gives every
+    mask by one gather.  Codes up to the faceted cone's largest (codes a Coulomb law does not
+    have behave as the original formulas treat them: closed, neither stick, slip nor
+    frictionless)."""
+    codes = np.repeat(np.arange(VERTEX_SLIP + MAX_FACETS), 8)
+    g = np.tile(np.arange(8), VERTEX_SLIP + MAX_FACETS)
+    held, fric, rigid = (g & 1) > 0, (g & 2) > 0, (g & 4) > 0
+    op = codes == OPEN
+    closed = ~op & ~held
+    stick_state = codes == STICK
+    slip = (codes == SLIP_POS) | (codes == SLIP_NEG)
+    cl = codes == CLOSED
+    rows = {"open": op & ~held, "closed": closed, "not_closed": ~closed,
+            "stick": stick_state & closed & fric, "stick_state": stick_state, "slip": slip,
+            "slip_closed": slip & closed, "cl": cl, "closed_rn": closed & rigid,
+            "closed_sn": closed & ~rigid, "free_t": ~closed | cl}
+    table = np.array([rows[name] for name in _MASK_ROWS])
+    sigma = np.where(np.arange(VERTEX_SLIP + MAX_FACETS) == SLIP_POS, 1.0, -1.0)
+    for x in (table, sigma):
+        x.setflags(write=False)
+    return table, sigma
+
+
+#: the rows of :func:`_mask_table` (the masks of :class:`_StateMasks`)
+_MASK_ROWS = ("open", "closed", "not_closed", "stick", "stick_state", "slip", "slip_closed",
+              "cl", "closed_rn", "closed_sn", "free_t")
+_MASKS = _mask_table()
+
+
 class _StateMasks:
     """The masks of one state array of a :class:`CoulombLaw` that its methods ask (read-only;
-    formed once per scheme, :meth:`CoulombLaw._masks`).
+    formed once per scheme, :meth:`CoulombLaw._masks`, by one gather from
+    :func:`_mask_table`).
 
     ``open``: OPEN and not held by supports; ``closed``: not OPEN and not held;
     ``not_closed`` its complement; ``stick``: closed, STICK and frictional; ``stick_state``:
     STICK; ``slip``: slip±; ``slip_closed``: slip± and closed; ``sigma``: +1 for slip+, −1
     else; ``cl``: CLOSED (frictionless); ``closed_rn``, ``closed_sn``: closed and rigid
     (compliant) normally; ``free_t``: a tangential force prescribed zero (not closed, or
-    frictionless)."""
+    frictionless); ``any_open``, ``any_stick``, ``any_slip``: whether any CFE is open (and
+    not held), stuck (closed, frictional), slipping."""
 
-    __slots__ = ("any_open", "any_slip", "any_stick", "cl", "closed", "closed_rn", "closed_sn",
-                 "free_t", "not_closed", "open", "sigma", "slip", "slip_closed", "stick",
-                 "stick_state")
+    __slots__ = ("any_open", "any_slip", "any_stick", "sigma", *_MASK_ROWS)
 
     def __init__(self, law: CoulombLaw, states: np.ndarray):
-        op = states == OPEN
-        closed = ~op
-        if law._any_inert:
-            closed &= ~law.inert
-            op = op & ~law.inert
-        self.open, self.closed, self.not_closed = op, closed, ~closed
-        self.stick_state = states == STICK
-        self.stick = self.stick_state & closed & law.frictional
-        spos = states == SLIP_POS
-        self.slip = spos | (states == SLIP_NEG)
-        self.slip_closed = self.slip & closed
-        self.sigma = np.where(spos, 1.0, -1.0)
-        self.cl = states == CLOSED
-        self.closed_rn = closed & law.rigid_n
-        self.closed_sn = closed & ~law.rigid_n
-        self.free_t = self.not_closed | self.cl
-        for name in self.__slots__[3:]:
-            getattr(self, name).setflags(write=False)
-        self.any_open = bool(op.any())
-        self.any_stick = bool(self.stick.any())
-        self.any_slip = bool(self.slip.any())
+        table, sigma = _MASKS
+        rows = table.take(np.multiply(states, 8, dtype=np.intp) + law._flags(), axis=1)
+        rows.setflags(write=False)
+        for name, row in zip(_MASK_ROWS, rows, strict=True):
+            setattr(self, name, row)
+        self.sigma = sigma.take(states)
+        self.sigma.setflags(write=False)
+        self.any_open = bool(np.count_nonzero(self.open))
+        self.any_stick = bool(np.count_nonzero(self.stick))
+        self.any_slip = bool(np.count_nonzero(self.slip))
 
 
 class CoulombLaw:
@@ -356,6 +382,8 @@ class CoulombLaw:
         self._w_n = np.where(self.rigid_n, 1.0, -self.kn)
         self._sel = (slice(0, k) if np.array_equal(self.cfes, np.arange(k)) else self.cfes)
         self._closed = np.where(self._fpos, STICK, CLOSED)
+        self._flag_static = self.inert.astype(np.intp) + 4 * self.rigid_n
+        self._flag0 = self._flag_static + 2 * self._fpos
         #: state masks of the last few state arrays (:meth:`_masks`)
         self._mask_cache: dict = {}
 
@@ -412,6 +440,13 @@ class CoulombLaw:
             if len(cache) > _MASK_CACHE:
                 del cache[next(iter(cache))]
         return mk
+
+    def _flags(self) -> np.ndarray:
+        """Per CFE the flags of :func:`_mask_table`: 1 held by supports, 2 frictional (with
+        a residual cohesion: until it is lost), 4 rigid normally."""
+        if not self._any_residual:
+            return self._flag0
+        return self._flag_static + 2 * self.frictional
 
     def closed_state(self) -> np.ndarray:
         """The state a CFE takes when it closes (and the base of the rate problem)."""
@@ -571,7 +606,7 @@ class CoulombLaw:
             close = mk.open & (dun > rw)  # (the gap's rate −u_n' below −rw)
             new[close] = self.closed_state()[close]
         new[mk.cl & pull] = OPEN
-        if mk.stick_state.any():
+        if np.count_nonzero(mk.stick_state):
             stick = mk.stick_state
             fdp = self.f * dp + rf
             v1 = stick & pull
@@ -710,7 +745,7 @@ class CoulombLaw:
         r_n = np.where(mk.not_closed, -p, 0.0)
         r_n = np.where(mk.closed_rn, -un, r_n)
         r_n = np.where(mk.closed_sn, self._kn0 * un + self.offset - p, r_n)
-        if mk.slip_closed.any():
+        if np.count_nonzero(mk.slip_closed):
             r_t = np.where(mk.slip_closed, mk.sigma * self.friction_limit(p) - Q, r_t)
         return r_t, r_n
 

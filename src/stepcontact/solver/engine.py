@@ -73,7 +73,7 @@ class Decision:
 
     @property
     def switched(self) -> bool:
-        return bool((self.old != self.new).any())
+        return bool(np.count_nonzero(self.old != self.new))
 
 
 class EventEngine:
@@ -142,6 +142,7 @@ class EventEngine:
         """Per law: (law, its CFEs as an index — ``slice(None)`` when the law governs every
         CFE in order, the common case: its arrays are then views of the engine's, no copies —
         and the mask of its gap columns among its event functions)."""
+        self._views_of = list(laws)  # (the laws the views are of, compared by identity)
         out = []
         for law in laws:
             c = np.asarray(law.cfes)
@@ -153,11 +154,9 @@ class EventEngine:
     def _views_now(self) -> list[tuple]:
         """:meth:`_law_views` of the current list of laws (rebuilt if the list was changed in
         place)."""
-        v = self._views
-        if len(v) != len(self._laws) or any(a is not b[0]
-                                              for a, b in zip(self._laws, v, strict=True)):
-            v = self._views = self._law_views(self._laws)
-        return v
+        if self._laws != self._views_of:
+            self._views = self._law_views(self._laws)
+        return self._views
 
     # ---- scales and tolerances ---------------------------------------------------------------
     def update_scales(self, ds=None, dw=None, span: float = 1.0) -> None:
@@ -590,7 +589,7 @@ class EventEngine:
         for those, the column nearest its limit relative to the tolerance (−1 elsewhere)."""
         tol = np.where(gap, tw, tf)
         at = fired | (phi <= tol).any(axis=1)
-        if not at.any():
+        if not np.count_nonzero(at):
             return at, np.full(len(at), -1)
         rel = phi / tol
         rel[~np.isfinite(phi)] = _INF
@@ -622,7 +621,7 @@ class EventEngine:
         path).  Raises :class:`MechanismError` (equilibrium lost, with evidence) or
         :class:`~stepcontact.solver.rate.RateProblemFailure`."""
         L, guess, normal, two = self.at_limit(fired)
-        if not (fired.any() or natural):
+        if not (np.count_nonzero(fired) or natural):
             guess = self.states.copy()
         old = self.states.copy()
         if L.size:

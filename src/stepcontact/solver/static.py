@@ -824,7 +824,7 @@ class StaticSolver:
                         self.c[name] = c0[name] + rate * direction * end
                     if path is not None:
                         self.c.update(path.factors(mu))
-                    if mu >= span and not fired.any():
+                    if mu >= span and not np.count_nonzero(fired):
                         mu = span
                         for name, rate in rates.items():
                             self.c[name] = c0[name] + rate * (lam1 - lam0)
@@ -954,7 +954,7 @@ class StaticSolver:
         old, new, ds, dw = dec.old, dec.new, dec.ds, dec.dw
         self._lose_cohesion(new == OPEN)  # an opened joint has no residual cohesion
         switched = dec.switched
-        if switched or first or fired.any() or (self.article and np.any(
+        if switched or first or np.count_nonzero(fired) or (self.article and np.any(
                 slipping(new))):
             eng.snap()
         if self.article:
