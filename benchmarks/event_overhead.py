@@ -15,7 +15,8 @@ default options):
 
 Per model, ``--reps`` runs (default 5), each timed by a hook: from the first event point to
 the last (``after_event``), so that neither the set-up nor the result's building enters;
-T_event = that time / (event points − 1), the median over the runs.  Every time is wall,
+T_event = that time / (event points − 1), the median over the runs (the fastest run is
+printed beside it: on a loaded machine the median moves with the load).  Every time is wall,
 process CPU and main-thread CPU (``benchmarks/_timing.py``); the loop runs single-threaded
 (BLAS held to one thread at these sizes), so the figure to read is main-thread CPU.
 
@@ -91,7 +92,7 @@ def measure(name: str, model: sc.Model, reps: int) -> dict:
         runs.append((clock.last - clock.first) / max(clock.points - 1, 1))
     return {"name": name, "n": 2 * system.m, "events": len(res.events),
             "points": res.counters["event_points"], "status": res.status.value,
-            "t_event": median(runs)}
+            "t_event": median(runs), "t_best": min(runs, key=lambda t: t.thread)}
 
 
 def main() -> None:
@@ -111,13 +112,15 @@ def main() -> None:
         r = measure(name, model, args.reps)
         rows.append(r)
         print(f"{r['name']}: 2m = {r['n']}, {r['events']} events at {r['points']} event points, "
-              f"status {r['status']}\n    T_event {r['t_event'].fmt('ms', 3)}", flush=True)
+              f"status {r['status']}\n    T_event {r['t_event'].fmt('ms', 3)} (median of "
+              f"{args.reps} runs; the fastest run {r['t_best'].thread * 1e3:.3f} ms main "
+              "thread)", flush=True)
     print("\nper-event time of the loop from main-thread CPU (target for the part that does not "
           f"scale with m: {TARGET * 1e3:.1f} ms, read on the models with 2m <= 200):")
     for r in rows:
         te = r["t_event"].thread
-        note = (f", T_event/target = {te / TARGET:.2f}" if r["n"] <= 200 else "")
-        print(f"  {r['name']}: {te * 1e3:.3f} ms per event point{note}")
+        note = (f", overhead per event / target = {te / TARGET:.2f}" if r["n"] <= 200 else "")
+        print(f"  {r['name']} (2m = {r['n']}): {te * 1e3:.3f} ms per event point{note}")
     print(f"load average at end: {os.getloadavg()}")
 
 

@@ -132,8 +132,9 @@ class Relations:
             lay = self.layout
             m, nc = lay.m, lay.n_c
             take = _row_order(nc)
-            rows = np.stack([X.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
-                             for X in (self.S, self.W)])
+            rows = np.empty((2, nc, lay.n))
+            for j, X in enumerate((self.S, self.W)):
+                rows[j] = X.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
             for x in (rows, self.S, self.W):
                 x.setflags(write=False)
             self._rows = (self.S.tobytes() + self.W.tobytes(), rows)

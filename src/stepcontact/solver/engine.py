@@ -483,9 +483,8 @@ class EventEngine:
             dphi = law.event_values(st, da, db, dg, False)
             active = np.isfinite(phi)
             active &= dphi < np.where(gap, -gs, -fs)
-            steps = np.maximum(phi, 0.0)
-            steps /= np.where(active, -dphi, 1.0)
-            steps[~active] = _INF
+            steps = np.full(phi.shape, _INF)
+            np.divide(np.maximum(phi, 0.0), np.negative(dphi), out=steps, where=active)
             all_steps.append((c, steps))
             if steps.size:
                 dmu_ev = min(dmu_ev, float(steps.min()))
@@ -591,8 +590,8 @@ class EventEngine:
         at = fired | (phi <= tol).any(axis=1)
         if not np.count_nonzero(at):
             return at, np.full(len(at), -1)
-        rel = phi / tol
-        rel[~np.isfinite(phi)] = _INF
+        rel = np.full(phi.shape, _INF)
+        np.divide(phi, tol, out=rel, where=np.isfinite(phi))
         return at, np.where(at, rel.argmin(axis=1), -1)
 
     def consistent(self, trial, L, ds, dw, normal, two) -> np.ndarray:

@@ -161,7 +161,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     kept = None
     try:
         ds, dw = eng.rates(guess, forcing, article=False)
-        if np.array_equal(eng.consistent(guess, L, ds, dw, normal_lim, two_sided), guess[L]):
+        if _same(eng.consistent(guess, L, ds, dw, normal_lim, two_sided), guess[L]):
             kept = RateOutcome(guess, ds, dw, "the current scheme stays consistent", L)
     except MechanismError:
         pass
@@ -272,6 +272,11 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         f" (certificate: {sol.message}, along which {ray_text}; that scheme "
         f"{'is singular but the load does no work on it' if singular else 'is regular'})",
         certificate=trial[L])
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    """``np.array_equal`` of two state arrays, without its conversions (once per point)."""
+    return a.shape == b.shape and not np.count_nonzero(a != b)
 
 
 def _lemke_fallback(eng, M, q, start, failed):
