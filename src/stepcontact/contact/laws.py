@@ -239,14 +239,14 @@ _FIRED = np.array([OPEN, SLIP_POS, SLIP_NEG, CLOSED])
 
 def _mask_table() -> tuple[np.ndarray, np.ndarray]:
     """The masks of :class:`_StateMasks` for every pair (state code c, CFE flags g) as the
-    columns 8 c + g of a table (one row per mask; flags g: 1 held by supports, 2 frictional,
-    4 rigid normally), and σ (+1 slip+, −1 else) per code: an array of states then gives every
-    mask by one gather.  Codes up to the faceted cone's largest (codes a Coulomb law does not
-    have behave as the original formulas treat them: closed, neither stick, slip nor
-    frictionless)."""
-    codes = np.repeat(np.arange(VERTEX_SLIP + MAX_FACETS), 8)
-    g = np.tile(np.arange(8), VERTEX_SLIP + MAX_FACETS)
-    held, fric, rigid = (g & 1) > 0, (g & 2) > 0, (g & 4) > 0
+    columns 16 c + g of a table (one row per mask; flags g: 1 held by supports, 2 frictional,
+    4 rigid normally, 8 rigid tangentially), and σ (+1 slip+, −1 else) per code: an array of
+    states then gives every mask by one gather.  Codes up to the faceted cone's largest
+    (codes a Coulomb law does not have behave as the original formulas treat them: closed,
+    neither stick, slip nor frictionless)."""
+    codes = np.repeat(np.arange(VERTEX_SLIP + MAX_FACETS), 16)
+    g = np.tile(np.arange(16), VERTEX_SLIP + MAX_FACETS)
+    held, fric, rigid, rigid_t = (g & 1) > 0, (g & 2) > 0, (g & 4) > 0, (g & 8) > 0
     op = codes == OPEN
     closed = ~op & ~held
     stick_state = codes == STICK
@@ -255,7 +255,9 @@ def _mask_table() -> tuple[np.ndarray, np.ndarray]:
     rows = {"open": op & ~held, "closed": closed, "not_closed": ~closed,
             "stick": stick_state & closed & fric, "stick_state": stick_state, "slip": slip,
             "slip_closed": slip & closed, "cl": cl, "closed_rn": closed & rigid,
-            "closed_sn": closed & ~rigid, "free_t": ~closed | cl}
+            "closed_sn": closed & ~rigid, "free_t": ~closed | cl,
+            "held_t": closed & ~slip & fric, "held_t_rigid": closed & ~slip & fric & rigid_t,
+            "couple": slip & closed & fric}
     table = np.array([rows[name] for name in _MASK_ROWS])
     sigma = np.where(np.arange(VERTEX_SLIP + MAX_FACETS) == SLIP_POS, 1.0, -1.0)
     for x in (table, sigma):
@@ -265,7 +267,7 @@ def _mask_table() -> tuple[np.ndarray, np.ndarray]:
 
 #: the rows of :func:`_mask_table` (the masks of :class:`_StateMasks`)
 _MASK_ROWS = ("open", "closed", "not_closed", "stick", "stick_state", "slip", "slip_closed",
-              "cl", "closed_rn", "closed_sn", "free_t")
+              "cl", "closed_rn", "closed_sn", "free_t", "held_t", "held_t_rigid", "couple")
 _MASKS = _mask_table()
 
 
@@ -279,14 +281,16 @@ class _StateMasks:
     STICK; ``slip``: slip±; ``slip_closed``: slip± and closed; ``sigma``: +1 for slip+, −1
     else; ``cl``: CLOSED (frictionless); ``closed_rn``, ``closed_sn``: closed and rigid
     (compliant) normally; ``free_t``: a tangential force prescribed zero (not closed, or
-    frictionless); ``any_open``, ``any_stick``, ``any_slip``: whether any CFE is open (and
+    frictionless); ``held_t``: the tangential row held (closed, frictional, not slipping),
+    ``held_t_rigid`` and rigidly so; ``couple``: the slip relation Q' = σ f p' (slipping,
+    closed, frictional); ``any_open``, ``any_stick``, ``any_slip``: whether any CFE is open (and
     not held), stuck (closed, frictional), slipping."""
 
     __slots__ = ("any_open", "any_slip", "any_stick", "sigma", *_MASK_ROWS)
 
     def __init__(self, law: CoulombLaw, states: np.ndarray):
         table, sigma = _MASKS
-        rows = table.take(np.multiply(states, 8, dtype=np.intp) + law._flags(), axis=1)
+        rows = table.take(np.multiply(states, 16, dtype=np.intp) + law._flags(), axis=1)
         rows.setflags(write=False)
         for name, row in zip(_MASK_ROWS, rows, strict=True):
             setattr(self, name, row)
@@ -383,7 +387,7 @@ class CoulombLaw:
         self._w_n = np.where(self.rigid_n, 1.0, -self.kn)
         self._sel = (slice(0, k) if np.array_equal(self.cfes, np.arange(k)) else self.cfes)
         self._closed = np.where(self._fpos, STICK, CLOSED)
-        self._flag_static = self.inert.astype(np.intp) + 4 * self.rigid_n
+        self._flag_static = self.inert.astype(np.intp) + 4 * self.rigid_n + 8 * self.rigid_t
         self._flag0 = self._flag_static + 2 * self._fpos
         #: state masks of the last few state arrays (:meth:`_masks`)
         self._mask_cache: dict = {}
@@ -444,7 +448,7 @@ class CoulombLaw:
 
     def _flags(self) -> np.ndarray:
         """Per CFE the flags of :func:`_mask_table`: 1 held by supports, 2 frictional (with
-        a residual cohesion: until it is lost), 4 rigid normally."""
+        a residual cohesion: until it is lost), 4 rigid normally, 8 rigid tangentially."""
         if not self._any_residual:
             return self._flag0
         return self._flag_static + 2 * self.frictional
@@ -512,22 +516,24 @@ class CoulombLaw:
         """
         nt = rel.layout.n_t
         mk = self._masks(states)
-        closed = mk.closed
-        slipping = mk.slip_closed
-        frictionless = closed & ~self.frictional
-        held_t = closed & ~slipping & ~frictionless  # fixed (rigid) or spring (compliant)
-        couple = (np.where(slipping & ~frictionless, -mk.sigma * self.f, 0.0) if not article
-                  else np.zeros(len(states)))
-        S = np.zeros((len(states), nt + 1, nt + 1))
-        W = np.zeros_like(S)
-        rows = ([(held_t, self.rigid_t, self._w_t)] * nt
-                + [(closed, self.rigid_n, self._w_n)])
-        for i, (held, rigid, w) in enumerate(rows):
-            S[:, i, i] = np.where(held & rigid, 0.0, 1.0)  # FIXED: 0; SPRING, FREE: 1
+        # (the CFE blocks of rel, written in place when the law has every CFE of rel)
+        own = type(self._sel) is slice and len(rel.S) == len(states)
+        S = rel.S if own else np.empty((len(states), nt + 1, nt + 1))
+        W = rel.W if own else np.empty_like(S)
+        S.fill(0.0)
+        W.fill(0.0)
+        # held rows: fixed (rigid) or spring (compliant); the tangential ones of closed
+        # frictional CFEs that do not slip, the normal one of every closed CFE
+        rows = ([(mk.held_t, mk.held_t_rigid, self._w_t)] * nt
+                + [(mk.closed, mk.closed_rn, self._w_n)])
+        for i, (held, fixed, w) in enumerate(rows):
+            S[:, i, i] = np.where(fixed, 0.0, 1.0)  # FIXED: 0; SPRING, FREE: 1
             W[:, i, i] = np.where(held, w, 0.0)  # FIXED 1, SPRING −C
-        S[:, :nt, nt] = couple[:, None]  # FREE tangential: Q' − σ f p' = r
-        rel.S[self._sel] = S
-        rel.W[self._sel] = W
+        if not article:  # FREE tangential: Q' − σ f p' = r
+            S[:, :nt, nt] = np.where(mk.couple, -mk.sigma * self.f, 0.0)[:, None]
+        if not own:
+            rel.S[self._sel] = S
+            rel.W[self._sel] = W
 
     # ---- event functions (eqs. (2), (3)) --------------------------------------------------------
     def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray:
@@ -554,7 +560,8 @@ class CoulombLaw:
     def fire(self, states: np.ndarray, col: np.ndarray, Q=None) -> np.ndarray:
         """The natural transition of each CFE whose event function ``col`` reached zero
         (col < 0: none)."""
-        new = states.copy()
+        # (the type of the states and of the closed states')
+        new = np.array(states, dtype=np.promote_types(states.dtype, self._closed.dtype))
         idx = np.flatnonzero(col >= 0)
         if idx.size:
             c = col[idx]

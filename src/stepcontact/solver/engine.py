@@ -154,8 +154,9 @@ class EventEngine:
     def _views_now(self) -> list[tuple]:
         """:meth:`_law_views` of the current list of laws (rebuilt if the list was changed in
         place)."""
-        if self._laws != self._views_of:
-            self._views = self._law_views(self._laws)
+        laws = self._laws
+        if (laws if type(laws) is list else list(laws)) != self._views_of:
+            self._views = self._law_views(laws)
         return self._views
 
     # ---- scales and tolerances ---------------------------------------------------------------
