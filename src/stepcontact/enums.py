@@ -52,7 +52,12 @@ VERTEX_SLIP = FACET_SLIP + MAX_FACETS
 def slipping(codes) -> np.ndarray:
     """Which state codes are slip states: slip± in 2D, a facet or a vertex of a faceted cone."""
     c = np.asarray(codes)
-    return (c == ContactState.SLIP_POS) | (c == ContactState.SLIP_NEG) | (c >= FACET_SLIP)
+    # (plain ints: an enum member's lookup costs more than the comparison on the event
+    # loop's small arrays)
+    return (c == _SLIP_POS) | (c == _SLIP_NEG) | (c >= FACET_SLIP)
+
+
+_SLIP_POS, _SLIP_NEG = int(ContactState.SLIP_POS), int(ContactState.SLIP_NEG)
 
 
 def closed(codes) -> np.ndarray:

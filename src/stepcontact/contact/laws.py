@@ -29,12 +29,13 @@ slip−; C the residual cohesion of a broken bond, 0 for plain Coulomb contact);
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cache
 from typing import Protocol
 
 import numpy as np
 
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import ContactState
+from stepcontact.enums import MAX_FACETS, VERTEX_SLIP, ContactState
 
 OPEN, STICK, SLIP_POS, SLIP_NEG, CLOSED, BONDED = (int(s) for s in (
     ContactState.OPEN, ContactState.STICK, ContactState.SLIP_POS, ContactState.SLIP_NEG,
@@ -131,18 +132,23 @@ class Relations:
             lay = self.layout
             m, nc = lay.m, lay.n_c
             take = _row_order(nc)
-            rows = np.stack([X.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
-                             for X in (self.S, self.W)])
+            rows = np.empty((2, nc, lay.n))
+            for j, X in enumerate((self.S, self.W)):
+                rows[j] = X.reshape(m, nc * nc).T[take].reshape(nc, lay.n)
             for x in (rows, self.S, self.W):
                 x.setflags(write=False)
             self._rows = (self.S.tobytes() + self.W.tobytes(), rows)
         return self._rows[1]
 
 
+@cache
 def _row_order(nc: int) -> np.ndarray:
-    """The entries (i, (i + o) mod n_c) of a raveled n_c × n_c block, in the order (o, i)."""
+    """The entries (i, (i + o) mod n_c) of a raveled n_c × n_c block, in the order (o, i)
+    (read-only: one array per n_c)."""
     i, o = np.arange(nc)[None, :], np.arange(nc)[:, None]
-    return (i * nc + (i + o) % nc).reshape(-1)
+    out = (i * nc + (i + o) % nc).reshape(-1)
+    out.setflags(write=False)
+    return out
 
 
 @dataclass
@@ -224,6 +230,77 @@ class ContactLaw(Protocol):
     def impulse_limit(self, states: np.ndarray, P: np.ndarray) -> np.ndarray: ...
 
 
+#: state arrays whose masks a law keeps (:meth:`CoulombLaw._masks`)
+_MASK_CACHE = 8
+#: the state each event-function column of :class:`CoulombLaw` fires into (column 3, the
+#: closing, into the CFE's closed state instead)
+_FIRED = np.array([OPEN, SLIP_POS, SLIP_NEG, CLOSED])
+
+
+def _mask_table() -> tuple[np.ndarray, np.ndarray]:
+    """The masks of :class:`_StateMasks` for every pair (state code c, CFE flags g) as the
+    columns 16 c + g of a table (one row per mask; flags g: 1 held by supports, 2 frictional,
+    4 rigid normally, 8 rigid tangentially), and σ (+1 slip+, −1 else) per code: an array of
+    states then gives every mask by one gather.  Codes up to the faceted cone's largest
+    (codes a Coulomb law does not have behave as the original formulas treat them: closed,
+    neither stick, slip nor frictionless)."""
+    codes = np.repeat(np.arange(VERTEX_SLIP + MAX_FACETS), 16)
+    g = np.tile(np.arange(16), VERTEX_SLIP + MAX_FACETS)
+    held, fric, rigid, rigid_t = (g & 1) > 0, (g & 2) > 0, (g & 4) > 0, (g & 8) > 0
+    op = codes == OPEN
+    closed = ~op & ~held
+    stick_state = codes == STICK
+    slip = (codes == SLIP_POS) | (codes == SLIP_NEG)
+    cl = codes == CLOSED
+    rows = {"open": op & ~held, "closed": closed, "not_closed": ~closed,
+            "stick": stick_state & closed & fric, "stick_state": stick_state, "slip": slip,
+            "slip_closed": slip & closed, "cl": cl, "closed_rn": closed & rigid,
+            "closed_sn": closed & ~rigid, "free_t": ~closed | cl,
+            "held_t": closed & ~slip & fric, "held_t_rigid": closed & ~slip & fric & rigid_t,
+            "couple": slip & closed & fric}
+    table = np.array([rows[name] for name in _MASK_ROWS])
+    sigma = np.where(np.arange(VERTEX_SLIP + MAX_FACETS) == SLIP_POS, 1.0, -1.0)
+    for x in (table, sigma):
+        x.setflags(write=False)
+    return table, sigma
+
+
+#: the rows of :func:`_mask_table` (the masks of :class:`_StateMasks`)
+_MASK_ROWS = ("open", "closed", "not_closed", "stick", "stick_state", "slip", "slip_closed",
+              "cl", "closed_rn", "closed_sn", "free_t", "held_t", "held_t_rigid", "couple")
+_MASKS = _mask_table()
+
+
+class _StateMasks:
+    """The masks of one state array of a :class:`CoulombLaw` that its methods ask (read-only;
+    formed once per scheme, :meth:`CoulombLaw._masks`, by one gather from
+    :func:`_mask_table`).
+
+    ``open``: OPEN and not held by supports; ``closed``: not OPEN and not held;
+    ``not_closed`` its complement; ``stick``: closed, STICK and frictional; ``stick_state``:
+    STICK; ``slip``: slip±; ``slip_closed``: slip± and closed; ``sigma``: +1 for slip+, −1
+    else; ``cl``: CLOSED (frictionless); ``closed_rn``, ``closed_sn``: closed and rigid
+    (compliant) normally; ``free_t``: a tangential force prescribed zero (not closed, or
+    frictionless); ``held_t``: the tangential row held (closed, frictional, not slipping),
+    ``held_t_rigid`` and rigidly so; ``couple``: the slip relation Q' = σ f p' (slipping,
+    closed, frictional); ``any_open``, ``any_stick``, ``any_slip``: whether any CFE is open (and
+    not held), stuck (closed, frictional), slipping."""
+
+    __slots__ = ("any_open", "any_slip", "any_stick", "sigma", *_MASK_ROWS)
+
+    def __init__(self, law: CoulombLaw, states: np.ndarray):
+        table, sigma = _MASKS
+        rows = table.take(np.multiply(states, 16, dtype=np.intp) + law._flags(), axis=1)
+        rows.setflags(write=False)
+        for name, row in zip(_MASK_ROWS, rows, strict=True):
+            setattr(self, name, row)
+        self.sigma = sigma.take(states)
+        self.sigma.setflags(write=False)
+        self.any_open = bool(np.count_nonzero(self.open))
+        self.any_stick = bool(np.count_nonzero(self.stick))
+        self.any_slip = bool(np.count_nonzero(self.slip))
+
+
 class CoulombLaw:
     """Unilateral contact with Coulomb friction, rigid or with a compliant layer (eqs. (1), (11)),
     in 2D (one tangential component).  A joint with initial strength (eq. (12)) is the sibling
@@ -301,6 +378,19 @@ class CoulombLaw:
         self.cohesion_lost = np.zeros(k, bool)
         self._fpos = self.f > 0
         self._any_residual = bool(np.any(self.residual > 0))
+        #: what the event loop asks per event and does not change along a run (the law's
+        #: parameters are fixed; only ``cohesion_lost``, ``offset`` and ``surface`` move)
+        self._any_inert = bool(self.inert.any())
+        self._kn0 = np.where(self.rigid_n, 0.0, self.kn)
+        self._kt1 = np.where(self.rigid_t, 1.0, self.kt)
+        self._w_t = np.where(self.rigid_t, 1.0, -self.kt)  # W of a held row: FIXED 1, SPRING −C
+        self._w_n = np.where(self.rigid_n, 1.0, -self.kn)
+        self._sel = (slice(0, k) if np.array_equal(self.cfes, np.arange(k)) else self.cfes)
+        self._closed = np.where(self._fpos, STICK, CLOSED)
+        self._flag_static = self.inert.astype(np.intp) + 4 * self.rigid_n + 8 * self.rigid_t
+        self._flag0 = self._flag_static + 2 * self._fpos
+        #: state masks of the last few state arrays (:meth:`_masks`)
+        self._mask_cache: dict = {}
 
     @property
     def cohesion(self) -> np.ndarray:
@@ -338,8 +428,35 @@ class CoulombLaw:
         self.cohesion_lost |= np.asarray(mask, bool) & (self.residual > 0)
 
     # ---- states ----------------------------------------------------------------------------
+    def _masks(self, states: np.ndarray) -> _StateMasks:
+        """The masks of ``states`` that the law's methods ask (:class:`_StateMasks`), kept for
+        the last few state arrays: an event point asks for those of the same two or three
+        schemes many times.  The key is the states' bytes (with which CFEs lost their residual
+        cohesion: it decides which are frictional)."""
+        states = np.asarray(states)
+        key = (states.dtype.char, states.tobytes())
+        if self._any_residual:
+            key += (self.cohesion_lost.tobytes(),)
+        mk = self._mask_cache.get(key)
+        if mk is None:
+            mk = _StateMasks(self, states)
+            cache = self._mask_cache
+            cache[key] = mk
+            if len(cache) > _MASK_CACHE:
+                del cache[next(iter(cache))]
+        return mk
+
+    def _flags(self) -> np.ndarray:
+        """Per CFE the flags of :func:`_mask_table`: 1 held by supports, 2 frictional (with
+        a residual cohesion: until it is lost), 4 rigid normally, 8 rigid tangentially."""
+        if not self._any_residual:
+            return self._flag0
+        return self._flag_static + 2 * self.frictional
+
     def closed_state(self) -> np.ndarray:
         """The state a CFE takes when it closes (and the base of the rate problem)."""
+        if not self._any_residual:
+            return self._closed.copy()
         return np.where(self.frictional, STICK, CLOSED)
 
     def base_state(self, states: np.ndarray) -> np.ndarray:
@@ -398,21 +515,25 @@ class CoulombLaw:
         not used any more).
         """
         nt = rel.layout.n_t
-        closed = (states != OPEN) & ~self.inert
-        slipping = self.slipping(states) & closed
-        frictionless = closed & ~self.frictional
-        held_t = closed & ~slipping & ~frictionless  # fixed (rigid) or spring (compliant)
-        sigma = np.where(states == SLIP_POS, 1.0, -1.0)
-        couple = np.where(slipping & ~frictionless & (not article), -sigma * self.f, 0.0)
-        S = np.zeros((len(states), nt + 1, nt + 1))
-        W = np.zeros_like(S)
-        rows = [(held_t, self.rigid_t, self.kt)] * nt + [(closed, self.rigid_n, self.kn)]
-        for i, (held, rigid, stiff) in enumerate(rows):
-            S[:, i, i] = np.where(held & rigid, 0.0, 1.0)  # FIXED: 0; SPRING, FREE: 1
-            W[:, i, i] = np.where(held, np.where(rigid, 1.0, -stiff), 0.0)  # FIXED 1, SPRING −C
-        S[:, np.arange(nt), nt] = couple[:, None]  # FREE tangential: Q' − σ f p' = r
-        rel.S[self.cfes] = S
-        rel.W[self.cfes] = W
+        mk = self._masks(states)
+        # (the CFE blocks of rel, written in place when the law has every CFE of rel)
+        own = type(self._sel) is slice and len(rel.S) == len(states)
+        S = rel.S if own else np.empty((len(states), nt + 1, nt + 1))
+        W = rel.W if own else np.empty_like(S)
+        S.fill(0.0)
+        W.fill(0.0)
+        # held rows: fixed (rigid) or spring (compliant); the tangential ones of closed
+        # frictional CFEs that do not slip, the normal one of every closed CFE
+        rows = ([(mk.held_t, mk.held_t_rigid, self._w_t)] * nt
+                + [(mk.closed, mk.closed_rn, self._w_n)])
+        for i, (held, fixed, w) in enumerate(rows):
+            S[:, i, i] = np.where(fixed, 0.0, 1.0)  # FIXED: 0; SPRING, FREE: 1
+            W[:, i, i] = np.where(held, w, 0.0)  # FIXED 1, SPRING −C
+        if not article:  # FREE tangential: Q' − σ f p' = r
+            S[:, :nt, nt] = np.where(mk.couple, -mk.sigma * self.f, 0.0)[:, None]
+        if not own:
+            rel.S[self._sel] = S
+            rel.W[self._sel] = W
 
     # ---- event functions (eqs. (2), (3)) --------------------------------------------------------
     def event_values(self, states, Q, p, un, affine: bool = True) -> np.ndarray:
@@ -423,42 +544,48 @@ class CoulombLaw:
         With ``affine=False`` the constant part is dropped, which turns values into rates
         when (Q, p, u_n) are rates: φ' = event_values(states, Q', p', u_n', affine=False).
         """
-        k = len(states)
-        closed = (states != OPEN) & ~self.inert
-        stick = (states == STICK) & closed & self.frictional
-        out = np.full((k, self.n_columns), _INF)
-        out[closed, 0] = p[closed]
-        fp = self.f[stick] * p[stick]
-        if affine and self._any_residual:
-            fp = fp + self.cohesion[stick]
-        out[stick, 1] = fp - Q[stick]
-        out[stick, 2] = fp + Q[stick]
-        op = (states == OPEN) & ~self.inert
-        out[op, 3] = (self.surface[op] if affine else 0.0) - un[op]
+        mk = self._masks(states)
+        out = np.full((len(states), self.n_columns), _INF)
+        np.copyto(out[:, 0], p, where=mk.closed)
+        if mk.any_stick:
+            fp = self.f * p
+            if affine and self._any_residual:
+                fp = fp + self.cohesion
+            np.copyto(out[:, 1], fp - Q, where=mk.stick)
+            np.copyto(out[:, 2], fp + Q, where=mk.stick)
+        if mk.any_open:
+            np.copyto(out[:, 3], (self.surface if affine else 0.0) - un, where=mk.open)
         return out
 
     def fire(self, states: np.ndarray, col: np.ndarray, Q=None) -> np.ndarray:
         """The natural transition of each CFE whose event function ``col`` reached zero
         (col < 0: none)."""
-        new = states.copy()
-        new = np.where(col == 0, OPEN, new)
-        new = np.where(col == 1, SLIP_POS, new)
-        new = np.where(col == 2, SLIP_NEG, new)
-        return np.where(col == 3, self.closed_state(), new)
+        # (the type of the states and of the closed states')
+        new = np.array(states, dtype=np.promote_types(states.dtype, self._closed.dtype))
+        idx = np.flatnonzero(col >= 0)
+        if idx.size:
+            c = col[idx]
+            new[idx] = np.where(c == 3, self.closed_state()[idx], _FIRED[c])
+        return new
 
     # ---- the consistency check at a degenerate point ------------------------------------------
     def limits(self, states, Q, p, un, tf: float, tw: float):
         """Which CFEs sit at their normal limit (p = 0 closed, u_n = 0 open), and which are
         two-sided in friction as well (Q = 0 and f p + C = 0; at the normal limit without
         cohesion)."""
-        free = ~self.inert
-        normal = np.where(states == OPEN, self.surface - un <= tw, p <= tf) & free
+        mk = self._masks(states)
+        # (an inert CFE is at no limit: the masks of the open ones leave it out)
+        normal = np.where(mk.open, self.surface - un <= tw, p <= tf)
+        if self._any_inert:
+            normal &= ~self.inert
         if not self._any_residual:
             two_sided = normal | ((np.abs(Q) <= tf) & (self.f * p <= tf))
-            return normal, two_sided & free
-        c = np.where(states == OPEN, 0.0, self.cohesion)
-        two_sided = (normal & (c <= tf)) | ((np.abs(Q) <= tf) & (self.f * p + c <= tf))
-        return normal, two_sided & free
+        else:
+            c = np.where(states == OPEN, 0.0, self.cohesion)
+            two_sided = (normal & (c <= tf)) | ((np.abs(Q) <= tf) & (self.f * p + c <= tf))
+        if self._any_inert:
+            two_sided &= ~self.inert
+        return normal, two_sided
 
     def _at_friction(self, states, Q, p, tf: float) -> np.ndarray:
         """CFEs on a friction facet (|Q| ≥ f p + C − tf) or slipping; True everywhere without
@@ -480,30 +607,32 @@ class CoulombLaw:
         rates satisfy the contact conditions (1) of the CFE at its limits).  With the normal
         forces ``p`` (and force tolerance ``tf``) a stuck CFE with residual cohesion that is
         not on its friction facet (|Q| < f p + C) is not driven to slip by its rates."""
-        f = self.f
-        sigma = np.sign(Q)
-        dg = -dun
-        dslip = dut - np.where(self.rigid_t, 0.0, dQ / np.where(self.rigid_t, 1.0, self.kt))
+        mk = self._masks(trial)
         new = trial.copy()
-        viol_open = (trial == OPEN) & (dg < -rw) & ~self.inert
-        new[viol_open] = self.closed_state()[viol_open]
-        closed_fl = trial == CLOSED
-        new[closed_fl & normal_lim & (dp < -rf)] = OPEN
-        stick = trial == STICK
-        v1 = stick & normal_lim & (dp < -rf)
-        new[v1] = OPEN
-        v2 = stick & ~v1 & two_sided & (np.abs(dQ) > f * dp + rf)
-        new[v2] = np.where(dQ[v2] > 0, SLIP_POS, SLIP_NEG)
-        v3 = stick & ~two_sided & (sigma * dQ > f * dp + rf)
-        if self._any_residual and p is not None:
-            v3 &= self._at_friction(trial, Q, p, tf)
-        new[v3] = np.where(sigma[v3] > 0, SLIP_POS, SLIP_NEG)
-        slipping = self.slipping(trial)
-        sg = np.where(trial == SLIP_POS, 1.0, -1.0)
-        v4 = slipping & normal_lim & (dp < -rf)
-        new[v4] = OPEN
-        v5 = slipping & ~v4 & self.frictional & (sg * dslip < -rw)
-        new[v5] = STICK
+        pull = normal_lim & (dp < -rf)  # at the normal limit, pulled apart
+        if mk.any_open:
+            close = mk.open & (dun > rw)  # (the gap's rate −u_n' below −rw)
+            new[close] = self.closed_state()[close]
+        new[mk.cl & pull] = OPEN
+        if np.count_nonzero(mk.stick_state):
+            stick = mk.stick_state
+            fdp = self.f * dp + rf
+            v1 = stick & pull
+            new[v1] = OPEN
+            v2 = stick & ~v1 & two_sided & (np.abs(dQ) > fdp)
+            new[v2] = np.where(dQ[v2] > 0, SLIP_POS, SLIP_NEG)
+            sigma = np.sign(Q)
+            v3 = stick & ~two_sided & (sigma * dQ > fdp)
+            if self._any_residual and p is not None:
+                v3 &= self._at_friction(trial, Q, p, tf)
+            new[v3] = np.where(sigma[v3] > 0, SLIP_POS, SLIP_NEG)
+        if mk.any_slip:
+            slipping = mk.slip
+            v4 = slipping & pull
+            new[v4] = OPEN
+            dslip = dut - np.where(self.rigid_t, 0.0, dQ / self._kt1)
+            v5 = slipping & ~v4 & self.frictional & (mk.sigma * dslip < -rw)
+            new[v5] = STICK
         return new
 
     def rate_variables(self, local, states, Q, normal_lim, two_sided, *, p=None,
@@ -619,14 +748,13 @@ class CoulombLaw:
         p = C_n u_n; slipping → Q = σ (f p + C) (in article mode this is the compensating
         correction δQ of eq. (4), which the engine applies as the compensating forces of
         eq. (6)); closed frictionless → Q = 0."""
-        closed = (states != OPEN) & ~self.inert
-        r_t = np.where(~closed | (states == CLOSED), -Q, 0.0)
-        r_n = np.where(~closed, -p, 0.0)
-        r_n = np.where(closed & self.rigid_n, -un, r_n)
-        kn = np.where(self.rigid_n, 0.0, self.kn)
-        r_n = np.where(closed & ~self.rigid_n, kn * un + self.offset - p, r_n)
-        sig = np.where(states == SLIP_POS, 1.0, -1.0)
-        r_t = np.where(self.slipping(states) & closed, sig * self.friction_limit(p) - Q, r_t)
+        mk = self._masks(states)
+        r_t = np.where(mk.free_t, -Q, 0.0)
+        r_n = np.where(mk.not_closed, -p, 0.0)
+        r_n = np.where(mk.closed_rn, -un, r_n)
+        r_n = np.where(mk.closed_sn, self._kn0 * un + self.offset - p, r_n)
+        if np.count_nonzero(mk.slip_closed):
+            r_t = np.where(mk.slip_closed, mk.sigma * self.friction_limit(p) - Q, r_t)
         return r_t, r_n
 
     def violation(self, states, Q, p, un, F: float, W: float) -> float:
@@ -634,19 +762,27 @@ class CoulombLaw:
         forces relative to ``F``, displacements relative to ``W``."""
         if len(states) == 0:
             return 0.0
-        closed = (states != OPEN) & ~self.inert
-        coulomb = ~self.inert
-        sig = np.where(states == SLIP_POS, 1.0, -1.0)
+        # (each term's largest over the CFEs, then over the terms: the division by the
+        # positive scale is monotonic, so max(x) / F = max(x / F))
+        mk = self._masks(states)
         lim = self.friction_limit(p, states)
-        v = [
-            np.where(coulomb, np.maximum(-p, 0), 0.0) / F,  # N ≤ 0
-            np.where(~closed, np.abs(p) + np.abs(Q), 0) / F,  # open: N = Q = 0
-            np.where(~closed & ~self.inert, np.maximum(un - self.surface, 0), 0) / W,  # open
-            np.where(closed & self.rigid_n, np.abs(un), 0) / W,  # closed rigid: u_n = 0
-            np.where(coulomb, np.maximum(np.abs(Q) - lim, 0), 0) / F,  # |Q| ≤ f(−N) + C
-            np.where(self.slipping(states) & closed, np.abs(Q - sig * lim), 0) / F,
-        ]
-        return float(max(x.max(initial=0) for x in v))
+        aQ = np.abs(Q)
+        force = np.maximum(-p, 0.0)  # N ≤ 0
+        np.maximum(force, aQ - lim, out=force)  # |Q| ≤ f(−N) + C
+        if self._any_inert:
+            force[self.inert] = 0.0
+        np.maximum(force, np.where(mk.not_closed, np.abs(p) + aQ, 0.0), out=force)  # open
+        if mk.any_slip:
+            np.maximum(force, np.where(mk.slip_closed, np.abs(Q - mk.sigma * lim), 0.0),
+                       out=force)
+        gap = np.where(mk.closed_rn, np.abs(un), 0.0)  # closed rigid: u_n = 0
+        if mk.any_open:  # open: u_n ≤ its surface
+            np.maximum(gap, np.where(mk.open, np.maximum(un - self.surface, 0.0), 0.0),
+                       out=gap)
+        return float(max(_MAXIMUM(force, initial=0.0) / F, _MAXIMUM(gap, initial=0.0) / W))
+
+
+_MAXIMUM = np.maximum.reduce
 
 
 __all__ = ["BONDED", "BOND_COLUMNS", "CLOSED", "FIXED", "FREE", "OPEN", "SLIP_NEG", "SLIP_POS",

@@ -73,7 +73,7 @@ class Decision:
 
     @property
     def switched(self) -> bool:
-        return bool(np.any(self.old != self.new))
+        return bool(np.count_nonzero(self.old != self.new))
 
 
 class EventEngine:
@@ -102,9 +102,9 @@ class EventEngine:
                  article: bool = False, eps_p: float = 0.01, rate_solver: str = "pivoting",
                  layout: ContactLayout | None = None):
         self.schemes = schemes
-        self.laws = laws
         self.layout = ContactLayout.of_size(len(w0)) if layout is None else layout
         self.m = self.layout.m
+        self.laws = laws
         self.rtol = rtol
         self.article = article
         self.eps_p = eps_p
@@ -127,14 +127,46 @@ class EventEngine:
         self._track: tuple | None = None
         self._pairs: list[tuple] = []
 
+    # ---- the laws and their CFEs ------------------------------------------------------------
+    @property
+    def laws(self) -> list:
+        """The contact laws, each over its CFEs (a driver may replace the list: a stage)."""
+        return self._laws
+
+    @laws.setter
+    def laws(self, laws: list) -> None:
+        self._laws = laws
+        self._views = self._law_views(laws)
+
+    def _law_views(self, laws) -> list[tuple]:
+        """Per law: (law, its CFEs as an index — ``slice(None)`` when the law governs every
+        CFE in order, the common case: its arrays are then views of the engine's, no copies —
+        and the mask of its gap columns among its event functions)."""
+        self._views_of = list(laws)  # (the laws the views are of, compared by identity)
+        out = []
+        for law in laws:
+            c = np.asarray(law.cfes)
+            full = len(c) == self.m and bool(np.array_equal(c, np.arange(self.m)))
+            out.append((law, slice(None) if full else c,
+                        np.asarray(law.column_kinds) == 1))
+        return out
+
+    def _views_now(self) -> list[tuple]:
+        """:meth:`_law_views` of the current list of laws (rebuilt if the list was changed in
+        place)."""
+        laws = self._laws
+        if (laws if type(laws) is list else list(laws)) != self._views_of:
+            self._views = self._law_views(laws)
+        return self._views
+
     # ---- scales and tolerances ---------------------------------------------------------------
     def update_scales(self, ds=None, dw=None, span: float = 1.0) -> None:
         """Force and displacement scales of the path so far (and of the coming step)."""
-        self.F_scale = max(self.F_scale, float(np.abs(self.s).max(initial=0)))
-        self.W_scale = max(self.W_scale, float(np.abs(self.w).max(initial=0)))
+        self.F_scale = max(self.F_scale, _absmax(self.s))
+        self.W_scale = max(self.W_scale, _absmax(self.w))
         if ds is not None:
-            self.F_scale = max(self.F_scale, float(np.abs(ds).max(initial=0)) * span)
-            self.W_scale = max(self.W_scale, float(np.abs(dw).max(initial=0)) * span)
+            self.F_scale = max(self.F_scale, _absmax(ds) * span)
+            self.W_scale = max(self.W_scale, _absmax(dw) * span)
 
     def tolerances(self) -> tuple[float, float]:
         """Absolute limit tolerances (forces, displacements)."""
@@ -145,9 +177,11 @@ class EventEngine:
         lay = self.layout
         Q, p = lay.split(s)
         ut, un = lay.split(w)
-        for law in self.laws:
-            c = law.cfes
-            yield law, c, Q[c], p[c], ut[c], un[c]
+        for law, c, _gap in self._views_now():
+            if type(c) is slice:  # every CFE, in order: views
+                yield law, c, Q, p, ut, un
+            else:
+                yield law, c, Q[c], p[c], ut[c], un[c]
 
     def relations(self, states: np.ndarray, article: bool | None = None) -> Relations:
         """The relations of the scheme ``states`` (the last few are kept: a point asks for the
@@ -426,23 +460,40 @@ class EventEngine:
         time step, the event times of eq. (10), t̂ = t + μ̂ Δt.
 
         Returns (Δμ, Δμ of the earliest event (inf if none), fired mask (m,)): CFEs whose
-        functions reach zero within ``group`` of the earliest root form one event point."""
-        phis = self.event_values(self.states, self.s, self.w)
-        dphis = self.event_values(self.states, ds, dw, affine=False)
-        fs = 1e3 * self.rtol * max(np.abs(ds).max(initial=0), 1e-300)
-        gs = 1e3 * self.rtol * max(np.abs(dw).max(initial=0), 1e-300)
+        functions reach zero within ``group`` of the earliest root form one event point.
+
+        A function fires along the rates when it is finite (it applies in the current state)
+        and its rate is below −1e3 rtol of the rates' scale (forces or gaps): the step to its
+        root is max(φ, 0) / (−φ')."""
+        lay = self.layout
+        Q, p = lay.split(self.s)
+        un = lay.normal(self.w)
+        dQ, dp = lay.split(ds)
+        dun = lay.normal(dw)
+        fs = 1e3 * self.rtol * max(_absmax(ds), 1e-300)
+        gs = 1e3 * self.rtol * max(_absmax(dw), 1e-300)
+        states = self.states
         all_steps = []
-        for law, phi, dphi in zip(self.laws, phis, dphis, strict=True):
-            dphi = np.where(np.isfinite(phi), dphi, 0.0)
-            active = np.isfinite(phi) & (dphi < -self._column_scales(law, fs, gs)[None, :])
-            all_steps.append(np.where(active, np.maximum(phi, 0.0)
-                                      / np.where(active, -dphi, 1.0), _INF))
-        dmu_ev = min((float(st.min(initial=_INF)) for st in all_steps), default=_INF)
+        dmu_ev = _INF
+        for law, c, gap in self._views_now():
+            if type(c) is slice:
+                st, a, b, g, da, db, dg = states, Q, p, un, dQ, dp, dun
+            else:
+                st, a, b, g, da, db, dg = states[c], Q[c], p[c], un[c], dQ[c], dp[c], dun[c]
+            phi = law.event_values(st, a, b, g)
+            dphi = law.event_values(st, da, db, dg, False)
+            active = np.isfinite(phi)
+            active &= dphi < np.where(gap, -gs, -fs)
+            steps = np.full(phi.shape, _INF)
+            np.divide(np.maximum(phi, 0.0), np.negative(dphi), out=steps, where=active)
+            all_steps.append((c, steps))
+            if steps.size:
+                dmu_ev = min(dmu_ev, float(steps.min()))
         dmu = min(dmu_ev, remaining)
         fired = np.zeros(self.m, bool)
         if dmu_ev <= dmu + group:
-            for law, st in zip(self.laws, all_steps, strict=True):
-                fired[law.cfes] = np.any(st <= dmu + group, axis=1)
+            for c, steps in all_steps:
+                fired[c] = (steps <= dmu + group).any(axis=1)
         return dmu, dmu_ev, fired
 
     def next_event_poly(self, dss, dws, remaining: float, group: float
@@ -504,31 +555,60 @@ class EventEngine:
         """CFEs at their limits (or that fired), the guess (natural transitions of the CFEs
         whose functions fired) and the limits (normal, two-sided) of every CFE."""
         self.update_scales()
-        phis = self.event_values(self.states, self.s, self.w)
+        tf, tw = self.tolerances()
+        states = self.states
+        views = self._views_now()
+        if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
+            law, _, gap = views[0]
+            lay = self.layout
+            Q, p = lay.split(self.s)
+            un = lay.normal(self.w)
+            at, col = self._limit_columns(law, gap, law.event_values(states, Q, p, un), fired,
+                                          tf, tw)
+            guess = law.fire(states, col, Q)
+            normal, two = law.limits(states, Q, p, un, tf, tw)
+            return np.flatnonzero(at | slipping(states)), guess, normal, two
         at = fired.copy()
         col = np.full(self.m, -1)
-        guess = self.states.copy()
+        guess = states.copy()
         normal = np.zeros(self.m, bool)
         two = np.zeros(self.m, bool)
-        tf, tw = self.tolerances()
-        for (law, c, Q, p, _ut, un), phi in zip(self._parts(self.s, self.w), phis, strict=True):
-            tol = self.tolerance_columns(law)
-            at[c] |= np.any(phi <= tol[None, :], axis=1)
-            col[c] = np.where(at[c], np.argmin(np.where(np.isfinite(phi), phi / tol[None, :],
-                                                        _INF), axis=1), -1)
-            guess[c] = law.fire(self.states[c], col[c], Q)
-            normal[c], two[c] = law.limits(self.states[c], Q, p, un, tf, tw)
-        L = np.flatnonzero(at | slipping(self.states))
+        for (law, c, Q, p, _ut, un), (_, _, gap) in zip(self._parts(self.s, self.w), views,
+                                                        strict=True):
+            st = states[c]
+            at[c], col[c] = self._limit_columns(law, gap, law.event_values(st, Q, p, un),
+                                                at[c], tf, tw)
+            guess[c] = law.fire(st, col[c], Q)
+            normal[c], two[c] = law.limits(st, Q, p, un, tf, tw)
+        L = np.flatnonzero(at | slipping(states))
         return L, guess, normal, two
+
+    @staticmethod
+    def _limit_columns(law, gap, phi, fired, tf: float, tw: float):
+        """The CFEs of ``law`` at a limit (a function within its tolerance, or ``fired``) and,
+        for those, the column nearest its limit relative to the tolerance (−1 elsewhere)."""
+        tol = np.where(gap, tw, tf)
+        at = fired | (phi <= tol).any(axis=1)
+        if not np.count_nonzero(at):
+            return at, np.full(len(at), -1)
+        rel = np.full(phi.shape, _INF)
+        np.divide(phi, tol, out=rel, where=np.isfinite(phi))
+        return at, np.where(at, rel.argmin(axis=1), -1)
 
     def consistent(self, trial, L, ds, dw, normal, two) -> np.ndarray:
         """States the rates (ds, dw) of scheme ``trial`` point to, for the CFEs in L."""
-        dQ, dp = self.layout.split(ds)
-        dut, dun = self.layout.split(dw)
-        rf = 1e3 * self.rtol * max(np.abs(ds).max(initial=0), 1e-300)
-        rw = 1e3 * self.rtol * max(np.abs(dw).max(initial=0), 1e-300)
-        out = trial.copy()
+        lay = self.layout
+        dQ, dp = lay.split(ds)
+        dut, dun = lay.split(dw)
+        rf = 1e3 * self.rtol * max(_absmax(ds), 1e-300)
+        rw = 1e3 * self.rtol * max(_absmax(dw), 1e-300)
         tf, _ = self.tolerances()
+        views = self._views_now()
+        if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
+            Q, p = lay.split(self.s)
+            return views[0][0].consistent(trial, Q, dQ, dp, dun, dut, normal, two, rf, rw,
+                                          p=p, tf=tf)[L]
+        out = trial.copy()
         for law, c, Q, p, _ut, _un in self._parts(self.s, self.w):
             out[c] = law.consistent(trial[c], Q, dQ[c], dp[c], dun[c], dut[c], normal[c],
                                     two[c], rf, rw, p=p, tf=tf)
@@ -541,7 +621,7 @@ class EventEngine:
         path).  Raises :class:`MechanismError` (equilibrium lost, with evidence) or
         :class:`~stepcontact.solver.rate.RateProblemFailure`."""
         L, guess, normal, two = self.at_limit(fired)
-        if not (fired.any() or natural):
+        if not (np.count_nonzero(fired) or natural):
             guess = self.states.copy()
         old = self.states.copy()
         if L.size:
@@ -633,6 +713,15 @@ class EventEngine:
         F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
         return max((law.violation(self.states[c], Q, p, un, F, W)
                     for law, c, Q, p, _ut, un in self._parts(self.s, self.w)), default=0.0)
+
+
+def _absmax(x) -> float:
+    """max |x| over every entry (0 for an empty x), as ``float(np.abs(x).max(initial=0))``
+    without its Python-level wrapper (called several times per event)."""
+    return float(_MAXIMUM(np.abs(x), axis=None, initial=0.0))
+
+
+_MAXIMUM = np.maximum.reduce
 
 
 def _poly_steps(phi: np.ndarray, coef: np.ndarray, rate_tol: np.ndarray, R: float) -> np.ndarray:

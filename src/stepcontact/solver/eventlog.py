@@ -10,6 +10,8 @@ of the event (s) and, at an impact, the CFE's impulses.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from stepcontact.contact.layout import ContactLayout
@@ -40,7 +42,7 @@ class EventLog:
         entry for this transition (:data:`FIRST_OF`) is set to ``lam`` if it is None (None:
         none is set)."""
         cfe, lay = self.cfe, self.layout
-        tr = Transition.between(int(was), int(now))
+        tr = _transition(int(was), int(now))
         pn, qt = (0.0, 0.0) if impulse is None else impulse
         ev = Event(
             step=step, state=state, segment=segment, pattern=pattern, lam=lam, cfe=int(k),
@@ -62,8 +64,14 @@ class EventLog:
         """Log every CFE whose state differs between ``old`` and ``new`` (m,), in the order of
         the CFEs, with the forces ``s``; ``where``: the keywords of :meth:`event` but the
         impulse."""
-        for k in np.flatnonzero(old != new):
+        for k in np.flatnonzero(old != new).tolist():
             self.event(k, old[k], new[k], s, **where)
+
+
+@lru_cache(maxsize=4096)
+def _transition(was: int, now: int) -> Transition:
+    """:meth:`Transition.between` of two state codes, looked up once per pair."""
+    return Transition.between(was, now)
 
 
 __all__ = ["FIRST_OF", "EventLog"]

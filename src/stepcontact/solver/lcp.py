@@ -206,7 +206,7 @@ def enumerate_solutions(M: np.ndarray, q: np.ndarray, bases: np.ndarray,
         B = bases[sizes == k]
         Z = np.zeros((len(B), n))
         if k:
-            idx = np.array([np.flatnonzero(b) for b in B])  # (nb, k)
+            idx = np.nonzero(B)[1].reshape(len(B), k)  # (nb, k): each basis's variables
             Mk = M[idx[:, :, None], idx[:, None, :]]
             ok = np.abs(np.linalg.det(Mk)) > 1e-12 * mscale ** k
             if not ok.any():

@@ -73,11 +73,41 @@ class RateOutcome:
     alternatives: list[np.ndarray] = field(default_factory=list)
 
 
+def _one_law(eng):
+    """The law of ``eng`` when one law governs every CFE in order (the common case: its local
+    indices are the global ones), else None."""
+    views = eng._views_now()
+    if len(views) == 1 and type(views[0][1]) is slice:
+        return views[0][0]
+    return None
+
+
+def _base_scheme(eng, L: np.ndarray, states: np.ndarray) -> np.ndarray:
+    """``states`` with the CFEs in L in each law's base state (closed and stuck)."""
+    base = states.copy()
+    one = _one_law(eng)
+    if one is not None:
+        base[L] = one.base_state(base)[L]
+        return base
+    for law in eng.laws:
+        inl = np.isin(law.cfes, L)
+        base[law.cfes[inl]] = law.base_state(base[law.cfes])[inl]
+    return base
+
+
+def _law_of(eng, k: int):
+    """The law that governs CFE k."""
+    return _one_law(eng) or next(lw for lw in eng.laws if k in lw.cfes)
+
+
 def _variables(eng, L, normal_lim, two_sided) -> RateVariables:
     """The variables of every law for the CFEs in L."""
-    parts = []
     tf, _ = eng.tolerances()
     Q, p = eng.layout.split(eng.s)
+    one = _one_law(eng)
+    if one is not None:
+        return one.rate_variables(L, eng.states, Q, normal_lim, two_sided, p=p, tf=tf)
+    parts = []
     for law in eng.laws:
         pos = np.searchsorted(law.cfes, L)
         pos = np.clip(pos, 0, max(len(law.cfes) - 1, 0))
@@ -91,6 +121,9 @@ def _variables(eng, L, normal_lim, two_sided) -> RateVariables:
 
 
 def _states_from(eng, base, var, active, z):
+    one = _one_law(eng)
+    if one is not None:
+        return one.states_from_active(base, var.cfe, var.kind, active, z, facet=var.facet)
     new = base.copy()
     for law in eng.laws:
         sel = np.isin(var.cfe, law.cfes)
@@ -104,6 +137,9 @@ def _start_basis(eng, var: RateVariables, guess: np.ndarray) -> np.ndarray:
     """The complementary basis that stands for the guessed scheme (pivoting starts there, so
     that a non-unique rate problem continues the current scheme where it can); each law says
     which of its variables its states stand for."""
+    one = _one_law(eng)
+    if one is not None:
+        return np.asarray(one.active_for(guess[var.cfe], var.kind, var.facet), bool)
     out = np.zeros(len(var.cfe), bool)
     for law in eng.laws:
         sel = np.isin(var.cfe, law.cfes)
@@ -125,7 +161,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     kept = None
     try:
         ds, dw = eng.rates(guess, forcing, article=False)
-        if np.array_equal(eng.consistent(guess, L, ds, dw, normal_lim, two_sided), guess[L]):
+        if _same(eng.consistent(guess, L, ds, dw, normal_lim, two_sided), guess[L]):
             kept = RateOutcome(guess, ds, dw, "the current scheme stays consistent", L)
     except MechanismError:
         pass
@@ -133,10 +169,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         return kept
     if kept is not None and _slipping_only(eng, L, normal_lim, two_sided):
         return kept  # CFEs in mid-slip, none at a limit: nothing else to choose from
-    base = guess.copy()
-    for law in eng.laws:
-        inl = np.isin(law.cfes, L)
-        base[law.cfes[inl]] = law.base_state(base[law.cfes])[inl]
+    base = _base_scheme(eng, L, guess)
     h, e = forcing
     try:
         fact = eng.factor(base, article=False)
@@ -241,6 +274,11 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         certificate=trial[L])
 
 
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    """``np.array_equal`` of two state arrays, without its conversions (once per point)."""
+    return a.shape == b.shape and not np.count_nonzero(a != b)
+
+
 def _lemke_fallback(eng, M, q, start, failed):
     """With ``rate_solver="lemke"``: Lemke's method ended without a solution (a secondary
     ray — its M is not copositive-plus at a point where CFEs sit at every limit, e.g. the
@@ -276,15 +314,12 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
     # CFEs' capacities): a faceted cone offers the slip states around their direction only
     hint = None
     if eng.layout.n_t > 1:
-        stuck = guess.copy()
-        for law in eng.laws:
-            inl = np.isin(law.cfes, L)
-            stuck[law.cfes[inl]] = law.base_state(stuck[law.cfes])[inl]
+        stuck = _base_scheme(eng, L, guess)
         with contextlib.suppress(MechanismError):
             hint = eng.layout.tangential(eng.rates_redundant(stuck, forcing)[0])
     options = []
     for k in cfes:
-        law = next(lw for lw in eng.laws if k in lw.cfes)
+        law = _law_of(eng, k)
         j = int(np.searchsorted(law.cfes, k))
         # (a closed CFE opens only from its normal limit, N = 0; a bond holds: its break is
         # the driver's)
@@ -326,10 +361,7 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
 def _redundant_groups(eng, L, guess, cfes) -> list[np.ndarray]:
     """Positions in ``cfes`` of the CFEs that share a self-stress of the point's stuck scheme
     (:meth:`EventEngine.self_stress`), one array per group of two or more."""
-    base = guess.copy()
-    for law in eng.laws:
-        inl = np.isin(law.cfes, L)
-        base[law.cfes[inl]] = law.base_state(base[law.cfes])[inl]
+    base = _base_scheme(eng, L, guess)
     Z = eng.self_stress(base)
     if Z.shape[1] == 0:
         return []
@@ -371,6 +403,9 @@ def _admissible(eng, L, states, forcing, normal_lim) -> np.ndarray:
 
 
 def _frictional(eng, L) -> bool:
+    one = _one_law(eng)
+    if one is not None:
+        return bool(np.count_nonzero(one.frictional[L]))
     return any(bool(law.frictional[np.isin(law.cfes, L)].any()) for law in eng.laws)
 
 
@@ -378,23 +413,35 @@ def _bases(eng, var: RateVariables) -> np.ndarray | None:
     """Complementary bases that stand for distinct CFE states (each law's
     :meth:`~stepcontact.contact.laws.ContactLaw.basis_options`: in 2D per CFE none (stick),
     slip+, slip−, opening alone, or opening with a slip rate)."""
-    cfes = np.unique(var.cfe)
+    cfes, group = np.unique(var.cfe, return_inverse=True)
     if len(cfes) > ENUMERATE_CFES:
         return None
+    laws = [_law_of(eng, k) for k in cfes]
+    # the bases depend only on which variables share a CFE, their kinds and facets and the
+    # CFEs' laws: kept (read-only) for the next point with the same pattern
+    key = (group.tobytes(), var.kind.tobytes(), var.facet.tobytes(), tuple(laws))
+    cache = eng.__dict__.setdefault("_bases_cache", {})
+    if key in cache:
+        return cache[key]
     choices = []
-    for k in cfes:
-        idx = np.flatnonzero(var.cfe == k)
-        law = next(lw for lw in eng.laws if k in lw.cfes)
+    for j, law in enumerate(laws):
+        idx = np.flatnonzero(group == j)
         opts = law.basis_options(var.kind[idx], var.facet[idx])
         choices.append([[int(idx[i]) for i in o] for o in opts])
     if np.prod([float(len(c)) for c in choices]) > ENUMERATE_BASES:
-        return None  # (a faceted cone's many facets: too many bases to try)
-    rows = []
-    for combo in itertools.product(*choices):
-        b = np.zeros(len(var.cfe), bool)
-        b[[i for part in combo for i in part]] = True
-        rows.append(b)
-    return np.array(rows)
+        out = None  # (a faceted cone's many facets: too many bases to try)
+    else:
+        rows = []
+        for combo in itertools.product(*choices):
+            b = np.zeros(len(var.cfe), bool)
+            b[[i for part in combo for i in part]] = True
+            rows.append(b)
+        out = np.array(rows)
+        out.setflags(write=False)
+    cache[key] = out
+    if len(cache) > 64:
+        del cache[next(iter(cache))]
+    return out
 
 
 def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:

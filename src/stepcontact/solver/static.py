@@ -523,6 +523,10 @@ class StaticSolver:
         """The CFEs ``mask`` opened: those with a residual cohesion lose it for good (the
         state index where it happened is kept for the result)."""
         law = self.law
+        if getattr(self, "_residual_of", None) is not law:  # (once per law: a stage's own)
+            self._residual_of, self._any_residual = law, bool(np.any(law.residual > 0))
+        if not self._any_residual:
+            return
         new = mask & (law.residual > 0) & ~law.cohesion_lost & ~law.inert
         if new.any():
             law.lose_cohesion(new)
@@ -835,7 +839,7 @@ class StaticSolver:
                         self.c[name] = c0[name] + rate * direction * end
                     if path is not None:
                         self.c.update(path.factors(mu))
-                    if mu >= span and not fired.any():
+                    if mu >= span and not np.count_nonzero(fired):
                         mu = span
                         for name, rate in rates.items():
                             self.c[name] = c0[name] + rate * (lam1 - lam0)
@@ -965,7 +969,7 @@ class StaticSolver:
         old, new, ds, dw = dec.old, dec.new, dec.ds, dec.dw
         self._lose_cohesion(new == OPEN)  # an opened joint has no residual cohesion
         switched = dec.switched
-        if switched or first or fired.any() or (self.article and np.any(
+        if switched or first or np.count_nonzero(fired) or (self.article and np.any(
                 slipping(new))):
             eng.snap()
         if self.article:
@@ -989,19 +993,30 @@ class StaticSolver:
             # recorded, not the ones on the way)
             i = len(self.rec) if self._releasing else self._record(lam, seg, "event")
             self._log_events(old, new, lam, seg, pattern, i, first=mult)
-            info = StepInfo(self.step, seg, pattern, lam, len(self.rec.events),
-                            int(np.sum(new == OPEN)),
-                            int(np.sum(slipping(new))))
-            for hk in self.hooks:
-                if hasattr(hk, "after_event"):
+            told = self._hooks_with("after_event")
+            if told:
+                info = StepInfo(self.step, seg, pattern, lam, len(self.rec.events),
+                                int(np.count_nonzero(new == OPEN)),
+                                int(np.count_nonzero(slipping(new))))
+                for hk in told:
                     hk.after_event(info)
             self._checkpoint()
         return True, ds, dw
 
+    def _hooks_with(self, method: str) -> tuple:
+        """The hooks that have ``method`` (looked up once per run: asked at every event)."""
+        found = getattr(self, "_hooks_by_method", None)
+        if found is None or found[0] is not self.hooks:
+            found = self._hooks_by_method = (self.hooks, {})
+        got = found[1].get(method)
+        if got is None:
+            got = found[1][method] = tuple(hk for hk in self.hooks if hasattr(hk, method))
+        return got
+
     def _checkpoint(self) -> None:
         """Give hooks that ask for it (``checkpoint_due()``: a result file written at a
         bounded interval of wall time) the run so far, status ``incomplete``."""
-        due = [hk for hk in self.hooks if hasattr(hk, "checkpoint_due") and hk.checkpoint_due()]
+        due = [hk for hk in self._hooks_with("checkpoint_due") if hk.checkpoint_due()]
         if due:
             res = self.result(time.perf_counter() - self._t0, partial=True)
             for hk in due:
