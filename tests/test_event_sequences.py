@@ -121,14 +121,16 @@ def event_points(events: list) -> list[tuple[int, int]]:
     return bounds
 
 
-def compare(name: str, ref: dict, res) -> None:
+def compare(name: str, ref: dict, res, floor: float = REL) -> None:
+    """The result's status and events against the recorded ones: the same events at every
+    event point, λ to ``floor`` relative (or 100× the run's residual, if larger)."""
     assert res.status.value == ref["status"], f"{name}: status ({res.message})"
     if name in CHANGED:
         print(f"{name}: events not compared: {CHANGED[name]}")
         return
     got = record(res)["events"]
     want = ref["events"]
-    rel = max(REL, ROUNDOFF * float(np.max(res.residual, initial=0.0)))
+    rel = max(floor, ROUNDOFF * float(np.max(res.residual, initial=0.0)))
     assert len(got) == len(want), f"{name}: number of events"
     for start, stop in event_points(want):
         w = sorted(want[start:stop], key=_key)
