@@ -576,6 +576,10 @@ class _Memo:
         self.empty = A.nnz == 0
         self._zero = np.zeros(A.shape[0])
         self._zero.flags.writeable = False
+        #: a diagonal matrix (a lumped mass): its product is a scaling (the same floats as
+        #: the sparse product, 0 + d_i x_i, without its dispatch)
+        self.diag = (A.diagonal() if not self.empty and A.shape[0] == A.shape[1]
+                     and A.nnz == np.count_nonzero(A.diagonal()) else None)
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         if self.empty:
@@ -583,7 +587,7 @@ class _Memo:
         for xx, y in self._last:
             if xx is x:
                 return y
-        y = self.A @ x
+        y = self.A @ x if self.diag is None else self.diag * x
         self._last.append((x, y))
         if len(self._last) > self.keep:
             self._last.pop(0)
@@ -1292,7 +1296,10 @@ class _DynamicRun:
 
         cond, free, M = self.cond, self.free, self.M
         self.Bf = cond.Bf
-        self.BfT = self.Bf.T.tocsr()
+        # Bᵀ on the free DOFs by columns: its products (n_free × 2m, a few entries per
+        # column) loop over the 2m columns, not the n_free rows (the same sums in the same
+        # order as by rows)
+        self.BfT = self.Bf.T.tocsc()
         rhs = (self.rest_force(self.F_held, self.u, self.v)
                - self.BfT @ self.s_init)
         Mff = M[free][:, free].tocsc()
@@ -1312,9 +1319,11 @@ class _DynamicRun:
         ndof = self.ndof
         self.rec = Recorder(self.layout, len(self.names), 0)
         self.events = EventLog(self.rec, cfe, self.layout)
-        # the states the run records: every record_every-th step, the events, the cuts
-        states = int(self.iv.duration / self.dt0 / max(self.record_every, 1)) + 2
-        states += states // 4 + 8
+        # the states the run records: every record_every-th step, the events, the cuts —
+        # room for four times the steps (the buffers' pages are only taken as rows are
+        # written: a buffer larger than the run needs costs no memory, one that grows
+        # costs a reallocation)
+        states = 4 * (int(self.iv.duration / self.dt0 / max(self.record_every, 1)) + 2) + 8
         self.extra = {"u": _Rows(ndof, states), "v": _Rows(ndof, states),
                       "a": _Rows(ndof, states)}
         self.energy: list[tuple[float, ...]] = []  # the ledger's terms per state
@@ -1426,7 +1435,7 @@ class _DynamicRun:
         if "metric" not in accel:
             Bf, BfT = self.Bf, self.BfT
             if isinstance(M_lu, _Diagonal):  # lumped: M⁻¹ Bᵀ is as sparse as Bᵀ
-                X = (sp.diags(M_lu.inv) @ BfT).tocsr()
+                X = (sp.diags(M_lu.inv) @ BfT).tocsc()  # (by columns, as Bᵀ)
                 GM = (Bf @ X).toarray()
             else:
                 X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if self.m else np.zeros(
