@@ -1340,6 +1340,8 @@ class _DynamicRun:
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
         self.any_soft = bool(self.soft.any())
         self.no_layer_energy = lay.zeros()
+        self.no_contact = lay.zeros()  # the rates (s', w') of a model without CFEs
+        self.no_contact.flags.writeable = False
         self.no_layer_energy.flags.writeable = False
         self.damped = lay.zeros(dtype=bool)
         # Kelvin–Voigt layers: ½ C_n x², the dashpot's
@@ -1799,7 +1801,11 @@ class _DynamicRun:
                 break
             self.n += 1
             self._begin_step()
-            restart, mu, ds, dw = self._follow_step()
+            if self.m:
+                restart, mu, ds, dw = self._follow_step()
+            else:  # no CFEs: nothing for the engine to follow (a Newmark step, eq. (7))
+                restart, mu, ds, dw = None, self.land, self.no_contact, self.no_contact
+                self.first = False
             if self.stop:
                 break
             landing = restart is None and self.land < 1.0  # a short step: its state at the
