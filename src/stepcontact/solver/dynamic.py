@@ -469,7 +469,7 @@ class _TrackedFactor:
         except np.linalg.LinAlgError:
             return False
         r = p + len(tail)
-        Ln = np.zeros((r, r))
+        Ln = np.zeros((r, r), order="F")  # (LAPACK's order: its solves do not copy it)
         Ln[:p, :p] = L[:p, :p]
         Ln[p:, :p] = L21
         Ln[p:, p:] = L22
@@ -500,7 +500,11 @@ class _TrackedFactor:
         at = self.pos[rows]
         bo = np.zeros(len(self.order))
         bo[at] = b
-        return sla.cho_solve((self.L, True), bo, check_finite=False)[at]
+        # (LAPACK's potrs on the factor, as cho_solve calls it, without its checks)
+        x, info = sla.get_lapack_funcs("potrs", (self.L,))(self.L, bo, lower=True)
+        if info != 0:
+            return sla.cho_solve((self.L, True), bo, check_finite=False)[at]
+        return x[at]
 
 
 class _ContactMetric:
@@ -513,8 +517,16 @@ class _ContactMetric:
     at all, so their factors are kept and updated (:class:`_TrackedFactor`, one per set:
     ``tracked(name)``)."""
 
-    def __init__(self, X, GM: np.ndarray, layout: ContactLayout):
+    def __init__(self, X, GM: np.ndarray, layout: ContactLayout, free: np.ndarray | None = None,
+                 ndof: int | None = None):
         self.X, self.GM, self.layout = X, GM, layout
+        #: X on all DOFs (zero rows on the held ones) where X is sparse (a lumped mass), by
+        #: columns as X: the projection's corrections of the full fields in one product
+        self.X_all = None
+        if sp.issparse(X) and free is not None:
+            Xc = X.tocsc()
+            self.X_all = sp.csc_matrix((Xc.data, free[Xc.indices], Xc.indptr),
+                                       shape=(int(ndof), X.shape[1]))
         self._tracked: dict[str, _TrackedFactor] = {}
         self.XtKX: np.ndarray | None = None  # (formed by the driver on first use)
 
@@ -694,18 +706,22 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     if rows_v.size == 0:
         return u, v, None
     free, Bf = cond.free, cond.Bf
-    vf = v[free]
+    Xa = metric.X_all  # (M⁻¹ Bᵀ on all DOFs where it is sparse: no gather and scatter)
+    vf = np.take(v, free)
     zv = metric.layout.zeros()
     zv[rows_v] = metric.tracked("v").solve(rows_v, (Bf @ vf)[rows_v])
-    u, v = u.copy(), v.copy()
     dv = metric.X @ zv
-    v[free] = vf - dv
+    if Xa is not None:
+        v = v - Xa @ zv  # (on the free DOFs the same floats as vf − dv)
+    else:
+        v = v.copy()
+        v[free] = vf - dv
     # positions: closed rigid CFEs onto their obstacles, and an open one that the cut's
     # interpolation (or a neighbour's correction on shared nodes of mortar CFEs) left
     # penetrating onto its obstacle too (an active set: no open CFE ends inside)
     rig = np.flatnonzero(~law.inert & rigid_n)
     act = states[rig] != OPEN
-    uf = u[free]
+    uf = np.take(u, free)
     r_rig, w0_rig = nr[rig], system.w0[nr[rig]]
     w_all = (Bf @ uf)[r_rig] + w0_rig
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
@@ -722,7 +738,11 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
         if not pen.any():
             break
         act |= pen
-    u[free] = u_try
+    if Xa is not None:
+        u = u - Xa @ zu  # (zu = 0 where nothing moved)
+    else:
+        u = u.copy()
+        u[free] = u_try
     return u, v, (zu, zv, du, dv)
 
 
@@ -1414,9 +1434,9 @@ class _DynamicRun:
     def rest_force(self, F: np.ndarray, u, v) -> np.ndarray:
         """F − K u − C u̇ on the free DOFs (C without entries: not formed)."""
         free = self.free
-        out = F[free] - (self.Kx(u))[free]
+        out = np.take(F, free) - np.take(self.Kx(u), free)
         if not self.Cx.empty:
-            out = out - (self.Cx(v))[free]
+            out = out - np.take(self.Cx(v), free)
         return out
 
     def _rest_accel(self, F: np.ndarray, u, v) -> np.ndarray:
@@ -1445,7 +1465,7 @@ class _DynamicRun:
                 X = X.reshape(len(self.free), self.layout.n)
                 GM = np.asarray(Bf @ X)
             accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
-            accel["metric"] = _ContactMetric(X, accel["GM"], self.layout)
+            accel["metric"] = _ContactMetric(X, accel["GM"], self.layout, self.free, self.ndof)
         return accel["metric"]
 
     def minv(self, rows: np.ndarray):
@@ -1845,7 +1865,7 @@ class _DynamicRun:
         if land < 1.0:  # the load's rate over the part step continued to t + Δt
             F1 = F + (F1 - F) / land
         Fhat = nm.rhs(self.Kx, self.Mx, self.Cx, F1, F, self.u, self.v, self.a)
-        y = self.solve_hat(np.ascontiguousarray(Fhat[self.free]))
+        y = self.solve_hat(np.take(Fhat, self.free))
         h_end = self.Bf @ y
         # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
         w_hat = eng.w - system.w0
@@ -2047,8 +2067,7 @@ class _DynamicRun:
         w_end = eng.w + (1.0 - mu) * dw_o + self.drift
         tv = s_end - cond.d * (w_end - system.w0)
         u_end = np.zeros(self.ndof)
-        u_end[self.free] = self.solve_hat(np.ascontiguousarray(self.Fhat[self.free]
-                                                                  - self.BfT @ tv))
+        u_end[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfT @ tv)
         v_end = self.nm.velocity(u_end, u, v, self.a)
         tau = frac * self.dt
         # linear between the step's ends (a convex combination of two Newmark states: stable
@@ -2274,8 +2293,7 @@ class _DynamicRun:
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
         u_new = np.zeros(self.ndof)
-        u_new[self.free] = self.solve_hat(np.ascontiguousarray(self.Fhat[self.free]
-                                                                  - self.BfT @ tvec))
+        u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfT @ tvec)
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
         e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
