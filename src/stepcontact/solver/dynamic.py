@@ -332,6 +332,11 @@ class _Newmark:
         return -(self.cv * wdot + self.ca * wacc) / self.c1
 
 
+#: a model whose contact matrix B has at most this many entries (2m × n, zeros included)
+#: makes the step's products with B densely
+DENSE_PRODUCTS = 4096
+
+
 class _Diagonal:
     """M⁻¹ of a lumped (diagonal) mass matrix: a division, not a sparse LU's solve."""
 
@@ -1320,6 +1325,12 @@ class _DynamicRun:
         # column) loop over the 2m columns, not the n_free rows (the same sums in the same
         # order as by rows)
         self.BfT = self.Bf.T.tocsc()
+        # the step's products with B (B u̇, B ü, B Δu, Bᵀ t): a tiny model's as dense arrays
+        # (a sparse product's dispatch costs more than the product itself)
+        small = self.system.B.shape[0] * self.ndof <= DENSE_PRODUCTS
+        self.Bx, self.Bfx, self.BfTx = ((self.system.B.toarray(), self.Bf.toarray(),
+                                         self.BfT.toarray()) if small
+                                        else (self.system.B, self.Bf, self.BfT))
         rhs = (self.rest_force(self.F_held, self.u, self.v)
                - self.BfT @ self.s_init)
         Mff = M[free][:, free].tocsc()
@@ -1866,12 +1877,12 @@ class _DynamicRun:
             F1 = F + (F1 - F) / land
         Fhat = nm.rhs(self.Kx, self.Mx, self.Cx, F1, F, self.u, self.v, self.a)
         y = self.solve_hat(np.take(Fhat, self.free))
-        h_end = self.Bf @ y
+        h_end = self.Bfx @ y
         # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
         w_hat = eng.w - system.w0
         h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
-        wdot = system.B @ self.v
-        wacc = system.B @ self.a
+        wdot = self.Bx @ self.v
+        wacc = self.Bx @ self.a
         drift = lay.zeros()
         lay.tangential(drift)[:] = np.where(np.isfinite(cfe.kt), 0.0,
                                             nm.drift(lay.tangential(wdot), lay.tangential(wacc)))
@@ -2067,7 +2078,7 @@ class _DynamicRun:
         w_end = eng.w + (1.0 - mu) * dw_o + self.drift
         tv = s_end - cond.d * (w_end - system.w0)
         u_end = np.zeros(self.ndof)
-        u_end[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfT @ tv)
+        u_end[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tv)
         v_end = self.nm.velocity(u_end, u, v, self.a)
         tau = frac * self.dt
         # linear between the step's ends (a convex combination of two Newmark states: stable
@@ -2076,7 +2087,7 @@ class _DynamicRun:
         v_i = v + frac * (v_end - v)
         s_i = eng.s + (frac - mu) * ds_o
         F_i = self.force_at(t + tau) if F_i is None else F_i
-        w_i = system.B @ u_i + system.w0
+        w_i = self.Bx @ u_i + system.w0
         x_i = layers.at(run_states, w_i, frac) if layers else None
         # the works of the part step: the share frac of the whole step's (the state is the
         # same convex combination of the step's ends; a Newmark step's works are its energy
@@ -2088,7 +2099,7 @@ class _DynamicRun:
         du_w = u_end - u
         x_end = (layers.at(run_states, system.B @ u_end + system.w0, 1.0) if layers
                  else None)
-        diss = frac * (0.5 * (s_start + s_end) * (system.B @ du_w)
+        diss = frac * (0.5 * (s_start + s_end) * (self.Bx @ du_w)
                        - (self.layer_energy(s_end, x_end)
                           - self.layer_energy(s_start, x_start)))
         contact = self.book_contact(diss)
@@ -2293,7 +2304,7 @@ class _DynamicRun:
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
         u_new = np.zeros(self.ndof)
-        u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfT @ tvec)
+        u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tvec)
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
         e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
@@ -2306,7 +2317,7 @@ class _DynamicRun:
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
         # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
-        diss = sbar * (system.B @ du) - (self.layer_energy(eng.s)
+        diss = sbar * (self.Bx @ du) - (self.layer_energy(eng.s)
                                          - self.layer_energy(s_start, x_start))
         for key, val in self.book_contact(diss).items():
             ledger[key] += val
