@@ -1712,6 +1712,9 @@ class _DynamicRun:
         """The contact's dissipation per component → friction, impact (normal) and damping
         (the damped layers' dashpots)."""
         lay, damped = self.layout, self.damped
+        if not self.layers:  # (no dashpots: the normal dissipation is the impacts')
+            return {"friction": float(lay.tangential(diss).sum()),
+                    "impact": float(lay.normal(diss).sum()), "damping": 0.0}
         return {"friction": float(lay.tangential(diss).sum()),
                 "impact": float(lay.normal(diss)[~lay.normal(damped)].sum()),
                 "damping": float(diss[damped].sum())}
@@ -2307,7 +2310,6 @@ class _DynamicRun:
         u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tvec)
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
-        e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
         ledger["external"] += float(du @ (0.5 * (F + F1)))
         F_prev, F = F, F1
         damped = not Cx.empty
@@ -2317,12 +2319,14 @@ class _DynamicRun:
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
         # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
-        diss = sbar * (self.Bx @ du) - (self.layer_energy(eng.s)
-                                         - self.layer_energy(s_start, x_start))
+        diss = sbar * (self.Bx @ du)
+        if layers or self.any_soft:
+            diss = diss - (self.layer_energy(eng.s) - self.layer_energy(s_start, x_start))
         for key, val in self.book_contact(diss).items():
             ledger[key] += val
         if self.alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what
             # the works leave
+            e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
             e_step1 = 0.5 * v_new @ (Mx(v_new)) + self.strain_energy(u_new, eng.s)
             d_num = (float(du @ (0.5 * (F_prev + F1))) - w_damp
                      - float(diss.sum()) - (e_step1 - e_step0))
