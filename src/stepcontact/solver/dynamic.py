@@ -2234,7 +2234,7 @@ class _DynamicRun:
         X = metric.X
         out = 0.0
         if zv.any():
-            out += float(dv @ self.Mx(v_p)[free] + 0.5 * zv @ (metric.GM @ zv))
+            out += float(dv @ np.take(self.Mx(v_p), free) + 0.5 * zv @ (metric.GM @ zv))
         if zu.any():
             if sp.issparse(X):
                 if metric.XtKX is None:
@@ -2246,7 +2246,7 @@ class _DynamicRun:
                 du_all = np.zeros(self.ndof)
                 du_all[free] = du
                 quad = float(du_all @ (self.K @ du_all))
-            out += float(du @ self.Kx(u_p)[free]) + 0.5 * quad
+            out += float(du @ np.take(self.Kx(u_p), free)) + 0.5 * quad
         return out
 
     def _impact_at(self, old, new_states, closing, s_i, v_i, t_i):
