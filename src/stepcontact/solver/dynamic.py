@@ -1269,6 +1269,7 @@ class _DynamicRun:
                           and not soft_cfe.all())
         self.held = self.layout.join(soft_cfe, soft_cfe)
         self.rigid_n = ~np.isfinite(cfe.kn)
+        self.soft_t = np.isfinite(cfe.kt)  # (compliant tangential rows: no drift, eq. (9))
 
     def _initial_state(self, u0, v0) -> None:
         """The fields and the contact state at t = 0 (:func:`_initial`, :func:`_state_at_u0`;
@@ -1858,7 +1859,7 @@ class _DynamicRun:
         load F̂ of eq. (7) with Newmark's (HHT-α) history, the free response's increment h
         at the contact rows (the engine's forcing), the drift of the slip velocities
         (eq. (9)) and the scales the engine judges against."""
-        eng, lay, cfe, system, cond = self.eng, self.layout, self.cfe, self.system, self.cond
+        eng, lay, system, cond = self.eng, self.layout, self.system, self.cond
         dt0, t, F = self.dt0, self.t, self.F
         dt = dt0
         ahead = self.breaks[self.breaks > t + 1e-9 * dt0]
@@ -1887,11 +1888,12 @@ class _DynamicRun:
         wdot = self.Bx @ self.v
         wacc = self.Bx @ self.a
         drift = lay.zeros()
-        lay.tangential(drift)[:] = np.where(np.isfinite(cfe.kt), 0.0,
+        lay.tangential(drift)[:] = np.where(self.soft_t, 0.0,
                                             nm.drift(lay.tangential(wdot), lay.tangential(wacc)))
         self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
         self.x_start = self.layers.x.copy()
-        self.forcing = (h_end - h0, -drift)
+        dh = h_end - h0
+        self.forcing = (dh, -drift)
         # a body at rest (after a stop, no load): a step's load at round-off of the
         # displacements (1e-19 m) drives no mechanism of a singular scheme (EventEngine.drives)
         eng.rest_scale = self.rtol * self.w_scale
@@ -1900,7 +1902,7 @@ class _DynamicRun:
         eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),
                           float(np.abs(F).max(initial=0.0)),
                           float(np.abs(self.Mx(self.v)).max(initial=0.0)) / dt0)
-        eng.W_scale = max(eng.W_scale, self.w_scale, float(np.abs(h_end - h0).max(initial=0.0)))
+        eng.W_scale = max(eng.W_scale, self.w_scale, float(np.abs(dh).max(initial=0.0)))
         self.s_start, self.w_start = eng.s.copy(), eng.w.copy()
         self.dt, self.nm, self.land, self.t1, self.at_break = dt, nm, land, t1, at_break
         self.F1, self.F_land, self.Fhat, self.h_end = F1, F_land, Fhat, h_end
