@@ -332,6 +332,11 @@ class _Newmark:
         return -(self.cv * wdot + self.ca * wacc) / self.c1
 
 
+#: a model whose contact matrix B has at most this many entries (2m × n, zeros included)
+#: makes the step's products with B densely
+DENSE_PRODUCTS = 4096
+
+
 class _Diagonal:
     """M⁻¹ of a lumped (diagonal) mass matrix: a division, not a sparse LU's solve."""
 
@@ -469,7 +474,7 @@ class _TrackedFactor:
         except np.linalg.LinAlgError:
             return False
         r = p + len(tail)
-        Ln = np.zeros((r, r))
+        Ln = np.zeros((r, r), order="F")  # (LAPACK's order: its solves do not copy it)
         Ln[:p, :p] = L[:p, :p]
         Ln[p:, :p] = L21
         Ln[p:, p:] = L22
@@ -500,7 +505,11 @@ class _TrackedFactor:
         at = self.pos[rows]
         bo = np.zeros(len(self.order))
         bo[at] = b
-        return sla.cho_solve((self.L, True), bo, check_finite=False)[at]
+        # (LAPACK's potrs on the factor, as cho_solve calls it, without its checks)
+        x, info = sla.get_lapack_funcs("potrs", (self.L,))(self.L, bo, lower=True)
+        if info != 0:
+            return sla.cho_solve((self.L, True), bo, check_finite=False)[at]
+        return x[at]
 
 
 class _ContactMetric:
@@ -513,8 +522,16 @@ class _ContactMetric:
     at all, so their factors are kept and updated (:class:`_TrackedFactor`, one per set:
     ``tracked(name)``)."""
 
-    def __init__(self, X, GM: np.ndarray, layout: ContactLayout):
+    def __init__(self, X, GM: np.ndarray, layout: ContactLayout, free: np.ndarray | None = None,
+                 ndof: int | None = None):
         self.X, self.GM, self.layout = X, GM, layout
+        #: X on all DOFs (zero rows on the held ones) where X is sparse (a lumped mass), by
+        #: columns as X: the projection's corrections of the full fields in one product
+        self.X_all = None
+        if sp.issparse(X) and free is not None:
+            Xc = X.tocsc()
+            self.X_all = sp.csc_matrix((Xc.data, free[Xc.indices], Xc.indptr),
+                                       shape=(int(ndof), X.shape[1]))
         self._tracked: dict[str, _TrackedFactor] = {}
         self.XtKX: np.ndarray | None = None  # (formed by the driver on first use)
 
@@ -576,6 +593,10 @@ class _Memo:
         self.empty = A.nnz == 0
         self._zero = np.zeros(A.shape[0])
         self._zero.flags.writeable = False
+        #: a diagonal matrix (a lumped mass): its product is a scaling (the same floats as
+        #: the sparse product, 0 + d_i x_i, without its dispatch)
+        self.diag = (A.diagonal() if not self.empty and A.shape[0] == A.shape[1]
+                     and A.nnz == np.count_nonzero(A.diagonal()) else None)
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         if self.empty:
@@ -583,7 +604,7 @@ class _Memo:
         for xx, y in self._last:
             if xx is x:
                 return y
-        y = self.A @ x
+        y = self.A @ x if self.diag is None else self.diag * x
         self._last.append((x, y))
         if len(self._last) > self.keep:
             self._last.pop(0)
@@ -690,18 +711,22 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     if rows_v.size == 0:
         return u, v, None
     free, Bf = cond.free, cond.Bf
-    vf = v[free]
+    Xa = metric.X_all  # (M⁻¹ Bᵀ on all DOFs where it is sparse: no gather and scatter)
+    vf = np.take(v, free)
     zv = metric.layout.zeros()
     zv[rows_v] = metric.tracked("v").solve(rows_v, (Bf @ vf)[rows_v])
-    u, v = u.copy(), v.copy()
     dv = metric.X @ zv
-    v[free] = vf - dv
+    if Xa is not None:
+        v = v - Xa @ zv  # (on the free DOFs the same floats as vf − dv)
+    else:
+        v = v.copy()
+        v[free] = vf - dv
     # positions: closed rigid CFEs onto their obstacles, and an open one that the cut's
     # interpolation (or a neighbour's correction on shared nodes of mortar CFEs) left
     # penetrating onto its obstacle too (an active set: no open CFE ends inside)
     rig = np.flatnonzero(~law.inert & rigid_n)
     act = states[rig] != OPEN
-    uf = u[free]
+    uf = np.take(u, free)
     r_rig, w0_rig = nr[rig], system.w0[nr[rig]]
     w_all = (Bf @ uf)[r_rig] + w0_rig
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
@@ -718,7 +743,11 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
         if not pen.any():
             break
         act |= pen
-    u[free] = u_try
+    if Xa is not None:
+        u = u - Xa @ zu  # (zu = 0 where nothing moved)
+    else:
+        u = u.copy()
+        u[free] = u_try
     return u, v, (zu, zv, du, dv)
 
 
@@ -1240,6 +1269,7 @@ class _DynamicRun:
                           and not soft_cfe.all())
         self.held = self.layout.join(soft_cfe, soft_cfe)
         self.rigid_n = ~np.isfinite(cfe.kn)
+        self.soft_t = np.isfinite(cfe.kt)  # (compliant tangential rows: no drift, eq. (9))
 
     def _initial_state(self, u0, v0) -> None:
         """The fields and the contact state at t = 0 (:func:`_initial`, :func:`_state_at_u0`;
@@ -1292,7 +1322,16 @@ class _DynamicRun:
 
         cond, free, M = self.cond, self.free, self.M
         self.Bf = cond.Bf
-        self.BfT = self.Bf.T.tocsr()
+        # Bᵀ on the free DOFs by columns: its products (n_free × 2m, a few entries per
+        # column) loop over the 2m columns, not the n_free rows (the same sums in the same
+        # order as by rows)
+        self.BfT = self.Bf.T.tocsc()
+        # the step's products with B (B u̇, B ü, B Δu, Bᵀ t): a tiny model's as dense arrays
+        # (a sparse product's dispatch costs more than the product itself)
+        small = self.system.B.shape[0] * self.ndof <= DENSE_PRODUCTS
+        self.Bx, self.Bfx, self.BfTx = ((self.system.B.toarray(), self.Bf.toarray(),
+                                         self.BfT.toarray()) if small
+                                        else (self.system.B, self.Bf, self.BfT))
         rhs = (self.rest_force(self.F_held, self.u, self.v)
                - self.BfT @ self.s_init)
         Mff = M[free][:, free].tocsc()
@@ -1312,9 +1351,11 @@ class _DynamicRun:
         ndof = self.ndof
         self.rec = Recorder(self.layout, len(self.names), 0)
         self.events = EventLog(self.rec, cfe, self.layout)
-        # the states the run records: every record_every-th step, the events, the cuts
-        states = int(self.iv.duration / self.dt0 / max(self.record_every, 1)) + 2
-        states += states // 4 + 8
+        # the states the run records: every record_every-th step, the events, the cuts —
+        # room for four times the steps (the buffers' pages are only taken as rows are
+        # written: a buffer larger than the run needs costs no memory, one that grows
+        # costs a reallocation)
+        states = 4 * (int(self.iv.duration / self.dt0 / max(self.record_every, 1)) + 2) + 8
         self.extra = {"u": _Rows(ndof, states), "v": _Rows(ndof, states),
                       "a": _Rows(ndof, states)}
         self.energy: list[tuple[float, ...]] = []  # the ledger's terms per state
@@ -1331,6 +1372,8 @@ class _DynamicRun:
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
         self.any_soft = bool(self.soft.any())
         self.no_layer_energy = lay.zeros()
+        self.no_contact = lay.zeros()  # the rates (s', w') of a model without CFEs
+        self.no_contact.flags.writeable = False
         self.no_layer_energy.flags.writeable = False
         self.damped = lay.zeros(dtype=bool)
         # Kelvin–Voigt layers: ½ C_n x², the dashpot's
@@ -1403,9 +1446,9 @@ class _DynamicRun:
     def rest_force(self, F: np.ndarray, u, v) -> np.ndarray:
         """F − K u − C u̇ on the free DOFs (C without entries: not formed)."""
         free = self.free
-        out = F[free] - (self.Kx(u))[free]
+        out = np.take(F, free) - np.take(self.Kx(u), free)
         if not self.Cx.empty:
-            out = out - (self.Cx(v))[free]
+            out = out - np.take(self.Cx(v), free)
         return out
 
     def _rest_accel(self, F: np.ndarray, u, v) -> np.ndarray:
@@ -1426,7 +1469,7 @@ class _DynamicRun:
         if "metric" not in accel:
             Bf, BfT = self.Bf, self.BfT
             if isinstance(M_lu, _Diagonal):  # lumped: M⁻¹ Bᵀ is as sparse as Bᵀ
-                X = (sp.diags(M_lu.inv) @ BfT).tocsr()
+                X = (sp.diags(M_lu.inv) @ BfT).tocsc()  # (by columns, as Bᵀ)
                 GM = (Bf @ X).toarray()
             else:
                 X = M_lu.solve(np.ascontiguousarray(BfT.toarray())) if self.m else np.zeros(
@@ -1434,7 +1477,7 @@ class _DynamicRun:
                 X = X.reshape(len(self.free), self.layout.n)
                 GM = np.asarray(Bf @ X)
             accel["X"], accel["GM"] = X, 0.5 * (GM + GM.T)
-            accel["metric"] = _ContactMetric(X, accel["GM"], self.layout)
+            accel["metric"] = _ContactMetric(X, accel["GM"], self.layout, self.free, self.ndof)
         return accel["metric"]
 
     def minv(self, rows: np.ndarray):
@@ -1670,6 +1713,9 @@ class _DynamicRun:
         """The contact's dissipation per component → friction, impact (normal) and damping
         (the damped layers' dashpots)."""
         lay, damped = self.layout, self.damped
+        if not self.layers:  # (no dashpots: the normal dissipation is the impacts')
+            return {"friction": float(lay.tangential(diss).sum()),
+                    "impact": float(lay.normal(diss).sum()), "damping": 0.0}
         return {"friction": float(lay.tangential(diss).sum()),
                 "impact": float(lay.normal(diss)[~lay.normal(damped)].sum()),
                 "damping": float(diss[damped].sum())}
@@ -1790,7 +1836,11 @@ class _DynamicRun:
                 break
             self.n += 1
             self._begin_step()
-            restart, mu, ds, dw = self._follow_step()
+            if self.m:
+                restart, mu, ds, dw = self._follow_step()
+            else:  # no CFEs: nothing for the engine to follow (a Newmark step, eq. (7))
+                restart, mu, ds, dw = None, self.land, self.no_contact, self.no_contact
+                self.first = False
             if self.stop:
                 break
             landing = restart is None and self.land < 1.0  # a short step: its state at the
@@ -1809,7 +1859,7 @@ class _DynamicRun:
         load F̂ of eq. (7) with Newmark's (HHT-α) history, the free response's increment h
         at the contact rows (the engine's forcing), the drift of the slip velocities
         (eq. (9)) and the scales the engine judges against."""
-        eng, lay, cfe, system, cond = self.eng, self.layout, self.cfe, self.system, self.cond
+        eng, lay, system, cond = self.eng, self.layout, self.system, self.cond
         dt0, t, F = self.dt0, self.t, self.F
         dt = dt0
         ahead = self.breaks[self.breaks > t + 1e-9 * dt0]
@@ -1830,19 +1880,20 @@ class _DynamicRun:
         if land < 1.0:  # the load's rate over the part step continued to t + Δt
             F1 = F + (F1 - F) / land
         Fhat = nm.rhs(self.Kx, self.Mx, self.Cx, F1, F, self.u, self.v, self.a)
-        y = self.solve_hat(np.ascontiguousarray(Fhat[self.free]))
-        h_end = self.Bf @ y
+        y = self.solve_hat(np.take(Fhat, self.free))
+        h_end = self.Bfx @ y
         # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
         w_hat = eng.w - system.w0
         h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
-        wdot = system.B @ self.v
-        wacc = system.B @ self.a
+        wdot = self.Bx @ self.v
+        wacc = self.Bx @ self.a
         drift = lay.zeros()
-        lay.tangential(drift)[:] = np.where(np.isfinite(cfe.kt), 0.0,
+        lay.tangential(drift)[:] = np.where(self.soft_t, 0.0,
                                             nm.drift(lay.tangential(wdot), lay.tangential(wacc)))
         self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
         self.x_start = self.layers.x.copy()
-        self.forcing = (h_end - h0, -drift)
+        dh = h_end - h0
+        self.forcing = (dh, -drift)
         # a body at rest (after a stop, no load): a step's load at round-off of the
         # displacements (1e-19 m) drives no mechanism of a singular scheme (EventEngine.drives)
         eng.rest_scale = self.rtol * self.w_scale
@@ -1851,7 +1902,7 @@ class _DynamicRun:
         eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),
                           float(np.abs(F).max(initial=0.0)),
                           float(np.abs(self.Mx(self.v)).max(initial=0.0)) / dt0)
-        eng.W_scale = max(eng.W_scale, self.w_scale, float(np.abs(h_end - h0).max(initial=0.0)))
+        eng.W_scale = max(eng.W_scale, self.w_scale, float(np.abs(dh).max(initial=0.0)))
         self.s_start, self.w_start = eng.s.copy(), eng.w.copy()
         self.dt, self.nm, self.land, self.t1, self.at_break = dt, nm, land, t1, at_break
         self.F1, self.F_land, self.Fhat, self.h_end = F1, F_land, Fhat, h_end
@@ -2032,8 +2083,7 @@ class _DynamicRun:
         w_end = eng.w + (1.0 - mu) * dw_o + self.drift
         tv = s_end - cond.d * (w_end - system.w0)
         u_end = np.zeros(self.ndof)
-        u_end[self.free] = self.solve_hat(np.ascontiguousarray(self.Fhat[self.free]
-                                                                  - self.BfT @ tv))
+        u_end[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tv)
         v_end = self.nm.velocity(u_end, u, v, self.a)
         tau = frac * self.dt
         # linear between the step's ends (a convex combination of two Newmark states: stable
@@ -2042,7 +2092,7 @@ class _DynamicRun:
         v_i = v + frac * (v_end - v)
         s_i = eng.s + (frac - mu) * ds_o
         F_i = self.force_at(t + tau) if F_i is None else F_i
-        w_i = system.B @ u_i + system.w0
+        w_i = self.Bx @ u_i + system.w0
         x_i = layers.at(run_states, w_i, frac) if layers else None
         # the works of the part step: the share frac of the whole step's (the state is the
         # same convex combination of the step's ends; a Newmark step's works are its energy
@@ -2054,7 +2104,7 @@ class _DynamicRun:
         du_w = u_end - u
         x_end = (layers.at(run_states, system.B @ u_end + system.w0, 1.0) if layers
                  else None)
-        diss = frac * (0.5 * (s_start + s_end) * (system.B @ du_w)
+        diss = frac * (0.5 * (s_start + s_end) * (self.Bx @ du_w)
                        - (self.layer_energy(s_end, x_end)
                           - self.layer_energy(s_start, x_start)))
         contact = self.book_contact(diss)
@@ -2186,7 +2236,7 @@ class _DynamicRun:
         X = metric.X
         out = 0.0
         if zv.any():
-            out += float(dv @ self.Mx(v_p)[free] + 0.5 * zv @ (metric.GM @ zv))
+            out += float(dv @ np.take(self.Mx(v_p), free) + 0.5 * zv @ (metric.GM @ zv))
         if zu.any():
             if sp.issparse(X):
                 if metric.XtKX is None:
@@ -2198,7 +2248,7 @@ class _DynamicRun:
                 du_all = np.zeros(self.ndof)
                 du_all[free] = du
                 quad = float(du_all @ (self.K @ du_all))
-            out += float(du @ self.Kx(u_p)[free]) + 0.5 * quad
+            out += float(du @ np.take(self.Kx(u_p), free)) + 0.5 * quad
         return out
 
     def _impact_at(self, old, new_states, closing, s_i, v_i, t_i):
@@ -2259,11 +2309,9 @@ class _DynamicRun:
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
         u_new = np.zeros(self.ndof)
-        u_new[self.free] = self.solve_hat(np.ascontiguousarray(self.Fhat[self.free]
-                                                                  - self.BfT @ tvec))
+        u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tvec)
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
-        e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
         ledger["external"] += float(du @ (0.5 * (F + F1)))
         F_prev, F = F, F1
         damped = not Cx.empty
@@ -2273,12 +2321,14 @@ class _DynamicRun:
         # contact work −s̄·Δw on the structure; what the layers store is not dissipated
         sbar = 0.5 * (s_start + eng.s)
         # (Δw = B Δu: the kinematics of the fields, not the engine's snapped values)
-        diss = sbar * (system.B @ du) - (self.layer_energy(eng.s)
-                                         - self.layer_energy(s_start, x_start))
+        diss = sbar * (self.Bx @ du)
+        if layers or self.any_soft:
+            diss = diss - (self.layer_energy(eng.s) - self.layer_energy(s_start, x_start))
         for key, val in self.book_contact(diss).items():
             ledger[key] += val
         if self.alpha or dt < dt0:  # HHT-α and short steps dissipate: their share is what
             # the works leave
+            e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
             e_step1 = 0.5 * v_new @ (Mx(v_new)) + self.strain_energy(u_new, eng.s)
             d_num = (float(du @ (0.5 * (F_prev + F1))) - w_damp
                      - float(diss.sum()) - (e_step1 - e_step0))

@@ -165,10 +165,10 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
             kept = RateOutcome(guess, ds, dw, "the current scheme stays consistent", L)
     except MechanismError:
         pass
-    if kept is not None and not (len(L) <= ENUMERATE_CFES and _frictional(eng, L)):
-        return kept
     if kept is not None and _slipping_only(eng, L, normal_lim, two_sided):
         return kept  # CFEs in mid-slip, none at a limit: nothing else to choose from
+    if kept is not None and not (len(L) <= ENUMERATE_CFES and _frictional(eng, L)):
+        return kept
     base = _base_scheme(eng, L, guess)
     h, e = forcing
     try:
