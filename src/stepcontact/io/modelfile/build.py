@@ -266,6 +266,7 @@ class _Builder(_References):
         self.build_bodies()
         self.check_size()
         self.build_node_sets()
+        self.check_dimension()
         spec, sets, p = self.spec, self.sets, self.p
 
         def have(*names: str | None) -> bool:
@@ -367,6 +368,52 @@ class _Builder(_References):
             return None
         self.check_chain(model)
         return model
+
+    def check_dimension(self) -> None:
+        """The fields that belong to the other dimension, named by their path: the model is 3D
+        when its bodies are (the model refuses bodies of both dimensions itself), and then a
+        rotation rz, a moment mz, a 2-component gravity, a tangential or 2D traction and the
+        plane options are errors; in 2D anything along z."""
+        dims = {b.dim for b in self.bodies.values() if isinstance(b, Body)}
+        if len(dims) != 1:
+            return  # no continuum, or both dimensions (the model reports it)
+        dim, p, spec = dims.pop(), self.p, self.spec
+        if dim == 3:
+            for key in ("plane", "thickness"):
+                if key in spec.model.model_fields_set:
+                    p.add(f"model.{key}", "applies to 2D bodies only (plane strain or stress); "
+                          "the bodies are 3D: leave it out")
+        for i, s in enumerate(spec.supports):
+            bad = "rz" if dim == 3 else "z"
+            if bad in _parse_dofs(s.dofs, f"supports[{i}].dofs", ALL_DOFS):
+                p.add(f"supports[{i}].dofs", f"'{bad}' is not a degree of freedom of a "
+                      f"{dim}D model (use {'x, y, z' if dim == 3 else 'x, y, rz'})")
+        for pname, pat in spec.patterns.items():
+            for j, ld in enumerate(pat.loads):
+                self._check_load_dimension(_path(["patterns", pname, "loads", j]), ld, dim)
+
+    def _check_load_dimension(self, path: str, ld: Any, dim: int) -> None:
+        """One load's fields against the model's dimension (:meth:`check_dimension`)."""
+        p = self.p
+        other = f"the model is {dim}D"
+        if isinstance(ld, GravityLoad) and ld.g is not None and len(ld.g) != dim:
+            p.add(f"{path}.g", f"has {len(ld.g)} components, {other}: give "
+                  f"{'[gx, gy, gz]' if dim == 3 else '[gx, gy]'} (m/s²) or leave it out "
+                  "(9.81 m/s² downwards)")
+        elif isinstance(ld, NodalLoadSpec | EdgeForceLoad):
+            bad = ("mz" if dim == 3 else "fz")
+            if getattr(ld, bad, 0.0) != 0.0:
+                p.add(f"{path}.{bad}", f"{other}: " + ("a 3D body's nodes have no rotation "
+                      "(moments mz act on 2D frames)" if dim == 3 else "no force along z"))
+        elif isinstance(ld, PressureLoad) and dim == 3:
+            for key in ("tangential", "traction"):
+                if getattr(ld, key) is not None:
+                    p.add(f"{path}.{key}", f"{other}: the faces of 3D bodies take a normal "
+                          "pressure (or edge_force with fx, fy, fz)")
+        elif getattr(ld, "type", None) == "displacement":
+            bad = "rz" if dim == 3 else "z"
+            if ld.dof == bad:
+                p.add(f"{path}.dof", f"{other}: use {'x, y or z' if dim == 3 else 'x, y or rz'}")
 
     def check_chain(self, model: Model) -> None:
         """Each segment starts where its pattern stands: the model's rule

@@ -34,7 +34,6 @@ from stepcontact.model.items import (
     NU_RANGE,
     CfeKind,
     ContactLayer,
-    DofName,
     ElementKind,
     Interface,
     Material,
@@ -692,9 +691,9 @@ class GravityLoad(_Spec):
     """Self-weight: density × ``g`` (m/s²) on ``bodies`` (all bodies when empty)."""
 
     type: Literal["gravity"] = "gravity"
-    g: Point | Point3 | None = Field(
-        None, description="acceleration (gx, gy) in 2D or (gx, gy, gz) in 3D, m/s²; default: "
-        "9.81 m/s² downwards, along −y in 2D, along −z on 3D bodies")
+    g: list[float] | None = Field(
+        None, min_length=2, max_length=3, description="acceleration (gx, gy) in 2D or (gx, gy, "
+        "gz) in 3D, m/s²; default: 9.81 m/s² downwards, along −y in 2D, along −z on 3D bodies")
     bodies: list[str] = []
 
 
@@ -805,7 +804,8 @@ class DisplacementLoad(_Spec):
 
     type: Literal["displacement"] = "displacement"
     nodes: str
-    dof: DofName | Literal["z"] = Field(description="x, y, rz (2D) or x, y, z (3D bodies)")
+    dof: Literal[ALL_DOFS] = Field(  # type: ignore[valid-type]  # the model's DOF names
+        description="x, y, rz (2D) or x, y, z (3D bodies)")
     value: float
 
 
