@@ -246,3 +246,51 @@ def test_fz_in_a_2d_model_is_named(tmp_path):
     path.write_text(text)
     out = runner.invoke(app, ["validate", str(path)])
     assert_one_line_error(out, "patterns.push.loads[0].fz: the model is 2D: no force along z")
+
+
+# --------------------------------------------------------------------------------------------
+# an extruded body
+# --------------------------------------------------------------------------------------------
+def extruded(section: dict | None = None, **body) -> dict:
+    """The block file with the block as a 4 × 3 m quad8 section swept from z = 0 to 10 m."""
+    d = tomllib.loads(BLOCK.replace("ELEMENT", "hex8"))
+    d["bodies"][0] = {"name": "dam", "kind": "extrude", "z": [0.0, 10.0], "nz": 5,
+                      "material": "concrete",
+                      "section": section or {"corner0": [0.0, 0.0], "corner1": [4.0, 3.0],
+                                             "nx": 2, "ny": 2, "element": "quad8"}, **body}
+    d["node_sets"]["base"] = {"body": "dam", "boundary": "start"}
+    d["node_sets"]["upstream"] = {"body": "dam", "x": 0.0}
+    return d
+
+
+def test_extruded_body_of_a_file_weighs_its_volume():
+    """quad8 → hex20, its end faces 'start' and 'end'; the base reaction after the weight is
+    ρ g V (hand statics, 1e-9 relative)."""
+    m = model_from_dict(extruded())
+    b = m.body("dam")
+    assert b.element == "hex20" and b.boundary_names == ("start", "end") and m.dim == 3
+    assert np.all(b.points[m.supports[0].nodes.index, 2] == 0.0)
+    res = sc.solve_static(m.replace(program=m.program[:1]))
+    z = list(res.reaction_labels).index("base:z")
+    weight = RHO * G * 4.0 * 3.0 * 10.0
+    assert abs(res.reactions[-1, z] - weight) <= 1e-9 * weight
+
+
+@pytest.mark.parametrize(("body", "item", "fragment"), [
+    ({"z": [1.0, 0.0]}, "bodies[0]", "z1 > z0"),
+    ({"nz": 0}, "bodies[0].nz", "greater than or equal to 1"),
+])
+def test_extrusion_errors_name_the_field(body, item, fragment):
+    with pytest.raises(ModelError) as info:
+        model_from_dict(extruded(**body))
+    assert info.value.item == item and fragment in info.value.problem, str(info.value)
+
+
+def test_section_errors_name_the_field():
+    sec = {"corner0": [0.0, 0.0], "corner1": [4.0, 3.0], "nx": 0, "ny": 2}
+    with pytest.raises(ModelError) as info:
+        model_from_dict(extruded(sec))
+    assert info.value.item == "bodies[0].section.nx"
+    with pytest.raises(ModelError) as info:
+        model_from_dict(extruded({**sec, "nx": 2, "name": "s"}))
+    assert info.value.item == "bodies[0]" and "not in its section" in info.value.problem

@@ -23,6 +23,7 @@ from stepcontact.io.modelfile.schema import (
     BoxSpec,
     CrackWaterSpec,
     EdgeForceLoad,
+    ExtrudeSpec,
     GravityLoad,
     HalfDiscSpec,
     MaterialSpec,
@@ -60,7 +61,14 @@ from stepcontact.model.items import (
     _parse_dofs,
     select_nodes,
 )
-from stepcontact.model.mesh import box, half_disc, polygon_region, quad_region, rectangle
+from stepcontact.model.mesh import (
+    box,
+    extrude,
+    half_disc,
+    polygon_region,
+    quad_region,
+    rectangle,
+)
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.program import cycles
 from stepcontact.model.size import check_size
@@ -93,6 +101,20 @@ def _box(where: BoxSpec, atol: float) -> Callable[..., np.ndarray]:
         return out
 
     return inside
+
+
+def _section(b: RectangleSpec | QuadRegionSpec | PolygonSpec | HalfDiscSpec,
+             mat: Material) -> Body:
+    """The 2D body of the section of an extruded body (``kind = "extrude"``)."""
+    if isinstance(b, RectangleSpec):
+        return rectangle(b.name, b.corner0, b.corner1, b.nx, b.ny, mat, b.element,
+                         grading=b.grading)
+    if isinstance(b, QuadRegionSpec):
+        return quad_region(b.name, b.corners, b.nx, b.ny, mat, b.element, grading=b.grading)
+    if isinstance(b, PolygonSpec):
+        return polygon_region(b.name, b.vertices, mat, b.element, n=b.n, size=b.size)
+    return half_disc(b.name, b.center, b.radius, b.n_radial, b.n_around, mat, b.element,
+                     refine_toward="bottom" if b.refine else None, ratio=b.ratio)
 
 
 def _build_node_set(name: str, ns: NodeSetSpec, body: Body | Frame) -> NodeSet:
@@ -170,6 +192,10 @@ class _Builder(_References):
                         self.failed.add(name)
                         self.p.add(f"bodies[{i}]{field if field.startswith('.') else ''}",
                                    e.problem)
+                    continue
+                if isinstance(b, ExtrudeSpec):
+                    self.bodies[name] = extrude(_section(b.section, mat), b.z, b.nz,
+                                                name=b.name)
                     continue
                 if isinstance(b, BoxBodySpec):
                     self.bodies[name] = box(b.name, b.corner0, b.corner1, (b.nx, b.ny, b.nz),

@@ -62,6 +62,7 @@ _TAGS = {
     "kind=half_disc",
     "kind=polygon",
     "kind=box",
+    "kind=extrude",
     "type=gravity",
     "type=nodal",
     "type=pressure",
@@ -258,6 +259,61 @@ class BoxBodySpec(_Spec):
         return self
 
 
+def _section_tag(v: Any) -> str | None:
+    if isinstance(v, dict):
+        kind = v.get("kind", "rectangle")
+        return f"kind={kind}" if kind in ("rectangle", "quad", "half_disc", "polygon") else None
+    if isinstance(v, RectangleSpec | QuadRegionSpec | HalfDiscSpec | PolygonSpec):
+        return f"kind={v.kind}"
+    return None
+
+
+#: the section of an extruded body: a 2D body table of the generators
+SectionSpec = _tagged_union(
+    _section_tag, "section_kind", "kind must be 'rectangle', 'quad', 'half_disc' or 'polygon'",
+    **{"kind=rectangle": RectangleSpec, "kind=quad": QuadRegionSpec,
+       "kind=half_disc": HalfDiscSpec, "kind=polygon": PolygonSpec},
+)
+#: the material a section is validated with (the extruded body's own ``material`` is used)
+_SECTION_MATERIAL = {"E": 1.0e9, "nu": 0.0}
+
+
+class ExtrudeSpec(_Spec):
+    """``[[bodies]]`` with ``kind = "extrude"``: a prismatic 3D body, a 2D section (the table of
+    a ``rectangle``, ``quad``, ``polygon`` or ``half_disc`` body, without name and material)
+    swept along z from ``z[0]`` to ``z[1]`` in ``nz`` layers (:func:`stepcontact.extrude`):
+    quadrilaterals become hexahedra (quad4/8/9 → hex8/20/27), triangles tetrahedra (tri3/6 →
+    tet4/10); its end faces are the named boundaries ``start`` and ``end``.  The section keeps
+    its axes (with y up, give gravity as g = [0, -9.81, 0])."""
+
+    name: str = Field(description="unique body name")
+    kind: Literal["extrude"]
+    section: SectionSpec = Field(description="the 2D section: {kind = \"rectangle\", corner0, "
+                                 "corner1, nx, ny, element}, or a quad, polygon or half_disc")
+    z: tuple[float, float] = Field(description="[z0, z1], m (z1 > z0)")
+    nz: int = Field(ge=1, description="layers of cells along z")
+    material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
+                                  "an inline table `{E, nu, density}`")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _section_of_the_body(cls, v: Any) -> Any:
+        if isinstance(v, dict) and isinstance(v.get("section"), dict):
+            sec = dict(v["section"])
+            given = [k for k in ("name", "material") if k in sec]
+            if given:
+                raise ValueError(f"give {given[0]} on the extruded body, not in its section")
+            v = {**v, "section": {**sec, "name": str(v.get("name", "section")),
+                                  "material": _SECTION_MATERIAL}}
+        return v
+
+    @model_validator(mode="after")
+    def _layers(self) -> ExtrudeSpec:
+        if not self.z[1] > self.z[0]:
+            raise ValueError("z = [z0, z1] needs z1 > z0")
+        return self
+
+
 class MeshBodySpec(_Spec):
     """``[[bodies]]`` with ``kind = "mesh"``: the cells of one physical surface of ``[mesh]``.
 
@@ -305,25 +361,25 @@ def _body_tag(v: Any) -> str | None:
         if kind is None or "mesh" in v:
             kind = "mesh" if ("group" in v or "mesh" in v) else "rectangle"
         return (f"kind={kind}" if kind in ("rectangle", "mesh", "quad", "half_disc", "polygon",
-                                           "box")
+                                           "box", "extrude")
                 else None)
     if isinstance(v, RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec
-                  | PolygonSpec | BoxBodySpec):
+                  | PolygonSpec | BoxBodySpec | ExtrudeSpec):
         return f"kind={v.kind}"
     return None
 
 
 BodySpec = _tagged_union(
     _body_tag, "body_kind",
-    "kind must be 'rectangle', 'quad', 'half_disc', 'polygon', 'box' or 'mesh'",
+    "kind must be 'rectangle', 'quad', 'half_disc', 'polygon', 'box', 'extrude' or 'mesh'",
     **{"kind=rectangle": RectangleSpec, "kind=quad": QuadRegionSpec,
        "kind=half_disc": HalfDiscSpec, "kind=polygon": PolygonSpec, "kind=box": BoxBodySpec,
-       "kind=mesh": MeshBodySpec},
+       "kind=extrude": ExtrudeSpec, "kind=mesh": MeshBodySpec},
 )
 
 
 def _body_name(b: RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec
-               | PolygonSpec | BoxBodySpec) -> str:
+               | PolygonSpec | BoxBodySpec | ExtrudeSpec) -> str:
     return b.body_name if isinstance(b, MeshBodySpec) else b.name
 
 
