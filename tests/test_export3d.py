@@ -205,3 +205,30 @@ def test_3d_cfes_as_points(tmp_path):
             assert_array_equal(pd["normal"], np.tile([0.0, 0.0, 1.0], (3, 1)))
     notes = (tmp_path / "pv" / "blk_cfe.pvd").read_text()
     assert "faceted Coulomb cone of 8 facets" in notes
+
+
+def test_staged_3d_cfes_keep_only_those_made(tmp_path):
+    """A staged result (stage 0 makes CFEs 0 and 2, stage 1 all three): a VTU frame holds the
+    points of the CFEs made at its state, XDMF all of them with ``active`` 1 / 0."""
+    res0 = sc.solve_static(block("hex8"), store_fields="all")
+    top = np.flatnonzero(np.isclose(np.asarray(res0.geometry["points"])[:, 2], 1.5))[:3]
+    res = with_cfes(res0, top)
+    res.stage = np.array([0, 1])
+    res.stage_names = ("first", "second")
+    res.stage_cfes = np.array([[True, False, True], [True, True, True]])
+    res.stage_bodies = (("blk",), ("blk",))
+    sc.export_vtu(res, tmp_path / "pv", name="blk")
+    entries = read_pvd(tmp_path / "pv" / "blk_cfe.pvd")
+    first, second = (meshio.read(f) for _, f in entries)
+    pts = np.asarray(res.geometry["points"])[top]
+    assert_array_equal(first.points, pts[[0, 2]])
+    assert_array_equal(first.point_data["N"], [-10.0, -20.0])
+    assert_array_equal(first.point_data["active"], 1)
+    assert_array_equal(first.point_data["built_stage"], [0, 0])
+    assert_array_equal(second.points, pts)
+    assert_array_equal(second.point_data["built_stage"], [0, 1, 0])
+    xdmf = sc.export_xdmf(res, tmp_path / "blk.xdmf")
+    with meshio.xdmf.TimeSeriesReader(xdmf.with_name("blk_cfe.xdmf")) as reader:
+        reader.read_points_cells()
+        assert_array_equal(reader.read_data(0)[1]["active"], [1, 0, 1])
+        assert_array_equal(reader.read_data(1)[1]["active"], [1, 1, 1])
