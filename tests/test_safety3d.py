@@ -68,6 +68,7 @@ def test_joint_safety_matches_hand_statics(theta):
     assert np.array_equal(sf.in_kern[on], kern)
     assert np.array_equal(sf.in_base[on], np.all(np.abs(e) <= [1.0, 0.5], axis=1))
     assert sf.friction == F
+    assert sf.facets == K and sf.cone_bound == pytest.approx(1 - math.cos(math.pi / K), rel=1e-15)
     slide, tip = fr.slip_limit(F * W, K, theta), 0.5 * W  # tipping about the long edge: e₂ = 1/2
     if theta == math.pi / 2:  # pushed across: the block tips over before it slides
         assert tip < slide and sf.lam_sliding is None

@@ -25,8 +25,9 @@ import stepcontact as sc
 from stepcontact.errors import ModelError
 from stepcontact.io.modelfile import model_from_dict, schema
 from stepcontact.model.bond import FRICTION_ANGLE_RANGE
-from stepcontact.model.items import CFE_KINDS, DOF_NAMES, ELEMENT_KINDS, NU_RANGE, PLANE_KINDS
+from stepcontact.model.items import CFE_KINDS, ELEMENT_KINDS, NU_RANGE, PLANE_KINDS
 from stepcontact.model.obstacle import OBSTACLE_SIDES
+from stepcontact.model.supports import _ALL_DOFS as ALL_DOFS
 from stepcontact.model.timefunction import (
     HHT_ALPHA_RANGE,
     MASS_KINDS,
@@ -174,13 +175,14 @@ def test_the_schema_kinds_are_the_model_constants():
         ("MeshBodySpec", "element"): ("tri3", "tri6", "quad4", "quad8", "quad9"),
         ("InterfaceSpec", "cfe"): ("auto", "mortar", "node-to-segment", "node-to-node"),
         ("ObstacleSpec", "side"): ("left", "right"),
-        ("DisplacementLoad", "dof"): ("x", "y", "rz"),
+        ("DisplacementLoad", "dof"): ("x", "y", "rz", "z", "rx", "ry"),  # 2D, then 3D (frames)
         ("TimeFunctionSpec", "shape"): ("rectangular", "triangular", "half_sine"),
         ("DynamicsSpec", "mass"): ("consistent", "lumped"),
     }
     for (table, key), kinds in expected.items():
         assert _enum(_prop(s, table, key)) == kinds, (table, key)
-    assert (PLANE_KINDS, ELEMENT_KINDS, CFE_KINDS, OBSTACLE_SIDES, DOF_NAMES, PULSE_SHAPES,
+    dof_names = ALL_DOFS  # the supports' DOF names: 2D's, then 3D's (space frames' rx, ry)
+    assert (PLANE_KINDS, ELEMENT_KINDS, CFE_KINDS, OBSTACLE_SIDES, dof_names, PULSE_SHAPES,
             MASS_KINDS) == (expected[("ModelSection", "plane")],
                             expected[("RectangleSpec", "element")],
                             expected[("InterfaceSpec", "cfe")],

@@ -23,6 +23,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from stepcontact.fem.assembly import LoadVectors, dof_map, load_vectors
+from stepcontact.fem.level import is_level_pattern
 from stepcontact.model import Model
 
 
@@ -59,6 +60,8 @@ def zero_patterns(model: Model,
             out.append((pat.name, f"load pattern '{pat.name}' has no loads: {effect}"))
             continue
         lv = loads.get(pat.name)
+        if is_level_pattern(pat):  # its factor is a water level: its own vector holds only
+            continue  # its other loads per metre of water (the water: virtual patterns)
         if lv is not None and not np.any(lv.f) and not np.any(lv.u):
             out.append((pat.name, f"load pattern '{pat.name}' is zero: its {len(pat.loads)} "
                         "load(s) add up to no force and no displacement (zero values, "

@@ -22,6 +22,21 @@ contact elements (``NAME_cfe.pvd`` / ``FILE_cfe.xdmf``)
     ``plus_w``, ``minus_nodes``, ``minus_w``); without them, and for the CFEs on a fixed
     rigid obstacle (no S− nodes), the S− point is placed at x − g⁰ n.
 
+3D results
+----------
+Bodies of tetrahedra and hexahedra (tet4, tet10, hex8, hex20, hex27) become VTK ``tetra``,
+``tetra10``, ``hexahedron``, ``hexahedron20``, ``hexahedron27`` cells in VTK's node order (read
+off a reference cell of scikit-fem, :func:`_vtk_node_order`), every cell of positive volume;
+point data ``displacement`` (u_x, u_y, u_z, m), cell data ``sigma_xx``, ``sigma_yy``,
+``sigma_zz``, ``sigma_xy``, ``sigma_yz``, ``sigma_xz``, their tensor ``stress`` (Pa, ParaView's
+order XX, YY, ZZ, XY, YZ, XZ), ``von_mises`` and ``body``.  CFEs with two tangential
+components (or of a 3D model) are points: one per CFE at its S+ point (a vertex cell), with
+point data ``N``, ``Q1``, ``Q2``, ``Q_abs`` (N), ``Q_vector`` (Q1 t₁ + Q2 t₂, N, when the
+result has 3D tangents), ``sigma_n``, ``tau_abs`` (Pa), ``un``, ``ut1``, ``ut2`` (m),
+``state``, ``facet`` and ``vertex`` (where a faceted cone slips; −1 elsewhere), ``facets`` (the
+cone's number of facets k), ``cone_ratio`` (|Q| / (f|N|)), ``normal``, ``interface``, ``cfe``,
+``local``, ``area``, ``friction``, ``gap`` and the S+ point's ``displacement``.
+
 Construction stages
 -------------------
 A staged result (``result.stage`` set) shows at each frame only what exists at its state.  A
@@ -77,6 +92,7 @@ PosixPath('out/result.xdmf')
 
 from __future__ import annotations
 
+import functools
 import logging
 import os
 import re
@@ -120,15 +136,43 @@ _ELEMENT_TYPES = {
     "quad4": "quad",
     "quad8": "quad8",
     "quad9": "quad9",
+    "tet4": "tetra",
+    "tet10": "tetra10",
+    "hex8": "hexahedron",
+    "hex20": "hexahedron20",
+    "hex27": "hexahedron27",
     "frame2": "line",
 }
 # nodes per cell of a continuum body -> meshio cell type (bodies with other element names)
 _NODES_TYPES = {3: "triangle", 6: "triangle6", 4: "quad", 8: "quad8", 9: "quad9"}
-_NODES_PER_CELL = {"triangle": 3, "triangle6": 6, "quad": 4, "quad8": 8, "quad9": 9, "line": 2}
+_NODES_TYPES_3D = {4: "tetra", 10: "tetra10", 8: "hexahedron", 20: "hexahedron20",
+                   27: "hexahedron27"}
+_NODES_PER_CELL = {"triangle": 3, "triangle6": 6, "quad": 4, "quad8": 8, "quad9": 9, "line": 2,
+                   "tetra": 4, "tetra10": 10, "hexahedron": 8, "hexahedron20": 20,
+                   "hexahedron27": 27}
+#: VTK's parametric coordinates of the nodes of its 3D cells, in VTK's node order (corners,
+#: mid-edge nodes, mid-face nodes, centre; vtkQuadraticTetra, vtkQuadraticHexahedron,
+#: vtkTriQuadraticHexahedron): the cell's node order is read off a reference cell with them
+_HEX_PCOORDS = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1),
+                (0, 1, 1),
+                (.5, 0, 0), (1, .5, 0), (.5, 1, 0), (0, .5, 0), (.5, 0, 1), (1, .5, 1),
+                (.5, 1, 1), (0, .5, 1), (0, 0, .5), (1, 0, .5), (1, 1, .5), (0, 1, .5),
+                (0, .5, .5), (1, .5, .5), (.5, 0, .5), (.5, 1, .5), (.5, .5, 0), (.5, .5, 1),
+                (.5, .5, .5)]
+_VTK_PCOORDS = {
+    "tetra10": [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (.5, 0, 0), (.5, .5, 0),
+                (0, .5, 0), (0, 0, .5), (.5, 0, .5), (0, .5, .5)],
+    "hexahedron": _HEX_PCOORDS[:8],
+    "hexahedron20": _HEX_PCOORDS[:20],
+    "hexahedron27": _HEX_PCOORDS,
+}
+_VTK_PCOORDS["tetra"] = _VTK_PCOORDS["tetra10"][:4]
 # scikit-fem's P2 / serendipity / Q2 node order (corners, edges 01 12 20|23 30, centre) is
 # VTK's order for quadratic triangles and (bi)quadratic quads
 _REVERSE = REVERSED_NODE_ORDER
 _STRESS_NAMES = ("sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz")
+#: a 3D body's stress components (:data:`stepcontact.fem.continuum.STRESS_COMPONENTS_3D`)
+_STRESS_NAMES_3D = ("sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy", "sigma_yz", "sigma_xz")
 _CFE_END_KEYS = ("plus_nodes", "plus_w", "minus_nodes", "minus_w")
 
 
@@ -301,26 +345,31 @@ class _BodyGrid:
     blocks: list[tuple[str, np.ndarray]]  #: one (meshio type, connectivity) per body
     names: list[str]
     continuum: list[bool]
-    dof_of: np.ndarray  #: (n_nodes, 3) global dof of ux, uy, rz (-1: none)
+    dof_of: np.ndarray  #: (n_nodes, k) global dof of ux, uy, rz (3D: ux, uy, uz[, rx, ry, rz])
+    dim: int = 2  #: 2: plane model (z = 0); 3: solids
 
 
 @dataclass(frozen=True)
 class _CfeGrid:
-    points: np.ndarray  #: (2m, 3): S+ ends, then S− ends, m
-    lines: np.ndarray  #: (m, 2)
-    nodes: np.ndarray | None  #: (2m, J) interpolation nodes of the ends (-1 padding)
+    points: np.ndarray  #: (2m, 3): S+ ends, then S− ends, m; (m, 3) S+ points (``vertex``)
+    lines: np.ndarray  #: (m, 2) line cells; (m, 1) vertex cells
+    nodes: np.ndarray | None  #: (2m, J) interpolation nodes of the ends (-1 padding; vertex: m)
     weights: np.ndarray | None  #: (2m, J)
+    #: "line" (2D: S+ to S−, the data cell data) or "vertex" (3D: one point per CFE at its S+
+    #: point, the data point data)
+    kind: str = "line"
 
 
-def _cell_type(body: dict, nodes_per_cell: int) -> str:
+def _cell_type(body: dict, nodes_per_cell: int, dim: int = 2) -> str:
     element = str(body.get("element", ""))
     kind = str(body.get("kind", ""))
+    by_nodes = _NODES_TYPES if dim == 2 else _NODES_TYPES_3D
     if kind == "frame":
         ctype = "line"
     elif element in _ELEMENT_TYPES:
         ctype = _ELEMENT_TYPES[element]
-    elif nodes_per_cell in _NODES_TYPES and kind in ("continuum", ""):
-        ctype = _NODES_TYPES[nodes_per_cell]
+    elif nodes_per_cell in by_nodes and kind in ("continuum", ""):
+        ctype = by_nodes[nodes_per_cell]
     else:
         raise ValueError(f"body '{body.get('name')}': cannot export element '{element}'")
     if _NODES_PER_CELL[ctype] != nodes_per_cell:
@@ -342,25 +391,94 @@ def _counter_clockwise(ctype: str, cells: np.ndarray, xy: np.ndarray) -> np.ndar
     return np.where((area2 < 0)[:, None], cells[:, _REVERSE[ctype]], cells)
 
 
+#: the element whose scikit-fem node order a VTK 3D cell type is read off
+_SKFEM_ELEMENT = {"tetra": "tet4", "tetra10": "tet10", "hexahedron": "hex8",
+                  "hexahedron20": "hex20", "hexahedron27": "hex27"}
+
+
+@functools.cache
+def _vtk_node_order(ctype: str) -> tuple[np.ndarray, np.ndarray]:
+    """The node order of a VTK 3D cell from scikit-fem's (the order of a body's ``cells``):
+    ``cells[:, order]`` is VTK's, and ``vtk[:, mirror]`` the same cell mirrored (a cell of
+    negative volume made positive).
+
+    Read off one reference cell of scikit-fem (the unit cube, a tetrahedron of it): VTK's
+    node v sits at the parametric point :data:`_VTK_PCOORDS` [v] of the cell's corners (for a
+    hexahedron the cube's own coordinates; for a tetrahedron x0 + Σ ξ_j (x_j − x0)) and is
+    the scikit-fem node there."""
+    from skfem import Basis, MeshHex, MeshTet
+
+    from stepcontact.model.elements import scalar_element
+
+    tet = ctype.startswith("tetra")
+    unit = np.array([0.0, 1.0])
+    mesh = (MeshTet if tet else MeshHex).init_tensor(unit, unit, unit)
+    basis = Basis(mesh, scalar_element(_SKFEM_ELEMENT[ctype]))
+    X = basis.doflocs.T[basis.element_dofs[:, 0]]  # (n, 3) the reference cell's nodes
+    pc = np.array(_VTK_PCOORDS[ctype], dtype=float)
+    target = X[0] + pc @ (X[1:4] - X[0]) if tet else pc
+    dist = np.linalg.norm(target[:, None, :] - X[None, :, :], axis=2)
+    order = dist.argmin(axis=1)
+    if dist.min(axis=1).max() > 1e-12 or sorted(order) != list(range(len(X))):
+        raise RuntimeError(f"cannot match scikit-fem's {ctype} nodes to VTK's")  # pragma: no cover
+    flipped = pc[:, [1, 0, 2]] if tet else pc * [1, 1, -1] + [0, 0, 1]
+    mirror = np.array([int(np.flatnonzero(np.all(pc == q, axis=1))[0]) for q in flipped])
+    return order, mirror
+
+
+def _vtk_cells_3d(ctype: str, cells: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """A body's 3D cells (scikit-fem's node order) in VTK's node order, every cell of positive
+    volume (a mirrored cell's nodes reordered)."""
+    order, mirror = _vtk_node_order(ctype)
+    vtk = cells[:, order]
+    if vtk.size == 0:
+        return vtk
+    c = points[vtk[:, [0, 1, 3, 4] if ctype.startswith("hexa") else [0, 1, 2, 3]]]
+    vol = np.einsum("ij,ij->i", np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]), c[:, 3] - c[:, 0])
+    return np.where((vol < 0)[:, None], vtk[:, mirror], vtk)
+
+
 def _body_grid(result: StaticResult) -> _BodyGrid:
     geo = result.geometry or {}
     if "points" not in geo or "dof_of" not in geo or not geo.get("bodies"):
         raise ValueError("the result has no geometry (points, dof_of, bodies): cannot export")
-    xy = np.asarray(geo["points"], dtype=float).reshape(-1, 2)
-    points = np.column_stack([xy, np.zeros(len(xy))])
+    pts = np.asarray(geo["points"], dtype=float)
+    dim = 3 if pts.ndim == 2 and pts.shape[1] == 3 else 2
+    xy = pts.reshape(-1, dim)
+    points = xy if dim == 3 else np.column_stack([xy, np.zeros(len(xy))])
     dof_of = np.asarray(geo["dof_of"], dtype=np.int64)
     blocks, names, continuum = [], [], []
     for body in geo["bodies"]:
         cells = np.asarray(body["cells"], dtype=np.int64)
         cells = cells.reshape(len(cells), -1)
-        ctype = _cell_type(body, cells.shape[1])
-        blocks.append((ctype, _counter_clockwise(ctype, cells, xy)))
+        ctype = _cell_type(body, cells.shape[1], dim)
+        if ctype in _VTK_PCOORDS:
+            cells = _vtk_cells_3d(ctype, cells, points)
+        elif dim == 2:
+            cells = _counter_clockwise(ctype, cells, xy)
+        blocks.append((ctype, cells))
         names.append(str(body["name"]))
         continuum.append(ctype != "line")
-    return _BodyGrid(points, blocks, names, continuum, dof_of)
+    return _BodyGrid(points, blocks, names, continuum, dof_of, dim)
 
 
-def _cfe_grid(result: StaticResult, xy: np.ndarray) -> _CfeGrid:
+def _cfe_points(result: StaticResult) -> _CfeGrid:
+    """3D CFEs: one point per CFE at its S+ point (``cfe["x"]``, 3 coordinates), a vertex
+    cell each; the interpolation of the S+ end when the result knows it (its displacement)."""
+    cfe, m = result.cfe, result.m
+    x = np.asarray(cfe["x"], dtype=float).reshape(m, -1)
+    points = x if x.shape[1] == 3 else np.column_stack([x[:, :2], np.zeros(m)])
+    nodes = w = None
+    if "plus_nodes" in cfe and "plus_w" in cfe:
+        nodes = np.asarray(cfe["plus_nodes"]).astype(np.int64).reshape(m, -1)
+        w = np.where(nodes >= 0, np.asarray(cfe["plus_w"], dtype=float).reshape(m, -1), 0.0)
+    return _CfeGrid(points, np.arange(m, dtype=np.int64)[:, None], nodes, w, "vertex")
+
+
+def _cfe_grid(result: StaticResult, body: _BodyGrid) -> _CfeGrid:
+    if body.dim == 3 or result.n_t > 1:
+        return _cfe_points(result)
+    xy = body.points[:, :2]
     cfe = result.cfe
     m = result.m
     plus = np.asarray(cfe["x"], dtype=float).reshape(m, 2)
@@ -395,20 +513,31 @@ def _cfe_grid(result: StaticResult, xy: np.ndarray) -> _CfeGrid:
 # frame data
 # --------------------------------------------------------------------------------------------
 def _nodal_displacement(grid: _BodyGrid, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(n_nodes, 3) displacements (z = 0), m, and (n_nodes,) rotations, rad (NaN: no DOF)."""
+    """(n_nodes, 3) displacements (z = 0 in 2D), m, and the rotations, rad (NaN: no DOF):
+    (n_nodes,) rz in 2D, (n_nodes, 3) rx, ry, rz in 3D (space frames; none: all NaN)."""
     dof = grid.dof_of
     disp = np.zeros((len(dof), 3))
-    for c in range(2):
+    for c in range(grid.dim):
         disp[:, c] = np.where(dof[:, c] >= 0, u[np.maximum(dof[:, c], 0)], 0.0)
-    rz = dof[:, 2] if dof.shape[1] > 2 else np.full(len(dof), -1)
-    rot = np.where(rz >= 0, u[np.maximum(rz, 0)], np.nan)
+    if grid.dim == 3:
+        r = dof[:, 3:6] if dof.shape[1] >= 6 else np.full((len(dof), 3), -1)
+    else:
+        r = dof[:, 2] if dof.shape[1] > 2 else np.full(len(dof), -1)
+    rot = np.where(r >= 0, u[np.maximum(r, 0)], np.nan)
     return disp, rot
 
 
 def von_mises(stress: np.ndarray) -> np.ndarray:
-    """Von Mises stress (Pa) of (n, 4) stresses σxx, σyy, σxy, σzz (Pa)."""
-    sxx, syy, sxy, szz = (stress[:, j] for j in range(4))
-    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)
+    """Von Mises stress (Pa) of (n, 4) stresses σxx, σyy, σxy, σzz (2D) or of (n, 6) stresses
+    σxx, σyy, σzz, σxy, σyz, σxz (3D), Pa:
+    √(½ ((σxx − σyy)² + (σyy − σzz)² + (σzz − σxx)²) + 3 (σxy² + σyz² + σxz²))."""
+    if stress.shape[1] == 6:
+        sxx, syy, szz, sxy, syz, sxz = (stress[:, j] for j in range(6))
+    else:
+        sxx, syy, sxy, szz = (stress[:, j] for j in range(4))
+        syz = sxz = 0.0
+    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2)
+                   + 3 * (sxy**2 + syz**2 + sxz**2))
 
 
 def _body_data(
@@ -416,14 +545,17 @@ def _body_data(
     at_state: dict[str, np.ndarray],
 ) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
     point_data = {"displacement": disp}
-    if np.any(grid.dof_of[:, 2:] >= 0):
+    if np.any(grid.dof_of[:, (3 if grid.dim == 3 else 2):] >= 0):
         point_data["rotation"] = rot
-    cell_data: dict[str, list[np.ndarray]] = {k: [] for k in (*_STRESS_NAMES, "von_mises")}
+    names = _STRESS_NAMES_3D if grid.dim == 3 else _STRESS_NAMES
+    cell_data: dict[str, list[np.ndarray]] = {k: [] for k in (*names, "von_mises")}
+    if grid.dim == 3:  # the symmetric tensor in ParaView's order XX, YY, ZZ, XY, YZ, XZ
+        cell_data["stress"] = []
     cell_data["body"] = []
     for b, ((_, cells), name, cont) in enumerate(
         zip(grid.blocks, grid.names, grid.continuum, strict=True)
     ):
-        s = np.full((len(cells), 4), np.nan)
+        s = np.full((len(cells), len(names)), np.nan)
         if cont and name in at_state:
             given = np.asarray(at_state[name], dtype=float)
             if given.shape != s.shape:
@@ -432,9 +564,11 @@ def _body_data(
                     f"{s.shape}"
                 )
             s = given
-        for j, key in enumerate(_STRESS_NAMES):
+        for j, key in enumerate(names):
             cell_data[key].append(s[:, j].copy())
         cell_data["von_mises"].append(von_mises(s))
+        if grid.dim == 3:
+            cell_data["stress"].append(s.copy())
         cell_data["body"].append(np.full(len(cells), b, dtype=np.int32))
     return point_data, cell_data
 
@@ -477,6 +611,80 @@ def _cfe_data(
     return point_data, {k: [v] for k, v in cell.items()}
 
 
+def _cfe_static_3d(result: StaticResult) -> dict[str, np.ndarray]:
+    """The per-CFE arrays of 3D CFEs that do not change along the path (point data)."""
+    cfe, m = result.cfe, result.m
+
+    def get(key: str, default: float) -> np.ndarray:
+        return np.asarray(cfe.get(key, np.full(m, default)), dtype=float).reshape(m)
+
+    normal = np.asarray(cfe.get("normal", np.full((m, 3), np.nan)), dtype=float).reshape(m, -1)
+    out = {
+        "interface": np.asarray(cfe["interface"]).astype(np.int32).reshape(m),
+        "cfe": np.arange(m, dtype=np.int32),
+        "local": np.asarray(cfe.get("local", np.arange(m))).astype(np.int32).reshape(m),
+        "normal": normal if normal.shape[1] == 3 else np.column_stack([normal[:, :2],
+                                                                       np.zeros(m)]),
+        "area": get("area", np.nan),
+        "friction": get("friction", np.nan),
+        "gap": get("gap", np.nan),
+    }
+    if "facets" in cfe:  # a faceted Coulomb cone: its number of facets k
+        out["facets"] = np.full(m, int(cfe["facets"]), dtype=np.int32)
+    return out
+
+
+def _tangents_3d(result: StaticResult) -> np.ndarray | None:
+    """(m, n_t, 3) the CFEs' tangents t₁[, t₂] in global coordinates, or None when the result
+    has no 3D tangent vectors (t₂ = n × t₁ when only t₁ is stored: the basis (t₁, t₂, n) is
+    right-handed)."""
+    cfe, m, n_t = result.cfe, result.m, result.n_t
+    t1 = np.asarray(cfe.get("tangent", np.zeros((m, 0))), dtype=float).reshape(m, -1)
+    n = np.asarray(cfe.get("normal", np.zeros((m, 0))), dtype=float).reshape(m, -1)
+    if t1.shape[1] != 3 or not np.all(np.isfinite(t1)):
+        return None
+    if n_t == 1:
+        return t1[:, None, :]
+    t2 = np.asarray(cfe["tangent2"], dtype=float).reshape(m, 3) if "tangent2" in cfe else (
+        np.cross(n, t1) if n.shape[1] == 3 else None)
+    return None if t2 is None else np.stack([t1, t2], axis=1)
+
+
+def _cfe_point_data(
+    result: StaticResult, grid: _CfeGrid, static: dict[str, np.ndarray], i: int,
+    disp: np.ndarray, tangents: np.ndarray | None,
+) -> tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]:
+    """Point data of the 3D CFEs at state ``i``: forces N, Q1 … Q_(n_t), |Q| (N), the
+    tangential force as a vector (N, with 3D tangents), σ_n, |τ| (Pa), u_n, u_t1 … (m), the
+    state code with the facet or vertex a faceted cone slips on, the true-cone ratio
+    |Q| / (f |N|) and the S+ point's displacement (m, when its interpolation is known)."""
+    Qt = np.asarray(result.Q_t[i], dtype=float)  # (m, n_t)
+    ut = np.asarray(result.ut_t[i], dtype=float)
+    area = np.asarray(result.cfe["area"], dtype=float)
+    q = np.linalg.norm(Qt, axis=1)
+    st = np.asarray(result.state[i]).astype(np.int32)
+    pd: dict[str, np.ndarray] = {"N": np.asarray(result.N[i], dtype=float).copy()}
+    for j in range(Qt.shape[1]):
+        pd[f"Q{j + 1}"] = Qt[:, j].copy()
+    pd["Q_abs"] = q
+    if tangents is not None:
+        pd["Q_vector"] = np.einsum("kj,kjc->kc", Qt, tangents)
+    pd["sigma_n"] = pd["N"] / area
+    pd["tau_abs"] = q / area
+    pd["un"] = np.asarray(result.un[i], dtype=float).copy()
+    for j in range(ut.shape[1]):
+        pd[f"ut{j + 1}"] = ut[:, j].copy()
+    pd["state"] = st
+    on_facet = (st >= FACET_SLIP) & (st < VERTEX_SLIP)
+    pd["facet"] = np.where(on_facet, st - FACET_SLIP, -1).astype(np.int32)
+    pd["vertex"] = np.where(st >= VERTEX_SLIP, st - VERTEX_SLIP, -1).astype(np.int32)
+    pd["cone_ratio"] = np.asarray(result.cone_ratio[i], dtype=float)
+    if grid.nodes is not None and grid.weights is not None:
+        pd["displacement"] = np.einsum("pj,pjc->pc", grid.weights,
+                                       disp[np.maximum(grid.nodes, 0)])
+    return pd | static, {}
+
+
 _Data = tuple[dict[str, np.ndarray], dict[str, list[np.ndarray]]]
 
 
@@ -504,16 +712,20 @@ def _iter_frames(
     result: StaticResult, frames: _Frames, body: _BodyGrid, cfe: _CfeGrid | None
 ) -> Iterator[tuple[int, float, float, _Data, _Data | None]]:
     """Per frame: (state, t, time, body point/cell data, CFE point/cell data or None)."""
-    static = _cfe_static(result) if cfe is not None else {}
+    vertex = cfe is not None and cfe.kind == "vertex"
+    static = ({} if cfe is None else _cfe_static_3d(result) if vertex else _cfe_static(result))
+    tangents = _tangents_3d(result) if vertex else None
     built = _built_stage(result, body.names) if _staged(result) else None
     states = frames.states.tolist()
     fields = _state_fields(result, states, int(body.dof_of.max(initial=-1)) + 1)
     for i, t, time, (u, at_state) in zip(states, frames.t, frames.time, fields, strict=True):
         disp, rot = _nodal_displacement(body, u)
         bpd, bcd = _body_data(body, i, disp, rot, at_state)
-        cdata = _cfe_data(result, cfe, static, i, disp) if cfe is not None else None
+        cdata = (None if cfe is None
+                 else _cfe_point_data(result, cfe, static, i, disp, tangents) if vertex
+                 else _cfe_data(result, cfe, static, i, disp))
         if built is not None:
-            _add_stage_data(result, i, body, built, bcd, cdata)
+            _add_stage_data(result, i, body, built, bcd, cdata, vertex)
         yield i, float(t), float(time), (bpd, bcd), cdata
 
 
@@ -536,16 +748,19 @@ def _built_stage(result: StaticResult, names: list[str]) -> tuple[np.ndarray, np
 
 def _add_stage_data(
     result: StaticResult, i: int, body: _BodyGrid, built: tuple[np.ndarray, np.ndarray],
-    bcd: dict[str, list[np.ndarray]], cdata: _Data | None,
+    bcd: dict[str, list[np.ndarray]], cdata: _Data | None, vertex: bool = False,
 ) -> None:
     """Cell data ``active`` (1 where the body / CFE exists at state ``i``) and
-    ``built_stage`` of a staged result, added in place."""
+    ``built_stage`` of a staged result, added in place (3D CFEs: as point data)."""
     here = result.active_bodies(i)
     bcd["active"] = [np.full(len(c), int(n in here), dtype=np.int8)
                      for (_, c), n in zip(body.blocks, body.names, strict=True)]
     bcd["built_stage"] = [np.full(len(c), b, dtype=np.int32)
                           for (_, c), b in zip(body.blocks, built[0], strict=True)]
-    if cdata is not None:
+    if cdata is not None and vertex:
+        cdata[0]["active"] = result.active_cfes(i).astype(np.int8)
+        cdata[0]["built_stage"] = built[1]
+    elif cdata is not None:
         cdata[1]["active"] = [result.active_cfes(i).astype(np.int8)]
         cdata[1]["built_stage"] = [built[1]]
 
@@ -570,9 +785,12 @@ def _keep_cells(
 
 def _keep_cfes(grid: _CfeGrid, keep: np.ndarray, data: _Data
                ) -> tuple[np.ndarray, list[tuple[str, np.ndarray]], dict, dict]:
-    """The CFE grid of the CFEs in ``keep`` (their two end points each)."""
+    """The CFE grid of the CFEs in ``keep`` (their two end points each; 3D: their point)."""
     m = len(grid.lines)
     k = np.flatnonzero(keep)
+    if grid.kind == "vertex":
+        pd = {key: np.asarray(v)[k] for key, v in data[0].items()}
+        return grid.points[k], [("vertex", np.arange(k.size, dtype=np.int64)[:, None])], pd, {}
     rows = np.r_[k, m + k]
     lines = np.column_stack([np.arange(k.size), k.size + np.arange(k.size)]).astype(np.int64)
     pd = {key: np.asarray(v)[rows] for key, v in data[0].items()}
@@ -650,6 +868,9 @@ def _notes(result: StaticResult, body: _BodyGrid) -> list[str]:
         "body ids: " + ", ".join(f"{k} {n}" for k, n in enumerate(body.names)),
         "interface ids: " + ", ".join(f"{k} {n}" for k, n in enumerate(result.interface_names)),
         f"CFE state codes: {codes}",
+        *([f"faceted Coulomb cone of {int(result.cfe['facets'])} facets (point data facets; "
+           "facet / vertex: where a CFE slips, -1 elsewhere)"] if "facets" in result.cfe
+          else []),
         "field data of every frame: TimeValue, load_path_t, lam, segment, state, "
         "state_kind (0 start, 1 segment start, 2 event, 3 segment end), factors"
         + (", stage" if _staged(result) else ""),
@@ -715,7 +936,7 @@ def export_vtu(
     directory = Path(directory)
     frames = _frames(result, states)
     body = _body_grid(result)
-    cfe = _cfe_grid(result, body.points[:, :2]) if result.m else None
+    cfe = _cfe_grid(result, body) if result.m else None
     directory.mkdir(parents=True, exist_ok=True)
     data_dir = directory / name
     if data_dir.exists() and not _is_series_dir(data_dir, name):
@@ -762,7 +983,7 @@ def _export_vtu_into(tmp: Path, directory: Path, name: str, result: StaticResult
                 if staged:  # only the CFEs made at the state
                     _write_vtu(tmp / rel, *_keep_cfes(cfe, result.active_cfes(i), cdata), fdata)
                 else:
-                    _write_vtu(tmp / rel, cfe.points, [("line", cfe.lines)], *cdata, fdata)
+                    _write_vtu(tmp / rel, cfe.points, [(cfe.kind, cfe.lines)], *cdata, fdata)
                 cfe_entries.append((time, rel))
             if len(body_entries) == 1 and len(frames.states) > 1:
                 first = sum(f.stat().st_size for f in (tmp / name).iterdir())
@@ -832,8 +1053,8 @@ class _XdmfWriter(TimeSeriesWriter):
             data = np.concatenate([d for _, d in blocks])
             attrs = {"TopologyType": meshio_to_xdmf_type[ctype][0],
                      "NumberOfElements": str(len(data))}
-            if ctype == "line":
-                attrs["NodesPerElement"] = "2"
+            if ctype in ("line", "vertex"):
+                attrs["NodesPerElement"] = str(_NODES_PER_CELL.get(ctype, 1))
             dims = "{} {}".format(*data.shape)
         else:
             parts = []
@@ -894,7 +1115,7 @@ def export_xdmf(
     _check_name(path.name)
     frames = _frames(result, states)
     body = _body_grid(result)
-    cfe = _cfe_grid(result, body.points[:, :2]) if result.m else None
+    cfe = _cfe_grid(result, body) if result.m else None
     path.parent.mkdir(parents=True, exist_ok=True)
     cfe_path = path.with_name(f"{path.stem}_cfe.xdmf")
     tmp = Path(tempfile.mkdtemp(prefix=f".{path.stem}.", suffix=".tmp", dir=path.parent))
@@ -917,7 +1138,7 @@ def _export_xdmf_into(tmp: Path, path: Path, cfe_path: Path, result: StaticResul
     ):
         wb.write_points_cells(body.points, body.blocks)
         if cfe is not None:
-            wc.write_points_cells(cfe.points, [("line", cfe.lines)])
+            wc.write_points_cells(cfe.points, [(cfe.kind, cfe.lines)])
         for i, t, time, (bpd, bcd), cdata in _iter_frames(result, frames, body, cfe):
             info = _field_data(result, i, t, time)
             if "stage" in info:
@@ -925,7 +1146,7 @@ def _export_xdmf_into(tmp: Path, path: Path, cfe_path: Path, result: StaticResul
             wb.write_data(time, point_data=bpd, cell_data=bcd)
             wb.information(info)
             if cdata is not None:
-                wc.write_data(time, point_data=cdata[0] or None, cell_data=cdata[1])
+                wc.write_data(time, point_data=cdata[0] or None, cell_data=cdata[1] or None)
                 wc.information(info)
     outputs = [path] + ([cfe_path] if cfe is not None else [])
     for out in outputs:  # data first, then the XML that points to it

@@ -45,9 +45,13 @@ def cfe_arrays(cfe, *, bond: np.ndarray | None = None,
     ``bond``: the strengths of the bonded joints of the run (eq. (12); the columns of
     ``ContactElements.bond``), kept when the run has any; ``cohesion_lost``: the state from
     which each CFE's residual cohesion is lost (−1: kept), kept when given; ``damping``: keep
-    the contact layers' damping c_n (N·s/m; a dynamic run)."""
+    the contact layers' damping c_n (N·s/m; a dynamic run).  With two tangential components
+    (3D) the number k of facets of the faceted Coulomb cone is kept too (``facets``, an int).
+    """
     keys = CFE_KEYS if not damping else (*CFE_KEYS[:_AFTER_KT], "cn", *CFE_KEYS[_AFTER_KT:])
     out = {k: getattr(cfe, k) for k in keys if getattr(cfe, k, None) is not None}
+    if getattr(cfe, "n_t", 1) > 1:  # a faceted Coulomb cone (3D): its number of facets k
+        out["facets"] = int(cfe.facets)
     if bond is not None:
         out["bond"] = bond
     if cohesion_lost is not None:

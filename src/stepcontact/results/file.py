@@ -15,6 +15,9 @@ Dimensions
     the attribute ``tangential_components`` is their number n_t): the tangential variables
     ``Q``, ``ut`` (state × cfe × tangent) and ``event_Q_t`` (event × tangent).  Format
     version 2; a version-1 file has ``Q``, ``ut`` on (state × cfe) and no ``event_Q_t``.
+    With n_t > 1 the file has ``Q_abs`` (state × cfe) = |Q| too, for other readers (derived,
+    not read back), and the CFE data the faceted cone's number of facets (``facets`` in the
+    attribute ``cfe_extra``).
 ``event``
     The event log, one entry per CFE transition (``event_<field>`` variables).
 ``pattern``, ``interface``, ``segment_index``, ``multiplier``
@@ -25,9 +28,16 @@ Dimensions
     lists them).  Every other state is exact from its contact unknowns:
     ``StaticResult.recover_fields(model)`` recomputes it.
 ``node``, ``xy``, ``node_dof``, ``element__<body>``, ``cell_node__<body>``
-    Geometry for drawing and export (``points``, ``dof_of``, ``cells__<body>``).
+    Geometry for drawing and export (``points``, ``dof_of``, ``cells__<body>``).  A 3D model's
+    coordinate axis is ``xyz`` (x, y, z; the CFE vectors ``cfe_x``, ``cfe_normal`` … of 3D
+    CFEs too) and its ``node_dof`` ux, uy, uz (rx, ry, rz with space frames); 2D keeps ``xy``
+    and ux, uy, rz.
+``stress_state__<body>``, ``stress_element__<body>``, ``stress_component``
+    Element stresses ``stress__<body>`` (Pa): σxx, σyy, σxy, σzz in 2D; σxx, σyy, σzz, σxy,
+    σyz, σxz (the labels xx, yy, zz, xy, yz, xz) in 3D.
 ``resultant_component``
-    ``load_resultant`` (pattern × Fx, Fy, Mz): each pattern's force resultant per unit λ.
+    ``load_resultant`` (pattern × Fx, Fy, Mz; 3D: Fx, Fy, Fz, Mx, My, Mz): each pattern's
+    force resultant per unit λ.
 ``load_body``, ``load_moment_component``
     ``load_moments`` (pattern × body × Fx, Fy, Sxx, Sxy, Syx, Syy, Mz_nodal): each pattern's
     forces per unit λ on each body, their first-moment tensor S_ab = Σ x_a f_b about the
@@ -91,6 +101,7 @@ from stepcontact.enums import (
     Transition,
 )
 from stepcontact.fem.assembly import LOAD_MOMENT_COMPONENTS
+from stepcontact.fem.continuum import STRESS_COMPONENTS_3D
 from stepcontact.interrupt import deferred
 from stepcontact.results.events import Event, Multipliers
 
@@ -104,9 +115,17 @@ FORMAT = "stepcontact-static-result"
 FORMAT_VERSION = 2
 
 _XY = np.array(["x", "y"])
+_XYZ = np.array(["x", "y", "z"])
 _NODE_DOF = np.array(["ux", "uy", "rz"])
+#: the nodal DOFs of a 3D model: translations (solids), then rotations (space frames)
+_NODE_DOF_3D = np.array(["ux", "uy", "uz", "rx", "ry", "rz"])
 _STRESS_COMPONENTS = np.array(["xx", "yy", "xy", "zz"])
+#: a 3D body's six stress components, in the order of
+#: :data:`stepcontact.fem.continuum.STRESS_COMPONENTS_3D`
+_STRESS_COMPONENTS_3D = np.array(STRESS_COMPONENTS_3D)
 _RESULTANT = np.array(["Fx", "Fy", "Mz"])
+#: a 3D load resultant: the force and its moment about the origin
+_RESULTANT_3D = np.array(["Fx", "Fy", "Fz", "Mx", "My", "Mz"])
 
 # field name -> (python kind, units, long name)
 _SEGMENT_SPEC: dict[str, tuple[str, str, str]] = {
@@ -344,6 +363,9 @@ def _path_vars(res: Result, dv: dict[str, Any]) -> None:
                            units, long_name)
         else:
             dv[key] = _var(("state", "cfe"), np.asarray(getattr(res, key)), units, long_name)
+    if res.n_t > 1:  # 3D: the magnitude too, for readers of the file (not read back)
+        dv["Q_abs"] = _var(("state", "cfe"), np.linalg.norm(np.asarray(res.Q_t), axis=2), "N",
+                           "magnitude |Q| of the tangential CFE force (derived from Q)")
     st = _state_codes(res)
     dv["contact_state"] = _var(
         ("state", "cfe"), st, "1", "contact state of the CFE after the state",
@@ -389,13 +411,15 @@ def _load_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any]) -> None:
     """Per pattern and unit load factor: its load resultant (N, N m) and, per body, its
     forces' resultant, first-moment tensor and nodal moments."""
     R = np.asarray(res.load_resultants, float)
-    if len(res.pattern_names) and R.shape == (len(res.pattern_names), 3):
-        coords["resultant_component"] = _var(("resultant_component",), _RESULTANT, "1",
+    labels = {3: _RESULTANT, 6: _RESULTANT_3D}.get(R.shape[1] if R.ndim == 2 else 0)
+    if len(res.pattern_names) and labels is not None and R.shape[0] == len(res.pattern_names):
+        coords["resultant_component"] = _var(("resultant_component",), labels, "1",
                                              "component of a load resultant")
         dv["load_resultant"] = _var(
             ("pattern", "resultant_component"), R, "N",
-            "resultant of the pattern's forces per unit load factor: Fx, Fy in N, Mz about "
-            "the origin in N m",
+            "resultant of the pattern's forces per unit load factor: "
+            + ("Fx, Fy in N, Mz about the origin in N m" if len(labels) == 3 else
+               "Fx, Fy, Fz in N, Mx, My, Mz about the origin in N m"),
         )
 
     LM = None if res.load_moments is None else np.asarray(res.load_moments, float)
@@ -418,12 +442,14 @@ def _cfe_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any]) -> dict[s
     """The CFEs' arrays with one row per CFE as ``cfe_*`` variables (:data:`_CFE_SPEC`);
     returns the other CFE data (stored as JSON in the attribute ``cfe_extra``)."""
     cfe_extra: dict[str, Any] = {}
-    sizes: dict[str, int] = {"xy": 2}
+    sizes: dict[str, int] = {"xy": 2, "xyz": 3}
     for key, val in res.cfe.items():
         if not (isinstance(val, np.ndarray) and val.ndim >= 1 and val.shape[0] == res.m):
             cfe_extra[key] = val
             continue
         units, long_name, trail = _CFE_SPEC.get(key, ("1", f"CFE array '{key}'", None))
+        if trail == "xy" and val.ndim == 2 and val.shape[1] == 3:  # 3D vectors
+            trail = "xyz"
         dims = ["cfe"]
         for j, size in enumerate(val.shape[1:], start=1):
             name = trail if (j == 1 and trail is not None) else f"cfe_{key}_dim{j}"
@@ -431,8 +457,10 @@ def _cfe_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any]) -> dict[s
                 name = f"cfe_{key}_dim{j}"
             dims.append(name)
         dv[f"cfe_{key}"] = _var(tuple(dims), val, units, long_name)
-    if "xy" in {d for v in dv.values() for d in v[0]}:
-        coords["xy"] = _var(("xy",), _XY, "1", "coordinate axis")
+    used = {d for v in dv.values() for d in v[0]}
+    for axis, labels in (("xy", _XY), ("xyz", _XYZ)):
+        if axis in used:
+            coords[axis] = _var((axis,), labels, "1", "coordinate axis")
     return cfe_extra
 
 
@@ -499,6 +527,35 @@ def _field_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any]) -> None
         )
 
 
+def _axis_dim(dim: int) -> str:
+    """The name of the coordinate-axis dimension: ``xy`` (2D, as format version 1 wrote it) or
+    ``xyz`` (3D)."""
+    return "xy" if dim == 2 else "xyz"
+
+
+def _node_dof_labels(dim: int, n: int) -> np.ndarray | None:
+    """The labels of the ``n`` columns of the DOF map of a ``dim``-D model: ux, uy, rz (2D);
+    ux, uy, uz[, rx, ry, rz] (3D: solids[, space frames]); None for another layout."""
+    if dim == 2 and n == len(_NODE_DOF):
+        return _NODE_DOF
+    if dim == 3 and n in (3, 6):
+        return _NODE_DOF_3D[:n]
+    return None
+
+
+def _stress_labels(n: int, body: str) -> np.ndarray:
+    """The stress components of a body's (n_el, n) stress arrays: σxx, σyy, σxy, σzz (2D, n =
+    4) or σxx, σyy, σzz, σxy, σyz, σxz (3D, n = 6)."""
+    if n == len(_STRESS_COMPONENTS):
+        return _STRESS_COMPONENTS
+    if n == len(_STRESS_COMPONENTS_3D):
+        return _STRESS_COMPONENTS_3D
+    raise ValueError(
+        f"stresses of body '{body}': expected (n_el, 4) arrays σxx, σyy, σxy, σzz (2D) or "
+        f"(n_el, 6) arrays σxx, σyy, σzz, σxy, σyz, σxz (3D), got (…, {n})"
+    )
+
+
 def _body_tokens(res: Result) -> dict[str, str]:
     """Variable-name tokens of the bodies of the geometry and of the stresses."""
     bodies = list(dict(res.geometry).get("bodies", []) or [])
@@ -513,16 +570,23 @@ def _geometry_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any],
     left (stored as JSON)."""
     geo = dict(res.geometry)
     bodies = list(geo.pop("bodies", []) or [])
+    dim = 2
     if "points" in geo:
-        dv["points"] = _var(("node", "xy"), np.asarray(geo.pop("points")), "m", "node coordinates")
-        coords["xy"] = _var(("xy",), _XY, "1", "coordinate axis")
+        points = np.asarray(geo.pop("points"))
+        dim = points.shape[1] if points.ndim == 2 else 2
+        axis = _axis_dim(dim)
+        dv["points"] = _var(("node", axis), points, "m", "node coordinates")
+        coords[axis] = _var((axis,), _XY if dim == 2 else _XYZ, "1", "coordinate axis")
     if "dof_of" in geo:
         dof_of = np.asarray(geo.pop("dof_of"))
+        labels = _node_dof_labels(dim, dof_of.shape[1])
         dv["dof_of"] = _var(
-            ("node", "node_dof"), dof_of, "1", "global dof of each node's ux, uy, rz (-1: none)"
+            ("node", "node_dof"), dof_of, "1",
+            f"global dof of each node's {', '.join(labels) if labels is not None else 'DOFs'} "
+            "(-1: none)"
         )
-        if dof_of.shape[1] == len(_NODE_DOF):
-            coords["node_dof"] = _var(("node_dof",), _NODE_DOF, "1", "nodal degree of freedom")
+        if labels is not None:
+            coords["node_dof"] = _var(("node_dof",), labels, "1", "nodal degree of freedom")
     body_vars: list[str] = []
     for b in bodies:
         t = tok[str(b["name"])]
@@ -548,22 +612,26 @@ def _geometry_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any],
 
 def _stress_vars(res: Result, dv: dict[str, Any], coords: dict[str, Any],
                  tok: dict[str, str]) -> list[str]:
-    """The element stresses σxx, σyy, σxy, σzz (Pa) of each body at its states; returns the
-    stress variables."""
+    """The element stresses (Pa) of each body at its states: σxx, σyy, σxy, σzz (2D) or σxx,
+    σyy, σzz, σxy, σyz, σxz (3D) along ``stress_component``; returns the stress variables."""
     stress_bodies = [b for s in sorted(res.stresses) for b in res.stresses[s]]
     stress_vars: list[str] = []
-    if res.stresses:
-        coords["stress_component"] = _var(
-            ("stress_component",), _STRESS_COMPONENTS, "1", "stress component"
-        )
+    labels: np.ndarray | None = None
     for body in dict.fromkeys(stress_bodies):
         t = tok[body]
         states = [s for s in sorted(res.stresses) if body in res.stresses[s]]
         arr = np.stack([np.asarray(res.stresses[s][body]) for s in states])
-        if arr.ndim != 3 or arr.shape[2] != len(_STRESS_COMPONENTS):
-            raise ValueError(
-                f"stresses of body '{body}': expected (n_el, 4) arrays σxx, σyy, σxy, σzz, "
-                f"got {arr.shape[1:]}"
+        if arr.ndim != 3:
+            raise ValueError(f"stresses of body '{body}': expected (n_el, 4) or (n_el, 6) "
+                             f"arrays, got {arr.shape[1:]}")
+        own = _stress_labels(arr.shape[2], body)
+        if labels is not None and len(own) != len(labels):
+            raise ValueError(f"stresses of body '{body}': {len(own)} components, the other "
+                             f"bodies' {len(labels)} (2D and 3D bodies in one result)")
+        if labels is None:
+            labels = own
+            coords["stress_component"] = _var(
+                ("stress_component",), labels, "1", "stress component"
             )
         coords[f"stress_state__{t}"] = _var(
             (f"stress_state__{t}",), np.array(states, dtype=np.int64), "1",
@@ -820,7 +888,12 @@ def _check_geometry(ds: xr.Dataset, n: int) -> None:
             n_s = _shape(ds, k)[0] if k in ds.variables else -1
             cells = f"cells__{t}"
             n_el = _shape(ds, cells)[0] if cells in ds.variables else None
-            _expect(ds, str(name), (n_s, n_el, 4), f"{n_s} states of '{k}' × elements × 4")
+            n_c = ds.sizes.get("stress_component", 4)
+            if n_c not in (len(_STRESS_COMPONENTS), len(_STRESS_COMPONENTS_3D)):
+                raise _inconsistent(f"dimension 'stress_component' has {n_c} components, "
+                                    "expected 4 (2D) or 6 (3D)")
+            _expect(ds, str(name), (n_s, n_el, n_c),
+                    f"{n_s} states of '{k}' × elements × {n_c} components")
             _within(ds, k, n, "state")
 
 
@@ -930,8 +1003,10 @@ def _fields(ds: xr.Dataset) -> dict[int, np.ndarray]:
 
 
 def _stresses(ds: xr.Dataset) -> dict[int, dict[str, np.ndarray]]:
-    """The stored element stresses by state and body."""
-    stresses: dict[int, dict[str, np.ndarray]] = {}
+    """The stored element stresses by state and body (a state listed in ``stress_states``
+    without a body's stresses, e.g. of a discrete model: an empty dict)."""
+    stresses: dict[int, dict[str, np.ndarray]] = {
+        int(s): {} for s in _loads(ds.attrs.get("stress_states", "[]"))}
     for var in _loads(ds.attrs["stress_variables"]):
         body = str(ds[var].attrs["body"])
         t = var[len("stress__"):]

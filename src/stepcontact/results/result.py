@@ -97,11 +97,12 @@ class StaticResult:
     fields : dict state index -> displacement vector (ndof,), m, of the states with a stored
         field (by default the start, segment starts and ends and the last state; every state
         with ``store_fields="all"``).  Any state: :meth:`displacement`, :meth:`displacements`.
-    stresses : dict state index -> {body name: (n_el, 4) σxx, σyy, σxy, σzz, Pa}, stored at the
-        same states as ``fields``.  Any state: :meth:`stress`, :meth:`stresses_at`.
+    stresses : dict state index -> {body name: (n_el, 4) σxx, σyy, σxy, σzz, Pa; a 3D body's
+        (n_el, 6) σxx, σyy, σzz, σxy, σyz, σxz}, stored at the same states as ``fields``.
+        Any state: :meth:`stress`, :meth:`stresses_at`.
     counters : dict of run statistics (events, rate solves, factorisations, solves, seconds)
     mechanism : description of the mechanism when equilibrium is lost (bodies, mode)
-    geometry : "points" (n_nodes, 2), "dof_of" (n_nodes, 3), "bodies" list of
+    geometry : "points" (n_nodes, 2) (3D: (n_nodes, 3)), "dof_of" (n_nodes, 3), "bodies" list of
         {"name", "kind", "element", "cells"} — enough to draw and export fields
     reactions : (n_states, n_r) resultant reactions of the supports on the structure, N
         (N·m for rz), at every state: one column per ``reaction_labels`` entry

@@ -165,7 +165,7 @@ def interface_safety_3d(res: StaticResult, interface: str) -> InterfaceSafety3D:
         in_base = loaded & np.all(np.abs(ecc) <= B / 2 + tol * B, axis=1)
     states = np.asarray(res.state, dtype=np.int64)[:, k]
     open_ = states == int(ContactState.OPEN)
-    facets = int(getattr(res, "facets", 0) or res.geometry.get("facets", 0) or 0)
+    facets = int(np.asarray(res.cfe.get("facets", 0)).max(initial=0))
     return InterfaceSafety3D(
         interface, np.asarray(res.lam, float), np.asarray(res.segment), sN, shear, S, R, M,
         point, ecc, in_kern, in_base, np.where(N < 0, area, 0.0).sum(axis=1),

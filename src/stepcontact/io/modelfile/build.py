@@ -18,9 +18,12 @@ from stepcontact.io.modelfile.checks import check_plausible
 from stepcontact.io.modelfile.errors import _known, _path, _Problems
 from stepcontact.io.modelfile.references import _References
 from stepcontact.io.modelfile.schema import (
+    ALL_DOFS,
+    BoxBodySpec,
     BoxSpec,
     CrackWaterSpec,
     EdgeForceLoad,
+    ExtrudeSpec,
     GravityLoad,
     HalfDiscSpec,
     MaterialSpec,
@@ -58,7 +61,14 @@ from stepcontact.model.items import (
     _parse_dofs,
     select_nodes,
 )
-from stepcontact.model.mesh import half_disc, polygon_region, quad_region, rectangle
+from stepcontact.model.mesh import (
+    box,
+    extrude,
+    half_disc,
+    polygon_region,
+    quad_region,
+    rectangle,
+)
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
 from stepcontact.model.program import cycles
 from stepcontact.model.size import check_size
@@ -78,17 +88,33 @@ def _segments(s: SegmentSpec) -> tuple[Segment, ...]:
         return ()
 
 
-def _box(box: BoxSpec, atol: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-    """Predicate of a box with inclusive bounds (tolerance ``atol``, m)."""
-    lo = np.array([-np.inf if box.xmin is None else box.xmin,
-                   -np.inf if box.ymin is None else box.ymin]) - atol
-    hi = np.array([np.inf if box.xmax is None else box.xmax,
-                   np.inf if box.ymax is None else box.ymax]) + atol
+def _box(where: BoxSpec, atol: float) -> Callable[..., np.ndarray]:
+    """Predicate of a box with inclusive bounds (tolerance ``atol``, m) on the coordinates
+    (x, y[, z]) of a body's nodes."""
+    lo = np.array([-np.inf if v is None else v for v in (where.xmin, where.ymin, where.zmin)])
+    hi = np.array([np.inf if v is None else v for v in (where.xmax, where.ymax, where.zmax)])
 
-    def inside(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        return (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1])
+    def inside(*xyz: np.ndarray) -> np.ndarray:
+        out = np.ones(np.shape(xyz[0]), dtype=bool)
+        for c, v in enumerate(xyz):
+            out &= (v >= lo[c] - atol) & (v <= hi[c] + atol)
+        return out
 
     return inside
+
+
+def _section(b: RectangleSpec | QuadRegionSpec | PolygonSpec | HalfDiscSpec,
+             mat: Material) -> Body:
+    """The 2D body of the section of an extruded body (``kind = "extrude"``)."""
+    if isinstance(b, RectangleSpec):
+        return rectangle(b.name, b.corner0, b.corner1, b.nx, b.ny, mat, b.element,
+                         grading=b.grading)
+    if isinstance(b, QuadRegionSpec):
+        return quad_region(b.name, b.corners, b.nx, b.ny, mat, b.element, grading=b.grading)
+    if isinstance(b, PolygonSpec):
+        return polygon_region(b.name, b.vertices, mat, b.element, n=b.n, size=b.size)
+    return half_disc(b.name, b.center, b.radius, b.n_radial, b.n_around, mat, b.element,
+                     refine_toward="bottom" if b.refine else None, ratio=b.ratio)
 
 
 def _build_node_set(name: str, ns: NodeSetSpec, body: Body | Frame) -> NodeSet:
@@ -104,10 +130,16 @@ def _build_node_set(name: str, ns: NodeSetSpec, body: Body | Frame) -> NodeSet:
             )
         return NodeSet(body.name, idx, name)
     pts = body.points
+    if ns.where is not None and pts.shape[1] < 3:
+        given = [k for k in ("zmin", "zmax") if getattr(ns.where, k) is not None]
+        if given:
+            raise ModelError(f"{path}.where.{given[0]}", f"body '{body.name}' is 2D: select "
+                             "by x and y")
     atol = 1e-9 * max(1.0, float(np.ptp(pts, axis=0).max()) if len(pts) else 1.0)
     where = _box(ns.where, atol) if ns.where is not None else None
     try:
-        return select_nodes(body, where, x=ns.x, y=ns.y, boundary=ns.boundary, name=name)
+        return select_nodes(body, where, x=ns.x, y=ns.y, z=ns.z, boundary=ns.boundary,
+                            name=name)
     except ModelError as e:
         raise ModelError(path, f"{e.problem} on body '{body.name}'") from None
 
@@ -161,6 +193,14 @@ class _Builder(_References):
                         self.p.add(f"bodies[{i}]{field if field.startswith('.') else ''}",
                                    e.problem)
                     continue
+                if isinstance(b, ExtrudeSpec):
+                    self.bodies[name] = extrude(_section(b.section, mat), b.z, b.nz,
+                                                name=b.name)
+                    continue
+                if isinstance(b, BoxBodySpec):
+                    self.bodies[name] = box(b.name, b.corner0, b.corner1, (b.nx, b.ny, b.nz),
+                                            mat, b.element)
+                    continue
                 if isinstance(b, HalfDiscSpec):
                     self.bodies[name] = half_disc(
                         b.name, b.center, b.radius, b.n_radial, b.n_around, mat, b.element,
@@ -191,7 +231,8 @@ class _Builder(_References):
         it was meshed; mesh bodies and the sum of all are checked here, before assembly)."""
         if len(self.bodies) < 2 and self.mesh is None:
             return
-        ndof = sum((3 if isinstance(b, Frame) else 2) * b.n_nodes for b in self.bodies.values())
+        ndof = sum((3 if isinstance(b, Frame) else b.dim) * b.n_nodes
+                   for b in self.bodies.values())
         nodes = sum(b.n_nodes for b in self.bodies.values())
         try:
             check_size(ndof, "model", f"the model ({len(self.bodies)} bodies, {nodes} nodes)")
@@ -251,6 +292,7 @@ class _Builder(_References):
         self.build_bodies()
         self.check_size()
         self.build_node_sets()
+        self.check_dimension()
         spec, sets, p = self.spec, self.sets, self.p
 
         def have(*names: str | None) -> bool:
@@ -260,7 +302,8 @@ class _Builder(_References):
         for i, s in enumerate(spec.supports):
             if have(s.nodes):
                 supports.append(Support(s.name or s.nodes, sets[s.nodes],
-                                        _parse_dofs(s.dofs, f"supports[{i}].dofs")))
+                                        _parse_dofs(s.dofs, f"supports[{i}].dofs",
+                                                    ALL_DOFS)))
         ties = []
         for i, t in enumerate(spec.ties):
             if not have(t.a, t.b):
@@ -352,6 +395,52 @@ class _Builder(_References):
         self.check_chain(model)
         return model
 
+    def check_dimension(self) -> None:
+        """The fields that belong to the other dimension, named by their path: the model is 3D
+        when its bodies are (the model refuses bodies of both dimensions itself), and then a
+        rotation rz, a moment mz, a 2-component gravity, a tangential or 2D traction and the
+        plane options are errors; in 2D anything along z."""
+        dims = {b.dim for b in self.bodies.values() if isinstance(b, Body)}
+        if len(dims) != 1:
+            return  # no continuum, or both dimensions (the model reports it)
+        dim, p, spec = dims.pop(), self.p, self.spec
+        if dim == 3:
+            for key in ("plane", "thickness"):
+                if key in spec.model.model_fields_set:
+                    p.add(f"model.{key}", "applies to 2D bodies only (plane strain or stress); "
+                          "the bodies are 3D: leave it out")
+        for i, s in enumerate(spec.supports):
+            bad = "rz" if dim == 3 else "z"
+            if bad in _parse_dofs(s.dofs, f"supports[{i}].dofs", ALL_DOFS):
+                p.add(f"supports[{i}].dofs", f"'{bad}' is not a degree of freedom of a "
+                      f"{dim}D model (use {'x, y, z' if dim == 3 else 'x, y, rz'})")
+        for pname, pat in spec.patterns.items():
+            for j, ld in enumerate(pat.loads):
+                self._check_load_dimension(_path(["patterns", pname, "loads", j]), ld, dim)
+
+    def _check_load_dimension(self, path: str, ld: Any, dim: int) -> None:
+        """One load's fields against the model's dimension (:meth:`check_dimension`)."""
+        p = self.p
+        other = f"the model is {dim}D"
+        if isinstance(ld, GravityLoad) and ld.g is not None and len(ld.g) != dim:
+            p.add(f"{path}.g", f"has {len(ld.g)} components, {other}: give "
+                  f"{'[gx, gy, gz]' if dim == 3 else '[gx, gy]'} (m/s²) or leave it out "
+                  "(9.81 m/s² downwards)")
+        elif isinstance(ld, NodalLoadSpec | EdgeForceLoad):
+            bad = ("mz" if dim == 3 else "fz")
+            if getattr(ld, bad, 0.0) != 0.0:
+                p.add(f"{path}.{bad}", f"{other}: " + ("a 3D body's nodes have no rotation "
+                      "(moments mz act on 2D frames)" if dim == 3 else "no force along z"))
+        elif isinstance(ld, PressureLoad) and dim == 3:
+            for key in ("tangential", "traction"):
+                if getattr(ld, key) is not None:
+                    p.add(f"{path}.{key}", f"{other}: the faces of 3D bodies take a normal "
+                          "pressure (or edge_force with fx, fy, fz)")
+        elif getattr(ld, "type", None) == "displacement":
+            bad = "rz" if dim == 3 else "z"
+            if ld.dof == bad:
+                p.add(f"{path}.dof", f"{other}: use {'x, y or z' if dim == 3 else 'x, y or rz'}")
+
     def check_chain(self, model: Model) -> None:
         """Each segment starts where its pattern stands: the model's rule
         (:meth:`~stepcontact.model.Model.program_walk`: after segments with rates and the
@@ -377,7 +466,8 @@ class _Builder(_References):
         """Append the load of the file's entry ``ld`` to ``loads`` (nothing where an item it
         needs is missing: that problem is reported already)."""
         if isinstance(ld, GravityLoad):
-            loads.append(BodyForce(tuple(ld.g), tuple(ld.bodies)))
+            loads.append(BodyForce(bodies=tuple(ld.bodies)) if ld.g is None
+                         else BodyForce(tuple(ld.g), tuple(ld.bodies)))
         elif isinstance(ld, UpliftLoadSpec):
             found = [i for i in interfaces if i.name == ld.interface]
             if found:
@@ -397,12 +487,12 @@ class _Builder(_References):
         elif isinstance(ld, WaterLoadSpec):
             loads.append(WaterLoad(self.sets[ld.nodes], ld.level, ld.unit_weight))
         elif isinstance(ld, NodalLoadSpec):
-            loads.append(NodalLoad(self.sets[ld.nodes], ld.fx, ld.fy, ld.mz))
+            loads.append(NodalLoad(self.sets[ld.nodes], ld.fx, ld.fy, ld.mz, ld.fz))
         elif isinstance(ld, PressureLoad):
             loads.append(EdgeLoad(self.sets[ld.nodes], ld.normal, ld.tangential,
                                   None if ld.traction is None else tuple(ld.traction)))
         elif isinstance(ld, EdgeForceLoad):
-            loads.append(EdgeForce(self.sets[ld.nodes], ld.fx, ld.fy))
+            loads.append(EdgeForce(self.sets[ld.nodes], ld.fx, ld.fy, ld.fz))
         else:
             loads.append(PrescribedDisplacement(self.sets[ld.nodes], ld.dof, ld.value))
 

@@ -74,7 +74,7 @@ def check_plausible(spec: ModelFile, p: _Problems) -> None:
     for pname, pat in spec.patterns.items():
         for j, ld in enumerate(pat.loads):
             path = _path(["patterns", pname, "loads", j])
-            if isinstance(ld, GravityLoad):
+            if isinstance(ld, GravityLoad) and ld.g is not None:
                 p.implausible("gravity", math.hypot(*ld.g), f"{path}.g")
             if isinstance(ld, WaterLoadSpec | UpliftLoadSpec | CrackWaterSpec):
                 p.implausible("unit_weight_water", ld.unit_weight, f"{path}.unit_weight")
@@ -102,10 +102,13 @@ def _where(b: _Built, name: str) -> str:
     return f"physical surface '{s}'" if s is not None else f"body '{name}'"
 
 def check_geometry(builder: _Built, model: Model) -> None:
-    """Element quality, nodes in no element, bodies overlapping without an interface."""
+    """Element quality, nodes in no element, bodies overlapping without an interface (the
+    element quality and the overlaps of plane bodies: a 3D body's inverted or degenerate
+    elements are refused when it is made)."""
     p = builder.p
     continua = [b for b in model.bodies if isinstance(b, Body)]
-    for b in continua:
+    plane = [b for b in continua if b.dim == 2]
+    for b in plane:
         pts, cells = meshcheck.corners(b)
         q = meshcheck.quality(pts, cells)
         path = builder.paths.get(b.name, f"body '{b.name}'")
@@ -142,9 +145,10 @@ def check_geometry(builder: _Built, model: Model) -> None:
             k = int(first[np.argmax(counts > 1)])
             twins = np.flatnonzero(np.all(np.abs(pts - pts[k]) <= tol, axis=1))
             n = int(np.sum(counts[counts > 1] - 1))
+            at = ", ".join(f"{v:.6g}" for v in pts[k])
             p.warn(builder.paths.get(b.name, f"body '{b.name}'"),
                    f"{_where(builder, b.name)} has {n} duplicate node{'s' * (n > 1)} (e.g. nodes "
-                   f"{', '.join(map(str, twins[:4]))} at ({pts[k, 0]:.6g}, {pts[k, 1]:.6g})): "
+                   f"{', '.join(map(str, twins[:4]))} at ({at})): "
                    "elements that should share them are not connected")
     if builder.mesh is not None:
         orphans = builder.mesh.orphan_nodes()
@@ -155,8 +159,8 @@ def check_geometry(builder: _Built, model: Model) -> None:
                    f"are ignored (e.g. node {int(orphans[0])} at ({x:.6g}, {y:.6g}))")
     joined = {frozenset((i.plus.body, i.minus.body)) for i in model.interfaces
               if isinstance(i.minus, NodeSet)}
-    for ia, a in enumerate(continua):
-        for b in continua[ia + 1:]:
+    for ia, a in enumerate(plane):
+        for b in plane[ia + 1:]:
             if frozenset((a.name, b.name)) in joined:
                 continue
             hit = meshcheck.overlap(a, b)

@@ -28,12 +28,12 @@ from pydantic import (
 )
 
 from stepcontact.errors import ModelError
+from stepcontact.model.bodies import SolidKind
 from stepcontact.model.bond import FRICTION_ANGLE_RANGE, Bond
 from stepcontact.model.items import (
     NU_RANGE,
     CfeKind,
     ContactLayer,
-    DofName,
     ElementKind,
     Interface,
     Material,
@@ -49,6 +49,7 @@ from stepcontact.model.mesh import (
     grading_problem,
 )
 from stepcontact.model.obstacle import ObstacleSide
+from stepcontact.model.supports import _ALL_DOFS as ALL_DOFS
 from stepcontact.model.timefunction import HHT_ALPHA_RANGE, RESTITUTION_RANGE, MassKind, PulseShape
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift
 
@@ -60,6 +61,8 @@ _TAGS = {
     "kind=quad",
     "kind=half_disc",
     "kind=polygon",
+    "kind=box",
+    "kind=extrude",
     "type=gravity",
     "type=nodal",
     "type=pressure",
@@ -81,6 +84,8 @@ class _Spec(BaseModel):
 
 
 Point = tuple[float, float]
+#: a point or vector in space (3D bodies: x, y, z with z up)
+Point3 = tuple[float, float, float]
 
 
 # --------------------------------------------------------------------------------------------
@@ -229,6 +234,86 @@ class PolygonSpec(_Spec):
         return self
 
 
+class BoxBodySpec(_Spec):
+    """``[[bodies]]`` with ``kind = "box"``: a 3D box [x0, x1] × [y0, y1] × [z0, z1] (z up)
+    meshed nx × ny × nz with tetrahedra or hexahedra (:func:`stepcontact.box`); its faces are
+    the named boundaries ``left``/``right`` (x min/max), ``front``/``back`` (y min/max),
+    ``bottom``/``top`` (z min/max) that node sets select with ``boundary = "top"``."""
+
+    name: str = Field(description="unique body name")
+    kind: Literal["box"]
+    corner0: Point3 = Field(description="corner (x0, y0, z0) with the smallest coordinates, m")
+    corner1: Point3 = Field(description="opposite corner (x1, y1, z1), m")
+    nx: int = Field(ge=1, description="cells along x")
+    ny: int = Field(ge=1, description="cells along y")
+    nz: int = Field(ge=1, description="cells along z")
+    element: SolidKind = Field("hex8", description="tet4, tet10, hex8, hex20 (serendipity) or "
+                               "hex27")
+    material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
+                                  "an inline table `{E, nu, density}`")
+
+    @model_validator(mode="after")
+    def _non_empty(self) -> BoxBodySpec:
+        if not all(b > a for a, b in zip(self.corner0, self.corner1, strict=True)):
+            raise ValueError("corner1 must exceed corner0 in x, y and z")
+        return self
+
+
+def _section_tag(v: Any) -> str | None:
+    if isinstance(v, dict):
+        kind = v.get("kind", "rectangle")
+        return f"kind={kind}" if kind in ("rectangle", "quad", "half_disc", "polygon") else None
+    if isinstance(v, RectangleSpec | QuadRegionSpec | HalfDiscSpec | PolygonSpec):
+        return f"kind={v.kind}"
+    return None
+
+
+#: the section of an extruded body: a 2D body table of the generators
+SectionSpec = _tagged_union(
+    _section_tag, "section_kind", "kind must be 'rectangle', 'quad', 'half_disc' or 'polygon'",
+    **{"kind=rectangle": RectangleSpec, "kind=quad": QuadRegionSpec,
+       "kind=half_disc": HalfDiscSpec, "kind=polygon": PolygonSpec},
+)
+#: the material a section is validated with (the extruded body's own ``material`` is used)
+_SECTION_MATERIAL = {"E": 1.0e9, "nu": 0.0}
+
+
+class ExtrudeSpec(_Spec):
+    """``[[bodies]]`` with ``kind = "extrude"``: a prismatic 3D body, a 2D section (the table of
+    a ``rectangle``, ``quad``, ``polygon`` or ``half_disc`` body, without name and material)
+    swept along z from ``z[0]`` to ``z[1]`` in ``nz`` layers (:func:`stepcontact.extrude`):
+    quadrilaterals become hexahedra (quad4/8/9 → hex8/20/27), triangles tetrahedra (tri3/6 →
+    tet4/10); its end faces are the named boundaries ``start`` and ``end``.  The section keeps
+    its axes (with y up, give gravity as g = [0, -9.81, 0])."""
+
+    name: str = Field(description="unique body name")
+    kind: Literal["extrude"]
+    section: SectionSpec = Field(description="the 2D section: {kind = \"rectangle\", corner0, "
+                                 "corner1, nx, ny, element}, or a quad, polygon or half_disc")
+    z: tuple[float, float] = Field(description="[z0, z1], m (z1 > z0)")
+    nz: int = Field(ge=1, description="layers of cells along z")
+    material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
+                                  "an inline table `{E, nu, density}`")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _section_of_the_body(cls, v: Any) -> Any:
+        if isinstance(v, dict) and isinstance(v.get("section"), dict):
+            sec = dict(v["section"])
+            given = [k for k in ("name", "material") if k in sec]
+            if given:
+                raise ValueError(f"give {given[0]} on the extruded body, not in its section")
+            v = {**v, "section": {**sec, "name": str(v.get("name", "section")),
+                                  "material": _SECTION_MATERIAL}}
+        return v
+
+    @model_validator(mode="after")
+    def _layers(self) -> ExtrudeSpec:
+        if not self.z[1] > self.z[0]:
+            raise ValueError("z = [z0, z1] needs z1 > z0")
+        return self
+
+
 class MeshBodySpec(_Spec):
     """``[[bodies]]`` with ``kind = "mesh"``: the cells of one physical surface of ``[mesh]``.
 
@@ -275,24 +360,26 @@ def _body_tag(v: Any) -> str | None:
         kind = v.get("kind")
         if kind is None or "mesh" in v:
             kind = "mesh" if ("group" in v or "mesh" in v) else "rectangle"
-        return (f"kind={kind}" if kind in ("rectangle", "mesh", "quad", "half_disc", "polygon")
+        return (f"kind={kind}" if kind in ("rectangle", "mesh", "quad", "half_disc", "polygon",
+                                           "box", "extrude")
                 else None)
     if isinstance(v, RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec
-                  | PolygonSpec):
+                  | PolygonSpec | BoxBodySpec | ExtrudeSpec):
         return f"kind={v.kind}"
     return None
 
 
 BodySpec = _tagged_union(
     _body_tag, "body_kind",
-    "kind must be 'rectangle', 'quad', 'half_disc', 'polygon' or 'mesh'",
+    "kind must be 'rectangle', 'quad', 'half_disc', 'polygon', 'box', 'extrude' or 'mesh'",
     **{"kind=rectangle": RectangleSpec, "kind=quad": QuadRegionSpec,
-       "kind=half_disc": HalfDiscSpec, "kind=polygon": PolygonSpec, "kind=mesh": MeshBodySpec},
+       "kind=half_disc": HalfDiscSpec, "kind=polygon": PolygonSpec, "kind=box": BoxBodySpec,
+       "kind=extrude": ExtrudeSpec, "kind=mesh": MeshBodySpec},
 )
 
 
 def _body_name(b: RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec
-               | PolygonSpec) -> str:
+               | PolygonSpec | BoxBodySpec | ExtrudeSpec) -> str:
     return b.body_name if isinstance(b, MeshBodySpec) else b.name
 
 
@@ -337,12 +424,15 @@ class FrameSpec(_Spec):
 # node sets, supports, ties, springs, interfaces
 # --------------------------------------------------------------------------------------------
 class BoxSpec(_Spec):
-    """``where = {xmin, xmax, ymin, ymax}``: nodes inside the box (bounds inclusive, m)."""
+    """``where = {xmin, xmax, ymin, ymax}`` (and ``zmin``, ``zmax`` on a 3D body): nodes
+    inside the box (bounds inclusive, m)."""
 
     xmin: float | None = None
     xmax: float | None = None
     ymin: float | None = None
     ymax: float | None = None
+    zmin: float | None = Field(None, description="3D bodies only, m")
+    zmax: float | None = Field(None, description="3D bodies only, m")
 
 
 class NodeSetSpec(_Spec):
@@ -354,35 +444,37 @@ class NodeSetSpec(_Spec):
     group: str | None = Field(None, description="physical curve or point of [mesh]")
     x: float | None = Field(None, description="nodes with this x, m")
     y: float | None = Field(None, description="nodes with this y, m")
+    z: float | None = Field(None, description="nodes with this z, m (3D bodies)")
     where: BoxSpec | None = None
     index: list[NonNegativeInt] | None = Field(None, description="local node indices")
-    boundary: bool = Field(True, description="only nodes on the body's boundary")
+    boundary: bool | str = Field(True, description="only nodes on the body's boundary (true), "
+                                 "every node (false), or the nodes of a named boundary of "
+                                 "its mesh, e.g. \"top\" of a box")
 
     @model_validator(mode="after")
     def _index_alone(self) -> NodeSetSpec:
-        by_coord = self.x is not None or self.y is not None or self.where is not None
+        by_coord = (self.x is not None or self.y is not None or self.z is not None
+                    or self.where is not None)
         if self.group is not None and (by_coord or self.index is not None):
             raise ValueError("give either group or x / y / where / index, not both")
         if self.group is None and self.body is None:
             raise ValueError("give body (with x / y / where / index) or group")
-        if self.index is not None and (
-            self.x is not None or self.y is not None or self.where is not None
-        ):
-            raise ValueError("give either index or x / y / where, not both")
+        if self.index is not None and (by_coord or isinstance(self.boundary, str)):
+            raise ValueError("give either index or x / y / z / where / boundary, not both")
         return self
 
 
 def _check_dofs(v: str) -> str:
     try:
-        _parse_dofs(v, "dofs")
+        _parse_dofs(v, "dofs", ALL_DOFS)
     except ModelError as e:
         raise ValueError(e.problem) from None
     return v
 
 
 class SupportSpec(_Spec):
-    """``[[supports]]``: fixed degrees of freedom ("xy", "x", "y", "rz", "xyrz") of a node
-    set."""
+    """``[[supports]]``: fixed degrees of freedom ("xy", "x", "y", "rz", "xyrz"; on 3D bodies
+    any of "x", "y", "z", e.g. "xyz") of a node set."""
 
     name: str | None = None
     nodes: str
@@ -655,18 +747,22 @@ class GravityLoad(_Spec):
     """Self-weight: density × ``g`` (m/s²) on ``bodies`` (all bodies when empty)."""
 
     type: Literal["gravity"] = "gravity"
-    g: Point = (0.0, -9.81)
+    g: list[float] | None = Field(
+        None, min_length=2, max_length=3, description="acceleration (gx, gy) in 2D or (gx, gy, "
+        "gz) in 3D, m/s²; default: 9.81 m/s² downwards, along −y in 2D, along −z on 3D bodies")
     bodies: list[str] = []
 
 
 class NodalLoadSpec(_Spec):
-    """The same force on every node of a node set: fx, fy in N, mz in N·m (n nodes: n times
-    the force in all; for a total force along an edge use ``edge_force``)."""
+    """The same force on every node of a node set: fx, fy (and fz on 3D bodies) in N, mz in
+    N·m (n nodes: n times the force in all; for a total force along an edge or over faces use
+    ``edge_force``)."""
 
     type: Literal["nodal"] = "nodal"
     nodes: str
     fx: float = 0.0
     fy: float = 0.0
+    fz: float = Field(0.0, description="N, along z (3D bodies)")
     mz: float = 0.0
 
 
@@ -694,13 +790,15 @@ class PressureLoad(_Spec):
 
 
 class EdgeForceLoad(_Spec):
-    """A total force (fx, fy in N) spread as a uniform traction along the body edges in a node
-    set (consistent nodal forces: they sum to exactly (fx, fy))."""
+    """A total force (fx, fy in N; and fz on 3D bodies) spread as a uniform traction along the
+    body edges (3D: over the boundary faces) in a node set (consistent nodal forces: they sum
+    to exactly (fx, fy[, fz]))."""
 
     type: Literal["edge_force"] = "edge_force"
     nodes: str
     fx: float = 0.0
     fy: float = 0.0
+    fz: float = Field(0.0, description="N, along z (3D bodies)")
 
 
 class WaterLoadSpec(_Spec):
@@ -762,7 +860,8 @@ class DisplacementLoad(_Spec):
 
     type: Literal["displacement"] = "displacement"
     nodes: str
-    dof: DofName
+    dof: Literal[ALL_DOFS] = Field(  # type: ignore[valid-type]  # the model's DOF names
+        description="x, y, rz (2D) or x, y, z (3D bodies)")
     value: float
 
 
