@@ -1,5 +1,5 @@
-"""Working schemes on the condensed contact unknowns: the dense scheme matrix, its LU with
-low-rank (Woodbury) row updates, and the rates of a scheme.
+"""Working schemes on the condensed contact unknowns: the dense scheme matrix, its explicit
+inverse updated by low-rank (Sherman–Morrison–Woodbury) row updates, and the rates of a scheme.
 
 With t = s − D ŵ and ŵ = ĥ − G t (see :mod:`stepcontact.solver.condensation`), the relations
 of a working scheme (per CFE a small block, :class:`stepcontact.contact.laws.Relations`: row j,
@@ -16,9 +16,28 @@ over G; only the rows with a coupling (an off-diagonal entry of their block) tak
 product with the coupled rows of G.  A singular A is a working scheme that is a mechanism.
 
 Row j of A and of b depends on the relation row of component j alone (its block row S_j·,
-W_j·), so two schemes differ only in the rows of the components whose relation changed.  That
-is what the event loop exploits (:class:`SchemeSolver`): one LU of a base scheme, and every
-later scheme as a low-rank row update of it, with what the updates share cached on the base.
+W_j·), so two schemes differ only in the rows of the components whose relation changed: an
+event changes the rows of the CFEs that fired (r = 2 in 2D for one CFE, more at a simultaneous
+event).  That is what the event loop exploits (:class:`SchemeSolver`).  It keeps the explicit
+inverse X = A₀⁻¹ of a *base* scheme (from one LU, LAPACK getrf + getri); a scheme A = A₀ + E V
+that differs from it in the k rows E = I[:, idx] (V: the rows' differences) is, by the
+Sherman–Morrison–Woodbury identity,
+
+    A⁻¹ = X − Z C⁻¹ V X,    Z = X E (k columns of X),    C = I_k + V Z,    det A = det A₀ det C,
+
+so that its load rates, from the base's solution y₀ = X b₀ of the same load, are
+
+    y = A⁻¹ b = y₀ + Z C⁻¹ (δ − V y₀)      (δ = b_idx − b₀_idx),
+
+O(k n), and ŵ' = ĥ − G y one product with G (BLAS symv, half a pass, for a symmetric G): per
+event one read of G and O(k n).  A singular (or doubtful) C — rcond(C) ≤ ``RCOND_UPDATE`` —
+sends the scheme to a full LU, whose condition estimate decides whether it is a mechanism.
+When k exceeds ``max_rank`` the scheme is *committed*: X ← X − Z (C⁻¹ (V X)), a k × n by n × n
+product and a rank-k update (BLAS gemm, in place), two passes over X for k rows at once, and
+it becomes the base.  Solutions of the same load are updated in O(k n) between commits;
+every first solve on a base has its backward error ‖b − A y‖∞ / (‖A‖∞ ‖y‖∞ + ‖b‖∞) measured
+in O(n) from the G y it forms, and an inverse whose error the commits have grown is inverted
+afresh (:meth:`SchemeFactor._accurate`).
 
 For large interfaces the dense work runs in float32 (G held as D G − I, see
 :func:`scheme_rows`), and every solve is refined to float64 accuracy against the exact operator
@@ -36,6 +55,7 @@ from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
 
 from stepcontact.contact.laws import Relations
 
@@ -77,6 +97,18 @@ REFINE_ACCEPT = 1e-9
 #: afresh (:meth:`SchemeFactor._accurate`).  A backward-stable solve (LU) shows η of
 #: 1e-16..1e-15 on the slab benchmark; the inverse, through hundreds of commits, the same
 BACKWARD_TOL = 1e-13
+
+#: the rank of a Woodbury update beyond which its scheme is committed into the base's inverse
+#: (:class:`SchemeSolver`): a commit costs 2 n² flops per row in BLAS-3 blocks, about
+#: 0.15 ms per row at n = 1 202 from 32 rows on (0.6 ms for one row alone), while every
+#: update's O(k n) work (its columns and rows copied, V y₀, Z g) grows with k
+MAX_RANK = 48
+
+#: a block of at least SPARSE_RHS_MIN right-hand sides with at most SPARSE_RHS_DENSITY of its
+#: entries nonzero is multiplied by the inverse as a sparse matrix (O(n nnz) instead of a pass
+#: over the inverse per column)
+SPARSE_RHS_MIN = 8
+SPARSE_RHS_DENSITY = 0.05
 BACKWARD_GROWTH = 64.0
 
 _LAPACK: dict[tuple[str, str], object] = {}
@@ -246,6 +278,12 @@ def _coefficients(rel: Relations, idx: np.ndarray | None = None):
     cols = _offset_rows(rel.layout.m, rel.layout.n_c)
     if idx is not None:
         R, cols = R[:, :, idx], cols[:, idx]
+    return _unpack(R, cols)
+
+
+def _unpack(R: np.ndarray, cols: np.ndarray):
+    """(rs, rw, offsets) of :func:`_coefficients` from block rows R (2, n_c, k) (those of
+    :meth:`Relations.by_rows`, of any rows of any schemes) and their offset rows (n_c, k)."""
     Sx, Wx = R
     return Sx[0], Wx[0], [(Sx[o], Wx[o], cols[o]) for o in range(1, len(Sx))]
 
@@ -285,10 +323,15 @@ def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
     (2D: A_j = −(rw_j/d_j + rs_j) M_j − (rw_j/d_j) e_j − c_j M_P) in which no entry is a
     difference of nearly equal numbers."""
     _check(rel, G.shape[0])
-    dt = G.dtype
-    rs, rw, offs = _coefficients(rel, idx)
+    return _rows(G, d, idx, *_coefficients(rel, idx), shifted)
+
+
+def _rows(G, d, idx, rs, rw, offs, shifted=False):
+    """:func:`scheme_rows` from the coefficients of the rows ``idx`` (:func:`_coefficients`;
+    the rows may be of different schemes)."""
     if shifted:
         return _shifted_rows(G, d, idx, rs, rw, offs)
+    dt = G.dtype
     coef = (-(rw + d[idx] * rs)).astype(dt)
     rows = np.empty((len(idx), G.shape[1]), dt, order="F")
     if len(idx) == G.shape[0] and np.array_equal(idx, np.arange(len(idx))):
@@ -400,9 +443,10 @@ def scheme_rhs(d: np.ndarray, rel: Relations, hhat, e, r):
     return b
 
 
-def _load_rhs_rows(d: np.ndarray, rel: Relations, idx: np.ndarray, hhat, e) -> np.ndarray:
-    """Rows ``idx`` of :func:`scheme_rhs` for load rates (ĥ, e) and r = 0 (vectors)."""
-    rs, rw, offs = _coefficients(rel, idx)
+def _load_rhs_rows(d: np.ndarray, coef: tuple, idx: np.ndarray, hhat, e) -> np.ndarray:
+    """Rows ``idx`` of :func:`scheme_rhs` for load rates (ĥ, e) and r = 0 (vectors), from
+    the coefficients ``coef`` of those rows (:func:`_coefficients`)."""
+    rs, rw, offs = coef
     b = -rw * (hhat[idx] + e[idx]) - rs * d[idx] * hhat[idx]
     for s, w, P in offs:
         b = b - s * d[P] * hhat[P]
@@ -558,11 +602,19 @@ class _Base:
         if new_rows.size and k0:  # new columns of V Z (rows about to change are redone below)
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
         if stale.size:
-            R, sc = scheme_rows(solver.G, solver.d, rel, rows_j, solver.shifted)
-            fresh = stale >= k0  # new slots: their base rows, formed once
-            if fresh.any():
-                self.R0[stale[fresh]] = scheme_rows(solver.G, solver.d, self.rel,
-                                                    rows_j[fresh], solver.shifted)[0]
+            # the changed rows, and the base rows of the new slots (formed once), together
+            lay = self.rel.layout
+            new_slot = stale >= k0
+            fresh = rows_j[new_slot]
+            both = np.concatenate([rows_j, fresh])
+            blocks = np.concatenate([rel.by_rows()[:, :, rows_j],
+                                     self.rel.by_rows()[:, :, fresh]], axis=2)
+            R, sc = _rows(solver.G, solver.d, both,
+                          *_unpack(blocks, _offset_rows(lay.m, lay.n_c)[:, both]),
+                          solver.shifted)
+            ks = rows_j.size
+            self.R0[stale[new_slot]] = R[ks:]
+            R, sc = R[:ks], sc[:ks]
             self.V[stale] = R - self.R0[stale]
             self.vscale[stale] = sc
             self.vsum[stale] = _row_sums(R)
@@ -602,6 +654,8 @@ class SchemeFactor:
     scale: np.ndarray
     rel: Relations
     row_sums: np.ndarray | None = None
+    #: the coefficients of the rows ``idx`` (:func:`_coefficients`), once needed
+    coef: tuple | None = None
 
     def _live(self) -> SchemeFactor | None:
         """None while the base lives; else the factor of the same scheme on the solver's
@@ -612,9 +666,19 @@ class SchemeFactor:
 
     def _approx(self, bs: np.ndarray) -> np.ndarray:
         """A⁻¹ bs for a scaled right-hand side: one pass over X (a product; for a block of
-        right-hand sides one matrix product) and the row update."""
+        right-hand sides one matrix product, or, for a sparse block — the rate problem's
+        columns, each a unit rate on one CFE's rows — a sparse one, O(n nnz)) and the row
+        update."""
         o = self.owner
-        y = _mv(self.base.X, bs)
+        X = self.base.X
+        if bs.ndim == 2 and bs.shape[1] >= SPARSE_RHS_MIN:
+            Bt = sp.csr_matrix(bs.T.astype(X.dtype, copy=False))
+            if Bt.nnz <= SPARSE_RHS_DENSITY * bs.size:
+                y = np.asarray((Bt @ X.T).T, dtype=np.float64)  # Σ over nonzeros: X[:, j] b_j
+            else:
+                y = _mv(X, bs)
+        else:
+            y = _mv(X, bs)
         o.counters["scheme_solves"] += 1 if bs.ndim == 1 else bs.shape[1]
         if self.V is not None:
             y = y - _mv(self.Z, lu_solve(self.C_lu, _mv(self.V, y)))
@@ -743,7 +807,9 @@ class SchemeFactor:
             y = y0
         else:
             idx = self.idx
-            delta = self.scale[idx] * _load_rhs_rows(d, self.rel, idx, hhat, e) - b0[idx]
+            if self.coef is None:
+                self.coef = _coefficients(self.rel, idx)
+            delta = self.scale[idx] * _load_rhs_rows(d, self.coef, idx, hhat, e) - b0[idx]
             g = lu_solve(self.C_lu, delta - _mv(self.V, y0))
             y = y0 + _mv(self.Z, g)
         if o.refine:  # the cached float32 solution is the start of the refinement
@@ -773,7 +839,7 @@ class SchemeSolver:
     whose pieces are cached on the base as rows change (:class:`_Base`: a column costs a
     copy, a changed row one row of G), so that a scheme met between commits costs O(k n) and
     its load rates O(k n) plus one product with G; det A = det A₀ · det C, so a mechanism
-    makes C singular.  When k exceeds ``max_rank`` (default max(48, n/10)), the scheme asked
+    makes C singular.  When k exceeds ``max_rank`` (default ``MAX_RANK``), the scheme asked
     for is *committed*: X takes its update in place,
 
         W = V X  (one read of X: a k × n by n × n product),
@@ -817,7 +883,7 @@ class SchemeSolver:
             raise ValueError("a float32 G needs the exact operator (product) to refine against")
         self.rcond_mechanism = RCOND_MECHANISM_F32 if self.refine else RCOND_MECHANISM
         self.rcond_update = RCOND_UPDATE_F32 if self.refine else RCOND_UPDATE
-        self.max_rank = max(G.shape[0] // 10, 48) if max_rank is None else max_rank
+        self.max_rank = MAX_RANK if max_rank is None else max_rank
         self.base: _Base | None = None
         self._cache: OrderedDict[bytes, SchemeFactor] = OrderedDict()
         self._cache_size = cache
