@@ -443,6 +443,13 @@ def scheme_rhs(d: np.ndarray, rel: Relations, hhat, e, r):
     return b
 
 
+def _load_vector(x, d: np.ndarray) -> np.ndarray:
+    """x as a float64 vector of d's shape (a scalar broadcast; an array of that shape as is)."""
+    if isinstance(x, np.ndarray) and x.shape == d.shape and x.dtype == np.float64:
+        return x
+    return np.broadcast_to(np.asarray(x, float), d.shape)
+
+
 def _load_rhs_rows(d: np.ndarray, coef: tuple, idx: np.ndarray, hhat, e) -> np.ndarray:
     """Rows ``idx`` of :func:`scheme_rhs` for load rates (ĥ, e) and r = 0 (vectors), from
     the coefficients ``coef`` of those rows (:func:`_coefficients`)."""
@@ -800,8 +807,7 @@ class SchemeFactor:
             return live.load_rates(hhat, e)
         o = self.owner
         d = o.d
-        hhat = np.broadcast_to(np.asarray(hhat, float), d.shape)
-        e = np.broadcast_to(np.asarray(e, float), d.shape)
+        hhat, e = _load_vector(hhat, d), _load_vector(e, d)
         b0, y0 = self.base.load(o, hhat, e)
         if self.V is None:
             y = y0
@@ -933,7 +939,7 @@ class SchemeSolver:
             self._symv = False
             if G.dtype == np.float64 and G.flags.c_contiguous and np.array_equal(G, G.T):
                 self._symv = sla.blas.get_blas_funcs("symv", (G,))
-        if y.ndim == 1 and self._symv:
+        if y.ndim == 1 and y.size and self._symv:
             # (G C-ordered: G.T is the same memory in Fortran order, the order BLAS reads)
             return self._symv(1.0, G.T, y, lower=1)
         return G @ y
@@ -1043,8 +1049,8 @@ class SchemeSolver:
         if idx.size == 0:
             return self._plain(rel)
         slots = b.prepare(self, rel, idx)
-        C = b.VZ[np.ix_(slots, slots)]
-        C[np.diag_indices_from(C)] += 1.0
+        C = b.VZ[slots][:, slots]
+        C.flat[:: len(slots) + 1] += 1.0
         # (measured against ‖I‖ = 1 at least: C = I + V Z and det A = det A₀ det C, so a
         # C far below the identity is singular even where it is 1 × 1 — whose own condition
         # number is always 1)
