@@ -5,7 +5,11 @@ The monolith (12 m high, base B = 8 m from the heel x = 0 to the toe x = 8, cres
 upstream face, W_d = 4 m wide along y; hex8, 2 × 2 m cells at the base) stands on a rock block
 (20 × 10 × 6 m, 2.5 m cells): the meshes of the joint do not match (mortar CFEs on the
 monolith's base).  The joint is rigid with friction f = 0.7, the Coulomb cone an inscribed
-8-gon with a vertex along x (the slip direction: its limit there is f|N| exactly).  z is up.
+8-gon turned so that a facet faces the slip direction x (``facet_angle`` = π/8): its limit
+along x is f_k |N| with f_k = f cos(π/8) = 0.647, the polygon's conservative side (with a
+vertex along x the limit would be f|N| itself, but the CFEs near the sides, whose slip leans
+a little towards y, then turn between two facets within 1e-10 of the sliding level, in an
+order that round-off decides).  z is up.
 
 The second segment's parameter is the **water level** h (m): the hydrostatic pressure
 γ_w (h − z) on the upstream face follows the level exactly (integrated on the wet part of each
@@ -13,8 +17,9 @@ face), and the uplift under the base (head h at the heel, 0 at the toe, linear; 
 CFEs, A_k p(x_k) across each) grows with it.  Events are located in h exactly.
 
 Hand statics of the monolith (per the whole width W_d; H = γ_w W_d h²/2, U = γ_w W_d h B/2):
-* sliding when H = f (W − U):  γ_w h²/2 + f γ_w B h/2 − f W/W_d = 0  (the 2D example's level);
-* at the design level h_d = 10 m: the friction-only factor f (W − U)/H, the overturning factor
+* sliding when H = f_k (W − U):  γ_w h²/2 + f_k γ_w B h/2 − f_k W/W_d = 0;
+* at the design level h_d = 10 m: the friction-only factor f (W − U)/H (the true cone's, as
+  ``interface_safety`` reports it), the overturning factor
   M_r/M_o about the toe = W x_W / (H h/3 + U 2B/3), and the normal resultant's distance from
   the toe (M_r − M_o)/(W − U) — against ``res.interface_safety("base")`` (3D: eccentricities in
   both directions, kern, sliding factor).  The uplift acts at the CFEs, so its moment is that
@@ -43,7 +48,8 @@ dam = sc.Body.from_mesh("dam", MeshHex(p, unit.mesh.t), "hex8", concrete)
 foundation = box("rock", (-6.0, -3.0, -6.0), (14.0, 7.0, 0.0), (8, 4, 3), rock)
 m = sc.Model(bodies=[foundation, dam], name="dam monolith 3D")
 base = sc.Interface("base", plus=m.select("dam", lambda x, y, z: np.abs(z) < 1e-9),
-                    minus=m.select("rock", boundary="top"), friction=f, facets=8)
+                    minus=m.select("rock", boundary="top"), friction=f, facets=8,
+                    facet_angle=np.pi / 8)
 uplift_per_metre = sc.Uplift(base, head=lambda x, y: np.clip(1.0 - x / B, 0.0, 1.0),
                              through="cfes")
 m = m.add(
@@ -64,7 +70,8 @@ print(res.summary())
 area = (B + CREST) / 2 * HEIGHT
 W = concrete.density * G * area * WIDTH
 x_w = (CREST * HEIGHT * (B - CREST / 2) + (B - CREST) * HEIGHT / 2 * (B - CREST) * 2 / 3) / area
-a, b, c = GAMMA_W / 2, f * GAMMA_W * B / 2, -f * W / WIDTH
+f_k = f * np.cos(np.pi / 8)  # the 8-gon's limit along its facet normal x
+a, b, c = GAMMA_W / 2, f_k * GAMMA_W * B / 2, -f_k * W / WIDTH
 h_slide = (-b + np.sqrt(b * b - 4 * a * c)) / (2 * a)
 sf = res.interface_safety("base")
 print(f"\nW = {W:.1f} N, lever of W about the toe {x_w:.4f} m")

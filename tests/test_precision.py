@@ -125,11 +125,11 @@ def test_refined_float32_rates_equal_float64(model):
 
 
 # ---- the recorded event sequences, in float32 -------------------------------------------------
-#: runs whose last event point lies at a mechanism (the whole body starts to slide): CFEs turn
-#: to the faceted cone's vertex there within 1e-10 of the sliding level, on a scheme that is
-#: nearly singular, so the float32 scheme's refinement locates them to about cond × 6e-8 of
-#: the operator's scale (dam_monolith_3d: 2.5e-11 relative) — λ to 1e-9 relative; the order
-#: and the states of every event must still be the recorded ones
+#: runs whose last event point lies at a mechanism (the whole body starts to slide): CFEs
+#: turn between the faceted cone's facets there, on a scheme that is nearly singular, so the
+#: float32 scheme's refinement locates them to about cond × 6e-8 of the operator's scale
+#: (measured 2.5e-11 relative) — λ to 1e-9 relative; the order and the states of every event
+#: must still be the recorded ones
 NEAR_MECHANISM = {"dam_monolith_3d#0": 1e-9}
 _FLOAT32_RUNS: dict[str, list[dict]] = {}
 
