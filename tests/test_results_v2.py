@@ -279,9 +279,13 @@ def test_the_path_figures_count_and_colour_a_faceted_cones_slip(result3d):
     assert to_hex(FACETED_SLIP_COLOR) in colours
 
 
-def test_a_3d_result_refuses_the_2d_joint_safety_by_name(result3d):
-    with pytest.raises(ValueError, match=r"interface_safety\('joint'\).*2 tangential"):
+def test_a_discrete_3d_result_has_no_joint_plane_for_its_safety(result3d):
+    """A 3D joint's safety sums the CFE forces in its plane: a discrete model's CFEs have no
+    geometry, and the 2D-only options are refused by name."""
+    with pytest.raises(ValueError, match=r"interface_safety\('joint'\).*no 3D geometry"):
         result3d.interface_safety("joint")
+    with pytest.raises(ValueError, match=r"design.*2D models"):
+        result3d.interface_safety("joint", design=1.0)
 
 
 def test_an_event_given_its_tangential_force_as_a_vector(result2d):

@@ -29,7 +29,7 @@ from stepcontact.post.common import (
     save_figure,
     state_colors,
 )
-from stepcontact.results.safety3d import joint_frame
+from stepcontact.results.safety3d import cfe_geometry, joint_frame
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -66,11 +66,9 @@ def plot_interface_map(res: StaticResult, interface: str, states: Sequence[int] 
     out = figure_path(path, dpi)
     k = _cfes_of(res, interface)
     idx = [_state_index(res, s) for s in states]
-    x = np.asarray(res.cfe["x"], float)[k]
-    area = np.asarray(res.cfe["area"], float)[k]
+    x, _, tan, area = cfe_geometry(res, k, f"plot_interface_map('{interface}')")
     centroid, axes = joint_frame(res, k)
     uv = (x - centroid) @ axes[:2].T  # (K, 2) in the joint's plane, m
-    tan = np.asarray(res.cfe["tangent"], float)[k]  # (K, 2, 3)
     sig = np.asarray(res.N, float)[idx][:, k] / area
     Q = np.asarray(res.Q_t, float)[idx][:, k]  # (S, K, 2)
     tau = np.einsum("skj,kjd,ed->ske", Q, tan, axes[:2]) / area[None, :, None]

@@ -118,14 +118,27 @@ def _joint_axes(normal: np.ndarray, tangent: np.ndarray, area: np.ndarray) -> np
     return np.stack([t, np.cross(n, t), n])
 
 
+def cfe_geometry(res: StaticResult, k: np.ndarray, what: str):
+    """(x (K, 3), n (K, 3), t (K, 2, 3), A (K,)) of the CFEs ``k`` of a 3D result, m and m²
+    (t₂ = n × t₁ where only t₁ is kept); a ValueError naming ``what`` for a result without
+    the CFEs' 3D geometry (a discrete model's)."""
+    x = np.asarray(res.cfe.get("x", np.zeros((0, 0))), float)
+    nrm = np.asarray(res.cfe.get("normal", np.zeros((0, 0))), float)
+    tan = np.asarray(res.cfe.get("tangent", np.zeros((0, 0))), float)
+    if x.ndim != 2 or x.shape[1:] != (3,) or nrm.shape != x.shape or tan.shape[-1:] != (3,):
+        raise ValueError(f"{what}: the result has no 3D geometry of its CFEs (points, normals, "
+                         "tangents): a discrete model's joints have no plane to draw or sum in")
+    x, nrm, tan = x[k], nrm[k], tan[k]
+    if tan.ndim == 2:
+        tan = np.stack([tan, np.cross(nrm, tan)], axis=1)
+    return x, nrm, tan, np.asarray(res.cfe["area"], float)[k]
+
+
 def joint_frame(res: StaticResult, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The centroid x̄ (3,) of the CFEs ``k`` (area-weighted, m) and the joint's axes (3, 3),
     rows e₁, e₂, n̄ (module docstring)."""
-    x = np.asarray(res.cfe["x"], float)[k]
-    area = np.asarray(res.cfe["area"], float)[k]
-    axes = _joint_axes(np.asarray(res.cfe["normal"], float)[k],
-                       np.asarray(res.cfe["tangent"], float)[k], area)
-    return area @ x / area.sum(), axes
+    x, nrm, tan, area = cfe_geometry(res, k, "the joint's frame")
+    return area @ x / area.sum(), _joint_axes(nrm, tan, area)
 
 
 def interface_safety_3d(res: StaticResult, interface: str) -> InterfaceSafety3D:
@@ -137,10 +150,7 @@ def interface_safety_3d(res: StaticResult, interface: str) -> InterfaceSafety3D:
     k = np.flatnonzero(np.asarray(res.cfe["interface"]) == names.index(interface))
     if k.size == 0:
         raise ValueError(f"interface '{interface}' has no CFE")
-    x = np.asarray(res.cfe["x"], float)[k]
-    nrm = np.asarray(res.cfe["normal"], float)[k]
-    tan = np.asarray(res.cfe["tangent"], float)[k]
-    area = np.asarray(res.cfe["area"], float)[k]
+    x, nrm, tan, area = cfe_geometry(res, k, f"interface_safety('{interface}')")
     fric = np.asarray(res.cfe["friction"], float)[k]
     N = np.asarray(res.N, float)[:, k]
     Q = np.asarray(res.Q_t, float)[:, k]
@@ -184,4 +194,4 @@ def _limits(res: StaticResult) -> tuple[float | None, float | None]:
             lam if any(m.startswith("rotation") for m in modes) else None)
 
 
-__all__ = ["InterfaceSafety3D", "interface_safety_3d", "joint_frame"]
+__all__ = ["InterfaceSafety3D", "cfe_geometry", "interface_safety_3d", "joint_frame"]
