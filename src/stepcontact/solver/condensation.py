@@ -28,6 +28,7 @@ Friction, gaps, loads and the load program do not enter it, so runs that differ 
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 from dataclasses import dataclass, field
 from typing import Any
@@ -580,8 +581,12 @@ class Condensed:
             e += np.outer(self.e[name], c)
         w_hat = W.T - sysm.w0[:, None] - e
         t = S.T - self.d[:, None] * w_hat
-        rhs = rhs - self.Kfp @ up - self.Bf.T @ t
-        x = np.asarray(self.factor.solve(np.ascontiguousarray(rhs[:, 0]) if k == 1 else rhs))
+        if hasattr(self.factor, "solve_last"):  # u_f = Σ_P c_P y_P − K₀⁻¹ B_fᵀ t
+            x = (self._load_solutions @ C.T) - self._solve_contact(self.Bf.T @ t)
+        else:  # one solve of the whole right-hand side
+            rhs = rhs - self.Kfp @ up - self.Bf.T @ t
+            x = np.asarray(self.factor.solve(np.ascontiguousarray(rhs[:, 0]) if k == 1
+                                             else rhs))
         u = np.zeros((k, sysm.ndof))
         u[:, self.free] = x.reshape(len(self.free), k).T
         u[:, self.presc] = up.T
@@ -637,5 +642,21 @@ class Condensed:
     def mode_displacement(self, t: np.ndarray) -> np.ndarray:
         """Displacement of a mechanism mode t of the condensed unknowns."""
         u = np.zeros(self.system.ndof)
-        u[self.free] = -self.factor.solve(self.Bf.T @ t)
+        u[self.free] = -self._solve_contact(self.Bf.T @ t)
         return u
+
+    @functools.cached_property
+    def _load_solutions(self) -> np.ndarray:
+        """The load patterns' y_P = K₀⁻¹ (f_P − K_fp u_P) as columns (free DOFs × patterns),
+        in the order of ``system.loads``."""
+        return np.column_stack([self.y[n] for n in self.system.loads]) if self.y else \
+            np.zeros((len(self.free), 0))
+
+    def _solve_contact(self, b: np.ndarray) -> np.ndarray:
+        """K₀⁻¹ b for b = B_fᵀ t (a vector or a block): a right-hand side on the contact DOFs
+        only, which a factor with those DOFs ordered last solves without its forward sweep
+        (``solve_last``)."""
+        solve = getattr(self.factor, "solve_last", self.factor.solve)
+        b = np.asarray(b, dtype=float)
+        return np.asarray(solve(np.ascontiguousarray(b[:, 0]) if b.ndim == 2 and
+                                b.shape[1] == 1 else b)).reshape(b.shape)

@@ -313,6 +313,23 @@ class _Pardiso:
         self._call(self.pt, self.iparm, 333, self._perm, y, x, k)
         return x.reshape(b.shape)
 
+    def solve_last(self, b: np.ndarray) -> np.ndarray:
+        """K⁻¹ b for a b that vanishes outside the DOFs ``last`` (B_fᵀ t: contact forces):
+        the block elimination of :meth:`solve` without its forward substitution, which is the
+        identity on such a b (y_i = L⁻¹ 0 = 0, y_c = b_c − K_ci K_ii⁻¹ 0 = b_c): x_c = S⁻¹ b_c
+        and PARDISO's backward substitution (phase 333) only.  The entries of b outside
+        ``last`` are not read."""
+        if self._schur is None or self._full is not None:
+            return self.solve(b)
+        b = np.asarray(b, dtype=float)
+        y = np.zeros((self.n, b.size // self.n), order="F")
+        with one_blas_thread(len(self.last)):
+            y[self.last] = sla.cho_solve(self._schur, b.reshape(self.n, -1)[self.last],
+                                         check_finite=False)
+        x = np.zeros_like(y)
+        self._call(self.pt, self.iparm, 333, self._perm, y, x, y.shape[1])
+        return x.reshape(b.shape)
+
     def can_condense(self, B: sp.spmatrix) -> bool:
         if self.last is None or not len(self.last):
             return False
