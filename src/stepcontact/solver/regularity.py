@@ -207,24 +207,21 @@ def stiffness_and_solve(K0: sp.spmatrix, factor: Factor, rhs: np.ndarray | None,
     the first inverse-iteration step (one multi-right-hand-side solve reads the factor once
     for both: a run's load cases cost no solve call of their own)."""
     n = K0.shape[0]
-    if n == 0:
-        return np.inf, None if rhs is None else np.zeros((0, np.shape(rhs)[1]))
-    diag = np.asarray(K0.diagonal(), dtype=float)
-    p = min(p, n)
-    first = None
-    X = None
     if rhs is not None:
         rhs = np.asarray(rhs, dtype=float).reshape(n, -1)
-        if np.any(diag <= 0):  # (singular: ρ = 0 below; the solutions are not needed)
-            return 0.0, np.zeros_like(rhs)
-        d = _weights(K0, diag)
+    if n == 0:
+        return np.inf, rhs
+    diag = np.asarray(K0.diagonal(), dtype=float)
+    if np.any(diag <= 0):  # (singular: the solutions are not needed)
+        return 0.0, None if rhs is None else np.zeros_like(rhs)
+    d = _weights(K0, diag)
+    p = min(p, n)
+    first = X = None
+    if rhs is not None:
         Y = np.asarray(factor.solve(np.hstack([d[:, None] * _start(n, p), rhs])))
         Y = Y.reshape(n, p + rhs.shape[1])
         first, X = Y[:, :p], Y[:, p:]
-    if np.any(diag <= 0):
-        return 0.0, X
-    out = _ritz(K0, factor.solve, _weights(K0, diag), p, stop_above=regular_above,
-                first=first)
+    out = _ritz(K0, factor.solve, d, p, stop_above=regular_above, first=first)
     return (0.0 if out is None else max(float(out[0][0]), 0.0)), X
 
 
