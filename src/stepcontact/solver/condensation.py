@@ -28,6 +28,7 @@ Friction, gaps, loads and the load program do not enter it, so runs that differ 
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 from dataclasses import dataclass, field
 from typing import Any
@@ -136,7 +137,8 @@ class Condensation:
     Nothing of the contact law, the gaps, the loads or the load program enters it: build it
     once and pass it to every run that shares the matrix
     (``solve_static(model, condensation=c)``); ``fingerprint`` identifies (A, B) so that a
-    condensation is never applied to another model.
+    condensation is never applied to another model (a hash of both, computed when first
+    asked for: a run that builds its own condensation never needs it).
 
     Example
     -------
@@ -149,12 +151,21 @@ class Condensation:
     B: sp.csr_matrix
     factor: Factor
     G: np.ndarray
-    fingerprint: str
     counters: dict[str, float] = field(default_factory=dict)
     #: row weights D of the shifted float32 form (None for float64 G)
     d: np.ndarray | None = None
     #: tangential components per CFE of the contact unknowns (1 in 2D, 2 in 3D)
     n_t: int = 1
+    #: the fingerprint of (A, B) once computed (:attr:`fingerprint`)
+    _fp: str | None = field(default=None, repr=False)
+
+    @property
+    def fingerprint(self) -> str:
+        """A hash of (A, B) (their shapes, sparsity patterns and values), computed once when
+        first asked for: what a reuse of the condensation is checked against."""
+        if self._fp is None:
+            self._fp = _fingerprint(self.A, self.B)
+        return self._fp
 
     @classmethod
     def build(cls, A: sp.spmatrix, B: sp.spmatrix, backend: str = "auto", block: int = 256,
@@ -183,9 +194,10 @@ class Condensation:
         shifted = dtype != np.float64
         if shifted:
             d = np.ones(B.shape[0]) if d is None else np.asarray(d, dtype=float)
-        fingerprint = _fingerprint(A, B)
+        fingerprint = None if columns is None else columns.fingerprint
         with contextlib.ExitStack() as own:
             if columns is None and scheduler is not None and B.shape[0]:
+                fingerprint = _fingerprint(A, B)
                 columns = own.enter_context(ColumnJob(scheduler, A, B, fingerprint, backend,
                                                       dtype, d if shifted else None, block))
             if factor is None:
@@ -196,7 +208,7 @@ class Condensation:
             G, counters = cls._form(A, B, factor, dtype, d, block, columns)
         counters.update({"factorizations": 1, **t0.counters("factor", t1),
                          **t1.counters("condense")})
-        return cls(A, B, factor, G, fingerprint, counters, d if shifted else None)
+        return cls(A, B, factor, G, counters, d if shifted else None, _fp=fingerprint)
 
     @staticmethod
     def _form(A: sp.csc_matrix, B: sp.csr_matrix, factor: Factor, dtype: np.dtype,
@@ -316,8 +328,10 @@ def static_operator(system: System):
     free = np.flatnonzero(~fixed)
     presc = np.flatnonzero(fixed)
     K = system.K.tocsr()
-    Kff = K[free][:, free].tocsr()
-    Kfp = K[free][:, presc].tocsr()
+    Kf = K[free]  # (the rows once, then their columns)
+    Kff = Kf[:, free].tocsr()
+    Kfp = Kf[:, presc].tocsr()
+    del Kf
     Bf = system.B[:, free].tocsr()
     Bp = system.B[:, presc].tocsr()
     d = stabilisation(Kff, Bf)
@@ -345,12 +359,15 @@ def condense(model, backend: str = "auto", precision: str = "auto",
 
     system = model if isinstance(model, System) else assemble(model)
     K0, Bf, d, *_ = static_operator(system)
-    return _condense_operator(system, K0, Bf, d, backend, precision, scheduler)
+    return _condense_operator(system, K0, Bf, d, backend, precision, scheduler)[0]
 
 
 def _condense_operator(system: System, K0, Bf, d, backend: str, precision: str,
-                       scheduler: Any = None) -> Condensation:
-    """:func:`condense` from the pieces of :func:`static_operator` already at hand.  On a
+                       scheduler: Any = None, rhs: np.ndarray | None = None
+                       ) -> tuple[Condensation, np.ndarray | None]:
+    """:func:`condense` from the pieces of :func:`static_operator` already at hand, and
+    K₀⁻¹ ``rhs`` (free DOFs × k, or None), solved in one call with the regularity check's
+    first step (:func:`~stepcontact.solver.regularity.factorize_regular_solving`).  On a
     cluster (``scheduler``) the column blocks are submitted first, so that the workers solve
     while K₀ is factorised (and checked) here."""
     free = np.flatnonzero(~system.fixed)
@@ -362,28 +379,33 @@ def _condense_operator(system: System, K0, Bf, d, backend: str, precision: str,
                 scheduler, sp.csc_matrix(K0), sp.csr_matrix(Bf), _fingerprint(K0, Bf),
                 backend, dtype, None if dtype == np.float64 else np.asarray(d, float)))
         t0 = Stopwatch.start()
-        factor = factorize_checked(system, K0, free, backend, precision,
-                                   schur=columns is None)
+        factor, X = factorize_checked(system, K0, free, backend, precision,
+                                      schur=columns is None, rhs=rhs, Bf=Bf)
         t_factor = t0.counters("factor")
         c = Condensation.build(K0, Bf, backend, factor=factor, precision=precision, d=d,
                                columns=columns)
     c.n_t = system.layout.n_t
     c.counters.update(t_factor)
-    return c
+    return c, X
 
 
 def factorize_checked(system: System, K0, free, backend: str,
-                      precision: str = "auto", schur: bool = True) -> Factor:
+                      precision: str = "auto", schur: bool = True,
+                      rhs: np.ndarray | None = None, Bf=None
+                      ) -> tuple[Factor, np.ndarray | None]:
     """Factorise K₀ and make sure the structure with every CFE stuck is not a mechanism (one
     diagnosis naming the free bodies, whether the factorisation met a zero pivot or not).
     ``schur``: order the contact DOFs last when G is cheaper read off the factors
-    (:func:`schur_pays`); False when G is formed elsewhere (on a cluster)."""
-    from stepcontact.solver.regularity import factorize_regular
+    (:func:`schur_pays`); False when G is formed elsewhere (on a cluster).  Returns the
+    factor and K₀⁻¹ ``rhs`` (free DOFs × k; None without), solved with the check's first
+    step.  ``Bf``: B's free columns, when at hand."""
+    from stepcontact.solver.regularity import factorize_regular_solving
 
     check_dense_memory(system.layout.n, precision=precision)
-    last = contact_dofs(system.B[:, free])
+    last = contact_dofs(system.B[:, free] if Bf is None else Bf)
     schur = schur and schur_pays(len(free), len(last), system.layout.n)
-    return factorize_regular(system, K0, free, backend, last=last if schur else None)
+    return factorize_regular_solving(system, K0, free, rhs, backend,
+                                     last=last if schur else None)
 
 
 def stabilisation(Kff: sp.spmatrix, Bf: sp.spmatrix) -> np.ndarray:
@@ -430,35 +452,41 @@ class Condensed:
         same K₀ and B (checked)."""
         K0, Bf, d, free, presc, Kff, Kfp, Bp, K = static_operator(system)
         del Kff  # K_ff u = K₀ u − B_fᵀ D B_f u: K₀ (held by the condensation) serves
-        if condensation is None:
-            condensation = _condense_operator(system, K0, Bf, d, backend, precision,
-                                              scheduler)
+        # the right-hand sides of the run, solved in one call: every load pattern's
+        # f_f − K_fp u_P, then K_fp S_pᵀ of the reaction resultants (one column each: every
+        # state's reactions then cost a product, see reactions())
+        Sp = system.reaction_rows[:, presc] if system.reaction_rows is not None else None
+        if Sp is not None and not Sp.shape[0]:
+            Sp = None
+        rhs = np.zeros((len(free), len(system.loads) + (0 if Sp is None else Sp.shape[0])))
+        for j, lv in enumerate(system.loads.values()):
+            rhs[:, j] = lv.f[free] - Kfp @ lv.u[presc]
+        if Sp is not None:
+            rhs[:, len(system.loads):] = (Kfp @ Sp.T).toarray()
+        nsolve = rhs.shape[1]
+        if condensation is None:  # (solved with the regularity check's first step)
+            condensation, X = _condense_operator(system, K0, Bf, d, backend, precision,
+                                                 scheduler, rhs=rhs)
             reused = 0
         else:
             if condensation.fingerprint != _fingerprint(K0, Bf):
                 raise ModelError("condensation", "was built for another model: its stiffness or "
                                  "contact operator differ (build it with sc.condense(model))")
             reused = 1
+            X = condensation.factor.solve(rhs) if nsolve else rhs
         factor = condensation.factor
-        nsolve = 0
+        X = np.asarray(X).reshape(len(free), nsolve)
         hhat, e, y = {}, {}, {}
-        for name, lv in system.loads.items():
-            rhs = lv.f[free] - Kfp @ lv.u[presc]
-            y[name] = factor.solve(rhs)
+        for j, (name, lv) in enumerate(system.loads.items()):
+            y[name] = np.ascontiguousarray(X[:, j])
             hhat[name] = Bf @ y[name]
             e[name] = Bp @ lv.u[presc]
-            nsolve += 1
-        # reaction resultants: one solve per resultant, then every state costs a matvec
-        Sp = system.reaction_rows[:, presc] if system.reaction_rows is not None else None
         r_load: dict[str, np.ndarray] = {}
         R_s = R_t = None
-        if Sp is not None and Sp.shape[0]:
-            Kpf = K[presc][:, free].tocsr()
-            Kpp = K[presc][:, presc].tocsr()
-            V = factor.solve((Kfp @ Sp.T).toarray())
-            V = V.reshape(len(free), Sp.shape[0])
-            nsolve += Sp.shape[0]
-            R_t = -(Bf @ V).T
+        if Sp is not None:
+            Kp = K[presc]
+            Kpf, Kpp = Kp[:, free].tocsr(), Kp[:, presc].tocsr()
+            R_t = -(Bf @ X[:, len(system.loads):]).T
             R_s = (Sp @ Bp.T).toarray()
             for name, lv in system.loads.items():
                 up = lv.u[presc]
@@ -553,8 +581,12 @@ class Condensed:
             e += np.outer(self.e[name], c)
         w_hat = W.T - sysm.w0[:, None] - e
         t = S.T - self.d[:, None] * w_hat
-        rhs = rhs - self.Kfp @ up - self.Bf.T @ t
-        x = np.asarray(self.factor.solve(np.ascontiguousarray(rhs[:, 0]) if k == 1 else rhs))
+        if hasattr(self.factor, "solve_last"):  # u_f = Σ_P c_P y_P − K₀⁻¹ B_fᵀ t
+            x = (self._load_solutions @ C.T) - self._solve_contact(self.Bf.T @ t)
+        else:  # one solve of the whole right-hand side
+            rhs = rhs - self.Kfp @ up - self.Bf.T @ t
+            x = np.asarray(self.factor.solve(np.ascontiguousarray(rhs[:, 0]) if k == 1
+                                             else rhs))
         u = np.zeros((k, sysm.ndof))
         u[:, self.free] = x.reshape(len(self.free), k).T
         u[:, self.presc] = up.T
@@ -610,5 +642,21 @@ class Condensed:
     def mode_displacement(self, t: np.ndarray) -> np.ndarray:
         """Displacement of a mechanism mode t of the condensed unknowns."""
         u = np.zeros(self.system.ndof)
-        u[self.free] = -self.factor.solve(self.Bf.T @ t)
+        u[self.free] = -self._solve_contact(self.Bf.T @ t)
         return u
+
+    @functools.cached_property
+    def _load_solutions(self) -> np.ndarray:
+        """The load patterns' y_P = K₀⁻¹ (f_P − K_fp u_P) as columns (free DOFs × patterns),
+        in the order of ``system.loads``."""
+        return np.column_stack([self.y[n] for n in self.system.loads]) if self.y else \
+            np.zeros((len(self.free), 0))
+
+    def _solve_contact(self, b: np.ndarray) -> np.ndarray:
+        """K₀⁻¹ b for b = B_fᵀ t (a vector or a block): a right-hand side on the contact DOFs
+        only, which a factor with those DOFs ordered last solves without its forward sweep
+        (``solve_last``)."""
+        solve = getattr(self.factor, "solve_last", self.factor.solve)
+        b = np.asarray(b, dtype=float)
+        return np.asarray(solve(np.ascontiguousarray(b[:, 0]) if b.ndim == 2 and
+                                b.shape[1] == 1 else b)).reshape(b.shape)

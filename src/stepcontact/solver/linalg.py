@@ -68,12 +68,17 @@ class _SuperLU:
     stats: dict[str, float] = field(default_factory=dict)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
+        """K⁻¹ b for a vector or a block (n, k); a block of up to :data:`FEW_RHS` columns
+        with BLAS held to one thread (see there)."""
         b = np.asarray(b, dtype=float)
-        if self.perm is None:
-            return self.lu.solve(b)
-        x = np.empty_like(b)
-        x[self.perm] = self.lu.solve(b[self.perm])
-        return x
+        few = b.ndim == 2 and 1 < b.shape[1] <= FEW_RHS
+        with _blas_threads().limit(limits=1, user_api="blas") if few \
+                else contextlib.nullcontext():
+            if self.perm is None:
+                return self.lu.solve(b)
+            x = np.empty_like(b)
+            x[self.perm] = self.lu.solve(b[self.perm])
+            return x
 
     def can_condense(self, B: sp.spmatrix) -> bool:
         """Whether B touches only the DOFs ordered last (and SuperLU did not pivot there)."""
@@ -99,6 +104,12 @@ class _SuperLU:
             Z = sla.solve_triangular(Ucc, Y, lower=False, check_finite=False)
             return Bc @ Z
 
+
+#: SuperLU solves a block of up to this many right-hand sides with BLAS held to one thread:
+#: its supernodal triangular solves are memory-bound, and a second BLAS thread only costs
+#: synchronisation (measured at 327k DOFs on 2 busy cores: 8 columns in one call 0.54–0.59 s
+#: CPU on one thread, 1.45–1.63 s with two; 8 single-column solves 0.82–1.0 s)
+FEW_RHS = 32
 
 #: dense factorisations (and their block solves) of up to this many unknowns run with BLAS
 #: held to one thread: a Cholesky factorisation of 2000 takes about 0.1 s on one core, and on
@@ -302,6 +313,23 @@ class _Pardiso:
         self._call(self.pt, self.iparm, 333, self._perm, y, x, k)
         return x.reshape(b.shape)
 
+    def solve_last(self, b: np.ndarray) -> np.ndarray:
+        """K⁻¹ b for a b that vanishes outside the DOFs ``last`` (B_fᵀ t: contact forces):
+        the block elimination of :meth:`solve` without its forward substitution, which is the
+        identity on such a b (y_i = L⁻¹ 0 = 0, y_c = b_c − K_ci K_ii⁻¹ 0 = b_c): x_c = S⁻¹ b_c
+        and PARDISO's backward substitution (phase 333) only.  The entries of b outside
+        ``last`` are not read."""
+        if self._schur is None or self._full is not None:
+            return self.solve(b)
+        b = np.asarray(b, dtype=float)
+        y = np.zeros((self.n, b.size // self.n), order="F")
+        with one_blas_thread(len(self.last)):
+            y[self.last] = sla.cho_solve(self._schur, b.reshape(self.n, -1)[self.last],
+                                         check_finite=False)
+        x = np.zeros_like(y)
+        self._call(self.pt, self.iparm, 333, self._perm, y, x, y.shape[1])
+        return x.reshape(b.shape)
+
     def can_condense(self, B: sp.spmatrix) -> bool:
         if self.last is None or not len(self.last):
             return False
@@ -370,6 +398,16 @@ def _mkl_rt_search() -> list[str]:
     return sorted(hits, key=len)
 
 
+#: how long (ms) MKL's OpenMP threads spin-wait after a PARDISO call before they sleep
+#: (``KMP_BLOCKTIME``; Intel's default is 200 ms), unless the environment sets it.  A run calls
+#: PARDISO a few times between long stretches of single-threaded work (the regularity check,
+#: the event loop): with the default the idle threads spin through them and charge up to
+#: 200 ms of CPU per call, a core taken from the other processes of a busy machine (measured
+#: at 82k DOFs: a 0.5 s pause after a solve cost 0.16–0.20 s of CPU with the default, none
+#: with 0, and the factorisation was no slower).  Wake-up after a sleep costs microseconds.
+MKL_BLOCKTIME = "0"
+
+
 @functools.cache
 def _mkl_pardiso():
     """MKL's ``pardiso`` entry point (a ctypes function with pypardiso's argument types),
@@ -385,6 +423,9 @@ def _mkl_pardiso():
             return None
     except (ImportError, ValueError):
         return None
+    # MKL's OpenMP threads sleep as soon as a call is done (unless the user set the wait):
+    # read by the OpenMP runtime when MKL starts it, so set before the library loads
+    os.environ.setdefault("KMP_BLOCKTIME", MKL_BLOCKTIME)
     searches = [_mkl_rt_candidates]
     if os.environ.get("PYPARDISO_MKL_RT") is None:
         searches.append(_mkl_rt_search)

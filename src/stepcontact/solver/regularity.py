@@ -110,6 +110,15 @@ def factorize_regular(system: System, K0: sp.spmatrix, free: np.ndarray,
     stuck: body 'block' can move freely (translation along x); add supports, springs or
     contact interfaces``.  ``last``: DOFs to order last (see :func:`linalg.factorize`).
     """
+    return factorize_regular_solving(system, K0, free, None, backend, last)[0]
+
+
+def factorize_regular_solving(system: System, K0: sp.spmatrix, free: np.ndarray,
+                              rhs: np.ndarray | None, backend: str = "auto",
+                              last: np.ndarray | None = None
+                              ) -> tuple[Factor, np.ndarray | None]:
+    """:func:`factorize_regular`, and K₀⁻¹ ``rhs`` (n × k, or None) solved in the same call
+    as the check's first step (:func:`stiffness_and_solve`)."""
     K0 = sp.csc_matrix(K0)
     try:
         factor = factorize(K0, backend, last=last, groups=system.dofs.node_of()[free])
@@ -117,9 +126,10 @@ def factorize_regular(system: System, K0: sp.spmatrix, free: np.ndarray,
         if backend not in _KNOWN_BACKENDS:  # "unknown backend" is not a singular matrix
             raise
         raise mechanism_error(system, K0, free, backend) from None
-    if K0.shape[0] and relative_stiffness(K0, factor, regular_above=RHO_REGULAR) < RHO_SINGULAR:
+    rho, X = stiffness_and_solve(K0, factor, rhs, regular_above=RHO_REGULAR)
+    if rho < RHO_SINGULAR:
         raise mechanism_error(system, K0, free, backend)
-    return factor
+    return factor, X
 
 
 def _singular_errors() -> tuple[type[BaseException], ...]:
@@ -133,27 +143,37 @@ def _singular_errors() -> tuple[type[BaseException], ...]:
     return (SolverError, CholmodNotPositiveDefiniteError)
 
 
-def _weights(K0: sp.spmatrix) -> np.ndarray:
-    """diag(K₀), with DOFs of no stiffness at all weighted like an average DOF."""
-    d = np.asarray(K0.diagonal(), dtype=float)
+def _weights(K0: sp.spmatrix, diag: np.ndarray | None = None) -> np.ndarray:
+    """diag(K₀) (``diag``, when already at hand), with DOFs of no stiffness at all weighted
+    like an average DOF."""
+    d = np.asarray(K0.diagonal() if diag is None else diag, dtype=float)
     pos = d > 0
     fallback = float(np.mean(d[pos])) if pos.any() else 1.0
     return np.where(pos, d, fallback)
 
 
+def _start(n: int, p: int) -> np.ndarray:
+    """The (fixed, random) start block of the inverse iteration, n × p."""
+    return np.random.default_rng(0).standard_normal((n, p))
+
+
 def _ritz(K0: sp.spmatrix, solve, d: np.ndarray, p: int, iterations: int = 4,
-          stop_above: float = np.inf):
-    """Block inverse iteration X ← solve(D X) on the pencil (K₀, D), then Rayleigh–Ritz with
-    K₀: Ritz values ρ (ascending) and D-orthonormal Ritz vectors (columns).  None if the
-    solves stop being finite.  With ``stop_above`` finite, the Ritz values are also formed
-    after the second and later steps, and the iteration stops there once the smallest one is
-    at least ``stop_above`` (see :data:`RHO_REGULAR`)."""
+          stop_above: float = np.inf, first: np.ndarray | None = None):
+    """Block inverse iteration X ← solve(D X) on the pencil (K₀, D) from X = :func:`_start`,
+    then Rayleigh–Ritz with K₀: Ritz values ρ (ascending) and D-orthonormal Ritz vectors
+    (columns).  None if the solves stop being finite.  With ``stop_above`` finite, the Ritz
+    values are also formed after the second and later steps, and the iteration stops there
+    once the smallest one is at least ``stop_above`` (see :data:`RHO_REGULAR`).  ``first``:
+    the first step's solve(D X), made by the caller (solved with other right-hand sides)."""
     n = K0.shape[0]
     s = np.sqrt(d)
-    X = np.random.default_rng(0).standard_normal((n, p))
     with np.errstate(all="ignore"):
         for step in range(1, iterations + 1):
-            X = np.asarray(solve(d[:, None] * X)).reshape(n, p)
+            if step == 1 and first is not None:
+                X = np.asarray(first).reshape(n, p)
+            else:
+                X = np.asarray(solve(d[:, None] * (_start(n, p) if step == 1 else X)))
+                X = X.reshape(n, p)
             if not np.all(np.isfinite(X)):
                 return None
             X = np.linalg.qr(s[:, None] * X)[0] / s[:, None]  # XᵀDX = I
@@ -177,14 +197,32 @@ def relative_stiffness(K0: sp.spmatrix, factor: Factor, p: int = 2,
     DOF of no stiffness or the solves overflow.  K₀ is singular when ρ < :data:`RHO_SINGULAR`.
     ``regular_above`` (e.g. :data:`RHO_REGULAR`): stop after two steps when the estimate is
     already at least this — then a less sharp upper bound, only good for the decision."""
-    K0 = sp.csr_matrix(K0)
+    return stiffness_and_solve(K0, factor, None, p, regular_above)[0]
+
+
+def stiffness_and_solve(K0: sp.spmatrix, factor: Factor, rhs: np.ndarray | None,
+                        p: int = 2, regular_above: float = np.inf
+                        ) -> tuple[float, np.ndarray | None]:
+    """:func:`relative_stiffness` ρ, and K₀⁻¹ ``rhs`` (n × k; None: none) solved together with
+    the first inverse-iteration step (one multi-right-hand-side solve reads the factor once
+    for both: a run's load cases cost no solve call of their own)."""
     n = K0.shape[0]
+    if rhs is not None:
+        rhs = np.asarray(rhs, dtype=float).reshape(n, -1)
     if n == 0:
-        return np.inf
-    if np.any(K0.diagonal() <= 0):
-        return 0.0
-    out = _ritz(K0, factor.solve, _weights(K0), min(p, n), stop_above=regular_above)
-    return 0.0 if out is None else max(float(out[0][0]), 0.0)
+        return np.inf, rhs
+    diag = np.asarray(K0.diagonal(), dtype=float)
+    if np.any(diag <= 0):  # (singular: the solutions are not needed)
+        return 0.0, None if rhs is None else np.zeros_like(rhs)
+    d = _weights(K0, diag)
+    p = min(p, n)
+    first = X = None
+    if rhs is not None:
+        Y = np.asarray(factor.solve(np.hstack([d[:, None] * _start(n, p), rhs])))
+        Y = Y.reshape(n, p + rhs.shape[1])
+        first, X = Y[:, :p], Y[:, p:]
+    out = _ritz(K0, factor.solve, d, p, stop_above=regular_above, first=first)
+    return (0.0 if out is None else max(float(out[0][0]), 0.0)), X
 
 
 def null_modes(K0: sp.spmatrix, backend: str = "auto", p: int = 6) -> np.ndarray:
@@ -334,4 +372,5 @@ def mechanism_error(system: System, K0: sp.spmatrix, free: np.ndarray,
 
 
 __all__ = ["RHO_REGULAR", "RHO_SINGULAR", "describe_free_bodies", "factorize_regular",
-           "mechanism_error", "null_modes", "relative_stiffness"]
+           "factorize_regular_solving", "mechanism_error", "null_modes", "relative_stiffness",
+           "stiffness_and_solve"]
