@@ -15,13 +15,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from stepcontact.enums import FACET_SLIP, ContactState
 from stepcontact.post.common import (
     DPI,
-    FACETED_SLIP_COLOR,
-    FACETED_SLIP_LABEL,
-    STATE_COLORS,
     _at_text,
+    _state_handles,
     _state_index,
     _stress_scale,
     figure_path,
@@ -57,7 +54,6 @@ def plot_interface_map(res: StaticResult, interface: str, states: Sequence[int] 
     states: the largest 0.8 of the CFEs' spacing) and the CFE states.
 
     Returns the figure; with ``path`` (.png, .pdf, .svg) it is also written (atomically)."""
-    from matplotlib.lines import Line2D
     from matplotlib.tri import Triangulation
 
     if getattr(res, "n_t", 1) < 2:
@@ -102,12 +98,7 @@ def plot_interface_map(res: StaticResult, interface: str, states: Sequence[int] 
             ax.set_ylabel("e₂, m")
             ax.set_title(f"{what} — state {i}: {_at_text(res, seg, lam, short=True)}",
                          fontsize=9)
-    present = set(np.unique(states_now).tolist())
-    handles = [Line2D([], [], ls="", marker="o", color=STATE_COLORS[cs], markeredgecolor="0.3",
-                      label=cs.label) for cs in ContactState if int(cs) in present]
-    if any(c >= FACET_SLIP for c in present):
-        handles.append(Line2D([], [], ls="", marker="o", color=FACETED_SLIP_COLOR,
-                              markeredgecolor="0.3", label=FACETED_SLIP_LABEL))
+    handles = _state_handles(states_now.ravel(), bars=True)  # every state drawn
     fig.legend(handles=handles, loc="outside lower center", ncols=max(len(handles), 1),
                fontsize=8, frameon=False)
     fig.suptitle(f"interface '{interface}' in its plane (e₁ = t₁, e₂ = n × t₁)", fontsize=10)
