@@ -92,7 +92,7 @@ L = 22.0  # slab side, m
 H_FOUNDATION = 20.0  # foundation depth, m
 FRICTION = 0.7
 PUSH = 1.0e5  # the push segment's end, Pa on the upstream face
-UPLIFT = 1.0e6  # the uplift segment's end (never reached: the slab slides first), Pa
+UPLIFT = 4.0e4  # the uplift segment's end, Pa at the corner (0, 0)
 
 
 def slab3d_model(s: int, cfe: str = "auto", facets: int = 8) -> sc.Model:
