@@ -57,7 +57,6 @@ if os.path.dirname(os.path.abspath(__file__)) not in sys.path:  # also when run 
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 if os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests") not in sys.path:
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
-import faceted_reference as fr  # noqa: E402  (tests/faceted_reference.py: the polygon limit)
 from _timing import Times, median  # noqa: E402  (benchmarks/_timing.py)
 from vs_opensees import (  # noqa: E402  (the 2D benchmark's OpenSees set-up)
     add_opensees_options,
@@ -65,6 +64,8 @@ from vs_opensees import (  # noqa: E402  (the 2D benchmark's OpenSees set-up)
     load_opensees,
     quiet_stderr,
 )
+
+import faceted_reference as fr  # noqa: E402  (tests/faceted_reference.py: the polygon limit)
 
 E, NU, RHO, G = 30e9, 0.2, 2400.0, 9.81  # Pa, -, kg/m³, m/s²
 FRICTION = 0.5
