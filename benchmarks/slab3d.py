@@ -145,12 +145,40 @@ def _phase(counters: dict, name: str) -> dict:
                  counters[f"{name}_thread_seconds"]).as_dict()
 
 
+class Progress:
+    """Solver hook: a line on stderr every ``every`` s of process CPU time in the event loop
+    (event points, events, λ, open and slipping CPU counts, CPU and wall time since the loop
+    started), so that a long run shows where its time goes before it ends."""
+
+    def __init__(self, every: float = 30.0) -> None:
+        self.every = every
+        self.start: Times | None = None
+        self.next = every
+
+    def before_run(self, segments) -> None:
+        self.start = Times.now()
+        print(f"[progress] setup done, event loop starts ({len(segments)} segments)",
+              file=sys.stderr, flush=True)
+
+    def after_event(self, info) -> None:
+        t = Times.now() - self.start
+        if t.process >= self.next:
+            self.next = t.process + self.every
+            print(f"[progress] loop {t}: event point {info.step}, {info.n_events} events, "
+                  f"segment {info.segment} ({info.pattern}) λ = {info.lam:.6g}, "
+                  f"{info.n_open} open, {info.n_slip} slipping; "
+                  f"{1e3 * t.process / max(info.step, 1):.1f} ms process CPU per event point",
+                  file=sys.stderr, flush=True)
+
+
 def child_run(s: int, backend: str, cfe: str, facets: int) -> dict:
     """In a fresh process: the run's times (its own counters) and its peak memory above the
     level after assembly."""
     system, t_asm = _assembled(s, backend, cfe, facets)
+    print(f"[progress] s={s}: assembled {system.ndof} DOFs, {system.m} CFEs in {t_asm}",
+          file=sys.stderr, flush=True)
     with Timer() as t, PeakMemory() as mem:
-        res = sc.solve_static(system, backend=backend)
+        res = sc.solve_static(system, backend=backend, hooks=[Progress()])
     c = res.counters
     transitions: dict[str, int] = {}
     for e in res.events:
