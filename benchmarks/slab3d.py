@@ -95,8 +95,10 @@ PUSH = 1.0e5  # the push segment's end, Pa on the upstream face
 UPLIFT = 4.0e4  # the uplift segment's end, Pa at the corner (0, 0)
 
 
-def slab3d_model(s: int, cfe: str = "auto", facets: int = 8) -> sc.Model:
-    """The slab on its foundation block at size factor ``s`` (see the module docstring)."""
+def slab3d_model(s: int, cfe: str = "auto", facets: int = 8,
+                 uplift: float = UPLIFT) -> sc.Model:
+    """The slab on its foundation block at size factor ``s`` (see the module docstring);
+    ``uplift``: the uplift segment's end, Pa at the corner."""
     concrete = sc.Material(E=30e9, nu=0.2, density=2400)
     rock = sc.Material(E=5e9, nu=0.25, density=2200)
     n = 11 * s  # cells along each side of the joint
@@ -126,13 +128,13 @@ def slab3d_model(s: int, cfe: str = "auto", facets: int = 8) -> sc.Model:
                                               (1 - x / L) * (1 - 0.5 * y / L))]),
         sc.Segment("weight", 1.0),
         sc.Segment("push", PUSH),
-        sc.Segment("uplift", UPLIFT),
+        sc.Segment("uplift", uplift),
     )
 
 
-def _assembled(s: int, backend: str, cfe: str, facets: int):
+def _assembled(s: int, backend: str, cfe: str, facets: int, uplift: float = UPLIFT):
     with Timer() as t:
-        system = assemble(slab3d_model(s, cfe, facets))
+        system = assemble(slab3d_model(s, cfe, facets, uplift))
     _warm_up(backend)
     _settle()
     return system, t.times
@@ -171,10 +173,10 @@ class Progress:
                   file=sys.stderr, flush=True)
 
 
-def child_run(s: int, backend: str, cfe: str, facets: int) -> dict:
+def child_run(s: int, backend: str, cfe: str, facets: int, uplift: float = UPLIFT) -> dict:
     """In a fresh process: the run's times (its own counters) and its peak memory above the
     level after assembly."""
-    system, t_asm = _assembled(s, backend, cfe, facets)
+    system, t_asm = _assembled(s, backend, cfe, facets, uplift)
     print(f"[progress] s={s}: assembled {system.ndof} DOFs, {system.m} CFEs in {t_asm}",
           file=sys.stderr, flush=True)
     with Timer() as t, PeakMemory() as mem:
@@ -205,17 +207,18 @@ def dense_n(system) -> int:
     return static_operator(system)[1].shape[0]
 
 
-def child_factor(s: int, backend: str, cfe: str, facets: int) -> dict:
+def child_factor(s: int, backend: str, cfe: str, facets: int, uplift: float = UPLIFT) -> dict:
     """In a fresh process: one factorisation of K₀ as the run does it (peak memory above the
     level before it, T_F) and G formed from it (T_G)."""
-    system = _assembled(s, backend, cfe, facets)[0]
+    system = _assembled(s, backend, cfe, facets, uplift)[0]
     out, _c = factor_and_condense(system, backend)
     return out
 
 
 def _in_child(which: str, s: int, args) -> dict:
     cmd = [sys.executable, os.path.abspath(__file__), "--child", which, "--sizes", str(s),
-           "--backend", args.backend, "--cfe", args.cfe, "--facets", str(args.facets)]
+           "--backend", args.backend, "--cfe", args.cfe, "--facets", str(args.facets),
+           "--uplift", repr(args.uplift)]
     out = subprocess.run(cmd, stdout=subprocess.PIPE, text=True, check=False)
     lines = [ln for ln in out.stdout.splitlines() if ln.startswith(_MARK)]
     if out.returncode != 0 or not lines:
@@ -244,11 +247,12 @@ def precision_thresholds() -> dict:
     return out
 
 
-def float32_check(s: int, backend: str, cfe: str, facets: int) -> dict:
+def float32_check(s: int, backend: str, cfe: str, facets: int,
+                  uplift: float = UPLIFT) -> dict:
     """At size ``s``: the condensation built with a memory limit just below the float64 need
     of its 3m unknowns chooses float32 (``precision="auto"``), and a float32 run gives the
     float64 run's events (the same CFEs and transitions; λ's largest relative difference)."""
-    system = assemble(slab3d_model(s, cfe, facets))
+    system = assemble(slab3d_model(s, cfe, facets, uplift))
     K0, Bf = static_operator(system)[:2]
     n = Bf.shape[0]
     need64 = sum(dense_memory(n)[k] for k in ("G", "schemes"))
@@ -327,6 +331,9 @@ def main() -> None:
     ap.add_argument("--backend", default="auto", help="sparse backend (default: auto)")
     ap.add_argument("--cfe", default="auto", help="the interface's cfe (default: auto)")
     ap.add_argument("--facets", type=int, default=8, help="facets of the cone (default 8)")
+    ap.add_argument("--uplift", type=float, default=UPLIFT,
+                    help=f"the uplift segment's end, Pa at the corner (default {UPLIFT:g}; "
+                         f"1e6: on to the slab's mechanism)")
     ap.add_argument("--float32-check", action="store_true",
                     help="show the automatic float32 switch in 3D at the smallest size")
     ap.add_argument("--child", choices=("run", "factor"), help=argparse.SUPPRESS)
@@ -334,7 +341,7 @@ def main() -> None:
     if args.child:
         s = args.sizes[0]
         fn = child_run if args.child == "run" else child_factor
-        out = fn(s, args.backend, args.cfe, args.facets)
+        out = fn(s, args.backend, args.cfe, args.facets, args.uplift)
         print(_MARK + json.dumps(out, default=float), flush=True)
         return
     print(f"load average at start: {os.getloadavg()}", flush=True)
@@ -346,7 +353,7 @@ def main() -> None:
           f"m = {th['float64']} and {th['auto_at_m64+1']} at m = {th['float64'] + 1}",
           flush=True)
     if args.float32_check:
-        c = float32_check(min(args.sizes), args.backend, args.cfe, args.facets)
+        c = float32_check(min(args.sizes), args.backend, args.cfe, args.facets, args.uplift)
         print(f"float32 check at s={c['s']} (n = {c['n']}, float64 dense work "
               f"{c['need64_MB']:.1f} MB): memory limit 1 B below it -> G in {c['dtype_below']}"
               f", at it -> {c['dtype_at']}; runs in float{c['bits64']} / float{c['bits32']}: "
