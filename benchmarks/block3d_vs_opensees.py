@@ -311,8 +311,10 @@ def main() -> None:
                 print(f"r={c['r']} {el}: no converged push, no ratio")
                 continue
             so = o["time"]
+            short = (f" (its run stopped at {o['limit'] / H_EXACT:.0%} of f·W: not the same "
+                     f"work)" if o["limit"] < 0.95 * H_EXACT else "")
             print(f"r={c['r']} {el}: {so.process / ss.process:.2f} "
-                  f"[{so.thread / ss.thread:.2f}; {so.wall / ss.wall:.2f}]")
+                  f"[{so.thread / ss.thread:.2f}; {so.wall / ss.wall:.2f}]{short}")
 
 
 if __name__ == "__main__":
