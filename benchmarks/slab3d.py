@@ -53,6 +53,10 @@ condensation built with a memory limit just below the float64 need holds G in fl
 run in float32 gives the same events as the float64 run (λ compared, largest relative
 difference printed).
 
+Measured (docs/performance.md, "3D"): s = 1 and 2 complete (T_total/(T_F + T_G) = 13.2 and
+22.7 from process CPU, M_run/M_F = 1.40 and 1.36); s = 4 does not finish in 15 minutes: the
+event loop refactorises the dense 3m × 3m scheme matrix at about every second event point.
+
 Run:  python benchmarks/slab3d.py [--sizes 1 2] [--float32-check]
       python benchmarks/slab3d.py --sizes 4          # the ≥ 2 000-point, ≥ 300 000-DOF run
 """
