@@ -82,3 +82,16 @@ def test_unknown_interface_is_a_key_error_naming_the_known():
     res = sc.solve_static(pushed_block(0.0))
     with pytest.raises(KeyError, match="'joint'"):
         res.interface_safety("base")
+
+
+def test_cone_ratio_is_nan_on_open_cfes():
+    """Pushed across until it tips, the block's open CFEs carry round-off forces: their
+    true-cone ratio |Q|/(f|N|) is NaN (not a ratio of two round-off numbers); a closed
+    slipping CFE's lies in [cos(π/k), 1] (1e-12)."""
+    res = sc.solve_static(pushed_block(math.pi / 2))
+    ratio = np.asarray(res.cone_ratio)
+    state = np.asarray(res.state)
+    is_open = state == int(sc.ContactState.OPEN)
+    assert is_open[-1].any() and np.all(np.isnan(ratio[is_open]))
+    closed = ~is_open & np.isfinite(ratio)
+    assert np.all(ratio[closed] <= 1 + 1e-12)

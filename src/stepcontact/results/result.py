@@ -293,9 +293,11 @@ class StaticResult:
         """The true-cone ratio |Q| / (f |N|) of every CFE at every state, (n_states, m): 1 on
         the Coulomb cone; a faceted cone's polygon (3D, k facets) reaches it at its vertices
         and cos(π/k) in its facets' middles, so a slipping CFE's ratio lies in
-        [cos(π/k), 1].  NaN where f |N| = 0 (open, or frictionless)."""
+        [cos(π/k), 1].  NaN where f |N| = 0 (frictionless) and where the CFE is open (its
+        forces are round-off there)."""
         f = np.asarray(self.cfe.get("friction", np.full(self.Q_t.shape[1], np.nan)), float)
         fN = f[None, :] * np.abs(np.asarray(self.N))
+        fN = np.where(np.asarray(self.state) == int(ContactState.OPEN), 0.0, fN)
         q = np.linalg.norm(self.Q_t, axis=2)
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(fN > 0, q / np.where(fN > 0, fN, 1.0), np.nan)
