@@ -1,23 +1,35 @@
 """Water in the opened parts of joints (:class:`~stepcontact.model.CrackWater`), as data for
-the solver.
+the solver, in 2D and 3D alike.
 
-Where a CFE k of a joint with crack water is open (and, with an entry point, joined to it by
-open CFEs), the water pushes the two faces apart with the force
+Where a CFE k of a joint with crack water is open (and, with an entry, joined to it by open
+CFEs), the water pushes the two faces apart with the force
 
     W_k = A_k (p_c,k − p_u,k)                                              (N)
 
-p_c the crack pressure γ_w max(h_w − y_k, 0) (or a given pressure, uniform in the crack: the
-pressure that reaches the gap through the joint) and p_u the uplift the model applies to that joint
-(:class:`~stepcontact.model.Uplift`, which acts whether the joint is open or not: in the
-crack, p_c replaces it).  W_k acts through the CFE's own force distribution, exactly like a
-compressive normal force across the gap: in the condensed equations it is a force
-s_w = [0; W] added to the contact forces, ŵ + G (s + s_w − D ŵ) = Σ c ĥ (its load on the
-structure is −Bᵀ s_w).  W is linear in the load factors (piecewise linear in a water level:
-it starts where the level passes the CFE), so between events it moves the path like any load;
-at an event that changes which CFEs are wet it jumps, and the static driver applies the jump
-at the same λ (:meth:`stepcontact.solver.static.StaticSolver._water_jump`); the dynamic
-driver cuts the step where the wet set changes and applies the jump at that instant
-(``settle_water`` in :meth:`stepcontact.solver.dynamic._DynamicRun.settle_water`).
+p_c the crack pressure γ_w max(h_w − y_k, 0) (y_k the CFE's height: y in 2D, z in 3D; or a
+given pressure, uniform in the crack: the pressure that reaches the gap through the joint) and
+p_u the uplift the model applies to that joint (:class:`~stepcontact.model.Uplift`, which acts
+whether the joint is open or not: in the crack, p_c replaces it).  W_k acts through the CFE's
+own force distribution along its normal n_k, exactly like a compressive normal force across the
+gap: in the condensed equations it is a force s_w = [0; W] added to the contact forces,
+ŵ + G (s + s_w − D ŵ) = Σ c ĥ (its load on the structure is −Bᵀ s_w).  W is linear in the load
+factors (piecewise linear in a water level: it starts where the level passes the CFE), so
+between events it moves the path like any load; at an event that changes which CFEs are wet it
+jumps, and the static driver applies the jump at the same λ
+(:meth:`stepcontact.solver.static.StaticSolver._water_jump`); the dynamic driver cuts the step
+where the wet set changes and applies the jump at that instant (``settle_water`` in
+:meth:`stepcontact.solver.dynamic._DynamicRun.settle_water`).
+
+**Connected to the reservoir.**  A joint with an entry is a graph: its CFEs are the vertices,
+and two CFEs are neighbours when they follow each other along the joint (2D: consecutive in the
+order along S+) or when their nodes belong to one facet of the face that carries the CFEs (3D:
+S+ for node-to-node, node-to-facet, rigid-plane and mortar CFEs on S+; S− for mortar CFEs on
+S−'s nodes).  The entry CFEs are the CFE nearest each entry point (2D) or the row of CFEs along
+each entry polyline (3D: those within half the shortest neighbour spacing of the nearest one's
+distance).  The wet CFEs are the open CFEs of the components of the graph of open CFEs (the
+edges between two open neighbours) that hold an open entry CFE: the water reaches a CFE through
+open CFEs only.  In 2D this is the run of open CFEs from the heel; in 3D, the region of open
+CFEs joined to the upstream edge.
 """
 
 from __future__ import annotations
@@ -25,6 +37,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 
 from stepcontact.contact.laws import OPEN
 from stepcontact.errors import ModelError
@@ -51,10 +65,13 @@ class CrackWaterData:
     area : (m,) float
         A_k, m².
     y : (m,) float
-        Height of each CFE, m (where a moving level starts to load it).
-    runs : list of ((k,) int, (e,) int)
-        For each joint with entry points: its CFEs in order along the joint and the positions
-        in that order of the CFEs nearest the entries.
+        Height of each CFE, m (y in 2D, z in 3D: where a moving level starts to load it).
+    links : (2, e) int
+        Pairs of neighbouring CFEs of the joints with entries (see the module's docstring).
+    entry : (m,) bool
+        The entry CFEs of those joints.
+    gated : (m,) bool
+        CFEs of joints with entries (wet only when joined to an entry by open CFEs).
     """
 
     wettable: np.ndarray
@@ -63,18 +80,23 @@ class CrackWaterData:
     level: dict[str, np.ndarray]
     area: np.ndarray
     y: np.ndarray
-    runs: list[tuple[np.ndarray, np.ndarray]]
+    links: np.ndarray
+    entry: np.ndarray
+    gated: np.ndarray
 
     def wet(self, states: np.ndarray) -> np.ndarray:
         """CFEs the water fills in the scheme ``states``: open, of a joint with crack water and
-        (joints with entry points) joined to an entry by open CFEs."""
-        wet = self.wettable & (states == OPEN)
-        for order, at in self.runs:
-            op = wet[order]
-            label = np.cumsum(~op)  # runs of open CFEs share a label
-            reached = label[at][op[at]]  # the runs that an open entry CFE belongs to
-            wet[order] = op & np.isin(label, reached)
-        return wet
+        (joints with entries) joined to an entry CFE by open CFEs (the module's rule)."""
+        op = self.wettable & (states == OPEN)
+        if not self.gated.any():
+            return op
+        i, j = self.links
+        both = op[i] & op[j]
+        m = len(op)
+        graph = sp.coo_matrix((np.ones(int(both.sum())), (i[both], j[both])), shape=(m, m))
+        _, label = connected_components(graph, directed=False)
+        reached = label[self.entry & op]
+        return op & (~self.gated | np.isin(label, reached))
 
     def uplift_pressure(self, factors: dict[str, float]) -> np.ndarray:
         """p_u (m,), Pa, at the pattern factors ``factors``."""
@@ -131,6 +153,81 @@ class CrackWaterData:
         return np.unique(self.y[self.level[pattern] != 0])
 
 
+def _chain_links(order: np.ndarray) -> np.ndarray:
+    """(2, k − 1) neighbours of a 2D joint: consecutive CFEs of ``order`` (along S+)."""
+    return np.vstack([order[:-1], order[1:]])
+
+
+def _carrier(model, cfe, itf, ks: np.ndarray) -> tuple[np.ndarray, object]:
+    """The global nodes (k,) that carry the CFEs ``ks`` of 3D interface ``itf`` and the node
+    set of their face: S+ when every CFE's S+ end is one node of its own (weight 1), else S−
+    (mortar CFEs on S−'s nodes)."""
+    pn, pw = cfe.plus_nodes[ks], cfe.plus_w[ks]
+    single = (np.all(pn[:, 1:] < 0) and np.allclose(pw[:, 0], 1.0, rtol=0, atol=1e-12)
+              and len(np.unique(pn[:, 0])) == len(ks))
+    if single:
+        return pn[:, 0], itf.plus
+    return cfe.minus_nodes[ks, 0], itf.minus
+
+
+def _facet_links(model, cfe, itf, ks: np.ndarray) -> np.ndarray:
+    """(2, e) neighbours of a 3D joint: CFEs whose nodes belong to one facet of the face that
+    carries them (:func:`_carrier`)."""
+    from stepcontact.contact.interface3d import face_surface
+
+    nodes, side = _carrier(model, cfe, itf, ks)
+    body = model.body(side.body)
+    surf = face_surface(body, side, f"interface '{itf.name}'")
+    off = model.node_offsets[body.name]
+    lookup = np.full(off + body.n_nodes, -1, dtype=np.int64)
+    lookup[nodes] = ks
+    f = lookup[surf.facets + off]  # (F, n): the CFE at each facet node, or −1
+    a, b = np.triu_indices(f.shape[1], 1)
+    i, j = f[:, a].ravel(), f[:, b].ravel()
+    keep = (i >= 0) & (j >= 0) & (i != j)
+    pairs = np.sort(np.vstack([i[keep], j[keep]]), axis=0)
+    return np.unique(pairs, axis=1) if pairs.size else np.zeros((2, 0), np.int64)
+
+
+def _segment_distance(x: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """Distance (k,) of the points ``x`` (k, 3) from the polyline ``line`` (n, 3), m."""
+    if len(line) == 1:
+        return np.linalg.norm(x - line[0], axis=1)
+    a, b = line[:-1], line[1:]
+    ab = b - a
+    den = np.einsum("ij,ij->i", ab, ab)
+    t = np.einsum("kij,ij->ki", x[:, None, :] - a[None], ab) / np.where(den > 0, den, 1.0)
+    t = np.clip(t, 0.0, 1.0)
+    closest = a[None] + t[..., None] * ab[None]
+    return np.linalg.norm(x[:, None, :] - closest, axis=2).min(axis=1)
+
+
+def _entry_rows(cw: CrackWater, x: np.ndarray, links: np.ndarray, local: np.ndarray,
+                item: str) -> np.ndarray:
+    """Positions (in ``x``, the joint's CFE points (k, 3)) of the CFEs along each entry
+    polyline of 3D crack water: within half the shortest neighbour spacing of the nearest
+    CFE's distance; a polyline farther than the longest spacing from every CFE is refused."""
+    if cw.entry_dim != 3:
+        raise ModelError(item, f"is a 2D point {cw.entry!r}, but the joint is 3D: give the "
+                         "edge where water reaches it, a polyline of points (x, y, z) (the "
+                         "heel edge), or a point (x, y, z)")
+    spacing = np.linalg.norm(x[local[links[0]]] - x[local[links[1]]], axis=1)
+    extent = float(np.ptp(x, axis=0).max()) if len(x) > 1 else 0.0
+    near = max(float(spacing.min()) / 2 if spacing.size else 0.0, 1e-9 * max(extent, 1.0))
+    far = max(float(spacing.max()) if spacing.size else 0.0, 1e-9 * max(extent, 1.0))
+    out = []
+    for line in cw.entry_lines:
+        d = _segment_distance(x, line)
+        if d.min() > far:
+            lo, hi = x.min(axis=0), x.max(axis=0)
+            raise ModelError(item, f"{tuple(line[0].round(6))} … is {d.min():.3g} m from the "
+                             f"joint, which spans x = {lo[0]:g} … {hi[0]:g} m, y = {lo[1]:g} … "
+                             f"{hi[1]:g} m, z = {lo[2]:g} … {hi[2]:g} m: water enters a crack "
+                             "along an edge of its joint (e.g. the heel); give that edge")
+        out.append(np.flatnonzero(d <= d.min() + near))
+    return np.unique(np.concatenate(out))
+
+
 def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
     """The crack water of ``model`` (None if it has none) for its CFEs ``cfe``; ``levels``:
     the level patterns of the assembly (their factor is the water level)."""
@@ -146,9 +243,8 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
     crack: dict[str, np.ndarray] = {}
     uplift: dict[str, np.ndarray] = {}
     level: dict[str, np.ndarray] = {}
-    runs: list[tuple[np.ndarray, np.ndarray]] = []
-    y = cfe.x[:, 1].copy() if m else np.zeros(0)
-    entries: dict[str, tuple | None] = {}
+    y = cfe.x[:, -1].copy() if m else np.zeros(0)  # the height: y in 2D, z in 3D
+    entries: dict[str, CrackWater] = {}
     for pname, cw in items:
         item = f"load pattern '{pname}': crack water in interface '{cw.name}'"
         if cw.name not in names:
@@ -157,10 +253,10 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
         ks = np.flatnonzero(cfe.interface == names.index(cw.name))
         cw.check_level(y[ks], item)
         wettable[ks] = True
-        if cw.name in entries and entries[cw.name] != cw.entry:
+        if cw.name in entries and entries[cw.name].entry != cw.entry:
             raise ModelError(item, "the joint's crack water is given twice with different "
                              "entry points")
-        entries[cw.name] = cw.entry
+        entries[cw.name] = cw
         if cw.pressure is not None:
             crack.setdefault(pname, np.zeros(m))[ks] += cw.pressure
         elif cw.level is None:
@@ -171,16 +267,32 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
             level.setdefault(pname, np.zeros(m))[ks] += cw.unit_weight
         else:
             crack.setdefault(pname, np.zeros(m))[ks] += cw.crack_pressure(y[ks])
-    for name, entry in entries.items():
-        if entry is None:
+    links = [np.zeros((2, 0), np.int64)]
+    entry = np.zeros(m, bool)
+    gated = np.zeros(m, bool)
+    for name, cw in entries.items():
+        if cw.entry is None:
             continue
+        item = f"crack water in interface '{name}'.entry"
         ks = np.flatnonzero(cfe.interface == names.index(name))
-        order = ks[np.argsort(cfe.s[ks], kind="stable")]
-        points = np.atleast_2d(np.asarray(entry, float))
-        at = np.array([int(np.argmin(np.hypot(*(cfe.x[order] - pt).T))) for pt in points])
-        CrackWater.check_entries(points, cfe.x[order],
-                                 f"crack water in interface '{name}'.entry")
-        runs.append((order, at))
+        gated[ks] = True
+        if cfe.x.shape[1] == 2:  # 2D: the chain along S+, the CFE nearest each point
+            order = ks[np.argsort(cfe.s[ks], kind="stable")]
+            points = cw.entries
+            if not len(points):
+                raise ModelError(item, f"is a 3D entry {cw.entry!r}, but the joint is 2D: "
+                                 "give the point (x, y) where water reaches it")
+            CrackWater.check_entries(points, cfe.x[order], item)
+            at = [int(np.argmin(np.hypot(*(cfe.x[order] - pt).T))) for pt in points]
+            links.append(_chain_links(order))
+            entry[order[at]] = True
+        else:  # 3D: the facets of the carrying face, the CFEs along each polyline
+            itf = next(i for i in model.interfaces if i.name == name)
+            lk = _facet_links(model, cfe, itf, ks)
+            local = np.full(m, -1, dtype=np.int64)
+            local[ks] = np.arange(len(ks))
+            links.append(lk)
+            entry[ks[_entry_rows(cw, cfe.x[ks], lk, local, item)]] = True
     # in the crack, the crack pressure replaces the uplift given for the joint
     for p in model.patterns:
         for ld in p.loads:
@@ -188,7 +300,8 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
                 ks = np.flatnonzero(cfe.interface == names.index(ld.name))
                 pu = np.asarray(ld.function()(cfe.x[ks, 0], cfe.x[ks, 1]), float)
                 uplift.setdefault(p.name, np.zeros(m))[ks] += np.broadcast_to(pu, ks.shape)
-    return CrackWaterData(wettable, crack, uplift, level, cfe.area.copy(), y, runs)
+    return CrackWaterData(wettable, crack, uplift, level, cfe.area.copy(), y,
+                          np.concatenate(links, axis=1), entry, gated)
 
 
 __all__ = ["CrackWaterData", "crack_water"]

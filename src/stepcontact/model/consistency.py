@@ -214,8 +214,9 @@ def check_built_bodies(model: Model) -> None:
 
 
 def check_crack_water(model: Model) -> None:
-    """Crack water enters its joint at a point of it (within one node spacing of an S+ node,
-    where the CFEs are) and its level, if given, is above the joint's lowest point
+    """Crack water enters its 2D joint at a point of it (within one node spacing of an S+
+    node, where the CFEs are; a 3D joint's entry edge: the assembly, fem.crack) and its
+    level, if given, is above the joint's lowest point
     (:meth:`~stepcontact.model.water.CrackWater.check_entries`, ``check_level``; the
     assembly checks the same at the CFEs)."""
     from stepcontact.model.water import CrackWater
@@ -227,9 +228,9 @@ def check_crack_water(model: Model) -> None:
                 continue  # (an unknown interface is the assembly's error)
             itf = interfaces[ld.name]
             pts = model.body(itf.plus.body).points[itf.plus.index]
-            ld.check_level(pts[:, 1], f"load pattern '{p.name}': crack water in interface "
-                           f"'{ld.name}'")
-            if ld.entry is not None and len(pts):
+            ld.check_level(pts[:, -1], f"load pattern '{p.name}': crack water in interface "
+                           f"'{ld.name}'")  # the height: y (2D), z (3D)
+            if ld.entry is not None and len(pts) and pts.shape[1] == 2 == ld.entry_dim:
                 c = pts.mean(axis=0)
                 d = np.linalg.svd(pts - c, full_matrices=False)[2][0] if len(pts) > 1 else c
                 order = np.argsort((pts - c) @ d, kind="stable")

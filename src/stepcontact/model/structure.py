@@ -101,8 +101,8 @@ def _check_interface_dimension(model: Model, dim: int) -> None:
 
 def _check_dimension(model: Model) -> None:
     """All bodies of one dimension; a 3D model has no 2D-only items (plane frames, the plane and
-    thickness options, moving obstacles, dynamics, crack water and uplift on faces (an
-    uplift acts through the CFEs): not available in 3D yet); interfaces of a 3D model join
+    thickness options, moving obstacles, dynamics and uplift on faces (an uplift acts
+    through the CFEs): not available in 3D yet); interfaces of a 3D model join
     faces of its bodies or a body and a rigid plane."""
     solids = [b for b in model.bodies if getattr(b, "dim", 2) == 3]
     _check_interface_dimension(model, 3 if solids else 2)
@@ -129,9 +129,6 @@ def _check_dimension(model: Model) -> None:
     for p in model.patterns:
         for i, ld in enumerate(p.loads):
             item = f"load pattern '{p.name}' load {i}"
-            if getattr(ld, "in_crack", False):
-                raise ModelError(item, f"{type(ld).__name__} acts on 2D bodies only: crack "
-                                 "water on 3D bodies is not available yet")
             if getattr(ld, "through", None) == "faces":  # an Uplift on the faces
                 raise ModelError(f"{item}.through", "an uplift in a 3D joint acts through its "
                                  "CFEs: give through='cfes' (the pressure p(x, y) at each "

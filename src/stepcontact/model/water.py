@@ -345,17 +345,37 @@ class CrackWater:
         plausible.warn("unit_weight_water", self.unit_weight, f"{item}.unit_weight",
                        stacklevel=4)
         if self.entry is not None:
+            object.__setattr__(self, "entry", self._normal_entry(self.entry, f"{item}.entry"))
+
+    @staticmethod
+    def _normal_entry(entry, item: str) -> tuple:
+        """``entry`` as tuples of floats: a 2D point (x, y) or points ((x, y), …); a 3D point
+        (x, y, z), a polyline ((x, y, z), …) or polylines (((x, y, z), …), …)."""
+        def array(v):
             try:
-                e = np.asarray(self.entry, dtype=float)
+                return np.asarray(v, dtype=float)
             except (TypeError, ValueError):
-                e = np.zeros(0)
-            if (e.ndim not in (1, 2) or e.shape[-1] != 2 or e.size == 0
-                    or not np.all(np.isfinite(e))):
-                raise ModelError(f"{item}.entry", "must be a point (x, y) or a list of points, "
-                                 f"got {self.entry!r}")
-            entry = ((float(e[0]), float(e[1])) if e.ndim == 1
-                     else tuple((float(x), float(y)) for x, y in e))
-            object.__setattr__(self, "entry", entry)
+                return np.zeros(0)
+
+        e = array(entry)
+        lines = None
+        if e.size == 0 and isinstance(entry, list | tuple) and entry:  # polylines of 3D points
+            lines = [array(line) for line in entry]
+            lines = [np.atleast_2d(a) for a in lines]
+            if not all(a.ndim == 2 and a.shape[-1] == 3 and a.size for a in lines):
+                lines = None
+        elif e.ndim == 3 and e.shape[-1] == 3 and e.size:
+            lines = list(e)
+        if lines is not None and all(np.all(np.isfinite(a)) for a in lines):
+            return tuple(tuple(tuple(float(v) for v in pt) for pt in a) for a in lines)
+        if (e.ndim not in (1, 2) or e.shape[-1] not in (2, 3) or e.size == 0
+                or not np.all(np.isfinite(e))):
+            raise ModelError(item, "must be a point (x, y) or a list of points (2D), or a point "
+                             "(x, y, z), a polyline of points or a list of polylines (3D), "
+                             f"got {entry!r}")
+        if e.ndim == 1:
+            return tuple(float(v) for v in e)
+        return tuple(tuple(float(v) for v in pt) for pt in e)
 
     def check_level(self, y: np.ndarray, item: str) -> None:
         """A given water level must be above the lowest point ``y`` (m) of the joint: below
@@ -394,10 +414,34 @@ class CrackWater:
                                  "its joint (e.g. the heel); give that point")
 
     @property
+    def entry_dim(self) -> int | None:
+        """2 or 3: the dimension of the entry's points (None: no entry)."""
+        if self.entry is None:
+            return None
+        e = self.entry
+        while isinstance(e[0], tuple):
+            e = e[0]
+        return len(e)
+
+    @property
     def entries(self) -> np.ndarray:
-        """The entry points as an array (k, 2), m (empty: no entry, every open CFE is wet)."""
-        return np.zeros((0, 2)) if self.entry is None else np.atleast_2d(
-            np.asarray(self.entry, float))
+        """The 2D entry points as an array (k, 2), m (empty: no entry, every open CFE is wet;
+        3D entries: :attr:`entry_lines`)."""
+        if self.entry is None or self.entry_dim != 2:
+            return np.zeros((0, 2))
+        return np.atleast_2d(np.asarray(self.entry, float))
+
+    @property
+    def entry_lines(self) -> list[np.ndarray]:
+        """The 3D entry as polylines, each (k, 3), m (a point: one of one point; empty: no
+        3D entry)."""
+        if self.entry is None or self.entry_dim != 3:
+            return []
+        if not isinstance(self.entry[0], tuple):  # a point
+            return [np.asarray([self.entry], float)]
+        if not isinstance(self.entry[0][0], tuple):  # one polyline
+            return [np.asarray(self.entry, float)]
+        return [np.asarray(line, float) for line in self.entry]
 
     #: a load of the contact state, not of the nodes (the assembly skips it: fem.crack)
     in_crack = True
