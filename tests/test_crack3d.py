@@ -30,6 +30,7 @@ import pytest
 import stepcontact as sc
 from stepcontact.enums import ContactState, Transition
 from stepcontact.errors import ModelError
+from stepcontact.fem.assembly import assemble
 from stepcontact.model.mesh import box
 
 GW, G = 9810.0, 9.81
@@ -248,6 +249,46 @@ def test_an_uneven_crack_is_wet_where_it_joins_the_heel_through_open_cfes():
     # the crack then runs through at one level and the block tips over about the x axis
     assert res.status == sc.Status.EQUILIBRIUM_LOST, res.message
     assert res.residual.max() < TOL and res.violation.max() < TOL
+
+
+def test_mortar_cfes_on_the_coarser_side_are_neighbours_through_its_facets():
+    """The block on a rock of its footprint meshed coarser (2 m cells): the mortar CFEs sit on
+    the rock's 6 top nodes, and their neighbours are the node pairs of its two top facets
+    (listed here by hand: 6 pairs per quad, the shared side once); the entry CFEs are the two
+    on the heel edge.  The water enters the opened heel (γ_w h A_k, 1e-12), and the
+    displacements recovered at a state with water equal the stored ones (1e-12 of the
+    largest)."""
+    dam = box("dam", (0, 0, 0), (B, WD, HT), (4, 2, 8), CONC)
+    rock = box("rock", (0, 0, -2.0), (B, WD, 0.0), (2, 1, 1), CONC)
+    m = sc.Model(bodies=[rock, dam])
+    base = sc.Interface("base", plus=m.select("dam", boundary="bottom"),
+                        minus=m.select("rock", boundary="top"), friction=2.0, cfe="mortar",
+                        layer=sc.ContactLayer(kn=KN, kt=KN))
+    m = m.add(base, sc.Support("bed", m.select("rock", boundary="bottom"), "xyz"),
+              sc.LoadPattern("weight", [sc.BodyForce(g=(0.0, 0.0, -G), bodies=("dam",))]),
+              sc.LoadPattern("water", [
+                  sc.WaterLoad(m.select("dam", lambda x, y, z: np.abs(x) < 1e-9), level=None),
+                  sc.CrackWater(base, entry=[(0.0, 0.0, 0.0), (0.0, WD, 0.0)])]),
+              sc.Segment("weight", 1.0), sc.Segment("water", HT))
+    system = assemble(m)
+    x = system.cfe.x
+    assert len(x) == 6  # the rock's nodes (x, y) ∈ {0, 2, 4} × {0, 2}
+    at = {(round(p[0]), round(p[1])): k for k, p in enumerate(x)}
+    quads = [[(0, 0), (2, 0), (2, 2), (0, 2)], [(2, 0), (4, 0), (4, 2), (2, 2)]]
+    pairs = {tuple(sorted((at[a], at[b]))) for q in quads for a in q for b in q if a != b}
+    links = system.crack.links
+    assert len(pairs) == 11 and {tuple(sorted(p)) for p in links.T} == pairs
+    assert links.shape[1] == 11
+    assert set(np.flatnonzero(system.crack.entry)) == {at[(0, 0)], at[(0, 2)]}
+    res = sc.solve_static(m, store_fields="all")
+    Wc, A, h = np.asarray(res.water), np.asarray(res.cfe["area"]), _levels(res)
+    i = int(np.flatnonzero(_settled(res) & (Wc != 0).any(axis=1))[0])
+    wet = Wc[i] != 0
+    assert set(np.flatnonzero(wet)) == {at[(0, 0)], at[(0, 2)]}
+    assert Wc[i][wet] == pytest.approx(GW * h[i] * A[wet], rel=1e-12)
+    stored = res.fields[i]
+    res.fields.pop(i)
+    assert np.abs(res.displacement(i) - stored).max() <= 1e-12 * np.abs(stored).max()
 
 
 def test_3d_entry_errors_name_the_item():

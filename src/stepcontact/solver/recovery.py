@@ -65,7 +65,8 @@ class FieldRecovery:
         def unknowns(idx):
             F = rec.factors.view[idx]
             s = rec.s.view[idx].copy()
-            s[:, s.shape[1] // 2:] += rec.water.view[idx]  # crack water acts as s does
+            water = rec.water.view[idx]  # crack water acts as the normal forces p do
+            s[:, s.shape[1] - water.shape[1]:] += water  # (the last m: [Q₁; (Q₂;) p])
             return {n: F[:, j] for j, n in enumerate(names)}, s, rec.w.view[idx]
 
         return cls(cond, unknowns, stress)
