@@ -284,7 +284,7 @@ class CrackWater:
 
     .. math::  p_c(x, y) = \\gamma_w \\, \\max(h_w - y, 0)
 
-    (Pa; ``level`` = h_w, m, y up) acts on both faces of the gap, pushing the bodies apart — the
+    (Pa; ``level`` = h_w, m, y up; z in 3D) acts on both faces of the gap, pushing them apart — the
     cracked-base analysis of dam codes (full reservoir or tailwater pressure in the crack).
     Where the joint is closed, nothing changes (the :class:`Uplift` given for it, if any, acts
     there); where it is open, the crack pressure *replaces* that uplift: the load on the CFE is
@@ -310,6 +310,15 @@ class CrackWater:
     base), or several points ``[(x₁, y₁), (x₂, y₂)]`` (the joints at both ends of a slab).
     Only open CFEs joined to the CFE nearest an entry by a run of open CFEs along the joint are
     wet; without it every open CFE of the joint is wet.
+
+    **3D joints**: the heights are z (z up, as for :class:`WaterLoad`), and ``entry`` is the
+    edge where water reaches the joint: a polyline ``[(x₁, y₁, z₁), (x₂, y₂, z₂), …]`` (the
+    heel edge across the monolith), several polylines ``[[…], […]]``, or a point (x, y, z).
+    The entry CFEs are the row of CFEs along each polyline (those within half the shortest
+    neighbour spacing of the nearest one's distance); the wet CFEs are the open CFEs joined to
+    an open entry CFE through open neighbours, two CFEs being neighbours when their nodes
+    belong to one facet of the face that carries them (:mod:`stepcontact.fem.crack`).  The
+    uplift it replaces is the joint's ``Uplift(through="cfes")``.
     """
 
     interface: Interface | str
