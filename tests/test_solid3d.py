@@ -326,11 +326,12 @@ def test_3d_stages_give_the_program_result_and_results_know_no_rotation():
         r1.reaction_history(top, "rz")
 
 
-def test_crack_water_on_a_3d_body_is_refused():
-    """Water loads on faces work in 3D (tests/test_water3d.py); water in joints not yet."""
+def test_crack_water_on_a_3d_body_is_accepted():
+    """Water loads on faces work in 3D (tests/test_water3d.py), and water in joints too
+    (tests/test_crack3d.py): a 3D model takes a CrackWater load."""
     m = sc.Model(bodies=(_solid(),))
-    _raises(lambda: m.add(sc.LoadPattern("water", [sc.CrackWater("base")])),
-            "load pattern 'water' load 0", "crack water on 3D bodies is not available yet")
+    m = m.add(sc.LoadPattern("water", [sc.CrackWater("base")]))
+    assert isinstance(m.patterns[0].loads[0], sc.CrackWater)
 
 
 def test_pressure_function_on_faces_integrates_exactly():
