@@ -34,7 +34,7 @@ CFEs joined to the upstream edge.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -83,6 +83,8 @@ class CrackWaterData:
     links: np.ndarray
     entry: np.ndarray
     gated: np.ndarray
+    #: wet sets of the open sets seen so far (the driver asks for one scheme many times)
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def wet(self, states: np.ndarray) -> np.ndarray:
         """CFEs the water fills in the scheme ``states``: open, of a joint with crack water and
@@ -90,13 +92,21 @@ class CrackWaterData:
         op = self.wettable & (states == OPEN)
         if not self.gated.any():
             return op
-        i, j = self.links
-        both = op[i] & op[j]
-        m = len(op)
-        graph = sp.coo_matrix((np.ones(int(both.sum())), (i[both], j[both])), shape=(m, m))
-        _, label = connected_components(graph, directed=False)
-        reached = label[self.entry & op]
-        return op & (~self.gated | np.isin(label, reached))
+        key = op.tobytes()
+        wet = self._memo.get(key)
+        if wet is None:
+            i, j = self.links
+            both = op[i] & op[j]
+            m = len(op)
+            graph = sp.csr_matrix((np.ones(int(both.sum())), (i[both], j[both])),
+                                  shape=(m, m))
+            _, label = connected_components(graph, directed=False)
+            reached = label[self.entry & op]
+            wet = op & (~self.gated | np.isin(label, reached))
+            if len(self._memo) >= 256:
+                self._memo.clear()
+            self._memo[key] = wet
+        return wet.copy()
 
     def uplift_pressure(self, factors: dict[str, float]) -> np.ndarray:
         """p_u (m,), Pa, at the pattern factors ``factors``."""
