@@ -13,13 +13,16 @@ References (independent of the code under test) and tolerances, per test:
 * the statics of a 3D block whose heel has opened under full crack water: the vertical joint
   forces −N_k + W_k balance the weight, and their moments about the heel line and the side
   y = 0 balance the weight's and the hydrostatic thrust's (γ_w W_d h²/2 at h/3), to 1e-9 of
-  the weight (× its lever); the crack water is γ_w h A_k on each wet CFE (1e-12 relative),
-  and where the wet region is whole rows from the heel its resultant is γ_w h times the wet
-  strip's area [0, x_j + a/2] × [0, W_d] (1e-12 relative);
+  the weight (× its lever); the crack water is γ_w h A_k on each wet CFE and the crack
+  pressure γ_w h (1e-12 relative), and where the wet region is whole rows from the heel its
+  resultant is γ_w h times the wet strip's area [0, x_j + a/2] × [0, W_d] (1e-12 relative);
 * an eccentric load (a pull up at one downstream corner) that opens the joint unevenly: at
-  every recorded state the wet CFEs are those a breadth-first search over the grid's
-  facet neighbours (written here) reaches from the heel row through open CFEs, and the water
-  force is γ_w h A_k there and 0 elsewhere (1e-12 relative).
+  every settled state (the last at its level, the water let in) the wet CFEs are those a
+  breadth-first search over the grid's facet neighbours (written here) reaches from the heel
+  row through open CFEs, and the water force is γ_w h A_k there and 0 elsewhere (1e-12 relative);
+* mortar CFEs on the coarser side's nodes: their neighbours are the node pairs of its facets
+  (listed by hand), and the displacements recovered at a state with water equal the stored
+  ones (1e-12 of the largest).
 """
 
 from __future__ import annotations
@@ -198,6 +201,8 @@ def test_an_opened_heel_carries_the_hydrostatic_resultant_of_its_crack_water():
         checked += 1
         # the crack water: the full hydrostatic pressure γ_w h at z = 0 on each wet CFE
         assert Wc[i][wet] == pytest.approx(GW * h[i] * A[wet], rel=1e-12)
+        pc = np.asarray(res.crack_pressure)[i]
+        assert pc[wet] == pytest.approx(GW * h[i], rel=1e-12) and not pc[~wet].any()
         # whole rows from the heel wet: the resultant is γ_w h × the strip's area
         xs = np.unique(x[wet, 0])
         if np.array_equal(wet, x[:, 0] <= xs.max() + 1e-9):
