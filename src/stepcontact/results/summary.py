@@ -73,18 +73,18 @@ def result_summary(res: StaticResult, **extra: Any) -> dict[str, Any]:
 
 
 def load_resultants(res: StaticResult) -> dict[str, dict[str, Any]]:
-    """{pattern: {"Fx": N, "Fy": N, "Mz": N·m about the origin}} per unit λ."""
+    """{pattern: {"Fx": N, "Fy": N, "Mz": N·m about the origin}} per unit λ; in 3D
+    {"Fx", "Fy", "Fz", "Mx", "My", "Mz"}."""
     out = {}
     levels = res.level_patterns
     for name in res.pattern_names:
         if is_virtual(name):
             continue
+        r = res.load_resultant(name, -1) if name in levels else res.load_resultant(name)
+        keys = _result.RESULTANT_NAMES.get(len(r), _result.RESULTANT_NAMES[3])
+        out[name] = {k: jsonable(float(v)) for k, v in zip(keys, r, strict=True)}
         if name in levels:  # the factor is a water level: the load at the last state
-            fx, fy, mz = (jsonable(float(v)) for v in res.load_resultant(name, -1))
-            out[name] = {"Fx": fx, "Fy": fy, "Mz": mz, "at": "last state (water level)"}
-            continue
-        fx, fy, mz = (jsonable(float(v)) for v in res.load_resultant(name))
-        out[name] = {"Fx": fx, "Fy": fy, "Mz": mz}
+            out[name]["at"] = "last state (water level)"
     return out
 
 
