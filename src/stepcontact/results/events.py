@@ -5,7 +5,6 @@ result types (:mod:`stepcontact.results.result`) and of the result file
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -56,10 +55,10 @@ class Event:
         t₁[, t₂], N, in every dimension: ``(Q,)`` in 2D (filled in from ``Q`` when not
         given).  Given (or ``Q`` given as a vector, e.g. ``lay.tangential(s)[k]``), it sets
         ``Q``.
-    z : float
-        z coordinate of the CFE's S+ end in a 3D model, m; NaN in 2D (the result file of a 2D
-        run has no ``event_z``, read back as NaN; :attr:`point` has the coordinates the model
-        has).
+    z : float or None
+        z coordinate of the CFE's S+ end in a 3D model, m; None in 2D (absent: the result file
+        of a 2D run has no ``event_z``, a table shows NaN; :attr:`point` has the coordinates
+        the model has).
 
     ``Q`` has the shape of ``result.Q``'s entries: a number in 2D, so that 2D event logs keep
     what they print, compare and tabulate (``f"{e.Q:.3f}"``, a pandas column of numbers),
@@ -83,7 +82,7 @@ class Event:
     impulse_n: float = 0.0
     impulse_t: float = 0.0
     Q_t: tuple[float, ...] | None = None
-    z: float = math.nan
+    z: float | None = None
 
     def __post_init__(self):
         # Q_t from Q when not given: a number (2D), or Q given as the vector of n_t components
@@ -99,7 +98,7 @@ class Event:
     @property
     def point(self) -> tuple[float, ...]:
         """The CFE's S+ end, m: (x, y) in 2D, (x, y, z) in 3D."""
-        return (self.x, self.y) if math.isnan(self.z) else (self.x, self.y, self.z)
+        return (self.x, self.y) if self.z is None else (self.x, self.y, self.z)
 
     @property
     def Q_abs(self) -> float:
