@@ -222,8 +222,11 @@ def _curve_quantity(res: StaticResult, node: int | Sequence[float] | None,
         turn = comp >= 3 if space else comp == 2
         div, unit = _force_scale(u, 2 if turn else 0)
         return u, div, f"reaction of '{reaction}' along {dof} (on the structure), {unit}"
-    U = _all_fields(res)
     points, dof_of, bodies = _geometry(res)
+    if comp >= dof_of.shape[1]:
+        raise ValueError(f"dof={dof!r}: the nodes of this result move along 'x', 'y', 'z' "
+                         "only (rotations are DOFs of space frames)")
+    U = _all_fields(res)
     peak = np.abs(U).max(axis=0, initial=0.0)  # |u| of every DOF over the path
     k, comp = _most_moving(res, node, body, comp, peak)
     u = U[:, dof_of[k, comp]]
