@@ -18,6 +18,7 @@ References (hand statics; independent of the code under test):
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -188,10 +189,20 @@ def test_info_and_export(boxes, tmp_path):
     out = runner.invoke(app, ["info", str(result)])
     assert out.exit_code == 0, out.output
     assert "block (4 hex8), base (9 hex8)" in out.output and "bed:z" in out.output
+    assert "inscribed 8-gon" in out.output and "eccentricities" in out.output
+    out = runner.invoke(app, ["info", str(result), "--json"])
+    assert out.exit_code == 0, out.output
+    (sf,) = json.loads(out.output)["interface_safety"]
+    res = sc.load_result(result)
+    P = res.lam[-1]  # the push at the last state, N: its moment about the joint's centroid
+    # (0.5, 0.5, 0) is balanced by the normal force W at (e₁, e₂) (e₁ along t₁ = x)
+    e = (0.5 * P * math.cos(THETA) / W, 0.5 * P * math.sin(THETA) / W)
+    assert sf["eccentricity"] == pytest.approx(e, rel=TOL)
+    assert sf["normal_force"] == pytest.approx(-W, rel=TOL)
+    assert sf["lam_sliding"] == res.lam[-1] and sf["facets"] == K
     out = runner.invoke(app, ["export", str(result), "--vtu", str(tmp_path / "pv"), "--model",
                               str(path)])
     assert out.exit_code == 0, out.output
-    res = sc.load_result(result)
     frames = sorted((tmp_path / "pv" / "bob").glob("bob_[0-9]*.vtu"))
     assert len(frames) == res.n_states
     mesh = meshio.read(frames[-1])
