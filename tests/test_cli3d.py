@@ -231,7 +231,7 @@ def test_plot_kinds_of_a_3d_result(boxes, tmp_path):
     (["--kind", "safety"], "stepcontact info RESULT.nc"),
     (["--kind", "stresses", "--interface", "seam"], "--interface 'seam': no such interface"),
     (["--kind", "stresses", "--lam", "10"], "give --state"),
-    (["--kind", "load-displacement", "--node", "1,1", "--dof", "z"], "(x, y, z) in m"),
+    (["--kind", "load-displacement", "--node", "1,1", "--dof", "z"], "X,Y,Z in m (a 3D"),
     (["--kind", "load-displacement", "--node", "1,1,0.5", "--dof", "rz"], "'x', 'y', 'z'"),
 ])
 def test_plot_errors_of_a_3d_result(boxes, args, fragment):

@@ -158,11 +158,18 @@ _PLANE_KINDS = {
 
 
 def _check_dimension(res: StaticResult, kind: str, lam: Sequence[float] | None,
-                     targets: dict[str, Path], interface: str | None) -> None:
+                     targets: dict[str, Path], interface: str | None,
+                     node: str | None = None) -> None:
     """The kinds and options of a 3D result: no deformed or safety figure (``--kind all``:
     left out of ``targets``), ``--state`` not ``--lam`` for the interface maps;
-    ``--interface`` is for 3D results."""
-    if not _in_space(res):
+    ``--interface`` is for 3D results; ``--node`` coordinates as many as the result's."""
+    dim = 3 if _in_space(res) else 2
+    given = _parse_node(node)
+    if isinstance(given, tuple) and len(given) != dim:
+        raise _Failure(f"--node '{node}': give the coordinates "
+                       f"{'X,Y,Z' if dim == 3 else 'X,Y'} in m (a {dim}D result) or a node "
+                       "index")
+    if dim == 2:
         if interface is not None:
             raise _Failure("--interface applies to --kind stresses of a 3D result (a 2D "
                            "result draws every interface)")
@@ -336,7 +343,7 @@ def plot(
         targets = _plot_targets(result_file, kinds, output, fmt)
         res = _load_result_file(result_file)
         _check_path_axis(res, kind, lam, at_time, targets)
-        _check_dimension(res, kind, lam, targets, interface)
+        _check_dimension(res, kind, lam, targets, interface, node)
         if at_time:
             opts["lam"] = at_time
         written, skipped, used_model = _draw_figures(res, result_file, kind, kinds, targets,
