@@ -316,3 +316,34 @@ def test_3d_options_in_a_2d_file_are_named():
         model_from_dict(d)
     items = [p for p, _ in info.value.errors]
     assert items == ["obstacles[0].kind", "interfaces[0].facets", "interfaces[0].axis"], items
+
+
+def test_water_at_a_fixed_level_on_a_3d_face():
+    """The block of test_modelfile3d (4 × 3 × 10 m, fixed at its base) under water at a fixed
+    level h = 6 m on its face x = 0: the base reaction along x is −γ_w W h²/2 (W = 3 m, hand
+    statics, 1e-9 relative)."""
+    d = {"materials": {"c": {"E": 25e9, "nu": 0.2}},
+         "bodies": [{"name": "dam", "kind": "box", "corner0": [0, 0, 0], "corner1": [4, 3, 10],
+                     "nx": 2, "ny": 2, "nz": 5, "material": "c"}],
+         "node_sets": {"base": {"body": "dam", "boundary": "bottom"},
+                       "upstream": {"body": "dam", "x": 0.0}},
+         "supports": [{"nodes": "base", "dofs": "xyz"}],
+         "patterns": {"water": {"loads": [{"type": "water", "nodes": "upstream",
+                                           "level": 6.0}]}},
+         "program": [{"pattern": "water", "end": 1.0}]}
+    res = sc.solve_static(model_from_dict(d))
+    x = list(res.reaction_labels).index("base:x")
+    assert res.reactions[-1, x] == pytest.approx(-9810.0 * 3.0 * 6.0 ** 2 / 2, rel=TOL)
+
+
+@pytest.mark.parametrize(("load", "item"), [
+    ({"type": "obstacle_motion", "obstacle": "ground", "dx": 1e-3}, "patterns.push.loads[1]"),
+    ({"type": "crack_water", "interface": "joint", "level": 1.0}, "patterns.push.loads[1]"),
+])
+def test_what_a_3d_model_refuses_is_named_by_its_path(load, item):
+    """The model's own refusals (not available in 3D) reported at the file's field path."""
+    d = tomllib.loads(BLOCK_ON_PLANE)
+    d["patterns"]["push"]["loads"].append(load)
+    with pytest.raises(ModelError) as info:
+        model_from_dict(d)
+    assert info.value.item == item and "3D" in info.value.problem, str(info.value)

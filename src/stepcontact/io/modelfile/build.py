@@ -6,6 +6,7 @@ the file.
 
 from __future__ import annotations
 
+import re
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -424,7 +425,7 @@ class _Builder(_References):
                 stages=stages,
             )
         except ModelError as e:
-            p.add(e.item, e.problem)
+            p.add(self.file_path(e.item), e.problem)
             return None
         self.check_chain(model)
         return model
@@ -547,16 +548,30 @@ class _Builder(_References):
         elif isinstance(ld, UpliftLoadSpec) and dim == 3 and ld.through == "faces":
             p.add(f"{path}.through", f"{other}: an uplift in a 3D joint acts through its CFEs "
                   "(through = \"cfes\", the default in 3D: A_k p(x, y) across each CFE)")
-        elif isinstance(ld, ObstacleMotionLoad) and dim == 3:
-            p.add(path, f"{other}: a rigid plane of a 3D model is fixed (moving obstacles are "
-                  "2D only)")
-        elif isinstance(ld, CrackWaterSpec) and dim == 3:
-            p.add(path, f"{other}: crack water acts on 2D joints only (not available in 3D "
-                  "yet)")
         elif getattr(ld, "type", None) == "displacement":
             if ld.dof not in self._dofs_of(ld.nodes):
                 p.add(f"{path}.dof", f"{other}: its {self._owner(ld.nodes)} move along "
                       f"{', '.join(self._dofs_of(ld.nodes))}")
+
+    def file_path(self, item: str) -> str:
+        """The field path of an item the model names in its own words (``load pattern 'w'
+        load 0.through`` -> ``patterns.w.loads[0].through``, ``interface 'j'.normal`` ->
+        ``interfaces[2].normal``, ``body 'b'`` / ``frame 'f'`` -> ``bodies[1]`` /
+        ``frames[0]``); the item itself when it names nothing of the file."""
+        if item.startswith("model.dynamics"):
+            return item.removeprefix("model.")
+        m = re.match(r"load pattern '(.+)' load (\d+)(.*)$", item)
+        if m and m.group(1) in self.spec.patterns:
+            return f"{_path(['patterns', m.group(1), 'loads', int(m.group(2))])}{m.group(3)}"
+        m = re.match(r"(interface|body|frame) '(.+?)'(\..*)?$", item)
+        if m is None:
+            return item
+        kind, name, rest = m.group(1), m.group(2), m.group(3) or ""
+        if kind == "interface":
+            found = [i for i, itf in enumerate(self.spec.interfaces) if itf.name == name]
+            return f"interfaces[{found[0]}]{rest}" if found else item
+        where = self.paths.get(name)
+        return f"{where}{rest}" if where is not None else item
 
     def check_chain(self, model: Model) -> None:
         """Each segment starts where its pattern stands: the model's rule

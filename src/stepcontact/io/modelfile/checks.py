@@ -99,7 +99,8 @@ def check_plausible(spec: ModelFile, p: _Problems) -> None:
 def _where(b: _Built, name: str) -> str:
     """``body 'x'`` or ``physical surface 'x'`` for messages."""
     s = b.surface_of.get(name)
-    return f"physical surface '{s}'" if s is not None else f"body '{name}'"
+    kind = "volume" if b.mesh is not None and b.mesh.dim == 3 else "surface"
+    return f"physical {kind} '{s}'" if s is not None else f"body '{name}'"
 
 def check_geometry(builder: _Built, model: Model) -> None:
     """Element quality, nodes in no element, bodies overlapping without an interface (the

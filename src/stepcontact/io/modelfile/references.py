@@ -131,7 +131,8 @@ class _References:
                 continue
             if b.material is None:
                 p.add(f"bodies[{i}].material",
-                      f"physical surface '{b.surface}' has no material: give material = "
+                      f"physical {GROUP_KINDS[self.body_dims[0]]} '{b.surface}' has no "
+                      "material: give material = "
                       "\"NAME\" or an inline table {E, nu, density}")
             if mesh is not None:
                 field = f"bodies[{i}].{'group' if b.group is not None else 'name'}"
