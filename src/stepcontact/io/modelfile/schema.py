@@ -941,12 +941,15 @@ class EdgeForceLoad(_Spec):
 
 class WaterLoadSpec(_Spec):
     """Hydrostatic pressure p = unit_weight · max(level − y, 0) (Pa) on the body edges in a
-    node set, pushing into the body; exact where the level cuts an edge."""
+    node set, pushing into the body; exact where the level cuts an edge.  On 3D bodies
+    (z up) p = unit_weight · max(level − z, 0) on the faces, exact where the level cuts a
+    face."""
 
     type: Literal["water"] = "water"
     nodes: str
     level: float | None = Field(None, description="elevation of the free surface, m (y is "
-                                "up); omitted: the pattern's factor is the level, m, and its "
+                                "up; z on 3D bodies); omitted: the pattern's factor is the "
+                                "level, m, and its "
                                 "program segments raise or lower the water (exact events in "
                                 "the level); such a pattern holds only water loads without "
                                 "a level")
