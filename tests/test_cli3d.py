@@ -140,9 +140,19 @@ def boxes(tmp_path_factory):
     assert out.exit_code == 0, out.output
     assert "model OK" in out.output and "9 CFEs" in out.output and "150 DOFs" in out.output
     result = tmp / "bob.nc"
-    out = runner.invoke(app, ["run", str(path), "-o", str(result), "--no-plot"])
+    out = runner.invoke(app, ["run", str(path), "-o", str(result)])  # and its figure
     assert out.exit_code == 0, out.output
     return path, result, out.output
+
+
+def test_run_draws_the_joint_and_refuses_lam_before_solving(boxes, tmp_path):
+    """The run's figure is the joint in its own plane (bob.png beside the result); --lam of
+    a 3D run is refused before any work."""
+    path, result, output = boxes
+    assert result.with_suffix(".png").stat().st_size > 0 and "bob.png" in output
+    out = runner.invoke(app, ["run", str(path), "-o", str(tmp_path / "r.nc"), "--lam", "3"])
+    assert_one_line_error(out, "--kind stresses --state")
+    assert not (tmp_path / "r.nc").exists()
 
 
 def test_run_slides_at_the_hand_limit_of_the_faceted_cone(boxes):
