@@ -19,7 +19,8 @@ Dimensions
     not read back), and the CFE data the faceted cone's number of facets (``facets`` in the
     attribute ``cfe_extra``).
 ``event``
-    The event log, one entry per CFE transition (``event_<field>`` variables).
+    The event log, one entry per CFE transition (``event_<field>`` variables; a 3D result
+    also ``event_z``, the z of each event's CFE; a file without it loads with ``z`` None).
 ``pattern``, ``interface``, ``segment_index``, ``multiplier``
     Load patterns, interface names, load-program segments, stability multipliers.
 ``field_state``, ``dof``

@@ -119,7 +119,8 @@ class StaticResult:
     load_resultants : (n_patterns, 3) resultant of every load pattern's forces per unit λ, in
         the order of ``pattern_names``: F_x, F_y in N and M_z = Σ (x f_y − y f_x) (+ nodal
         moments) about the origin in N·m (:meth:`load_resultant`; prescribed displacements
-        are not forces and do not count)
+        are not forces and do not count); a 3D model's (n_patterns, 6): F_x, F_y, F_z, M_x,
+        M_y, M_z (M = Σ x × f + nodal moments about the origin)
 
     Tangential quantities (``Q``, ``ut``, ``tau``) have a tangential axis of n_t components
     (:attr:`n_t`: 1 in 2D, 2 in 3D) along the CFE's tangents t₁[, t₂]: :attr:`Q_t`,
