@@ -524,7 +524,7 @@ def test_cli_validate_missing_and_broken_files(tmp_path):
 
 
 # --------------------------------------------------------------------------------------------
-# 3D meshes in a model file: not supported yet, said in one line (no traceback)
+# 3D meshes in a model file: their problems named (no traceback)
 # --------------------------------------------------------------------------------------------
 CUBE = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
                  [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
@@ -574,10 +574,12 @@ def write_3d_msh(path: Path, planar: bool = False) -> Path:
 
 
 @pytest.mark.parametrize("planar", [False, True])
-def test_a_3d_mesh_is_refused_naming_the_file_and_its_elements(tmp_path, planar):
-    """validate and run end with one error line (exit code 2, no traceback) saying that 3D is
-    not supported yet in the model file, naming the mesh file, its element types and its
-    physical volume; read_msh reads it as a 3D mesh."""
+def test_a_3d_mesh_is_read_and_its_problems_named(tmp_path, planar):
+    """A 3D mesh is a 3D model (issue 28 §4; tests/test_cli3d.py runs one): validate and run
+    end with the errors of this file (exit code 2, no traceback), each naming its item — the
+    physical surface 'bottom' whose triangles are no faces of the five tetrahedra (the cube's
+    bottom split along the other diagonal), the 2D gravity of a 3D model; a planar export
+    whose volume group has no volume cells; read_msh reads it as a 3D mesh."""
     write_3d_msh(tmp_path / "cube.msh", planar)
     model = tmp_path / "cube.toml"
     model.write_text(MODEL_3D.format(mesh="cube.msh"), encoding="utf-8")
@@ -588,9 +590,12 @@ def test_a_3d_mesh_is_refused_naming_the_file_and_its_elements(tmp_path, planar)
         assert result.exit_code == 2, out
         assert result.exception is None or isinstance(result.exception, SystemExit), out
         assert "Traceback" not in out
-        assert "cube.msh: is a 3D mesh" in out and "3D models are not supported yet" in out
-        assert ("triangle (2)" if planar else "tetra (5)") in out
-        assert "physical volumes 'block'" in out
+        if planar:
+            assert "physical volume 'block' has no cells" in out
+        else:
+            assert "is not a face on the boundary of body 'block'" in out
+            if cmd == "validate":
+                assert "patterns.weight.loads[0].g" in out and "the model is 3D" in out
     # in Python the mesh is read as 3D: its physical volume is the body (tests/test_mesh3d.py)
     mf = read_msh(tmp_path / "cube.msh")
     assert mf.dim == 3 and mf.volumes == ["block"] and mf.points.shape[1] == 3

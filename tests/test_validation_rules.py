@@ -172,7 +172,8 @@ def test_the_schema_kinds_are_the_model_constants():
         ("ModelSection", "plane"): ("strain", "stress"),
         ("RectangleSpec", "element"): ("tri3", "tri6", "quad4", "quad8", "quad9"),
         ("PolygonSpec", "element"): ("tri3", "tri6", "quad4", "quad8", "quad9"),
-        ("MeshBodySpec", "element"): ("tri3", "tri6", "quad4", "quad8", "quad9"),
+        ("MeshBodySpec", "element"): ("tri3", "tri6", "quad4", "quad8", "quad9",  # then 3D
+                                      "tet4", "tet10", "hex8", "hex20", "hex27"),
         ("InterfaceSpec", "cfe"): ("auto", "mortar", "node-to-segment", "node-to-node"),
         ("ObstacleSpec", "side"): ("left", "right"),
         ("DisplacementLoad", "dof"): ("x", "y", "rz", "z", "rx", "ry"),  # 2D, then 3D (frames)

@@ -52,7 +52,7 @@ from stepcontact.results.summary import result_info, result_summary
 
 app = typer.Typer(
     name="stepcontact",
-    help="Event-driven static analysis of 2D structures with unilateral contact and "
+    help="Event-driven static analysis of 2D and 3D structures with unilateral contact and "
     "Coulomb friction (contact finite elements, step-by-step method).",
     no_args_is_help=True,
     add_completion=False,
@@ -74,7 +74,8 @@ def main(
                      help="Show the version and exit."),
     ] = False,
 ) -> None:
-    """Event-driven static analysis of 2D structures with unilateral contact and friction."""
+    """Event-driven static analysis of 2D and 3D structures with unilateral contact and
+    friction."""
 
 
 # the commands in the order --help lists them (check: the hidden alias of validate)

@@ -126,14 +126,17 @@ def _kN(force: float) -> str:
 
 def events_table(res: StaticResult, max_rows: int = TABLE_ROWS) -> Table:
     """The event log as a rich table (forces in kN; the impulses of impacts in kN·s where a
-    dynamic run has any); the first and last events when long."""
+    dynamic run has any; the place of the CFE: its arc length s along the interface in 2D,
+    its S+ point (x, y, z) in 3D); the first and last events when long."""
     events = list(res.events)
+    in_space = getattr(res, "n_t", 1) > 1
     impulses = any(getattr(e, "impulse_n", 0.0) or getattr(e, "impulse_t", 0.0)
                    for e in events)
     table = Table(title=f"events ({len(events)})", title_justify="left", box=box.SIMPLE_HEAD,
                   show_edge=False, pad_edge=False, collapse_padding=True)
     for name in ("step", "pattern", "t (s)" if res.path_axis == "time" else "λ", "interface",
-                 "s (m)", "CFE", "transition", "N (kN)", "Q (kN)",
+                 "x, y, z (m)" if in_space else "s (m)", "CFE", "transition", "N (kN)",
+                 "Q (kN)",
                  *(("impulse N (kN·s)", "impulse Q (kN·s)") if impulses else ())):
         left = name in ("pattern", "interface", "transition")
         table.add_column(name, justify="left" if left else "right", no_wrap=True)
@@ -156,7 +159,8 @@ def events_table(res: StaticResult, max_rows: int = TABLE_ROWS) -> Table:
             e.pattern,
             f"{e.lam:.6g}",
             e.interface,
-            f"{e.position:.4g}",
+            (f"({', '.join(f'{c:.4g}' for c in e.point)})" if in_space
+             else f"{e.position:.4g}"),
             str(e.local),
             e.transition.value,
             _kN(e.N),

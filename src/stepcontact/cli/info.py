@@ -22,6 +22,8 @@ def _safety_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
     """The tables of one joint's safety
     (:func:`stepcontact.results.summary.interface_safety`): at the last state, and at the
     design state with the load margins."""
+    if sf.get("dimension") == 3:
+        return [_safety_table_3d(sf, opts)]
     level = bool(sf.get("parameter_is_level"))
     unit = " m" if level else ""
     tab = Table(title=f"interface '{sf['interface']}' at the last state (λ = "
@@ -47,6 +49,38 @@ def _safety_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:
     ):
         tab.add_row(label, value)
     return [tab, *_design_tables(sf, opts)]
+
+
+def _safety_table_3d(sf: dict[str, Any], opts: dict[str, Any]) -> Table:
+    """One 3D joint's safety at the last state
+    (:func:`stepcontact.results.summary.interface_safety`, 3D rows)."""
+    tab = Table(title=f"interface '{sf['interface']}' at the last state (λ = {sf['lam']:.6g}, "
+                f"segment {sf['segment']})", show_header=False, **opts)
+    tab.add_column(justify="left", no_wrap=True, min_width=42)
+    tab.add_column(justify="right")
+
+    def vec(v) -> str:
+        return "(" + ", ".join(_info_fmt(x) for x in v) + ")"
+
+    k = sf["facets"]
+    for label, value in (
+        ("ΣN, |S| (N)", f"{_info_fmt(sf['normal_force'])}, {_info_fmt(sf['shear_force'])}"),
+        ("resultant force on S+ (x, y, z; N)", vec(sf["resultant"])),
+        ("moment about the centroid (x, y, z; N·m)", vec(sf["moment"])),
+        ("normal resultant's point (m)", vec(sf["point"])),
+        ("eccentricities e₁, e₂ (m)", vec(sf["eccentricity"])),
+        ("in the kern, in the base", f"{'yes' if sf['in_kern'] else 'no'}, "
+         f"{'yes' if sf['in_base'] else 'no'}"),
+        ("compressed area (m²)", f"{_info_fmt(sf['compressed_area'])} of "
+         f"{_info_fmt(sf['area'])}"),
+        ("sliding factor Σf·|N|/|S|", _info_fmt(sf["sliding_factor"])),
+        ("friction cone", f"inscribed {k}-gon, up to {100 * sf['cone_bound']:.3g} % below "
+         "f|N|" if k else "—"),
+        ("λ at sliding, at overturning",
+         f"{_info_fmt(sf['lam_sliding'])}, {_info_fmt(sf['lam_overturning'])}"),
+    ):
+        tab.add_row(label, value)
+    return tab
 
 
 def _design_tables(sf: dict[str, Any], opts: dict[str, Any]) -> list[Table]:

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated, Any
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.text import Text
@@ -30,22 +31,22 @@ _DYNAMIC_KINDS = ("energy", "history")
 _NEEDS_FIELDS = ("deformed", "load-displacement")
 
 
-def _parse_node(text: str | None) -> int | tuple[float, float] | None:
-    """``--node``: ``X,Y`` (m) or a node index."""
+def _parse_node(text: str | None) -> int | tuple[float, ...] | None:
+    """``--node``: ``X,Y`` or, in 3D, ``X,Y,Z`` (m), or a node index."""
     if text is None:
         return None
     parts = [p.strip() for p in text.split(",")]
     try:
         if len(parts) == 1:
             return int(parts[0])
-        if len(parts) == 2:
-            x, y = float(parts[0]), float(parts[1])
-            if math.isfinite(x) and math.isfinite(y):
-                return x, y
+        if len(parts) in (2, 3):
+            xyz = tuple(float(p) for p in parts)
+            if all(math.isfinite(v) for v in xyz):
+                return xyz
     except ValueError:
         pass
-    raise _Failure(f"--node '{text}': give the coordinates X,Y in m (e.g. --node 3,2) or a "
-                   "node index (e.g. --node 117)")
+    raise _Failure(f"--node '{text}': give the coordinates X,Y in m (3D: X,Y,Z; e.g. --node "
+                   "3,2) or a node index (e.g. --node 117)")
 
 
 def _plot_targets(result_file: Path, kinds: Sequence[str], output: Path | None,
@@ -100,6 +101,9 @@ def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any])
             plotting.plot_deformed(res, state=states[-1] if states else None,
                                    scale=opts["scale"], path=path, dpi=opts["dpi"],
                                    stress=opts.get("stress"))
+        elif kind == "stresses" and _in_space(res):
+            plotting.plot_interface_map(res, _map_interface(res, opts.get("interface")),
+                                        states or (-1,), path=path, dpi=opts["dpi"])
         elif kind == "stresses":
             plotting.plot_interfaces(res, lams=opts["lam"] or None, segment=opts["segment"],
                                      states=states, path=path, dpi=opts["dpi"])
@@ -122,6 +126,62 @@ def _draw_figure(res: StaticResult, kind: str, path: Path, opts: dict[str, Any])
             plotting.plot_event_timeline(res, path=path, dpi=opts["dpi"])
     except ValueError as e:
         raise _Failure(f"plot {kind}: {_error_text(e)}") from None
+
+
+def _in_space(res: StaticResult) -> bool:
+    """A result of a 3D model (two tangential components per CFE, or 3D nodes)."""
+    pts = (res.geometry or {}).get("points")
+    return getattr(res, "n_t", 1) > 1 or (pts is not None and np.ndim(pts) == 2
+                                          and np.shape(pts)[1] == 3)
+
+
+def _map_interface(res: StaticResult, name: str | None) -> str:
+    """The interface a 3D ``--kind stresses`` draws: ``--interface`` or the first."""
+    names = list(res.interface_names)
+    if not names:
+        raise _Failure("plot stresses: the result has no contact interface")
+    if name is None:
+        return names[0]
+    if name not in names:
+        raise _Failure(f"--interface '{name}': no such interface (interfaces: "
+                       f"{', '.join(repr(n) for n in names)})")
+    return name
+
+
+#: kinds that draw 2D results only, and what to use for a 3D one
+_PLANE_KINDS = {
+    "deformed": "a 3D result's deformed shape and stresses are viewed in ParaView: "
+                "stepcontact export RESULT.nc --vtu DIR",
+    "safety": "the safety of a 3D joint is in stepcontact info RESULT.nc (resultant force "
+              "and moment, eccentricities, sliding factor) and res.interface_safety(name)",
+}
+
+
+def _check_dimension(res: StaticResult, kind: str, lam: Sequence[float] | None,
+                     targets: dict[str, Path], interface: str | None,
+                     node: str | None = None) -> None:
+    """The kinds and options of a 3D result: no deformed or safety figure (``--kind all``:
+    left out of ``targets``), ``--state`` not ``--lam`` for the interface maps;
+    ``--interface`` is for 3D results; ``--node`` coordinates as many as the result's."""
+    dim = 3 if _in_space(res) else 2
+    given = _parse_node(node)
+    if isinstance(given, tuple) and len(given) != dim:
+        raise _Failure(f"--node '{node}': give the coordinates "
+                       f"{'X,Y,Z' if dim == 3 else 'X,Y'} in m (a {dim}D result) or a node "
+                       "index")
+    if dim == 2:
+        if interface is not None:
+            raise _Failure("--interface applies to --kind stresses of a 3D result (a 2D "
+                           "result draws every interface)")
+        return
+    if kind in _PLANE_KINDS:
+        raise _Failure(f"--kind {kind} draws 2D results: {_PLANE_KINDS[kind]}")
+    if kind == "all":
+        for k in _PLANE_KINDS:
+            targets.pop(k, None)
+    if lam:
+        raise _Failure("--lam: the interface map of a 3D result is drawn at reported states: "
+                       "give --state (see stepcontact info RESULT.nc)")
 
 
 def _plot_missing_fields(res: StaticResult, kind: str, state: Sequence[int] | None,
@@ -171,9 +231,9 @@ def plot(
     ] = None,
     node: Annotated[
         str | None,
-        typer.Option("--node", help="load-displacement, history: node X,Y in m (the nearest "
-                     "node) or its index, e.g. --node 3,2. Default: the node that moves "
-                     "most."),
+        typer.Option("--node", help="load-displacement, history: node X,Y in m (3D: X,Y,Z; "
+                     "the nearest node) or its index, e.g. --node 3,2. Default: the node that "
+                     "moves most."),
     ] = None,
     node_set: Annotated[
         str | None,
@@ -182,8 +242,9 @@ def plot(
     ] = None,
     dof: Annotated[
         str | None,
-        typer.Option("--dof", help="load-displacement: x, y or rz. Default: the direction "
-                     "(x or y) that moves most over the path (y for --reaction). history: "
+        typer.Option("--dof", help="load-displacement: x, y or rz (3D: x, y, z; rx, ry, rz "
+                     "of space-frame nodes). Default: the direction (x or y; 3D: x, y or z) "
+                     "that moves most over the path (y for --reaction). history: "
                      "x, y, rz (displacement and velocity) or one of ux, uy, vx, vy, ax, ay "
                      "(u displacement, v velocity, a acceleration); default x and y."),
     ] = None,
@@ -218,6 +279,11 @@ def plot(
     dpi: Annotated[
         float, typer.Option("--dpi", min=1.0, help="Resolution of PNG figures, dots per inch.")
     ] = 150.0,
+    interface: Annotated[
+        str | None,
+        typer.Option("--interface", help="stresses of a 3D result: the interface drawn in its "
+                     "own plane (σn, shear arrows, CFE states; default the first)."),
+    ] = None,
     model: ModelOption = None,
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="Print nothing but errors.")
@@ -256,6 +322,13 @@ def plot(
 
         stepcontact plot run.nc --kind load-displacement --model dam.toml
 
+        stepcontact plot run3d.nc --kind load-displacement --node 1,1,0.5 --dof z
+
+        stepcontact plot run3d.nc --kind stresses --interface joint --state 3 --state -1
+
+    A 3D result: --kind stresses draws an interface in its own plane (--interface, at
+    --state); deformed shapes are for ParaView (stepcontact export --vtu).
+
     The deformed shape and the load–displacement curve need displacement fields: those the
     result file does not store (by default it stores the start, the segment starts and ends
     and the last state) are recomputed exactly from the model file (--model; by default the
@@ -266,10 +339,11 @@ def plot(
         _check_plot_options(kinds, lam or at_time, state, node, reaction, stress, node_set)
         opts = {"lam": lam, "segment": segment, "state": state, "node": _parse_node(node),
                 "dof": dof, "body": body, "scale": scale, "dpi": dpi, "reaction": reaction,
-                "stress": stress, "node_set": node_set}
+                "stress": stress, "node_set": node_set, "interface": interface}
         targets = _plot_targets(result_file, kinds, output, fmt)
         res = _load_result_file(result_file)
         _check_path_axis(res, kind, lam, at_time, targets)
+        _check_dimension(res, kind, lam, targets, interface, node)
         if at_time:
             opts["lam"] = at_time
         written, skipped, used_model = _draw_figures(res, result_file, kind, kinds, targets,

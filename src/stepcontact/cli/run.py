@@ -16,6 +16,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.text import Text
@@ -121,11 +122,28 @@ def _dynamic_report(dres: Any, spec: Any, *, result_path: Path, plot_path: Path 
     return summary
 
 
+#: the states a 3D run's joint map shows at most (the last segment ends)
+MAP_STATES = 4
+_LAM_3D = ("--lam: a 3D run's figure is its joint at the ends of the segments; draw other "
+           "states with stepcontact plot RESULT.nc --kind stresses --state i")
+
+
 def _plot(res: StaticResult, path: Path, lams: Sequence[float] | None) -> None:
-    """Contact stresses along the interfaces, written to ``path`` (PNG, PDF or SVG)."""
+    """Contact stresses along the interfaces, written to ``path`` (PNG, PDF or SVG); a 3D
+    result's first joint in its own plane at the ends of the last segments reached (at most
+    :data:`MAP_STATES`; ``stepcontact plot --kind stresses`` draws any joint and state)."""
     from stepcontact.post import plotting
 
     try:
+        if getattr(res, "n_t", 1) > 1:
+            if lams:
+                raise _Failure(_LAM_3D)
+            ends = np.flatnonzero(np.asarray(res.kind) == "segment_end").tolist()
+            if not ends or ends[-1] != res.n_states - 1:
+                ends.append(res.n_states - 1)
+            plotting.plot_interface_map(res, res.interface_names[0], ends[-MAP_STATES:],
+                                        path=path)
+            return
         plotting.plot_interfaces(res, lams=list(lams) if lams else None, path=path)
     except ValueError as e:  # e.g. a --lam outside the last segment reached
         raise _Failure(f"plot: {e}") from None
@@ -272,6 +290,8 @@ def _check_lams(model: Model, lams: Sequence[float] | None) -> None:
     complete run ends in), checked before solving."""
     if not lams:
         return
+    if model.dim == 3 and model.interfaces:
+        raise _Failure(_LAM_3D)
     segments = model.segments_resolved()
     for v in lams:
         if not math.isfinite(v):
@@ -337,7 +357,8 @@ def run(
     eps_p: EpsOption = 0.01,
     plot: Annotated[
         Path | None,
-        typer.Option("--plot", help="Figure of the contact stresses (.png, .pdf or .svg). "
+        typer.Option("--plot", help="Figure of the contact stresses (.png, .pdf or .svg; a "
+                     "3D model: its first joint in its own plane at the segment ends). "
                      "Default: beside the result file, RESULT.png (MODEL.png without -o)."),
     ] = None,
     no_plot: Annotated[bool, typer.Option("--no-plot", help="Do not draw the figure.")] = False,

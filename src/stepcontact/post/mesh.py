@@ -39,6 +39,14 @@ def _geometry(res: StaticResult) -> tuple[np.ndarray, np.ndarray, list[dict]]:
             list(geo["bodies"]))
 
 
+def dof_names(points: np.ndarray, dof_of: np.ndarray) -> tuple[str, ...]:
+    """The names of the columns of ``dof_of``: ux, uy, rz (2D); ux, uy, uz (3D continua) and
+    rx, ry, rz (space frames)."""
+    if points.shape[1] == 3:
+        return ("ux", "uy", "uz", "rx", "ry", "rz")[: dof_of.shape[1]]
+    return ("ux", "uy", "rz")
+
+
 def _extent(points: np.ndarray) -> float:
     """Largest side of the bounding box of the nodes, m (1 when degenerate)."""
     size = float(np.max(np.ptp(points, axis=0))) if len(points) else 0.0
@@ -129,30 +137,35 @@ def _resolve_node(
         if not 0 <= int(node) < len(points):
             raise ValueError(f"node {node} does not exist: nodes are 0..{len(points) - 1}")
         if dof_of[int(node), comp] < 0:
-            raise ValueError(f"node {node} has no DOF {('ux', 'uy', 'rz')[comp]}")
+            raise ValueError(f"node {node} has no DOF {dof_names(points, dof_of)[comp]}")
         return int(node)
     cand = cand[dof_of[cand, comp] >= 0]
     if not cand.size:
         raise ValueError(f"no node{'' if body is None else f' of {body!r}'} has DOF "
-                         f"{('ux', 'uy', 'rz')[comp]}")
+                         f"{dof_names(points, dof_of)[comp]}")
     if node is None:
         return int(cand[np.argmax(np.abs(_node_u(dof_of, u_last, (comp,))[cand, 0]))])
+    dim = points.shape[1]
     try:
-        xy = np.asarray(node, dtype=float).reshape(2)
+        xy = np.asarray(node, dtype=float).reshape(dim)
     except (TypeError, ValueError):
         raise ValueError(
-            f"node={node!r}: give a node index or its coordinates (x, y) in m"
-        ) from None
+            f"node={node!r}: give a node index or its coordinates "
+            f"{'(x, y, z)' if dim == 3 else '(x, y)'} in m") from None
+
+    def at(v) -> str:
+        return "(" + ", ".join(f"{c:g}" for c in v) + ")"
+
     d = np.linalg.norm(points[cand] - xy, axis=1)
     size = _extent(points)
     if d.min() > 0.05 * size:
         k = int(cand[np.argmin(d)])
-        raise ValueError(f"no node near ({xy[0]:g}, {xy[1]:g}): the nearest, node {k} at "
-                         f"({points[k, 0]:g}, {points[k, 1]:g}), is {d.min():.3g} m away")
+        raise ValueError(f"no node near {at(xy)}: the nearest, node {k} at "
+                         f"{at(points[k])}, is {d.min():.3g} m away")
     near = cand[d <= d.min() + 1e-9 * size]
     shared = sorted({names[owner[k]] for k in near})
     if len(shared) > 1:
-        raise ValueError(f"the node at ({xy[0]:g}, {xy[1]:g}) is shared by bodies "
+        raise ValueError(f"the node at {at(xy)} is shared by bodies "
                          f"{', '.join(map(repr, shared))}: choose one (body=...; CLI: --body)")
     return int(near[0])
 
@@ -161,12 +174,12 @@ def _most_moving(res: StaticResult, node: int | Sequence[float] | None, body: st
                  comp: int, peak: np.ndarray) -> tuple[int, int]:
     """(node, component) of the load–displacement curve: ``node`` (or the node with the
     largest ``peak`` — |u| of each DOF over the path — in ``comp``) and ``comp`` (or, when
-    −1, the one of u_x, u_y in which it moves most)."""
+    −1, the one of u_x, u_y (3D: u_x, u_y, u_z) in which it moves most)."""
     if comp >= 0:
         return _resolve_node(res, node, body, comp, peak), comp
-    _, dof_of, _ = _geometry(res)
+    points, dof_of, _ = _geometry(res)
     best: tuple[float, int, int] | None = None
-    for c in (0, 1):
+    for c in range(points.shape[1]):
         try:
             k = _resolve_node(res, node, body, c, peak)
         except ValueError:

@@ -178,9 +178,19 @@ def plot_load_path(
 
 
 _DOFS: dict[str, int] = {"x": 0, "ux": 0, "y": 1, "uy": 1, "rz": 2}
+#: a 3D result's nodal DOFs (continua: x, y, z; space frames also rx, ry, rz)
+_DOFS_3D: dict[str, int] = {"x": 0, "ux": 0, "y": 1, "uy": 1, "z": 2, "uz": 2, "rx": 3,
+                            "ry": 4, "rz": 5}
 
 
 _DOF_LABEL = ("$u_x$", "$u_y$", r"$\varphi_z$")
+_DOF_LABEL_3D = ("$u_x$", "$u_y$", "$u_z$", r"$\varphi_x$", r"$\varphi_y$", r"$\varphi_z$")
+
+
+def _in_space(res: StaticResult) -> bool:
+    """The result's nodes have three coordinates (a 3D model)."""
+    pts = (res.geometry or {}).get("points")
+    return pts is not None and np.ndim(pts) == 2 and np.shape(pts)[1] == 3
 
 
 def _mark_equilibrium_lost(ax, x: float, y: float, lam: float, level: bool = False) -> None:
@@ -202,26 +212,33 @@ def _curve_quantity(res: StaticResult, node: int | Sequence[float] | None,
     quantity :func:`plot_load_displacement` draws: the reaction of support ``reaction``
     along ``dof`` (N, kN, MN; N·m … for rz), or the displacement u_x, u_y (m, mm, µm) or
     rotation φ_z (rad) of ``node`` (default the node and direction that move most)."""
-    comp = -1 if dof is None else _DOFS[dof]
+    space = _in_space(res)
+    comp = -1 if dof is None else (_DOFS_3D if space else _DOFS)[dof]
     if reaction is not None:
         try:
             u = res.reaction(reaction, dof)
         except KeyError as e:
             raise ValueError(str(e.args[0])) from None
-        div, unit = _force_scale(u, comp)
+        turn = comp >= 3 if space else comp == 2
+        div, unit = _force_scale(u, 2 if turn else 0)
         return u, div, f"reaction of '{reaction}' along {dof} (on the structure), {unit}"
-    U = _all_fields(res)
     points, dof_of, bodies = _geometry(res)
+    if comp >= dof_of.shape[1]:
+        raise ValueError(f"dof={dof!r}: the nodes of this result move along 'x', 'y', 'z' "
+                         "only (rotations are DOFs of space frames)")
+    U = _all_fields(res)
     peak = np.abs(U).max(axis=0, initial=0.0)  # |u| of every DOF over the path
     k, comp = _most_moving(res, node, body, comp, peak)
     u = U[:, dof_of[k, comp]]
-    div, unit = (1.0, "rad") if comp == 2 else _length_scale(u)
+    turn = comp >= 3 if space else comp == 2
+    div, unit = (1.0, "rad") if turn else _length_scale(u)
     owner = next((str(b["name"]) for b in bodies if np.any(np.asarray(b["cells"]) == k)),
                  "?")
     why = ("; moves most over the path" if node is None and dof is None else
            "; largest |u| over the path" if node is None else "")
-    return u, div, (f"{_DOF_LABEL[comp]} of node {k} ('{owner}', x = {points[k, 0]:.4g} m, "
-                    f"y = {points[k, 1]:.4g} m{why}), {unit}")
+    at = ", ".join(f"{c} = {v:.4g} m" for c, v in zip("xyz", points[k], strict=False))
+    label = (_DOF_LABEL_3D if space else _DOF_LABEL)[comp]
+    return u, div, f"{label} of node {k} ('{owner}', {at}{why}), {unit}"
 
 
 def _draw_segment_curve(ax, res: StaticResult, j: int, s: int, x: np.ndarray,
@@ -286,11 +303,12 @@ def plot_load_displacement(
     res : StaticResult
     node : int or (x, y), optional
         Global node index, or coordinates in m (the nearest node; ``body`` chooses between
-        coincident nodes of different bodies).  Default: the node with the largest |u| in
-        ``dof`` over the path (at any reported state).
+        coincident nodes of different bodies; (x, y, z) in 3D).  Default: the node with the
+        largest |u| in ``dof`` over the path (at any reported state).
     dof : "x", "y" or "rz", optional
-        Displacement component u_x, u_y (m) or the rotation φ_z of a frame node (rad).
-        Default: the one of u_x, u_y that moves most over the path (of ``node``, or of the
+        Displacement component u_x, u_y (m) or the rotation φ_z of a frame node (rad); in 3D
+        "x", "y", "z" (and "rx", "ry", "rz" of a space frame's node).  Default: the one of
+        u_x, u_y (3D: u_x, u_y, u_z) that moves most over the path (of ``node``, or of the
         node that moves most); for ``reaction``, "y".
     path : str or PathLike, optional
         Save the figure there (``.png``, ``.pdf`` or ``.svg``); parent directories are created.
@@ -312,8 +330,10 @@ def plot_load_displacement(
     matplotlib.figure.Figure
     """
     out = figure_path(path, dpi)
-    if dof is not None and dof not in _DOFS:
-        raise ValueError(f"dof={dof!r}: use 'x', 'y' or 'rz'")
+    known = _DOFS_3D if _in_space(res) else _DOFS
+    if dof is not None and dof not in known:
+        raise ValueError(f"dof={dof!r}: use " + ("'x', 'y', 'z' (or 'rx', 'ry', 'rz' of a "
+                         "space frame's node)" if known is _DOFS_3D else "'x', 'y' or 'rz'"))
     if axis not in ("lam", "path"):
         raise ValueError(f"axis={axis!r}: use 'lam' or 'path'")
     if reaction is not None and dof is None:

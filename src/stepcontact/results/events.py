@@ -35,7 +35,8 @@ class Event:
     local : int
         Index of the CFE along its interface.
     position : float
-        Arc length along the interface, m.
+        Arc length along the interface, m (2D; in 3D the CFE's index along its interface:
+        its place is x, y, z).
     x, y : float
         Coordinates of the CFE's S+ end, m.
     transition : Transition
@@ -54,6 +55,10 @@ class Event:
         t₁[, t₂], N, in every dimension: ``(Q,)`` in 2D (filled in from ``Q`` when not
         given).  Given (or ``Q`` given as a vector, e.g. ``lay.tangential(s)[k]``), it sets
         ``Q``.
+    z : float or None
+        z coordinate of the CFE's S+ end in a 3D model, m; None in 2D (absent: the result file
+        of a 2D run has no ``event_z``, a table shows NaN; :attr:`point` has the coordinates
+        the model has).
 
     ``Q`` has the shape of ``result.Q``'s entries: a number in 2D, so that 2D event logs keep
     what they print, compare and tabulate (``f"{e.Q:.3f}"``, a pandas column of numbers),
@@ -77,6 +82,7 @@ class Event:
     impulse_n: float = 0.0
     impulse_t: float = 0.0
     Q_t: tuple[float, ...] | None = None
+    z: float | None = None
 
     def __post_init__(self):
         # Q_t from Q when not given: a number (2D), or Q given as the vector of n_t components
@@ -88,6 +94,11 @@ class Event:
     def n_t(self) -> int:
         """Number of tangential components (1 in 2D, 2 in 3D)."""
         return len(self.Q_t)
+
+    @property
+    def point(self) -> tuple[float, ...]:
+        """The CFE's S+ end, m: (x, y) in 2D, (x, y, z) in 3D."""
+        return (self.x, self.y) if self.z is None else (self.x, self.y, self.z)
 
     @property
     def Q_abs(self) -> float:

@@ -19,7 +19,8 @@ Dimensions
     not read back), and the CFE data the faceted cone's number of facets (``facets`` in the
     attribute ``cfe_extra``).
 ``event``
-    The event log, one entry per CFE transition (``event_<field>`` variables).
+    The event log, one entry per CFE transition (``event_<field>`` variables; a 3D result
+    also ``event_z``, the z of each event's CFE; a file without it loads with ``z`` None).
 ``pattern``, ``interface``, ``segment_index``, ``multiplier``
     Load patterns, interface names, load-program segments, stability multipliers.
 ``field_state``, ``dof``
@@ -150,10 +151,13 @@ _EVENT_SPEC: dict[str, tuple[str, str, str]] = {
                   "compressive; 0: no impact)"),
     "impulse_t": ("float", "N s", "tangential impulse of an impact at the event"),
     "Q_t": ("vector", "N", "tangential CFE force at the event, one component per tangent"),
+    "z": ("float?", "m", "z coordinate of the CFE's S+ end (3D results only)"),
 }
 #: event columns added after format version 1 files were written: absent → this default
 #: (``Q_t`` None: ``(Q,)``, :class:`~stepcontact.results.events.Event`)
-_EVENT_DEFAULTS = {"impulse_n": 0.0, "impulse_t": 0.0, "Q_t": None}
+_EVENT_DEFAULTS = {"impulse_n": 0.0, "impulse_t": 0.0, "Q_t": None, "z": np.nan}
+#: event columns written only where an event has them (2D: no z; read back as None)
+_EVENT_3D_ONLY = ("z",)
 
 _MULT_SPEC: dict[str, tuple[str, str, str]] = {
     **_SEGMENT_SPEC,
@@ -468,6 +472,11 @@ def _event_vars(res: Result, dv: dict[str, Any]) -> None:
     """One ``event_*`` column per field of :class:`Event` (:data:`_EVENT_SPEC`)."""
     for name, (kind, units, long_name) in _EVENT_SPEC.items():
         vals = [getattr(e, name) for e in res.events]
+        if name in _EVENT_3D_ONLY:
+            if all(v is None for v in vals):
+                continue  # 2D: no z (read back as None)
+            vals = [np.nan if v is None else v for v in vals]
+            kind = "float"
         if name == "Q" and res.n_t > 1:  # the vector is event_Q_t; Q its magnitude
             vals = [e.Q_abs for e in res.events]
         if kind == "vector":  # (event, tangent)

@@ -119,7 +119,8 @@ class StaticResult:
     load_resultants : (n_patterns, 3) resultant of every load pattern's forces per unit λ, in
         the order of ``pattern_names``: F_x, F_y in N and M_z = Σ (x f_y − y f_x) (+ nodal
         moments) about the origin in N·m (:meth:`load_resultant`; prescribed displacements
-        are not forces and do not count)
+        are not forces and do not count); a 3D model's (n_patterns, 6): F_x, F_y, F_z, M_x,
+        M_y, M_z (M = Σ x × f + nodal moments about the origin)
 
     Tangential quantities (``Q``, ``ut``, ``tau``) have a tangential axis of n_t components
     (:attr:`n_t`: 1 in 2D, 2 in 3D) along the CFE's tangents t₁[, t₂]: :attr:`Q_t`,
@@ -378,16 +379,19 @@ class StaticResult:
                        f"{', '.join(f'{k!r}' for k in known) or 'none'})")
 
     def load_resultant(self, pattern: str, state: int | None = None) -> np.ndarray:
-        """Resultant [F_x, F_y, M_z] of the forces of load pattern ``pattern``: N, N and N·m
-        (M_z about the origin); per unit λ, or with ``state`` the load applied at that state
+        """Resultant of the forces of load pattern ``pattern`` about the origin: [F_x, F_y,
+        M_z] (N, N, N·m) in 2D; in 3D the force and moment vectors [F_x, F_y, F_z, M_x, M_y,
+        M_z] (N and N·m, M = Σ x_i × f_i + Σ m_i, :func:`stepcontact.fem.assembly.
+        load_resultant`).  Per unit λ, or with ``state`` the load applied at that state
         (factor × the per-unit resultant).  A pattern whose factor is a water level has no
-        per-unit resultant: give ``state``."""
+        per-unit resultant: give ``state``.  NaN for a result written before the resultants
+        were stored."""
         if pattern not in self.pattern_names:
             raise KeyError(f"no load pattern '{pattern}' (patterns: "
                            f"{', '.join(map(repr, self.pattern_names)) or 'none'})")
         R = np.asarray(self.load_resultants, dtype=float)
-        if R.shape != (len(self.pattern_names), 3):
-            return np.full(3, np.nan)  # a result written before the resultants were stored
+        if R.ndim != 2 or R.shape[0] != len(self.pattern_names) or R.shape[1] not in (3, 6):
+            return np.full(6 if self.n_t > 1 else 3, np.nan)  # not stored (older files)
         if state is None:
             return R[self.pattern_names.index(pattern)]
         names = self.level_patterns.get(pattern, (pattern,))
@@ -850,15 +854,19 @@ class StaticResult:
                 f"equilibrium lost λ={fmt(mu.equilibrium_lost)}"
             )
         R = np.asarray(self.load_resultants, dtype=float)
-        if len(self.pattern_names) and R.shape == (len(self.pattern_names), 3):
-            lines.append("load resultants per unit λ (Fx, Fy in N; Mz about the origin in N·m):")
+        if len(self.pattern_names) and R.ndim == 2 and R.shape[0] == len(self.pattern_names) \
+                and R.shape[1] in (3, 6):
+            names = RESULTANT_NAMES[R.shape[1]]
+            lines.append("load resultants per unit λ (" + (
+                "Fx, Fy in N; Mz about the origin in N·m):" if R.shape[1] == 3 else
+                "Fx, Fy, Fz in N; Mx, My, Mz about the origin in N·m):"))
 
             every = float(np.nanmax(np.abs(R), initial=0.0))  # round-off: of all patterns
 
             def fmt3(r):
                 big = max(float(np.max(np.abs(r), initial=0.0)), every)
-                fx, fy, mz = np.where(np.abs(r) <= 1e-12 * big, 0.0, r) + 0.0  # no "-0"
-                return f"Fx = {fx:.6g}, Fy = {fy:.6g}, Mz = {mz:.6g}"
+                r = np.where(np.abs(r) <= 1e-12 * big, 0.0, r) + 0.0  # no "-0"
+                return ", ".join(f"{k} = {v:.6g}" for k, v in zip(names, r, strict=True))
 
             levels = self.level_patterns
             for name, r in zip(self.pattern_names, R, strict=True):
@@ -990,8 +998,8 @@ class StaticResult:
         ``tau`` also on ``tangent`` in 3D, coordinate "t1", "t2"), without the rest of the
         result file.
         Coordinates: ``lam``, ``segment``, ``pattern``, ``kind`` of each state; ``interface``
-        (name), ``local``, ``position`` (arc length, m), ``x``, ``y`` (m), ``area`` (m²) and
-        ``friction`` of each CFE.
+        (name), ``local``, ``position`` (arc length, m), ``x``, ``y`` (and ``z`` in 3D) (m),
+        ``area`` (m²) and ``friction`` of each CFE.
 
         Parameters
         ----------
@@ -1027,12 +1035,13 @@ class StaticResult:
         seg = np.asarray(self.segment, dtype=np.int64)
         pattern = np.array([self.segments[s][0] if 0 <= s < len(self.segments) else ""
                             for s in seg.tolist()], dtype=str)
-        xy = np.asarray(self.cfe.get("x", np.zeros((m, 2))), dtype=float).reshape(m, 2)
+        xy = np.asarray(self.cfe.get("x", np.zeros((m, 2))), dtype=float).reshape(m, -1)
         iface = np.asarray(self.cfe.get("interface", np.zeros(m, int)), dtype=np.int64)
         names = np.array(self.interface_names, dtype=str)[iface] if m else np.array([], str)
         cfe_coords = {
             "interface": names, "local": self.cfe.get("local", np.arange(m)),
             "position": self.cfe.get("s", np.full(m, np.nan)), "x": xy[:, 0], "y": xy[:, 1],
+            **({"z": xy[:, 2]} if xy.shape[1] == 3 else {}),
             "area": self.cfe.get("area", np.full(m, np.nan)),
             "friction": self.cfe.get("friction", np.full(m, np.nan)),
         }
@@ -1067,6 +1076,8 @@ _MULTIPLIER_KEYS = ("first_slip", "first_opening", "first_closing", "equilibrium
 _REPR_SEGMENTS = 8  #: segments listed by ``repr`` (the rest are counted)
 #: the CFE quantities with a tangential axis (n_t components) in 3D
 _TANGENTIAL = ("Q", "ut", "tau")
+#: the components of a load resultant (:meth:`StaticResult.load_resultant`) by their number
+RESULTANT_NAMES = {3: ("Fx", "Fy", "Mz"), 6: ("Fx", "Fy", "Fz", "Mx", "My", "Mz")}
 _HISTORY_UNITS = {"N": "N", "Q": "N", "sigma_n": "Pa", "tau": "Pa", "un": "m", "ut": "m"}
 _HISTORY_NAMES = {
     "N": "normal CFE force (negative in compression)",

@@ -73,18 +73,44 @@ def result_summary(res: StaticResult, **extra: Any) -> dict[str, Any]:
 
 
 def load_resultants(res: StaticResult) -> dict[str, dict[str, Any]]:
-    """{pattern: {"Fx": N, "Fy": N, "Mz": N·m about the origin}} per unit λ."""
+    """{pattern: {"Fx": N, "Fy": N, "Mz": N·m about the origin}} per unit λ; in 3D
+    {"Fx", "Fy", "Fz", "Mx", "My", "Mz"}."""
     out = {}
     levels = res.level_patterns
     for name in res.pattern_names:
         if is_virtual(name):
             continue
+        r = res.load_resultant(name, -1) if name in levels else res.load_resultant(name)
+        keys = _result.RESULTANT_NAMES.get(len(r), _result.RESULTANT_NAMES[3])
+        out[name] = {k: jsonable(float(v)) for k, v in zip(keys, r, strict=True)}
         if name in levels:  # the factor is a water level: the load at the last state
-            fx, fy, mz = (jsonable(float(v)) for v in res.load_resultant(name, -1))
-            out[name] = {"Fx": fx, "Fy": fy, "Mz": mz, "at": "last state (water level)"}
+            out[name]["at"] = "last state (water level)"
+    return out
+
+
+def _interface_safety_3d(res: StaticResult) -> list[dict[str, Any]]:
+    """The safety of every joint of a 3D result at the last state
+    (:func:`~stepcontact.results.safety3d.interface_safety_3d`: resultant force and moment,
+    the normal resultant's point and eccentricities (e₁, e₂), kern, compressed area, sliding
+    factor, the faceted cone's k and bound, the λ of sliding and overturning)."""
+    out = []
+    for name in res.interface_names:
+        try:
+            s = res.interface_safety(name)
+        except ValueError:  # an interface without CFEs
             continue
-        fx, fy, mz = (jsonable(float(v)) for v in res.load_resultant(name))
-        out[name] = {"Fx": fx, "Fy": fy, "Mz": mz}
+        row: dict[str, Any] = {"interface": name, "dimension": 3}
+        for k, v in s.at(-1).items():
+            row[k] = [jsonable(float(x)) for x in v] if isinstance(v, list) else jsonable(v)
+        row |= {"segment": int(s.segment[-1]), "resultant": [jsonable(float(x)) for x in
+                                                              s.resultant[-1]],
+                "moment": [jsonable(float(x)) for x in s.moment[-1]],
+                "area": jsonable(float(s.area)), "extent": [float(x) for x in s.extent],
+                "friction": jsonable(float(s.friction)), "facets": int(s.facets),
+                "cone_bound": jsonable(float(s.cone_bound)),
+                "lam_sliding": jsonable(s.lam_sliding),
+                "lam_overturning": jsonable(s.lam_overturning)}
+        out.append(row)
     return out
 
 
@@ -143,6 +169,8 @@ def interface_safety(res: StaticResult, design: float | None = None,
     load margins λ_limit / λ_d."""
     if not res.n_states:
         return []
+    if res.n_t > 1:
+        return _interface_safety_3d(res)
     out = []
     for name in res.interface_names:
         try:

@@ -52,7 +52,8 @@ class EventLog:
             y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
             transition=tr, N=float(-lay.normal(s)[k]),
             Q=float(lay.tangential(s)[k]) if lay.n_t == 1 else lay.tangential(s)[k].copy(),
-            impulse_n=pn, impulse_t=qt)
+            impulse_n=pn, impulse_t=qt,
+            z=float(cfe.x[k, 2]) if cfe.x.ndim == 2 and cfe.x.shape[1] == 3 else None)
         self.rec.events.append(ev)
         if first is not None:
             key = FIRST_OF.get(tr)

@@ -38,6 +38,13 @@ if TYPE_CHECKING:
 Unknowns = Callable[[np.ndarray], tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]]
 
 
+def _stacked(t: np.ndarray) -> np.ndarray:
+    """A result's tangential values (k, m) or, in 3D, (k, m, n_t) as the rows of the contact
+    unknowns (k, m n_t): component by component (:meth:`ContactLayout.join`)."""
+    t = np.asarray(t)
+    return np.swapaxes(t, 1, 2).reshape(len(t), -1) if t.ndim == 3 else t
+
+
 class FieldRecovery:
     """Displacement fields and stresses at any recorded state, exact from its contact
     unknowns (factors, s, w: between events the structure is linear): one solve with the
@@ -79,8 +86,8 @@ class FieldRecovery:
         def unknowns(idx):
             F = np.asarray(res.factors)[idx]
             p = -res.N[idx] if res.water is None else np.asarray(res.water)[idx] - res.N[idx]
-            s = np.concatenate([res.Q[idx], p], axis=1)
-            w = np.concatenate([res.ut[idx], res.un[idx]], axis=1)
+            s = np.concatenate([_stacked(res.Q[idx]), p], axis=1)
+            w = np.concatenate([_stacked(res.ut[idx]), res.un[idx]], axis=1)
             return {n: F[:, j] for j, n in enumerate(names)}, s, w
 
         return cls(cond, unknowns, stress)

@@ -1055,15 +1055,17 @@ class StaticSolver:
 
     def _resultants(self) -> np.ndarray:
         """(n_patterns, 3) resultant F_x, F_y (N), M_z about the origin (N·m) of every
-        pattern's forces per unit λ, computed once."""
+        pattern's forces per unit λ, computed once; in 3D (n_patterns, 6): F_x, F_y, F_z,
+        M_x, M_y, M_z (:func:`~stepcontact.fem.assembly.load_resultant`)."""
         if getattr(self, "_load_resultants", None) is None:
-            # DOFs without coordinates (a discrete model): no resultants; a 3D model's
-            # (F, M about the origin, six components) are not stored in results yet
-            if self.sys.discrete is not None or self.sys.dofs.dim == 3:
+            # DOFs without coordinates (a discrete model): no resultants
+            if self.sys.discrete is not None:
                 self._load_resultants = np.zeros((0, 3))
                 return self._load_resultants
             r = load_resultants(self.sys)
-            self._load_resultants = np.array([r[n] for n in self.c]).reshape(len(self.c), 3)
+            width = 6 if self.sys.dofs.dim == 3 else 3
+            self._load_resultants = np.array([r[n] for n in self.c]).reshape(len(self.c),
+                                                                             width)
         return self._load_resultants
 
     def _moments(self) -> np.ndarray | None:

@@ -71,6 +71,14 @@ y1], …]`` (m), ``side = "left"`` (the side the bodies lie on walking along the
 drawn from left to right carries bodies above it) or ``"right"``; an interface against it gives
 ``obstacle = "ground"`` instead of ``minus``.
 
+3D models (the dimension follows from the bodies, z up): ``box``, ``extrude``, ``cylinder`` and
+``spherical_block`` bodies, or the physical volumes of a 3D gmsh mesh (its physical surfaces
+are node sets); ``[[frames]]`` with 3D points are space frames (Iy, Iz, J, G or nu,
+orientation; supports on rx, ry, rz, moments mx, my, mz); interfaces between faces take the
+faceted cone's ``facets``, ``facet_angle`` and ``axis`` and a 3-vector ``normal``;
+``[[obstacles]] kind = "plane"`` (point, normal) is rigid ground; an ``uplift`` acts through
+the CFEs (``through``).  A field of the other dimension is an error at its path.
+
 Construction in stages (method.md §6): ``[[stages]]`` entries, in order, each with ``name``,
 the names of the ``bodies``, ``interfaces`` (made at once), ``contacts``, ``supports`` and
 ``remove_supports`` of that stage, ``grout = {interface = bond table}`` and its own
@@ -105,6 +113,7 @@ from stepcontact.io.modelfile.schema import (
     BondSpec,
     BoxSpec,
     CrackWaterSpec,
+    CylinderSpec,
     DampingSpec,
     DisplacementLoad,
     DynamicsSpec,
@@ -126,6 +135,7 @@ from stepcontact.io.modelfile.schema import (
     ObstacleMotionLoad,
     ObstacleSpec,
     PatternSpec,
+    PlaneObstacleSpec,
     Point,
     PolygonSpec,
     Pressure,
@@ -134,6 +144,7 @@ from stepcontact.io.modelfile.schema import (
     QuadRegionSpec,
     RectangleSpec,
     SegmentSpec,
+    SphericalBlockSpec,
     SpringSpec,
     StageSpec,
     SupportSpec,
@@ -159,6 +170,7 @@ __all__ = [
     "BondSpec",
     "BoxSpec",
     "CrackWaterSpec",
+    "CylinderSpec",
     "DampingSpec",
     "DisplacementLoad",
     "DynamicsSpec",
@@ -179,6 +191,7 @@ __all__ = [
     "ObstacleMotionLoad",
     "ObstacleSpec",
     "PatternSpec",
+    "PlaneObstacleSpec",
     "Point",
     "PolygonSpec",
     "Pressure",
@@ -187,6 +200,7 @@ __all__ = [
     "QuadRegionSpec",
     "RectangleSpec",
     "SegmentSpec",
+    "SphericalBlockSpec",
     "SpringSpec",
     "StageSpec",
     "SupportSpec",

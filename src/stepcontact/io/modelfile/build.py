@@ -6,6 +6,7 @@ the file.
 
 from __future__ import annotations
 
+import re
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -22,6 +23,7 @@ from stepcontact.io.modelfile.schema import (
     BoxBodySpec,
     BoxSpec,
     CrackWaterSpec,
+    CylinderSpec,
     EdgeForceLoad,
     ExtrudeSpec,
     GravityLoad,
@@ -31,11 +33,13 @@ from stepcontact.io.modelfile.schema import (
     NodalLoadSpec,
     NodeSetSpec,
     ObstacleMotionLoad,
+    PlaneObstacleSpec,
     PolygonSpec,
     PressureLoad,
     QuadRegionSpec,
     RectangleSpec,
     SegmentSpec,
+    SphericalBlockSpec,
     UpliftLoadSpec,
     WaterLoadSpec,
     _body_name,
@@ -63,13 +67,15 @@ from stepcontact.model.items import (
 )
 from stepcontact.model.mesh import (
     box,
+    cylinder,
     extrude,
     half_disc,
     polygon_region,
     quad_region,
     rectangle,
+    spherical_block,
 )
-from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle
+from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.program import cycles
 from stepcontact.model.size import check_size
 from stepcontact.model.stages import Stage
@@ -115,6 +121,15 @@ def _section(b: RectangleSpec | QuadRegionSpec | PolygonSpec | HalfDiscSpec,
         return polygon_region(b.name, b.vertices, mat, b.element, n=b.n, size=b.size)
     return half_disc(b.name, b.center, b.radius, b.n_radial, b.n_around, mat, b.element,
                      refine_toward="bottom" if b.refine else None, ratio=b.ratio)
+
+
+def _field_of(item: str, prefix: str) -> str | None:
+    """``.field`` of a model item's error ``prefix.field`` (e.g. ``body 'b'.n[0]`` ->
+    ``.n[0]``, ``frame 'f'.J`` -> ``.J``); None when the item names no field of it."""
+    rest = item.removeprefix(prefix)
+    if rest == item or not rest.startswith("."):
+        return None
+    return rest.split(" ")[0]
 
 
 def _build_node_set(name: str, ns: NodeSetSpec, body: Body | Frame) -> NodeSet:
@@ -201,17 +216,30 @@ class _Builder(_References):
                     self.bodies[name] = box(b.name, b.corner0, b.corner1, (b.nx, b.ny, b.nz),
                                             mat, b.element)
                     continue
+                if isinstance(b, CylinderSpec):
+                    self.bodies[name] = cylinder(b.name, b.centre, b.radius, b.height, b.n, mat,
+                                                 b.element)
+                    continue
+                if isinstance(b, SphericalBlockSpec):
+                    self.bodies[name] = spherical_block(b.name, b.radius, b.xs, b.ys, b.top,
+                                                        b.layers, mat, b.element)
+                    continue
                 if isinstance(b, HalfDiscSpec):
                     self.bodies[name] = half_disc(
                         b.name, b.center, b.radius, b.n_radial, b.n_around, mat, b.element,
                         refine_toward="bottom" if b.refine else None, ratio=b.ratio)
                     continue
-                if self.mesh is None or self._group_problem(b.surface, (2,)) is not None:
+                if self.mesh is None or self._group_problem(
+                        b.surface, (self.mesh.dim,)) is not None:
                     self.failed.add(name)
                     continue
                 self.bodies[name] = self.mesh.body(b.surface, mat, name=name, element=b.element)
             except ModelError as e:
                 self.failed.add(name)
+                field = _field_of(e.item, f"body '{name}'")
+                if field is not None:
+                    self.p.add(f"bodies[{i}]{field}", e.problem)
+                    continue
                 detail = e.problem if e.item.startswith("body ") else f"{e.item} {e.problem}"
                 self.p.add(f"bodies[{i}]", detail)
         for i, f in enumerate(self.spec.frames):
@@ -220,18 +248,19 @@ class _Builder(_References):
             self.paths[f.name] = f"frames[{i}]"
             try:
                 self.bodies[f.name] = Frame.line(
-                    f.name, f.start, f.end, f.n, E=f.E, A=f.A, I=f.I, density=f.density
-                )
+                    f.name, f.start, f.end, f.n, E=f.E, A=f.A, I=f.I, density=f.density,
+                    **f.section)
             except ModelError as e:
                 self.failed.add(f.name)
-                self.p.add(f"frames[{i}]", e.problem)
+                field = _field_of(e.item, f"frame '{f.name}'")
+                self.p.add(f"frames[{i}]{field or ''}", e.problem)
 
     def check_size(self) -> None:
         """The whole model fits in this machine's memory (each rectangle was checked before
         it was meshed; mesh bodies and the sum of all are checked here, before assembly)."""
         if len(self.bodies) < 2 and self.mesh is None:
             return
-        ndof = sum((3 if isinstance(b, Frame) else b.dim) * b.n_nodes
+        ndof = sum((len(b.dof_names) if isinstance(b, Frame) else b.dim) * b.n_nodes
                    for b in self.bodies.values())
         nodes = sum(b.n_nodes for b in self.bodies.values())
         try:
@@ -242,7 +271,7 @@ class _Builder(_References):
     def _group_set(self, group: str, body: str | None, name: str, path: str, hint: str) -> None:
         """Node set ``name`` of a physical group; problems are reported at ``path``."""
         assert self.mesh is not None
-        if self._group_problem(group, (0, 1)) is not None:
+        if self._group_problem(group, self.set_dims) is not None:
             return
         if body is not None and body not in self.bodies:
             return
@@ -331,13 +360,15 @@ class _Builder(_References):
         obstacles: dict[str, RigidObstacle] = {}
         for i, ob in enumerate(spec.obstacles):
             try:
-                obstacles[ob.name] = RigidObstacle(ob.name, ob.points, ob.side)
+                obstacles[ob.name] = (RigidPlane(ob.name, point=ob.point, normal=ob.normal)
+                                      if isinstance(ob, PlaneObstacleSpec)
+                                      else RigidObstacle(ob.name, ob.points, ob.side))
             except ModelError as e:
                 field = e.item.rpartition("'.")[2] if "'." in e.item else ""
                 p.add(f"obstacles[{i}].{field}" if field else f"obstacles[{i}]", e.problem)
         interfaces = []
         for i, itf in enumerate(spec.interfaces):
-            if not have(itf.plus, itf.minus):
+            if not have(itf.plus, itf.minus) or f"interfaces[{i}]" in getattr(self, "skip", ()):
                 continue
             if itf.obstacle is not None and itf.obstacle not in obstacles:
                 continue
@@ -354,9 +385,13 @@ class _Builder(_References):
                     pairs=itf.pairs,
                     area=itf.area,
                     cfe=itf.cfe,
+                    facets=itf.facets,
+                    facet_angle=itf.facet_angle,
+                    axis=itf.axis,
                 ))
             except ModelError as e:
-                p.add(f"interfaces[{i}]", e.problem)
+                field = _field_of(e.item, f"interface '{itf.name}'")
+                p.add(f"interfaces[{i}]{field or ''}", e.problem)
         patterns = []
         for pname, pat in spec.patterns.items():
             loads: list[object] = []
@@ -390,33 +425,101 @@ class _Builder(_References):
                 stages=stages,
             )
         except ModelError as e:
-            p.add(e.item, e.problem)
+            p.add(self.file_path(e.item), e.problem)
             return None
         self.check_chain(model)
         return model
 
+    #: the model's dimension (2 or 3), known after :meth:`check_dimension`
+    dim: int = 2
+    #: paths of interfaces not built: a field of the other dimension (reported)
+    skip: set[str]
+
     def check_dimension(self) -> None:
         """The fields that belong to the other dimension, named by their path: the model is 3D
-        when its bodies are (the model refuses bodies of both dimensions itself), and then a
-        rotation rz, a moment mz, a 2-component gravity, a tangential or 2D traction and the
-        plane options are errors; in 2D anything along z."""
-        dims = {b.dim for b in self.bodies.values() if isinstance(b, Body)}
-        if len(dims) != 1:
-            return  # no continuum, or both dimensions (the model reports it)
-        dim, p, spec = dims.pop(), self.p, self.spec
+        when its bodies are (or, without continua, its frames), and then a rotation of a
+        continuum's node, a moment on it, a 2-component gravity, a tangential or 2D traction,
+        the plane options, a 2D obstacle line and an uplift on the faces are errors; in 2D
+        anything along z, a rotation other than rz, the facet options of the faceted cone and
+        a rigid plane.  Bodies and frames of both dimensions: an error at the first one of the
+        other dimension."""
+        spec, p = self.spec, self.p
+        self.skip = set()
+        continua = {n: b.dim for n, b in self.bodies.items() if isinstance(b, Body)}
+        every = {n: b.dim for n, b in self.bodies.items()}
+        first = next(iter(continua.values()), next(iter(every.values()), None))
+        if first is None:
+            return
+        self.dim = dim = first
+        for name, d in every.items():
+            if d != dim:
+                where = self.paths.get(name, f"body '{name}'")
+                field = ".start" if where.startswith("frames") else ""
+                p.add(where + field, f"is {d}D, but the model is {dim}D (its first "
+                      f"{'body' if continua else 'frame'} is): all bodies and frames of a model "
+                      "have one dimension")
         if dim == 3:
             for key in ("plane", "thickness"):
                 if key in spec.model.model_fields_set:
                     p.add(f"model.{key}", "applies to 2D bodies only (plane strain or stress); "
                           "the bodies are 3D: leave it out")
         for i, s in enumerate(spec.supports):
-            bad = "rz" if dim == 3 else "z"
-            if bad in _parse_dofs(s.dofs, f"supports[{i}].dofs", ALL_DOFS):
-                p.add(f"supports[{i}].dofs", f"'{bad}' is not a degree of freedom of a "
-                      f"{dim}D model (use {'x, y, z' if dim == 3 else 'x, y, rz'})")
+            dofs = _parse_dofs(s.dofs, f"supports[{i}].dofs", ALL_DOFS)
+            bad = [d for d in dofs if d not in self._dofs_of(s.nodes)]
+            if bad:
+                p.add(f"supports[{i}].dofs", f"'{bad[0]}' is not a degree of freedom of a "
+                      f"{dim}D model's {self._owner(s.nodes)} (use "
+                      f"{', '.join(self._dofs_of(s.nodes))})")
+        self._check_interface_dimension(dim)
         for pname, pat in spec.patterns.items():
             for j, ld in enumerate(pat.loads):
                 self._check_load_dimension(_path(["patterns", pname, "loads", j]), ld, dim)
+
+    def _frame_set(self, name: str) -> bool:
+        """Node set ``name`` lies on a frame."""
+        ns = self.sets.get(name)
+        return ns is not None and isinstance(self.bodies.get(ns.body), Frame)
+
+    def _dofs_of(self, name: str) -> tuple[str, ...]:
+        """The DOF names of the nodes of set ``name`` in a model of ``self.dim``."""
+        ns = self.sets.get(name)
+        body = None if ns is None else self.bodies.get(ns.body)
+        if isinstance(body, Frame):
+            return body.dof_names
+        return ("x", "y", "z") if self.dim == 3 else ("x", "y", "rz")
+
+    def _owner(self, name: str) -> str:
+        """``body nodes (set 'base')`` for messages."""
+        kind = ("space frame" if self.dim == 3 else "plane frame") \
+            if self._frame_set(name) else "body"
+        return f"{kind} nodes (set '{name}')"
+
+    def _check_interface_dimension(self, dim: int) -> None:
+        """The interfaces' and obstacles' fields of the other dimension."""
+        spec, p = self.spec, self.p
+        kinds = {ob.name: ob.kind for ob in spec.obstacles}
+        for i, ob in enumerate(spec.obstacles):
+            if (ob.kind == "plane") != (dim == 3):
+                p.add(f"obstacles[{i}].kind", f"the model is {dim}D: " + (
+                    "a 3D body meets a rigid plane (kind = \"plane\", point, normal)"
+                    if dim == 3 else "a rigid plane is for 3D bodies; a 2D body meets a line "
+                    "(points, side)"))
+        for i, itf in enumerate(spec.interfaces):
+            path = f"interfaces[{i}]"
+            if dim == 2:
+                for key, given in (("facets", itf.facets is not None),
+                                   ("facet_angle", itf.facet_angle != 0.0),
+                                   ("axis", itf.axis is not None)):
+                    if given:
+                        p.add(f"{path}.{key}", "applies to interfaces between 3D bodies only "
+                              "(a 2D interface has the two facets slip+ and slip−)")
+                        self.skip.add(path)
+            if itf.normal is not None and len(itf.normal) != dim:
+                p.add(f"{path}.normal", f"has {len(itf.normal)} components, the model is "
+                      f"{dim}D: give {'[nx, ny, nz]' if dim == 3 else '[nx, ny]'}")
+                self.skip.add(path)
+            if itf.obstacle in kinds and (kinds[itf.obstacle] == "plane") != (dim == 3):
+                self.skip.add(path)  # the obstacle's kind is reported
 
     def _check_load_dimension(self, path: str, ld: Any, dim: int) -> None:
         """One load's fields against the model's dimension (:meth:`check_dimension`)."""
@@ -427,19 +530,48 @@ class _Builder(_References):
                   f"{'[gx, gy, gz]' if dim == 3 else '[gx, gy]'} (m/s²) or leave it out "
                   "(9.81 m/s² downwards)")
         elif isinstance(ld, NodalLoadSpec | EdgeForceLoad):
-            bad = ("mz" if dim == 3 else "fz")
-            if getattr(ld, bad, 0.0) != 0.0:
-                p.add(f"{path}.{bad}", f"{other}: " + ("a 3D body's nodes have no rotation "
-                      "(moments mz act on 2D frames)" if dim == 3 else "no force along z"))
+            dofs = self._dofs_of(ld.nodes)
+            for key in ("fz", "mx", "my", "mz"):
+                if getattr(ld, key, 0.0) == 0.0:
+                    continue
+                turn = key.startswith("m")
+                if (turn and "r" + key[1] not in dofs) or (not turn and "z" not in dofs):
+                    why = (f"the {self._owner(ld.nodes)} have no rotation about {key[1]} (moments "
+                           "act on frames: mz on plane frames, mx, my, mz on space frames)"
+                           if turn else "no force along z")
+                    p.add(f"{path}.{key}", f"{other}: {why}")
         elif isinstance(ld, PressureLoad) and dim == 3:
             for key in ("tangential", "traction"):
                 if getattr(ld, key) is not None:
                     p.add(f"{path}.{key}", f"{other}: the faces of 3D bodies take a normal "
                           "pressure (or edge_force with fx, fy, fz)")
+        elif isinstance(ld, UpliftLoadSpec) and dim == 3 and ld.through == "faces":
+            p.add(f"{path}.through", f"{other}: an uplift in a 3D joint acts through its CFEs "
+                  "(through = \"cfes\", the default in 3D: A_k p(x, y) across each CFE)")
         elif getattr(ld, "type", None) == "displacement":
-            bad = "rz" if dim == 3 else "z"
-            if ld.dof == bad:
-                p.add(f"{path}.dof", f"{other}: use {'x, y or z' if dim == 3 else 'x, y or rz'}")
+            if ld.dof not in self._dofs_of(ld.nodes):
+                p.add(f"{path}.dof", f"{other}: its {self._owner(ld.nodes)} move along "
+                      f"{', '.join(self._dofs_of(ld.nodes))}")
+
+    def file_path(self, item: str) -> str:
+        """The field path of an item the model names in its own words (``load pattern 'w'
+        load 0.through`` -> ``patterns.w.loads[0].through``, ``interface 'j'.normal`` ->
+        ``interfaces[2].normal``, ``body 'b'`` / ``frame 'f'`` -> ``bodies[1]`` /
+        ``frames[0]``); the item itself when it names nothing of the file."""
+        if item.startswith("model.dynamics"):
+            return item.removeprefix("model.")
+        m = re.match(r"load pattern '(.+)' load (\d+)(.*)$", item)
+        if m and m.group(1) in self.spec.patterns:
+            return f"{_path(['patterns', m.group(1), 'loads', int(m.group(2))])}{m.group(3)}"
+        m = re.match(r"(interface|body|frame) '(.+?)'(\..*)?$", item)
+        if m is None:
+            return item
+        kind, name, rest = m.group(1), m.group(2), m.group(3) or ""
+        if kind == "interface":
+            found = [i for i, itf in enumerate(self.spec.interfaces) if itf.name == name]
+            return f"interfaces[{found[0]}]{rest}" if found else item
+        where = self.paths.get(name)
+        return f"{where}{rest}" if where is not None else item
 
     def check_chain(self, model: Model) -> None:
         """Each segment starts where its pattern stands: the model's rule
@@ -471,7 +603,8 @@ class _Builder(_References):
         elif isinstance(ld, UpliftLoadSpec):
             found = [i for i in interfaces if i.name == ld.interface]
             if found:
-                loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight))
+                through = ld.through or ("cfes" if self.dim == 3 else "faces")
+                loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight, through))
         elif isinstance(ld, CrackWaterSpec):
             found = [i for i in interfaces if i.name == ld.interface]
             if found:
@@ -487,7 +620,8 @@ class _Builder(_References):
         elif isinstance(ld, WaterLoadSpec):
             loads.append(WaterLoad(self.sets[ld.nodes], ld.level, ld.unit_weight))
         elif isinstance(ld, NodalLoadSpec):
-            loads.append(NodalLoad(self.sets[ld.nodes], ld.fx, ld.fy, ld.mz, ld.fz))
+            loads.append(NodalLoad(self.sets[ld.nodes], ld.fx, ld.fy, ld.mz, ld.fz, ld.mx,
+                                   ld.my))
         elif isinstance(ld, PressureLoad):
             loads.append(EdgeLoad(self.sets[ld.nodes], ld.normal, ld.tangential,
                                   None if ld.traction is None else tuple(ld.traction)))

@@ -99,7 +99,8 @@ def check_plausible(spec: ModelFile, p: _Problems) -> None:
 def _where(b: _Built, name: str) -> str:
     """``body 'x'`` or ``physical surface 'x'`` for messages."""
     s = b.surface_of.get(name)
-    return f"physical surface '{s}'" if s is not None else f"body '{name}'"
+    kind = "volume" if b.mesh is not None and b.mesh.dim == 3 else "surface"
+    return f"physical {kind} '{s}'" if s is not None else f"body '{name}'"
 
 def check_geometry(builder: _Built, model: Model) -> None:
     """Element quality, nodes in no element, bodies overlapping without an interface (the
@@ -153,10 +154,11 @@ def check_geometry(builder: _Built, model: Model) -> None:
     if builder.mesh is not None:
         orphans = builder.mesh.orphan_nodes()
         if orphans.size:
-            x, y = builder.mesh.points[orphans[0]]
+            at = ", ".join(f"{v:.6g}" for v in builder.mesh.points[orphans[0]])
+            kind = "volume" if builder.mesh.dim == 3 else "surface"
             p.warn("mesh", f"{orphans.size} node{'s' * (orphans.size > 1)} of "
-                   f"{builder.mesh.path.name} belong to no element of a physical surface and "
-                   f"are ignored (e.g. node {int(orphans[0])} at ({x:.6g}, {y:.6g}))")
+                   f"{builder.mesh.path.name} belong to no element of a physical {kind} and "
+                   f"are ignored (e.g. node {int(orphans[0])} at ({at}))")
     joined = {frozenset((i.plus.body, i.minus.body)) for i in model.interfaces
               if isinstance(i.minus, NodeSet)}
     for ia, a in enumerate(plane):

@@ -74,13 +74,7 @@ class _References:
         path = Path(ms.file).expanduser()
         path = Path(os.path.normpath(path if path.is_absolute() else self.base / path))
         try:
-            mesh = read_mesh(path, ms.order or 1, ms.element or "tri", ms.size)
-            if mesh.dim == 3:
-                raise ModelError(f"mesh '{path}'", f"is a 3D mesh ({mesh.contents()}): 3D "
-                                 "models are not supported yet in the model file; read it in "
-                                 "Python with stepcontact.read_msh (physical volumes become "
-                                 "bodies)")
-            self.mesh = mesh
+            self.mesh = read_mesh(path, ms.order or 1, ms.element or "tri", ms.size)
         except ModelError as e:
             self.mesh_failed = True
             where = str(path)
@@ -89,6 +83,17 @@ class _References:
             if not full.is_relative_to(base):  # say which file, wherever it is
                 where = f"'{ms.file}' ({full}, outside the model file's folder {base})"
             self.p.add("mesh.file", f"{where}: {e.problem}")
+
+    @property
+    def body_dims(self) -> tuple[int]:
+        """The dimension of the mesh's body groups: (2,) physical surfaces, (3,) volumes."""
+        return (3,) if self.mesh is not None and self.mesh.dim == 3 else (2,)
+
+    @property
+    def set_dims(self) -> tuple[int, ...]:
+        """The dimensions of the groups that are node sets: curves and points; in a 3D mesh
+        surfaces too."""
+        return (0, 1, 2) if self.mesh is not None and self.mesh.dim == 3 else (0, 1)
 
     def _group_problem(self, name: str, dims: tuple[int, ...]) -> str | None:
         """Why ``name`` is not a usable physical group of these dimensions (None if it is)."""
@@ -126,28 +131,30 @@ class _References:
                 continue
             if b.material is None:
                 p.add(f"bodies[{i}].material",
-                      f"physical surface '{b.surface}' has no material: give material = "
+                      f"physical {GROUP_KINDS[self.body_dims[0]]} '{b.surface}' has no "
+                      "material: give material = "
                       "\"NAME\" or an inline table {E, nu, density}")
             if mesh is not None:
                 field = f"bodies[{i}].{'group' if b.group is not None else 'name'}"
-                why = self._group_problem(b.surface, (2,))
+                why = self._group_problem(b.surface, self.body_dims)
+                kind = GROUP_KINDS[self.body_dims[0]]
                 if why is not None:
                     p.add(field, why)
                 elif b.surface in surfaces:
-                    p.add(field, f"physical surface '{b.surface}' is body '{surfaces[b.surface]}'"
-                          " already")
+                    p.add(field, f"physical {kind} '{b.surface}' is body "
+                          f"'{surfaces[b.surface]}' already")
                 surfaces.setdefault(b.surface, b.body_name)
         if mesh is not None and self.spec.mesh is not None:
             ignore = self.spec.mesh.ignore
             for j, s in enumerate(ignore):
-                why = self._group_problem(s, (2,))
+                why = self._group_problem(s, self.body_dims)
                 if why is not None:
                     p.add(f"mesh.ignore[{j}]", why)
-            for s in mesh.surfaces:
+            for s in mesh.body_groups:
                 if s not in surfaces and s not in ignore:
-                    p.add("mesh", f"physical surface '{s}' is not a body: add [[bodies]] with "
-                          f"kind = \"mesh\", group = \"{s}\" and its material (or list it in "
-                          "mesh.ignore)")
+                    p.add("mesh", f"physical {GROUP_KINDS[mesh.dim]} '{s}' is not a body: add "
+                          f"[[bodies]] with kind = \"mesh\", group = \"{s}\" and its material "
+                          "(or list it in mesh.ignore)")
         seen: set[str] = set()
         for group in ("bodies", "frames"):
             for i, b in enumerate(getattr(spec, group)):
@@ -172,7 +179,7 @@ class _References:
                       "a physical group's nodes belong to a mesh body")
             if ns.group is not None:
                 if mesh is not None:
-                    why = self._group_problem(ns.group, (0, 1))
+                    why = self._group_problem(ns.group, self.set_dims)
                     if why is not None:
                         p.add(f"{path}.group", why)
                 elif not self.mesh_failed:
@@ -184,17 +191,20 @@ class _References:
         if name is None or name in spec.node_sets:
             return
         if mesh is not None and name in mesh.groups:
-            why = self._group_problem(name, (0, 1))
+            why = self._group_problem(name, self.set_dims)
             if why is None:
                 self.implicit.setdefault(name, path)
             else:
-                p.add(path, f"{why} (a node set or a physical curve or point)")
+                what = "surface, curve" if mesh.dim == 3 else "curve"
+                p.add(path, f"{why} (a node set or a physical {what} or point)")
             return
         if self.mesh_failed:
             return  # may be a group of the mesh that could not be read
         groups = ""
         if mesh is not None:
-            groups = f"; physical curves and points: {_known(mesh.names(1) + mesh.names(0))}"
+            named = [n for d in reversed(self.set_dims) for n in mesh.names(d)]
+            what = "surfaces, curves" if mesh.dim == 3 else "curves"
+            groups = f"; physical {what} and points: {_known(named)}"
         p.add(path, f"unknown node set '{name}' (known: {_known(spec.node_sets)}{groups})")
 
     def _check_users(self, bodies: list[str]) -> set[str]:

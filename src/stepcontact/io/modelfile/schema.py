@@ -27,6 +27,7 @@ from pydantic import (
     model_validator,
 )
 
+from stepcontact.enums import MAX_FACETS
 from stepcontact.errors import ModelError
 from stepcontact.model.bodies import SolidKind
 from stepcontact.model.bond import FRICTION_ANGLE_RANGE, Bond
@@ -42,6 +43,7 @@ from stepcontact.model.items import (
     modulus_problem,
 )
 from stepcontact.model.mesh import (
+    CYLINDER_MIN_AROUND,
     HALF_DISC_MIN_AROUND,
     SIZE_RATIO_MIN,
     cells_problem,
@@ -63,6 +65,10 @@ _TAGS = {
     "kind=polygon",
     "kind=box",
     "kind=extrude",
+    "kind=cylinder",
+    "kind=spherical_block",
+    "kind=line",
+    "kind=plane",
     "type=gravity",
     "type=nodal",
     "type=pressure",
@@ -259,6 +265,54 @@ class BoxBodySpec(_Spec):
         return self
 
 
+class CylinderSpec(_Spec):
+    """``[[bodies]]`` with ``kind = "cylinder"``: a circular cylinder with its axis along z,
+    the base centred at ``centre``, meshed with ``n = [n_around, n_radial, n_height]`` cells
+    (:func:`stepcontact.cylinder`: an O-grid swept along z); its named boundaries are
+    ``bottom``, ``top`` and ``side``."""
+
+    name: str = Field(description="unique body name")
+    kind: Literal["cylinder"]
+    centre: Point3 = Field(description="centre of the base (x, y, z), m")
+    radius: float = Field(gt=0, description="radius, m")
+    height: float = Field(gt=0, description="height along z, m")
+    n: tuple[int, int, int] = Field(description="cells [n_around (a multiple of 4, ≥ "
+                                    f"{CYLINDER_MIN_AROUND}), n_radial, n_height]")
+    element: SolidKind = Field("hex8", description="tet4, tet10, hex8, hex20 or hex27")
+    material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
+                                  "an inline table `{E, nu, density}`")
+
+    @field_validator("n")
+    @classmethod
+    def _counts(cls, v: tuple[int, int, int]) -> tuple[int, int, int]:
+        if v[0] < CYLINDER_MIN_AROUND or v[0] % 4:
+            raise ValueError(f"n_around = {v[0]}: the cells around must be a multiple of 4, "
+                             f"at least {CYLINDER_MIN_AROUND}")
+        if min(v[1:]) < 1:
+            raise ValueError("n_radial and n_height must be at least 1")
+        return v
+
+
+class SphericalBlockSpec(_Spec):
+    """``[[bodies]]`` with ``kind = "spherical_block"``: a block over [x0, x1] × [y0, y1]
+    whose bottom is the sphere of ``radius`` resting on z = 0 at the origin and whose top is
+    the plane z = ``top`` (:func:`stepcontact.model.mesh.spherical_block`, Hertz contact); its
+    faces are named as a box's (``bottom`` the spherical face)."""
+
+    name: str = Field(description="unique body name")
+    kind: Literal["spherical_block"]
+    radius: float = Field(gt=0, description="radius R of the sphere, m")
+    xs: list[float] = Field(min_length=2, description="grid lines along x, m (increasing)")
+    ys: list[float] = Field(min_length=2, description="grid lines along y, m (increasing)")
+    top: float = Field(description="height of the flat top, m")
+    layers: int | list[float] = Field(description="layers through the thickness: a number "
+                                      "of uniform layers, or fractions from 0 (the sphere) "
+                                      "to 1 (the top)")
+    element: SolidKind = Field("hex8", description="tet4, tet10, hex8, hex20 or hex27")
+    material: MaterialRef = Field(description="a material name from `[materials.NAME]`, or "
+                                  "an inline table `{E, nu, density}`")
+
+
 def _section_tag(v: Any) -> str | None:
     if isinstance(v, dict):
         kind = v.get("kind", "rectangle")
@@ -315,19 +369,22 @@ class ExtrudeSpec(_Spec):
 
 
 class MeshBodySpec(_Spec):
-    """``[[bodies]]`` with ``kind = "mesh"``: the cells of one physical surface of ``[mesh]``.
+    """``[[bodies]]`` with ``kind = "mesh"``: the cells of one physical surface of ``[mesh]``
+    (of one physical volume in a 3D mesh).
 
-    ``group`` is the physical surface (default: ``name``); ``name`` defaults to ``group``.
-    ``element`` defaults to the kind of the cells (tri3, tri6, quad4, quad8, quad9); a linear
-    mesh may use the quadratic element of its shape.  ``material`` is required (a missing one
+    ``group`` is the physical surface or volume (default: ``name``); ``name`` defaults to
+    ``group``.  ``element`` defaults to the kind of the cells (tri3, tri6, quad4, quad8, quad9;
+    3D: tet4, tet10, hex8, hex20, hex27); a linear mesh may use the quadratic element of its
+    shape.  ``material`` is required (a missing one
     is reported with the other problems of the file).
     """
 
     mesh: str | None = Field(None, description="not here: the mesh file goes in [mesh] file")
     kind: Literal["mesh"] = "mesh"
     name: str | None = None
-    group: str | None = Field(None, description="physical surface (default: name)")
-    element: ElementKind | None = None
+    group: str | None = Field(None, description="physical surface, or physical volume of a "
+                              "3D mesh (default: name)")
+    element: ElementKind | SolidKind | None = None
     material: MaterialRef | None = None
 
     @field_validator("mesh")
@@ -361,25 +418,29 @@ def _body_tag(v: Any) -> str | None:
         if kind is None or "mesh" in v:
             kind = "mesh" if ("group" in v or "mesh" in v) else "rectangle"
         return (f"kind={kind}" if kind in ("rectangle", "mesh", "quad", "half_disc", "polygon",
-                                           "box", "extrude")
+                                           "box", "extrude", "cylinder", "spherical_block")
                 else None)
     if isinstance(v, RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec
-                  | PolygonSpec | BoxBodySpec | ExtrudeSpec):
+                  | PolygonSpec | BoxBodySpec | ExtrudeSpec | CylinderSpec
+                  | SphericalBlockSpec):
         return f"kind={v.kind}"
     return None
 
 
 BodySpec = _tagged_union(
     _body_tag, "body_kind",
-    "kind must be 'rectangle', 'quad', 'half_disc', 'polygon', 'box', 'extrude' or 'mesh'",
+    "kind must be 'rectangle', 'quad', 'half_disc', 'polygon', 'box', 'extrude', 'cylinder', "
+    "'spherical_block' or 'mesh'",
     **{"kind=rectangle": RectangleSpec, "kind=quad": QuadRegionSpec,
        "kind=half_disc": HalfDiscSpec, "kind=polygon": PolygonSpec, "kind=box": BoxBodySpec,
-       "kind=extrude": ExtrudeSpec, "kind=mesh": MeshBodySpec},
+       "kind=extrude": ExtrudeSpec, "kind=cylinder": CylinderSpec,
+       "kind=spherical_block": SphericalBlockSpec, "kind=mesh": MeshBodySpec},
 )
 
 
 def _body_name(b: RectangleSpec | MeshBodySpec | QuadRegionSpec | HalfDiscSpec
-               | PolygonSpec | BoxBodySpec | ExtrudeSpec) -> str:
+               | PolygonSpec | BoxBodySpec | ExtrudeSpec | CylinderSpec
+               | SphericalBlockSpec) -> str:
     return b.body_name if isinstance(b, MeshBodySpec) else b.name
 
 
@@ -407,17 +468,45 @@ class MeshSection(_Spec):
 
 
 class FrameSpec(_Spec):
-    """``[[frames]]``: a straight Euler–Bernoulli frame from ``start`` to ``end``."""
+    """``[[frames]]``: a straight Euler–Bernoulli frame from ``start`` to ``end``: a plane
+    frame (2D points; E, A, I) or a space frame (3D points, 6 DOFs per node; E, A, Iy, Iz
+    (default I), J, and G or nu; ``orientation`` a vector in the bars' local x'–y' plane,
+    default the global z, or x for a bar along z) (:class:`stepcontact.Frame`)."""
 
     name: str
     kind: Literal["line"] = "line"
-    start: Point = Field(description="first node, m")
-    end: Point = Field(description="last node, m")
+    start: Point | Point3 = Field(description="first node, m: (x, y), or (x, y, z) for a "
+                                  "space frame")
+    end: Point | Point3 = Field(description="last node, m")
     n: int = Field(ge=1, description="number of elements")
     E: float = Field(gt=0, description="Young's modulus, Pa")
     A: float = Field(gt=0, description="cross-section area, m²")
-    I: float = Field(gt=0, description="second moment of area, m⁴")
+    I: float | None = Field(None, gt=0, description="second moment of area, m⁴ (a space "
+                            "frame: the default of Iy and Iz)")
     density: float = Field(0.0, ge=0, description="kg/m³")
+    Iy: float | None = Field(None, gt=0, description="space frames: second moment about the "
+                             "local y' axis, m⁴")
+    Iz: float | None = Field(None, gt=0, description="space frames: second moment about the "
+                             "local z' axis, m⁴")
+    J: float | None = Field(None, gt=0, description="space frames: torsion constant, m⁴")
+    G: float | None = Field(None, gt=0, description="space frames: shear modulus, Pa (or nu)")
+    nu: float | None = Field(None, gt=NU_RANGE[0], lt=NU_RANGE[1],
+                             description="space frames: Poisson's ratio, G = E / (2 (1 + ν))")
+    orientation: Point3 | None = Field(None, description="space frames: a vector in the bars' "
+                                       "local x'–y' plane (not along the bar)")
+
+    @model_validator(mode="after")
+    def _one_dimension(self) -> FrameSpec:
+        if len(self.start) != len(self.end):
+            raise ValueError(f"start has {len(self.start)} coordinates and end "
+                             f"{len(self.end)}: give both as (x, y) or both as (x, y, z)")
+        return self
+
+    @property
+    def section(self) -> dict[str, Any]:
+        """The space-frame options given (Iy, Iz, J, G, nu, orientation)."""
+        return {k: getattr(self, k) for k in ("Iy", "Iz", "J", "G", "nu", "orientation")
+                if getattr(self, k) is not None}
 
 
 # --------------------------------------------------------------------------------------------
@@ -542,14 +631,44 @@ class LayerSpec(_Spec):
 
 
 class ObstacleSpec(_Spec):
-    """``[[obstacles]]``: a rigid line or polyline (not meshed) that bodies may touch; an
+    """``[[obstacles]]``: a rigid line or polyline (not meshed) that 2D bodies may touch; an
     interface uses it with ``obstacle = "NAME"`` instead of ``minus``."""
 
     name: str
+    kind: Literal["line"] = "line"
     points: list[Point] = Field(min_length=2, description="vertices [[x0, y0], [x1, y1], …], m")
     side: ObstacleSide = Field(
         "left", description="side the bodies lie on, walking from the first point to the last "
         "(left: a line drawn from left to right carries bodies above it)")
+
+
+class PlaneObstacleSpec(_Spec):
+    """``[[obstacles]]`` with ``kind = "plane"``: a fixed rigid plane that 3D bodies may touch
+    (:class:`stepcontact.RigidPlane`); an interface uses it with ``obstacle = "NAME"``."""
+
+    name: str
+    kind: Literal["plane"]
+    point: Point3 = Field(description="a point of the plane (x, y, z), m")
+    normal: Point3 = Field((0.0, 0.0, 1.0), description="normal pointing towards the bodies "
+                           "(need not be unit; default +z: bodies above the plane)")
+
+    @field_validator("normal")
+    @classmethod
+    def _nonzero(cls, v: Point3) -> Point3:
+        if not any(v):
+            raise ValueError("is the zero vector")
+        return v
+
+
+def _obstacle_tag(v: Any) -> str | None:
+    kind = v.get("kind", "line") if isinstance(v, dict) else getattr(v, "kind", None)
+    return f"kind={kind}" if kind in ("line", "plane") else None
+
+
+AnyObstacleSpec = _tagged_union(
+    _obstacle_tag, "obstacle_kind", "kind must be 'line' (2D, the default) or 'plane' (3D)",
+    **{"kind=line": ObstacleSpec, "kind=plane": PlaneObstacleSpec},
+)
 
 
 class InterfaceSpec(_Spec):
@@ -563,7 +682,8 @@ class InterfaceSpec(_Spec):
                                  "(instead of minus)")
     friction: float = Field(0.0, ge=0, description="Coulomb friction coefficient")
     gap: float | None = Field(None, ge=0, description="initial gap, m (default: geometric)")
-    normal: Point | None = Field(None, description="unit normal from S− to S+")
+    normal: Point | Point3 | None = Field(None, description="unit normal from S− to S+ "
+                                         "((nx, ny), or (nx, ny, nz) in 3D)")
     layer: LayerSpec | None = None
     pairs: bool = Field(False, description="join plus[i] to minus[i] node to node, in the "
                         "node sets' order, instead of projecting S+ on S−")
@@ -574,6 +694,22 @@ class InterfaceSpec(_Spec):
         "mortar (segment-to-segment) otherwise (auto); node-to-segment is the article's CFE")
     bond: BondSpec | None = Field(None, description="initial strength of the joint (eq. (12)): "
                                   "its CFEs start bonded and break into frictional contact")
+    facets: int | None = Field(None, ge=3, le=MAX_FACETS, description="3D: the number k of "
+                               "facets of the faceted Coulomb cone, inscribed in the disc "
+                               "|Q| ≤ f|N| (default 8; all interfaces of a model share one k)")
+    facet_angle: float = Field(0.0, description="3D: direction of the polygon's vertex 0 "
+                               "from t1 towards t2, rad (pi/k puts a facet's middle along t1)")
+    axis: Point3 | None = Field(None, description="3D: direction of each CFE's first tangent "
+                                "t1 (projected on the plane normal to n); default: the global "
+                                "axis along which n has its smallest component (+x for a "
+                                "horizontal joint)")
+
+    @field_validator("axis")
+    @classmethod
+    def _axis_nonzero(cls, v: Point3 | None) -> Point3 | None:
+        if v is not None and not any(v):
+            raise ValueError("is the zero vector: give the direction of t1")
+        return v
 
     @field_validator("normal")
     @classmethod
@@ -763,7 +899,9 @@ class NodalLoadSpec(_Spec):
     fx: float = 0.0
     fy: float = 0.0
     fz: float = Field(0.0, description="N, along z (3D bodies)")
-    mz: float = 0.0
+    mz: float = Field(0.0, description="N·m, about z (frames)")
+    mx: float = Field(0.0, description="N·m, about x (space frames)")
+    my: float = Field(0.0, description="N·m, about y (space frames)")
 
 
 class PressureLoad(_Spec):
@@ -803,12 +941,15 @@ class EdgeForceLoad(_Spec):
 
 class WaterLoadSpec(_Spec):
     """Hydrostatic pressure p = unit_weight · max(level − y, 0) (Pa) on the body edges in a
-    node set, pushing into the body; exact where the level cuts an edge."""
+    node set, pushing into the body; exact where the level cuts an edge.  On 3D bodies
+    (z up) p = unit_weight · max(level − z, 0) on the faces, exact where the level cuts a
+    face."""
 
     type: Literal["water"] = "water"
     nodes: str
     level: float | None = Field(None, description="elevation of the free surface, m (y is "
-                                "up); omitted: the pattern's factor is the level, m, and its "
+                                "up; z on 3D bodies); omitted: the pattern's factor is the "
+                                "level, m, and its "
                                 "program segments raise or lower the water (exact events in "
                                 "the level); such a pattern holds only water loads without "
                                 "a level")
@@ -823,6 +964,10 @@ class UpliftLoadSpec(_Spec):
     head: Profile | None = Field(None, description="pressure head, m of water")
     pressure: Profile | None = Field(None, description="pressure, Pa")
     unit_weight: float = Field(9810.0, gt=0, description="unit weight of water γ_w, N/m³")
+    through: Literal["faces", "cfes"] | None = Field(
+        None, description="faces: integrated over each face's mesh; cfes: A_k p(x_k) across "
+        "each CFE (exact effective stress on non-matching meshes); default faces in 2D, cfes "
+        "in 3D (the only way in 3D, p at each CFE's plan position (x, y))")
 
     @model_validator(mode="after")
     def _one(self) -> UpliftLoadSpec:
@@ -1090,7 +1235,7 @@ class ModelFile(_Spec):
     supports: list[SupportSpec] = []
     ties: list[TieSpec] = []
     springs: list[SpringSpec] = []
-    obstacles: list[ObstacleSpec] = []
+    obstacles: list[AnyObstacleSpec] = []
     interfaces: list[InterfaceSpec] = []
     patterns: dict[str, PatternSpec] = {}
     program: list[SegmentSpec] = Field([], description="the load program; required, "
