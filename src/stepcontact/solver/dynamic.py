@@ -121,7 +121,7 @@ from stepcontact.solver.bonds import breaking
 from stepcontact.solver.clock import Stopwatch
 from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.contactlaws import contact_law, law_inputs
-from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.engine import Decision, EventEngine
 from stepcontact.solver.eventlog import EventLog
 from stepcontact.solver.jump import AGAIN, JumpState, follow_jump
 from stepcontact.solver.rate import RateProblemFailure
@@ -330,6 +330,15 @@ class _Newmark:
     def drift(self, wdot, wacc):
         """Δw that makes the end velocity zero: −(cv ẇ₀ + ca ẅ₀)/c1."""
         return -(self.cv * wdot + self.ca * wacc) / self.c1
+
+
+_MAXIMUM = np.maximum.reduce
+
+
+def _absmax(x) -> float:
+    """max |x| over every entry (0 for an empty x): ``float(np.abs(x).max(initial=0.0))``
+    without its Python-level wrapper (several per step)."""
+    return float(_MAXIMUM(np.abs(x), axis=None, initial=0.0))
 
 
 #: a model whose contact matrix B has at most this many entries (2m × n, zeros included)
@@ -676,6 +685,61 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     tol = 1e-9 * max(float(np.abs(v0).max(initial=0.0)), float(np.abs(v1).max(initial=0.0)),
                      1e-300)
     return ks[(sg * v0 > tol) & (sg * v1 < -tol)]
+
+
+def _quiet_decision(eng: EventEngine, law, forcing):
+    """The engine's decision at a step's start (:meth:`EventEngine.decide` without fired CFEs,
+    not the start of the path) where it cannot change the scheme, or None: the same scheme
+    with the same rates, from the same calls, without the rate problem's set-up.  Exact: no
+    CFE has an event function within its tolerance of its limit, and the slipping ones (in
+    mid-slip: at no normal or two-sided limit) have rates that keep them slipping — then the
+    engine keeps the scheme too (``solve_rate_problem``: the current scheme stays consistent,
+    a slip that goes on is not a degenerate point).  ``law``: the one law of every CFE, in
+    order.  Any other case (or a singular scheme) is the engine's (None).  Returns (the
+    decision, the event functions φ at the state)."""
+    eng.update_scales()  # (as EventEngine.at_limit)
+    tf, tw = eng.tolerances()
+    states = eng.states
+    lay = eng.layout
+    Q, p = lay.split(eng.s)
+    un = lay.normal(eng.w)
+    phi = law.event_values(states, Q, p, un)
+    if np.count_nonzero(phi <= np.where(law.column_kinds == 1, tw, tf)):
+        return None  # a CFE at a limit: the rate problem decides
+    L = np.flatnonzero(_slipping(states))
+    if L.size:
+        normal, two = law.limits(states, Q, p, un, tf, tw)
+        if np.count_nonzero(normal[L]) or np.count_nonzero(two[L]):
+            return None
+    try:
+        ds, dw = eng.rates(states, forcing, article=False)
+    except MechanismError:
+        return None
+    if L.size and np.count_nonzero(eng.consistent(states, L, ds, dw, normal, two)
+                                   != states[L]):
+        return None  # a slip that would stop here: the rate problem decides
+    old = states.copy()
+    eng.states = new = states.copy()
+    return Decision(old, new, ds, dw), phi
+
+
+def _no_event_within(eng: EventEngine, law, phi: np.ndarray, ds, dw, span: float,
+                     group: float) -> bool:
+    """Whether no event function reaches its limit along the rates (ds, dw) within ``span``
+    (and ``group`` beyond it): :meth:`EventEngine.next_event` from the state whose event
+    functions are ``phi`` (the same floats: then it would return Δμ = span, nothing fired)."""
+    lay = eng.layout
+    dQ, dp = lay.split(ds)
+    fs = 1e3 * eng.rtol * max(_absmax(ds), 1e-300)
+    gs = 1e3 * eng.rtol * max(_absmax(dw), 1e-300)
+    dphi = law.event_values(eng.states, dQ, dp, lay.normal(dw), False)
+    active = np.isfinite(phi)
+    active &= dphi < np.where(law.column_kinds == 1, -gs, -fs)
+    if not np.count_nonzero(active):
+        return True
+    steps = np.full(phi.shape, np.inf)
+    np.divide(np.maximum(phi, 0.0), np.negative(dphi), out=steps, where=active)
+    return not float(steps.min()) <= span + group
 
 
 def _deferred(old, new, changed, law, damped) -> np.ndarray:
@@ -1270,6 +1334,15 @@ class _DynamicRun:
         self.held = self.layout.join(soft_cfe, soft_cfe)
         self.rigid_n = ~np.isfinite(cfe.kn)
         self.soft_t = np.isfinite(cfe.kt)  # (compliant tangential rows: no drift, eq. (9))
+        self.any_soft_t = bool(self.soft_t.any())
+        # the law of every CFE in order (the engine's common case): a step's start where no
+        # CFE is at a limit is decided without the rate problem (_quiet_decision)
+        self.one_law = (law if len(law.cfes) == self.m
+                        and np.array_equal(law.cfes, np.arange(self.m)) else None)
+        # … where its start is decided by the engine alone: no bonds (their breaks at the
+        # start), rigid tangential rows (no compliant slip that stops inside a step)
+        self.quiet_steps = bool(self.one_law is not None and not self.bonds_on
+                                and law.rigid_t.all() and self.m)
 
     def _initial_state(self, u0, v0) -> None:
         """The fields and the contact state at t = 0 (:func:`_initial`, :func:`_state_at_u0`;
@@ -1289,6 +1362,9 @@ class _DynamicRun:
         self.layers.set_initial(states, w)
         self.u, self.v, self.s_init, self.w_init, self.static = u, v, s, w, static
         self.free = self.cond.free
+        #: every DOF free (a small discrete model): no gather and scatter of the free DOFs
+        self.all_free = bool(len(self.free) == self.ndof
+                             and np.array_equal(self.free, np.arange(self.ndof)))
         self.names = list(system.loads)
         self.f_of = {n: system.loads[n].f for n in self.names}
         self.r_ground = None
@@ -1372,6 +1448,9 @@ class _DynamicRun:
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
         self.any_soft = bool(self.soft.any())
         self.no_layer_energy = lay.zeros()
+        self.no_water = np.zeros(m)
+        self.no_water.flags.writeable = False
+        self._gt_end: tuple | None = None  # (t, G t) of the state a step ended in
         self.no_contact = lay.zeros()  # the rates (s', w') of a model without CFEs
         self.no_contact.flags.writeable = False
         self.no_layer_energy.flags.writeable = False
@@ -1707,6 +1786,8 @@ class _DynamicRun:
 
     def strain_energy(self, u_, s_, x_=None):
         """½ uᵀK u plus the layers' energy, J."""
+        if not self.layers and not self.any_soft:  # rigid contact stores nothing
+            return float(0.5 * u_ @ (self.Kx(u_)) + 0.0)
         return float(0.5 * u_ @ (self.Kx(u_)) + self.layer_energy(s_, x_).sum())
 
     def book_contact(self, diss: np.ndarray) -> dict[str, float]:
@@ -1731,9 +1812,11 @@ class _DynamicRun:
                            + ledger["friction"] + ledger["impact"] + ledger["fracture"]
                            + ledger["numerical"])
         c = self.factors_at(t)
-        W_t = self.water_at(t, c)
-        p_t = (np.where(self.water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
-               if crack is not None else W_t)
+        if crack is None:
+            W_t = p_t = self.no_water  # (the recorder copies the row)
+        else:
+            W_t = self.water_at(t, c)
+            p_t = np.where(self.water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
         viol = eng.violation()
         i = self.rec.append(lam=t, segment=0, kind=kind,
                             factors=[c.get(n, 0.0) for n in self.names],
@@ -1862,7 +1945,7 @@ class _DynamicRun:
         eng, lay, system, cond = self.eng, self.layout, self.system, self.cond
         dt0, t, F = self.dt0, self.t, self.F
         dt = dt0
-        ahead = self.breaks[self.breaks > t + 1e-9 * dt0]
+        ahead = self.breaks[self.breaks > t + 1e-9 * dt0] if self.breaks.size else self.breaks
         stop_at = min(float(ahead[0]) if ahead.size else np.inf, self.end_time)
         land = 1.0
         if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
@@ -1880,18 +1963,26 @@ class _DynamicRun:
         if land < 1.0:  # the load's rate over the part step continued to t + Δt
             F1 = F + (F1 - F) / land
         Fhat = nm.rhs(self.Kx, self.Mx, self.Cx, F1, F, self.u, self.v, self.a)
-        y = self.solve_hat(np.take(Fhat, self.free))
+        y = self.solve_hat(Fhat if self.all_free else np.take(Fhat, self.free))
         h_end = self.Bfx @ y
-        # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
+        # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0) (G t of this
+        # state: the last step's residual check formed it, if nothing moved since)
         w_hat = eng.w - system.w0
-        h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
+        t_hat = eng.s - cond.d * w_hat
+        gt = self._gt_end
+        self._gt_end = None
+        h0 = w_hat + (gt[1] if gt is not None and np.array_equal(gt[0], t_hat)
+                      else cond.product(t_hat))
         wdot = self.Bx @ self.v
         wacc = self.Bx @ self.a
         drift = lay.zeros()
-        lay.tangential(drift)[:] = np.where(self.soft_t, 0.0,
-                                            nm.drift(lay.tangential(wdot), lay.tangential(wacc)))
-        self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
-        self.x_start = self.layers.x.copy()
+        dr = nm.drift(lay.tangential(wdot), lay.tangential(wacc))
+        lay.tangential(drift)[:] = np.where(self.soft_t, 0.0, dr) if self.any_soft_t else dr
+        if self.layers:
+            self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
+            self.x_start = self.layers.x.copy()
+        else:
+            self.x_start = self.layers.x
         dh = h_end - h0
         self.forcing = (dh, -drift)
         # a body at rest (after a stop, no load): a step's load at round-off of the
@@ -1899,10 +1990,9 @@ class _DynamicRun:
         eng.rest_scale = self.rtol * self.w_scale
         # the scale of forces: the contact forces, the loads, and the force that would stop
         # the motion within a step (|M u̇| / Δt: before any contact force, an impact's scale)
-        eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),
-                          float(np.abs(F).max(initial=0.0)),
-                          float(np.abs(self.Mx(self.v)).max(initial=0.0)) / dt0)
-        eng.W_scale = max(eng.W_scale, self.w_scale, float(np.abs(dh).max(initial=0.0)))
+        eng.F_scale = max(eng.F_scale, _absmax(eng.s), _absmax(F),
+                          _absmax(self.Mx(self.v)) / dt0)
+        eng.W_scale = max(eng.W_scale, self.w_scale, _absmax(dh))
         self.s_start, self.w_start = eng.s.copy(), eng.w.copy()
         self.dt, self.nm, self.land, self.t1, self.at_break = dt, nm, land, t1, at_break
         self.F1, self.F_land, self.Fhat, self.h_end = F1, F_land, Fhat, h_end
@@ -1927,10 +2017,25 @@ class _DynamicRun:
         small = 0
         restart = None
         ds = dw = None
+        quiet = None
+        if (self.quiet_steps and not self.first and not fired.any()
+                and len(rec.events) <= self.max_events):
+            # a step's start where no CFE is at a limit (_quiet_decision); without an event
+            # in the step (_no_event_within) the engine moves straight to its end: the same
+            # decision, event search and move as the loop below makes
+            quiet = _quiet_decision(eng, self.one_law, forcing)
+            if quiet is not None and _no_event_within(eng, self.one_law, quiet[1],
+                                                      quiet[0].ds, quiet[0].dw, land, 1e-10):
+                ds, dw = quiet[0].ds, quiet[0].dw
+                eng.advance(land, ds, dw)
+                return None, 0.0 + land, ds, dw
         while True:
             old = eng.states.copy()
             try:
-                dec = eng.decide(fired, forcing, natural=self.first)
+                if quiet is not None:
+                    dec, quiet = quiet[0], None
+                else:
+                    dec = eng.decide(fired, forcing, natural=self.first)
             except (MechanismError, RateProblemFailure) as exc:
                 self.status = (Status.EQUILIBRIUM_LOST if isinstance(exc, MechanismError)
                                else exc.status)
@@ -2300,16 +2405,20 @@ class _DynamicRun:
         self.zero_restarts = 0
         eng.w += self.drift
         gone = eng.states == OPEN
-        s_t, s_n = self.layout.split(eng.s)  # views
-        s_t[gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
-        s_n[gone] = 0.0
+        if gone.any():
+            s_t, s_n = self.layout.split(eng.s)  # views
+            s_t[gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
+            s_n[gone] = 0.0
         if layers:
             layers.x = layers.at(eng.states, eng.w, 1.0)
             layers.sync(eng.states, eng.s, eng.w)
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
-        u_new = np.zeros(self.ndof)
-        u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tvec)
+        if self.all_free:
+            u_new = self.solve_hat(self.Fhat - self.BfTx @ tvec)
+        else:
+            u_new = np.zeros(self.ndof)
+            u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tvec)
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
         ledger["external"] += float(du @ (0.5 * (F + F1)))
@@ -2341,15 +2450,15 @@ class _DynamicRun:
         if self.crack is not None and self.settle_water(t, n):  # (a catch-all: a wet set
             self.F = self.force_at(t)       # that moved at the step's start is settled there)
             self.step_events += 1
-        self.w_scale = max(self.w_scale, float(np.abs(eng.w).max(initial=0.0)),
-                           float(np.abs(self.u).max(initial=0.0)))
+        self.w_scale = max(self.w_scale, _absmax(eng.w), _absmax(self.u))
         last = t >= self.end_time - 1e-6 * dt0
         re = self.record_every
         if re <= 1 or n % re == 0 or self.step_events or last:
             h_end = self.h_end
-            r = h_end - (w_hat + cond.product(tvec))
-            res_rel = float(np.abs(r).max(initial=0.0) / max(np.abs(h_end).max(initial=0.0),
-                                                              self.w_scale, 1e-300))
+            gt = cond.product(tvec)
+            self._gt_end = (tvec, gt)  # (the next step's start is this state: its G t)
+            r = h_end - (w_hat + gt)
+            res_rel = float(_absmax(r) / max(_absmax(h_end), self.w_scale, 1e-300))
             self.record(t, "event" if self.step_events else "step", res_rel)
         for hk in self.hooks:
             if hasattr(hk, "after_step"):
