@@ -779,10 +779,12 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     vf = np.take(v, free)
     zv = metric.layout.zeros()
     zv[rows_v] = metric.tracked("v").solve(rows_v, (Bf @ vf)[rows_v])
-    dv = metric.X @ zv
     if Xa is not None:
-        v = v - Xa @ zv  # (on the free DOFs the same floats as vf − dv)
+        dv_all = Xa @ zv
+        dv = np.take(dv_all, free)  # (the same floats as X z_v: Xa is X by the same columns)
+        v = v - dv_all
     else:
+        dv = metric.X @ zv
         v = v.copy()
         v[free] = vf - dv
     # positions: closed rigid CFEs onto their obstacles, and an open one that the cut's
@@ -796,19 +798,24 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
     u_try = uf
     zu, du = metric.layout.zeros(), np.zeros(len(uf))
+    du_all = None
     for _ in range(len(rig) + 1):
         rows = r_rig[act].astype(np.int64)
         if rows.size:
             zu = metric.layout.zeros()
             zu[rows] = metric.tracked("u").solve(rows, w_all[act])
-            du = metric.X @ zu
+            if Xa is not None:
+                du_all = Xa @ zu
+                du = np.take(du_all, free)  # (= X z_u, as for the velocities)
+            else:
+                du = metric.X @ zu
             u_try = uf - du
         pen = ~act & ((Bf @ u_try)[r_rig] + w0_rig > tol)
         if not pen.any():
             break
         act |= pen
     if Xa is not None:
-        u = u - Xa @ zu  # (zu = 0 where nothing moved)
+        u = u.copy() if du_all is None else u - du_all  # (nothing moved: u − X 0 = u)
     else:
         u = u.copy()
         u[free] = u_try
