@@ -95,6 +95,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import operator
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -333,6 +334,8 @@ class _Newmark:
 
 
 _MAXIMUM = np.maximum.reduce
+#: the ledger's terms in the order of ENERGY_TERMS (a recorded state's row)
+_LEDGER_ROW = operator.itemgetter(*ENERGY_TERMS)
 
 
 def _absmax(x) -> float:
@@ -1835,7 +1838,7 @@ class _DynamicRun:
             self.status_box[:] = [Status.VIOLATION, broken]
         for k, arr in (("u", u), ("v", v), ("a", self.a)):
             self.extra[k].append(arr)
-        self.energy.append(tuple(ledger[k] for k in ENERGY_TERMS))
+        self.energy.append(_LEDGER_ROW(ledger))
         return i
 
     def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
@@ -2282,7 +2285,8 @@ class _DynamicRun:
         w_i = system.B @ u_i + system.w0
         on = (new_states != OPEN) & self.rigid_n
         lay.normal(w_i)[on] = 0.0  # on the obstacle (round-off of the projection)
-        self.layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
+        if self.layers:
+            self.layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
         eng.s, eng.w = s_i, w_i
         eng.snap()
         self.u, self.v = u_i, v_i
