@@ -412,6 +412,14 @@ def _spd_solve(W: np.ndarray, b: np.ndarray) -> np.ndarray:
     return _spd_factor(W)(b)
 
 
+@functools.cache
+def _lapack(name: str):
+    """LAPACK's float64 routine ``name`` (SciPy's wrapper, looked up once)."""
+    import scipy.linalg as sla
+
+    return sla.get_lapack_funcs(name, (np.zeros((1, 1)),))
+
+
 class _TrackedFactor:
     """The Cholesky factor L Lᵀ = W_r of W_r = B_r M⁻¹ B_rᵀ (a principal block of GM) for a
     row set r that changes by a few rows between uses (the closed and stuck rows of the
@@ -446,13 +454,20 @@ class _TrackedFactor:
         self.order, self.L = order, L
         self.pos[order] = np.arange(len(order))
 
+    @staticmethod
+    def _cholesky(S: np.ndarray) -> np.ndarray | None:
+        """The lower Cholesky factor of S (a temporary, overwritten), or None where S is not
+        positive definite: LAPACK's potrf as ``scipy.linalg.cholesky`` calls it, without its
+        checks (a cut makes two)."""
+        if S.size == 0:
+            return np.zeros((0, 0))
+        c, info = _lapack("potrf")(S, lower=1, overwrite_a=1, clean=1)
+        return c if info == 0 else None
+
     def _factor(self, rows: np.ndarray) -> bool:
         """A new factor of W_r (rows in the order given); False where it is singular."""
-        import scipy.linalg as sla
-
-        try:
-            L = sla.cholesky(self.GM[np.ix_(rows, rows)], lower=True, check_finite=False)
-        except np.linalg.LinAlgError:
+        L = self._cholesky(self.GM[rows[:, None], rows])
+        if L is None:
             return False
         if not self._regular(L, rows):
             return False
@@ -469,28 +484,27 @@ class _TrackedFactor:
         stays[rows] = True
         kept = stays[order]
         added = rows[self.pos[rows] < 0]
-        if kept.all() and not added.size:
+        all_kept = bool(kept.all())
+        if all_kept and not added.size:
             return True  # the same set
-        p = int(np.argmin(kept)) if not kept.all() else len(order)
+        p = int(np.argmin(kept)) if not all_kept else len(order)
         head, tail_kept = order[:p], order[p:][kept[p:]]
         L21 = L[p:, :p][kept[p:]]
         if added.size:
-            L21_add = (sla.solve_triangular(L[:p, :p], GM[np.ix_(head, added)], lower=True,
+            L21_add = (sla.solve_triangular(L[:p, :p], GM[head[:, None], added], lower=True,
                                             check_finite=False).T if p
                        else np.zeros((len(added), 0)))
             L21 = np.vstack([L21, L21_add])
-        tail = np.r_[tail_kept, added].astype(np.int64)
-        S = GM[np.ix_(tail, tail)] - L21 @ L21.T
-        try:
-            L22 = sla.cholesky(S, lower=True, check_finite=False)
-        except np.linalg.LinAlgError:
+        tail = np.concatenate((tail_kept, added)).astype(np.int64, copy=False)
+        L22 = self._cholesky(GM[tail[:, None], tail] - L21 @ L21.T)
+        if L22 is None:
             return False
         r = p + len(tail)
         Ln = np.zeros((r, r), order="F")  # (LAPACK's order: its solves do not copy it)
         Ln[:p, :p] = L[:p, :p]
         Ln[p:, :p] = L21
         Ln[p:, p:] = L22
-        new_order = np.r_[head, tail].astype(np.int64)
+        new_order = np.concatenate((head, tail)).astype(np.int64, copy=False)
         if not self._regular(Ln, new_order):
             return False
         self._set(new_order, Ln)
@@ -518,7 +532,7 @@ class _TrackedFactor:
         bo = np.zeros(len(self.order))
         bo[at] = b
         # (LAPACK's potrs on the factor, as cho_solve calls it, without its checks)
-        x, info = sla.get_lapack_funcs("potrs", (self.L,))(self.L, bo, lower=True)
+        x, info = _lapack("potrs")(self.L, bo, lower=True)
         if info != 0:
             return sla.cho_solve((self.L, True), bo, check_finite=False)[at]
         return x[at]
