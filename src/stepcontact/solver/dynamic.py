@@ -704,16 +704,20 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     return ks[(sg * v0 > tol) & (sg * v1 < -tol)]
 
 
-def _quiet_decision(eng: EventEngine, law, forcing):
+def _quiet_start(eng: EventEngine, law, forcing, span: float, group: float):
     """The engine's decision at a step's start (:meth:`EventEngine.decide` without fired CFEs,
     not the start of the path) where it cannot change the scheme, or None: the same scheme
     with the same rates, from the same calls, without the rate problem's set-up.  Exact: no
     CFE has an event function within its tolerance of its limit, and the slipping ones (in
     mid-slip: at no normal or two-sided limit) have rates that keep them slipping — then the
     engine keeps the scheme too (``solve_rate_problem``: the current scheme stays consistent,
-    a slip that goes on is not a degenerate point).  ``law``: the one law of every CFE, in
-    order.  Any other case (or a singular scheme) is the engine's (None).  Returns (the
-    decision, the event functions φ at the state)."""
+    a slip that goes on is not a degenerate point; the check is
+    :meth:`EventEngine.consistent`'s).  ``law``: the one law of every CFE, in order.  Any
+    other case (or a singular scheme) is the engine's (None).
+
+    Returns (the decision, whether no event function reaches its limit along its rates
+    within ``span`` and ``group`` beyond — :meth:`EventEngine.next_event` from this state,
+    the same floats: it would return Δμ = span with nothing fired)."""
     eng.update_scales()  # (as EventEngine.at_limit)
     tf, tw = eng.tolerances()
     states = eng.states
@@ -721,7 +725,8 @@ def _quiet_decision(eng: EventEngine, law, forcing):
     Q, p = lay.split(eng.s)
     un = lay.normal(eng.w)
     phi = law.event_values(states, Q, p, un)
-    if np.count_nonzero(phi <= np.where(law.column_kinds == 1, tw, tf)):
+    gap = law.column_kinds == 1
+    if np.count_nonzero(phi <= np.where(gap, tw, tf)):
         return None  # a CFE at a limit: the rate problem decides
     L = np.flatnonzero(_slipping(states))
     if L.size:
@@ -732,31 +737,23 @@ def _quiet_decision(eng: EventEngine, law, forcing):
         ds, dw = eng.rates(states, forcing, article=False)
     except MechanismError:
         return None
-    if L.size and np.count_nonzero(eng.consistent(states, L, ds, dw, normal, two)
-                                   != states[L]):
+    dQ, dp = lay.split(ds)
+    dut, dun = lay.split(dw)
+    rf = 1e3 * eng.rtol * max(_absmax(ds), 1e-300)  # (the rates' tolerances, as the
+    rw = 1e3 * eng.rtol * max(_absmax(dw), 1e-300)  # engine's consistent and next_event)
+    if L.size and np.count_nonzero(law.consistent(states, Q, dQ, dp, dun, dut, normal, two,
+                                                  rf, rw, p=p, tf=tf)[L] != states[L]):
         return None  # a slip that would stop here: the rate problem decides
     old = states.copy()
     eng.states = new = states.copy()
-    return Decision(old, new, ds, dw), phi
-
-
-def _no_event_within(eng: EventEngine, law, phi: np.ndarray, ds, dw, span: float,
-                     group: float) -> bool:
-    """Whether no event function reaches its limit along the rates (ds, dw) within ``span``
-    (and ``group`` beyond it): :meth:`EventEngine.next_event` from the state whose event
-    functions are ``phi`` (the same floats: then it would return Δμ = span, nothing fired)."""
-    lay = eng.layout
-    dQ, dp = lay.split(ds)
-    fs = 1e3 * eng.rtol * max(_absmax(ds), 1e-300)
-    gs = 1e3 * eng.rtol * max(_absmax(dw), 1e-300)
-    dphi = law.event_values(eng.states, dQ, dp, lay.normal(dw), False)
+    dphi = law.event_values(new, dQ, dp, dun, False)
     active = np.isfinite(phi)
-    active &= dphi < np.where(law.column_kinds == 1, -gs, -fs)
+    active &= dphi < np.where(gap, -rw, -rf)
     if not np.count_nonzero(active):
-        return True
+        return Decision(old, new, ds, dw), True
     steps = np.full(phi.shape, np.inf)
     np.divide(np.maximum(phi, 0.0), np.negative(dphi), out=steps, where=active)
-    return not float(steps.min()) <= span + group
+    return Decision(old, new, ds, dw), not float(steps.min()) <= span + group
 
 
 def _deferred(old, new, changed, law, damped) -> np.ndarray:
@@ -1360,7 +1357,7 @@ class _DynamicRun:
         self.soft_t = np.isfinite(cfe.kt)  # (compliant tangential rows: no drift, eq. (9))
         self.any_soft_t = bool(self.soft_t.any())
         # the law of every CFE in order (the engine's common case): a step's start where no
-        # CFE is at a limit is decided without the rate problem (_quiet_decision)
+        # CFE is at a limit is decided without the rate problem (_quiet_start)
         self.one_law = (law if len(law.cfes) == self.m
                         and np.array_equal(law.cfes, np.arange(self.m)) else None)
         # … where its start is decided by the engine alone: no bonds (their breaks at the
@@ -2044,12 +2041,11 @@ class _DynamicRun:
         quiet = None
         if (self.quiet_steps and not self.first and not fired.any()
                 and len(rec.events) <= self.max_events):
-            # a step's start where no CFE is at a limit (_quiet_decision); without an event
-            # in the step (_no_event_within) the engine moves straight to its end: the same
+            # a step's start where no CFE is at a limit (_quiet_start); without an event in
+            # the step the engine moves straight to its end: the same
             # decision, event search and move as the loop below makes
-            quiet = _quiet_decision(eng, self.one_law, forcing)
-            if quiet is not None and _no_event_within(eng, self.one_law, quiet[1],
-                                                      quiet[0].ds, quiet[0].dw, land, 1e-10):
+            quiet = _quiet_start(eng, self.one_law, forcing, land, 1e-10)
+            if quiet is not None and quiet[1]:
                 ds, dw = quiet[0].ds, quiet[0].dw
                 eng.advance(land, ds, dw)
                 return None, 0.0 + land, ds, dw
