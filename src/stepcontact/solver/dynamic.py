@@ -1533,10 +1533,15 @@ class _DynamicRun:
             F0.flags.writeable = False
             self._F_held_part = (shared, F0)
         shared, F0 = self._F_held_part
-        F = F0.copy()
+        F = None  # (F⁰ plus the first term: no copy of F⁰ first)
         for name, c in c_t.items():
             if c and (shared or name not in self.static):
-                F += c * f_of[name]
+                if F is None:
+                    F = F0 + c * f_of[name]
+                else:
+                    F += c * f_of[name]
+        if F is None:
+            F = F0.copy()
         if self.r_ground is not None:
             F += float(self.ground_acceleration[0](t)) * self.r_ground
         if self.crack is not None and self.water_on.any():
@@ -2442,8 +2447,9 @@ class _DynamicRun:
             u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tvec)
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
-        ledger["external"] += float(du @ (0.5 * (F + F1)))
-        F_prev, F = F, F1
+        w_ext = float(du @ (0.5 * (F + F1)))
+        ledger["external"] += w_ext
+        F = F1
         damped = not Cx.empty
         vbar = 0.5 * (v + v_new) if damped else None
         w_damp = float(du @ (Cx(vbar))) if damped else 0.0
@@ -2460,8 +2466,7 @@ class _DynamicRun:
             # the works leave
             e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
             e_step1 = 0.5 * v_new @ (Mx(v_new)) + self.strain_energy(u_new, eng.s)
-            d_num = (float(du @ (0.5 * (F_prev + F1))) - w_damp
-                     - float(diss.sum()) - (e_step1 - e_step0))
+            d_num = w_ext - w_damp - float(diss.sum()) - (e_step1 - e_step0)
             ledger["numerical"] += d_num
             self.parts["hht" if dt == dt0 else "short_steps"] += d_num
         self.u, self.v, self.a, self.F = u_new, v_new, a_new, F
