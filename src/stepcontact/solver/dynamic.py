@@ -640,7 +640,7 @@ class _Memo:
 
 
 def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=None,
-                 nm=None, wacc=None, law=None) -> dict:
+                 nm=None, wacc=None, law=None, rates_of=None) -> dict:
     """Times of the slip → stick transitions decided at μ of a step (eq. (10), second row):
     where the slip velocity, linear in time over the step, would cross zero under the old
     (slipping) scheme — u̇_τ at the step's end is 2 Δũ_τ / Δt (module docstring) for a rigid
@@ -652,7 +652,7 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     if ks.size == 0:
         return {}
     try:
-        ds_o, dw_o = eng.rates_any(old, forcing)
+        ds_o, dw_o = (eng.rates_any if rates_of is None else rates_of)(old, forcing)
     except MechanismError:
         return {}
     v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law)
@@ -2142,8 +2142,20 @@ class _DynamicRun:
         changed = np.flatnonzero(old != dec.new)
         if not changed.size:
             return None, changed
+        got: dict = {}  # (the old scheme's rates, asked for again below: the same call)
+
+        def rates_of(states, forcing):
+            if "rates" not in got:
+                try:
+                    got["rates"] = eng.rates_any(states, forcing)
+                except MechanismError as exc:
+                    got["rates"] = exc
+            if isinstance(got["rates"], MechanismError):
+                raise got["rates"]
+            return got["rates"]
+
         times = _stick_times(eng, old, dec.new, changed, self.forcing, self.w_start,
-                             self.wdot, 0.0, t, dt, nm.c1, nm, self.wacc, law)
+                             self.wdot, 0.0, t, dt, nm.c1, nm, self.wacc, law, rates_of)
         later = bool(times) and min(times.values()) > t + 1e-9 * dt
         now = changed[~np.isin(changed, list(times))] if later else changed
         # changes at the step's start that the step cannot carry (the schemes of its part
@@ -2171,7 +2183,7 @@ class _DynamicRun:
         # velocity vanishes; the other changes happen at t
         if times and min(times.values()) > t + 1e-9 * dt:
             try:
-                ds_o, dw_o = eng.rates_any(old, self.forcing)
+                ds_o, dw_o = rates_of(old, self.forcing)
             except MechanismError:
                 ds_o = None
             if ds_o is not None:
