@@ -312,7 +312,9 @@ class _Newmark:
         :class:`_Memo`): no damping terms formed."""
         al = self.alpha
         damped = not getattr(C, "empty", False)
-        out = (1 - al) * F1 + M @ (self.c0 * u + self.c2 * v + self.c3 * a)
+        # ((1 − α) F₁ is F₁ itself for α = 0; the mass product is no state's: not kept)
+        Mh = getattr(M, "apply", M.__matmul__)
+        out = (F1 if al == 0 else (1 - al) * F1) + Mh(self.c0 * u + self.c2 * v + self.c3 * a)
         if damped:
             out = out + (1 - al) * (C @ (self.c1 * u - self.cv * v - self.ca * a))
         if al:
@@ -637,6 +639,12 @@ class _Memo:
         return y
 
     __matmul__ = __call__
+
+    def apply(self, x: np.ndarray) -> np.ndarray:
+        """A x, not kept (a vector that is no state's)."""
+        if self.empty:
+            return self._zero
+        return self.A @ x if self.diag is None else self.diag * x
 
 
 def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=None,
@@ -1938,7 +1946,8 @@ class _DynamicRun:
         while self.t < end_time - 1e-6 * dt0:
             if self.status_box[0] != Status.COMPLETED:  # conditions broken at a state
                 break
-            if any(getattr(hk, "stop_requested", False) for hk in hooks):  # SIGTERM, Ctrl-C
+            if hooks and any(getattr(hk, "stop_requested", False)  # SIGTERM, Ctrl-C
+                             for hk in hooks):
                 self.status = Status.INCOMPLETE
                 self.message = (f"interrupted at t = {self.t:.6g} s of {end_time:g} s: the "
                                 "states up to there are complete")
@@ -1997,7 +2006,7 @@ class _DynamicRun:
         t_hat = eng.s - cond.d * w_hat
         gt = self._gt_end
         self._gt_end = None
-        h0 = w_hat + (gt[1] if gt is not None and np.array_equal(gt[0], t_hat)
+        h0 = w_hat + (gt[1] if gt is not None and not np.any(gt[0] != t_hat)
                       else cond.product(t_hat))
         wdot = self.Bx @ self.v
         wacc = self.Bx @ self.a
