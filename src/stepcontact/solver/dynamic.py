@@ -95,6 +95,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import operator
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -121,7 +122,7 @@ from stepcontact.solver.bonds import breaking
 from stepcontact.solver.clock import Stopwatch
 from stepcontact.solver.condensation import Condensed
 from stepcontact.solver.contactlaws import contact_law, law_inputs
-from stepcontact.solver.engine import EventEngine
+from stepcontact.solver.engine import Decision, EventEngine
 from stepcontact.solver.eventlog import EventLog
 from stepcontact.solver.jump import AGAIN, JumpState, follow_jump
 from stepcontact.solver.rate import RateProblemFailure
@@ -311,7 +312,9 @@ class _Newmark:
         :class:`_Memo`): no damping terms formed."""
         al = self.alpha
         damped = not getattr(C, "empty", False)
-        out = (1 - al) * F1 + M @ (self.c0 * u + self.c2 * v + self.c3 * a)
+        # ((1 − α) F₁ is F₁ itself for α = 0; the mass product is no state's: not kept)
+        Mh = getattr(M, "apply", M.__matmul__)
+        out = (F1 if al == 0 else (1 - al) * F1) + Mh(self.c0 * u + self.c2 * v + self.c3 * a)
         if damped:
             out = out + (1 - al) * (C @ (self.c1 * u - self.cv * v - self.ca * a))
         if al:
@@ -330,6 +333,17 @@ class _Newmark:
     def drift(self, wdot, wacc):
         """Δw that makes the end velocity zero: −(cv ẇ₀ + ca ẅ₀)/c1."""
         return -(self.cv * wdot + self.ca * wacc) / self.c1
+
+
+_MAXIMUM = np.maximum.reduce
+#: the ledger's terms in the order of ENERGY_TERMS (a recorded state's row)
+_LEDGER_ROW = operator.itemgetter(*ENERGY_TERMS)
+
+
+def _absmax(x) -> float:
+    """max |x| over every entry (0 for an empty x): ``float(np.abs(x).max(initial=0.0))``
+    without its Python-level wrapper (several per step)."""
+    return float(_MAXIMUM(np.abs(x), axis=None, initial=0.0))
 
 
 #: a model whose contact matrix B has at most this many entries (2m × n, zeros included)
@@ -400,6 +414,14 @@ def _spd_solve(W: np.ndarray, b: np.ndarray) -> np.ndarray:
     return _spd_factor(W)(b)
 
 
+@functools.cache
+def _lapack(name: str):
+    """LAPACK's float64 routine ``name`` (SciPy's wrapper, looked up once)."""
+    import scipy.linalg as sla
+
+    return sla.get_lapack_funcs(name, (np.zeros((1, 1)),))
+
+
 class _TrackedFactor:
     """The Cholesky factor L Lᵀ = W_r of W_r = B_r M⁻¹ B_rᵀ (a principal block of GM) for a
     row set r that changes by a few rows between uses (the closed and stuck rows of the
@@ -434,13 +456,20 @@ class _TrackedFactor:
         self.order, self.L = order, L
         self.pos[order] = np.arange(len(order))
 
+    @staticmethod
+    def _cholesky(S: np.ndarray) -> np.ndarray | None:
+        """The lower Cholesky factor of S (a temporary, overwritten), or None where S is not
+        positive definite: LAPACK's potrf as ``scipy.linalg.cholesky`` calls it, without its
+        checks (a cut makes two)."""
+        if S.size == 0:
+            return np.zeros((0, 0))
+        c, info = _lapack("potrf")(S, lower=1, overwrite_a=1, clean=1)
+        return c if info == 0 else None
+
     def _factor(self, rows: np.ndarray) -> bool:
         """A new factor of W_r (rows in the order given); False where it is singular."""
-        import scipy.linalg as sla
-
-        try:
-            L = sla.cholesky(self.GM[np.ix_(rows, rows)], lower=True, check_finite=False)
-        except np.linalg.LinAlgError:
+        L = self._cholesky(self.GM[rows[:, None], rows])
+        if L is None:
             return False
         if not self._regular(L, rows):
             return False
@@ -457,28 +486,27 @@ class _TrackedFactor:
         stays[rows] = True
         kept = stays[order]
         added = rows[self.pos[rows] < 0]
-        if kept.all() and not added.size:
+        all_kept = bool(kept.all())
+        if all_kept and not added.size:
             return True  # the same set
-        p = int(np.argmin(kept)) if not kept.all() else len(order)
+        p = int(np.argmin(kept)) if not all_kept else len(order)
         head, tail_kept = order[:p], order[p:][kept[p:]]
         L21 = L[p:, :p][kept[p:]]
         if added.size:
-            L21_add = (sla.solve_triangular(L[:p, :p], GM[np.ix_(head, added)], lower=True,
+            L21_add = (sla.solve_triangular(L[:p, :p], GM[head[:, None], added], lower=True,
                                             check_finite=False).T if p
                        else np.zeros((len(added), 0)))
             L21 = np.vstack([L21, L21_add])
-        tail = np.r_[tail_kept, added].astype(np.int64)
-        S = GM[np.ix_(tail, tail)] - L21 @ L21.T
-        try:
-            L22 = sla.cholesky(S, lower=True, check_finite=False)
-        except np.linalg.LinAlgError:
+        tail = np.concatenate((tail_kept, added)).astype(np.int64, copy=False)
+        L22 = self._cholesky(GM[tail[:, None], tail] - L21 @ L21.T)
+        if L22 is None:
             return False
         r = p + len(tail)
         Ln = np.zeros((r, r), order="F")  # (LAPACK's order: its solves do not copy it)
         Ln[:p, :p] = L[:p, :p]
         Ln[p:, :p] = L21
         Ln[p:, p:] = L22
-        new_order = np.r_[head, tail].astype(np.int64)
+        new_order = np.concatenate((head, tail)).astype(np.int64, copy=False)
         if not self._regular(Ln, new_order):
             return False
         self._set(new_order, Ln)
@@ -506,7 +534,7 @@ class _TrackedFactor:
         bo = np.zeros(len(self.order))
         bo[at] = b
         # (LAPACK's potrs on the factor, as cho_solve calls it, without its checks)
-        x, info = sla.get_lapack_funcs("potrs", (self.L,))(self.L, bo, lower=True)
+        x, info = _lapack("potrs")(self.L, bo, lower=True)
         if info != 0:
             return sla.cho_solve((self.L, True), bo, check_finite=False)[at]
         return x[at]
@@ -612,9 +640,15 @@ class _Memo:
 
     __matmul__ = __call__
 
+    def apply(self, x: np.ndarray) -> np.ndarray:
+        """A x, not kept (a vector that is no state's)."""
+        if self.empty:
+            return self._zero
+        return self.A @ x if self.diag is None else self.diag * x
+
 
 def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=None,
-                 nm=None, wacc=None, law=None) -> dict:
+                 nm=None, wacc=None, law=None, rates_of=None) -> dict:
     """Times of the slip → stick transitions decided at μ of a step (eq. (10), second row):
     where the slip velocity, linear in time over the step, would cross zero under the old
     (slipping) scheme — u̇_τ at the step's end is 2 Δũ_τ / Δt (module docstring) for a rigid
@@ -626,7 +660,7 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     if ks.size == 0:
         return {}
     try:
-        ds_o, dw_o = eng.rates_any(old, forcing)
+        ds_o, dw_o = (eng.rates_any if rates_of is None else rates_of)(old, forcing)
     except MechanismError:
         return {}
     v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law)
@@ -678,6 +712,58 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     return ks[(sg * v0 > tol) & (sg * v1 < -tol)]
 
 
+def _quiet_start(eng: EventEngine, law, forcing, span: float, group: float):
+    """The engine's decision at a step's start (:meth:`EventEngine.decide` without fired CFEs,
+    not the start of the path) where it cannot change the scheme, or None: the same scheme
+    with the same rates, from the same calls, without the rate problem's set-up.  Exact: no
+    CFE has an event function within its tolerance of its limit, and the slipping ones (in
+    mid-slip: at no normal or two-sided limit) have rates that keep them slipping — then the
+    engine keeps the scheme too (``solve_rate_problem``: the current scheme stays consistent,
+    a slip that goes on is not a degenerate point; the check is
+    :meth:`EventEngine.consistent`'s).  ``law``: the one law of every CFE, in order.  Any
+    other case (or a singular scheme) is the engine's (None).
+
+    Returns (the decision, whether no event function reaches its limit along its rates
+    within ``span`` and ``group`` beyond — :meth:`EventEngine.next_event` from this state,
+    the same floats: it would return Δμ = span with nothing fired)."""
+    eng.update_scales()  # (as EventEngine.at_limit)
+    tf, tw = eng.tolerances()
+    states = eng.states
+    lay = eng.layout
+    Q, p = lay.split(eng.s)
+    un = lay.normal(eng.w)
+    phi = law.event_values(states, Q, p, un)
+    gap = law.column_kinds == 1
+    if np.count_nonzero(phi <= np.where(gap, tw, tf)):
+        return None  # a CFE at a limit: the rate problem decides
+    L = np.flatnonzero(_slipping(states))
+    if L.size:
+        normal, two = law.limits(states, Q, p, un, tf, tw)
+        if np.count_nonzero(normal[L]) or np.count_nonzero(two[L]):
+            return None
+    try:
+        ds, dw = eng.rates(states, forcing, article=False)
+    except MechanismError:
+        return None
+    dQ, dp = lay.split(ds)
+    dut, dun = lay.split(dw)
+    rf = 1e3 * eng.rtol * max(_absmax(ds), 1e-300)  # (the rates' tolerances, as the
+    rw = 1e3 * eng.rtol * max(_absmax(dw), 1e-300)  # engine's consistent and next_event)
+    if L.size and np.count_nonzero(law.consistent(states, Q, dQ, dp, dun, dut, normal, two,
+                                                  rf, rw, p=p, tf=tf)[L] != states[L]):
+        return None  # a slip that would stop here: the rate problem decides
+    old = states.copy()
+    eng.states = new = states.copy()
+    dphi = law.event_values(new, dQ, dp, dun, False)
+    active = np.isfinite(phi)
+    active &= dphi < np.where(gap, -rw, -rf)
+    if not np.count_nonzero(active):
+        return Decision(old, new, ds, dw), True
+    steps = np.full(phi.shape, np.inf)
+    np.divide(np.maximum(phi, 0.0), np.negative(dphi), out=steps, where=active)
+    return Decision(old, new, ds, dw), not float(steps.min()) <= span + group
+
+
 def _deferred(old, new, changed, law, damped) -> np.ndarray:
     """Of the CFEs ``changed`` at an event inside a step, those whose switch is left to the
     rate problem at the start of the next step (the same instant): a closed CFE that opens
@@ -715,10 +801,12 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     vf = np.take(v, free)
     zv = metric.layout.zeros()
     zv[rows_v] = metric.tracked("v").solve(rows_v, (Bf @ vf)[rows_v])
-    dv = metric.X @ zv
     if Xa is not None:
-        v = v - Xa @ zv  # (on the free DOFs the same floats as vf − dv)
+        dv_all = Xa @ zv
+        dv = np.take(dv_all, free)  # (the same floats as X z_v: Xa is X by the same columns)
+        v = v - dv_all
     else:
+        dv = metric.X @ zv
         v = v.copy()
         v[free] = vf - dv
     # positions: closed rigid CFEs onto their obstacles, and an open one that the cut's
@@ -732,19 +820,24 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     tol = 1e-9 * max(float(np.abs(uf).max(initial=0.0)), 1e-300)
     u_try = uf
     zu, du = metric.layout.zeros(), np.zeros(len(uf))
+    du_all = None
     for _ in range(len(rig) + 1):
         rows = r_rig[act].astype(np.int64)
         if rows.size:
             zu = metric.layout.zeros()
             zu[rows] = metric.tracked("u").solve(rows, w_all[act])
-            du = metric.X @ zu
+            if Xa is not None:
+                du_all = Xa @ zu
+                du = np.take(du_all, free)  # (= X z_u, as for the velocities)
+            else:
+                du = metric.X @ zu
             u_try = uf - du
         pen = ~act & ((Bf @ u_try)[r_rig] + w0_rig > tol)
         if not pen.any():
             break
         act |= pen
     if Xa is not None:
-        u = u - Xa @ zu  # (zu = 0 where nothing moved)
+        u = u.copy() if du_all is None else u - du_all  # (nothing moved: u − X 0 = u)
     else:
         u = u.copy()
         u[free] = u_try
@@ -1270,6 +1363,15 @@ class _DynamicRun:
         self.held = self.layout.join(soft_cfe, soft_cfe)
         self.rigid_n = ~np.isfinite(cfe.kn)
         self.soft_t = np.isfinite(cfe.kt)  # (compliant tangential rows: no drift, eq. (9))
+        self.any_soft_t = bool(self.soft_t.any())
+        # the law of every CFE in order (the engine's common case): a step's start where no
+        # CFE is at a limit is decided without the rate problem (_quiet_start)
+        self.one_law = (law if len(law.cfes) == self.m
+                        and np.array_equal(law.cfes, np.arange(self.m)) else None)
+        # … where its start is decided by the engine alone: no bonds (their breaks at the
+        # start), rigid tangential rows (no compliant slip that stops inside a step)
+        self.quiet_steps = bool(self.one_law is not None and not self.bonds_on
+                                and law.rigid_t.all() and self.m)
 
     def _initial_state(self, u0, v0) -> None:
         """The fields and the contact state at t = 0 (:func:`_initial`, :func:`_state_at_u0`;
@@ -1289,6 +1391,9 @@ class _DynamicRun:
         self.layers.set_initial(states, w)
         self.u, self.v, self.s_init, self.w_init, self.static = u, v, s, w, static
         self.free = self.cond.free
+        #: every DOF free (a small discrete model): no gather and scatter of the free DOFs
+        self.all_free = bool(len(self.free) == self.ndof
+                             and np.array_equal(self.free, np.arange(self.ndof)))
         self.names = list(system.loads)
         self.f_of = {n: system.loads[n].f for n in self.names}
         self.r_ground = None
@@ -1372,6 +1477,9 @@ class _DynamicRun:
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
         self.any_soft = bool(self.soft.any())
         self.no_layer_energy = lay.zeros()
+        self.no_water = np.zeros(m)
+        self.no_water.flags.writeable = False
+        self._gt_end: tuple | None = None  # (t, G t) of the state a step ended in
         self.no_contact = lay.zeros()  # the rates (s', w') of a model without CFEs
         self.no_contact.flags.writeable = False
         self.no_layer_energy.flags.writeable = False
@@ -1433,10 +1541,15 @@ class _DynamicRun:
             F0.flags.writeable = False
             self._F_held_part = (shared, F0)
         shared, F0 = self._F_held_part
-        F = F0.copy()
+        F = None  # (F⁰ plus the first term: no copy of F⁰ first)
         for name, c in c_t.items():
             if c and (shared or name not in self.static):
-                F += c * f_of[name]
+                if F is None:
+                    F = F0 + c * f_of[name]
+                else:
+                    F += c * f_of[name]
+        if F is None:
+            F = F0.copy()
         if self.r_ground is not None:
             F += float(self.ground_acceleration[0](t)) * self.r_ground
         if self.crack is not None and self.water_on.any():
@@ -1707,6 +1820,8 @@ class _DynamicRun:
 
     def strain_energy(self, u_, s_, x_=None):
         """½ uᵀK u plus the layers' energy, J."""
+        if not self.layers and not self.any_soft:  # rigid contact stores nothing
+            return float(0.5 * u_ @ (self.Kx(u_)) + 0.0)
         return float(0.5 * u_ @ (self.Kx(u_)) + self.layer_energy(s_, x_).sum())
 
     def book_contact(self, diss: np.ndarray) -> dict[str, float]:
@@ -1731,9 +1846,11 @@ class _DynamicRun:
                            + ledger["friction"] + ledger["impact"] + ledger["fracture"]
                            + ledger["numerical"])
         c = self.factors_at(t)
-        W_t = self.water_at(t, c)
-        p_t = (np.where(self.water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
-               if crack is not None else W_t)
+        if crack is None:
+            W_t = p_t = self.no_water  # (the recorder copies the row)
+        else:
+            W_t = self.water_at(t, c)
+            p_t = np.where(self.water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
         viol = eng.violation()
         i = self.rec.append(lam=t, segment=0, kind=kind,
                             factors=[c.get(n, 0.0) for n in self.names],
@@ -1745,7 +1862,7 @@ class _DynamicRun:
             self.status_box[:] = [Status.VIOLATION, broken]
         for k, arr in (("u", u), ("v", v), ("a", self.a)):
             self.extra[k].append(arr)
-        self.energy.append(tuple(ledger[k] for k in ENERGY_TERMS))
+        self.energy.append(_LEDGER_ROW(ledger))
         return i
 
     def log_event(self, step: int, k, was, now, t_ev: float, s_=None, impulse=None) -> None:
@@ -1829,7 +1946,8 @@ class _DynamicRun:
         while self.t < end_time - 1e-6 * dt0:
             if self.status_box[0] != Status.COMPLETED:  # conditions broken at a state
                 break
-            if any(getattr(hk, "stop_requested", False) for hk in hooks):  # SIGTERM, Ctrl-C
+            if hooks and any(getattr(hk, "stop_requested", False)  # SIGTERM, Ctrl-C
+                             for hk in hooks):
                 self.status = Status.INCOMPLETE
                 self.message = (f"interrupted at t = {self.t:.6g} s of {end_time:g} s: the "
                                 "states up to there are complete")
@@ -1862,7 +1980,7 @@ class _DynamicRun:
         eng, lay, system, cond = self.eng, self.layout, self.system, self.cond
         dt0, t, F = self.dt0, self.t, self.F
         dt = dt0
-        ahead = self.breaks[self.breaks > t + 1e-9 * dt0]
+        ahead = self.breaks[self.breaks > t + 1e-9 * dt0] if self.breaks.size else self.breaks
         stop_at = min(float(ahead[0]) if ahead.size else np.inf, self.end_time)
         land = 1.0
         if stop_at < t + dt0 * (1 - 1e-6):  # (within 1e-6 Δt: a whole step lands there)
@@ -1880,18 +1998,26 @@ class _DynamicRun:
         if land < 1.0:  # the load's rate over the part step continued to t + Δt
             F1 = F + (F1 - F) / land
         Fhat = nm.rhs(self.Kx, self.Mx, self.Cx, F1, F, self.u, self.v, self.a)
-        y = self.solve_hat(np.take(Fhat, self.free))
+        y = self.solve_hat(Fhat if self.all_free else np.take(Fhat, self.free))
         h_end = self.Bfx @ y
-        # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0)
+        # the condensed identity at the step's start: ŵ + Ĝ (s − d ŵ) = h(0) (G t of this
+        # state: the last step's residual check formed it, if nothing moved since)
         w_hat = eng.w - system.w0
-        h0 = w_hat + cond.product(eng.s - cond.d * w_hat)
+        t_hat = eng.s - cond.d * w_hat
+        gt = self._gt_end
+        self._gt_end = None
+        h0 = w_hat + (gt[1] if gt is not None and not np.any(gt[0] != t_hat)
+                      else cond.product(t_hat))
         wdot = self.Bx @ self.v
         wacc = self.Bx @ self.a
         drift = lay.zeros()
-        lay.tangential(drift)[:] = np.where(self.soft_t, 0.0,
-                                            nm.drift(lay.tangential(wdot), lay.tangential(wacc)))
-        self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
-        self.x_start = self.layers.x.copy()
+        dr = nm.drift(lay.tangential(wdot), lay.tangential(wacc))
+        lay.tangential(drift)[:] = np.where(self.soft_t, 0.0, dr) if self.any_soft_t else dr
+        if self.layers:
+            self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
+            self.x_start = self.layers.x.copy()
+        else:
+            self.x_start = self.layers.x
         dh = h_end - h0
         self.forcing = (dh, -drift)
         # a body at rest (after a stop, no load): a step's load at round-off of the
@@ -1899,10 +2025,9 @@ class _DynamicRun:
         eng.rest_scale = self.rtol * self.w_scale
         # the scale of forces: the contact forces, the loads, and the force that would stop
         # the motion within a step (|M u̇| / Δt: before any contact force, an impact's scale)
-        eng.F_scale = max(eng.F_scale, float(np.abs(eng.s).max(initial=0.0)),
-                          float(np.abs(F).max(initial=0.0)),
-                          float(np.abs(self.Mx(self.v)).max(initial=0.0)) / dt0)
-        eng.W_scale = max(eng.W_scale, self.w_scale, float(np.abs(dh).max(initial=0.0)))
+        eng.F_scale = max(eng.F_scale, _absmax(eng.s), _absmax(F),
+                          _absmax(self.Mx(self.v)) / dt0)
+        eng.W_scale = max(eng.W_scale, self.w_scale, _absmax(dh))
         self.s_start, self.w_start = eng.s.copy(), eng.w.copy()
         self.dt, self.nm, self.land, self.t1, self.at_break = dt, nm, land, t1, at_break
         self.F1, self.F_land, self.Fhat, self.h_end = F1, F_land, Fhat, h_end
@@ -1927,10 +2052,24 @@ class _DynamicRun:
         small = 0
         restart = None
         ds = dw = None
+        quiet = None
+        if (self.quiet_steps and not self.first and not fired.any()
+                and len(rec.events) <= self.max_events):
+            # a step's start where no CFE is at a limit (_quiet_start); without an event in
+            # the step the engine moves straight to its end: the same
+            # decision, event search and move as the loop below makes
+            quiet = _quiet_start(eng, self.one_law, forcing, land, 1e-10)
+            if quiet is not None and quiet[1]:
+                ds, dw = quiet[0].ds, quiet[0].dw
+                eng.advance(land, ds, dw)
+                return None, 0.0 + land, ds, dw
         while True:
             old = eng.states.copy()
             try:
-                dec = eng.decide(fired, forcing, natural=self.first)
+                if quiet is not None:
+                    dec, quiet = quiet[0], None
+                else:
+                    dec = eng.decide(fired, forcing, natural=self.first)
             except (MechanismError, RateProblemFailure) as exc:
                 self.status = (Status.EQUILIBRIUM_LOST if isinstance(exc, MechanismError)
                                else exc.status)
@@ -2012,8 +2151,20 @@ class _DynamicRun:
         changed = np.flatnonzero(old != dec.new)
         if not changed.size:
             return None, changed
+        got: dict = {}  # (the old scheme's rates, asked for again below: the same call)
+
+        def rates_of(states, forcing):
+            if "rates" not in got:
+                try:
+                    got["rates"] = eng.rates_any(states, forcing)
+                except MechanismError as exc:
+                    got["rates"] = exc
+            if isinstance(got["rates"], MechanismError):
+                raise got["rates"]
+            return got["rates"]
+
         times = _stick_times(eng, old, dec.new, changed, self.forcing, self.w_start,
-                             self.wdot, 0.0, t, dt, nm.c1, nm, self.wacc, law)
+                             self.wdot, 0.0, t, dt, nm.c1, nm, self.wacc, law, rates_of)
         later = bool(times) and min(times.values()) > t + 1e-9 * dt
         now = changed[~np.isin(changed, list(times))] if later else changed
         # changes at the step's start that the step cannot carry (the schemes of its part
@@ -2041,7 +2192,7 @@ class _DynamicRun:
         # velocity vanishes; the other changes happen at t
         if times and min(times.values()) > t + 1e-9 * dt:
             try:
-                ds_o, dw_o = eng.rates_any(old, self.forcing)
+                ds_o, dw_o = rates_of(old, self.forcing)
             except MechanismError:
                 ds_o = None
             if ds_o is not None:
@@ -2170,7 +2321,8 @@ class _DynamicRun:
         w_i = system.B @ u_i + system.w0
         on = (new_states != OPEN) & self.rigid_n
         lay.normal(w_i)[on] = 0.0  # on the obstacle (round-off of the projection)
-        self.layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
+        if self.layers:
+            self.layers.restart(old, new_states, s_i, w_i, system.B @ v_i, frac)
         eng.s, eng.w = s_i, w_i
         eng.snap()
         self.u, self.v = u_i, v_i
@@ -2300,20 +2452,25 @@ class _DynamicRun:
         self.zero_restarts = 0
         eng.w += self.drift
         gone = eng.states == OPEN
-        s_t, s_n = self.layout.split(eng.s)  # views
-        s_t[gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
-        s_n[gone] = 0.0
+        if gone.any():
+            s_t, s_n = self.layout.split(eng.s)  # views
+            s_t[gone] = 0.0  # an open CFE carries nothing (not the scheme solve's round-off)
+            s_n[gone] = 0.0
         if layers:
             layers.x = layers.at(eng.states, eng.w, 1.0)
             layers.sync(eng.states, eng.s, eng.w)
         w_hat = eng.w - system.w0
         tvec = eng.s - cond.d * w_hat
-        u_new = np.zeros(self.ndof)
-        u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tvec)
+        if self.all_free:
+            u_new = self.solve_hat(self.Fhat - self.BfTx @ tvec)
+        else:
+            u_new = np.zeros(self.ndof)
+            u_new[self.free] = self.solve_hat(np.take(self.Fhat, self.free) - self.BfTx @ tvec)
         a_new, v_new = self.nm.end(u_new, u, v, a)
         du = u_new - u
-        ledger["external"] += float(du @ (0.5 * (F + F1)))
-        F_prev, F = F, F1
+        w_ext = float(du @ (0.5 * (F + F1)))
+        ledger["external"] += w_ext
+        F = F1
         damped = not Cx.empty
         vbar = 0.5 * (v + v_new) if damped else None
         w_damp = float(du @ (Cx(vbar))) if damped else 0.0
@@ -2330,8 +2487,7 @@ class _DynamicRun:
             # the works leave
             e_step0 = 0.5 * v @ (Mx(v)) + self.strain_energy(u, s_start, x_start)
             e_step1 = 0.5 * v_new @ (Mx(v_new)) + self.strain_energy(u_new, eng.s)
-            d_num = (float(du @ (0.5 * (F_prev + F1))) - w_damp
-                     - float(diss.sum()) - (e_step1 - e_step0))
+            d_num = w_ext - w_damp - float(diss.sum()) - (e_step1 - e_step0)
             ledger["numerical"] += d_num
             self.parts["hht" if dt == dt0 else "short_steps"] += d_num
         self.u, self.v, self.a, self.F = u_new, v_new, a_new, F
@@ -2341,15 +2497,15 @@ class _DynamicRun:
         if self.crack is not None and self.settle_water(t, n):  # (a catch-all: a wet set
             self.F = self.force_at(t)       # that moved at the step's start is settled there)
             self.step_events += 1
-        self.w_scale = max(self.w_scale, float(np.abs(eng.w).max(initial=0.0)),
-                           float(np.abs(self.u).max(initial=0.0)))
+        self.w_scale = max(self.w_scale, _absmax(eng.w), _absmax(self.u))
         last = t >= self.end_time - 1e-6 * dt0
         re = self.record_every
         if re <= 1 or n % re == 0 or self.step_events or last:
             h_end = self.h_end
-            r = h_end - (w_hat + cond.product(tvec))
-            res_rel = float(np.abs(r).max(initial=0.0) / max(np.abs(h_end).max(initial=0.0),
-                                                              self.w_scale, 1e-300))
+            gt = cond.product(tvec)
+            self._gt_end = (tvec, gt)  # (the next step's start is this state: its G t)
+            r = h_end - (w_hat + gt)
+            res_rel = float(_absmax(r) / max(_absmax(h_end), self.w_scale, 1e-300))
             self.record(t, "event" if self.step_events else "step", res_rel)
         for hk in self.hooks:
             if hasattr(hk, "after_step"):
