@@ -228,6 +228,24 @@ class FacetedCoulombLaw:
                       np.where(st >= FACET_SLIP, st - FACET_SLIP, -1))
         return fa, fb
 
+    def slip_directions(self, states) -> np.ndarray:
+        """(K, 2) unit vectors in the tangent plane (t₁, t₂): the slip direction of each
+        slipping CFE's state — d_i on facet i, the bisector of d_{i−1} and d_i at vertex i —
+        and zero for the other states (the dynamic driver's slip rates and stops along it)."""
+        fa, fb = self._facets(states)
+        r = np.arange(len(fa))
+        d = np.where((fa >= 0)[:, None], self.D[r, np.maximum(fa, 0)]
+                     + self.D[r, np.maximum(fb, 0)], 0.0)
+        n = np.linalg.norm(d, axis=-1)
+        return d / np.where(n > 0, n, 1.0)[:, None]
+
+    def facet_towards(self, local, direction) -> np.ndarray:
+        """The slip states ``FACET_SLIP + i`` of the CFEs ``local`` (indices into this law's
+        CFEs) whose facet normal d_i is nearest to their ``direction`` (len(local), 2) (a slip
+        after an impact, in the direction of its velocity)."""
+        return FACET_SLIP + np.argmax(np.einsum("kij,kj->ki", self.D[local], direction),
+                                      axis=1)
+
     # ---- states -----------------------------------------------------------------------------
     def closed_state(self) -> np.ndarray:
         return np.where(self.frictional, STICK, CLOSED)

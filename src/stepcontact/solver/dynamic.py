@@ -103,7 +103,7 @@ import scipy.sparse as sp
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import Status
+from stepcontact.enums import VERTEX_SLIP, Status
 from stepcontact.enums import slipping as _slipping
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
@@ -246,6 +246,15 @@ def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
     p = np.where(soft_n, np.where(soft_n, cfe.kn, 0.0) * np.maximum(wn, 0.0), 0.0)
     s_n[:] = np.where(soft_n, p, s_n)
     soft_t = soft_n & np.isfinite(cfe.kt)
+    if lay.n_t > 1:  # a faceted cone (3D): beyond the polygon, slipping at its nearest point
+        kt = np.where(soft_t, cfe.kt, 0.0)[:, None]
+        q = np.where(soft_t[:, None], kt * lay.tangential(w), 0.0)
+        at = law.state_at(q, p)
+        over = soft_t & law.frictional & _slipping(at)
+        q = q - np.where(over[:, None], law.released(at, q, p)[0], 0.0)
+        states[over] = at[over]
+        s_t[:] = np.where(soft_t[:, None], q, s_t)
+        return states, s, w
     q = np.where(soft_t, np.where(soft_t, cfe.kt, 0.0) * lay.tangential(w), 0.0)
     lim = law.f * p
     over = soft_t & law.frictional & (np.abs(q) > lim)
@@ -629,7 +638,8 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
         ds_o, dw_o = eng.rates_any(old, forcing)
     except MechanismError:
         return {}
-    v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law)
+    v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law,
+                                 old)
     den = v0 - v_end
     with np.errstate(divide="ignore", invalid="ignore"):
         frac = np.where(np.abs(den) > 0, v0 / den, mu)
@@ -638,10 +648,13 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
 
 
 def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=None, wacc=None,
-                     law=None):
+                     law=None, states=None):
     """Slip velocities (m/s) of the CFEs ``ks`` at the start and at the end of the step under
-    the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`)."""
-    r = eng.layout.tangential_rows[ks]  # the CFEs' tangential rows of s, w
+    the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`); with two tangential
+    components (3D) their components along the slip directions of ``states`` (the facet's
+    normal d_i, a vertex's bisector: :meth:`FacetedCoulombLaw.slip_directions`), linear in
+    time as the vectors are — a slip stops where it vanishes."""
+    r = eng.layout.tangential_rows[ks]  # the CFEs' tangential rows of s, w ((k, 2) in 3D)
     dw = eng.w[r] - w_start[r] + (1.0 - mu) * dw_o[r]
     v_end = (2.0 / dt if c1 is None else c1) * dw
     v0 = wdot[r].copy()
@@ -649,11 +662,16 @@ def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=Non
         soft = ~law.rigid_t[ks]
         if soft.any():
             kt = np.where(soft, law.kt[ks], 1.0)
+            if r.ndim > 1:  # (two tangential components per CFE)
+                soft, kt = soft[:, None], kt[:, None]
             # (Q̇ = Q'/Δt: Q' its rate along μ, constant under the scheme)
             q_rate = ds_o[r] / (kt * dt)
             v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[r] + nm.ca * wacc[r] - q_rate,
                              v_end)
             v0 = np.where(soft, v0 - q_rate, v0)
+    if r.ndim > 1:  # a faceted cone (3D): the slip rates along the slip directions of
+        d = law.slip_directions(states)[ks]  # the states ``states``
+        return np.einsum("kj,kj->k", v0, d), np.einsum("kj,kj->k", v_end, d)
     return v0, v_end
 
 
@@ -671,11 +689,24 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     if ks.size == 0:
         return ks
     v0, v1 = _slip_velocities(eng, ks, dec.ds, dec.dw, w_start, wdot, 0.0, dt, None, nm, wacc,
-                              law)
-    sg = np.where(dec.new[ks] == SLIP_POS, 1.0, -1.0)
+                              law, dec.new)
+    sg = np.where(dec.new[ks] == SLIP_NEG, -1.0, 1.0)  # (3D: the rates along the slip)
     tol = 1e-9 * max(float(np.abs(v0).max(initial=0.0)), float(np.abs(v1).max(initial=0.0)),
                      1e-300)
     return ks[(sg * v0 > tol) & (sg * v1 < -tol)]
+
+
+def _vertex_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
+    """CFEs slipping at a vertex of a faceted cone (3D) that the decision at a step's start
+    turns onto one of its facets while their slip velocity at the step's end vanishes (below
+    1e-9 of the start's, eq. (10): the two facets' slip rates are both round-off there, and
+    round-off picked the facet): they stop at the step's end (:func:`_stick_times`)."""
+    ks = np.flatnonzero((dec.old >= VERTEX_SLIP) & _slipping(dec.new) & (dec.old != dec.new))
+    if ks.size == 0:
+        return ks
+    v0, v1 = _slip_velocities(eng, ks, dec.ds, dec.dw, w_start, wdot, 0.0, dt, nm.c1, nm,
+                              wacc, law, dec.old)
+    return ks[(v0 > 0) & (np.abs(v1) <= 1e-9 * v0)]
 
 
 def _deferred(old, new, changed, law, damped) -> np.ndarray:
@@ -707,7 +738,7 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
     stuck = np.flatnonzero((((states == STICK) & law.frictional) | (states == BONDED))
                            & law.rigid_t & ~law.inert)
-    rows_v = np.r_[nr[closed], lay.tangential_rows[stuck]].astype(np.int64)
+    rows_v = np.r_[nr[closed], lay.tangential_rows[stuck].ravel()].astype(np.int64)
     if rows_v.size == 0:
         return u, v, None
     free, Bf = cond.free, cond.Bf
@@ -1223,10 +1254,6 @@ class _DynamicRun:
         components held by supports on both ends are inert (their supports carry them), and
         after stages the CFEs not active at the stage."""
         cfe = self.cfe
-        if self.system.layout.n_t > 1:
-            raise ModelError("tangent2_rows", "a dynamic interval with two tangential "
-                             "directions per contact (the faceted Coulomb cone) is not "
-                             "available yet: 3D contact runs in static load programs")
         plan, stage = self.staged
         _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage)
         self.bond_cols = bond_cols
@@ -1267,7 +1294,7 @@ class _DynamicRun:
         self.soft_cfe = soft_cfe = np.isfinite(cfe.kn) & np.isfinite(cfe.kt)
         self.split = bool(np.all(soft_cfe | (~np.isfinite(cfe.kn) & ~np.isfinite(cfe.kt)))
                           and not soft_cfe.all())
-        self.held = self.layout.join(soft_cfe, soft_cfe)
+        self.held = self.layout.join_each(soft_cfe, soft_cfe)
         self.rigid_n = ~np.isfinite(cfe.kn)
         self.soft_t = np.isfinite(cfe.kt)  # (compliant tangential rows: no drift, eq. (9))
 
@@ -1280,8 +1307,8 @@ class _DynamicRun:
             states, s, w = _state_at_u0(system, law, u, v, s, w, states, initial)
         if initial is None:  # joints with initial strength start bonded (eq. (12)), their
             states = law.initial_states(states)  # compliant layers carrying C w at u0
-            stiff0 = self.layout.join(cfe.kt, cfe.kn)
-            on = self.layout.join(states == BONDED, states == BONDED) & np.isfinite(stiff0)
+            stiff0 = self.layout.join_each(cfe.kt, cfe.kn)
+            on = self.layout.join_each(states == BONDED, states == BONDED) & np.isfinite(stiff0)
             s = np.where(on, np.where(on, stiff0, 0.0) * w, s)
         eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
         if self.bonds_on:  # the bonds' strengths are forces of the problem's scale
@@ -1368,7 +1395,7 @@ class _DynamicRun:
         self.eng.W_scale = max(self.eng.W_scale, self.w_scale)
         self.parts = dict.fromkeys(("cut", "projection", "hht", "short_steps"), 0.0)
         lay = self.layout
-        self.stiff = lay.join(cfe.kt, cfe.kn)
+        self.stiff = lay.join_each(cfe.kt, cfe.kn)
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
         self.any_soft = bool(self.soft.any())
         self.no_layer_energy = lay.zeros()
@@ -1525,8 +1552,14 @@ class _DynamicRun:
                 fp = law.f * p
                 tol = 1e-9 * max(float(np.abs(s_new).max(initial=0.0)), eng.F_scale, 1e-300)
                 stuck = (states == STICK) & law.frictional & ~free_now & ~soft_cfe
-                up = stuck & (Q > fp + tol)
-                down = stuck & (Q < -fp - tol)
+                if lay.n_t == 1:
+                    up = stuck & (Q > fp + tol)
+                    down = stuck & (Q < -fp - tol)
+                    slips = np.where(up, SLIP_POS, SLIP_NEG)
+                else:  # a faceted cone (3D): beyond a facet, it slips at the polygon's point
+                    up = stuck & (law.margins(Q, p).min(axis=1) < -tol)  # nearest to Q
+                    down = np.zeros(m, bool)
+                    slips = law.state_at(Q, np.maximum(p, 0.0))
                 # a closed CFE that the accelerations would pull on carries no force at this
                 # instant (N = Q = 0, admissible closed); whether it separates, the step's
                 # contact problem decides with its gap and velocity (with a consistent mass
@@ -1537,7 +1570,7 @@ class _DynamicRun:
                     eng.s = np.where(held, s_held, s_new)
                     break
                 new = states.copy()
-                new[up], new[down] = SLIP_POS, SLIP_NEG
+                new[up | down] = slips[up | down]
                 free_now |= pulled
                 for k in np.flatnonzero(new != states):
                     self.log_event(self.n, k, states[k], new[k], t_now)
@@ -1612,6 +1645,14 @@ class _DynamicRun:
         lay = self.layout
         wd = self.system.B @ self.v
         st = self.eng.states
+        if lay.n_t > 1:  # a faceted cone (3D): pinned along its slip direction
+            d = self.law.slip_directions(st)
+            rate = np.einsum("kj,kj->k", lay.tangential(wd), d)
+            moving = rate > 1e-9 * max(np.abs(wd).max(initial=0.0), 1e-300)
+            e = lay.zeros()
+            lay.tangential(e)[:] = np.where(
+                moving[:, None], d * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300), 0.0)
+            return dh, e
         sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
         moving = (sig != 0) & (np.abs(lay.tangential(wd)) > 1e-9 * max(
             np.abs(wd).max(initial=0.0), 1e-300))
@@ -1888,8 +1929,9 @@ class _DynamicRun:
         wdot = self.Bx @ self.v
         wacc = self.Bx @ self.a
         drift = lay.zeros()
-        lay.tangential(drift)[:] = np.where(self.soft_t, 0.0,
-                                            nm.drift(lay.tangential(wdot), lay.tangential(wacc)))
+        lay.tangential(drift)[:] = np.where(self.soft_t if lay.n_t == 1 else self.soft_t[:, None],
+                                            0.0, nm.drift(lay.tangential(wdot),
+                                                          lay.tangential(wacc)))
         self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
         self.x_start = self.layers.x.copy()
         dh = h_end - h0
@@ -2008,6 +2050,9 @@ class _DynamicRun:
         # a compliant slip whose velocity reverses inside the step
         dec.new[_compliant_stops(eng, law, dec, self.w_start, self.wdot, self.wacc, nm,
                                  dt)] = STICK
+        if self.layout.n_t > 1:  # (3D) a vertex slip that ends at rest: no turn onto a facet
+            dec.new[_vertex_stops(eng, law, dec, self.w_start, self.wdot, self.wacc, nm,
+                                  dt)] = STICK
         eng.states = dec.new
         changed = np.flatnonzero(old != dec.new)
         if not changed.size:
