@@ -632,6 +632,10 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     row carries no drift) and Q̇ = ΔQ/Δt (Q linear over the step)."""
     slipping = _slipping(old)
     ks = changed[slipping[changed] & (new[changed] != OPEN)]
+    if eng.layout.n_t > 1:  # a faceted cone (3D): a stop, or a vertex slip onto one of its
+        # facets (the other facet's slip rate vanishes) — not a slip whose force reaches a
+        # vertex (an event of the forces, located by the engine)
+        ks = ks[(new[ks] == STICK) | ((old[ks] >= VERTEX_SLIP) & _slipping(new[ks]))]
     if ks.size == 0:
         return {}
     try:
@@ -639,7 +643,7 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     except MechanismError:
         return {}
     v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law,
-                                 old)
+                                 old, new)
     den = v0 - v_end
     with np.errstate(divide="ignore", invalid="ignore"):
         frac = np.where(np.abs(den) > 0, v0 / den, mu)
@@ -648,12 +652,12 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
 
 
 def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=None, wacc=None,
-                     law=None, states=None):
+                     law=None, states=None, new=None):
     """Slip velocities (m/s) of the CFEs ``ks`` at the start and at the end of the step under
     the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`); with two tangential
-    components (3D) their components along the slip directions of ``states`` (the facet's
-    normal d_i, a vertex's bisector: :meth:`FacetedCoulombLaw.slip_directions`), linear in
-    time as the vectors are — a slip stops where it vanishes."""
+    components (3D) the slip rates that vanish where ``states`` turn into ``new`` (default:
+    a stop; :meth:`FacetedCoulombLaw.vanishing_rate` — along the slip direction, or a
+    vertex's facet rate), linear in time as the velocities are."""
     r = eng.layout.tangential_rows[ks]  # the CFEs' tangential rows of s, w ((k, 2) in 3D)
     dw = eng.w[r] - w_start[r] + (1.0 - mu) * dw_o[r]
     v_end = (2.0 / dt if c1 is None else c1) * dw
@@ -669,9 +673,10 @@ def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=Non
             v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[r] + nm.ca * wacc[r] - q_rate,
                              v_end)
             v0 = np.where(soft, v0 - q_rate, v0)
-    if r.ndim > 1:  # a faceted cone (3D): the slip rates along the slip directions of
-        d = law.slip_directions(states)[ks]  # the states ``states``
-        return np.einsum("kj,kj->k", v0, d), np.einsum("kj,kj->k", v_end, d)
+    if r.ndim > 1:  # a faceted cone (3D): the slip rates that vanish
+        old = states[ks]
+        to = np.full(len(ks), STICK) if new is None else new[ks]
+        return (law.vanishing_rate(ks, old, to, v0), law.vanishing_rate(ks, old, to, v_end))
     return v0, v_end
 
 
@@ -706,7 +711,7 @@ def _vertex_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
         return ks
     v0, v1 = _slip_velocities(eng, ks, dec.ds, dec.dw, w_start, wdot, 0.0, dt, nm.c1, nm,
                               wacc, law, dec.old)
-    return ks[(v0 > 0) & (np.abs(v1) <= 1e-9 * v0)]
+    return ks[(v0 > 0) & (np.abs(v1) <= 1e-9 * v0)]  # (along the vertex's bisector)
 
 
 def _deferred(old, new, changed, law, damped) -> np.ndarray:
@@ -887,6 +892,13 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray,
     free = cond.free
     cfes = cand[k]
     rows = system.layout.tangential_rows[cfes]
+    if rows.ndim > 1:  # two tangential components (3D): the cone's impulses
+        T3, sl3 = _cone_impulse(cond, minv, v, rows, limit)
+        if T_out is not None:
+            T_out[k] = np.linalg.norm(T3, axis=1)
+        sig = np.zeros((len(cand), 2))
+        sig[k] = np.where(sl3[:, None], (cond.Bf[rows.ravel()] @ v[free]).reshape(-1, 2), 0.0)
+        return sig
     Bt = cond.Bf[rows]  # tangential rows
     X, W = minv(rows)
     wt = Bt @ v[free]
@@ -908,6 +920,38 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray,
     after = Bt @ v[free]
     sig[k] = np.where(sliding, np.sign(after), 0.0)
     return sig
+
+
+def _cone_impulse(cond, minv, v: np.ndarray, rows: np.ndarray, limit: np.ndarray):
+    """The tangential impulses T (k, 2) of an impact on CFEs with two tangential components
+    (``rows`` (k, 2), 3D) within Coulomb's cone |T_k| ≤ ``limit`` (f P, N·s): each CFE stops
+    sliding if the impulse that stops it is within the bound, else slides on with |T_k| at the
+    bound along that impulse's direction (against its slip: exact for one CFE, whose W is
+    isotropic in the tangent plane), by an active set as in 2D (:func:`_friction_impulse`).
+    Changes ``v`` in place; returns (T, sliding (k,))."""
+    free, k = cond.free, len(limit)
+    flat = rows.ravel()  # (CFE-major: t₁, t₂ of each CFE)
+    X, W = minv(flat)
+    wt = cond.Bf[flat] @ v[free]
+    T = np.zeros(2 * k)
+    sliding = np.zeros(k, bool)
+    dirs = np.zeros((k, 2))
+    for _ in range(2 * k + 1):
+        sl = np.repeat(sliding, 2)
+        T[sl] = (limit[sliding, None] * dirs[sliding]).ravel()
+        st = np.flatnonzero(~sl)
+        if st.size:
+            T[st] = _spd_solve(W[np.ix_(st, st)], wt[st] - W[np.ix_(st, np.flatnonzero(sl))]
+                               @ T[sl])
+        Tk = T.reshape(k, 2)
+        mag = np.linalg.norm(Tk, axis=1)
+        over = ~sliding & (mag > limit * (1 + 1e-12))
+        if not over.any():
+            break
+        dirs[over] = Tk[over] / mag[over, None]
+        sliding |= over
+    v[free] -= X(T)
+    return T.reshape(k, 2), sliding
 
 
 class _DampedLayers:
@@ -1005,7 +1049,8 @@ class _DampedLayers:
         closed = new[self.k] != OPEN
         self.x = np.where(closed | was_closed, w[j], self.relaxed(frac))
         s[j] = np.where(closed, np.maximum(self.kn * w[j] + self.cn * wdot[j], 0.0), 0.0)
-        s[self.rows_t] = np.where(closed, s[self.rows_t], 0.0)
+        s[self.rows_t] = np.where(closed.reshape((-1,) + (1,) * (self.rows_t.ndim - 1)),
+                                  s[self.rows_t], 0.0)  # ((k, 2) rows in 3D)
         self.sync(new, s, w)
 
     def energy(self, x=None) -> np.ndarray:
@@ -1015,20 +1060,22 @@ class _DampedLayers:
 
 
 def _ground_function(ground_acceleration):
-    """The time function a_g(t) of ``ground_acceleration`` = (a_g, (dx, dy)), checked."""
+    """The time function a_g(t) of ``ground_acceleration`` = (a_g, (dx, dy)) — (dx, dy, dz)
+    in 3D —, checked."""
     if ground_acceleration is None:
         return None
     try:
         g_fun, direction = ground_acceleration
     except (TypeError, ValueError):
-        raise ModelError("ground_acceleration", "give (time function, (dx, dy))") from None
+        raise ModelError("ground_acceleration", "give (time function, (dx, dy)), or "
+                         "(dx, dy, dz) in 3D") from None
     if not callable(g_fun):
         raise ModelError("ground_acceleration", "its first entry must be a time function "
                          "a_g(t), m/s²")
     d = np.asarray(direction, float)
-    if d.shape != (2,) or not np.all(np.isfinite(d)) or not np.any(d):
+    if d.shape not in ((2,), (3,)) or not np.all(np.isfinite(d)) or not np.any(d):
         raise ModelError("ground_acceleration", f"the direction must be a nonzero vector "
-                         f"(dx, dy), got {direction!r}")
+                         f"(dx, dy), or (dx, dy, dz) in 3D, got {direction!r}")
     return g_fun
 
 
@@ -1040,19 +1087,24 @@ def _ground_translation(system: System, direction) -> np.ndarray:
     DOFs translates along the direction (the load would be zero)."""
     d = np.asarray(direction, float)
     d = d / np.linalg.norm(d)
+    dim = (system.discrete.dof_axes.shape[1] if system.discrete is not None
+           else system.dofs.dim)
+    if len(d) != dim:
+        raise ModelError("ground_acceleration", f"the direction has {len(d)} components, the "
+                         f"model is {dim}D: give ({', '.join('dx dy dz'.split()[:dim])})")
     if system.discrete is not None:
         r = system.discrete.dof_axes @ d
         if not np.any(np.abs(r) > 1e-12):
             named = np.any(system.discrete.dof_axes != 0.0)
             raise ModelError("ground_acceleration", (
-                f"no DOF of the discrete model translates along ({d[0]:g}, {d[1]:g})" if named
-                else "the discrete model's DOFs have no direction") + ": the ground "
+                f"no DOF of the discrete model translates along ({', '.join(f'{x:g}' for x in d)})"
+                if named else "the discrete model's DOFs have no direction") + ": the ground "
                 "acceleration would apply no load; say which DOFs are translations along "
                 "which axis (DiscreteModel(dof_axes={'ux': 'x', 'uy': 'y'}))")
         return r
     r = np.zeros(system.ndof)
     has = system.dofs.of >= 0
-    for c in (0, 1):
+    for c in range(dim):
         r[system.dofs.of[has[:, c], c]] = d[c]
     return r
 
@@ -1556,8 +1608,11 @@ class _DynamicRun:
                     up = stuck & (Q > fp + tol)
                     down = stuck & (Q < -fp - tol)
                     slips = np.where(up, SLIP_POS, SLIP_NEG)
-                else:  # a faceted cone (3D): beyond a facet, it slips at the polygon's point
-                    up = stuck & (law.margins(Q, p).min(axis=1) < -tol)  # nearest to Q
+                else:  # a faceted cone (3D): stuck or slipping beyond a facet (a slip's
+                    # force along its facet past a vertex), it slips at the polygon's point
+                    # nearest to Q
+                    sliding = law.slipping(states) & ~free_now & ~soft_cfe
+                    up = (stuck | sliding) & (law.margins(Q, p).min(axis=1) < -tol)
                     down = np.zeros(m, bool)
                     slips = law.state_at(Q, np.maximum(p, 0.0))
                 # a closed CFE that the accelerations would pull on carries no force at this
@@ -2315,7 +2370,11 @@ class _DynamicRun:
         self.ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
         v_i = v_new
         # a CFE still sliding after its impact slips on (with its velocity)
-        for k_, sg in zip(cand, sig, strict=True):
+        if sig.ndim > 1:  # (3D: the facet or vertex whose normal cone holds its velocity)
+            on = np.any(sig != 0, axis=1) & np.isin(cand, closing)
+            new_states[cand[on]] = law.slip_state_towards(cand[on], sig[on])
+            sig = np.zeros(0)
+        for k_, sg in zip(cand[:len(sig)], sig, strict=True):
             if sg != 0 and k_ in closing:
                 new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
         bounced = closed_as = np.zeros(0, np.int64)
