@@ -268,3 +268,233 @@ def test_an_oblique_drop_rebounds_by_newtons_law_with_coulombs_impulse_on_the_co
     kinds = [(ev.lam, ev.transition) for ev in res.events]
     assert [t for _, t in kinds] == [Transition.SLIP, Transition.OPENED] * 2
     assert_ledger(res)
+
+
+# --------------------------------------------------------------------------------------------
+# an elastic block (hex8 continuum) on a rough rigid plane
+# --------------------------------------------------------------------------------------------
+def _rotated(body: sc.Body, R: np.ndarray) -> sc.Body:
+    """The body turned by the rotation matrix R about the origin (its named faces kept)."""
+    mesh = dataclasses.replace(body.mesh, doflocs=R @ body.mesh.doflocs)
+    return sc.Body.from_mesh(body.name, mesh, body.element, body.material)
+
+
+F = 0.5
+W_BLOCK = RHO * G * 0.5  # the 1 × 1 × 0.5 m block's weight, N
+M_BLOCK = RHO * 0.5  # its mass, kg
+
+
+def continuum_block(k: int, theta: float, R: np.ndarray | None = None,
+                    element: str = "hex8") -> sc.Model:
+    """A 1 × 1 × 0.5 m concrete block (2 × 2 × 1 cells: 9 CFEs on its bottom nodes) on the
+    rough rigid plane z = 0 (f = 0.5, k facets, t₁ = x); its weight the pattern ``weight``, a
+    horizontal body force of 1 N in all along θ the pattern ``push`` (no moment about the
+    centroid); ``R``: the whole model turned rigidly."""
+    R = np.eye(3) if R is None else np.asarray(R, float)
+    blk = _rotated(sc.box("block", (0, 0, 0), (1, 1, 0.5), (2, 2, 1), CONCRETE, element), R)
+    m = sc.Model(bodies=(blk,))
+    push = R @ np.array([math.cos(theta), math.sin(theta), 0.0]) / M_BLOCK
+    return m.add(
+        sc.Interface("joint", m.select("block", boundary="bottom"),
+                     sc.RigidPlane("ground", point=(0, 0, 0), normal=R @ (0, 0, 1.0)),
+                     friction=F, facets=k, axis=tuple(R @ (1.0, 0, 0))),
+        sc.LoadPattern("weight", [sc.BodyForce(g=tuple(R @ (0, 0, -G)), bodies=("block",))]),
+        sc.LoadPattern("push", [sc.BodyForce(g=tuple(push), bodies=("block",))]),
+        sc.Segment("weight", 1.0))
+
+
+def half_sine_slide(mu: float, P0: float, tp: float) -> tuple[float, float, float]:
+    """The rigid block (mass M_BLOCK, friction μ W along its slip) pushed by P₀ sin(π t/t_p)
+    (P₀ > μ W), stopping after the pulse: start t_s = t_p/π asin(μ W/P₀); m v(t) = P₀ t_p/π
+    (cos(π t_s/t_p) − cos(π t/t_p)) − μ W (t − t_s); after t_p the deceleration μ g.
+    Returns (t_s, stop time, slide)."""
+    W, m_ = W_BLOCK, M_BLOCK
+    ts = tp / np.pi * np.arcsin(mu * W / P0)
+    c0 = np.cos(np.pi * ts / tp)
+    v1 = (P0 * tp / np.pi * (c0 + 1.0) - mu * W * (tp - ts)) / m_
+    x1 = (P0 * tp / np.pi * (c0 * (tp - ts) + tp / np.pi * np.sin(np.pi * ts / tp))
+          - 0.5 * mu * W * (tp - ts) ** 2) / m_
+    assert v1 > 0
+    return ts, tp + v1 / (mu * G), x1 + v1**2 / (2 * mu * G)
+
+
+@pytest.mark.parametrize("theta, where", [(0.0, "vertex"), (math.pi / 8, "facet")])
+def test_an_elastic_block_slides_as_the_rigid_block_under_a_half_sine_pulse(theta, where):
+    """The hex8 block (lumped mass) pushed along θ by 1.5 W sin(π t / 0.2 s): every CFE
+    slips and stops; the mean slide of its nodes against the rigid block's on the polygon
+    (friction f W at a vertex, f W cos(π/8) on a facet, along θ) to 1e-3 relative (measured
+    ≤ 1.4e-4: the block's elastic modes, corner CFEs that slip and stop before the others),
+    no slip across θ (1e-9 of the slide); the conditions (1) at every state (1e-9) and the
+    energy ledger to 1e-9 of the work."""
+    k, tp = 8, 0.2
+    model = continuum_block(k, theta)
+    res = solve_dynamic(model, dt=2e-3, duration=0.6, mass="lumped",
+                        initial=sc.solve_static(model),
+                        loads={"push": Pulse(1.5 * W_BLOCK, 0.0, tp, "half_sine")})
+    assert res.status == Status.COMPLETED, res.message
+    assert res.violation.max() <= TOL
+    mu = F if where == "vertex" else F * math.cos(math.pi / k)
+    _, t_stop, slide = half_sine_slide(mu, 1.5 * W_BLOCK, tp)
+    u = res.displacement(-1).reshape(-1, 3)
+    d = np.array([math.cos(theta), math.sin(theta)])
+    assert float((u[:, :2] @ d).mean()) == pytest.approx(slide, rel=1e-3)
+    assert abs(float((u[:, :2] @ np.array([-d[1], d[0]])).mean())) <= TOL * slide
+    stops = [e.lam for e in res.events if e.transition == Transition.STUCK]
+    assert len(stops) >= 9 and max(stops) == pytest.approx(t_stop, abs=0.01)
+    assert np.all(np.asarray(res.state[-1]) == ContactState.STICK)
+    assert_ledger(res)
+
+
+def test_the_elastic_block_turned_gives_the_same_events_in_time():
+    """The block, its plane, loads and t₁ axis turned by an arbitrary rotation R: the same
+    events (CFE, transition) in the same order at the same times (1e-9 s), the final slide
+    turned by R (1e-9 of it)."""
+    R = _rotation(0.4, -0.7, 1.1)
+    runs = []
+    for Rm in (None, R):
+        model = continuum_block(8, 0.3, Rm)
+        res = solve_dynamic(model, dt=2e-3, duration=0.6, mass="lumped",
+                            initial=sc.solve_static(model),
+                            loads={"push": Pulse(1.5 * W_BLOCK, 0.0, 0.2, "half_sine")})
+        assert res.status == Status.COMPLETED, res.message
+        runs.append(res)
+    a, b = runs
+    assert len(a.events) > 9
+    assert [(e.cfe, e.transition) for e in a.events] == [(e.cfe, e.transition)
+                                                         for e in b.events]
+    for ea, eb in zip(a.events, b.events, strict=True):
+        assert abs(eb.lam - ea.lam) <= TOL
+    ua = a.displacement(-1).reshape(-1, 3)
+    ub = b.displacement(-1).reshape(-1, 3)
+    np.testing.assert_allclose(ub, ua @ R.T, rtol=0, atol=TOL * np.abs(ua).max())
+
+
+def test_loaded_from_zero_every_cfe_closed_at_zero_force():
+    """The degenerate start: from u = 0 with every CFE closed at N = Q = 0 (all facets of all
+    CFEs at their limits at once) the weight and a push are switched on at t = 0.
+
+    * the point block (one CFE): its initial state (the contact problem in accelerations
+      under the loads at t = 0, not an event) is the slip the closed form gives, and it
+      slides and stops as from the static start — the closed form (stop and force 1e-9, the
+      slide to the chord's bound, as above);
+    * the hex8 block (9 CFEs, lumped mass): at t = 0 every CFE is closed and stuck with no
+      event, and the contact forces are the contact problem's in accelerations: the
+      bottom nodes held, the others falling freely, so Σ N = −W/2 (HRZ on the regular hex8:
+      each node 1/8 of its element's mass, the bottom ones half the block's) and Σ Q = 0,
+      to 1e-9 W; the run completes with the conditions (1) at every state (1e-9) and the
+      energy ledger to 1e-9 of the work."""
+    m_, f, tp, dt, k, theta = 1000.0, 0.3, 0.3, 3e-3, 8, 0.2
+    P = 1.5 * f * m_ * G
+    dm = point_block(m_, f, k, theta)
+    res = solve_dynamic(dm, dt=dt, duration=0.9, mass=m_ * np.eye(3), u0=np.zeros(3),
+                        loads={"weight": Constant(1.0),
+                               "push": Pulse(P, 0.0, tp, "rectangular")})
+    assert res.status == Status.COMPLETED, res.message
+    state, d, Qf, _, a_d, t_stop, slide = polygon_slide(f, k, theta, P, m_, tp)
+    assert int(res.state[0][0]) == state  # (the initial state: slipping from t = 0)
+    assert [e.transition for e in res.events] == [Transition.STUCK]
+    assert res.events[0].lam == pytest.approx(t_stop, rel=TOL)
+    np.testing.assert_allclose(np.asarray(res.u[-1])[:2], slide * d, rtol=0,
+                               atol=a_d * dt**2 / 8)
+    mid = int(np.searchsorted(np.asarray(res.lam), 0.5 * tp))
+    np.testing.assert_allclose(np.asarray(res.Q[mid][0]), Qf, rtol=0, atol=TOL * f * m_ * G)
+    assert_ledger(res)
+
+    model = continuum_block(8, 0.3)
+    ndof = assemble(model).ndof
+    res = solve_dynamic(model, dt=2e-3, duration=0.3, mass="lumped", u0=np.zeros(ndof),
+                        loads={"weight": Constant(1.0),
+                               "push": Pulse(1.5 * W_BLOCK, 0.0, 0.2, "half_sine")})
+    assert res.status == Status.COMPLETED, res.message
+    assert np.all(np.asarray(res.state[0]) == ContactState.STICK)
+    assert not [e for e in res.events if e.lam == 0.0]
+    assert float(np.sum(res.N[0])) == pytest.approx(-W_BLOCK / 2, rel=TOL)
+    assert np.abs(np.asarray(res.Q[0]).sum(axis=0)).max() <= TOL * W_BLOCK
+    assert res.violation.max() <= TOL
+    assert len(res.events) > 9
+    assert_ledger(res)
+
+
+# --------------------------------------------------------------------------------------------
+# 3D mass matrices
+# --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("element", ["tet4", "hex8", "tet10", "hex20", "hex27"])
+def test_3d_mass_matrices_carry_the_mass_and_its_second_moment(element):
+    """A 3 × 0.5 × 0.8 m bar: the rigid translation along each axis carries ρ V (1e-12), the
+    consistent mass integrates ρ x² exactly (∫ ρ x² dV = ρ A L³ / 3, 1e-12: x² lies in the
+    product of two linear shape functions' space), no coupling between the axes; the
+    HRZ-lumped mass is diagonal, positive, with the same total."""
+    L, B, H = 3.0, 0.5, 0.8
+    bar = sc.box("bar", (0, 0, 0), (L, B, H), (3, 2, 2), CONCRETE, element)
+    model = sc.Model(bodies=(bar,))
+    model = model.add(sc.Support("end", model.select("bar", boundary="left"), "xyz"))
+    dofs = assemble(model).dofs
+    x = bar.points[:, 0]
+    for lumped in (False, True):
+        M = mass(model, dofs, lumped=lumped)
+        r = [np.zeros(dofs.ndof) for _ in range(3)]
+        for c in range(3):
+            r[c][dofs.of[:, c]] = 1.0
+            assert r[c] @ M @ r[c] == pytest.approx(RHO * L * B * H, rel=1e-12)
+        assert abs(r[0] @ M @ r[2]) <= 1e-12 * RHO * L * B * H
+        if lumped:
+            assert M.nnz == dofs.ndof and M.diagonal().min() > 0
+        else:
+            rx = np.zeros(dofs.ndof)
+            rx[dofs.of[:, 2]] = x
+            assert rx @ M @ rx == pytest.approx(RHO * B * H * L**3 / 3, rel=1e-12)
+
+
+def test_a_space_frame_mass_is_lumped_on_its_three_translations():
+    """A space-frame bar of length L: ρ A L on each of x, y, z (1e-12), none on rotations."""
+    fr = sc.Frame.line("bar", (0, 0, 0), (2.0, 1.0, 2.0), 4, E=2e11, A=0.01, Iy=1e-5,
+                       Iz=2e-5, J=3e-5, nu=0.3, density=7850.0)
+    model = sc.Model(bodies=(fr,))
+    model = model.add(sc.Support("end", model.select("bar", x=0.0), "xyzrxryrz"))
+    dofs = assemble(model).dofs
+    M = mass(model, dofs)
+    for c in range(3):
+        r = np.zeros(dofs.ndof)
+        r[dofs.of[:, c]] = 1.0
+        assert r @ M @ r == pytest.approx(7850.0 * 0.01 * 3.0, rel=1e-12)
+    assert np.all(M.diagonal()[dofs.of[:, 3:].ravel()] == 0.0)
+
+
+# --------------------------------------------------------------------------------------------
+# 3D against the 2D driver path (CoulombLaw): motion in one vertical plane
+# --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("layer", ["rigid", "damped"])
+def test_a_drop_along_a_vertex_repeats_the_2d_run(layer):
+    """A block dropped from h = 0.1 m with 2 m/s along vertex 0 of the 8-gon (x), where the
+    polygon's friction is f N along the slip as in 2D: the 3D run (faceted cone, DOFs ux, uy,
+    uz) against the 2D run of the same block (DOFs ux, uy; CoulombLaw) — rigid contact with
+    restitution e = 0.5, or a Kelvin–Voigt layer (kn, kt, cn): the same events at the same
+    times (1e-9 s), the same impulses (1e-9), the same final state (1e-9 of the motion) and
+    the ledger to 1e-9."""
+    m_, f, h, vx, dt = 10.0, 0.3, 0.1, 2.0, 1e-3
+    W = m_ * G
+    kw = (dict(kn=1e6, kt=1e6, cn=2e3) if layer == "damped" else {})
+    e = 0.5 if layer == "rigid" else 0.0
+    dm2 = sc.DiscreteModel(K=np.zeros((2, 2)), normal_rows=[[0, 1]], tangent_rows=[[1, 0]],
+                           gaps=h, friction=f, dof_names=("ux", "uy"),
+                           loads={"weight": {"uy": -W}}, **kw)
+    dm3 = point_block(m_, f, 8, 0.0, gap=h).replace(**kw)
+    runs = [solve_dynamic(dm, dt=dt, duration=0.4, mass=m_ * np.eye(n), restitution=e,
+                          loads={"weight": Constant(1.0)}, v0=np.r_[vx, np.zeros(n - 1)])
+            for dm, n in ((dm2, 2), (dm3, 3))]
+    r2, r3 = runs
+    assert r2.status == r3.status == Status.COMPLETED
+    assert len(r3.events) == len(r2.events) >= 4
+    slips = (Transition.SLIP_POS, Transition.SLIP)
+    for e2, e3 in zip(r2.events, r3.events, strict=True):
+        assert (e2.transition in slips and e3.transition in slips) or (
+            e2.transition == e3.transition)
+        assert e3.lam == pytest.approx(e2.lam, abs=TOL)
+    assert np.asarray(r3.impulses["normal"]) == pytest.approx(
+        np.asarray(r2.impulses["normal"]), rel=TOL)
+    assert np.abs(np.asarray(r3.impulses["tangential"])) == pytest.approx(
+        np.abs(np.asarray(r2.impulses["tangential"])), rel=TOL)
+    u2, u3 = np.asarray(r2.u[-1]), np.asarray(r3.u[-1])
+    np.testing.assert_allclose(u3[[0, 2]], u2, rtol=0, atol=TOL * np.abs(u2).max())
+    assert abs(u3[1]) <= TOL * np.abs(u2).max()
+    assert_ledger(r3)

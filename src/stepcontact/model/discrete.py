@@ -145,7 +145,8 @@ class DiscreteModel:
         (dx, dy) per translational DOF (by index or name); the others (rotations, internal
         DOFs) are not moved by the ground.  An (n, 2) array gives the axis of every DOF (zero
         rows: none).  Stored as that (n, 2) array; without it a ground acceleration is
-        refused (it would load nothing).
+        refused (it would load nothing).  In 3D (``tangent2_rows``) also ``"z"``, vectors
+        (dx, dy, dz) and an (n, 3) array.
     name : str
     tangent2_rows : (m, n), optional
         Row k gives the slip u_τ2 = t₂ₖ · u of CFE k along its second tangential direction
@@ -171,9 +172,9 @@ class DiscreteModel:
     In 3D (``tangent2_rows`` given) a bonded joint (``bond``, eq. (12)) has its strength
     surface written on the cone's polygon (|Q| ≤ … becomes d_i · Q ≤ cos(π/k) …, the same
     inner approximation as the friction limit) and breaks into the faceted Coulomb law; the
-    faceted law does not yet take a residual cohesion after the break, contact-layer damping
-    (``cn`` > 0) or a ground acceleration (``dof_axes``): they are refused with a
-    :class:`~stepcontact.errors.ModelError`.
+    faceted law does not yet take a residual cohesion after the break (refused with a
+    :class:`~stepcontact.errors.ModelError`).  Dynamics runs in 3D as in 2D (contact-layer
+    damping ``cn``, a ground acceleration along (dx, dy, dz) with ``dof_axes`` 'x', 'y', 'z').
 
     The CFEs carry no geometry: in the result their coordinates and normals are NaN, their
     position along the interface is their number within their name and their area is 1 (so
@@ -379,9 +380,6 @@ class DiscreteModel:
         if np.any(residual):
             raise ModelError(f"bond[{int(np.flatnonzero(residual)[0])}]",
                              f"a residual cohesion after a bond's break {why}")
-        if np.any(self.cn > 0):
-            raise ModelError(f"cn[{int(np.flatnonzero(self.cn > 0)[0])}]",
-                             f"contact-layer damping {why}")
         t11 = np.asarray(At.multiply(At).sum(axis=1)).ravel()
         t22 = np.asarray(At2.multiply(At2).sum(axis=1)).ravel()
         t12 = np.asarray(At.multiply(At2).sum(axis=1)).ravel()
