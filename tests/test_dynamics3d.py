@@ -270,6 +270,71 @@ def test_an_oblique_drop_rebounds_by_newtons_law_with_coulombs_impulse_on_the_co
     assert_ledger(res)
 
 
+@pytest.mark.parametrize("theta, where", [(math.pi / 8, "facet"), (0.2, "vertex")])
+def test_a_plastic_impact_while_sliding_slips_on_by_the_normality_rule(theta, where):
+    """A block dropped from h = 0.1 m with 2 m/s along θ, e = 0 (8-gon, f = 0.3): the impact's
+    tangential impulse is f P (P = m v_n, the cone's bound), so the block slides on with
+    v⁺ = 2 − f P / m along θ (1e-10) in the slip state whose normal cone holds θ.
+
+    * θ = π/8, facet 0's normal: it slides on facet 0, decelerates at μ g (μ = f cos(π/8))
+      and stops v⁺ / (μ g) after the impact;
+    * θ = 0.2, inside vertex 0's cone (−π/8, π/8): at vertex 0 the force f W along x slows
+      u̇_x alone (at f g) until the velocity lies along d₀ (u̇_x = u̇_y / tan(π/8)), where the
+      slip turns onto facet 0 and goes on as above.
+
+    Turn and stop times against these closed forms to 1e-9 (constant accelerations); at rest
+    at the end; the ledger to 1e-9."""
+    m_, f, h, vx, dt, k = 10.0, 0.3, 0.1, 2.0, 1e-3, 8
+    dm = point_block(m_, f, k, 0.0, gap=h)
+    v0 = np.array([vx * math.cos(theta), vx * math.sin(theta), 0.0])
+    res = solve_dynamic(dm, dt=dt, duration=1.0, mass=m_ * np.eye(3), restitution=0.0,
+                        loads={"weight": Constant(1.0)}, v0=v0)
+    assert res.status == Status.COMPLETED, res.message
+    imp = res.impulses
+    assert len(imp["time"]) == 1
+    i, t_imp = int(imp["state"][0]), float(imp["time"][0])
+    P = -float(imp["normal"][0])
+    v = np.asarray(res.v)
+    assert float(imp["tangential"][0]) == pytest.approx(f * P, rel=1e-10)
+    vt = vx - f * P / m_
+    np.testing.assert_allclose(v[i][:2], vt * v0[:2] / vx, rtol=0, atol=1e-10 * vx)
+    assert abs(v[i][2]) <= 1e-10 * vx
+    mu = f * math.cos(math.pi / k)
+    ev = [(e.transition, e.lam) for e in res.events]
+    if where == "facet":
+        assert int(res.state[i][0]) == FACET_SLIP + 0
+        assert [t for t, _ in ev] == [Transition.SLIP, Transition.STUCK]
+        t_stop = t_imp + vt / (mu * G)
+    else:
+        assert int(res.state[i][0]) == VERTEX_SLIP + 0
+        assert [t for t, _ in ev] == [Transition.SLIP, Transition.TURNED, Transition.STUCK]
+        vx1, vy = vt * math.cos(theta), vt * math.sin(theta)
+        vx2 = vy / math.tan(math.pi / k)
+        t_turn = t_imp + (vx1 - vx2) / (f * G)
+        assert ev[1][1] == pytest.approx(t_turn, rel=TOL)
+        t_stop = t_turn + math.hypot(vx2, vy) / (mu * G)
+    assert ev[0][1] == t_imp
+    assert ev[-1][1] == pytest.approx(t_stop, rel=TOL)
+    assert int(res.state[-1][0]) == ContactState.STICK
+    assert np.abs(v[-1]).max() <= 1e-9 * vx
+    assert_ledger(res)
+
+
+def test_the_slip_state_towards_a_direction_follows_the_normality_rule():
+    """Facet normals d_i at θ₀ + (2i + 1) π/k give facet i; a direction strictly between
+    d_{i−1} and d_i gives vertex i (at θ₀ + 2πi/k), for θ₀ = 0 and 1 rad, k = 8."""
+    from stepcontact.contact.faceted import FacetedCoulombLaw
+
+    for theta0 in (0.0, 1.0):
+        law = FacetedCoulombLaw(np.arange(16), 0.5, np.inf, np.inf, facets=8, angle=theta0)
+        i = np.arange(8)
+        normals = theta0 + (2 * i + 1) * np.pi / 8
+        between = theta0 + 2 * np.pi * i / 8 + np.where(i % 2, 0.3, -0.3) * np.pi / 8
+        ang = np.r_[normals, between]
+        got = law.slip_state_towards(np.arange(16), np.c_[np.cos(ang), np.sin(ang)])
+        assert list(got) == [FACET_SLIP + j for j in i] + [VERTEX_SLIP + j for j in i]
+
+
 # --------------------------------------------------------------------------------------------
 # an elastic block (hex8 continuum) on a rough rigid plane
 # --------------------------------------------------------------------------------------------

@@ -591,7 +591,8 @@ class FacetedCoulombLaw:
         return np.zeros(len(states), bool)
 
     def impulse_limit(self, states: np.ndarray, P: np.ndarray) -> np.ndarray:
-        """|T| ≤ f P (the cone's radius; dynamics on a faceted cone is not available yet)."""
+        """|T| ≤ f P: an impact's tangential impulse within the cone's radius (the impulse
+        form of eq. (1), :func:`~stepcontact.solver.dynamic._cone_impulse`)."""
         return np.where(P > 0, self.f * P, 0.0)
 
     # ---- what the drivers ask of every law (no bonds, no cohesion on a faceted cone yet) ----

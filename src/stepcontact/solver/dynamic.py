@@ -77,6 +77,16 @@ starts at that instant (its forces are continuous there): the part step's rates,
 the whole step, need not be those of the motion after the cut, and would switch it back at
 once — a grazing corner's zero-duration chatter.
 
+Two tangential components per CFE (3D, the faceted cone of
+:class:`~stepcontact.contact.faceted.FacetedCoulombLaw`): the same driver with the contact
+unknowns in blocks of 1 + 2 components.  A slip's rate is taken along its slip direction (a
+facet's normal d_i, a vertex's bisector), and a vertex slip that turns onto one of its facets
+does so where the other facet's slip rate (v = λ_a d_a + λ_b d_b) vanishes — both linear in
+time over the step, as the 2D slip velocity; a rigid CFE whose force leaves the polygon in a
+jump in accelerations slips at the polygon's point nearest to it; an impact's tangential
+impulses lie in the cone |T| ≤ f P, and a CFE sliding after it slips on the facet or at the
+vertex whose normal cone holds its velocity.
+
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
 by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
@@ -103,7 +113,7 @@ import scipy.sparse as sp
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import VERTEX_SLIP, Status
+from stepcontact.enums import FACET_SLIP, VERTEX_SLIP, Status
 from stepcontact.enums import slipping as _slipping
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
@@ -712,6 +722,16 @@ def _vertex_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     v0, v1 = _slip_velocities(eng, ks, dec.ds, dec.dw, w_start, wdot, 0.0, dt, nm.c1, nm,
                               wacc, law, dec.old)
     return ks[(v0 > 0) & (np.abs(v1) <= 1e-9 * v0)]  # (along the vertex's bisector)
+
+
+def _onto_facet(old, new) -> np.ndarray:
+    """CFEs whose slip at a vertex of a faceted cone (3D) turns onto one of its facets: its
+    friction force jumps from the vertex to the facet's point that equilibrium at that instant
+    requires (re-solved in accelerations, as a stop's: else the facet's kinematic row,
+    e_i · u̇_τ = 0, would start from the vertex's acceleration across it and alternate with
+    Newmark's constrained DOFs).  Never in 2D."""
+    new = np.asarray(new)
+    return (np.asarray(old) >= VERTEX_SLIP) & (new >= FACET_SLIP) & (new < VERTEX_SLIP)
 
 
 def _deferred(old, new, changed, law, damped) -> np.ndarray:
@@ -2130,7 +2150,7 @@ class _DynamicRun:
         # and a rigid slip that stops here: its friction force jumps to what equilibrium
         # at t requires (re-solved in accelerations, not the slip's f p)
         stops = (self.all_rigid or self.split) and bool(np.any(
-            _slipping(old[now]) & (dec.new[now] == STICK)
+            (_slipping(old[now]) & (dec.new[now] == STICK) | _onto_facet(old[now], dec.new[now]))
             & law.rigid_t[now]))
         if self.zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
                                        or stops):
@@ -2278,8 +2298,9 @@ class _DynamicRun:
         if self.bond_brk is not None:  # the bonds break: their forces are released here
             self.a = self.load_jump(np.zeros(self.ndof), t_i, n, brk=self.bond_brk)
         elif closing.size or np.any(_slipping(old) & ~_slipping(new_states)
-                                    & (new_states != OPEN)):
+                                    & (new_states != OPEN) | _onto_facet(old, new_states)):
             self.a = self.accel_forces(t_i)  # the forces jump: an impact, a slip that stops
+            # (3D: or turns from a vertex onto a facet, its force from the vertex onto it)
             # a stop that the forces at this instant undo (the CFE slips on the same way: its
             # velocity only touched zero) is no event: the rate problem in accelerations
             # decided the state
