@@ -1628,13 +1628,15 @@ class _DynamicRun:
                     up = stuck & (Q > fp + tol)
                     down = stuck & (Q < -fp - tol)
                     slips = np.where(up, SLIP_POS, SLIP_NEG)
-                else:  # a faceted cone (3D): stuck or slipping beyond a facet (a slip's
-                    # force along its facet past a vertex), it slips at the polygon's point
-                    # nearest to Q
+                else:  # a faceted cone (3D): a stuck CFE beyond a facet slips at the
+                    # polygon's point nearest to Q; a slip whose force runs along its facet
+                    # past an end slips at that vertex (the engine's transition, ``fire``)
                     sliding = law.slipping(states) & ~free_now & ~soft_cfe
-                    up = (stuck | sliding) & (law.margins(Q, p).min(axis=1) < -tol)
+                    g = law.margins(Q, p)
+                    up = (stuck | sliding) & (g.min(axis=1) < -tol)
                     down = np.zeros(m, bool)
-                    slips = law.state_at(Q, np.maximum(p, 0.0))
+                    past = law.fire(states, np.where(sliding, np.argmin(g, axis=1) + 1, -1))
+                    slips = np.where(sliding, past, law.state_at(Q, np.maximum(p, 0.0)))
                 # a closed CFE that the accelerations would pull on carries no force at this
                 # instant (N = Q = 0, admissible closed); whether it separates, the step's
                 # contact problem decides with its gap and velocity (with a consistent mass
