@@ -82,8 +82,10 @@ Two tangential components per CFE (3D, the faceted cone of
 unknowns in blocks of 1 + 2 components.  A slip's rate is taken along its slip direction (a
 facet's normal d_i, a vertex's bisector), and a vertex slip that turns onto one of its facets
 does so where the other facet's slip rate (v = λ_a d_a + λ_b d_b) vanishes — both linear in
-time over the step, as the 2D slip velocity; a rigid CFE whose force leaves the polygon in a
-jump in accelerations slips at the polygon's point nearest to it; an impact's tangential
+time over the step, as the 2D slip velocity, and its friction force is re-solved in
+accelerations there; in a jump in accelerations a stuck rigid CFE whose force leaves the
+polygon slips at the polygon's point nearest to it, a slip whose force runs past the end of
+its facet at that vertex; an impact's tangential
 impulses lie in the cone |T| ≤ f P, and a CFE sliding after it slips on the facet or at the
 vertex whose normal cone holds its velocity.
 
