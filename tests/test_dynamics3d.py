@@ -18,8 +18,9 @@ Closed forms (independent of the code) and tolerances, per test:
   between the step's ends, the parabola's chord; exact where the stop ends a step);
 * an elastic block (hex8, 2 × 2 × 1 cells, 9 CFEs) under a half-sine pulse against the same
   rigid-block closed form (its start t_s = t_p/π asin(μ W / P₀), slide of the rigid block):
-  the slide to 1e-3 relative (measured ≤ 1.4e-4: the block's elastic modes and the corner
-  CFEs that start and stop slipping before the others);
+  the slide to 1e-3 relative (measured 6.6e-5 and 1.9e-4: the block's elastic modes and the
+  corner CFEs that start and stop slipping before the others), the last stop to 2 ms
+  (measured 0.5 ms);
 * the energy ledger: the balance error (kinetic + strain − initial − work of the loads +
   dissipations) within 1e-9 of the loads' work at every recorded state;
 * impacts (Newton's law, Coulomb's impulse |T| ≤ f P on the cone): the normal velocity after
@@ -398,9 +399,10 @@ def test_an_elastic_block_slides_as_the_rigid_block_under_a_half_sine_pulse(thet
     """The hex8 block (lumped mass) pushed along θ by 1.5 W sin(π t / 0.2 s): every CFE
     slips and stops; the mean slide of its nodes against the rigid block's on the polygon
     (friction f W at a vertex, f W cos(π/8) on a facet, along θ) to 1e-3 relative (measured
-    ≤ 1.4e-4: the block's elastic modes, corner CFEs that slip and stop before the others),
-    no slip across θ (1e-9 of the slide); the conditions (1) at every state (1e-9) and the
-    energy ledger to 1e-9 of the work."""
+    6.6e-5 and 1.9e-4: the block's elastic modes, corner CFEs that slip and stop before the
+    others) and its last stop to 2 ms (measured 0.5 ms), no slip across θ (1e-9 of the
+    slide); the conditions (1) at every state (1e-9) and the energy ledger to 1e-9 of the
+    work (measured 2.7e-10)."""
     k, tp = 8, 0.2
     model = continuum_block(k, theta)
     res = solve_dynamic(model, dt=2e-3, duration=0.6, mass="lumped",
@@ -415,7 +417,7 @@ def test_an_elastic_block_slides_as_the_rigid_block_under_a_half_sine_pulse(thet
     assert float((u[:, :2] @ d).mean()) == pytest.approx(slide, rel=1e-3)
     assert abs(float((u[:, :2] @ np.array([-d[1], d[0]])).mean())) <= TOL * slide
     stops = [e.lam for e in res.events if e.transition == Transition.STUCK]
-    assert len(stops) >= 9 and max(stops) == pytest.approx(t_stop, abs=0.01)
+    assert len(stops) >= 9 and max(stops) == pytest.approx(t_stop, abs=2e-3)
     assert np.all(np.asarray(res.state[-1]) == ContactState.STICK)
     assert_ledger(res)
 
