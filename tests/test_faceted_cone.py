@@ -250,11 +250,20 @@ def test_adaptive_orientation_slips_on_the_cone(theta):
     assert_admissible(res)
 
 
-def test_dynamics_in_3d_is_refused_by_name():
-    """A dynamic interval of a model with two tangential directions is refused with a
-    ModelError naming ``tangent2_rows`` (not a crash inside the solver)."""
-    with pytest.raises(sc.ModelError, match="tangent2_rows"):
-        sc.solve_dynamic(pushed_point(8, 0.3), dt=1e-3, duration=1e-2, mass=np.eye(3))
+def test_dynamics_in_3d_runs_on_the_faceted_cone():
+    """A dynamic interval of a model with two tangential directions runs (issue 28 §3; no
+    longer refused): the point pressed with N = 100 N and pushed along θ = 0.3 by 2 f N from
+    t = 0 slips at once on facet 0 (θ lies in its normal's range) and slides, its springs
+    holding it; the energy ledger balances to 1e-9 of the work (tests/test_dynamics3d.py
+    checks the closed forms)."""
+    dm = pushed_point(8, 0.3).replace(program=[sc.Segment("press", 100.0)])
+    res = sc.solve_dynamic(dm, dt=1e-3, duration=5e-2, mass=np.eye(3),
+                           initial=sc.solve_static(dm), loads={"push": lambda t: 100.0})
+    assert res.status == sc.Status.COMPLETED, res.message
+    assert res.events[0].transition == sc.Transition.SLIP and res.events[0].lam == 0.0
+    assert int(res.state[1][0]) == FACET_SLIP + 0
+    E = res.energy
+    assert abs(E["error"][-1]) <= 1e-9 * E["external"][-1]
 
 
 def test_3d_result_file_and_reused_condensation(tmp_path):

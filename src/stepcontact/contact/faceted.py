@@ -228,6 +228,50 @@ class FacetedCoulombLaw:
                       np.where(st >= FACET_SLIP, st - FACET_SLIP, -1))
         return fa, fb
 
+    def slip_directions(self, states, local=None) -> np.ndarray:
+        """(K, 2) unit vectors in the tangent plane (t₁, t₂): the slip direction of each
+        slipping CFE's state — d_i on facet i, the bisector of d_{i−1} and d_i at vertex i —
+        and zero for the other states (the dynamic driver's slip rates and stops along it).
+        ``local``: the CFEs (indices into this law's) that ``states`` are of (default all)."""
+        fa, fb = self._facets(states)
+        r = np.arange(len(fa)) if local is None else np.asarray(local, dtype=np.int64)
+        d = np.where((fa >= 0)[:, None], self.D[r, np.maximum(fa, 0)]
+                     + self.D[r, np.maximum(fb, 0)], 0.0)
+        n = np.linalg.norm(d, axis=-1)
+        return d / np.where(n > 0, n, 1.0)[:, None]
+
+    def vanishing_rate(self, local, old, new, v) -> np.ndarray:
+        """The slip rate (k,) of the CFEs ``local`` with slip velocity ``v`` (k, 2) that
+        vanishes where their state ``old`` turns into ``new`` (a stop in time, eq. (10)): at
+        vertex i (facets a = i − 1, b = i) onto facet b, the rate λ_a of v = λ_a d_a + λ_b d_b
+        (onto facet a: λ_b); otherwise (a stop) v along the slip direction of ``old``."""
+        local = np.asarray(local, dtype=np.int64)
+        old, new = np.asarray(old), np.asarray(new)
+        v = np.asarray(v, dtype=float)
+        fa, fb = self._facets(old)
+        Da, Db = self.D[local, np.maximum(fa, 0)], self.D[local, np.maximum(fb, 0)]
+        det = Da[:, 0] * Db[:, 1] - Da[:, 1] * Db[:, 0]
+        vertex = (old >= VERTEX_SLIP) & (det != 0)
+        det = np.where(vertex, det, 1.0)
+        la = (v[:, 0] * Db[:, 1] - v[:, 1] * Db[:, 0]) / det
+        lb = (Da[:, 0] * v[:, 1] - Da[:, 1] * v[:, 0]) / det
+        along = np.einsum("kj,kj->k", v, self.slip_directions(old, local))
+        return np.where(vertex & (new == FACET_SLIP + fb), la,
+                        np.where(vertex & (new == FACET_SLIP + fa), lb, along))
+
+    def slip_state_towards(self, local, direction) -> np.ndarray:
+        """The slip states of the CFEs ``local`` (indices into this law's CFEs) that slip in
+        ``direction`` (len(local), 2), by the polygon's normality rule: on facet i where the
+        direction is its normal d_i (to 1e-9 rad), else at the vertex whose normal cone (between
+        d_{i−1} and d_i) holds it (a slip after an impact, along its velocity)."""
+        local = np.asarray(local, dtype=np.int64)
+        d = np.asarray(direction, dtype=float).reshape(len(local), 2)
+        a = (np.arctan2(d[:, 1], d[:, 0]) - self.theta[local]) * self.k / (2 * np.pi)
+        vertex = np.rint(a).astype(np.int64)
+        half = np.floor(a).astype(np.int64)  # facet i lies at i + 1/2
+        on_facet = np.abs(a - half - 0.5) * 2 * np.pi / self.k <= 1e-9
+        return np.where(on_facet, FACET_SLIP + half % self.k, VERTEX_SLIP + vertex % self.k)
+
     # ---- states -----------------------------------------------------------------------------
     def closed_state(self) -> np.ndarray:
         return np.where(self.frictional, STICK, CLOSED)
@@ -547,7 +591,8 @@ class FacetedCoulombLaw:
         return np.zeros(len(states), bool)
 
     def impulse_limit(self, states: np.ndarray, P: np.ndarray) -> np.ndarray:
-        """|T| ≤ f P (the cone's radius; dynamics on a faceted cone is not available yet)."""
+        """|T| ≤ f P: an impact's tangential impulse within the cone's radius (the impulse
+        form of eq. (1), :func:`~stepcontact.solver.dynamic._cone_impulse`)."""
         return np.where(P > 0, self.f * P, 0.0)
 
     # ---- what the drivers ask of every law (no bonds, no cohesion on a faceted cone yet) ----

@@ -102,6 +102,13 @@ class ContactLayout:
             t = np.swapaxes(t, 0, 1).reshape((self.n_tangential,) + t.shape[2:])
         return np.concatenate([t, n])
 
+    def join_each(self, t, n) -> np.ndarray:
+        """The vector x with every tangential component of CFE k equal to t[k] and the normal
+        one n[k] (a new array; t, n: (m, …), one value per CFE — a stiffness, a flag); in 2D
+        the same as :meth:`join`."""
+        t, n = np.asarray(t), np.asarray(n)
+        return np.concatenate([t] * self.n_t + [n])
+
     def zeros(self, *trailing: int, dtype=float) -> np.ndarray:
         """A zero array (n, *trailing) of contact unknowns."""
         return np.zeros((self.n,) + tuple(trailing), dtype)

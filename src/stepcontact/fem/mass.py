@@ -1,11 +1,12 @@
 """Mass matrices and Rayleigh damping (method.md §4, the dynamics of article eqs. (7)–(10)).
 
 * continua: the consistent mass M = ∫ ρ t N_iᵀ N_j dA (element kernel for tri3 and quad4,
-  scikit-fem's form assembly for the others), or lumped by the HRZ rule
+  scikit-fem's form assembly for the others; in 3D M = ∫ ρ N_iᵀ N_j dV on tet4, hex8 and the
+  quadratic tetrahedra and hexahedra, scikit-fem's form assembly), or lumped by the HRZ rule
   (Hinton, Rock & Zienkiewicz 1976): in every element the diagonal of the consistent matrix is
   scaled so that it sums to the element's mass — positive for quadratic elements too, where
   row-sum lumping gives zero or negative corner masses (tri6);
-* frames: lumped, ρ A L / 2 on the translations of each end;
+* frames (plane and space): lumped, ρ A L / 2 on the translations of each end;
 * :func:`rayleigh_coefficients`: C = a₀ M + a₁ K from two modal damping ratios.
 
 Units: kg (per metre of thickness in plane strain, times the thickness in plane stress), and
@@ -23,7 +24,8 @@ from stepcontact.fem.continuum import basis_of, linear_kernel
 
 
 def continuum_mass(body, thickness: float, lumped: bool = False) -> sp.csr_matrix:
-    """Mass matrix (CSR, body-local vector DOFs 2i + c) of a continuum body, kg.
+    """Mass matrix (CSR, body-local vector DOFs d·i + c, d = 2 or 3 the body's dimension) of a
+    continuum body, kg (a 3D body integrates its volume: no thickness).
 
     ``lumped``: the HRZ diagonal (element-wise scaled diagonal of the consistent matrix).
     tri3 and quad4 on straight-sided meshes by the element kernel (``M_e[i, j] = ρ t Σ_q dx_q
@@ -31,7 +33,8 @@ def continuum_mass(body, thickness: float, lumped: bool = False) -> sp.csr_matri
     all elements at once), other elements by scikit-fem's form assembly."""
     data = linear_kernel(body)
     if data is None:
-        return _mass_generic(body, thickness, lumped)
+        dim = getattr(body, "dim", 2)
+        return _mass_generic(body, thickness if dim == 2 else 1.0, lumped, dim)
     rho_t = thickness * float(body.material.density)
     _, phi, dx = data  # phi (n_qp, Nbfun), dx (n_el, n_qp): weights × |J|
     cells = np.asarray(body.cells)
@@ -46,8 +49,8 @@ def continuum_mass(body, thickness: float, lumped: bool = False) -> sp.csr_matri
     return _hrz(diag, dx.sum(axis=1), cells.T, n, rho_t)
 
 
-def _mass_generic(body, thickness: float, lumped: bool) -> sp.csr_matrix:
-    """:func:`continuum_mass` by scikit-fem's form assembly (any element)."""
+def _mass_generic(body, thickness: float, lumped: bool, dim: int = 2) -> sp.csr_matrix:
+    """:func:`continuum_mass` by scikit-fem's form assembly (any element, 2D or 3D)."""
     rho = float(body.material.density)
     basis = basis_of(body, vector=False)
     if not lumped:
@@ -56,21 +59,22 @@ def _mass_generic(body, thickness: float, lumped: bool) -> sp.csr_matrix:
         def form(u, v, w):
             return thickness * rho * u * v
 
-        Ms = asm(form, basis).tocsr()  # scalar: the same for x and y
-        return sp.kron(Ms, sp.identity(2, format="csr"), format="csr")
+        Ms = asm(form, basis).tocsr()  # scalar: the same for x, y (and z)
+        return sp.kron(Ms, sp.identity(dim, format="csr"), format="csr")
     diag = np.array([((basis.basis[i][0].value ** 2) * basis.dx).sum(axis=1)
                      for i in range(basis.Nbfun)])  # (Nbfun, n_el)
-    return _hrz(diag, basis.dx.sum(axis=1), basis.element_dofs, body.n_nodes, thickness * rho)
+    return _hrz(diag, basis.dx.sum(axis=1), basis.element_dofs, body.n_nodes, thickness * rho,
+                dim)
 
 
 def _hrz(diag: np.ndarray, m_el: np.ndarray, element_dofs: np.ndarray, n: int,
-         rho_t: float) -> sp.csr_matrix:
+         rho_t: float, dim: int = 2) -> sp.csr_matrix:
     """HRZ lumping: the diagonal ``diag`` (Nbfun, n_el) of each element's consistent matrix
-    (per unit ρ t) scaled to sum to the element's area ``m_el`` (m²), summed at the nodes,
-    times ρ t; kg on both translations of each node."""
+    (per unit ρ t) scaled to sum to the element's area (volume in 3D) ``m_el`` (m², m³),
+    summed at the nodes, times ρ t; kg on every translation (``dim``) of each node."""
     scale = m_el / diag.sum(axis=0)
     nodal = np.bincount(element_dofs.ravel(), (diag * scale).ravel(), minlength=n)
-    return sp.diags(np.repeat(rho_t * nodal, 2), format="csr")
+    return sp.diags(np.repeat(rho_t * nodal, dim), format="csr")
 
 
 def rayleigh_coefficients(zeta1: float, f1: float, zeta2: float, f2: float
@@ -109,16 +113,16 @@ def mass(model, dofs, lumped: bool = False) -> sp.csr_matrix:
         ids = off[b.name] + np.arange(b.n_nodes)
         if isinstance(b, Body):
             Mb = continuum_mass(b, model.thickness, lumped).tocoo()
-            gd = dofs.of[ids][:, :2].ravel()
+            gd = dofs.of[ids][:, :b.dim].ravel()
             rows.append(gd[Mb.row])
             cols.append(gd[Mb.col])
             vals.append(Mb.data)
-        else:  # frame: ρ A L / 2 at each end, on ux and uy
+        else:  # frame: ρ A L / 2 at each end, on ux and uy (and uz: a space frame)
             c = b.cells
             L = np.linalg.norm(b.points[c[:, 1]] - b.points[c[:, 0]], axis=1)
             half = b.density * b.A * L / 2
             for end in (0, 1):
-                for comp in (0, 1):
+                for comp in range(b.dim):
                     d = dofs.of[ids[c[:, end]], comp]
                     rows.append(d)
                     cols.append(d)
@@ -142,7 +146,7 @@ def check_mass(system, where: str = "dynamics") -> None:
         rho = float(b.material.density) if hasattr(b, "material") else float(b.density)
         if rho > 0:
             continue
-        d = system.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :2].ravel()
+        d = system.dofs.of[off[b.name] + np.arange(b.n_nodes)][:, :system.dofs.dim].ravel()
         d = d[d >= 0]
         if d.size and free[d].any():
             mat = "its material's" if hasattr(b, "material") else "its"

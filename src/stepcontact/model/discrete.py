@@ -145,7 +145,8 @@ class DiscreteModel:
         (dx, dy) per translational DOF (by index or name); the others (rotations, internal
         DOFs) are not moved by the ground.  An (n, 2) array gives the axis of every DOF (zero
         rows: none).  Stored as that (n, 2) array; without it a ground acceleration is
-        refused (it would load nothing).
+        refused (it would load nothing).  In 3D (``tangent2_rows``) also ``"z"``, vectors
+        (dx, dy, dz) and an (n, 3) array.
     name : str
     tangent2_rows : (m, n), optional
         Row k gives the slip u_τ2 = t₂ₖ · u of CFE k along its second tangential direction
@@ -171,9 +172,9 @@ class DiscreteModel:
     In 3D (``tangent2_rows`` given) a bonded joint (``bond``, eq. (12)) has its strength
     surface written on the cone's polygon (|Q| ≤ … becomes d_i · Q ≤ cos(π/k) …, the same
     inner approximation as the friction limit) and breaks into the faceted Coulomb law; the
-    faceted law does not yet take a residual cohesion after the break, contact-layer damping
-    (``cn`` > 0) or a ground acceleration (``dof_axes``): they are refused with a
-    :class:`~stepcontact.errors.ModelError`.
+    faceted law does not yet take a residual cohesion after the break (refused with a
+    :class:`~stepcontact.errors.ModelError`).  Dynamics runs in 3D as in 2D (contact-layer
+    damping ``cn``, a ground acceleration along (dx, dy, dz) with ``dof_axes`` 'x', 'y', 'z').
 
     The CFEs carry no geometry: in the result their coordinates and normals are NaN, their
     position along the interface is their number within their name and their area is 1 (so
@@ -379,11 +380,6 @@ class DiscreteModel:
         if np.any(residual):
             raise ModelError(f"bond[{int(np.flatnonzero(residual)[0])}]",
                              f"a residual cohesion after a bond's break {why}")
-        if np.any(self.cn > 0):
-            raise ModelError(f"cn[{int(np.flatnonzero(self.cn > 0)[0])}]",
-                             f"contact-layer damping {why}")
-        if np.any(self.dof_axes != 0.0):
-            raise ModelError("dof_axes", f"a ground acceleration {why}")
         t11 = np.asarray(At.multiply(At).sum(axis=1)).ravel()
         t22 = np.asarray(At2.multiply(At2).sum(axis=1)).ravel()
         t12 = np.asarray(At.multiply(At2).sum(axis=1)).ravel()
@@ -438,38 +434,42 @@ class DiscreteModel:
         return out
 
     def _axes(self, spec) -> np.ndarray:
-        """The (n, 2) unit axes of the translational DOFs (zero rows: not a translation)."""
+        """The (n, dim) unit axes of the translational DOFs (zero rows: not a translation;
+        dim = 3 with ``tangent2_rows``, axes 'x', 'y', 'z', else 2)."""
         n = self.K.shape[0]
+        dim = 2 if self.tangent2_rows is None else 3
+        names = ("x", "y", "z")[:dim]
+        vec = "(dx, dy)" if dim == 2 else "(dx, dy, dz)"
         if spec is None:
-            return np.zeros((n, 2))
+            return np.zeros((n, dim))
         if not isinstance(spec, Mapping):
             try:
                 a = np.array(spec, dtype=float)
             except (TypeError, ValueError):
-                raise ModelError("dof_axes", "give {dof: 'x' | 'y' | (dx, dy)} or an (n, 2) "
-                                 "array") from None
-            if a.shape != (n, 2) or not np.all(np.isfinite(a)):
-                raise ModelError("dof_axes", f"an array of axes must have shape ({n}, 2) "
+                raise ModelError("dof_axes", f"give {{dof: {' | '.join(map(repr, names))} | "
+                                 f"{vec}}} or an (n, {dim}) array") from None
+            if a.shape != (n, dim) or not np.all(np.isfinite(a)):
+                raise ModelError("dof_axes", f"an array of axes must have shape ({n}, {dim}) "
                                  f"and finite entries, got shape {a.shape}")
             spec = {i: a[i] for i in range(n) if np.any(a[i])}
-        out = np.zeros((n, 2))
+        out = np.zeros((n, dim))
         for key, axis in spec.items():
             item = f"dof_axes[{key!r}]"
             d = self.dof(key, item)
             if isinstance(axis, str):
-                if axis not in ("x", "y"):
-                    raise ModelError(item, f"an axis is 'x', 'y' or a vector (dx, dy), got "
-                                     f"'{axis}'")
-                out[d] = (1.0, 0.0) if axis == "x" else (0.0, 1.0)
+                if axis not in names:
+                    raise ModelError(item, f"an axis is {', '.join(map(repr, names))} or a "
+                                     f"vector {vec}, got '{axis}'")
+                out[d] = np.eye(dim)[names.index(axis)]
                 continue
             try:
                 v = np.asarray(axis, dtype=float)
             except (TypeError, ValueError):
                 v = np.zeros(0)
-            norm = float(np.linalg.norm(v)) if v.shape == (2,) else np.nan
+            norm = float(np.linalg.norm(v)) if v.shape == (dim,) else np.nan
             if not np.isfinite(norm) or norm == 0.0:
-                raise ModelError(item, f"an axis is 'x', 'y' or a nonzero vector (dx, dy), "
-                                 f"got {axis!r}")
+                raise ModelError(item, f"an axis is {', '.join(map(repr, names))} or a nonzero "
+                                 f"vector {vec}, got {axis!r}")
             out[d] = v / norm
         return out
 

@@ -101,9 +101,9 @@ def _check_interface_dimension(model: Model, dim: int) -> None:
 
 def _check_dimension(model: Model) -> None:
     """All bodies of one dimension; a 3D model has no 2D-only items (plane frames, the plane and
-    thickness options, moving obstacles, dynamics and uplift on faces (an uplift acts
-    through the CFEs): not available in 3D yet); interfaces of a 3D model join
-    faces of its bodies or a body and a rigid plane."""
+    thickness options, moving obstacles and uplift on faces (an uplift acts through the
+    CFEs): not available in 3D yet); interfaces of a 3D model join faces of its bodies or a
+    body and a rigid plane."""
     solids = [b for b in model.bodies if getattr(b, "dim", 2) == 3]
     _check_interface_dimension(model, 3 if solids else 2)
     if not solids:
@@ -122,10 +122,6 @@ def _check_dimension(model: Model) -> None:
     if model.thickness != 1.0:
         raise ModelError(f"body '{first.name}'", f"is 3D: model.thickness = {model.thickness:g} "
                          "applies to 2D bodies only; leave it at its default (1)")
-    if model.dynamics is not None:
-        named = (f" (interface '{model.interfaces[0].name}' would need the dynamic 3D contact)"
-                 if model.interfaces else "")
-        raise ModelError("model.dynamics", f"dynamics of 3D bodies is not available yet{named}")
     for p in model.patterns:
         for i, ld in enumerate(p.loads):
             item = f"load pattern '{p.name}' load {i}"

@@ -77,6 +77,18 @@ starts at that instant (its forces are continuous there): the part step's rates,
 the whole step, need not be those of the motion after the cut, and would switch it back at
 once — a grazing corner's zero-duration chatter.
 
+Two tangential components per CFE (3D, the faceted cone of
+:class:`~stepcontact.contact.faceted.FacetedCoulombLaw`): the same driver with the contact
+unknowns in blocks of 1 + 2 components.  A slip's rate is taken along its slip direction (a
+facet's normal d_i, a vertex's bisector), and a vertex slip that turns onto one of its facets
+does so where the other facet's slip rate (v = λ_a d_a + λ_b d_b) vanishes — both linear in
+time over the step, as the 2D slip velocity, and its friction force is re-solved in
+accelerations there; in a jump in accelerations a stuck rigid CFE whose force leaves the
+polygon slips at the polygon's point nearest to it, a slip whose force runs past the end of
+its facet at that vertex; an impact's tangential
+impulses lie in the cone |T| ≤ f P, and a CFE sliding after it slips on the facet or at the
+vertex whose normal cone holds its velocity.
+
 Energy ledger (exact for this Newmark: the trapezoidal rule of every work term): kinetic
 ½ u̇ᵀMu̇, strain ½ uᵀKu (+ the contact layers' ½ s·C⁻¹s), work of the loads Σ Δuᵀ F̄, dissipated
 by damping Σ Δuᵀ C ū̇, by friction Σ −Q̄ Δu_τ, in the normal contact Σ −p̄ Δu_n and the
@@ -104,7 +116,7 @@ import scipy.sparse as sp
 
 from stepcontact.contact.laws import BONDED, OPEN, SLIP_NEG, SLIP_POS, STICK, CoulombLaw
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import Status
+from stepcontact.enums import FACET_SLIP, VERTEX_SLIP, Status
 from stepcontact.enums import slipping as _slipping
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
@@ -247,6 +259,15 @@ def _state_at_u0(system: System, law: CoulombLaw, u, v, s, w, states, initial):
     p = np.where(soft_n, np.where(soft_n, cfe.kn, 0.0) * np.maximum(wn, 0.0), 0.0)
     s_n[:] = np.where(soft_n, p, s_n)
     soft_t = soft_n & np.isfinite(cfe.kt)
+    if lay.n_t > 1:  # a faceted cone (3D): beyond the polygon, slipping at its nearest point
+        kt = np.where(soft_t, cfe.kt, 0.0)[:, None]
+        q = np.where(soft_t[:, None], kt * lay.tangential(w), 0.0)
+        at = law.state_at(q, p)
+        over = soft_t & law.frictional & _slipping(at)
+        q = q - np.where(over[:, None], law.released(at, q, p)[0], 0.0)
+        states[over] = at[over]
+        s_t[:] = np.where(soft_t[:, None], q, s_t)
+        return states, s, w
     q = np.where(soft_t, np.where(soft_t, cfe.kt, 0.0) * lay.tangential(w), 0.0)
     lim = law.f * p
     over = soft_t & law.frictional & (np.abs(q) > lim)
@@ -657,13 +678,18 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
     row carries no drift) and Q̇ = ΔQ/Δt (Q linear over the step)."""
     slipping = _slipping(old)
     ks = changed[slipping[changed] & (new[changed] != OPEN)]
+    if eng.layout.n_t > 1:  # a faceted cone (3D): a stop, or a vertex slip onto one of its
+        # facets (the other facet's slip rate vanishes) — not a slip whose force reaches a
+        # vertex (an event of the forces, located by the engine)
+        ks = ks[(new[ks] == STICK) | ((old[ks] >= VERTEX_SLIP) & _slipping(new[ks]))]
     if ks.size == 0:
         return {}
     try:
         ds_o, dw_o = (eng.rates_any if rates_of is None else rates_of)(old, forcing)
     except MechanismError:
         return {}
-    v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law)
+    v0, v_end = _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1, nm, wacc, law,
+                                 old, new)
     den = v0 - v_end
     with np.errstate(divide="ignore", invalid="ignore"):
         frac = np.where(np.abs(den) > 0, v0 / den, mu)
@@ -672,10 +698,13 @@ def _stick_times(eng, old, new, changed, forcing, w_start, wdot, mu, t, dt, c1=N
 
 
 def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=None, wacc=None,
-                     law=None):
+                     law=None, states=None, new=None):
     """Slip velocities (m/s) of the CFEs ``ks`` at the start and at the end of the step under
-    the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`)."""
-    r = eng.layout.tangential_rows[ks]  # the CFEs' tangential rows of s, w
+    the rates (ds_o, dw_o) from μ on (see :func:`_stick_times`); with two tangential
+    components (3D) the slip rates that vanish where ``states`` turn into ``new`` (default:
+    a stop; :meth:`FacetedCoulombLaw.vanishing_rate` — along the slip direction, or a
+    vertex's facet rate), linear in time as the velocities are."""
+    r = eng.layout.tangential_rows[ks]  # the CFEs' tangential rows of s, w ((k, 2) in 3D)
     dw = eng.w[r] - w_start[r] + (1.0 - mu) * dw_o[r]
     v_end = (2.0 / dt if c1 is None else c1) * dw
     v0 = wdot[r].copy()
@@ -683,11 +712,17 @@ def _slip_velocities(eng, ks, ds_o, dw_o, w_start, wdot, mu, dt, c1=None, nm=Non
         soft = ~law.rigid_t[ks]
         if soft.any():
             kt = np.where(soft, law.kt[ks], 1.0)
+            if r.ndim > 1:  # (two tangential components per CFE)
+                soft, kt = soft[:, None], kt[:, None]
             # (Q̇ = Q'/Δt: Q' its rate along μ, constant under the scheme)
             q_rate = ds_o[r] / (kt * dt)
             v_end = np.where(soft, nm.c1 * dw + nm.cv * wdot[r] + nm.ca * wacc[r] - q_rate,
                              v_end)
             v0 = np.where(soft, v0 - q_rate, v0)
+    if r.ndim > 1:  # a faceted cone (3D): the slip rates that vanish
+        old = states[ks]
+        to = np.full(len(ks), STICK) if new is None else new[ks]
+        return (law.vanishing_rate(ks, old, to, v0), law.vanishing_rate(ks, old, to, v_end))
     return v0, v_end
 
 
@@ -705,8 +740,8 @@ def _compliant_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
     if ks.size == 0:
         return ks
     v0, v1 = _slip_velocities(eng, ks, dec.ds, dec.dw, w_start, wdot, 0.0, dt, None, nm, wacc,
-                              law)
-    sg = np.where(dec.new[ks] == SLIP_POS, 1.0, -1.0)
+                              law, dec.new)
+    sg = np.where(dec.new[ks] == SLIP_NEG, -1.0, 1.0)  # (3D: the rates along the slip)
     tol = 1e-9 * max(float(np.abs(v0).max(initial=0.0)), float(np.abs(v1).max(initial=0.0)),
                      1e-300)
     return ks[(sg * v0 > tol) & (sg * v1 < -tol)]
@@ -764,6 +799,29 @@ def _quiet_start(eng: EventEngine, law, forcing, span: float, group: float):
     return Decision(old, new, ds, dw), not float(steps.min()) <= span + group
 
 
+def _vertex_stops(eng, law, dec, w_start, wdot, wacc, nm, dt) -> np.ndarray:
+    """CFEs slipping at a vertex of a faceted cone (3D) that the decision at a step's start
+    turns onto one of its facets while their slip velocity at the step's end vanishes (below
+    1e-9 of the start's, eq. (10): the two facets' slip rates are both round-off there, and
+    round-off picked the facet): they stop at the step's end (:func:`_stick_times`)."""
+    ks = np.flatnonzero((dec.old >= VERTEX_SLIP) & _slipping(dec.new) & (dec.old != dec.new))
+    if ks.size == 0:
+        return ks
+    v0, v1 = _slip_velocities(eng, ks, dec.ds, dec.dw, w_start, wdot, 0.0, dt, nm.c1, nm,
+                              wacc, law, dec.old)
+    return ks[(v0 > 0) & (np.abs(v1) <= 1e-9 * v0)]  # (along the vertex's bisector)
+
+
+def _onto_facet(old, new) -> np.ndarray:
+    """CFEs whose slip at a vertex of a faceted cone (3D) turns onto one of its facets: its
+    friction force jumps from the vertex to the facet's point that equilibrium at that instant
+    requires (re-solved in accelerations, as a stop's: else the facet's kinematic row,
+    e_i · u̇_τ = 0, would start from the vertex's acceleration across it and alternate with
+    Newmark's constrained DOFs).  Never in 2D."""
+    new = np.asarray(new)
+    return (np.asarray(old) >= VERTEX_SLIP) & (new >= FACET_SLIP) & (new < VERTEX_SLIP)
+
+
 def _deferred(old, new, changed, law, damped) -> np.ndarray:
     """Of the CFEs ``changed`` at an event inside a step, those whose switch is left to the
     rate problem at the start of the next step (the same instant): a closed CFE that opens
@@ -793,7 +851,7 @@ def _project(system, cond, metric: _ContactMetric, u, v, states, law, rigid_n):
     closed = np.flatnonzero((states != OPEN) & ~law.inert & rigid_n)
     stuck = np.flatnonzero((((states == STICK) & law.frictional) | (states == BONDED))
                            & law.rigid_t & ~law.inert)
-    rows_v = np.r_[nr[closed], lay.tangential_rows[stuck]].astype(np.int64)
+    rows_v = np.r_[nr[closed], lay.tangential_rows[stuck].ravel()].astype(np.int64)
     if rows_v.size == 0:
         return u, v, None
     free, Bf = cond.free, cond.Bf
@@ -949,6 +1007,13 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray,
     free = cond.free
     cfes = cand[k]
     rows = system.layout.tangential_rows[cfes]
+    if rows.ndim > 1:  # two tangential components (3D): the cone's impulses
+        T3, sl3 = _cone_impulse(cond, minv, v, rows, limit)
+        if T_out is not None:
+            T_out[k] = np.linalg.norm(T3, axis=1)
+        sig = np.zeros((len(cand), 2))
+        sig[k] = np.where(sl3[:, None], (cond.Bf[rows.ravel()] @ v[free]).reshape(-1, 2), 0.0)
+        return sig
     Bt = cond.Bf[rows]  # tangential rows
     X, W = minv(rows)
     wt = Bt @ v[free]
@@ -970,6 +1035,38 @@ def _friction_impulse(system, cond, minv, v: np.ndarray, cand: np.ndarray,
     after = Bt @ v[free]
     sig[k] = np.where(sliding, np.sign(after), 0.0)
     return sig
+
+
+def _cone_impulse(cond, minv, v: np.ndarray, rows: np.ndarray, limit: np.ndarray):
+    """The tangential impulses T (k, 2) of an impact on CFEs with two tangential components
+    (``rows`` (k, 2), 3D) within Coulomb's cone |T_k| ≤ ``limit`` (f P, N·s): each CFE stops
+    sliding if the impulse that stops it is within the bound, else slides on with |T_k| at the
+    bound along that impulse's direction (against its slip: exact for one CFE, whose W is
+    isotropic in the tangent plane), by an active set as in 2D (:func:`_friction_impulse`).
+    Changes ``v`` in place; returns (T, sliding (k,))."""
+    free, k = cond.free, len(limit)
+    flat = rows.ravel()  # (CFE-major: t₁, t₂ of each CFE)
+    X, W = minv(flat)
+    wt = cond.Bf[flat] @ v[free]
+    T = np.zeros(2 * k)
+    sliding = np.zeros(k, bool)
+    dirs = np.zeros((k, 2))
+    for _ in range(2 * k + 1):
+        sl = np.repeat(sliding, 2)
+        T[sl] = (limit[sliding, None] * dirs[sliding]).ravel()
+        st = np.flatnonzero(~sl)
+        if st.size:
+            T[st] = _spd_solve(W[np.ix_(st, st)], wt[st] - W[np.ix_(st, np.flatnonzero(sl))]
+                               @ T[sl])
+        Tk = T.reshape(k, 2)
+        mag = np.linalg.norm(Tk, axis=1)
+        over = ~sliding & (mag > limit * (1 + 1e-12))
+        if not over.any():
+            break
+        dirs[over] = Tk[over] / mag[over, None]
+        sliding |= over
+    v[free] -= X(T)
+    return T.reshape(k, 2), sliding
 
 
 class _DampedLayers:
@@ -1067,7 +1164,8 @@ class _DampedLayers:
         closed = new[self.k] != OPEN
         self.x = np.where(closed | was_closed, w[j], self.relaxed(frac))
         s[j] = np.where(closed, np.maximum(self.kn * w[j] + self.cn * wdot[j], 0.0), 0.0)
-        s[self.rows_t] = np.where(closed, s[self.rows_t], 0.0)
+        s[self.rows_t] = np.where(closed.reshape((-1,) + (1,) * (self.rows_t.ndim - 1)),
+                                  s[self.rows_t], 0.0)  # ((k, 2) rows in 3D)
         self.sync(new, s, w)
 
     def energy(self, x=None) -> np.ndarray:
@@ -1077,20 +1175,22 @@ class _DampedLayers:
 
 
 def _ground_function(ground_acceleration):
-    """The time function a_g(t) of ``ground_acceleration`` = (a_g, (dx, dy)), checked."""
+    """The time function a_g(t) of ``ground_acceleration`` = (a_g, (dx, dy)) — (dx, dy, dz)
+    in 3D —, checked."""
     if ground_acceleration is None:
         return None
     try:
         g_fun, direction = ground_acceleration
     except (TypeError, ValueError):
-        raise ModelError("ground_acceleration", "give (time function, (dx, dy))") from None
+        raise ModelError("ground_acceleration", "give (time function, (dx, dy)), or "
+                         "(dx, dy, dz) in 3D") from None
     if not callable(g_fun):
         raise ModelError("ground_acceleration", "its first entry must be a time function "
                          "a_g(t), m/s²")
     d = np.asarray(direction, float)
-    if d.shape != (2,) or not np.all(np.isfinite(d)) or not np.any(d):
+    if d.shape not in ((2,), (3,)) or not np.all(np.isfinite(d)) or not np.any(d):
         raise ModelError("ground_acceleration", f"the direction must be a nonzero vector "
-                         f"(dx, dy), got {direction!r}")
+                         f"(dx, dy), or (dx, dy, dz) in 3D, got {direction!r}")
     return g_fun
 
 
@@ -1102,19 +1202,24 @@ def _ground_translation(system: System, direction) -> np.ndarray:
     DOFs translates along the direction (the load would be zero)."""
     d = np.asarray(direction, float)
     d = d / np.linalg.norm(d)
+    dim = (system.discrete.dof_axes.shape[1] if system.discrete is not None
+           else system.dofs.dim)
+    if len(d) != dim:
+        raise ModelError("ground_acceleration", f"the direction has {len(d)} components, the "
+                         f"model is {dim}D: give ({', '.join('dx dy dz'.split()[:dim])})")
     if system.discrete is not None:
         r = system.discrete.dof_axes @ d
         if not np.any(np.abs(r) > 1e-12):
             named = np.any(system.discrete.dof_axes != 0.0)
             raise ModelError("ground_acceleration", (
-                f"no DOF of the discrete model translates along ({d[0]:g}, {d[1]:g})" if named
-                else "the discrete model's DOFs have no direction") + ": the ground "
+                f"no DOF of the discrete model translates along ({', '.join(f'{x:g}' for x in d)})"
+                if named else "the discrete model's DOFs have no direction") + ": the ground "
                 "acceleration would apply no load; say which DOFs are translations along "
                 "which axis (DiscreteModel(dof_axes={'ux': 'x', 'uy': 'y'}))")
         return r
     r = np.zeros(system.ndof)
     has = system.dofs.of >= 0
-    for c in (0, 1):
+    for c in range(dim):
         r[system.dofs.of[has[:, c], c]] = d[c]
     return r
 
@@ -1316,10 +1421,6 @@ class _DynamicRun:
         components held by supports on both ends are inert (their supports carry them), and
         after stages the CFEs not active at the stage."""
         cfe = self.cfe
-        if self.system.layout.n_t > 1:
-            raise ModelError("tangent2_rows", "a dynamic interval with two tangential "
-                             "directions per contact (the faceted Coulomb cone) is not "
-                             "available yet: 3D contact runs in static load programs")
         plan, stage = self.staged
         _, bond_cols, _, _ = law_inputs(self.system, plan=plan, stage=stage)
         self.bond_cols = bond_cols
@@ -1360,7 +1461,7 @@ class _DynamicRun:
         self.soft_cfe = soft_cfe = np.isfinite(cfe.kn) & np.isfinite(cfe.kt)
         self.split = bool(np.all(soft_cfe | (~np.isfinite(cfe.kn) & ~np.isfinite(cfe.kt)))
                           and not soft_cfe.all())
-        self.held = self.layout.join(soft_cfe, soft_cfe)
+        self.held = self.layout.join_each(soft_cfe, soft_cfe)
         self.rigid_n = ~np.isfinite(cfe.kn)
         self.soft_t = np.isfinite(cfe.kt)  # (compliant tangential rows: no drift, eq. (9))
         self.any_soft_t = bool(self.soft_t.any())
@@ -1370,7 +1471,9 @@ class _DynamicRun:
                         and np.array_equal(law.cfes, np.arange(self.m)) else None)
         # … where its start is decided by the engine alone: no bonds (their breaks at the
         # start), rigid tangential rows (no compliant slip that stops inside a step)
+        # (one tangential component: the faceted cone's vertex slips and turns are the engine's)
         self.quiet_steps = bool(self.one_law is not None and not self.bonds_on
+                                and self.layout.n_t == 1
                                 and law.rigid_t.all() and self.m)
 
     def _initial_state(self, u0, v0) -> None:
@@ -1382,8 +1485,8 @@ class _DynamicRun:
             states, s, w = _state_at_u0(system, law, u, v, s, w, states, initial)
         if initial is None:  # joints with initial strength start bonded (eq. (12)), their
             states = law.initial_states(states)  # compliant layers carrying C w at u0
-            stiff0 = self.layout.join(cfe.kt, cfe.kn)
-            on = self.layout.join(states == BONDED, states == BONDED) & np.isfinite(stiff0)
+            stiff0 = self.layout.join_each(cfe.kt, cfe.kn)
+            on = self.layout.join_each(states == BONDED, states == BONDED) & np.isfinite(stiff0)
             s = np.where(on, np.where(on, stiff0, 0.0) * w, s)
         eng.s, eng.w, eng.states = s.copy(), w.copy(), states.copy()
         if self.bonds_on:  # the bonds' strengths are forces of the problem's scale
@@ -1473,7 +1576,7 @@ class _DynamicRun:
         self.eng.W_scale = max(self.eng.W_scale, self.w_scale)
         self.parts = dict.fromkeys(("cut", "projection", "hht", "short_steps"), 0.0)
         lay = self.layout
-        self.stiff = lay.join(cfe.kt, cfe.kn)
+        self.stiff = lay.join_each(cfe.kt, cfe.kn)
         self.soft = np.isfinite(self.stiff) & (self.stiff > 0)
         self.any_soft = bool(self.soft.any())
         self.no_layer_energy = lay.zeros()
@@ -1638,8 +1741,19 @@ class _DynamicRun:
                 fp = law.f * p
                 tol = 1e-9 * max(float(np.abs(s_new).max(initial=0.0)), eng.F_scale, 1e-300)
                 stuck = (states == STICK) & law.frictional & ~free_now & ~soft_cfe
-                up = stuck & (Q > fp + tol)
-                down = stuck & (Q < -fp - tol)
+                if lay.n_t == 1:
+                    up = stuck & (Q > fp + tol)
+                    down = stuck & (Q < -fp - tol)
+                    slips = np.where(up, SLIP_POS, SLIP_NEG)
+                else:  # a faceted cone (3D): a stuck CFE beyond a facet slips at the
+                    # polygon's point nearest to Q; a slip whose force runs along its facet
+                    # past an end slips at that vertex (the engine's transition, ``fire``)
+                    sliding = law.slipping(states) & ~free_now & ~soft_cfe
+                    g = law.margins(Q, p)
+                    up = (stuck | sliding) & (g.min(axis=1) < -tol)
+                    down = np.zeros(m, bool)
+                    past = law.fire(states, np.where(sliding, np.argmin(g, axis=1) + 1, -1))
+                    slips = np.where(sliding, past, law.state_at(Q, np.maximum(p, 0.0)))
                 # a closed CFE that the accelerations would pull on carries no force at this
                 # instant (N = Q = 0, admissible closed); whether it separates, the step's
                 # contact problem decides with its gap and velocity (with a consistent mass
@@ -1650,7 +1764,7 @@ class _DynamicRun:
                     eng.s = np.where(held, s_held, s_new)
                     break
                 new = states.copy()
-                new[up], new[down] = SLIP_POS, SLIP_NEG
+                new[up | down] = slips[up | down]
                 free_now |= pulled
                 for k in np.flatnonzero(new != states):
                     self.log_event(self.n, k, states[k], new[k], t_now)
@@ -1725,6 +1839,14 @@ class _DynamicRun:
         lay = self.layout
         wd = self.system.B @ self.v
         st = self.eng.states
+        if lay.n_t > 1:  # a faceted cone (3D): pinned along its slip direction
+            d = self.law.slip_directions(st)
+            rate = np.einsum("kj,kj->k", lay.tangential(wd), d)
+            moving = rate > 1e-9 * max(np.abs(wd).max(initial=0.0), 1e-300)
+            e = lay.zeros()
+            lay.tangential(e)[:] = np.where(
+                moving[:, None], d * 1e3 * max(float(np.abs(dh).max(initial=0.0)), 1e-300), 0.0)
+            return dh, e
         sig = np.where(st == SLIP_POS, 1.0, np.where(st == SLIP_NEG, -1.0, 0.0))
         moving = (sig != 0) & (np.abs(lay.tangential(wd)) > 1e-9 * max(
             np.abs(wd).max(initial=0.0), 1e-300))
@@ -2012,7 +2134,8 @@ class _DynamicRun:
         wacc = self.Bx @ self.a
         drift = lay.zeros()
         dr = nm.drift(lay.tangential(wdot), lay.tangential(wacc))
-        lay.tangential(drift)[:] = np.where(self.soft_t, 0.0, dr) if self.any_soft_t else dr
+        soft = self.soft_t if lay.n_t == 1 else self.soft_t[:, None]
+        lay.tangential(drift)[:] = np.where(soft, 0.0, dr) if self.any_soft_t else dr
         if self.layers:
             self.layers.start(eng.states, eng.s, eng.w, wdot, wacc, nm, drift)
             self.x_start = self.layers.x.copy()
@@ -2147,6 +2270,9 @@ class _DynamicRun:
         # a compliant slip whose velocity reverses inside the step
         dec.new[_compliant_stops(eng, law, dec, self.w_start, self.wdot, self.wacc, nm,
                                  dt)] = STICK
+        if self.layout.n_t > 1:  # (3D) a vertex slip that ends at rest: no turn onto a facet
+            dec.new[_vertex_stops(eng, law, dec, self.w_start, self.wdot, self.wacc, nm,
+                                  dt)] = STICK
         eng.states = dec.new
         changed = np.flatnonzero(old != dec.new)
         if not changed.size:
@@ -2181,7 +2307,7 @@ class _DynamicRun:
         # and a rigid slip that stops here: its friction force jumps to what equilibrium
         # at t requires (re-solved in accelerations, not the slip's f p)
         stops = (self.all_rigid or self.split) and bool(np.any(
-            _slipping(old[now]) & (dec.new[now] == STICK)
+            (_slipping(old[now]) & (dec.new[now] == STICK) | _onto_facet(old[now], dec.new[now]))
             & law.rigid_t[now]))
         if self.zero_restarts < 2 and ((later and now.size) or sw.size or wet_moves
                                        or stops):
@@ -2330,8 +2456,9 @@ class _DynamicRun:
         if self.bond_brk is not None:  # the bonds break: their forces are released here
             self.a = self.load_jump(np.zeros(self.ndof), t_i, n, brk=self.bond_brk)
         elif closing.size or np.any(_slipping(old) & ~_slipping(new_states)
-                                    & (new_states != OPEN)):
+                                    & (new_states != OPEN) | _onto_facet(old, new_states)):
             self.a = self.accel_forces(t_i)  # the forces jump: an impact, a slip that stops
+            # (3D: or turns from a vertex onto a facet, its force from the vertex onto it)
             # a stop that the forces at this instant undo (the CFE slips on the same way: its
             # velocity only touched zero) is no event: the rate problem in accelerations
             # decided the state
@@ -2422,7 +2549,11 @@ class _DynamicRun:
         self.ledger["impact"] += float(0.5 * v_i @ (Mx(v_i)) - 0.5 * v_new @ (Mx(v_new)))
         v_i = v_new
         # a CFE still sliding after its impact slips on (with its velocity)
-        for k_, sg in zip(cand, sig, strict=True):
+        if sig.ndim > 1:  # (3D: the facet or vertex whose normal cone holds its velocity)
+            on = np.any(sig != 0, axis=1) & np.isin(cand, closing)
+            new_states[cand[on]] = law.slip_state_towards(cand[on], sig[on])
+            sig = np.zeros(0)
+        for k_, sg in zip(cand[:len(sig)], sig, strict=True):
             if sg != 0 and k_ in closing:
                 new_states[k_] = SLIP_POS if sg > 0 else SLIP_NEG
         bounced = closed_as = np.zeros(0, np.int64)
