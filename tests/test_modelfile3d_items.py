@@ -338,7 +338,6 @@ def test_water_at_a_fixed_level_on_a_3d_face():
 
 @pytest.mark.parametrize(("load", "item"), [
     ({"type": "obstacle_motion", "obstacle": "ground", "dx": 1e-3}, "patterns.push.loads[1]"),
-    ({"type": "crack_water", "interface": "joint", "level": 1.0}, "patterns.push.loads[1]"),
 ])
 def test_what_a_3d_model_refuses_is_named_by_its_path(load, item):
     """The model's own refusals (not available in 3D) reported at the file's field path."""
@@ -347,3 +346,16 @@ def test_what_a_3d_model_refuses_is_named_by_its_path(load, item):
     with pytest.raises(ModelError) as info:
         model_from_dict(d)
     assert info.value.item == item and "3D" in info.value.problem, str(info.value)
+
+
+def test_crack_water_in_a_3d_file_takes_its_entry_as_a_polyline():
+    """A 3D joint's crack water from the file: the entry as an (x, y, z) polyline reaches the
+    model as its 3D entry line (the wet-region rule is tests/test_crack3d.py's)."""
+    d = tomllib.loads(BLOCK_ON_PLANE)
+    line = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    d["patterns"]["push"]["loads"].append({"type": "crack_water", "interface": "joint",
+                                           "level": 1.0, "entry": line})
+    model = model_from_dict(d)
+    cw = [ld for p in model.patterns for ld in p.loads if isinstance(ld, sc.CrackWater)]
+    assert len(cw) == 1 and cw[0].entry_dim == 3
+    assert [ln.tolist() for ln in cw[0].entry_lines] == [line]

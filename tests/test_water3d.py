@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from skfem import MeshHex, MeshTet
+from skfem import MeshHex
 
 import faceted_reference as fr
 import stepcontact as sc
@@ -148,13 +148,6 @@ def test_a_warped_wetted_face_is_refused_by_name():
     face = m.select("dam", lambda x, y, z: x - 0.05 * y * z < 1e-9)
     with pytest.raises(ModelError, match=r"load 0 facet \d+.*not a flat"):
         sc.assemble(m.add(sc.LoadPattern("w", [sc.WaterLoad(face, level=5.0)])))
-
-
-def test_crack_water_on_3d_bodies_is_still_refused():
-    m, face = block("tet4")
-    assert isinstance(m.body("dam").mesh, MeshTet)
-    with pytest.raises(ModelError, match="crack water on 3D bodies is not available"):
-        m.add(sc.LoadPattern("u", [sc.CrackWater("base")]))
 
 
 # --------------------------------------------------------------------------------------------

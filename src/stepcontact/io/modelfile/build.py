@@ -609,7 +609,7 @@ class _Builder(_References):
             found = [i for i in interfaces if i.name == ld.interface]
             if found:
                 loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
-                                        None if ld.entry is None else tuple(ld.entry),
+                                        None if ld.entry is None else _entry_tuple(ld.entry),
                                         ld.pressure))
         elif isinstance(ld, ObstacleMotionLoad):
             if ld.obstacle in obstacles:
@@ -708,3 +708,10 @@ class _Builder(_References):
             p.add(where + item[len("dynamics"):] if item.startswith("dynamics") else item,
                   e.problem)
             return None
+
+
+def _entry_tuple(entry) -> tuple:
+    """A crack's entry from the file as nested tuples (a point, points or polylines)."""
+    if isinstance(entry, list | tuple):
+        return tuple(_entry_tuple(e) for e in entry)
+    return entry

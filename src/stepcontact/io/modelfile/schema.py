@@ -989,9 +989,11 @@ class CrackWaterSpec(_Spec):
     pressure: float | None = Field(None, description="pressure in the crack, Pa per unit "
                                    "factor, uniform (the pressure that reaches the gap through "
                                    "the joint), instead of a level")
-    entry: Point | list[Point] | None = Field(
+    entry: Point | list[Point] | Point3 | list[Point3] | list[list[Point3]] | None = Field(
         None, description="where the water reaches the joint (the heel), m, or a list of such "
-        "points: only open CFEs joined to one by open CFEs are wet; omitted: every open CFE")
+        "points: only open CFEs joined to one by open CFEs are wet; omitted: every open CFE. "
+        "A 3D joint takes (x, y, z) points: a point, a polyline along the upstream edge, or a "
+        "list of polylines (the entry CFEs are the row along each)")
 
     @model_validator(mode="after")
     def _level_or_pressure(self) -> CrackWaterSpec:
