@@ -9,10 +9,21 @@ References and tolerances:
   quadratic term while the linear term of the level's load (the pattern's own vertical load)
   does not drive the sliding mode.  By hand, no horizontal force can be resisted: equilibrium
   is lost at h = b exactly (1e-12), by sliding; every state in equilibrium with the contact
-  conditions to 1e-9.
+  conditions to 1e-9;
+* the 3D slab of ``benchmarks/slab3d.py`` (s = 1: 144 CFEs on the faceted 8-gon) pushed and then
+  lifted by an eccentric uplift on to its mechanism (sliding with a rotation about z): near the
+  limit the schemes soften and their rates grow without bound, which inflated the path's
+  tolerances (rates × the whole segment, to 1e6 Pa) until open CFEs with a real gap were
+  snapped shut (a force jump: status ``violation``, 1.25e-5).  Reference: the same model with
+  the uplift segment ending just beyond the limit (43 kPa, 23 times shorter: scales of the
+  path's own size) loses equilibrium at the same λ (1e-9 relative); every reported state in
+  equilibrium with the contact conditions to 1e-9.
 """
 
 from __future__ import annotations
+
+import runpy
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -54,3 +65,22 @@ def test_level_path_loses_equilibrium_where_a_higher_power_drives_it(b):
     assert res.lam[-1] == pytest.approx(b, rel=1e-12) and res.segment[-1] == 1
     assert res.mechanism["lam"] == pytest.approx(b, rel=1e-12)
     assert res.residual.max() < 1e-9 and res.violation.max() < 1e-9
+
+
+SLAB3D = Path(__file__).parents[1] / "benchmarks" / "slab3d.py"
+
+
+@pytest.mark.slow
+def test_3d_slab_lifted_on_to_its_mechanism_reports_it():
+    """The slab loses equilibrium at the same λ whether its uplift segment was to end at 1e6 Pa
+    or just beyond the limit (43 kPa): 1e-9; no 'violation' stop; states exact to 1e-9."""
+    slab3d_model = runpy.run_path(str(SLAB3D), run_name="slab3d")["slab3d_model"]
+    far = sc.solve_static(slab3d_model(1, uplift=1e6))
+    near = sc.solve_static(slab3d_model(1, uplift=4.3e4))
+    for res in (far, near):
+        assert res.status == sc.Status.EQUILIBRIUM_LOST, res.message
+        assert "'uplift', segment 2" in res.message
+        assert res.residual.max() < 1e-9 and res.violation.max() < 1e-9
+    lam = far.multipliers[-1].equilibrium_lost
+    assert lam == pytest.approx(near.multipliers[-1].equilibrium_lost, rel=1e-9)
+    assert 4.2e4 < lam < 4.3e4

@@ -74,10 +74,15 @@ def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
 #: threads to pay)
 SMALL_DENSE = 2000
 
+#: a decided scheme whose rates over the whole segment would grow the path's force or
+#: displacement scale more than this many times at once looks ahead only to its next event
+#: (:meth:`StaticSolver._reach`): a scheme near a mechanism, not the path's size
+LOOKAHEAD_GROWTH = 10.0
 
 #: a Taylor coefficient of a level path whose load over its piece is below this fraction of
 #: the largest one's is round-off of the fit (:meth:`StaticSolver._level_rates`)
 ROUNDOFF_COEFFICIENT = 1e-9
+
 
 class StaticSolver:
     """Event-driven static analysis of one model.  Use :func:`solve_static`."""
@@ -943,7 +948,7 @@ class StaticSolver:
             eng.snap()
         if self.article:
             ds, dw = eng.rates(new, forcing, article=True)
-        eng.update_scales(ds, dw, span)
+        eng.update_scales(ds, dw, self._reach(ds, dw, span))
         if first:
             # contact at rest (zero gaps at λ = 0) is the initial scheme, not an event: compare
             # with "closed" there, so that slips and openings at λ = 0 are events
@@ -971,6 +976,23 @@ class StaticSolver:
                     hk.after_event(info)
             self._checkpoint()
         return True, ds, dw
+
+    def _reach(self, ds, dw, span: float) -> float:
+        """How far the path's scales look ahead along the rates (ds, dw) of the scheme just
+        decided (:meth:`EventEngine.update_scales`): the whole segment (``span``), unless that
+        would grow a scale more than :data:`LOOKAHEAD_GROWTH` times at once — then to the
+        scheme's next event only.  Near a mechanism the schemes soften and their rates grow
+        without bound (the structure approaches its limit load); their product with a segment
+        that was to run far beyond the limit inflated the limit tolerances (LIMIT_TOL · rtol
+        of the scales) until open CFEs with a real gap counted as closed and were snapped
+        shut (a force jump: a violated state, or a rate problem without a solution)."""
+        eng = self.engine
+        grow = max(float(np.abs(ds).max(initial=0.0)) * span / max(eng.F_scale, 1e-300),
+                   float(np.abs(dw).max(initial=0.0)) * span / max(eng.W_scale, 1e-300))
+        if grow <= LOOKAHEAD_GROWTH:
+            return span
+        _, dmu_ev, _ = eng.next_event(ds, dw, span, 0.0)
+        return min(span, dmu_ev)
 
     def _lose_equilibrium(self, exc: MechanismError, lam, seg, pattern, mult, f):
         """The point at ``lam`` is where equilibrium is lost: the scheme decided there (or
