@@ -17,8 +17,8 @@ sides.  Load path:
    ``--uplift`` (default 40 kPa at the corner, 1.7 times the slab's weight per area): the
    joint opens from that corner over about half its points while the rest slips and turns
    on the cone's facets (s = 2: 352 openings, 486 slips, 1 218 facet turns).  ``--uplift
-   1e6`` runs on towards the slab's mechanism: at s = 1 that run stopped at 42.6 kPa with the
-   contact conditions violated by 1.2e-5 (relative; status ``violation``).
+   1e6`` runs on to the slab's mechanism: at s = 1 equilibrium is lost at 42.65 kPa (sliding
+   with a rotation about z; tests/test_mechanism_paths.py).
 
 Sizes: s = 1: 8 208 DOFs, 144 CFEs; s = 2: 47 286 DOFs, 529 CFEs; s = 3: 149 124 DOFs,
 1 156 CFEs; s = 4: 327 144 DOFs and 2 025 CFEs (the issue's ≥ 2 000 contact points and

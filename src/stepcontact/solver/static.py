@@ -74,10 +74,15 @@ def model_stage_bodies(plan, k: int) -> tuple[str, ...]:
 #: threads to pay)
 SMALL_DENSE = 2000
 
+#: a decided scheme whose rates over the whole segment would grow the path's force or
+#: displacement scale more than this many times at once looks ahead only to its next event
+#: (:meth:`StaticSolver._reach`): a scheme near a mechanism, not the path's size
+LOOKAHEAD_GROWTH = 10.0
 
 #: a Taylor coefficient of a level path whose load over its piece is below this fraction of
 #: the largest one's is round-off of the fit (:meth:`StaticSolver._level_rates`)
 ROUNDOFF_COEFFICIENT = 1e-9
+
 
 class StaticSolver:
     """Event-driven static analysis of one model.  Use :func:`solve_static`."""
@@ -374,7 +379,9 @@ class StaticSolver:
         drive (:meth:`EventEngine.rates_any`), a coefficient whose load over the piece
         (|c_j| reach^(j+1), ``reach`` the piece's length in m) is round-off of the Taylor fit
         (below :data:`ROUNDOFF_COEFFICIENT` of the largest) is zero: its direction is noise
-        and may seem to drive the mechanism."""
+        and may seem to drive the mechanism.  A significant coefficient that drives it raises
+        :class:`MechanismError` with ``coefficient`` = j (the power μ^(j+1)): equilibrium is
+        lost at this level (:meth:`_lose_equilibrium`), as on a load-factor path."""
         eng = self.engine
         size = np.array([np.abs(c).max(initial=0.0) for c in coefs]) * reach ** np.arange(
             1, len(coefs) + 1)
@@ -387,8 +394,9 @@ class StaticSolver:
             else:
                 try:
                     a, b = eng.rates_any(eng.states, fj)
-                except MechanismError:
+                except MechanismError as exc:
                     if size[j] > ROUNDOFF_COEFFICIENT * size.max():
+                        exc.coefficient = j  # the power μ^(j+1) whose load drives it
                         raise
                     a, b = np.zeros_like(ds), np.zeros_like(dw)
             dss.append(a)
@@ -809,7 +817,14 @@ class StaticSolver:
                 if path is None:
                     dmu, dmu_ev, fired = eng.next_event(ds, dw, remaining, grp)
                 else:
-                    dss, dws = self._level_rates(forcings, coefs, lead, ds, dw, remaining)
+                    try:
+                        dss, dws = self._level_rates(forcings, coefs, lead, ds, dw, remaining)
+                    except MechanismError as exc:  # a higher power of the level drives it
+                        j = exc.coefficient
+                        self._lose_equilibrium(exc, lam, seg, pattern, mult,
+                                               path.load(coefs[j], j))
+                        stop = True
+                        break
                     dmu, dmu_ev, fired = eng.next_event_poly(dss, dws, remaining, grp)
                 if self.article:
                     dmu_p = eng.article_step(ds)
@@ -916,48 +931,7 @@ class StaticSolver:
                     raise
                 raise MechanismError(None, None, trial) from exc
         except MechanismError as exc:
-            old = eng.states.copy()
-            states = exc.states if exc.states is not None else eng.states
-            clash = constraint_conflict(eng, self.cond, states)
-            if clash is not None:
-                names = [f"{self.cfe.names[self.cfe.interface[k]]}[{self.cfe.local[k]}]"
-                         for k in clash[:10]]
-                self.status = Status.RATE_PROBLEM
-                self.message = (
-                    f"rigid contacts conflict at λ = {lam:.10g}: CFEs {', '.join(names)} "
-                    "constrain the same motion and the load drives them apart (their forces "
-                    "would jump); give one of the interfaces a compliant layer (ContactLayer) "
-                    "or leave the shared node out of one of them")
-                self.step += 1
-                self._record(lam, seg, "event", final=True)
-                return False, None, None
-            tf, _ = eng.tolerances()
-            states = free_to_open(eng, self.cond, self.sys, states, self._f,
-                                  self.layout.normal(eng.s), tf)
-            self.status = Status.EQUILIBRIUM_LOST
-            bodies = describe_mechanism(eng, self.cond, self.sys, states, self._f)
-            modes = ", ".join(f"'{b['body']}' {b['mode']}" for b in bodies) or "mechanism"
-            self.message = (f"equilibrium lost at λ = {lam:.10g} (pattern '{pattern}', segment "
-                            f"{seg}): {modes}")
-            if self.plan is not None and self.plan.auto.get(pattern, ("", ""))[1] == "settle":
-                self.message += (
-                    f" — the dynamic interval of stage '{self.plan.names[self.stage]}' left "
-                    "the structure moving on a mechanism (a body in flight, or rocking or "
-                    "sliding with no static equilibrium without its inertia): no static path "
-                    "goes on from there; lengthen the interval or damp it, so that the "
-                    "motion ends in contact (the interval's result is in res.dynamics)")
-            eng.states = states.copy()
-            self.mechanism = {
-                "lam": lam, "segment": seg, "pattern": pattern, "bodies": bodies,
-                "n_open": int(np.sum(states == OPEN)),
-                "n_slip": int(np.sum(slipping(states))),
-                "n_cfe": self.cfe.m,
-            }
-            mult["equilibrium_lost"] = lam
-            self.step += 1
-            i = self._record(lam, seg, "event", final=True)
-            self._log_events(old, eng.states, lam, seg, pattern, i)
-            return False, None, None
+            return self._lose_equilibrium(exc, lam, seg, pattern, mult, self._f)
         except RateProblemFailure as exc:
             self.status = exc.status
             names = [f"{self.cfe.names[self.cfe.interface[k]]}[{self.cfe.local[k]}]"
@@ -974,7 +948,7 @@ class StaticSolver:
             eng.snap()
         if self.article:
             ds, dw = eng.rates(new, forcing, article=True)
-        eng.update_scales(ds, dw, span)
+        eng.update_scales(ds, dw, self._reach(ds, dw, span))
         if first:
             # contact at rest (zero gaps at λ = 0) is the initial scheme, not an event: compare
             # with "closed" there, so that slips and openings at λ = 0 are events
@@ -1002,6 +976,75 @@ class StaticSolver:
                     hk.after_event(info)
             self._checkpoint()
         return True, ds, dw
+
+    def _reach(self, ds, dw, span: float) -> float:
+        """How far the path's scales look ahead along the rates (ds, dw) of the scheme just
+        decided (:meth:`EventEngine.update_scales`): the whole segment (``span``), unless that
+        would grow a scale more than :data:`LOOKAHEAD_GROWTH` times at once — then to the
+        scheme's next event only.  Near a mechanism the schemes soften and their rates grow
+        without bound (the structure approaches its limit load); their product with a segment
+        that was to run far beyond the limit inflated the limit tolerances (LIMIT_TOL · rtol
+        of the scales) until open CFEs with a real gap counted as closed and were snapped
+        shut (a force jump: a violated state, or a rate problem without a solution)."""
+        eng = self.engine
+        grow = max(float(np.abs(ds).max(initial=0.0)) * span / max(eng.F_scale, 1e-300),
+                   float(np.abs(dw).max(initial=0.0)) * span / max(eng.W_scale, 1e-300))
+        if grow <= LOOKAHEAD_GROWTH:
+            return span
+        _, dmu_ev, _ = eng.next_event(ds, dw, span, 0.0)
+        return min(span, dmu_ev)
+
+    def _lose_equilibrium(self, exc: MechanismError, lam, seg, pattern, mult, f):
+        """The point at ``lam`` is where equilibrium is lost: the scheme decided there (or
+        ``exc.states``, the scheme found to be a driven mechanism) has no rates for the load
+        rate ``f`` (ndof,) — on a load-factor path the segment's load, on a level path the
+        Taylor coefficient of the load that drives the mechanism (:meth:`_level_rates`).
+        Reports the mechanism (status ``equilibrium_lost``, the λ or level, the moving bodies)
+        or, when two rigid constraints conflict instead, ``rate_problem``; returns
+        ``(False, None, None)``, the run's end."""
+        eng = self.engine
+        old = eng.states.copy()
+        states = exc.states if exc.states is not None else eng.states
+        clash = constraint_conflict(eng, self.cond, states)
+        if clash is not None:
+            names = [f"{self.cfe.names[self.cfe.interface[k]]}[{self.cfe.local[k]}]"
+                     for k in clash[:10]]
+            self.status = Status.RATE_PROBLEM
+            self.message = (
+                f"rigid contacts conflict at λ = {lam:.10g}: CFEs {', '.join(names)} "
+                "constrain the same motion and the load drives them apart (their forces "
+                "would jump); give one of the interfaces a compliant layer (ContactLayer) "
+                "or leave the shared node out of one of them")
+            self.step += 1
+            self._record(lam, seg, "event", final=True)
+            return False, None, None
+        tf, _ = eng.tolerances()
+        states = free_to_open(eng, self.cond, self.sys, states, f,
+                              self.layout.normal(eng.s), tf)
+        self.status = Status.EQUILIBRIUM_LOST
+        bodies = describe_mechanism(eng, self.cond, self.sys, states, f)
+        modes = ", ".join(f"'{b['body']}' {b['mode']}" for b in bodies) or "mechanism"
+        self.message = (f"equilibrium lost at λ = {lam:.10g} (pattern '{pattern}', segment "
+                        f"{seg}): {modes}")
+        if self.plan is not None and self.plan.auto.get(pattern, ("", ""))[1] == "settle":
+            self.message += (
+                f" — the dynamic interval of stage '{self.plan.names[self.stage]}' left "
+                "the structure moving on a mechanism (a body in flight, or rocking or "
+                "sliding with no static equilibrium without its inertia): no static path "
+                "goes on from there; lengthen the interval or damp it, so that the "
+                "motion ends in contact (the interval's result is in res.dynamics)")
+        eng.states = states.copy()
+        self.mechanism = {
+            "lam": lam, "segment": seg, "pattern": pattern, "bodies": bodies,
+            "n_open": int(np.sum(states == OPEN)),
+            "n_slip": int(np.sum(slipping(states))),
+            "n_cfe": self.cfe.m,
+        }
+        mult["equilibrium_lost"] = lam
+        self.step += 1
+        i = self._record(lam, seg, "event", final=True)
+        self._log_events(old, eng.states, lam, seg, pattern, i)
+        return False, None, None
 
     def _hooks_with(self, method: str) -> tuple:
         """The hooks that have ``method`` (looked up once per run: asked at every event)."""
