@@ -56,6 +56,9 @@ difference printed).
 Measured (docs/performance.md, "3D"): s = 1 and 2 complete (T_total/(T_F + T_G) = 13.2 and
 22.7 from process CPU, M_run/M_F = 1.40 and 1.36); s = 4 does not finish in 15 minutes: the
 event loop refactorises the dense 3m × 3m scheme matrix at about every second event point.
+The assembly (outside T_total) takes 0.22, 1.0 and 8.8 s of process CPU at s = 1, 2 and 4
+with the tet4/hex8 kernels (4.9, 25 and 362 s with scikit-fem's generic form before); at
+s = 4 the solver's setup takes 436 s, about 90 % of it forming G by 6 075 sparse solves.
 
 ``--setup-only``: the setup alone, each size in a fresh process, split into the model, the
 assembly's steps (stiffness, loads, contact search, contact operator, restraint check), T_F,
