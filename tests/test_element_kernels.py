@@ -281,3 +281,22 @@ def test_quadratic_solids_keep_the_generic_assembly(kind):
     assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
     u = np.tile([0.0, 0.0, 1.0], body.n_nodes)
     assert np.abs(K @ u).max() <= 1e-9 * abs(K).max()
+
+
+@pytest.mark.parametrize("kind", ["tri3", "tri6", "quad4", "quad9", "tet4", "tet10", "hex8",
+                                  "hex20", "hex27"])
+def test_body_arrays_equal_those_of_the_full_basis(kind):
+    """A body's node coordinates and element connectivity (read from a basis with one
+    quadrature point) equal, exactly, those of scikit-fem's basis with its full rule."""
+    from skfem import Basis, MeshHex, MeshQuad, MeshTet, MeshTri
+
+    from stepcontact.model.elements import body_arrays, scalar_element
+
+    axes = [np.linspace(0.0, 1.0, 3), np.linspace(0.0, 2.0, 4)]
+    mesh = {"tri": MeshTri, "qua": MeshQuad, "tet": MeshTet, "hex": MeshHex}[kind[:3]]
+    mesh = mesh.init_tensor(*(axes + [np.linspace(-1.0, 0.0, 3)] if kind[:3] in ("tet", "hex")
+                              else axes))
+    points, cells, _, _ = body_arrays("b", mesh, kind)
+    full = Basis(mesh, scalar_element(kind))
+    assert np.array_equal(points, full.doflocs.T)
+    assert np.array_equal(cells, full.element_dofs.T)
