@@ -56,9 +56,17 @@ difference printed).
 Measured (docs/performance.md, "3D"): s = 1 and 2 complete (T_total/(T_F + T_G) = 13.2 and
 22.7 from process CPU, M_run/M_F = 1.40 and 1.36); s = 4 does not finish in 15 minutes: the
 event loop refactorises the dense 3m × 3m scheme matrix at about every second event point.
+The assembly (outside T_total) takes 0.22, 1.0 and 8.8 s of process CPU at s = 1, 2 and 4
+with the tet4/hex8 kernels (4.9, 25 and 362 s with scikit-fem's generic form before); at
+s = 4 the solver's setup takes 436 s, about 90 % of it forming G by 6 075 sparse solves.
+
+``--setup-only``: the setup alone, each size in a fresh process, split into the model, the
+assembly's steps (stiffness, loads, contact search, contact operator, restraint check), T_F,
+T_G and the rest of the solver's setup, with the peak resident memory after each part.
 
 Run:  python benchmarks/slab3d.py [--sizes 1 2] [--float32-check]
       python benchmarks/slab3d.py --sizes 4          # the ≥ 2 000-point, ≥ 300 000-DOF run
+      python benchmarks/slab3d.py --sizes 2 4 --setup-only
 """
 
 from __future__ import annotations
@@ -233,6 +241,81 @@ def child_factor(s: int, backend: str, cfe: str, facets: int, uplift: float = UP
     return out
 
 
+#: the assembly's steps timed by ``--setup-only`` (functions of stepcontact.fem.assembly)
+_ASSEMBLY_STEPS = ("stiffness", "load_vectors", "build_contact", "contact_operator",
+                   "_check_restrained")
+
+
+def child_setup(s: int, backend: str, cfe: str, facets: int, uplift: float = UPLIFT) -> dict:
+    """In a fresh process: the setup alone, up to the event loop, split into the model (meshes
+    and node sets), the assembly by step (:data:`_ASSEMBLY_STEPS`; the rest as ``other``) and
+    the solver's setup (``StaticSolver``: the factorisation with the regularity check T_F,
+    G T_G, the load solves and the rest), each as wall, process and main-thread CPU time; the
+    process's peak resident memory (ru_maxrss) after each part.  No event is run."""
+    import resource
+
+    from stepcontact.fem import assembly as asm_mod
+    from stepcontact.solver.static import StaticSolver
+
+    def maxrss() -> float:
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB -> MB
+
+    steps = {name: Times(0.0, 0.0, 0.0) for name in _ASSEMBLY_STEPS}
+
+    def timed_step(name, fn):
+        def wrapper(*a, **k):
+            with Timer() as t:
+                out = fn(*a, **k)
+            steps[name] = steps[name] + t.times
+            return out
+        return wrapper
+
+    for name in _ASSEMBLY_STEPS:
+        setattr(asm_mod, name, timed_step(name, getattr(asm_mod, name)))
+    _warm_up(backend)
+    with Timer() as t_model:
+        model = slab3d_model(s, cfe, facets, uplift)
+    rss_model = maxrss()
+    with Timer() as t_asm:
+        system = assemble(model)
+    rss_asm = maxrss()
+    with Timer() as t_solver:
+        drv = StaticSolver(system, backend=backend)
+    c = drv.cond.counters
+    t_f = Times(c["factor_seconds"], c["factor_cpu_seconds"], c["factor_thread_seconds"])
+    t_g = Times(c["condense_seconds"], c["condense_cpu_seconds"], c["condense_thread_seconds"])
+    split = {k: v.as_dict() for k, v in steps.items()}
+    split["other"] = (t_asm.times - sum(steps.values(), Times(0.0, 0.0, 0.0))).as_dict()
+    return {
+        "ndof": system.ndof, "cfes": system.m, "n": int(drv.cond.G.shape[0]),
+        "precision_bits": 8 * drv.cond.G.dtype.itemsize,
+        "t_model": t_model.times.as_dict(), "t_assembly": t_asm.times.as_dict(),
+        "assembly_split": split, "t_solver_setup": t_solver.times.as_dict(),
+        "T_F": t_f.as_dict(), "T_G": t_g.as_dict(),
+        "t_solver_rest": (t_solver.times - t_f - t_g).as_dict(),
+        "rss_model": rss_model, "rss_assembly": rss_asm, "rss_setup": maxrss(),
+    }
+
+
+def _setup_report(r: dict) -> str:
+    T = {k: Times.from_dict(r[k]) for k in ("t_model", "t_assembly", "t_solver_setup", "T_F",
+                                            "T_G", "t_solver_rest")}
+    total = T["t_model"] + T["t_assembly"] + T["t_solver_setup"]
+    steps = "\n".join(f"        {k:18s} {Times.from_dict(v)}"
+                      for k, v in r["assembly_split"].items())
+    return (
+        f"s={r['s']}: setup only, {r['ndof']} DOFs, {r['cfes']} CFEs (n = {r['n']}, "
+        f"float{r['precision_bits']})\n"
+        f"    model (meshes, node sets) {T['t_model']}   [peak RSS {r['rss_model']:.0f} MB]\n"
+        f"    assembly {T['t_assembly']}   [peak RSS {r['rss_assembly']:.0f} MB]\n{steps}\n"
+        f"    solver setup {T['t_solver_setup']}   [peak RSS {r['rss_setup']:.0f} MB]\n"
+        f"        T_F (factorisation, regularity check) {T['T_F'].fmt(digits=3)}\n"
+        f"        T_G {T['T_G'].fmt(digits=3)}\n"
+        f"        the rest (load solves, reactions, laws) {T['t_solver_rest']}\n"
+        f"    setup total {total}"
+    )
+
+
 def _in_child(which: str, s: int, args) -> dict:
     cmd = [sys.executable, os.path.abspath(__file__), "--child", which, "--sizes", str(s),
            "--backend", args.backend, "--cfe", args.cfe, "--facets", str(args.facets),
@@ -354,15 +437,23 @@ def main() -> None:
                          f"1e6: on to the slab's mechanism)")
     ap.add_argument("--float32-check", action="store_true",
                     help="show the automatic float32 switch in 3D at the smallest size")
-    ap.add_argument("--child", choices=("run", "factor"), help=argparse.SUPPRESS)
+    ap.add_argument("--setup-only", action="store_true",
+                    help="only the setup, split (model, assembly steps, T_F, T_G, the rest), "
+                         "each size in a fresh process; no event loop")
+    ap.add_argument("--child", choices=("run", "factor", "setup"), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.child:
         s = args.sizes[0]
-        fn = child_run if args.child == "run" else child_factor
+        fn = {"run": child_run, "factor": child_factor, "setup": child_setup}[args.child]
         out = fn(s, args.backend, args.cfe, args.facets, args.uplift)
         print(_MARK + json.dumps(out, default=float), flush=True)
         return
     print(f"load average at start: {os.getloadavg()}", flush=True)
+    if args.setup_only:
+        for s in args.sizes:
+            print(_setup_report(_in_child("setup", s, args) | {"s": s}), flush=True)
+        print(f"load average at end: {os.getloadavg()}")
+        return
     th = precision_thresholds()
     print(f"precision='auto' on this machine ({th['physical_GB']:.1f} GB physical, dense "
           f"limit {th['limit_GB']:.1f} GB): float64 up to m = {th['float64']} CFEs "

@@ -175,3 +175,128 @@ def test_kernels_are_ready_for_3d_solids(kind):
                       shape=(m.p.shape[1],) * 2)
     assert _rel(K.tocsr(), ref_K) <= RTOL
     assert _rel(M.tocsr(), ref_M) <= RTOL
+
+
+def _solid(kind: str, shape: str, material: Material = MATERIALS[0]) -> Body:
+    """A 4 × 3 × 2 tet4 or hex8 mesh of [0, 2] × [0, 1.5] × [−1, 0]: ``"box"`` as meshed
+    (rectangular cells), ``"sheared"`` mapped by a general affine map (parallelepipeds, still
+    affine), ``"distorted"`` with its inner nodes moved randomly by about a tenth of a cell
+    (general trilinear hexahedra)."""
+    from skfem import MeshHex, MeshTet
+
+    mesh_cls = MeshTet if kind == "tet4" else MeshHex
+    m = mesh_cls.init_tensor(np.linspace(0, 2, 5), np.linspace(0, 1.5, 4), np.linspace(-1, 0, 3))
+    p = m.p.copy()
+    if shape == "sheared":
+        p = np.array([[1.0, 0.3, -0.2], [0.1, 0.9, 0.25], [0.05, -0.15, 1.1]]) @ p + 7.0
+    elif shape == "distorted":
+        inner = np.all((p > p.min(1, keepdims=True)) & (p < p.max(1, keepdims=True)), axis=0)
+        p[:, inner] += 0.05 * np.random.default_rng(2).standard_normal((3, int(inner.sum())))
+    return Body.from_mesh("s", mesh_cls(p, m.t), kind, material)
+
+
+@pytest.mark.parametrize("kind", ["tet4", "hex8"])
+@pytest.mark.parametrize("shape", ["box", "sheared", "distorted"])
+@pytest.mark.parametrize("material", MATERIALS[:2], ids=["concrete", "steel"])
+def test_solid_kernel_equals_scikit_fem_assembly(kind, shape, material):
+    """The 3D kernel (affine cells by the reference integrals, the others at scikit-fem's 64
+    points) gives K = ∫ (2μ ε:ε + λ tr ε tr ε) dV, the element means of the gradients (stress
+    operator) and the self-weight ρ g ∫ φ_i dV of scikit-fem's generic assembly to 1e-12
+    relative (max norm; measured below 1e-15); the affine cells are found: all tetrahedra,
+    every box and sheared hexahedron, no hexahedron with a moved inner node."""
+    body = _solid(kind, shape, material)
+    affine, _ = continuum.affine_elements(body.points, body.cells,
+                                          continuum.scalar_element(kind))
+    if kind == "tet4" or shape != "distorted":
+        assert affine.all()
+    else:  # each of these hexahedra has a moved inner node
+        assert not affine.any()
+    assert continuum.solid_kernel(body)
+    K = continuum.stiffness(body, "strain", 1.0)
+    kernel_means = continuum._MEAN_GRADIENTS.pop(body)
+    f = continuum.body_force(body, [0.3, -0.5, -9.81], 1.0)
+    lam, mu = continuum.plane_lame(material.E, material.nu, "strain")
+    ref = continuum._stiffness_generic(body, lam, mu, 1.0)
+    basis_means = continuum._MEAN_GRADIENTS[body]
+    assert K.shape == ref.shape == (3 * body.n_nodes, 3 * body.n_nodes)
+    assert _rel(K, ref) <= RTOL
+    Gk, Gb = kernel_means[2], basis_means[2]
+    assert np.abs(Gk - Gb).max() <= RTOL * np.abs(Gb).max()
+    assert np.array_equal(kernel_means[3], basis_means[3]) and kernel_means[4] == basis_means[4]
+    from skfem import LinearForm, asm
+
+    g = np.array([0.3, -0.5, -9.81])
+
+    @LinearForm
+    def weight(v, w):
+        return material.density * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2])
+
+    f_ref = asm(weight, continuum.basis_of(body))
+    assert np.abs(f - f_ref).max() <= RTOL * np.abs(f_ref).max()
+
+
+def test_solid_kernel_in_blocks_equals_one_block(monkeypatch):
+    """Blocks of 7 elements (mixed affine and general hexahedra) give the stiffness of one
+    block to 1e-15 relative: blocking only splits the same element computations."""
+    body = _solid("hex8", "distorted")
+    p = body.points.copy()
+    p[:, 0] *= 1.3  # keeps the affine cells affine (a scaling), the others general
+    body = Body.from_mesh("s", type(body.mesh)(p.T, body.mesh.t), "hex8", MATERIALS[0])
+    whole = continuum.solid_stiffness(body, 1e9, 2e9)
+    monkeypatch.setattr(continuum, "_BLOCK", 7)
+    assert np.abs(continuum.solid_stiffness(body, 1e9, 2e9) - whole).max() <= (
+        1e-15 * np.abs(whole).max())
+
+
+def test_model_3d_stiffness_and_loads_equal_the_generic_assembly(monkeypatch):
+    """A 3D model of two boxes (hex8 on tet4, different materials, node-to-node joint,
+    self-weight) assembles K and the self-weight vector equal to those of scikit-fem's
+    generic assembly (kernel switched off) to 1e-12 relative."""
+    from stepcontact.fem import assembly
+
+    base = sc.box("base", (0, 0, -1), (2, 2, 0), (4, 4, 2), MATERIALS[0], element="tet4")
+    blk = sc.box("blk", (0.5, 0.5, 0), (1.5, 1.5, 0.5), (2, 2, 1), MATERIALS[1])
+    m = sc.Model(bodies=[base, blk])
+    m = m.add(sc.Support("bed", m.select("base", boundary="bottom"), "xyz"),
+              sc.Interface("j", plus=m.select("blk", boundary="bottom"),
+                           minus=m.select("base", lambda x, y, z: (np.abs(z) < 1e-9)
+                                          & (x > 0.49) & (x < 1.51) & (y > 0.49) & (y < 1.51)),
+                           friction=0.5),
+              sc.LoadPattern("w", [sc.BodyForce()]), sc.Segment("w", 1.0))
+    system = assembly.assemble(m)
+    monkeypatch.setattr(continuum, "solid_kernel", lambda body: False)
+    ref = assembly.assemble(m)
+    assert _rel(system.K, ref.K) <= RTOL
+    f, f_ref = system.loads["w"].f, ref.loads["w"].f
+    assert np.abs(f - f_ref).max() <= RTOL * np.abs(f_ref).max()
+
+
+@pytest.mark.parametrize("kind", ["tet10", "hex27"])
+def test_quadratic_solids_keep_the_generic_assembly(kind):
+    """tet10 and hex27 bodies have no 3D kernel: scikit-fem assembles them (symmetric, a rigid
+    translation in the null space: K u = 0 to 1e-9 of ‖K‖ ‖u‖)."""
+    body = sc.box("q", (0, 0, 0), (1, 1, 1), (1, 1, 1), MATERIALS[0], element=kind)
+    assert not continuum.solid_kernel(body)
+    K = continuum.stiffness(body, "strain", 1.0)
+    assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
+    u = np.tile([0.0, 0.0, 1.0], body.n_nodes)
+    assert np.abs(K @ u).max() <= 1e-9 * abs(K).max()
+
+
+@pytest.mark.parametrize("kind", ["tri3", "tri6", "quad4", "quad9", "tet4", "tet10", "hex8",
+                                  "hex20", "hex27"])
+def test_body_arrays_equal_those_of_the_full_basis(kind):
+    """A body's node coordinates and element connectivity (read from a basis with one
+    quadrature point) equal, exactly, those of scikit-fem's basis with its full rule."""
+    from skfem import Basis, MeshHex, MeshQuad, MeshTet, MeshTri
+
+    from stepcontact.model.elements import body_arrays, scalar_element
+
+    axes = [np.linspace(0.0, 1.0, 3), np.linspace(0.0, 2.0, 4)]
+    mesh = {"tri": MeshTri, "qua": MeshQuad, "tet": MeshTet, "hex": MeshHex}[kind[:3]]
+    mesh = mesh.init_tensor(*(axes + [np.linspace(-1.0, 0.0, 3)] if kind[:3] in ("tet", "hex")
+                              else axes))
+    points, cells, _, _ = body_arrays("b", mesh, kind)
+    full = Basis(mesh, scalar_element(kind))
+    assert np.array_equal(points, full.doflocs.T)
+    assert np.array_equal(cells, full.element_dofs.T)

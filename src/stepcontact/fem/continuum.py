@@ -2,11 +2,13 @@
 
 Private: users go through :mod:`stepcontact.model` and :mod:`stepcontact.fem.assembly`.
 Everything is vectorised over the elements; nothing here loops over elements.  The stiffness
-and mass of the linear elements on straight-sided meshes (tri3, quad4: :func:`linear_kernel`;
-the kernels take tet4 and hex8 too, for 3D continua) are NumPy element kernels, all elements
-at once, with scikit-fem's own quadrature rule; the other elements go through scikit-fem's
-generic form assembly (:func:`_stiffness_generic`), which gives the same matrices to round-off
-but spends most of its time evaluating the form per pair of basis functions.
+and mass of the linear elements on straight-sided meshes (tri3, quad4: :func:`linear_kernel`)
+are NumPy element kernels, all elements at once, with scikit-fem's own quadrature rule; the
+stiffness, self-weight and mean gradients (stress operator) of tet4 and hex8 bodies likewise
+(:func:`solid_stiffness`: affine cells from reference integrals, the others at scikit-fem's
+points, in blocks of elements); the other elements go through scikit-fem's generic form
+assembly (:func:`_stiffness_generic`), which gives the same matrices to round-off but spends
+most of its time evaluating the form per pair of basis functions (about 3.7 ms per hex8).
 """
 
 from __future__ import annotations
@@ -66,10 +68,17 @@ def stiffness(body, plane: str, thickness: float) -> sparse.csr_matrix:
 def stiffness_triplets(body, plane: str, thickness: float):
     """COO triplets (rows, cols, values; body-local vector DOFs d·i + c) of the stiffness of
     a continuum body, N/m, duplicates not yet summed: the element matrices of
-    :func:`element_stiffness` for tri3 and quad4 on straight-sided meshes, else scikit-fem's
-    generic assembly (:func:`_stiffness_generic`; every 3D element)."""
+    :func:`element_stiffness` for tri3 and quad4 on straight-sided meshes, of
+    :func:`solid_stiffness` for tet4 and hex8 on linear geometries, else scikit-fem's
+    generic assembly (:func:`_stiffness_generic`: quadratic elements, curved geometries)."""
     plane, thickness = _plane_and_thickness(body, plane, thickness)
     lam, mu = plane_lame(body.material.E, body.material.nu, plane)
+    if solid_kernel(body):
+        Ke = solid_stiffness(body, lam, mu)
+        dofs = vector_dofs(body.cells, 3)
+        nd = dofs.shape[1]
+        return (np.broadcast_to(dofs[:, :, None], (len(dofs), nd, nd)),
+                np.broadcast_to(dofs[:, None, :], (len(dofs), nd, nd)), Ke)
     data = linear_kernel(body)
     if data is None:
         K = _stiffness_generic(body, lam, mu, thickness).tocoo()
@@ -155,12 +164,132 @@ def element_stiffness(grad: np.ndarray, dx: np.ndarray, lam: float, mu: float,
     nel, nq, nb, d = grad.shape
     Gf = grad.reshape(nel, nq, d * nb)  # column d·i + a: ∂_aφ_i
     T = np.matmul((Gf * dx[:, :, None]).transpose(0, 2, 1), Gf)  # Σ_q dx ∂_aφ_i ∂_bφ_j
-    T = T.reshape(nel, nb, d, nb, d)
+    return thickness * _hooke(T.reshape(nel, nb, d, nb, d), lam, mu)
+
+
+def _hooke(T: np.ndarray, lam: float, mu: float) -> np.ndarray:
+    """Element matrices (nel, d·nb, d·nb) of isotropic elasticity from the integrals
+    T[e, i, a, j, b] = ∫ ∂_aφ_i ∂_bφ_j (nel, nb, d, nb, d): λ T + μ Tᵀ⁽ᵃᵇ⁾ + μ δ_ab Σ_c T_cc
+    (:func:`element_stiffness`)."""
+    nel, nb, d = T.shape[:3]
     dot_ij = sum(T[:, :, a, :, a] for a in range(d))  # Σ_q dx ∇φ_i·∇φ_j
     K = lam * T + mu * T.transpose(0, 1, 4, 3, 2)
     for a in range(d):
         K[:, :, a, :, a] += mu * dot_ij
-    return thickness * K.reshape(nel, d * nb, d * nb)
+    return K.reshape(nel, d * nb, d * nb)
+
+
+#: the 3D elements of the NumPy kernels (:func:`solid_stiffness`), on scikit-fem's linear
+#: MeshTet and MeshHex (not on the quadratic geometries MeshTet2, MeshHex2)
+SOLID_KERNELS = ("tet4", "hex8")
+#: elements per block of the 3D kernels: bounds their work arrays (about 40 MB per block of
+#: affine hexahedra, 230 MB of general ones with scikit-fem's 64 points)
+_BLOCK = 4096
+
+
+def solid_kernel(body) -> bool:
+    """Whether the 3D kernels take the body: a tet4 or hex8 body on a linear geometry."""
+    return body.element in SOLID_KERNELS and not type(body.mesh).__name__.endswith("2")
+
+
+def _reference(elem):
+    """scikit-fem's quadrature of ``elem`` (order 2·maxdeg, as its Basis) and the reference
+    functions there: X (d, nq), W (nq,), φ̂ (nq, nb), ∇̂φ̂ (nb, d, nq)."""
+    X, W = get_quadrature(elem.refdom, 2 * elem.maxdeg)
+    ref = [elem.lbasis(X, i) for i in range(elem.doflocs.shape[0])]
+    phi = np.stack([np.broadcast_to(v, X.shape[1:]) for v, _ in ref], axis=1)
+    dref = np.stack([np.broadcast_to(g, X.shape) for _, g in ref], axis=0)
+    return X, W, phi, dref
+
+
+def affine_elements(points: np.ndarray, cells: np.ndarray, elem) -> tuple[np.ndarray,
+                                                                          np.ndarray]:
+    """Which elements map the reference element affinely, and their Jacobians there.
+
+    The map x(X) = Σ_i x_i φ̂_i(X) of a tetrahedron is affine; that of a hexahedron
+    (trilinear) is where its coefficients of XY, YZ, XZ and XYZ (from the nodes by the
+    inverse Vandermonde matrix of the reference nodes) vanish to round-off of the coordinates
+    (≤ 64 ε max |x_i| per element, m): parallelepipeds, every cell of box() and of an
+    extruded quadrilateral mesh of parallelograms.  Returns ``affine`` (nel,) bool and
+    J (nel, d, d) = ∂x_a/∂X_b at the reference centroid, the constant Jacobian of the affine
+    elements.  ``points`` (n, d) m, ``cells`` (nel, nb) in the element's local node order."""
+    xe = np.asarray(points, dtype=float)[np.asarray(cells)]  # (nel, nb, d)
+    loc = np.asarray(elem.doflocs, dtype=float)  # (nb, d) reference nodes
+    c = loc.mean(axis=0)[:, None]
+    dref = np.stack([np.broadcast_to(elem.lbasis(c, i)[1], c.shape)[:, 0]
+                     for i in range(len(loc))])  # (nb, d)
+    J = np.einsum("eia,ib->eab", xe, dref)
+    if len(loc) == loc.shape[1] + 1:  # a simplex: affine
+        return np.ones(len(xe), dtype=bool), J
+    X, Y, Z = loc.T
+    V = np.column_stack([np.ones(len(loc)), X, Y, Z, X * Y, Y * Z, X * Z, X * Y * Z])
+    coef = np.einsum("ki,eia->eka", np.linalg.inv(V)[4:], xe)  # the non-affine terms
+    size = np.abs(xe).max(axis=(1, 2))
+    return np.abs(coef).max(axis=(1, 2)) <= 64 * np.finfo(float).eps * size, J
+
+
+def _blocks(idx: np.ndarray):
+    """``idx`` in blocks of at most :data:`_BLOCK` elements."""
+    for k in range(0, len(idx), _BLOCK):
+        yield idx[k:k + _BLOCK]
+
+
+def solid_stiffness(body, lam: float, mu: float) -> np.ndarray:
+    """Element stiffness matrices (nel, 3·nb, 3·nb), N/m, of a tet4 or hex8 body
+    (:func:`solid_kernel`), all elements in blocks of :data:`_BLOCK`; the matrix of
+    ∫ (2μ ε(u):ε(v) + λ tr ε(u) tr ε(v)) dV of :func:`element_stiffness`, with local DOF
+    3·i + a.  Also caches the element means of the gradients for the stress operator.
+
+    Affine elements (:func:`affine_elements`: every tetrahedron, parallelepipeds) have a
+    constant Jacobian J, so with A = J⁻ᵀ (∇φ_i = A ∇̂φ̂_i) and the reference integrals
+    R[i, k, j, l] = Σ_q W_q ∂̂_kφ̂_i ∂̂_lφ̂_j (scikit-fem's rule: exact for these
+    polynomials)
+
+        ∫ ∂_aφ_i ∂_bφ_j dV = |det J| Σ_kl A_ak A_bl R[i, k, j, l],
+
+    about 15 kflop per element instead of a sum over the 64 quadrature points of a hexahedron;
+    the others are integrated at scikit-fem's points (:func:`isoparametric_data`).  Equal to
+    scikit-fem's form assembly to round-off (tests/test_element_kernels.py, 1e-12)."""
+    elem = scalar_element(body.element)
+    _, W, _, dref = _reference(elem)
+    cells = np.asarray(body.cells)
+    points = np.asarray(body.points, dtype=float)
+    nel, nb = cells.shape
+    affine, J = affine_elements(points, cells, elem)
+    Ke = np.empty((nel, 3 * nb, 3 * nb))
+    Gs = np.empty((nb, 3, nel))  # element means of ∇φ_j, 1/m (see _mean_gradients)
+    R = np.einsum("ikq,jlq,q->kijl", dref, dref, W).reshape(3, -1)
+    gbar = dref @ W / W.sum()  # (nb, 3): reference means of ∇̂φ̂_j
+    for blk in _blocks(np.flatnonzero(affine)):
+        Jb = J[blk]
+        A = np.linalg.inv(Jb).transpose(0, 2, 1)  # J⁻ᵀ
+        Y = (A.reshape(-1, 3) @ R).reshape(len(blk), 3, nb * nb, 3)  # Σ_k A_ak R[i,k,j,l]
+        T = np.einsum("eanl,ebl->enab", Y, A).reshape(len(blk), nb, nb, 3, 3)
+        T *= np.abs(np.linalg.det(Jb))[:, None, None, None, None]
+        Ke[blk] = _hooke(T.transpose(0, 1, 3, 2, 4), lam, mu)
+        Gs[:, :, blk] = np.einsum("eak,jk->jae", A, gbar)
+    for blk in _blocks(np.flatnonzero(~affine)):
+        grad, _, dx = isoparametric_data(points, cells[blk], elem)
+        Ke[blk] = element_stiffness(grad, dx, lam, mu)
+        Gs[:, :, blk] = np.einsum("eqjd,eq->jde", grad, dx / dx.sum(axis=1, keepdims=True))
+    out = (Gs, np.ascontiguousarray(vector_dofs(cells, 3).T), 3 * body.n_nodes)
+    _MEAN_GRADIENTS[body] = (body.mesh, body.element, *out)
+    return Ke
+
+
+def solid_shape_integrals(body) -> np.ndarray:
+    """∫ φ_i dV (nel, nb), m³, of every element of a tet4 or hex8 body (:func:`solid_kernel`):
+    |det J| Σ_q W_q φ̂_i(X_q) on the affine elements, scikit-fem's points on the others."""
+    elem = scalar_element(body.element)
+    _, W, phi, _ = _reference(elem)
+    cells = np.asarray(body.cells)
+    affine, J = affine_elements(body.points, cells, elem)
+    out = np.empty(cells.shape)
+    out[affine] = np.abs(np.linalg.det(J[affine]))[:, None] * (W @ phi)[None, :]
+    for blk in _blocks(np.flatnonzero(~affine)):
+        _, _, dx = isoparametric_data(body.points, cells[blk], elem)
+        out[blk] = dx @ phi
+    return out
 
 
 def vector_dofs(cells: np.ndarray, dim: int = 2) -> np.ndarray:
@@ -186,6 +315,11 @@ def body_force(body, g, thickness: float) -> np.ndarray:
     gv = np.asarray(g, dtype=float)
     if gv.shape != (body.dim,):
         raise ValueError(f"body '{body.name}': g {tuple(gv)} for a {body.dim}D body")
+
+    if solid_kernel(body):  # ρ g_c ∫ φ_i dV on DOF 3i + c, all elements at once
+        nodal = np.bincount(np.asarray(body.cells).ravel(), solid_shape_integrals(body).ravel(),
+                            minlength=body.n_nodes)
+        return (rho * nodal[:, None] * gv[None, :]).ravel()
 
     @LinearForm
     def form(v, w):

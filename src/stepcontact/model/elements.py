@@ -69,7 +69,10 @@ def body_arrays(name: str, mesh, kind: str):
     if not used.all():
         raise ModelError(f"{item} node {int(np.flatnonzero(~used)[0])}", "belongs to no element")
     _check_jacobians(item, mesh)
-    b = Basis(mesh, scalar_element(kind))
+    elem = scalar_element(kind)
+    # only the DOF numbers and locations are read: one quadrature point (the reference
+    # centroid) instead of the element's full rule (64 points on a hex8, 343 on a hex27)
+    b = Basis(mesh, elem, quadrature=(elem.doflocs.mean(axis=0)[:, None], np.ones(1)))
     points = np.ascontiguousarray(b.doflocs.T)
     cells = np.ascontiguousarray(b.element_dofs.T)
     facets = mesh.boundary_facets()
