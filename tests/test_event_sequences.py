@@ -121,15 +121,29 @@ def event_points(events: list) -> list[tuple[int, int]]:
     return bounds
 
 
-def compare(name: str, ref: dict, res, floor: float = REL) -> None:
+def _drop_last_turns(events: list) -> list:
+    """``events`` without the "turned" events of their last event point."""
+    if not events:
+        return events
+    last = events[-1][5]
+    return [e for e in events if not (e[5] == last and e[2] == "turned")]
+
+
+def compare(name: str, ref: dict, res, floor: float = REL, last_turns: bool = True) -> None:
     """The result's status and events against the recorded ones: the same events at every
-    event point, λ to ``floor`` relative (or 100× the run's residual, if larger)."""
+    event point, λ to ``floor`` relative (or 100× the run's residual, if larger).
+    ``last_turns=False``: the faceted cone's "turned" events at the last event point of a run
+    that loses equilibrium there are not compared (the facets of slipping CFEs at the
+    mechanism's point, where the scheme is singular: which of them turn before the body
+    slides is round-off's choice); every other event, its λ and the status still are."""
     assert res.status.value == ref["status"], f"{name}: status ({res.message})"
     if name in CHANGED:
         print(f"{name}: events not compared: {CHANGED[name]}")
         return
     got = record(res)["events"]
     want = ref["events"]
+    if not last_turns and ref["status"] == "equilibrium_lost":
+        got, want = _drop_last_turns(got), _drop_last_turns(want)
     rel = max(floor, ROUNDOFF * float(np.max(res.residual, initial=0.0)))
     assert len(got) == len(want), f"{name}: number of events"
     for start, stop in event_points(want):

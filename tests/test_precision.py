@@ -129,7 +129,10 @@ def test_refined_float32_rates_equal_float64(model):
 #: turn between the faceted cone's facets there, on a scheme that is nearly singular, so the
 #: float32 scheme's refinement locates them to about cond × 6e-8 of the operator's scale
 #: (measured 2.5e-11 relative) — λ to 1e-9 relative; the order and the states of every event
-#: must still be the recorded ones
+#: must still be the recorded ones, except the facet turns at the mechanism's point itself
+#: (which slipping CFEs turn before the body slides is round-off's choice there: a relative
+#: perturbation of 3e-16 of K's entries adds these four turns on the code before the 3D
+#: stiffness kernels, which changed K's round-off)
 NEAR_MECHANISM = {"dam_monolith_3d#0": 1e-9}
 _FLOAT32_RUNS: dict[str, list[dict]] = {}
 
@@ -168,7 +171,8 @@ def test_examples_in_float32_reproduce_recorded_sequences(stem, index, tmp_path_
     calls = _float32_calls(stem, tmp_path_factory)
     res = calls[index]["result"]
     name = f"{stem}#{index}"
-    seq.compare(name, seq.REFERENCE[name], res, floor=NEAR_MECHANISM.get(name, seq.REL))
+    seq.compare(name, seq.REFERENCE[name], res, floor=NEAR_MECHANISM.get(name, seq.REL),
+                last_turns=name not in NEAR_MECHANISM)
     if "condensation" not in calls[index]["kwargs"]:
         assert res.counters["precision_bits"] == 32
 
