@@ -94,6 +94,14 @@ class Relations:
         return Relations(lay, S, np.zeros_like(S))
 
     @staticmethod
+    def blank(layout: int | ContactLayout) -> Relations:
+        """Relations of the layout with blocks not yet written (uninitialised: for a law that
+        writes every block, :meth:`CoulombLaw.relations`)."""
+        lay = _layout(layout)
+        return Relations(lay, np.empty((lay.m, lay.n_c, lay.n_c)),
+                         np.empty((lay.m, lay.n_c, lay.n_c)))
+
+    @staticmethod
     def from_kinds(kind, stiff, couple, layout: int | ContactLayout | None = None
                    ) -> Relations:
         """The blocks of 2D relations given per component (vectors (2m,) in the layout's order):
@@ -349,6 +357,9 @@ class CoulombLaw:
     """
 
     n_columns = 4
+    #: :meth:`relations` writes every entry of the blocks of the CFEs it is given (those of a
+    #: :meth:`Relations.blank` need no clearing first)
+    writes_every_block = True
     #: the event-function columns: 0 a force, 1 a gap (their tolerances and rate scales)
     column_kinds = np.array([0, 0, 0, 1])
     column_names = ("p", "slip+", "slip-", "gap")

@@ -59,6 +59,7 @@ class Recorder:
         self.events: list = []
         self.multipliers: list = []
         self.nonunique: list[dict] = []
+        self._columns = tuple((k, getattr(self, k)) for k in self.COLUMNS)
 
     def __len__(self) -> int:
         return self.lam.n
@@ -66,8 +67,8 @@ class Recorder:
     def append(self, **row) -> int:
         i = self.lam.n
         row.setdefault("stage", 0)
-        for k in self.COLUMNS:
-            getattr(self, k).append(row[k])
+        for k, col in self._columns:
+            col.append(row[k])
         return i
 
     def arrays(self) -> dict[str, np.ndarray]:

@@ -126,6 +126,8 @@ class EventEngine:
         #: with their scheme solutions y and products G y, ``(s', w', y, G y)``
         self._track: tuple | None = None
         self._pairs: list[tuple] = []
+        #: max |s'|, max |w'| of the last rates asked (:meth:`_rate_scales`)
+        self._scales_of: tuple = (None, None, 0.0, 0.0)
 
     # ---- the laws and their CFEs ------------------------------------------------------------
     @property
@@ -165,8 +167,21 @@ class EventEngine:
         self.F_scale = max(self.F_scale, _absmax(self.s))
         self.W_scale = max(self.W_scale, _absmax(self.w))
         if ds is not None:
-            self.F_scale = max(self.F_scale, _absmax(ds) * span)
-            self.W_scale = max(self.W_scale, _absmax(dw) * span)
+            a, b = self._rate_scales(ds, dw)
+            self.F_scale = max(self.F_scale, a * span)
+            self.W_scale = max(self.W_scale, b * span)
+
+    def _rate_scales(self, ds, dw) -> tuple[float, float]:
+        """(max |s'|, max |w'|) of rates (s', w'), kept for the last pair asked: a point asks
+        for those of the same rates in the consistency check, the scales and the next event
+        (rates are never changed in place once formed: the engine tells them by identity,
+        :meth:`_follow`)."""
+        a, b, fa, fb = self._scales_of
+        if a is ds and b is dw:
+            return fa, fb
+        fa, fb = _absmax(ds), _absmax(dw)
+        self._scales_of = (ds, dw, fa, fb)
+        return fa, fb
 
     def tolerances(self) -> tuple[float, float]:
         """Absolute limit tolerances (forces, displacements)."""
@@ -191,9 +206,15 @@ class EventEngine:
         rel = self._relations.get(key)
         if rel is not None:
             return rel
-        rel = Relations.empty(self.layout)
-        for law in self.laws:
-            law.relations(states[law.cfes], rel, self.layout, art)
+        views = self._views_now()
+        if (len(views) == 1 and type(views[0][1]) is slice
+                and getattr(views[0][0], "writes_every_block", False)):  # no blocks to clear
+            rel = Relations.blank(self.layout)
+            views[0][0].relations(states, rel, self.layout, art)
+        else:
+            rel = Relations.empty(self.layout)
+            for law in self.laws:
+                law.relations(states[law.cfes], rel, self.layout, art)
         self._relations[key] = rel
         if len(self._relations) > 8:
             del self._relations[next(iter(self._relations))]
@@ -470,8 +491,9 @@ class EventEngine:
         un = lay.normal(self.w)
         dQ, dp = lay.split(ds)
         dun = lay.normal(dw)
-        fs = 1e3 * self.rtol * max(_absmax(ds), 1e-300)
-        gs = 1e3 * self.rtol * max(_absmax(dw), 1e-300)
+        a, b = self._rate_scales(ds, dw)
+        fs = 1e3 * self.rtol * max(a, 1e-300)
+        gs = 1e3 * self.rtol * max(b, 1e-300)
         states = self.states
         all_steps = []
         dmu_ev = _INF
@@ -600,8 +622,9 @@ class EventEngine:
         lay = self.layout
         dQ, dp = lay.split(ds)
         dut, dun = lay.split(dw)
-        rf = 1e3 * self.rtol * max(_absmax(ds), 1e-300)
-        rw = 1e3 * self.rtol * max(_absmax(dw), 1e-300)
+        a, b = self._rate_scales(ds, dw)
+        rf = 1e3 * self.rtol * max(a, 1e-300)
+        rw = 1e3 * self.rtol * max(b, 1e-300)
         tf, _ = self.tolerances()
         views = self._views_now()
         if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
@@ -641,11 +664,16 @@ class EventEngine:
         article's slip treatment: the corrected tangential forces of eq. (4), applied as the
         compensating forces of eq. (6))."""
         lay = self.layout
-        r = lay.zeros()
-        rQ, rp = lay.split(r)
-        for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
-            rQ[c], rp[c] = law.snap(self.states[c], Q, p, un)
-        if not np.any(np.abs(r) > 0):
+        views = self._views_now()
+        if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
+            Q, p = lay.split(self.s)
+            r = lay.join(*views[0][0].snap(self.states, Q, p, lay.normal(self.w)))
+        else:
+            r = lay.zeros()
+            rQ, rp = lay.split(r)
+            for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
+                rQ[c], rp[c] = law.snap(self.states[c], Q, p, un)
+        if not np.count_nonzero(np.abs(r) > 0):
             return
         if self._snap_roundoff(r):
             self.counters["corrections"] += 1

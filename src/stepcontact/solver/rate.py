@@ -37,7 +37,7 @@ import numpy as np
 
 from stepcontact.contact.laws import OPEN, OPENING, RateVariables
 from stepcontact.enums import Status, slipping
-from stepcontact.solver.lcp import enumerate_solutions, lemke, principal_pivoting
+from stepcontact.solver.lcp import BasisGroups, enumerate_solutions, lemke, principal_pivoting
 from stepcontact.solver.schemes import MechanismError
 
 #: rate problems with at most this many CFEs (and 3 variables each) are checked for other
@@ -409,10 +409,11 @@ def _frictional(eng, L) -> bool:
     return any(bool(law.frictional[np.isin(law.cfes, L)].any()) for law in eng.laws)
 
 
-def _bases(eng, var: RateVariables) -> np.ndarray | None:
+def _bases(eng, var: RateVariables) -> BasisGroups | None:
     """Complementary bases that stand for distinct CFE states (each law's
     :meth:`~stepcontact.contact.laws.ContactLaw.basis_options`: in 2D per CFE none (stick),
-    slip+, slip−, opening alone, or opening with a slip rate)."""
+    slip+, slip−, opening alone, or opening with a slip rate), grouped for
+    :func:`~stepcontact.solver.lcp.enumerate_solutions`; None when there are too many."""
     cfes, group = np.unique(var.cfe, return_inverse=True)
     if len(cfes) > ENUMERATE_CFES:
         return None
@@ -436,16 +437,15 @@ def _bases(eng, var: RateVariables) -> np.ndarray | None:
             b = np.zeros(len(var.cfe), bool)
             b[[i for part in combo for i in part]] = True
             rows.append(b)
-        out = np.array(rows)
-        out.setflags(write=False)
+        out = BasisGroups(np.array(rows))
     cache[key] = out
     if len(cache) > 64:
         del cache[next(iter(cache))]
     return out
 
 
-def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:
-    bases = _bases(eng, var)
+def _enumerate(eng, L, base, var, M, q, bases=None) -> list[np.ndarray]:
+    bases = _bases(eng, var) if bases is None else bases
     if bases is None:
         return []
     return enumerate_solutions(M, q, bases)
@@ -454,7 +454,8 @@ def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:
 def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list[np.ndarray]:
     """Other admissible schemes of a small rate problem with several solutions (none when M is
     positive definite: a P-matrix has exactly one)."""
-    if _bases(eng, var) is None:  # too many CFEs to enumerate: nothing to report
+    bases = _bases(eng, var)
+    if bases is None:  # too many CFEs to enumerate: nothing to report
         return []
     sym = 0.5 * (M + M.T)
     try:
@@ -462,7 +463,7 @@ def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list
             return []
     except np.linalg.LinAlgError:
         pass
-    sols = _enumerate(eng, L, base, var, M, q)
+    sols = _enumerate(eng, L, base, var, M, q, bases)
     if len(sols) < 2:
         return []
     scale = max(np.abs(chosen.ds).max(initial=0), 1e-300)
