@@ -589,7 +589,8 @@ class EventEngine:
                                           tf, tw)
             guess = law.fire(states, col, Q)
             normal, two = law.limits(states, Q, p, un, tf, tw)
-            return np.flatnonzero(at | slipping(states)), guess, normal, two
+            slip = law.slip_mask(states) if hasattr(law, "slip_mask") else slipping(states)
+            return (at | slip).nonzero()[0], guess, normal, two
         at = fired.copy()
         col = np.full(self.m, -1)
         guess = states.copy()
@@ -610,12 +611,11 @@ class EventEngine:
         """The CFEs of ``law`` at a limit (a function within its tolerance, or ``fired``) and,
         for those, the column nearest its limit relative to the tolerance (−1 elsewhere)."""
         tol = np.where(gap, tw, tf)
-        at = fired | (phi <= tol).any(axis=1)
+        at = fired | _ANY(phi <= tol, axis=1)
         if not np.count_nonzero(at):
             return at, np.full(len(at), -1)
-        rel = np.full(phi.shape, _INF)
-        np.divide(phi, tol, out=rel, where=np.isfinite(phi))
-        return at, np.where(at, rel.argmin(axis=1), -1)
+        # (φ / tol: +inf stays +inf where a function does not apply, the tolerances are > 0)
+        return at, np.where(at, np.divide(phi, tol).argmin(axis=1), -1)
 
     def consistent(self, trial, L, ds, dw, normal, two) -> np.ndarray:
         """States the rates (ds, dw) of scheme ``trial`` point to, for the CFEs in L."""
@@ -710,28 +710,34 @@ class EventEngine:
         m, nc = lay.m, lay.n_c
         rel = self.relations(self.states)
         S, Wr = rel.S, rel.W
-        j = np.arange(nc)
-        own = S[:, j, j] != 0  # (m, nc): the row's chosen unknown is its force
-        rk = r.reshape(nc, m).T
+        own = S.diagonal(axis1=1, axis2=2) != 0  # (m, nc): the row's chosen unknown is its force
         F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
+        if nc == 2:  # (in the layout's row order (component, CFE): no transposes)
+            own_r, r_r = own.T, r.reshape(nc, m)
+            if np.count_nonzero(np.abs(r_r) > SNAP_ROUNDOFF * np.where(own_r, F, W)):
+                return False
+            M = np.where(own[:, None, :], S, Wr)  # M[k, i, c]
+            a, b, c, d = M[:, 0, 0], M[:, 0, 1], M[:, 1, 0], M[:, 1, 1]
+            det = a * d - b * c
+            size = _MAXIMUM(np.abs(M).reshape(m, 4), axis=1)
+            if np.count_nonzero(~(np.abs(det) > 1e-12 * size * size)):
+                return False
+            x = np.empty((2, m))
+            np.divide(d * r_r[0] - b * r_r[1], det, out=x[0])
+            np.divide(a * r_r[1] - c * r_r[0], det, out=x[1])
+            self.s += np.where(own_r, x, 0.0).ravel()
+            self.w += np.where(own_r, 0.0, x).ravel()
+            return True
+        rk = r.reshape(nc, m).T
         if np.any(np.abs(rk) > SNAP_ROUNDOFF * np.where(own, F, W)):
             return False
         M = np.where(own[:, None, :], S, Wr)  # M[k, i, c]
-        if nc == 2:
-            det = M[:, 0, 0] * M[:, 1, 1] - M[:, 0, 1] * M[:, 1, 0]
-            size = np.abs(M).max(axis=(1, 2))
-            if np.any(~(np.abs(det) > 1e-12 * size * size)):
-                return False
-            x0 = (M[:, 1, 1] * rk[:, 0] - M[:, 0, 1] * rk[:, 1]) / det
-            x1 = (M[:, 0, 0] * rk[:, 1] - M[:, 1, 0] * rk[:, 0]) / det
-            x = np.stack([x0, x1], axis=1)
-        else:
-            try:
-                x = np.linalg.solve(M, rk[:, :, None])[:, :, 0]
-            except np.linalg.LinAlgError:
-                return False
-            if not np.all(np.isfinite(x)):
-                return False
+        try:
+            x = np.linalg.solve(M, rk[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:
+            return False
+        if not np.all(np.isfinite(x)):
+            return False
         self.s += np.where(own, x, 0.0).T.ravel()
         self.w += np.where(own, 0.0, x).T.ravel()
         return True
@@ -739,6 +745,11 @@ class EventEngine:
     def violation(self) -> float:
         """Largest relative violation of every law's conditions at the current state."""
         F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
+        views = self._views_now()
+        if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
+            lay = self.layout
+            Q, p = lay.split(self.s)
+            return views[0][0].violation(self.states, Q, p, lay.normal(self.w), F, W)
         return max((law.violation(self.states[c], Q, p, un, F, W)
                     for law, c, Q, p, _ut, un in self._parts(self.s, self.w)), default=0.0)
 
@@ -750,6 +761,7 @@ def _absmax(x) -> float:
 
 
 _MAXIMUM = np.maximum.reduce
+_ANY = np.logical_or.reduce
 
 
 def _poly_steps(phi: np.ndarray, coef: np.ndarray, rate_tol: np.ndarray, R: float) -> np.ndarray:

@@ -198,7 +198,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         exc.states = base
         raise
     eng.counters["rate_solves"] += 1 + nv
-    S0 = np.c_[ds0, dS]
+    S0 = np.concatenate([ds0[:, None], dS], axis=1)
     Wm = var.comp[:, :1] * S0[rows[:, 0]]
     for c in range(1, lay.n_c):
         Wm = Wm + var.comp[:, c:c + 1] * S0[rows[:, c]]
@@ -414,10 +414,18 @@ def _bases(eng, var: RateVariables) -> BasisGroups | None:
     :meth:`~stepcontact.contact.laws.ContactLaw.basis_options`: in 2D per CFE none (stick),
     slip+, slip−, opening alone, or opening with a slip rate), grouped for
     :func:`~stepcontact.solver.lcp.enumerate_solutions`; None when there are too many."""
-    cfes, group = np.unique(var.cfe, return_inverse=True)
+    one = _one_law(eng)
+    c = var.cfe
+    if one is not None and len(c):  # (then the variables come by ascending CFE)
+        first = np.empty(len(c), bool)
+        first[0] = True
+        np.not_equal(c[1:], c[:-1], out=first[1:])
+        cfes, group = c[first], np.cumsum(first) - 1
+    else:
+        cfes, group = np.unique(c, return_inverse=True)
     if len(cfes) > ENUMERATE_CFES:
         return None
-    laws = [_law_of(eng, k) for k in cfes]
+    laws = [one] * len(cfes) if one is not None else [_law_of(eng, k) for k in cfes]
     # the bases depend only on which variables share a CFE, their kinds and facets and the
     # CFEs' laws: kept (read-only) for the next point with the same pattern
     key = (group.tobytes(), var.kind.tobytes(), var.facet.tobytes(), tuple(laws))
