@@ -285,8 +285,8 @@ class EventEngine:
         tr = self._track
         if tr is not None and tr[0] is self.schemes and tr[3] < TRACK_REFRESH:
             _, tt, gt, k = tr
-            bound = self.schemes.g_norm() * float(np.abs(t - tt).max(initial=0.0))
-            if bound <= TRACK_TOL * float(np.abs(gt).max(initial=0.0)):
+            bound = self.schemes.g_norm() * _absmax(t - tt)
+            if bound <= TRACK_TOL * _absmax(gt):
                 self._track = (tr[0], tt, gt, k + 1)
                 return gt.copy(), bound
         gt = np.asarray(full(t), float)

@@ -173,6 +173,8 @@ class StaticSolver:
         self.ghost = self.layout.zeros()
         #: whether broken bonds ever transmitted ghost forces (else s is all the CFEs carry)
         self._ghosts = False
+        #: recorded states whose reactions are formed later (:meth:`_flush_reactions`)
+        self._reactions_due: list[int] = []
         #: the results of the dynamic intervals of stages before the last, by stage name
         self.dynamics: dict = {}
         self._releasing = False
@@ -190,6 +192,7 @@ class StaticSolver:
         and the factors are kept."""
         from stepcontact.fem.assembly import LoadVectors
 
+        self._flush_reactions()  # (with the condensation of the stage they belong to)
         plan, eng, m, cfe, lay = self.plan, self.engine, self.cfe.m, self.cfe, self.layout
         old_k, old = self.stage, self.cond.system
         st = self._s_total(eng.s, self.sw) + self.ghost
@@ -334,6 +337,7 @@ class StaticSolver:
             self.c[pname] = c.get(pname, 0.0)
         self.c[pattern] = 1.0
         self.sys = plan.system(k)
+        self._flush_reactions()
         self.cond = Condensed.from_system(self.sys, self.backend, self.cond.condensation,
                                           self.precision)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
@@ -677,12 +681,18 @@ class StaticSolver:
                 product=lambda t: eng.tracked_product(t, self.cond.product))
             kin = 0.0
         viol = max(kin, eng.violation())
+        # the reactions (linear in the recorded s, w, factors) of a state whose s is all the
+        # CFEs transmit are formed later, all at once (:meth:`_flush_reactions`)
+        later = st is eng.s
         i = self.rec.append(
             lam=lam, segment=seg, kind=kind, factors=[self.c[n] for n in self.c], s=eng.s,
             w=eng.w, state=eng.states, residual=res, violation=viol,
-            reactions=self.cond.reactions(self.c, st, eng.w), water=self.sw, stage=self.stage,
+            reactions=0.0 if later else self.cond.reactions(self.c, st, eng.w),
+            water=self.sw, stage=self.stage,
             pressure=(0.0 if self.crack is None else
                       self.crack.pressure(eng.states, self.c, self.sw)))
+        if later:
+            self._reactions_due.append(i)
         if store:
             self._keep_field(i, u, same is not None)
             self._stored = (i, self.stage, self.cond, res, kin)
@@ -692,6 +702,21 @@ class StaticSolver:
                             f"λ = {lam:.10g} (segment {seg}); the run stops here")
             self._store_field(i)  # the run stops here: its field and the full check
         return i
+
+    def _flush_reactions(self) -> None:
+        """Form the reactions of the recorded states that wait for them (their s is all the
+        CFEs transmitted), with the current stage's condensation, in one stacked product
+        (:meth:`Condensed.reactions`); called before the condensation changes and before a
+        result is taken."""
+        due = self._reactions_due
+        if not due:
+            return
+        r = self.rec
+        idx = np.array(due)
+        F = r.factors.view[idx]
+        factors = {name: F[:, j] for j, name in enumerate(self.c)}
+        r.reactions.view[idx] = self.cond.reactions(factors, r.s.view[idx], r.w.view[idx])
+        due.clear()
 
     def _keep_field(self, i: int, u: np.ndarray, again: bool = False) -> None:
         """Keep the field u of recorded state ``i`` and its stresses (``again``: those of the
@@ -1115,6 +1140,7 @@ class StaticSolver:
         return self._load_moments
 
     def result(self, elapsed: float, partial: bool = False) -> StaticResult:
+        self._flush_reactions()
         if not partial:  # the last state of the run (where it ended or stopped) has its field
             self._store_field(len(self.rec) - 1)
         r, cfe = self.rec, self.cfe
