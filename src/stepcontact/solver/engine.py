@@ -126,6 +126,7 @@ class EventEngine:
         #: with their scheme solutions y and products G y, ``(s', w', y, G y)``
         self._track: tuple | None = None
         self._pairs: list[tuple] = []
+        self._views_sw: tuple | None = None
         #: max |s'|, max |w'| of the last rates asked (:meth:`_rate_scales`)
         self._scales_of: tuple = (None, None, 0.0, 0.0)
 
@@ -188,6 +189,17 @@ class EventEngine:
         return LIMIT_TOL * self.rtol * self.F_scale, LIMIT_TOL * self.rtol * self.W_scale
 
     # ---- per-law views ----------------------------------------------------------------------
+    def _state_views(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(Q, p, u_n): views of the state's s and w, kept while s and w are the same arrays
+        (the engine moves them in place)."""
+        v = self._views_sw
+        if v is not None and v[0] is self.s and v[1] is self.w:
+            return v[2]
+        Q, p = self.layout.split(self.s)
+        out = (Q, p, self.layout.normal(self.w))
+        self._views_sw = (self.s, self.w, out)
+        return out
+
     def _parts(self, s, w):
         lay = self.layout
         Q, p = lay.split(s)
@@ -487,8 +499,7 @@ class EventEngine:
         and its rate is below −1e3 rtol of the rates' scale (forces or gaps): the step to its
         root is max(φ, 0) / (−φ')."""
         lay = self.layout
-        Q, p = lay.split(self.s)
-        un = lay.normal(self.w)
+        Q, p, un = self._state_views()
         dQ, dp = lay.split(ds)
         dun = lay.normal(dw)
         a, b = self._rate_scales(ds, dw)
@@ -582,9 +593,7 @@ class EventEngine:
         views = self._views_now()
         if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
             law, _, gap = views[0]
-            lay = self.layout
-            Q, p = lay.split(self.s)
-            un = lay.normal(self.w)
+            Q, p, un = self._state_views()
             at, col = self._limit_columns(law, gap, law.event_values(states, Q, p, un), fired,
                                           tf, tw)
             guess = law.fire(states, col, Q)
@@ -628,7 +637,7 @@ class EventEngine:
         tf, _ = self.tolerances()
         views = self._views_now()
         if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
-            Q, p = lay.split(self.s)
+            Q, p, _ = self._state_views()
             return views[0][0].consistent(trial, Q, dQ, dp, dun, dut, normal, two, rf, rw,
                                           p=p, tf=tf)[L]
         out = trial.copy()
@@ -666,8 +675,8 @@ class EventEngine:
         lay = self.layout
         views = self._views_now()
         if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
-            Q, p = lay.split(self.s)
-            r = lay.join(*views[0][0].snap(self.states, Q, p, lay.normal(self.w)))
+            Q, p, un = self._state_views()
+            r = lay.join(*views[0][0].snap(self.states, Q, p, un))
         else:
             r = lay.zeros()
             rQ, rp = lay.split(r)
@@ -747,9 +756,8 @@ class EventEngine:
         F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
         views = self._views_now()
         if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
-            lay = self.layout
-            Q, p = lay.split(self.s)
-            return views[0][0].violation(self.states, Q, p, lay.normal(self.w), F, W)
+            Q, p, un = self._state_views()
+            return views[0][0].violation(self.states, Q, p, un, F, W)
         return max((law.violation(self.states[c], Q, p, un, F, W)
                     for law, c, Q, p, _ut, un in self._parts(self.s, self.w)), default=0.0)
 

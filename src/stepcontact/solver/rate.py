@@ -297,7 +297,10 @@ def _lemke_fallback(eng, M, q, start, failed):
 def _slipping_only(eng, L: np.ndarray, normal_lim, two_sided) -> bool:
     """Are all CFEs of L slipping and none at a normal or two-sided limit?  (Then a consistent
     current scheme is the only one: a slip that goes on is not a degenerate point.)"""
-    return bool(np.all(slipping(eng.states[L])) and not np.any(normal_lim[L] | two_sided[L]))
+    one = _one_law(eng)
+    sl = (one.slip_mask(eng.states) if hasattr(one, "slip_mask") else slipping(eng.states))[L]
+    return bool(np.count_nonzero(sl) == len(L)
+                and not np.count_nonzero(normal_lim[L] | two_sided[L]))
 
 
 def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcome:
