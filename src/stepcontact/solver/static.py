@@ -721,8 +721,13 @@ class StaticSolver:
     def _keep_field(self, i: int, u: np.ndarray, again: bool = False) -> None:
         """Keep the field u of recorded state ``i`` and its stresses (``again``: those of the
         state recorded just before, the same state)."""
-        self.rec.fields[i] = u
-        self.rec.stresses[i] = self.rec.stresses[i - 1] if again else self.fields.stresses(u)
+        if again:  # (copies: the two states' arrays are not tied together)
+            self.rec.fields[i] = u.copy()
+            self.rec.stresses[i] = {k: np.array(v, copy=True)
+                                    for k, v in self.rec.stresses[i - 1].items()}
+        else:
+            self.rec.fields[i] = u
+            self.rec.stresses[i] = self.fields.stresses(u)
 
     def _same_as_stored(self, st: np.ndarray):
         """(u, residual, kinematic mismatch) of the last recorded state when it has its field
