@@ -419,7 +419,8 @@ def _bases(eng, var: RateVariables) -> BasisGroups | None:
     :func:`~stepcontact.solver.lcp.enumerate_solutions`; None when there are too many."""
     one = _one_law(eng)
     c = var.cfe
-    if one is not None and len(c):  # (then the variables come by ascending CFE)
+    if one is not None and len(c) and not np.count_nonzero(c[1:] < c[:-1]):
+        # (variables by ascending CFE, as a Coulomb law gives them: groups without a sort)
         first = np.empty(len(c), bool)
         first[0] = True
         np.not_equal(c[1:], c[:-1], out=first[1:])
