@@ -5,6 +5,12 @@
   residual with G t formed in full (the reference: one dense product of the state's t) to
   1e-13 of the residual's scale, and is never below it by more than 1e-14 (a bound of the
   tracking error is added), while G t was formed in full at fewer than half of the checks.
+* An error injected into the state along the path (the tangential force of a stuck CFE moved
+  by 1e-6 of the path's force scale after event point 40: off equilibrium, on its relations,
+  so no snap repairs it) is seen at every later recorded state: the recorded residual is at
+  least the residual with G t formed in full by hand (‖ŵ + G (s − D ŵ) − Σ c ĥ‖ over the same
+  scale, the path's displacement scale at that state included: the reference, less 1e-14)
+  and at least 1e3 times the largest residual recorded before it.
 * A snap that only corrects round-off is made CFE by CFE, without a scheme solve: afterwards
   the relations of the scheme hold to 4 ε of the forces, the state equals the state the
   scheme's solve gives (the dense reference: LU of the full scheme matrix) to 1e-13 of its
@@ -87,6 +93,55 @@ def test_recorded_residuals_from_the_tracked_product_equal_full_products():
     assert np.all(got >= ref - 1e-14)
     assert got.max() < 1e-10
     assert n_full[0] < len(got) / 2, (n_full[0], len(got))
+
+
+class _Inject:
+    """Hook: after event point ``at``, the tangential force of the first stuck CFE moves by
+    ``size`` × the path's force scale (N) — an error the event loop does not make itself; keeps
+    the path's displacement scale at every recorded event state (the residual's scale)."""
+
+    def __init__(self, solver, at: int, size: float):
+        self.solver, self.at, self.size = solver, at, size
+        self.state = None
+        self.w_scale: dict[int, float] = {}
+
+    def after_event(self, info):
+        eng = self.solver.engine
+        self.w_scale[len(self.solver.rec) - 1] = eng.W_scale
+        if info.step != self.at:
+            return
+        k = int(np.flatnonzero(eng.states == STICK)[0])
+        eng.layout.tangential(eng.s)[k] += self.size * eng.F_scale
+        self.state = len(self.solver.rec)  # the first state recorded after it
+
+
+def _full_residual(cond, res, i, w_scale):
+    """The relative residual of the condensed equilibrium at recorded state i with G t formed
+    in full: ‖ŵ + G (s − D ŵ) − Σ_P c_P ĥ_P‖∞ / max(‖ŵ‖∞, ‖Σ c ĥ‖∞, w_scale)."""
+    s = cond.layout.join(res.Q[i], -res.N[i])
+    w = cond.layout.join(res.ut[i], res.un[i])
+    e = sum(c * cond.e[n] for n, c in zip(res.pattern_names, res.factors[i], strict=True))
+    h = sum(c * cond.hhat[n] for n, c in zip(res.pattern_names, res.factors[i], strict=True))
+    w_hat = w - cond.system.w0 - e
+    r = w_hat + cond.G @ (s - cond.d * w_hat) - h
+    return np.abs(r).max() / max(np.abs(w_hat).max(), np.abs(h).max(), w_scale)
+
+
+def test_an_error_injected_into_the_state_is_seen_at_every_later_recorded_state():
+    solver = StaticSolver(assemble(_slab()))
+    hook = _Inject(solver, at=40, size=1e-6)
+    solver.hooks = (hook,)
+    res = solver.run()
+    assert hook.state is not None and len(res.events) > 60, res.message
+    j = hook.state
+    events = np.flatnonzero(np.asarray(res.kind) == "event")
+    after = [i for i in events[events >= j] if i in hook.w_scale]
+    assert len(after) > 20
+    before = float(np.max(res.residual[events[events < j]]))
+    for i in after:
+        ref = _full_residual(solver.cond, res, i, hook.w_scale[i])
+        assert res.residual[i] >= ref - 1e-14, (i, res.residual[i], ref)
+        assert res.residual[i] >= 1e3 * before, (i, res.residual[i], before)
 
 
 def _engine():

@@ -52,6 +52,8 @@ FREE, FIXED, SPRING = 0, 1, 2
 
 #: kinds of rate-problem variables
 OPENING, SLIP_PLUS, SLIP_MINUS = 0, 1, -1
+_KINDS = np.array([OPENING, SLIP_PLUS, SLIP_MINUS])
+_KINDS.setflags(write=False)
 
 _INF = np.inf
 
@@ -92,6 +94,14 @@ class Relations:
         S = np.zeros((lay.m, lay.n_c, lay.n_c))
         S[:, np.arange(lay.n_c), np.arange(lay.n_c)] = 1.0
         return Relations(lay, S, np.zeros_like(S))
+
+    @staticmethod
+    def blank(layout: int | ContactLayout) -> Relations:
+        """Relations of the layout with blocks not yet written (uninitialised: for a law that
+        writes every block, :meth:`CoulombLaw.relations`)."""
+        lay = _layout(layout)
+        return Relations(lay, np.empty((lay.m, lay.n_c, lay.n_c)),
+                         np.empty((lay.m, lay.n_c, lay.n_c)))
 
     @staticmethod
     def from_kinds(kind, stiff, couple, layout: int | ContactLayout | None = None
@@ -292,8 +302,9 @@ class _StateMasks:
         table, sigma = _MASKS
         rows = table.take(np.multiply(states, 16, dtype=np.intp) + law._flags(), axis=1)
         rows.setflags(write=False)
-        for name, row in zip(_MASK_ROWS, rows, strict=True):
-            setattr(self, name, row)
+        (self.open, self.closed, self.not_closed, self.stick, self.stick_state, self.slip,
+         self.slip_closed, self.cl, self.closed_rn, self.closed_sn, self.free_t, self.held_t,
+         self.held_t_rigid, self.couple) = rows  # (the order of _MASK_ROWS)
         self.sigma = sigma.take(states)
         self.sigma.setflags(write=False)
         self.any_open = bool(np.count_nonzero(self.open))
@@ -349,6 +360,9 @@ class CoulombLaw:
     """
 
     n_columns = 4
+    #: :meth:`relations` writes every entry of the blocks of the CFEs it is given (those of a
+    #: :meth:`Relations.blank` need no clearing first)
+    writes_every_block = True
     #: the event-function columns: 0 a force, 1 a gap (their tolerances and rate scales)
     column_kinds = np.array([0, 0, 0, 1])
     column_names = ("p", "slip+", "slip-", "gap")
@@ -391,12 +405,14 @@ class CoulombLaw:
         self._flag0 = self._flag_static + 2 * self._fpos
         #: state masks of the last few state arrays (:meth:`_masks`)
         self._mask_cache: dict = {}
+        self._no_cohesion = np.zeros(k)
+        self._no_cohesion.setflags(write=False)
 
     @property
     def cohesion(self) -> np.ndarray:
         """C (k,): the residual cohesion (N) the CFEs have now (0 where lost or none)."""
         if not self._any_residual:
-            return np.zeros(len(self.cfes))
+            return self._no_cohesion  # (read-only)
         return np.where(self.cohesion_lost, 0.0, self.residual)
 
     @property
@@ -472,6 +488,10 @@ class CoulombLaw:
     @staticmethod
     def slipping(states: np.ndarray) -> np.ndarray:
         return (states == SLIP_POS) | (states == SLIP_NEG)
+
+    def slip_mask(self, states: np.ndarray) -> np.ndarray:
+        """:meth:`slipping` of a state array from its kept masks (read-only)."""
+        return self._masks(states).slip
 
     def facet_normals(self) -> tuple[np.ndarray, float]:
         """The outward normals d (k, 2, 1) of the friction limit's two facets, +1 (slip+) and
@@ -655,20 +675,20 @@ class CoulombLaw:
             fr &= self._at_friction(states, Q, p, tf)[local]
         both = fr & (two_sided[local] | (sigma == 0))
         one = fr & ~both
-        # per CFE: [opening?, slip+?, slip−?]
-        take = np.column_stack([op, both | (one & (sigma > 0)), both | (one & (sigma < 0))])
+        # per CFE: [opening?, slip+?, slip−?] (k, 3)
+        take = np.array([op, both | (one & (sigma > 0)), both | (one & (sigma < 0))]).T
         rows, cols = np.nonzero(take)
         loc = local[rows]
-        kind = np.array([OPENING, SLIP_PLUS, SLIP_MINUS])[cols]
+        kind = _KINDS[cols]
         glob = self.cfes[loc]
         is_op = kind == OPENING
         kn, kt = self.kn[loc], self.kt[loc]
         value = np.where(is_op, np.where(self.rigid_n[loc], -1.0, kn),
                          kind * np.where(self.rigid_t[loc], 1.0, -kt))
         # components (t, n): an opening acts on the normal relation, a slip on the tangential
-        effect = np.column_stack([np.where(is_op, 0.0, value), np.where(is_op, value, 0.0)])
-        comp = np.column_stack([np.where(is_op, 0.0, -kind.astype(float)),
-                                np.where(is_op, 1.0, self.f[loc])])
+        effect = np.array([np.where(is_op, 0.0, value), np.where(is_op, value, 0.0)]).T
+        comp = np.array([np.where(is_op, 0.0, -kind.astype(float)),
+                         np.where(is_op, 1.0, self.f[loc])]).T
         return RateVariables(cfe=glob, kind=kind, effect=effect, comp=comp,
                              facet=np.full(len(glob), -1, dtype=np.int64))
 

@@ -17,11 +17,14 @@ class GrowingArray:
 
     def append(self, row) -> None:
         if self.n == len(self._a):
-            grown = np.zeros((2 * len(self._a), *self._a.shape[1:]), dtype=self._a.dtype)
-            grown[: self.n] = self._a[: self.n]
-            self._a = grown
+            self._grow()
         self._a[self.n] = row
         self.n += 1
+
+    def _grow(self) -> None:
+        grown = np.zeros((2 * len(self._a), *self._a.shape[1:]), dtype=self._a.dtype)
+        grown[: self.n] = self._a[: self.n]
+        self._a = grown
 
     @property
     def view(self) -> np.ndarray:
@@ -59,6 +62,7 @@ class Recorder:
         self.events: list = []
         self.multipliers: list = []
         self.nonunique: list[dict] = []
+        self._columns = tuple((k, getattr(self, k)) for k in self.COLUMNS)
 
     def __len__(self) -> int:
         return self.lam.n
@@ -66,8 +70,12 @@ class Recorder:
     def append(self, **row) -> int:
         i = self.lam.n
         row.setdefault("stage", 0)
-        for k in self.COLUMNS:
-            getattr(self, k).append(row[k])
+        for k, col in self._columns:  # (GrowingArray.append, inline: once per state)
+            n = col.n
+            if n == len(col._a):
+                col._grow()
+            col._a[n] = row[k]
+            col.n = n + 1
         return i
 
     def arrays(self) -> dict[str, np.ndarray]:

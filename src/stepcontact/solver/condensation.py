@@ -509,7 +509,11 @@ class Condensed:
             R = S_p (K_pf u_f + K_pp u_p + B_pᵀ s − f_p)
               = Σ_P c_P S_p (K_pf y_P + K_pp u_P − f_P) − (B_f K₀⁻¹ K_fp S_pᵀ)ᵀ t + S_p B_pᵀ s
 
-        with t = s − D ŵ as in :meth:`displacement` (``system.reaction_rows`` gives S)."""
+        with t = s − D ŵ as in :meth:`displacement` (``system.reaction_rows`` gives S).
+        A stack of k states (``s``, ``w`` (k, 2m), ``factors`` {pattern: (k,) array}) gives
+        (k, n_reactions) at once."""
+        if np.ndim(s) == 2:
+            return self._reactions_stack(factors, s, w)
         if self.R_s is None:
             return np.zeros(0)
         R = self.R_s @ s
@@ -520,6 +524,21 @@ class Condensed:
                 e += c * self.e[name]
         w_hat = w - self.system.w0 - e
         return R + self.R_t @ (s - self.d * w_hat)
+
+    def _reactions_stack(self, factors, S: np.ndarray, W: np.ndarray) -> np.ndarray:
+        """:meth:`reactions` of the states that are the rows of S, W."""
+        S, W = np.asarray(S, float), np.asarray(W, float)
+        if self.R_s is None:
+            return np.zeros((len(S), 0))
+        R = S @ self.R_s.T
+        E = np.zeros_like(S)
+        for name, c in factors.items():
+            c = np.asarray(c, float)
+            if c.any():
+                R = R + np.outer(c, self.r_load[name])
+                E += np.outer(c, self.e[name])
+        w_hat = W - self.system.w0 - E
+        return R + (S - self.d * w_hat) @ self.R_t.T
 
     @property
     def layout(self) -> ContactLayout:
@@ -636,8 +655,8 @@ class Condensed:
         t = s - self.d * w_hat
         gt, bound = (self.product(t), 0.0) if product is None else product(t)
         r = w_hat + gt - h
-        scale = max(np.abs(w_hat).max(initial=0), np.abs(h).max(initial=0), w_scale, 1e-300)
-        return float((np.abs(r).max(initial=0) + bound) / scale)
+        scale = max(_absmax(w_hat), _absmax(h), w_scale, 1e-300)
+        return float((_absmax(r) + bound) / scale)
 
     def mode_displacement(self, t: np.ndarray) -> np.ndarray:
         """Displacement of a mechanism mode t of the condensed unknowns."""
@@ -660,3 +679,9 @@ class Condensed:
         b = np.asarray(b, dtype=float)
         return np.asarray(solve(np.ascontiguousarray(b[:, 0]) if b.ndim == 2 and
                                 b.shape[1] == 1 else b)).reshape(b.shape)
+
+
+def _absmax(x) -> float:
+    """max |x| over every entry (0 for an empty x), ``float(np.abs(x).max(initial=0))``
+    without the method's Python wrapper (a residual check per recorded state)."""
+    return float(np.maximum.reduce(np.abs(x), axis=None, initial=0.0))

@@ -126,6 +126,9 @@ class EventEngine:
         #: with their scheme solutions y and products G y, ``(s', w', y, G y)``
         self._track: tuple | None = None
         self._pairs: list[tuple] = []
+        self._views_sw: tuple | None = None
+        #: max |s'|, max |w'| of the last rates asked (:meth:`_rate_scales`)
+        self._scales_of: tuple = (None, None, 0.0, 0.0)
 
     # ---- the laws and their CFEs ------------------------------------------------------------
     @property
@@ -165,14 +168,38 @@ class EventEngine:
         self.F_scale = max(self.F_scale, _absmax(self.s))
         self.W_scale = max(self.W_scale, _absmax(self.w))
         if ds is not None:
-            self.F_scale = max(self.F_scale, _absmax(ds) * span)
-            self.W_scale = max(self.W_scale, _absmax(dw) * span)
+            a, b = self._rate_scales(ds, dw)
+            self.F_scale = max(self.F_scale, a * span)
+            self.W_scale = max(self.W_scale, b * span)
+
+    def _rate_scales(self, ds, dw) -> tuple[float, float]:
+        """(max |s'|, max |w'|) of rates (s', w'), kept for the last pair asked: a point asks
+        for those of the same rates in the consistency check, the scales and the next event
+        (rates are never changed in place once formed: the engine tells them by identity,
+        :meth:`_follow`)."""
+        a, b, fa, fb = self._scales_of
+        if a is ds and b is dw:
+            return fa, fb
+        fa, fb = _absmax(ds), _absmax(dw)
+        self._scales_of = (ds, dw, fa, fb)
+        return fa, fb
 
     def tolerances(self) -> tuple[float, float]:
         """Absolute limit tolerances (forces, displacements)."""
         return LIMIT_TOL * self.rtol * self.F_scale, LIMIT_TOL * self.rtol * self.W_scale
 
     # ---- per-law views ----------------------------------------------------------------------
+    def _state_views(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(Q, p, u_n): views of the state's s and w, kept while s and w are the same arrays
+        (the engine moves them in place)."""
+        v = self._views_sw
+        if v is not None and v[0] is self.s and v[1] is self.w:
+            return v[2]
+        Q, p = self.layout.split(self.s)
+        out = (Q, p, self.layout.normal(self.w))
+        self._views_sw = (self.s, self.w, out)
+        return out
+
     def _parts(self, s, w):
         lay = self.layout
         Q, p = lay.split(s)
@@ -191,9 +218,15 @@ class EventEngine:
         rel = self._relations.get(key)
         if rel is not None:
             return rel
-        rel = Relations.empty(self.layout)
-        for law in self.laws:
-            law.relations(states[law.cfes], rel, self.layout, art)
+        views = self._views_now()
+        if (len(views) == 1 and type(views[0][1]) is slice
+                and getattr(views[0][0], "writes_every_block", False)):  # no blocks to clear
+            rel = Relations.blank(self.layout)
+            views[0][0].relations(states, rel, self.layout, art)
+        else:
+            rel = Relations.empty(self.layout)
+            for law in self.laws:
+                law.relations(states[law.cfes], rel, self.layout, art)
         self._relations[key] = rel
         if len(self._relations) > 8:
             del self._relations[next(iter(self._relations))]
@@ -264,8 +297,8 @@ class EventEngine:
         tr = self._track
         if tr is not None and tr[0] is self.schemes and tr[3] < TRACK_REFRESH:
             _, tt, gt, k = tr
-            bound = self.schemes.g_norm() * float(np.abs(t - tt).max(initial=0.0))
-            if bound <= TRACK_TOL * float(np.abs(gt).max(initial=0.0)):
+            bound = self.schemes.g_norm() * _absmax(t - tt)
+            if bound <= TRACK_TOL * _absmax(gt):
                 self._track = (tr[0], tt, gt, k + 1)
                 return gt.copy(), bound
         gt = np.asarray(full(t), float)
@@ -466,12 +499,12 @@ class EventEngine:
         and its rate is below −1e3 rtol of the rates' scale (forces or gaps): the step to its
         root is max(φ, 0) / (−φ')."""
         lay = self.layout
-        Q, p = lay.split(self.s)
-        un = lay.normal(self.w)
+        Q, p, un = self._state_views()
         dQ, dp = lay.split(ds)
         dun = lay.normal(dw)
-        fs = 1e3 * self.rtol * max(_absmax(ds), 1e-300)
-        gs = 1e3 * self.rtol * max(_absmax(dw), 1e-300)
+        a, b = self._rate_scales(ds, dw)
+        fs = 1e3 * self.rtol * max(a, 1e-300)
+        gs = 1e3 * self.rtol * max(b, 1e-300)
         states = self.states
         all_steps = []
         dmu_ev = _INF
@@ -560,14 +593,13 @@ class EventEngine:
         views = self._views_now()
         if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
             law, _, gap = views[0]
-            lay = self.layout
-            Q, p = lay.split(self.s)
-            un = lay.normal(self.w)
+            Q, p, un = self._state_views()
             at, col = self._limit_columns(law, gap, law.event_values(states, Q, p, un), fired,
                                           tf, tw)
             guess = law.fire(states, col, Q)
             normal, two = law.limits(states, Q, p, un, tf, tw)
-            return np.flatnonzero(at | slipping(states)), guess, normal, two
+            slip = law.slip_mask(states) if hasattr(law, "slip_mask") else slipping(states)
+            return (at | slip).nonzero()[0], guess, normal, two
         at = fired.copy()
         col = np.full(self.m, -1)
         guess = states.copy()
@@ -588,24 +620,24 @@ class EventEngine:
         """The CFEs of ``law`` at a limit (a function within its tolerance, or ``fired``) and,
         for those, the column nearest its limit relative to the tolerance (−1 elsewhere)."""
         tol = np.where(gap, tw, tf)
-        at = fired | (phi <= tol).any(axis=1)
+        at = fired | _ANY(phi <= tol, axis=1)
         if not np.count_nonzero(at):
             return at, np.full(len(at), -1)
-        rel = np.full(phi.shape, _INF)
-        np.divide(phi, tol, out=rel, where=np.isfinite(phi))
-        return at, np.where(at, rel.argmin(axis=1), -1)
+        # (φ / tol: +inf stays +inf where a function does not apply, the tolerances are > 0)
+        return at, np.where(at, np.divide(phi, tol).argmin(axis=1), -1)
 
     def consistent(self, trial, L, ds, dw, normal, two) -> np.ndarray:
         """States the rates (ds, dw) of scheme ``trial`` point to, for the CFEs in L."""
         lay = self.layout
         dQ, dp = lay.split(ds)
         dut, dun = lay.split(dw)
-        rf = 1e3 * self.rtol * max(_absmax(ds), 1e-300)
-        rw = 1e3 * self.rtol * max(_absmax(dw), 1e-300)
+        a, b = self._rate_scales(ds, dw)
+        rf = 1e3 * self.rtol * max(a, 1e-300)
+        rw = 1e3 * self.rtol * max(b, 1e-300)
         tf, _ = self.tolerances()
         views = self._views_now()
         if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
-            Q, p = lay.split(self.s)
+            Q, p, _ = self._state_views()
             return views[0][0].consistent(trial, Q, dQ, dp, dun, dut, normal, two, rf, rw,
                                           p=p, tf=tf)[L]
         out = trial.copy()
@@ -641,11 +673,16 @@ class EventEngine:
         article's slip treatment: the corrected tangential forces of eq. (4), applied as the
         compensating forces of eq. (6))."""
         lay = self.layout
-        r = lay.zeros()
-        rQ, rp = lay.split(r)
-        for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
-            rQ[c], rp[c] = law.snap(self.states[c], Q, p, un)
-        if not np.any(np.abs(r) > 0):
+        views = self._views_now()
+        if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
+            Q, p, un = self._state_views()
+            r = lay.join(*views[0][0].snap(self.states, Q, p, un))
+        else:
+            r = lay.zeros()
+            rQ, rp = lay.split(r)
+            for law, c, Q, p, _ut, un in self._parts(self.s, self.w):
+                rQ[c], rp[c] = law.snap(self.states[c], Q, p, un)
+        if not np.count_nonzero(np.abs(r) > 0):
             return
         if self._snap_roundoff(r):
             self.counters["corrections"] += 1
@@ -682,28 +719,34 @@ class EventEngine:
         m, nc = lay.m, lay.n_c
         rel = self.relations(self.states)
         S, Wr = rel.S, rel.W
-        j = np.arange(nc)
-        own = S[:, j, j] != 0  # (m, nc): the row's chosen unknown is its force
-        rk = r.reshape(nc, m).T
+        own = S.diagonal(axis1=1, axis2=2) != 0  # (m, nc): the row's chosen unknown is its force
         F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
+        if nc == 2:  # (in the layout's row order (component, CFE): no transposes)
+            own_r, r_r = own.T, r.reshape(nc, m)
+            if np.count_nonzero(np.abs(r_r) > SNAP_ROUNDOFF * np.where(own_r, F, W)):
+                return False
+            M = np.where(own[:, None, :], S, Wr)  # M[k, i, c]
+            a, b, c, d = M[:, 0, 0], M[:, 0, 1], M[:, 1, 0], M[:, 1, 1]
+            det = a * d - b * c
+            size = _MAXIMUM(np.abs(M).reshape(m, 4), axis=1)
+            if np.count_nonzero(~(np.abs(det) > 1e-12 * size * size)):
+                return False
+            x = np.empty((2, m))
+            np.divide(d * r_r[0] - b * r_r[1], det, out=x[0])
+            np.divide(a * r_r[1] - c * r_r[0], det, out=x[1])
+            self.s += np.where(own_r, x, 0.0).ravel()
+            self.w += np.where(own_r, 0.0, x).ravel()
+            return True
+        rk = r.reshape(nc, m).T
         if np.any(np.abs(rk) > SNAP_ROUNDOFF * np.where(own, F, W)):
             return False
         M = np.where(own[:, None, :], S, Wr)  # M[k, i, c]
-        if nc == 2:
-            det = M[:, 0, 0] * M[:, 1, 1] - M[:, 0, 1] * M[:, 1, 0]
-            size = np.abs(M).max(axis=(1, 2))
-            if np.any(~(np.abs(det) > 1e-12 * size * size)):
-                return False
-            x0 = (M[:, 1, 1] * rk[:, 0] - M[:, 0, 1] * rk[:, 1]) / det
-            x1 = (M[:, 0, 0] * rk[:, 1] - M[:, 1, 0] * rk[:, 0]) / det
-            x = np.stack([x0, x1], axis=1)
-        else:
-            try:
-                x = np.linalg.solve(M, rk[:, :, None])[:, :, 0]
-            except np.linalg.LinAlgError:
-                return False
-            if not np.all(np.isfinite(x)):
-                return False
+        try:
+            x = np.linalg.solve(M, rk[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:
+            return False
+        if not np.all(np.isfinite(x)):
+            return False
         self.s += np.where(own, x, 0.0).T.ravel()
         self.w += np.where(own, 0.0, x).T.ravel()
         return True
@@ -711,6 +754,10 @@ class EventEngine:
     def violation(self) -> float:
         """Largest relative violation of every law's conditions at the current state."""
         F, W = max(self.F_scale, 1e-300), max(self.W_scale, 1e-300)
+        views = self._views_now()
+        if len(views) == 1 and type(views[0][1]) is slice:  # one law over every CFE
+            Q, p, un = self._state_views()
+            return views[0][0].violation(self.states, Q, p, un, F, W)
         return max((law.violation(self.states[c], Q, p, un, F, W)
                     for law, c, Q, p, _ut, un in self._parts(self.s, self.w)), default=0.0)
 
@@ -722,6 +769,7 @@ def _absmax(x) -> float:
 
 
 _MAXIMUM = np.maximum.reduce
+_ANY = np.logical_or.reduce
 
 
 def _poly_steps(phi: np.ndarray, coef: np.ndarray, rate_tol: np.ndarray, R: float) -> np.ndarray:

@@ -41,15 +41,13 @@ class EventLog:
         (N·s); ``first``: the multipliers {first_slip, first_opening, first_closing, …} whose
         entry for this transition (:data:`FIRST_OF`) is set to ``lam`` if it is None (None:
         none is set)."""
-        cfe, lay = self.cfe, self.layout
+        lay = self.layout
         tr = _transition(int(was), int(now))
         pn, qt = (0.0, 0.0) if impulse is None else impulse
+        interface, local, position, x, y = self._where()[k]
         ev = Event(
             step=step, state=state, segment=segment, pattern=pattern, lam=lam, cfe=int(k),
-            interface=cfe.names[cfe.interface[k]] if cfe.names else "",
-            local=int(cfe.local[k]), position=float(cfe.s[k]),
-            x=float(cfe.x[k, 0]) if cfe.x.size else 0.0,
-            y=float(cfe.x[k, 1]) if cfe.x.size else 0.0,
+            interface=interface, local=local, position=position, x=x, y=y,
             transition=tr, N=float(-lay.normal(s)[k]),
             Q=float(lay.tangential(s)[k]) if lay.n_t == 1 else lay.tangential(s)[k].copy(),
             impulse_n=pn, impulse_t=qt,
@@ -60,6 +58,23 @@ class EventLog:
             if key and first[key] is None:
                 first[key] = lam
         return ev
+
+    def _where(self) -> list[tuple]:
+        """Per CFE (interface name, index along it, arc length (m), x, y (m)), as Python values,
+        formed once (the CFEs do not change along a run)."""
+        got = getattr(self, "_where_of", None)
+        if got is None or got[0] is not self.cfe:
+            cfe = self.cfe
+            m = len(cfe.local)
+            names = ([cfe.names[i] for i in np.asarray(cfe.interface).tolist()] if cfe.names
+                     else [""] * m)
+            xy = (np.asarray(cfe.x, float)[:, :2].tolist() if cfe.x.size
+                  else [[0.0, 0.0]] * m)
+            got = self._where_of = (cfe, [
+                (nm, int(loc), float(pos), float(p[0]), float(p[1])) for nm, loc, pos, p in
+                zip(names, np.asarray(cfe.local).tolist(), np.asarray(cfe.s, float).tolist(), xy,
+                    strict=True)])
+        return got[1]
 
     def changes(self, old: np.ndarray, new: np.ndarray, s: np.ndarray, **where) -> None:
         """Log every CFE whose state differs between ``old`` and ``new`` (m,), in the order of

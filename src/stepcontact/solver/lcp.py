@@ -189,37 +189,69 @@ def principal_pivoting(M: np.ndarray, q: np.ndarray, start: np.ndarray | None = 
     return LCPResult(np.zeros(n), q.copy(), False, max_pivots, "pivot budget exhausted")
 
 
-def enumerate_solutions(M: np.ndarray, q: np.ndarray, bases: np.ndarray,
-                        tol: float = 1e-9) -> list[np.ndarray]:
+class BasisGroups:
+    """Complementary bases (a boolean array (n_bases, n)) grouped by their size, in the
+    order :func:`enumerate_solutions` tries them (size ascending, the given order within a
+    size), with the gather indices of each group's principal blocks of an n × n M: formed
+    once per set of bases (a rate problem's bases depend only on its pattern of variables):
+    ``parts`` holds per size k (start, stop) of its rows, the basic variables ``idx``
+    (n_k, k) and their entries in the raveled (n_bases, n) array of solutions."""
+
+    __slots__ = ("bases", "order", "parts")
+
+    def __init__(self, bases: np.ndarray):
+        bases = np.asarray(bases, bool)
+        n = bases.shape[1]
+        sizes = bases.sum(axis=1)
+        order = np.argsort(sizes, kind="stable")
+        self.order = order
+        self.bases = bases[order]
+        self.bases.setflags(write=False)
+        parts = []
+        start = 0
+        for k in np.unique(sizes):
+            nb = int(np.count_nonzero(sizes == k))
+            stop = start + nb
+            if k:
+                idx = np.nonzero(self.bases[start:stop])[1].reshape(nb, k)
+                rows = np.arange(start, stop)[:, None] * n + idx  # Z[row, idx], raveled
+                parts.append((int(k), start, stop, idx, rows))
+            start = stop
+        self.parts = tuple(parts)
+
+
+def enumerate_solutions(M: np.ndarray, q: np.ndarray, bases, tol: float = 1e-9
+                        ) -> list[np.ndarray]:
     """Every solution z of the LCP (M, q) among the complementary bases ``bases`` (a boolean
-    array (n_bases, n): z_i basic), batched by basis size.  A solution is kept when
-    z ≥ −tol·scale and w ≥ −tol·scale; returns the list of z (solutions may repeat when the
-    LCP is degenerate: the caller compares what they stand for)."""
+    array (n_bases, n): z_i basic; or its :class:`BasisGroups`), batched by basis size.  A
+    solution is kept when z ≥ −tol·scale and w ≥ −tol·scale; returns the list of z (solutions
+    may repeat when the LCP is degenerate: the caller compares what they stand for), by basis
+    size, then in the order of ``bases``."""
+    groups = bases if isinstance(bases, BasisGroups) else BasisGroups(bases)
     M = np.asarray(M, dtype=float)
     q = np.asarray(q, dtype=float)
     n = len(q)
-    out: list[np.ndarray] = []
-    mscale = max(np.abs(M).max(initial=0.0), 1e-300)
-    qscale = max(np.abs(q).max(initial=0.0), 1e-300)
-    sizes = bases.sum(axis=1)
-    for k in np.unique(sizes):
-        B = bases[sizes == k]
-        Z = np.zeros((len(B), n))
-        if k:
-            idx = np.nonzero(B)[1].reshape(len(B), k)  # (nb, k): each basis's variables
-            Mk = M[idx[:, :, None], idx[:, None, :]]
-            ok = np.abs(np.linalg.det(Mk)) > 1e-12 * mscale ** k
+    mscale = max(float(np.abs(M).max(initial=0.0)), 1e-300)
+    qscale = max(float(np.abs(q).max(initial=0.0)), 1e-300)
+    B = groups.bases
+    Z = np.zeros((len(B), n))
+    valid = np.ones(len(B), bool)
+    Mr, Zr = M.ravel(), Z.reshape(-1)
+    for k, start, stop, idx, rows in groups.parts:
+        Mk = Mr.take(idx[:, :, None] * n + idx[:, None, :])  # the blocks M[idx, idx]
+        ok = np.abs(np.linalg.det(Mk)) > 1e-12 * mscale ** k
+        if not ok.all():
+            valid[start:stop] = ok
             if not ok.any():
                 continue
-            B, idx, Mk, Z = B[ok], idx[ok], Mk[ok], Z[ok]
-            zk = np.linalg.solve(Mk, -q[idx][..., None])[..., 0]
-            np.put_along_axis(Z, idx, zk, axis=1)
-        W = Z @ M.T + q
-        zs = np.maximum(np.abs(Z).max(axis=1) * mscale, qscale)
-        good = np.all(Z >= -tol * zs[:, None] / mscale, axis=1) & np.all(
-            np.where(B, True, W >= -tol * zs[:, None]), axis=1)
-        out.extend(np.maximum(Z[good], 0.0))
-    return out
+            idx, Mk, rows = idx[ok], Mk[ok], rows[ok]
+        zk = np.linalg.solve(Mk, -q.take(idx)[..., None])[..., 0]
+        Zr[rows.ravel()] = zk.ravel()
+    W = Z @ M.T + q
+    zs = np.maximum(np.abs(Z).max(axis=1) * mscale, qscale)
+    good = valid & np.all(Z >= -tol * zs[:, None] / mscale, axis=1) & np.all(
+        B | (W >= -tol * zs[:, None]), axis=1)
+    return list(np.maximum(Z[good], 0.0))
 
 
-__all__ = ["LCPResult", "enumerate_solutions", "lemke", "principal_pivoting"]
+__all__ = ["BasisGroups", "LCPResult", "enumerate_solutions", "lemke", "principal_pivoting"]

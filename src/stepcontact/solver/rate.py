@@ -37,7 +37,7 @@ import numpy as np
 
 from stepcontact.contact.laws import OPEN, OPENING, RateVariables
 from stepcontact.enums import Status, slipping
-from stepcontact.solver.lcp import enumerate_solutions, lemke, principal_pivoting
+from stepcontact.solver.lcp import BasisGroups, enumerate_solutions, lemke, principal_pivoting
 from stepcontact.solver.schemes import MechanismError
 
 #: rate problems with at most this many CFEs (and 3 variables each) are checked for other
@@ -198,7 +198,7 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         exc.states = base
         raise
     eng.counters["rate_solves"] += 1 + nv
-    S0 = np.c_[ds0, dS]
+    S0 = np.concatenate([ds0[:, None], dS], axis=1)
     Wm = var.comp[:, :1] * S0[rows[:, 0]]
     for c in range(1, lay.n_c):
         Wm = Wm + var.comp[:, c:c + 1] * S0[rows[:, c]]
@@ -297,7 +297,10 @@ def _lemke_fallback(eng, M, q, start, failed):
 def _slipping_only(eng, L: np.ndarray, normal_lim, two_sided) -> bool:
     """Are all CFEs of L slipping and none at a normal or two-sided limit?  (Then a consistent
     current scheme is the only one: a slip that goes on is not a degenerate point.)"""
-    return bool(np.all(slipping(eng.states[L])) and not np.any(normal_lim[L] | two_sided[L]))
+    one = _one_law(eng)
+    sl = (one.slip_mask(eng.states) if hasattr(one, "slip_mask") else slipping(eng.states))[L]
+    return bool(np.count_nonzero(sl) == len(L)
+                and not np.count_nonzero(normal_lim[L] | two_sided[L]))
 
 
 def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcome:
@@ -409,14 +412,24 @@ def _frictional(eng, L) -> bool:
     return any(bool(law.frictional[np.isin(law.cfes, L)].any()) for law in eng.laws)
 
 
-def _bases(eng, var: RateVariables) -> np.ndarray | None:
+def _bases(eng, var: RateVariables) -> BasisGroups | None:
     """Complementary bases that stand for distinct CFE states (each law's
     :meth:`~stepcontact.contact.laws.ContactLaw.basis_options`: in 2D per CFE none (stick),
-    slip+, slip−, opening alone, or opening with a slip rate)."""
-    cfes, group = np.unique(var.cfe, return_inverse=True)
+    slip+, slip−, opening alone, or opening with a slip rate), grouped for
+    :func:`~stepcontact.solver.lcp.enumerate_solutions`; None when there are too many."""
+    one = _one_law(eng)
+    c = var.cfe
+    if one is not None and len(c) and not np.count_nonzero(c[1:] < c[:-1]):
+        # (variables by ascending CFE, as a Coulomb law gives them: groups without a sort)
+        first = np.empty(len(c), bool)
+        first[0] = True
+        np.not_equal(c[1:], c[:-1], out=first[1:])
+        cfes, group = c[first], np.cumsum(first) - 1
+    else:
+        cfes, group = np.unique(c, return_inverse=True)
     if len(cfes) > ENUMERATE_CFES:
         return None
-    laws = [_law_of(eng, k) for k in cfes]
+    laws = [one] * len(cfes) if one is not None else [_law_of(eng, k) for k in cfes]
     # the bases depend only on which variables share a CFE, their kinds and facets and the
     # CFEs' laws: kept (read-only) for the next point with the same pattern
     key = (group.tobytes(), var.kind.tobytes(), var.facet.tobytes(), tuple(laws))
@@ -436,16 +449,15 @@ def _bases(eng, var: RateVariables) -> np.ndarray | None:
             b = np.zeros(len(var.cfe), bool)
             b[[i for part in combo for i in part]] = True
             rows.append(b)
-        out = np.array(rows)
-        out.setflags(write=False)
+        out = BasisGroups(np.array(rows))
     cache[key] = out
     if len(cache) > 64:
         del cache[next(iter(cache))]
     return out
 
 
-def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:
-    bases = _bases(eng, var)
+def _enumerate(eng, L, base, var, M, q, bases=None) -> list[np.ndarray]:
+    bases = _bases(eng, var) if bases is None else bases
     if bases is None:
         return []
     return enumerate_solutions(M, q, bases)
@@ -454,7 +466,8 @@ def _enumerate(eng, L, base, var, M, q) -> list[np.ndarray]:
 def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list[np.ndarray]:
     """Other admissible schemes of a small rate problem with several solutions (none when M is
     positive definite: a P-matrix has exactly one)."""
-    if _bases(eng, var) is None:  # too many CFEs to enumerate: nothing to report
+    bases = _bases(eng, var)
+    if bases is None:  # too many CFEs to enumerate: nothing to report
         return []
     sym = 0.5 * (M + M.T)
     try:
@@ -462,7 +475,7 @@ def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list
             return []
     except np.linalg.LinAlgError:
         pass
-    sols = _enumerate(eng, L, base, var, M, q)
+    sols = _enumerate(eng, L, base, var, M, q, bases)
     if len(sols) < 2:
         return []
     scale = max(np.abs(chosen.ds).max(initial=0), 1e-300)

@@ -176,6 +176,10 @@ class StaticSolver:
         self.bonds = bool(self.law.has_bond.any())
         self.engine.states = self.law.initial_states(self.engine.states)
         self.ghost = self.layout.zeros()
+        #: whether broken bonds ever transmitted ghost forces (else s is all the CFEs carry)
+        self._ghosts = False
+        #: recorded states whose reactions are formed later (:meth:`_flush_reactions`)
+        self._reactions_due: list[int] = []
         #: the results of the dynamic intervals of stages before the last, by stage name
         self.dynamics: dict = {}
         self._releasing = False
@@ -193,6 +197,7 @@ class StaticSolver:
         and the factors are kept."""
         from stepcontact.fem.assembly import LoadVectors
 
+        self._flush_reactions()  # (with the condensation of the stage they belong to)
         plan, eng, m, cfe, lay = self.plan, self.engine, self.cfe.m, self.cfe, self.layout
         old_k, old = self.stage, self.cond.system
         st = self._s_total(eng.s, self.sw) + self.ghost
@@ -337,6 +342,7 @@ class StaticSolver:
             self.c[pname] = c.get(pname, 0.0)
         self.c[pattern] = 1.0
         self.sys = plan.system(k)
+        self._flush_reactions()
         self.cond = Condensed.from_system(self.sys, self.backend, self.cond.condensation,
                                           self.precision)
         self.schemes = SchemeSolver(self.cond.G, self.cond.d, product=self.cond.product)
@@ -527,14 +533,20 @@ class StaticSolver:
         return True, ds, dw, forcing
 
     # ---- joints with initial strength (eq. (12)) -------------------------------------------
+    def _has_residual(self) -> bool:
+        """Whether any CFE of the current law has a residual cohesion (asked once per law: a
+        stage's own)."""
+        law = self.law
+        if getattr(self, "_residual_of", None) is not law:
+            self._residual_of, self._any_residual = law, bool(np.any(law.residual > 0))
+        return self._any_residual
+
     def _lose_cohesion(self, mask: np.ndarray) -> None:
         """The CFEs ``mask`` opened: those with a residual cohesion lose it for good (the
         state index where it happened is kept for the result)."""
-        law = self.law
-        if getattr(self, "_residual_of", None) is not law:  # (once per law: a stage's own)
-            self._residual_of, self._any_residual = law, bool(np.any(law.residual > 0))
-        if not self._any_residual:
+        if not self._has_residual():
             return
+        law = self.law
         new = mask & (law.residual > 0) & ~law.cohesion_lost & ~law.inert
         if new.any():
             law.lose_cohesion(new)
@@ -555,6 +567,7 @@ class StaticSolver:
         g, _ = break_bonds(self.engine, self.law, brk, self.events, mult, step=self.step + 1,
                            state=len(self.rec), segment=seg, pattern=pattern, lam=lam)
         self._lose_cohesion(brk & (self.engine.states == OPEN))
+        self._ghosts = True
         self.ghost += g
 
     def _release(self, lam: float, seg: int, pattern: str, mult: dict,
@@ -657,10 +670,17 @@ class StaticSolver:
         the other states' fields are recomputed exactly on request from (factors, s, w)."""
         eng = self.engine
         store = final or kind != "event" or self.store_fields == "all"
-        st = self._s_total(eng.s, self.sw) + self.ghost
+        if self.crack is None and not self._ghosts:  # s is all the CFEs transmit
+            st = eng.s
+        else:
+            st = self._s_total(eng.s, self.sw) + self.ghost
         if store:  # full field: residual of the whole model and kinematics B u + w⁰ = w
-            u = self.cond.displacement(self.c, st, eng.w)
-            res, kin = self.cond.check(self.c, st, eng.w, u, eng.W_scale)
+            same = self._same_as_stored(st)
+            if same is not None:  # the state just stored again (a segment's end and the next
+                u, res, kin = same  # one's start): its field and full check
+            else:
+                u = self.cond.displacement(self.c, st, eng.w)
+                res, kin = self.cond.check(self.c, st, eng.w, u, eng.W_scale)
         else:  # no solve: the condensed equations (exactly equivalent), with the G t that
             # the engine keeps current along the path (no pass over G; a bound of its error
             # is added: EventEngine.tracked_product)
@@ -669,14 +689,21 @@ class StaticSolver:
                 product=lambda t: eng.tracked_product(t, self.cond.product))
             kin = 0.0
         viol = max(kin, eng.violation())
+        # the reactions (linear in the recorded s, w, factors) of a state whose s is all the
+        # CFEs transmit are formed later, all at once (:meth:`_flush_reactions`)
+        later = st is eng.s
         i = self.rec.append(
             lam=lam, segment=seg, kind=kind, factors=[self.c[n] for n in self.c], s=eng.s,
             w=eng.w, state=eng.states, residual=res, violation=viol,
-            reactions=self.cond.reactions(self.c, st, eng.w), water=self.sw, stage=self.stage,
+            reactions=0.0 if later else self.cond.reactions(self.c, st, eng.w),
+            water=self.sw, stage=self.stage,
             pressure=(0.0 if self.crack is None else
                       self.crack.pressure(eng.states, self.c, self.sw)))
+        if later:
+            self._reactions_due.append(i)
         if store:
-            self._keep_field(i, u)
+            self._keep_field(i, u, same is not None)
+            self._stored = (i, self.stage, self.cond, res, kin)
         if viol > self.violation_limit and self.status == Status.COMPLETED:
             self.status = Status.VIOLATION
             self.message = (f"the contact conditions are violated by {viol:.2e} (relative) at "
@@ -684,9 +711,47 @@ class StaticSolver:
             self._store_field(i)  # the run stops here: its field and the full check
         return i
 
-    def _keep_field(self, i: int, u: np.ndarray) -> None:
-        self.rec.fields[i] = u
-        self.rec.stresses[i] = self.fields.stresses(u)
+    def _flush_reactions(self) -> None:
+        """Form the reactions of the recorded states that wait for them (their s is all the
+        CFEs transmitted), with the current stage's condensation, in one stacked product
+        (:meth:`Condensed.reactions`); called before the condensation changes and before a
+        result is taken."""
+        due = self._reactions_due
+        if not due:
+            return
+        r = self.rec
+        idx = np.array(due)
+        F = r.factors.view[idx]
+        factors = {name: F[:, j] for j, name in enumerate(self.c)}
+        r.reactions.view[idx] = self.cond.reactions(factors, r.s.view[idx], r.w.view[idx])
+        due.clear()
+
+    def _keep_field(self, i: int, u: np.ndarray, again: bool = False) -> None:
+        """Keep the field u of recorded state ``i`` and its stresses (``again``: those of the
+        state recorded just before, the same state)."""
+        if again:  # (copies: the two states' arrays are not tied together)
+            self.rec.fields[i] = u.copy()
+            self.rec.stresses[i] = {k: np.array(v, copy=True)
+                                    for k, v in self.rec.stresses[i - 1].items()}
+        else:
+            self.rec.fields[i] = u
+            self.rec.stresses[i] = self.fields.stresses(u)
+
+    def _same_as_stored(self, st: np.ndarray):
+        """(u, residual, kinematic mismatch) of the last recorded state when it has its field
+        and the current state is the same one (contact unknowns, load factors, water and the
+        forces transmitted, at the same stage), else None: its field and its full check hold
+        for the current state as they are (a segment's end and the next segment's start)."""
+        last = getattr(self, "_stored", None)
+        r, eng = self.rec, self.engine
+        i = len(r) - 1
+        if (last is None or last[0] != i or i not in r.fields or last[1] != self.stage
+                or last[2] is not self.cond or st is not eng.s):
+            return None
+        if not (np.array_equal(r.s.view[i], eng.s) and np.array_equal(r.w.view[i], eng.w)
+                and np.array_equal(r.factors.view[i], [self.c[n] for n in self.c])):
+            return None
+        return r.fields[i], last[3], last[4]
 
     def _store_field(self, i: int) -> None:
         """Store the field and stresses of recorded state ``i`` if it has none (a state where
@@ -941,7 +1006,8 @@ class StaticSolver:
             self._record(lam, seg, "event", final=True)
             return False, None, None
         old, new, ds, dw = dec.old, dec.new, dec.ds, dec.dw
-        self._lose_cohesion(new == OPEN)  # an opened joint has no residual cohesion
+        if self._has_residual():
+            self._lose_cohesion(new == OPEN)  # an opened joint has no residual cohesion
         switched = dec.switched
         if switched or first or np.count_nonzero(fired) or (self.article and np.any(
                 slipping(new))):
@@ -1124,6 +1190,7 @@ class StaticSolver:
         return self._load_moments
 
     def result(self, elapsed: float, partial: bool = False) -> StaticResult:
+        self._flush_reactions()
         if not partial:  # the last state of the run (where it ended or stopped) has its field
             self._store_field(len(self.rec) - 1)
         r, cfe = self.rec, self.cfe
