@@ -44,14 +44,13 @@ class EventLog:
         lay = self.layout
         tr = _transition(int(was), int(now))
         pn, qt = (0.0, 0.0) if impulse is None else impulse
-        interface, local, position, x, y = self._where()[k]
+        interface, local, position, x, y, z = self._where()[k]
         ev = Event(
             step=step, state=state, segment=segment, pattern=pattern, lam=lam, cfe=int(k),
             interface=interface, local=local, position=position, x=x, y=y,
             transition=tr, N=float(-lay.normal(s)[k]),
             Q=float(lay.tangential(s)[k]) if lay.n_t == 1 else lay.tangential(s)[k].copy(),
-            impulse_n=pn, impulse_t=qt,
-            z=float(cfe.x[k, 2]) if cfe.x.ndim == 2 and cfe.x.shape[1] == 3 else None)
+            impulse_n=pn, impulse_t=qt, z=z)
         self.rec.events.append(ev)
         if first is not None:
             key = FIRST_OF.get(tr)
@@ -60,20 +59,23 @@ class EventLog:
         return ev
 
     def _where(self) -> list[tuple]:
-        """Per CFE (interface name, index along it, arc length (m), x, y (m)), as Python values,
-        formed once (the CFEs do not change along a run)."""
+        """Per CFE (interface name, index along it, arc length (m), x, y, z (m; z None in
+        2D)), as Python values, formed once (the CFEs do not change along a run)."""
         got = getattr(self, "_where_of", None)
         if got is None or got[0] is not self.cfe:
             cfe = self.cfe
             m = len(cfe.local)
             names = ([cfe.names[i] for i in np.asarray(cfe.interface).tolist()] if cfe.names
                      else [""] * m)
-            xy = (np.asarray(cfe.x, float)[:, :2].tolist() if cfe.x.size
-                  else [[0.0, 0.0]] * m)
+            x = np.asarray(cfe.x, float)
+            xy = x[:, :2].tolist() if x.size else [[0.0, 0.0]] * m
+            zs = (x[:, 2].tolist() if x.ndim == 2 and x.shape[1] == 3 and x.size
+                  else [None] * m)
             got = self._where_of = (cfe, [
-                (nm, int(loc), float(pos), float(p[0]), float(p[1])) for nm, loc, pos, p in
+                (nm, int(loc), float(pos), float(p[0]), float(p[1]), z)
+                for nm, loc, pos, p, z in
                 zip(names, np.asarray(cfe.local).tolist(), np.asarray(cfe.s, float).tolist(), xy,
-                    strict=True)])
+                    zs, strict=True)])
         return got[1]
 
     def changes(self, old: np.ndarray, new: np.ndarray, s: np.ndarray, **where) -> None:
