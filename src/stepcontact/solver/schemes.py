@@ -34,10 +34,17 @@ event one read of G and O(k n).  A singular (or doubtful) C — rcond(C) ≤ ``R
 sends the scheme to a full LU, whose condition estimate decides whether it is a mechanism.
 When k exceeds ``max_rank`` the scheme is *committed*: X ← X − Z (C⁻¹ (V X)), a k × n by n × n
 product and a rank-k update (BLAS gemm, in place), two passes over X for k rows at once, and
-it becomes the base.  Solutions of the same load are updated in O(k n) between commits;
-every first solve on a base has its backward error ‖b − A y‖∞ / (‖A‖∞ ‖y‖∞ + ‖b‖∞) measured
-in O(n) from the G y it forms, and an inverse whose error the commits have grown is inverted
-afresh (:meth:`SchemeFactor._accurate`).
+it becomes the base.  Solutions of the same load are updated in O(k n) between commits.
+
+A solve through an explicit inverse is not backward stable as an LU solve is: y = X b has the
+forward error of an LU solve, but its residual b − A y may be as large as eps ‖A‖ ‖A⁻¹‖ ‖b‖
+instead of eps ‖A‖ ‖y‖, and the force rates s' = y + D (ĥ − G y) are a difference of large
+terms wherever the contacts are far stiffer than the structure, so they inherit the residual,
+not the forward error.  Every float64 solve therefore has its backward error η = ‖b − A y‖∞ /
+(‖A‖∞ ‖y‖∞ + ‖b‖∞) measured in O(n) from the G y it forms anyway; a solve with η above
+``ETA_ACCEPT`` is refined with the same inverse (one more pass over X and over G), and an
+inverse that the commits have moved away from its matrix — η beyond ``BACKWARD_TOL``, or a
+refinement that stalls — is inverted afresh (:meth:`SchemeFactor._stable`).
 
 For large interfaces the dense work runs in float32 (G held as D G − I, see
 :func:`scheme_rows`), and every solve is refined to float64 accuracy against the exact operator
@@ -91,12 +98,22 @@ REFINE_MAX = 12
 REFINE_TOL = 4e-15
 REFINE_ACCEPT = 1e-9
 
-#: the normwise backward error η = ‖b − A y‖∞ / (‖A‖∞ ‖y‖∞ + ‖b‖∞) of a float64 solve on an
-#: inverse that has taken rank-k updates may grow to the larger of BACKWARD_TOL and
-#: BACKWARD_GROWTH times that of an inverse fresh from an LU before the scheme is inverted
-#: afresh (:meth:`SchemeFactor._accurate`).  A backward-stable solve (LU) shows η of
-#: 1e-16..1e-15 on the slab benchmark; the inverse, through hundreds of commits, the same
+#: the normwise backward error η = ‖b − A y‖∞ / (‖A‖∞ ‖y‖∞ + ‖b‖∞) of the first float64 solve
+#: on an inverse that has taken rank-k updates may grow to the larger of BACKWARD_TOL and
+#: BACKWARD_GROWTH times that of the latest inverse fresh from an LU before the scheme is
+#: inverted afresh (:meth:`SchemeFactor._stable`; below it the solve is refined).
 BACKWARD_TOL = 1e-13
+BACKWARD_GROWTH = 64.0
+
+#: a float64 solve through the inverse is accepted when its backward error η is at most
+#: ETA_ACCEPT, else refined with the same inverse (at most REFINE_MAX_F64 corrections;
+#: :meth:`SchemeFactor._stable`).  Measured: the inverse, through its commits, gives η of
+#: 3e-16..9e-15 on the slab benchmark (k = 4, 444 solves, median 1.1e-15); a fresh inverse
+#: of the bonded block's schemes (a stiff block on compliant layers, cond(A) about 2e7,
+#: test_bonded_joints.py) 3e-12 on some loads where an LU solve gives 4e-17..2e-16 — which
+#: moved the force rates by 1.6e-5 relative (LU: 5e-10) — and one refinement step 2e-16
+ETA_ACCEPT = 1e-14
+REFINE_MAX_F64 = 3
 
 #: the rank of a Woodbury update beyond which its scheme is committed into the base's inverse
 #: (:class:`SchemeSolver`): a commit costs 2 n² flops per row in BLAS-3 blocks, about
@@ -109,7 +126,6 @@ MAX_RANK = 48
 #: over the inverse per column)
 SPARSE_RHS_MIN = 8
 SPARSE_RHS_DENSITY = 0.05
-BACKWARD_GROWTH = 64.0
 
 _LAPACK: dict[tuple[str, str], object] = {}
 
@@ -256,6 +272,11 @@ def _mv(M: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 class _NotRefined(Exception):
     """A float32 update's solve did not refine: the scheme is refactorised instead."""
+
+
+class _Reinverted(Exception):
+    """A float64 solve found the inverse inaccurate and inverted the scheme afresh: the
+    caller solves again."""
 
 
 class MechanismError(Exception):
@@ -539,7 +560,7 @@ class _Base:
     factors of it solve through the new base (:meth:`SchemeFactor._live`).  ``commits``
     counts the rank-k updates X has taken since it was inverted from an LU; ``checked``
     whether a solve of this base has had its backward error measured
-    (:meth:`SchemeFactor._accurate`)."""
+    (:meth:`SchemeFactor._stable`)."""
 
     def __init__(self, rel: Relations, n: int, scale: np.ndarray, X: np.ndarray, rc: float,
                  rowsum: np.ndarray, commits: int = 0):
@@ -729,31 +750,81 @@ class SchemeFactor:
                 f"precision='float64' (needs twice the memory of the dense contact matrices)")
         return y, Gy
 
-    def _accurate(self, bs: np.ndarray, y: np.ndarray, Gy: np.ndarray) -> bool:
-        """The normwise backward error of a float64 solve y of A y = bs, with A y from G y
-        (O(n), :func:`scheme_apply`),
+    def _backward(self, bs: np.ndarray, y: np.ndarray, Gy: np.ndarray):
+        """The residual r = bs − A y (A y from G y, O(n): :func:`scheme_apply`) and the
+        normwise backward error of each solution (column) y,
 
-            η = ‖bs − A y‖∞ / (‖A‖∞ ‖y‖∞ + ‖bs‖∞),
+            η = ‖bs − A y‖∞ / (‖A‖∞ ‖y‖∞ + ‖bs‖∞)
 
-        measured on the first solve of each base (``checked``).  η of the first base
-        inverted from an LU is the reference η₀; a base that has taken rank-k updates and
-        shows η > max(``BACKWARD_TOL``, ``BACKWARD_GROWTH`` η₀) has lost accuracy to them:
-        this scheme is then inverted afresh (an LU, counted in ``scheme_reinversions``) and
-        False returned (the caller solves again)."""
+        (‖A‖∞ bounded by the base's and the changed rows' largest absolute row sum)."""
         o, b = self.owner, self.base
-        b.checked = True
         r = bs - scheme_apply(o.d, self.rel, self.scale, y, Gy)
         anorm = b.anorm if self.row_sums is None else max(b.anorm, float(self.row_sums.max()))
-        den = anorm * float(np.abs(y).max(initial=0.0)) + float(np.abs(bs).max(initial=0.0))
-        eta = float(np.abs(r).max(initial=0.0)) / max(den, 1e-300)
-        if not b.commits:
-            o.eta_fresh = eta
-            return True
-        if eta <= max(BACKWARD_TOL, BACKWARD_GROWTH * o.eta_fresh):
-            return True
+        den = anorm * np.abs(y).max(axis=0, initial=0.0) + np.abs(bs).max(axis=0, initial=0.0)
+        return r, np.abs(r).max(axis=0, initial=0.0) / np.maximum(den, 1e-300)
+
+    def _stable(self, bs: np.ndarray, y: np.ndarray, Gy: np.ndarray):
+        """A float64 solution y ≈ A⁻¹ bs (a vector or a block) made backward stable: its
+        backward error η (:meth:`_backward`, O(n) from the G y the rates form anyway) is
+        measured on *every* solve.  A solution through an explicit inverse has the forward
+        error of an LU solve but not its backward error: y = X b leaves a residual up to
+        eps ‖A‖ ‖A⁻¹‖ ‖b‖, i.e. η up to eps cond(A) where an LU leaves η ≈ eps — and the force
+        rates s' = y + D (ĥ − G y) are a difference of large terms wherever the contacts are
+        much stiffer than the structure, so they carry η, not the forward error (a stiff block
+        on a compliant layer: η = 3e-12 moved s' by 1.6e-5 relative).  A solution with
+        η > ``ETA_ACCEPT`` is refined, y ← y + A⁻¹ r with the same inverse and its update (a
+        pass over X and one over G per step; fixed-precision refinement, which gives an
+        η of eps·(1 + κ eps) after one step while cond(A) eps ≪ 1); one that stops improving
+        on a base that has taken rank-k commits, or an update of such a base (its inverse
+        has drifted from its matrix), and a committed base whose first η exceeds
+        max(``BACKWARD_TOL``, ``BACKWARD_GROWTH`` η₀) (η₀: that of the latest fresh
+        inverse), is inverted afresh from an LU (``scheme_reinversions``) and
+        ``_Reinverted`` raised (the caller solves again with the fresh inverse).  Returns
+        (y, G y)."""
+        o, b = self.owner, self.base
+        r, eta = self._backward(bs, y, Gy)
+        first = not b.checked
+        b.checked = True
+        worst = float(eta.max(initial=0.0))
+        if first and not b.commits and self.V is None:
+            o.eta_fresh = worst
+        if worst <= ETA_ACCEPT:
+            return y, Gy
+        drifted = b.commits > 0
+        if drifted and first and worst > max(BACKWARD_TOL, BACKWARD_GROWTH * o.eta_fresh):
+            self._reinvert()
+        prev = np.inf
+        for _ in range(REFINE_MAX_F64):
+            if y.ndim == 1:
+                y = y + self._approx(r)
+                Gy = o.g_product(y)
+            else:
+                bad = np.flatnonzero(eta > ETA_ACCEPT)
+                y = y.copy()
+                y[:, bad] += self._approx(r[:, bad])
+                Gy = Gy.copy()
+                Gy[:, bad] = o.G @ y[:, bad]
+            o.counters["refinements"] += 1
+            r, eta = self._backward(bs, y, Gy)
+            prev, worst = worst, float(eta.max(initial=0.0))
+            if worst <= ETA_ACCEPT:
+                return y, Gy
+            if worst > 0.5 * prev:
+                break
+        if drifted or self.V is not None:
+            self._reinvert()
+        # a fresh inverse whose refinement stalls: cond(A) eps is not small (a scheme next to
+        # a mechanism); the solution is as good as this precision makes it
+        return y, Gy
+
+    def _reinvert(self) -> None:
+        """Invert this scheme afresh from an LU (its inverse lost accuracy) and make the
+        caller solve again (``_Reinverted``)."""
+        o = self.owner
         o.counters["scheme_reinversions"] += 1
         o._refactor(self.rel)
-        return False
+        o._cache[self.rel.key()] = o._plain(self.rel)
+        raise _Reinverted
 
     def solve(self, hhat, e, r, floor: float = 0.0):
         """Rates (s', w') of this scheme for load rates (ĥ, e) and relation right-hand sides
@@ -775,7 +846,9 @@ class SchemeFactor:
                 return o.refactored(self).solve(hhat, e, r, floor)
         else:
             Gy = o.g_product(y)
-            if y.ndim == 1 and not self.base.checked and not self._accurate(bs, y, Gy):
+            try:
+                y, Gy = self._stable(bs, y, Gy)
+            except _Reinverted:
                 return o.factor(self.rel).solve(hhat, e, r, floor)
         return self._rates(y, Gy, hhat, e)
 
@@ -825,8 +898,9 @@ class SchemeFactor:
                 return o.refactored(self).load_rates(hhat, e)
         else:
             Gy = o.g_product(y)
-            if not self.base.checked and not self._accurate(
-                    self.scale * scheme_rhs(d, self.rel, hhat, e, 0.0), y, Gy):
+            try:
+                y, Gy = self._stable(self.scale * scheme_rhs(d, self.rel, hhat, e, 0.0), y, Gy)
+            except _Reinverted:
                 return o.factor(self.rel).load_rates(hhat, e)
         return self._rates(y, Gy, hhat, e)
 
@@ -859,10 +933,11 @@ class SchemeSolver:
     * a doubtful update: its capacitance C is ill-conditioned (rcond(C) ≤ ``RCOND_UPDATE``):
       the scheme is LU-factorised in full, whose gecon estimate decides whether it is a
       mechanism (:class:`MechanismError`), and inverted if it is not;
-    * lost accuracy: the first solve on every base has its normwise backward error
-      measured in O(n) from the G y it forms anyway (:meth:`SchemeFactor._accurate`); a
-      committed base whose error has grown past ``BACKWARD_TOL`` (and ``BACKWARD_GROWTH``
-      times that of a fresh inverse) is inverted afresh.
+    * lost accuracy: every solve has its normwise backward error measured in O(n) from the
+      G y it forms anyway and is refined beyond ``ETA_ACCEPT`` (:meth:`SchemeFactor._stable`);
+      a committed base whose first error has grown past ``BACKWARD_TOL`` (and
+      ``BACKWARD_GROWTH`` times that of a fresh inverse), or whose refinement stalls, is
+      inverted afresh.
 
     Factors of the last few schemes are kept, so a scheme met again (the rate problem, then
     the correction at the same point) is not set up twice; a singular scheme is factorised
@@ -1098,7 +1173,8 @@ def _lu_solve_block(f, B: np.ndarray) -> np.ndarray:
     return _lapack("getrs", f[0])(f[0], f[1], B.astype(f[0].dtype, copy=False))[0]
 
 
-__all__ = ["BACKWARD_GROWTH", "BACKWARD_TOL", "RCOND_MECHANISM", "RCOND_MECHANISM_F32",
-           "RCOND_UPDATE", "RCOND_UPDATE_F32", "MechanismError", "SchemeFactor", "SchemeSolver",
+__all__ = ["BACKWARD_GROWTH", "BACKWARD_TOL", "ETA_ACCEPT", "RCOND_MECHANISM",
+           "RCOND_MECHANISM_F32", "RCOND_UPDATE", "RCOND_UPDATE_F32", "MechanismError",
+           "SchemeFactor", "SchemeSolver",
            "lu", "lu_solve", "norm1", "norm2", "null_modes", "rcond", "scheme_apply",
            "scheme_apply_t", "scheme_rhs", "scheme_rows"]
