@@ -20,7 +20,14 @@ solver's inverse, Woodbury updates and commits:
   is detected by the backward-error check of its first solve and inverted afresh, and the
   rates still equal the dense solve to 1e-12;
 * G y by symv (symmetric G) equals the full product to 1e-13 relative; a G that is not
-  symmetric takes the full product.
+  symmetric takes the full product;
+* a *fresh* inverse that leaves a residual far above an LU solve's (its X perturbed by 1e-9
+  relative noise, η about 1e-9 against 1e-16: what the inverse of an ill-conditioned scheme
+  leaves on some loads, the fault of a staged bonded run) is refined on every solve — not
+  only the first of its base — of the base and of its updates, without being inverted again,
+  and the rates equal the dense solve to 1e-12 relative;
+* the walk of the first test under the default, cost-based rank policy (updates, commits or
+  inversions chosen by their weighted flops) equals the dense solves to 1e-12 relative.
 """
 
 from __future__ import annotations
@@ -231,3 +238,67 @@ def test_symmetric_product(block):
     A[0, 1] *= 1 + 1e-9
     s = SchemeSolver(A, c64.d)
     assert np.array_equal(s.g_product(y), A @ y) and s._symv is False
+
+
+def test_a_fresh_inverse_is_checked_on_every_solve(block):
+    """The base's inverse, fresh from an LU and checked on its first solve, then perturbed by
+    1e-9 relative noise (a residual 1e7 times an LU solve's): every later solve — other loads
+    on the base, relation rates, a Woodbury update of it — is refined to the dense solve's
+    rates (RTOL), and the base is not inverted again (refinement is the remedy of a fresh
+    inverse; a reinversion is for the drift of commits)."""
+    system, c64, _ = block
+    G, d = c64.G, c64.d
+    eng = _engine(system, c64, None)
+    m, n = eng.m, 2 * eng.m
+    h, e = vm.first_forcing(c64)
+    first = np.full(m, STICK)
+    first[[0, 1]] = SLIP_POS  # (slipping CFEs: tangential rates w' that are not zero)
+    first[m - 1] = OPEN
+    eng.rates(first, (h, e))
+    base = eng.schemes.base
+    assert base.commits == 0 and base.checked
+    noise = np.random.default_rng(2).standard_normal(base.X.shape)
+    base.X += 1e-9 * np.abs(base.X).max() * noise
+    base.loads.clear()  # (the solution of (h, e) cached before the noise)
+    before = dict(eng.schemes.counters)
+    update = first.copy()
+    update[[5, 9]] = SLIP_NEG
+    rng = np.random.default_rng(3)
+    for states in (first, update):
+        rel = eng.relations(states, article=False)
+        for load in ((h, e), (2.0 * h - 0.5 * e, e)):
+            A, b = _dense(rel, G, d, *load, np.zeros(n))
+            _close(eng.rates(states, load), _rates(A, b, G, d, *load))
+        r = rng.standard_normal(n) * 1e-6
+        A, b = _dense(rel, G, d, h, e, r)
+        _close(eng.rates(states, (h, e), r), _rates(A, b, G, d, h, e))
+    c = eng.schemes.counters
+    assert eng.schemes.base is base and base.alive
+    assert c["refinements"] >= before["refinements"] + 6
+    assert c["scheme_reinversions"] == before["scheme_reinversions"]
+    assert c["scheme_inversions"] == before["scheme_inversions"]
+
+
+def test_walk_under_the_cost_based_rank_policy(block):
+    """The walk of :func:`test_walk_of_updates_and_commits_equals_dense_solves` (float64) with
+    the default rank policy: every rate equals the dense solve to RTOL."""
+    system, c64, _ = block
+    G, d = c64.G, c64.d
+    eng = _engine(system, c64, None)
+    m, n = eng.m, 2 * eng.m
+    h, e = vm.first_forcing(c64)
+    rng = np.random.default_rng(4)
+    checked = 0
+    for states in _walk(rng, m, 120):
+        rel = eng.relations(states, article=False)
+        r = rng.standard_normal(n) * 1e-6
+        A, b = _dense(rel, G, d, h, e, r)
+        _, b0 = _dense(rel, G, d, h, e, np.zeros(n))
+        if _cond(A) > 1e12:
+            with pytest.raises(MechanismError):
+                eng.rates(states, (h, e))
+            continue
+        _close(eng.rates(states, (h, e)), _rates(A, b0, G, d, h, e))
+        _close(eng.rates(states, (h, e), r), _rates(A, b, G, d, h, e))
+        checked += 1
+    assert checked >= 60

@@ -116,10 +116,21 @@ ETA_ACCEPT = 1e-14
 REFINE_MAX_F64 = 3
 
 #: the rank of a Woodbury update beyond which its scheme is committed into the base's inverse
-#: (:class:`SchemeSolver`): a commit costs 2 n² flops per row in BLAS-3 blocks, about
-#: 0.15 ms per row at n = 1 202 from 32 rows on (0.6 ms for one row alone), while every
-#: update's O(k n) work (its columns and rows copied, V y₀, Z g) grows with k
+#: when a solver is given ``max_rank`` (a fixed rule, for tests); by default the rank policy
+#: is cost-based (:meth:`SchemeSolver._commit_now`)
 MAX_RANK = 48
+
+#: the cost model of the rank policy, in flops weighted by the rate they run at relative to
+#: a BLAS-3 product (dgemm), measured single-threaded on the development machine (n = 602 …
+#: 1 587): dgemm 48 GF/s (a commit, 4 k n² flops), getrf + getri 27 GF/s (an inversion,
+#: 2 n³ flops: weight W_INVERT), dgemv and the other O(k n) passes of an update 6 GF/s
+#: (weight W_PASS), a k × k LU (the capacitance) 16 GF/s at k = 325 (weight W_SMALL_LU)
+W_INVERT = 1.8
+W_PASS = 8.0
+W_SMALL_LU = 3.0
+#: solves assumed per scheme for the O(k n) cost of each solve of an update (the event loop
+#: makes about three per event point: the rates, the rate problem, the correction)
+SOLVES_PER_SCHEME = 3
 
 #: a block of at least SPARSE_RHS_MIN right-hand sides with at most SPARSE_RHS_DENSITY of its
 #: entries nonzero is multiplied by the inverse as a sparse matrix (O(n nnz) instead of a pass
@@ -590,6 +601,10 @@ class _Base:
         #: the block row (S_j·, W_j·) of each slot's latest relation (:func:`_block_rows`)
         self.vrow = np.empty((cap, 2 * rel.layout.n_c))
         self.loads: OrderedDict[int, tuple] = OrderedDict()
+        #: the rank policy's account: weighted flops the updates of this base have cost, and
+        #: the rows the latest :meth:`prepare` formed (:meth:`SchemeSolver._commit_now`)
+        self.spent = 0.0
+        self.formed = 0
 
     def _grow(self, need: int) -> None:
         cap = self.Z.shape[1]
@@ -648,6 +663,7 @@ class _Base:
             self.vsum[stale] = _row_sums(R)
             self.vrow[stale] = row
             self.VZ[stale, :k] = self.V[stale] @ self.Z[:, :k]
+        self.formed = int(stale.size) + int(new_rows.size)
         return slots
 
     def load(self, solver: SchemeSolver, hhat: np.ndarray, e: np.ndarray):
@@ -964,6 +980,8 @@ class SchemeSolver:
             raise ValueError("a float32 G needs the exact operator (product) to refine against")
         self.rcond_mechanism = RCOND_MECHANISM_F32 if self.refine else RCOND_MECHANISM
         self.rcond_update = RCOND_UPDATE_F32 if self.refine else RCOND_UPDATE
+        #: a fixed rank rule (``max_rank`` given) or the cost-based policy (:meth:`_commit_now`)
+        self.fixed_rank = max_rank is not None
         self.max_rank = MAX_RANK if max_rank is None else max_rank
         self.base: _Base | None = None
         self._cache: OrderedDict[bytes, SchemeFactor] = OrderedDict()
@@ -975,7 +993,8 @@ class SchemeSolver:
         #: scheme_updates: Woodbury updates set up; scheme_columns: changed rows given a slot;
         #: scheme_solves: right-hand sides solved with the inverse (a pass over it each)
         self.counters = {"scheme_factorizations": 0, "scheme_inversions": 0,
-                         "scheme_commits": 0, "scheme_reinversions": 0, "scheme_updates": 0,
+                         "scheme_commits": 0, "scheme_reinversions": 0,
+                         "scheme_policy_inversions": 0, "scheme_updates": 0,
                          "scheme_columns": 0, "scheme_solves": 0, "refinements": 0}
         #: (s', y, G y) of the rates solved last (:meth:`SchemeFactor._rates`)
         self.last_product: tuple | None = None
@@ -1123,6 +1142,10 @@ class SchemeSolver:
         idx = _changed_rows(rel, b.rel)
         if idx.size == 0:
             return self._plain(rel)
+        if self._invert_instead(b, idx):
+            self.counters["scheme_policy_inversions"] += 1
+            self._refactor(rel)
+            return self._plain(rel)
         slots = b.prepare(self, rel, idx)
         C = b.VZ[slots][:, slots]
         C.flat[:: len(slots) + 1] += 1.0
@@ -1140,10 +1163,59 @@ class SchemeSolver:
         scale[idx] = b.vscale[slots]
         fac = SchemeFactor(self, b, idx, b.V[slots], b.Z[:, slots], C_lu, scale, rel,
                            b.vsum[slots])
-        if idx.size > self.max_rank or b.k > 2 * self.max_rank:
+        if self._commit_now(b, idx.size):
             self._commit(fac)
             return self._plain(rel)
         return fac
+
+    def _costs(self, k: int) -> tuple[float, float]:
+        """(commit, inversion) cost of a scheme k rows from the base, weighted flops
+        (:data:`W_INVERT`): a commit 4 k n² (two BLAS-3 passes over X, at least two passes'
+        worth of memory traffic), an inversion 2 n³ plus the rows of A formed from G."""
+        n = self.n
+        commit = 4.0 * k * n * n + W_PASS * 2.0 * n * n
+        invert = W_INVERT * 2.0 * n ** 3 + W_PASS * 2.0 * n * n
+        return commit, invert
+
+    def _invert_instead(self, b: _Base, idx: np.ndarray) -> bool:
+        """Default policy, before an update of the rows ``idx`` is set up: whether inverting
+        the scheme afresh is cheaper than the update's set-up (its new rows: their columns,
+        rows and products V Z, O(r K n); the capacitance's LU, (2/3) k³) followed by its
+        commit — then the scheme is inverted without either."""
+        if self.fixed_rank:
+            return False
+        k, n = idx.size, self.n
+        r = int(np.count_nonzero(b.slot[idx] < 0))
+        setup = self._setup_cost(b, r, b.k + r, k)
+        commit, invert = self._costs(k)
+        return min(setup + commit, setup + W_PASS * 4.0 * k * n * SOLVES_PER_SCHEME) > invert
+
+    def _commit_now(self, b: _Base, k: int) -> bool:
+        """Whether the update just set up (k rows from the base ``b``) is committed.
+
+        With ``max_rank`` given: when k exceeds it or the base has slots for more than twice
+        it.  By default, cost-based (a rent-or-buy rule, at most twice the cost of the best
+        choice in hindsight): every update charges the base the weighted flops it adds over
+        the base's own solves — set-up (new rows' columns, rows and V Z: 2 r K n; the
+        capacitance LU, (2/3) k³) and its solves (4 k n each, ``SOLVES_PER_SCHEME``) — and the
+        scheme is committed once the charges since the base was made reach the cost of that
+        commit (4 k n²), or when the slots cover half the rows (Z and V Z as large as X).
+        Schemes met on an excursion (a rate problem's stiff scheme hundreds of rows away,
+        then back near the base) stay updates; schemes that have moved on are committed."""
+        if self.fixed_rank:
+            return k > self.max_rank or b.k > 2 * self.max_rank
+        n = self.n
+        b.spent += self._setup_cost(b, b.formed, b.k, k) + W_PASS * 4.0 * k * n * SOLVES_PER_SCHEME
+        b.formed = 0
+        return b.spent >= self._costs(k)[0] or 2 * b.k > n
+
+    def _setup_cost(self, b: _Base, r: int, slots: int, k: int) -> float:
+        """Weighted flops of an update's set-up: r rows formed from G and their columns of X
+        copied (memory-bound, 2 r n (n_c + 1)), their products with the ``slots`` columns
+        and rows of V Z (BLAS-3, 4 r K n) and the k × k capacitance's LU ((2/3) k³)."""
+        n, nc = self.n, b.rel.layout.n_c
+        return (W_PASS * 2.0 * r * n * (nc + 1) + 4.0 * r * slots * n
+                + W_SMALL_LU * (2.0 / 3.0) * k ** 3)
 
     def refactored(self, fac: SchemeFactor) -> SchemeFactor:
         """A full factorisation of the scheme of ``fac`` (an update, or a base that has taken
