@@ -32,9 +32,13 @@ so that its load rates, from the base's solution y₀ = X b₀ of the same load,
 O(k n), and ŵ' = ĥ − G y one product with G (BLAS symv, half a pass, for a symmetric G): per
 event one read of G and O(k n).  A singular (or doubtful) C — rcond(C) ≤ ``RCOND_UPDATE`` —
 sends the scheme to a full LU, whose condition estimate decides whether it is a mechanism.
-When k exceeds ``max_rank`` the scheme is *committed*: X ← X − Z (C⁻¹ (V X)), a k × n by n × n
-product and a rank-k update (BLAS gemm, in place), two passes over X for k rows at once, and
-it becomes the base.  Solutions of the same load are updated in O(k n) between commits.
+A scheme may be *committed*: X ← X − Z (C⁻¹ (V X)), a k × n by n × n product and a rank-k
+update (BLAS gemm, in place), two passes over X for k rows at once, and it becomes the base.
+Whether a scheme is updated, committed or inverted afresh is decided by cost (weighted flops,
+:meth:`SchemeSolver._commit_now`): the updates of a base are charged to it and a scheme is
+committed once they have cost as much as its commit (rent or buy), and inverted afresh when
+that is cheaper than its update and commit (k rows near n).  Solutions of the same load are
+updated in O(k n) between commits.
 
 A solve through an explicit inverse is not backward stable as an LU solve is: y = X b has the
 forward error of an LU solve, but its residual b − A y may be as large as eps ‖A‖ ‖A⁻¹‖ ‖b‖
@@ -935,16 +939,18 @@ class SchemeSolver:
     whose pieces are cached on the base as rows change (:class:`_Base`: a column costs a
     copy, a changed row one row of G), so that a scheme met between commits costs O(k n) and
     its load rates O(k n) plus one product with G; det A = det A₀ · det C, so a mechanism
-    makes C singular.  When k exceeds ``max_rank`` (default ``MAX_RANK``), the scheme asked
-    for is *committed*: X takes its update in place,
+    makes C singular.  A scheme asked for may be *committed* (by default when the updates of
+    the base have cost as much as its commit, :meth:`_commit_now`; with ``max_rank`` given,
+    when k exceeds it): X takes its update in place,
 
         W = V X  (one read of X: a k × n by n × n product),
         X ← X − Z (C⁻¹ W)  (one read and write of X: a rank-k update, BLAS gemm),
 
     and the scheme becomes the base.  Per changed row that is 2 n² flops per pass, the cost
     of a rank-one update of a dense factor, in BLAS-3 blocks of k rows; a full inversion,
-    (2/3 + 4/3) n³ flops, is made only for the first scheme, for a doubtful update and when
-    the commits have cost accuracy:
+    (2/3 + 4/3) n³ flops, is made only for the first scheme, for a scheme whose update and
+    commit would cost more (:meth:`_invert_instead`), for a doubtful update and when the
+    commits have cost accuracy:
 
     * a doubtful update: its capacitance C is ill-conditioned (rcond(C) ≤ ``RCOND_UPDATE``):
       the scheme is LU-factorised in full, whose gecon estimate decides whether it is a
@@ -980,8 +986,10 @@ class SchemeSolver:
             raise ValueError("a float32 G needs the exact operator (product) to refine against")
         self.rcond_mechanism = RCOND_MECHANISM_F32 if self.refine else RCOND_MECHANISM
         self.rcond_update = RCOND_UPDATE_F32 if self.refine else RCOND_UPDATE
-        #: a fixed rank rule (``max_rank`` given) or the cost-based policy (:meth:`_commit_now`)
-        self.fixed_rank = max_rank is not None
+        #: a fixed rank rule (``max_rank`` given, and for float32 schemes, whose updates must
+        #: refine against the exact operator: small ranks) or the cost-based policy
+        #: (:meth:`_commit_now`)
+        self.fixed_rank = max_rank is not None or self.refine
         self.max_rank = MAX_RANK if max_rank is None else max_rank
         self.base: _Base | None = None
         self._cache: OrderedDict[bytes, SchemeFactor] = OrderedDict()
@@ -1193,21 +1201,26 @@ class SchemeSolver:
     def _commit_now(self, b: _Base, k: int) -> bool:
         """Whether the update just set up (k rows from the base ``b``) is committed.
 
-        With ``max_rank`` given: when k exceeds it or the base has slots for more than twice
-        it.  By default, cost-based (a rent-or-buy rule, at most twice the cost of the best
-        choice in hindsight): every update charges the base the weighted flops it adds over
-        the base's own solves — set-up (new rows' columns, rows and V Z: 2 r K n; the
-        capacitance LU, (2/3) k³) and its solves (4 k n each, ``SOLVES_PER_SCHEME``) — and the
-        scheme is committed once the charges since the base was made reach the cost of that
-        commit (4 k n²), or when the slots cover half the rows (Z and V Z as large as X).
-        Schemes met on an excursion (a rate problem's stiff scheme hundreds of rows away,
-        then back near the base) stay updates; schemes that have moved on are committed."""
+        With ``max_rank`` given, and for float32 schemes: when k exceeds it or the base has
+        slots for more than twice it.  Float64 schemes by default: cost-based, a rent-or-buy
+        rule (at most twice the cost of the best choice in hindsight).  Every update charges
+        the base the weighted flops it adds over the base's own solves — set-up (new rows'
+        columns, rows and V Z: 2 r K n; the capacitance LU, (2/3) k³) and its solves (4 k n
+        each, ``SOLVES_PER_SCHEME``) — and the scheme is committed once the charges since
+        the base was made reach the price of that commit (4 k n², and the set-up of the
+        other slots it drops), or when the slots cover half the rows (Z and V Z as large as
+        X).  Schemes met on an excursion (a rate problem's stiff scheme hundreds of rows
+        away, then back near the base) stay updates; schemes that have moved on are
+        committed."""
         if self.fixed_rank:
             return k > self.max_rank or b.k > 2 * self.max_rank
         n = self.n
         b.spent += self._setup_cost(b, b.formed, b.k, k) + W_PASS * 4.0 * k * n * SOLVES_PER_SCHEME
         b.formed = 0
-        return b.spent >= self._costs(k)[0] or 2 * b.k > n
+        # a commit also drops the slots of the other K − k rows (an excursion's, formed again
+        # when it recurs): their set-up is part of its price
+        price = self._costs(k)[0] + self._setup_cost(b, b.k - k, b.k - k, 0)
+        return b.spent >= price or 2 * b.k > n
 
     def _setup_cost(self, b: _Base, r: int, slots: int, k: int) -> float:
         """Weighted flops of an update's set-up: r rows formed from G and their columns of X
