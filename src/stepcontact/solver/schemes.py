@@ -132,8 +132,9 @@ MAX_RANK = 48
 W_INVERT = 1.8
 W_PASS = 8.0
 W_SMALL_LU = 3.0
-#: solves assumed per scheme for the O(k n) cost of each solve of an update (the event loop
-#: makes about three per event point: the rates, the rate problem, the correction)
+#: solves assumed per scheme for the O(k n) cost of each solve of an update, when an update is
+#: weighed against an inversion before it is set up (the event loop makes about three per
+#: event point: the rates, the rate problem, the correction)
 SOLVES_PER_SCHEME = 3
 
 #: a block of at least SPARSE_RHS_MIN right-hand sides with at most SPARSE_RHS_DENSITY of its
@@ -667,7 +668,7 @@ class _Base:
             self.vsum[stale] = _row_sums(R)
             self.vrow[stale] = row
             self.VZ[stale, :k] = self.V[stale] @ self.Z[:, :k]
-        self.formed = int(stale.size) + int(new_rows.size)
+        self.formed = int(stale.size)  # (the new slots are stale too)
         return slots
 
     def load(self, solver: SchemeSolver, hhat: np.ndarray, e: np.ndarray):
@@ -730,6 +731,7 @@ class SchemeFactor:
         o.counters["scheme_solves"] += 1 if bs.ndim == 1 else bs.shape[1]
         if self.V is not None:
             y = y - _mv(self.Z, lu_solve(self.C_lu, _mv(self.V, y)))
+            self.base.spent += W_PASS * 4.0 * self.V.size * (1 if bs.ndim == 1 else bs.shape[1])
         return y
 
     def _refine(self, bs: np.ndarray, y: np.ndarray,
@@ -910,6 +912,7 @@ class SchemeFactor:
                 self.coef = _coefficients(self.rel, idx)
             delta = self.scale[idx] * _load_rhs_rows(d, self.coef, idx, hhat, e) - b0[idx]
             g = lu_solve(self.C_lu, delta - _mv(self.V, y0))
+            self.base.spent += W_PASS * 4.0 * self.V.size
             y = y0 + _mv(self.Z, g)
         if o.refine:  # the cached float32 solution is the start of the refinement
             try:
@@ -1204,9 +1207,9 @@ class SchemeSolver:
         With ``max_rank`` given, and for float32 schemes: when k exceeds it or the base has
         slots for more than twice it.  Float64 schemes by default: cost-based, a rent-or-buy
         rule (at most twice the cost of the best choice in hindsight).  Every update charges
-        the base the weighted flops it adds over the base's own solves — set-up (new rows'
-        columns, rows and V Z: 2 r K n; the capacitance LU, (2/3) k³) and its solves (4 k n
-        each, ``SOLVES_PER_SCHEME``) — and the scheme is committed once the charges since
+        the base the weighted flops it adds over the base's own solves as they are spent —
+        set-up (new rows' columns, rows and V Z: 2 r K n; the capacitance LU, (2/3) k³) and
+        its solves (4 k n each) — and the scheme is committed once the charges since
         the base was made reach the price of that commit (4 k n², and the set-up of the
         other slots it drops), or when the slots cover half the rows (Z and V Z as large as
         X).  Schemes met on an excursion (a rate problem's stiff scheme hundreds of rows
@@ -1215,7 +1218,7 @@ class SchemeSolver:
         if self.fixed_rank:
             return k > self.max_rank or b.k > 2 * self.max_rank
         n = self.n
-        b.spent += self._setup_cost(b, b.formed, b.k, k) + W_PASS * 4.0 * k * n * SOLVES_PER_SCHEME
+        b.spent += self._setup_cost(b, b.formed, b.k, k)
         b.formed = 0
         # a commit also drops the slots of the other K − k rows (an excursion's, formed again
         # when it recurs): their set-up is part of its price
