@@ -113,8 +113,10 @@ def measure(k: int, backend: str = "auto", reps: int = 20, batches: int = 5) -> 
         "t_setup": t_total - loop, "T_F": t_f, "T_G": t_g,
         "t_event": loop / max(events, 1), **fl,
         "scheme_counters": {key: res.counters[key] for key in
-                            ("scheme_factorizations", "scheme_updates", "scheme_columns",
-                             "scheme_solves") if key in res.counters},
+                            ("scheme_factorizations", "scheme_inversions", "scheme_commits",
+                             "scheme_reinversions", "scheme_policy_inversions",
+                             "scheme_updates", "scheme_columns", "scheme_solves",
+                             "refinements") if key in res.counters},
     }
 
 

@@ -1,5 +1,5 @@
-"""Working schemes on the condensed contact unknowns: the dense scheme matrix, its LU with
-low-rank (Woodbury) row updates, and the rates of a scheme.
+"""Working schemes on the condensed contact unknowns: the dense scheme matrix, its explicit
+inverse updated by low-rank (Sherman–Morrison–Woodbury) row updates, and the rates of a scheme.
 
 With t = s − D ŵ and ŵ = ĥ − G t (see :mod:`stepcontact.solver.condensation`), the relations
 of a working scheme (per CFE a small block, :class:`stepcontact.contact.laws.Relations`: row j,
@@ -16,9 +16,39 @@ over G; only the rows with a coupling (an off-diagonal entry of their block) tak
 product with the coupled rows of G.  A singular A is a working scheme that is a mechanism.
 
 Row j of A and of b depends on the relation row of component j alone (its block row S_j·,
-W_j·), so two schemes differ only in the rows of the components whose relation changed.  That
-is what the event loop exploits (:class:`SchemeSolver`): one LU of a base scheme, and every
-later scheme as a low-rank row update of it, with what the updates share cached on the base.
+W_j·), so two schemes differ only in the rows of the components whose relation changed: an
+event changes the rows of the CFEs that fired (r = 2 in 2D for one CFE, more at a simultaneous
+event).  That is what the event loop exploits (:class:`SchemeSolver`).  It keeps the explicit
+inverse X = A₀⁻¹ of a *base* scheme (from one LU, LAPACK getrf + getri); a scheme A = A₀ + E V
+that differs from it in the k rows E = I[:, idx] (V: the rows' differences) is, by the
+Sherman–Morrison–Woodbury identity,
+
+    A⁻¹ = X − Z C⁻¹ V X,    Z = X E (k columns of X),    C = I_k + V Z,    det A = det A₀ det C,
+
+so that its load rates, from the base's solution y₀ = X b₀ of the same load, are
+
+    y = A⁻¹ b = y₀ + Z C⁻¹ (δ − V y₀)      (δ = b_idx − b₀_idx),
+
+O(k n), and ŵ' = ĥ − G y one product with G (BLAS symv, half a pass, for a symmetric G): per
+event one read of G and O(k n).  A singular (or doubtful) C — rcond(C) ≤ ``RCOND_UPDATE`` —
+sends the scheme to a full LU, whose condition estimate decides whether it is a mechanism.
+A scheme may be *committed*: X ← X − Z (C⁻¹ (V X)), a k × n by n × n product and a rank-k
+update (BLAS gemm, in place), two passes over X for k rows at once, and it becomes the base.
+Whether a scheme is updated, committed or inverted afresh is decided by cost (weighted flops,
+:meth:`SchemeSolver._commit_now`): the updates of a base are charged to it and a scheme is
+committed once they have cost as much as its commit (rent or buy), and inverted afresh when
+that is cheaper than its update and commit (k rows near n).  Solutions of the same load are
+updated in O(k n) between commits.
+
+A solve through an explicit inverse is not backward stable as an LU solve is: y = X b has the
+forward error of an LU solve, but its residual b − A y may be as large as eps ‖A‖ ‖A⁻¹‖ ‖b‖
+instead of eps ‖A‖ ‖y‖, and the force rates s' = y + D (ĥ − G y) are a difference of large
+terms wherever the contacts are far stiffer than the structure, so they inherit the residual,
+not the forward error.  Every float64 solve therefore has its backward error η = ‖b − A y‖∞ /
+(‖A‖∞ ‖y‖∞ + ‖b‖∞) measured in O(n) from the G y it forms anyway; a solve with η above
+``ETA_ACCEPT`` is refined with the same inverse (one more pass over X and over G), and an
+inverse that the commits have moved away from its matrix — η beyond ``BACKWARD_TOL``, or a
+refinement that stalls — is inverted afresh (:meth:`SchemeFactor._stable`).
 
 For large interfaces the dense work runs in float32 (G held as D G − I, see
 :func:`scheme_rows`), and every solve is refined to float64 accuracy against the exact operator
@@ -36,6 +66,7 @@ from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
 
 from stepcontact.contact.laws import Relations
 
@@ -70,6 +101,47 @@ RCOND_UPDATE_F32 = 1e-7
 REFINE_MAX = 12
 REFINE_TOL = 4e-15
 REFINE_ACCEPT = 1e-9
+
+#: the normwise backward error η = ‖b − A y‖∞ / (‖A‖∞ ‖y‖∞ + ‖b‖∞) of the first float64 solve
+#: on an inverse that has taken rank-k updates may grow to the larger of BACKWARD_TOL and
+#: BACKWARD_GROWTH times that of the latest inverse fresh from an LU before the scheme is
+#: inverted afresh (:meth:`SchemeFactor._stable`; below it the solve is refined).
+BACKWARD_TOL = 1e-13
+BACKWARD_GROWTH = 64.0
+
+#: a float64 solve through the inverse is accepted when its backward error η is at most
+#: ETA_ACCEPT, else refined with the same inverse (at most REFINE_MAX_F64 corrections;
+#: :meth:`SchemeFactor._stable`).  Measured: the inverse, through its commits, gives η of
+#: 3e-16..9e-15 on the slab benchmark (k = 4, 444 solves, median 1.1e-15); a fresh inverse
+#: of the bonded block's schemes (a stiff block on compliant layers, cond(A) about 2e7,
+#: test_bonded_joints.py) 3e-12 on some loads where an LU solve gives 4e-17..2e-16 — which
+#: moved the force rates by 1.6e-5 relative (LU: 5e-10) — and one refinement step 2e-16
+ETA_ACCEPT = 1e-14
+REFINE_MAX_F64 = 3
+
+#: the rank of a Woodbury update beyond which its scheme is committed into the base's inverse
+#: when a solver is given ``max_rank`` (a fixed rule, for tests); by default the rank policy
+#: is cost-based (:meth:`SchemeSolver._commit_now`)
+MAX_RANK = 48
+
+#: the cost model of the rank policy, in flops weighted by the rate they run at relative to
+#: a BLAS-3 product (dgemm), measured single-threaded on the development machine (n = 602 …
+#: 1 587): dgemm 48 GF/s (a commit, 4 k n² flops), getrf + getri 27 GF/s (an inversion,
+#: 2 n³ flops: weight W_INVERT), dgemv and the other O(k n) passes of an update 6 GF/s
+#: (weight W_PASS), a k × k LU (the capacitance) 16 GF/s at k = 325 (weight W_SMALL_LU)
+W_INVERT = 1.8
+W_PASS = 8.0
+W_SMALL_LU = 3.0
+#: solves assumed per scheme for the O(k n) cost of each solve of an update, when an update is
+#: weighed against an inversion before it is set up (the event loop makes about three per
+#: event point: the rates, the rate problem, the correction)
+SOLVES_PER_SCHEME = 3
+
+#: a block of at least SPARSE_RHS_MIN right-hand sides with at most SPARSE_RHS_DENSITY of its
+#: entries nonzero is multiplied by the inverse as a sparse matrix (O(n nnz) instead of a pass
+#: over the inverse per column)
+SPARSE_RHS_MIN = 8
+SPARSE_RHS_DENSITY = 0.05
 
 _LAPACK: dict[tuple[str, str], object] = {}
 
@@ -218,6 +290,11 @@ class _NotRefined(Exception):
     """A float32 update's solve did not refine: the scheme is refactorised instead."""
 
 
+class _Reinverted(Exception):
+    """A float64 solve found the inverse inaccurate and inverted the scheme afresh: the
+    caller solves again."""
+
+
 class MechanismError(Exception):
     """The working scheme is a mechanism (singular condensed matrix ``A``; ``lu`` its LU)."""
 
@@ -238,6 +315,12 @@ def _coefficients(rel: Relations, idx: np.ndarray | None = None):
     cols = _offset_rows(rel.layout.m, rel.layout.n_c)
     if idx is not None:
         R, cols = R[:, :, idx], cols[:, idx]
+    return _unpack(R, cols)
+
+
+def _unpack(R: np.ndarray, cols: np.ndarray):
+    """(rs, rw, offsets) of :func:`_coefficients` from block rows R (2, n_c, k) (those of
+    :meth:`Relations.by_rows`, of any rows of any schemes) and their offset rows (n_c, k)."""
     Sx, Wx = R
     return Sx[0], Wx[0], [(Sx[o], Wx[o], cols[o]) for o in range(1, len(Sx))]
 
@@ -277,10 +360,15 @@ def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
     (2D: A_j = −(rw_j/d_j + rs_j) M_j − (rw_j/d_j) e_j − c_j M_P) in which no entry is a
     difference of nearly equal numbers."""
     _check(rel, G.shape[0])
-    dt = G.dtype
-    rs, rw, offs = _coefficients(rel, idx)
+    return _rows(G, d, idx, *_coefficients(rel, idx), shifted)
+
+
+def _rows(G, d, idx, rs, rw, offs, shifted=False):
+    """:func:`scheme_rows` from the coefficients of the rows ``idx`` (:func:`_coefficients`;
+    the rows may be of different schemes)."""
     if shifted:
         return _shifted_rows(G, d, idx, rs, rw, offs)
+    dt = G.dtype
     coef = (-(rw + d[idx] * rs)).astype(dt)
     rows = np.empty((len(idx), G.shape[1]), dt, order="F")
     if len(idx) == G.shape[0] and np.array_equal(idx, np.arange(len(idx))):
@@ -392,9 +480,17 @@ def scheme_rhs(d: np.ndarray, rel: Relations, hhat, e, r):
     return b
 
 
-def _load_rhs_rows(d: np.ndarray, rel: Relations, idx: np.ndarray, hhat, e) -> np.ndarray:
-    """Rows ``idx`` of :func:`scheme_rhs` for load rates (ĥ, e) and r = 0 (vectors)."""
-    rs, rw, offs = _coefficients(rel, idx)
+def _load_vector(x, d: np.ndarray) -> np.ndarray:
+    """x as a float64 vector of d's shape (a scalar broadcast; an array of that shape as is)."""
+    if isinstance(x, np.ndarray) and x.shape == d.shape and x.dtype == np.float64:
+        return x
+    return np.broadcast_to(np.asarray(x, float), d.shape)
+
+
+def _load_rhs_rows(d: np.ndarray, coef: tuple, idx: np.ndarray, hhat, e) -> np.ndarray:
+    """Rows ``idx`` of :func:`scheme_rhs` for load rates (ĥ, e) and r = 0 (vectors), from
+    the coefficients ``coef`` of those rows (:func:`_coefficients`)."""
+    rs, rw, offs = coef
     b = -rw * (hhat[idx] + e[idx]) - rs * d[idx] * hhat[idx]
     for s, w, P in offs:
         b = b - s * d[P] * hhat[P]
@@ -443,23 +539,59 @@ def _changed_rows(rel: Relations, base: Relations) -> np.ndarray:
     return np.flatnonzero((R != R0).any(axis=(0, 1)))
 
 
+def _row_sums(A: np.ndarray) -> np.ndarray:
+    """|A| 1 (each row's absolute sum, float64), by blocks of rows: no copy of A."""
+    out = np.empty(A.shape[0])
+    for i in range(0, A.shape[0], 256):
+        out[i : i + 256] = np.abs(A[i : i + 256]).sum(axis=1, dtype=np.float64)
+    return out
+
+
+def _invert(f) -> np.ndarray:
+    """A⁻¹ from the LU ``f`` of A (LAPACK getri, in place: the LU's array becomes the
+    inverse, Fortran-ordered; (4/3) n³ flops after the LU's (2/3) n³)."""
+    lu_m, piv = f
+    n = lu_m.shape[0]
+    if n == 0:
+        return lu_m
+    lwork = int(_lapack("getri_lwork", lu_m)(n)[0])
+    X, info = _lapack("getri", lu_m)(lu_m, piv, lwork=max(lwork, 1), overwrite_lu=1)
+    if info != 0:  # (a zero pivot: rcond is 0 and the scheme was reported as a mechanism)
+        raise np.linalg.LinAlgError(f"getri: zero pivot {info} of a scheme matrix")
+    return X
+
+
 class _Base:
-    """A factorised base scheme and what the row updates of it share.
+    """The explicit inverse X = A₀⁻¹ of a base scheme and what the row updates of it share.
 
-    For every row j that a scheme has changed so far (a *slot*): the column Z_j = A₀⁻¹ e_j,
-    the row's difference V_j from the base for its latest relation (with the row's scale), and
-    the products V Z over all slots, kept current as slots are added and rows change; per load
-    rate (ĥ, e), the base solution y₀ = A₀⁻¹ b₀.  A scheme that differs in k rows then costs
-    O(k n) to set up beyond its new columns (one solve each, reused while the base lives),
-    and its load rates O(k n) plus one product with G."""
+    For every row j that a scheme has changed so far (a *slot*): the column Z_j = X e_j (a
+    copy of X's column: no solve), the row's difference V_j from the base for its latest
+    relation (with the row's scale), that row's absolute sum, and the products V Z over all
+    slots, kept current as slots are added and rows change; per load rate (ĥ, e), the base
+    solution y₀ = X b₀ (one pass over X).  A scheme that differs in k rows then costs O(k n)
+    to set up and its load rates O(k n) plus one product with G.
 
-    def __init__(self, rel: Relations, n: int, scale: np.ndarray, f, rc: float):
+    The base lives until the solver commits a scheme's update into X in place
+    (:meth:`SchemeSolver._commit`): it is then dead (``alive`` False, ``X`` None), and the
+    factors of it solve through the new base (:meth:`SchemeFactor._live`).  ``commits``
+    counts the rank-k updates X has taken since it was inverted from an LU; ``checked``
+    whether a solve of this base has had its backward error measured
+    (:meth:`SchemeFactor._stable`)."""
+
+    def __init__(self, rel: Relations, n: int, scale: np.ndarray, X: np.ndarray, rc: float,
+                 rowsum: np.ndarray, commits: int = 0):
         rel.by_rows()  # S and W are read-only from now on: the base keeps the relations
         self.rel = rel
-        # the base matrix itself is not kept (its LU overwrote it): a changed row's difference
+        # the base matrix itself is not kept (X overwrote its LU): a changed row's difference
         # from it is formed from G, as it was
-        self.n, self.scale, self.lu, self.rcond = n, scale, f, rc
-        self.dtype = f[0].dtype
+        self.n, self.scale, self.X, self.rcond = n, scale, X, rc
+        #: |A₀| 1 and ‖A₀‖∞ (the backward error's norm)
+        self.rowsum = rowsum
+        self.anorm = float(rowsum.max(initial=0.0))
+        self.commits = commits
+        self.alive = True
+        self.checked = False
+        self.dtype = X.dtype
         self.slot = np.full(n, -1, np.int64)
         self.k = 0
         cap = min(n, 32)
@@ -469,9 +601,15 @@ class _Base:
         self.R0 = np.empty((cap, n), self.dtype)
         self.VZ = np.empty((cap, cap), self.dtype)
         self.vscale = np.empty(cap)
+        #: |R| 1 of each slot's latest row
+        self.vsum = np.empty(cap)
         #: the block row (S_j·, W_j·) of each slot's latest relation (:func:`_block_rows`)
         self.vrow = np.empty((cap, 2 * rel.layout.n_c))
         self.loads: OrderedDict[int, tuple] = OrderedDict()
+        #: the rank policy's account: weighted flops the updates of this base have cost, and
+        #: the rows the latest :meth:`prepare` formed (:meth:`SchemeSolver._commit_now`)
+        self.spent = 0.0
+        self.formed = 0
 
     def _grow(self, need: int) -> None:
         cap = self.Z.shape[1]
@@ -486,7 +624,7 @@ class _Base:
         VZ = np.empty((new, new), self.dtype)
         VZ[:k, :k] = self.VZ[:k, :k]
         self.VZ = VZ
-        for name in ("V", "R0", "vscale", "vrow"):
+        for name in ("V", "R0", "vscale", "vsum", "vrow"):
             old = getattr(self, name)
             a = np.empty((new,) + old.shape[1:], old.dtype)
             a[:k] = getattr(self, name)[:k]
@@ -500,9 +638,7 @@ class _Base:
         if new_rows.size:
             k1 = k0 + new_rows.size
             self._grow(k1)
-            E = np.zeros((self.n, new_rows.size), order="F")
-            E[new_rows, np.arange(new_rows.size)] = 1.0
-            self.Z[:, k0:k1] = lu_solve(self.lu, E)
+            self.Z[:, k0:k1] = self.X[:, new_rows]  # Z_j = X e_j
             self.slot[new_rows] = np.arange(k0, k1)
             self.k = k1
             solver.counters["scheme_columns"] += new_rows.size
@@ -514,26 +650,36 @@ class _Base:
         if new_rows.size and k0:  # new columns of V Z (rows about to change are redone below)
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
         if stale.size:
-            R, sc = scheme_rows(solver.G, solver.d, rel, rows_j, solver.shifted)
-            fresh = stale >= k0  # new slots: their base rows, formed once
-            if fresh.any():
-                self.R0[stale[fresh]] = scheme_rows(solver.G, solver.d, self.rel,
-                                                    rows_j[fresh], solver.shifted)[0]
+            # the changed rows, and the base rows of the new slots (formed once), together
+            lay = self.rel.layout
+            new_slot = stale >= k0
+            fresh = rows_j[new_slot]
+            both = np.concatenate([rows_j, fresh])
+            blocks = np.concatenate([rel.by_rows()[:, :, rows_j],
+                                     self.rel.by_rows()[:, :, fresh]], axis=2)
+            R, sc = _rows(solver.G, solver.d, both,
+                          *_unpack(blocks, _offset_rows(lay.m, lay.n_c)[:, both]),
+                          solver.shifted)
+            ks = rows_j.size
+            self.R0[stale[new_slot]] = R[ks:]
+            R, sc = R[:ks], sc[:ks]
             self.V[stale] = R - self.R0[stale]
             self.vscale[stale] = sc
+            self.vsum[stale] = _row_sums(R)
             self.vrow[stale] = row
             self.VZ[stale, :k] = self.V[stale] @ self.Z[:, :k]
+        self.formed = int(stale.size)  # (the new slots are stale too)
         return slots
 
     def load(self, solver: SchemeSolver, hhat: np.ndarray, e: np.ndarray):
-        """(b₀, y₀ = A₀⁻¹ b₀) of the load rates (ĥ, e) on the base scheme (cached)."""
+        """(b₀, y₀ = X b₀) of the load rates (ĥ, e) on the base scheme (cached)."""
         key = hash((hhat.tobytes(), e.tobytes()))
         hit = self.loads.get(key)
         if hit is not None and np.array_equal(hit[0], hhat) and np.array_equal(hit[1], e):
             self.loads.move_to_end(key)
             return hit[2:]
         b0 = self.scale * scheme_rhs(solver.d, self.rel, hhat, e, 0.0)
-        y0 = lu_solve(self.lu, b0)
+        y0 = _mv(self.X, b0)
         solver.counters["scheme_solves"] += 1
         out = (hhat.copy(), e.copy(), b0, y0)
         self.loads[key] = out
@@ -544,8 +690,9 @@ class _Base:
 
 @dataclass(eq=False)
 class SchemeFactor:
-    """A factorised working scheme: the base LU plus a low-rank (Woodbury) update of the rows
-    ``idx`` (V: their differences from the base, Z = A₀⁻¹ E_idx, C = I + V Z)."""
+    """A working scheme ready to solve: the base's inverse X = A₀⁻¹ plus a low-rank
+    (Woodbury) update of the rows ``idx`` (V: their differences from the base, Z = X E_idx,
+    C = I + V Z; ``row_sums``: |A_j| 1 of the changed rows), or the base itself (``V`` None)."""
 
     owner: SchemeSolver
     base: _Base
@@ -555,14 +702,36 @@ class SchemeFactor:
     C_lu: tuple | None
     scale: np.ndarray
     rel: Relations
+    row_sums: np.ndarray | None = None
+    #: the coefficients of the rows ``idx`` (:func:`_coefficients`), once needed
+    coef: tuple | None = None
+
+    def _live(self) -> SchemeFactor | None:
+        """None while the base lives; else the factor of the same scheme on the solver's
+        current base (a commit made this one's X the next scheme's, in place)."""
+        if self.base.alive:
+            return None
+        return self.owner.factor(self.rel)
 
     def _approx(self, bs: np.ndarray) -> np.ndarray:
-        """A⁻¹ bs for a scaled right-hand side: the base LU and the row update."""
+        """A⁻¹ bs for a scaled right-hand side: one pass over X (a product; for a block of
+        right-hand sides one matrix product, or, for a sparse block — the rate problem's
+        columns, each a unit rate on one CFE's rows — a sparse one, O(n nnz)) and the row
+        update."""
         o = self.owner
-        y = lu_solve(self.base.lu, bs)
+        X = self.base.X
+        if bs.ndim == 2 and bs.shape[1] >= SPARSE_RHS_MIN:
+            Bt = sp.csr_matrix(bs.T.astype(X.dtype, copy=False))
+            if Bt.nnz <= SPARSE_RHS_DENSITY * bs.size:
+                y = np.asarray((Bt @ X.T).T, dtype=np.float64)  # Σ over nonzeros: X[:, j] b_j
+            else:
+                y = _mv(X, bs)
+        else:
+            y = _mv(X, bs)
         o.counters["scheme_solves"] += 1 if bs.ndim == 1 else bs.shape[1]
         if self.V is not None:
             y = y - _mv(self.Z, lu_solve(self.C_lu, _mv(self.V, y)))
+            self.base.spent += W_PASS * 4.0 * self.V.size * (1 if bs.ndim == 1 else bs.shape[1])
         return y
 
     def _refine(self, bs: np.ndarray, y: np.ndarray,
@@ -574,7 +743,9 @@ class SchemeFactor:
         state's round-off: one float32 solve of a round-off drift is already exact to it).
         Returns (y, G y).
         A residual that stops shrinking above ``REFINE_ACCEPT`` raises a SolverError: the
-        scheme is too ill-conditioned for float32 (never a silently inaccurate rate)."""
+        scheme is too ill-conditioned for float32 (never a silently inaccurate rate); an
+        update, or a base whose inverse has taken rank-k updates, is inverted afresh instead
+        (``_NotRefined``)."""
         o = self.owner
         Gy = o.product(y)
         size = max(np.abs(bs).max(initial=0.0), floor, 1e-300)
@@ -590,7 +761,7 @@ class SchemeFactor:
             Gy = o.product(y)
             o.counters["refinements"] += 1
         if rn > REFINE_ACCEPT * size:
-            if self.V is not None:  # an update too ill-conditioned to refine: refactorise
+            if self.V is not None or self.base.commits:  # refactorise, then decide
                 raise _NotRefined
             from stepcontact.errors import SolverError
 
@@ -601,11 +772,90 @@ class SchemeFactor:
                 f"precision='float64' (needs twice the memory of the dense contact matrices)")
         return y, Gy
 
+    def _backward(self, bs: np.ndarray, y: np.ndarray, Gy: np.ndarray):
+        """The residual r = bs − A y (A y from G y, O(n): :func:`scheme_apply`) and the
+        normwise backward error of each solution (column) y,
+
+            η = ‖bs − A y‖∞ / (‖A‖∞ ‖y‖∞ + ‖bs‖∞)
+
+        (‖A‖∞ bounded by the base's and the changed rows' largest absolute row sum)."""
+        o, b = self.owner, self.base
+        r = bs - scheme_apply(o.d, self.rel, self.scale, y, Gy)
+        anorm = b.anorm if self.row_sums is None else max(b.anorm, float(self.row_sums.max()))
+        den = anorm * np.abs(y).max(axis=0, initial=0.0) + np.abs(bs).max(axis=0, initial=0.0)
+        return r, np.abs(r).max(axis=0, initial=0.0) / np.maximum(den, 1e-300)
+
+    def _stable(self, bs: np.ndarray, y: np.ndarray, Gy: np.ndarray):
+        """A float64 solution y ≈ A⁻¹ bs (a vector or a block) made backward stable: its
+        backward error η (:meth:`_backward`, O(n) from the G y the rates form anyway) is
+        measured on *every* solve.  A solution through an explicit inverse has the forward
+        error of an LU solve but not its backward error: y = X b leaves a residual up to
+        eps ‖A‖ ‖A⁻¹‖ ‖b‖, i.e. η up to eps cond(A) where an LU leaves η ≈ eps — and the force
+        rates s' = y + D (ĥ − G y) are a difference of large terms wherever the contacts are
+        much stiffer than the structure, so they carry η, not the forward error (a stiff block
+        on a compliant layer: η = 3e-12 moved s' by 1.6e-5 relative).  A solution with
+        η > ``ETA_ACCEPT`` is refined, y ← y + A⁻¹ r with the same inverse and its update (a
+        pass over X and one over G per step; fixed-precision refinement, which gives an
+        η of eps·(1 + κ eps) after one step while cond(A) eps ≪ 1); one that stops improving
+        on a base that has taken rank-k commits, or an update of such a base (its inverse
+        has drifted from its matrix), and a committed base whose first η exceeds
+        max(``BACKWARD_TOL``, ``BACKWARD_GROWTH`` η₀) (η₀: that of the latest fresh
+        inverse), is inverted afresh from an LU (``scheme_reinversions``) and
+        ``_Reinverted`` raised (the caller solves again with the fresh inverse).  Returns
+        (y, G y)."""
+        o, b = self.owner, self.base
+        r, eta = self._backward(bs, y, Gy)
+        first = not b.checked
+        b.checked = True
+        worst = float(eta.max(initial=0.0))
+        if first and not b.commits and self.V is None:
+            o.eta_fresh = worst
+        if worst <= ETA_ACCEPT:
+            return y, Gy
+        drifted = b.commits > 0
+        if drifted and first and worst > max(BACKWARD_TOL, BACKWARD_GROWTH * o.eta_fresh):
+            self._reinvert()
+        prev = np.inf
+        for _ in range(REFINE_MAX_F64):
+            if y.ndim == 1:
+                y = y + self._approx(r)
+                Gy = o.g_product(y)
+            else:
+                bad = np.flatnonzero(eta > ETA_ACCEPT)
+                y = y.copy()
+                y[:, bad] += self._approx(r[:, bad])
+                Gy = Gy.copy()
+                Gy[:, bad] = o.G @ y[:, bad]
+            o.counters["refinements"] += 1
+            r, eta = self._backward(bs, y, Gy)
+            prev, worst = worst, float(eta.max(initial=0.0))
+            if worst <= ETA_ACCEPT:
+                return y, Gy
+            if worst > 0.5 * prev:
+                break
+        if drifted or self.V is not None:
+            self._reinvert()
+        # a fresh inverse whose refinement stalls: cond(A) eps is not small (a scheme next to
+        # a mechanism); the solution is as good as this precision makes it
+        return y, Gy
+
+    def _reinvert(self) -> None:
+        """Invert this scheme afresh from an LU (its inverse lost accuracy) and make the
+        caller solve again (``_Reinverted``)."""
+        o = self.owner
+        o.counters["scheme_reinversions"] += 1
+        o._refactor(self.rel)
+        o._cache[self.rel.key()] = o._plain(self.rel)
+        raise _Reinverted
+
     def solve(self, hhat, e, r, floor: float = 0.0):
         """Rates (s', w') of this scheme for load rates (ĥ, e) and relation right-hand sides
         r; each argument a vector (2m,) or a block (2m, k) (zeros broadcast).  ``floor``
         (N): the size of the forces the result is added to, when it is a correction (float32
         schemes refine it to that size's round-off, see :meth:`_refine`)."""
+        live = self._live()
+        if live is not None:
+            return live.solve(hhat, e, r, floor)
         o = self.owner
         d = o.d
         b = scheme_rhs(d, self.rel, hhat, e, r)
@@ -617,7 +867,11 @@ class SchemeFactor:
             except _NotRefined:
                 return o.refactored(self).solve(hhat, e, r, floor)
         else:
-            Gy = o.G @ y
+            Gy = o.g_product(y)
+            try:
+                y, Gy = self._stable(bs, y, Gy)
+            except _Reinverted:
+                return o.factor(self.rel).solve(hhat, e, r, floor)
         return self._rates(y, Gy, hhat, e)
 
     def _rates(self, y: np.ndarray, Gy: np.ndarray, hhat, e):
@@ -639,20 +893,26 @@ class SchemeFactor:
 
             y = y₀ + Z C⁻¹ (δ − V y₀)
 
-        (δ: the change of the scaled right-hand side in those rows), O(k n); then ŵ = ĥ − G y.
-        (G y is formed afresh: updating a cached G y₀ the same way cancels where ŵ ≪ G y₀ and
-        moves events by round-off 10× larger.)  Float32 schemes refine that solution."""
+        (δ: the change of the scaled right-hand side in those rows), O(k n); then ŵ = ĥ − G y
+        (one pass over G, the only one of a scheme met between commits).  (G y is formed
+        afresh: updating a cached G y₀ the same way cancels where ŵ ≪ G y₀ and moves events by
+        round-off 10× larger.)  Float32 schemes refine that solution."""
+        live = self._live()
+        if live is not None:
+            return live.load_rates(hhat, e)
         o = self.owner
         d = o.d
-        hhat = np.broadcast_to(np.asarray(hhat, float), d.shape)
-        e = np.broadcast_to(np.asarray(e, float), d.shape)
+        hhat, e = _load_vector(hhat, d), _load_vector(e, d)
         b0, y0 = self.base.load(o, hhat, e)
         if self.V is None:
             y = y0
         else:
             idx = self.idx
-            delta = self.scale[idx] * _load_rhs_rows(d, self.rel, idx, hhat, e) - b0[idx]
+            if self.coef is None:
+                self.coef = _coefficients(self.rel, idx)
+            delta = self.scale[idx] * _load_rhs_rows(d, self.coef, idx, hhat, e) - b0[idx]
             g = lu_solve(self.C_lu, delta - _mv(self.V, y0))
+            self.base.spent += W_PASS * 4.0 * self.V.size
             y = y0 + _mv(self.Z, g)
         if o.refine:  # the cached float32 solution is the start of the refinement
             try:
@@ -660,38 +920,60 @@ class SchemeFactor:
             except _NotRefined:
                 return o.refactored(self).load_rates(hhat, e)
         else:
-            Gy = o.G @ y
+            Gy = o.g_product(y)
+            try:
+                y, Gy = self._stable(self.scale * scheme_rhs(d, self.rel, hhat, e, 0.0), y, Gy)
+            except _Reinverted:
+                return o.factor(self.rel).load_rates(hhat, e)
         return self._rates(y, Gy, hhat, e)
 
 
 class SchemeSolver:
-    """Solves working schemes that differ from a factorised base scheme in a few rows.
+    """Solves working schemes as low-rank row updates of the explicit inverse of a base scheme.
 
-    The dense scheme matrix A (n × n, n = m (1 + n_t)) is LU-factorised for a base scheme, its
+    The dense scheme matrix A (n × n, n = m (1 + n_t)) of a first scheme is LU-factorised, its
     condition estimated from the LU (LAPACK gecon, O(n²)): rcond ≤ ``RCOND_MECHANISM`` is a
-    mechanism.
-    A scheme that differs from the base in k rows is solved by the Woodbury identity with the
-    columns A₀⁻¹ e_j of its changed rows, cached on the base as rows change (one solve per row
-    that changes while the base lives), so that a new scheme costs O(n k) beyond its new
-    columns, and its load rates O(n k) plus one product with G from the base's solution of the
-    same load (:class:`_Base`).  The base is refactorised with the current scheme
+    mechanism; a regular scheme's LU is turned into its inverse X = A₀⁻¹ in place (getri):
+    the *base*.  A scheme that differs from the base in the k rows E = I[:, idx] (A = A₀ +
+    E V) is solved by the Woodbury identity
 
-    * when k exceeds ``max_rank``, default max(48, n/10): the work that grows with k (O(n k)
-      products and copies per scheme, O(k³) for C) is then about what a refactorisation saves
-      (an LU of n = 600 takes 24 ms single-threaded, an update 2–3 ms + 0.02 ms per changed
-      row), the break-even of the slab and block benchmarks, m ≈ 150–300;
-    * when the update's capacitance matrix C = I + V Z is ill-conditioned
-      (rcond(C) ≤ ``RCOND_UPDATE``): accuracy, and the decision on a possible mechanism, go to
-      the full factorisation.
+        A⁻¹ = X − Z C⁻¹ V X,   Z = X E (k columns of X),   C = I_k + V Z,
 
-    The factors of the last few schemes are kept, so a scheme met again (the rate problem, then
-    the correction at the same point) is not factorised twice; a singular scheme is factorised
+    whose pieces are cached on the base as rows change (:class:`_Base`: a column costs a
+    copy, a changed row one row of G), so that a scheme met between commits costs O(k n) and
+    its load rates O(k n) plus one product with G; det A = det A₀ · det C, so a mechanism
+    makes C singular.  A scheme asked for may be *committed* (by default when the updates of
+    the base have cost as much as its commit, :meth:`_commit_now`; with ``max_rank`` given,
+    when k exceeds it): X takes its update in place,
+
+        W = V X  (one read of X: a k × n by n × n product),
+        X ← X − Z (C⁻¹ W)  (one read and write of X: a rank-k update, BLAS gemm),
+
+    and the scheme becomes the base.  Per changed row that is 2 n² flops per pass, the cost
+    of a rank-one update of a dense factor, in BLAS-3 blocks of k rows; a full inversion,
+    (2/3 + 4/3) n³ flops, is made only for the first scheme, for a scheme whose update and
+    commit would cost more (:meth:`_invert_instead`), for a doubtful update and when the
+    commits have cost accuracy:
+
+    * a doubtful update: its capacitance C is ill-conditioned (rcond(C) ≤ ``RCOND_UPDATE``):
+      the scheme is LU-factorised in full, whose gecon estimate decides whether it is a
+      mechanism (:class:`MechanismError`), and inverted if it is not;
+    * lost accuracy: every solve has its normwise backward error measured in O(n) from the
+      G y it forms anyway and is refined beyond ``ETA_ACCEPT`` (:meth:`SchemeFactor._stable`);
+      a committed base whose first error has grown past ``BACKWARD_TOL`` (and
+      ``BACKWARD_GROWTH`` times that of a fresh inverse), or whose refinement stalls, is
+      inverted afresh.
+
+    Factors of the last few schemes are kept, so a scheme met again (the rate problem, then
+    the correction at the same point) is not set up twice; a singular scheme is factorised
     once (its matrix and LU serve the analysis of the mechanism: :meth:`dense`, :func:`lu`).
 
-    A float32 G (the large-interface path, ``precision="float32"``) gives float32 scheme
-    matrices, LUs and updates, half the memory and time of the dense work; every solve is then
-    refined to float64 accuracy against ``product`` (t ↦ G t by the float64 sparse
-    factorisation, one solve per correction): :meth:`SchemeFactor._refine`.
+    A float32 G (the large-interface path, ``precision="float32"``) gives a float32 inverse
+    and updates, half the memory and time of the dense work; every solve is then refined to
+    float64 accuracy against ``product`` (t ↦ G t by the float64 sparse factorisation, one
+    solve per correction): :meth:`SchemeFactor._refine`, whose convergence is the accuracy
+    guard there (a solve that does not refine on an update or a committed base inverts the
+    scheme afresh).
     """
 
     def __init__(self, G: np.ndarray, d: np.ndarray, max_rank: int | None = None,
@@ -707,16 +989,30 @@ class SchemeSolver:
             raise ValueError("a float32 G needs the exact operator (product) to refine against")
         self.rcond_mechanism = RCOND_MECHANISM_F32 if self.refine else RCOND_MECHANISM
         self.rcond_update = RCOND_UPDATE_F32 if self.refine else RCOND_UPDATE
-        self.max_rank = max(G.shape[0] // 10, 48) if max_rank is None else max_rank
+        #: a fixed rank rule (``max_rank`` given, and for float32 schemes, whose updates must
+        #: refine against the exact operator: small ranks) or the cost-based policy
+        #: (:meth:`_commit_now`)
+        self.fixed_rank = max_rank is not None or self.refine
+        self.max_rank = MAX_RANK if max_rank is None else max_rank
         self.base: _Base | None = None
         self._cache: OrderedDict[bytes, SchemeFactor] = OrderedDict()
         self._cache_size = cache
         self._singular: tuple | None = None
-        self.counters = {"scheme_factorizations": 0, "scheme_updates": 0, "scheme_columns": 0,
-                         "scheme_solves": 0, "refinements": 0}
+        #: scheme_factorizations: factors formed for a new base scheme, by an LU and its
+        #: inverse (scheme_inversions, O(n³); scheme_reinversions of them for lost accuracy)
+        #: or by a rank-k commit into the inverse (scheme_commits, two passes over it);
+        #: scheme_updates: Woodbury updates set up; scheme_columns: changed rows given a slot;
+        #: scheme_solves: right-hand sides solved with the inverse (a pass over it each)
+        self.counters = {"scheme_factorizations": 0, "scheme_inversions": 0,
+                         "scheme_commits": 0, "scheme_reinversions": 0,
+                         "scheme_policy_inversions": 0, "scheme_updates": 0,
+                         "scheme_columns": 0, "scheme_solves": 0, "refinements": 0}
         #: (s', y, G y) of the rates solved last (:meth:`SchemeFactor._rates`)
         self.last_product: tuple | None = None
+        #: the backward error of the first solve on the latest inverse from an LU
+        self.eta_fresh = 0.0
         self._gnorm: float | None = None
+        self._symv = None
 
     def g_norm(self) -> float:
         """‖G‖∞ (largest absolute row sum of G, float64; of (M + I)/d for the shifted float32
@@ -738,15 +1034,41 @@ class SchemeSolver:
     def n(self) -> int:
         return self.G.shape[0]
 
+    def g_product(self, y: np.ndarray) -> np.ndarray:
+        """G y (float64 G) for the rates: BLAS symv, which reads one triangle of G (half a pass,
+        twice as fast as the full product), when G is exactly symmetric (checked once: G =
+        B K₀⁻¹ Bᵀ is, as the Schur complement and the block solves form it); else, and for a
+        block of right-hand sides, the full product."""
+        G = self.G
+        if self._symv is None:
+            self._symv = False
+            if G.dtype == np.float64 and G.flags.c_contiguous and np.array_equal(G, G.T):
+                self._symv = sla.blas.get_blas_funcs("symv", (G,))
+        if y.ndim == 1 and y.size and self._symv:
+            # (G C-ordered: G.T is the same memory in Fortran order, the order BLAS reads)
+            return self._symv(1.0, G.T, y, lower=1)
+        return G @ y
+
+    def _install(self, base: _Base) -> None:
+        """Make ``base`` the base: the previous one dies (its factors re-derive themselves)."""
+        old = self.base
+        if old is not None and old is not base:
+            old.alive = False
+            old.X = None
+        self.base = base
+        self._cache.clear()
+
     def _refactor(self, rel: Relations) -> None:
         global _last_singular
         key = rel.key()
         A, scale = scheme_rows(self.G, self.d, rel, np.arange(self.n), self.shifted)
         anorm = norm1(A)
+        rowsum = _row_sums(A)
         f = lu(A, overwrite=True)  # in place: A is gone, its rows are formed again from G
         del A
         rc = rcond(f, anorm=anorm)
         self.counters["scheme_factorizations"] += 1
+        self.counters["scheme_inversions"] += 1
         if not rc > self.rcond_mechanism and not self._regular_after_all(rel, scale, f):
             A, _ = scheme_rows(self.G, self.d, rel, np.arange(self.n), self.shifted)
             A.flags.writeable = False
@@ -754,8 +1076,19 @@ class SchemeSolver:
             self._singular = (key, A, scale, f)
             _last_singular = weakref.ref(self)
             raise MechanismError(A, f)
-        self.base = _Base(rel, self.n, scale, f, rc)
-        self._cache.clear()
+        self._install(_Base(rel, self.n, scale, _invert(f), rc, rowsum))
+
+    def _commit(self, fac: SchemeFactor) -> None:
+        """Make the scheme of the update ``fac`` the base: its Woodbury update taken into X
+        in place, X ← X − Z C⁻¹ (V X) (two passes over X)."""
+        b = fac.base
+        W = _lu_solve_block(fac.C_lu, fac.V @ b.X)  # C⁻¹ V X, (k, n)
+        X = sla.blas.get_blas_funcs("gemm", (b.X,))(-1.0, fac.Z, W, beta=1.0, c=b.X, overwrite_c=1)
+        rowsum = b.rowsum.copy()
+        rowsum[fac.idx] = fac.row_sums
+        self.counters["scheme_commits"] += 1
+        self.counters["scheme_factorizations"] += 1
+        self._install(_Base(fac.rel, self.n, fac.scale, X, b.rcond, rowsum, b.commits + 1))
 
     def exact_apply(self, rel: Relations, scale: np.ndarray, trans: int = 0):
         """X ↦ A X (``trans=1``: Aᵀ X) of the scheme ``rel`` with row scales ``scale``, by
@@ -798,7 +1131,7 @@ class SchemeSolver:
         """Factor of the scheme ``rel`` (raises :class:`MechanismError` if it is singular)."""
         key = rel.key()
         hit = self._cache.get(key)
-        if hit is not None:
+        if hit is not None and hit.base.alive:
             self._cache.move_to_end(key)
             return hit
         fac = self._factor(rel)
@@ -818,14 +1151,15 @@ class SchemeSolver:
             self._refactor(rel)
         b = self.base
         idx = _changed_rows(rel, b.rel)
-        if idx.size > self.max_rank:
-            self._refactor(rel)
-            return self._plain(rel)
         if idx.size == 0:
             return self._plain(rel)
+        if self._invert_instead(b, idx):
+            self.counters["scheme_policy_inversions"] += 1
+            self._refactor(rel)
+            return self._plain(rel)
         slots = b.prepare(self, rel, idx)
-        C = b.VZ[np.ix_(slots, slots)]
-        C[np.diag_indices_from(C)] += 1.0
+        C = b.VZ[slots][:, slots]
+        C.flat[:: len(slots) + 1] += 1.0
         # (measured against ‖I‖ = 1 at least: C = I + V Z and det A = det A₀ det C, so a
         # C far below the identity is singular even where it is 1 × 1 — whose own condition
         # number is always 1)
@@ -838,14 +1172,74 @@ class SchemeSolver:
             return self._plain(rel)
         scale = b.scale.copy()
         scale[idx] = b.vscale[slots]
-        return SchemeFactor(self, b, idx, b.V[slots], b.Z[:, slots], C_lu, scale, rel)
+        fac = SchemeFactor(self, b, idx, b.V[slots], b.Z[:, slots], C_lu, scale, rel,
+                           b.vsum[slots])
+        if self._commit_now(b, idx.size):
+            self._commit(fac)
+            return self._plain(rel)
+        return fac
+
+    def _costs(self, k: int) -> tuple[float, float]:
+        """(commit, inversion) cost of a scheme k rows from the base, weighted flops
+        (:data:`W_INVERT`): a commit 4 k n² (two BLAS-3 passes over X, at least two passes'
+        worth of memory traffic), an inversion 2 n³ plus the rows of A formed from G."""
+        n = self.n
+        commit = 4.0 * k * n * n + W_PASS * 2.0 * n * n
+        invert = W_INVERT * 2.0 * n ** 3 + W_PASS * 2.0 * n * n
+        return commit, invert
+
+    def _invert_instead(self, b: _Base, idx: np.ndarray) -> bool:
+        """Default policy, before an update of the rows ``idx`` is set up: whether inverting
+        the scheme afresh is cheaper than the update's set-up (its new rows: their columns,
+        rows and products V Z, O(r K n); the capacitance's LU, (2/3) k³) followed by its
+        commit — then the scheme is inverted without either."""
+        if self.fixed_rank:
+            return False
+        k, n = idx.size, self.n
+        r = int(np.count_nonzero(b.slot[idx] < 0))
+        setup = self._setup_cost(b, r, b.k + r, k)
+        commit, invert = self._costs(k)
+        return min(setup + commit, setup + W_PASS * 4.0 * k * n * SOLVES_PER_SCHEME) > invert
+
+    def _commit_now(self, b: _Base, k: int) -> bool:
+        """Whether the update just set up (k rows from the base ``b``) is committed.
+
+        With ``max_rank`` given, and for float32 schemes: when k exceeds it or the base has
+        slots for more than twice it.  Float64 schemes by default: cost-based, a rent-or-buy
+        rule (at most twice the cost of the best choice in hindsight).  Every update charges
+        the base the weighted flops it adds over the base's own solves as they are spent —
+        set-up (new rows' columns, rows and V Z: 2 r K n; the capacitance LU, (2/3) k³) and
+        its solves (4 k n each) — and the scheme is committed once the charges since
+        the base was made reach the price of that commit (4 k n², and the set-up of the
+        other slots it drops), or when the slots cover half the rows (Z and V Z as large as
+        X).  Schemes met on an excursion (a rate problem's stiff scheme hundreds of rows
+        away, then back near the base) stay updates; schemes that have moved on are
+        committed."""
+        if self.fixed_rank:
+            return k > self.max_rank or b.k > 2 * self.max_rank
+        n = self.n
+        b.spent += self._setup_cost(b, b.formed, b.k, k)
+        b.formed = 0
+        # a commit also drops the slots of the other K − k rows (an excursion's, formed again
+        # when it recurs): their set-up is part of its price
+        price = self._costs(k)[0] + self._setup_cost(b, b.k - k, b.k - k, 0)
+        return b.spent >= price or 2 * b.k > n
+
+    def _setup_cost(self, b: _Base, r: int, slots: int, k: int) -> float:
+        """Weighted flops of an update's set-up: r rows formed from G and their columns of X
+        copied (memory-bound, 2 r n (n_c + 1)), their products with the ``slots`` columns
+        and rows of V Z (BLAS-3, 4 r K n) and the k × k capacitance's LU ((2/3) k³)."""
+        n, nc = self.n, b.rel.layout.n_c
+        return (W_PASS * 2.0 * r * n * (nc + 1) + 4.0 * r * slots * n
+                + W_SMALL_LU * (2.0 / 3.0) * k ** 3)
 
     def refactored(self, fac: SchemeFactor) -> SchemeFactor:
-        """A full factorisation of the scheme of ``fac`` (an update whose float32 solves did
-        not refine), which replaces it in the cache (raises :class:`MechanismError` if the
-        scheme is singular)."""
+        """A full factorisation of the scheme of ``fac`` (an update, or a base that has taken
+        commits, whose float32 solves did not refine), which replaces it in the cache (raises
+        :class:`MechanismError` if the scheme is singular)."""
         hit = self._cache.get(fac.rel.key())
-        if hit is not None and hit is not fac and hit.V is None and hit.base is self.base:
+        if (hit is not None and hit is not fac and hit.V is None and hit.base is self.base
+                and not self.base.commits):
             return hit
         self._refactor(fac.rel)
         plain = self._plain(fac.rel)
@@ -860,7 +1254,15 @@ class SchemeSolver:
         return scheme_rows(self.G, self.d, rel, np.arange(self.n), self.shifted)
 
 
-__all__ = ["RCOND_MECHANISM", "RCOND_MECHANISM_F32", "RCOND_UPDATE", "RCOND_UPDATE_F32",
-           "MechanismError", "SchemeFactor", "SchemeSolver", "lu", "lu_solve", "norm1", "norm2",
-           "null_modes", "rcond", "scheme_apply", "scheme_apply_t", "scheme_rhs",
-           "scheme_rows"]
+def _lu_solve_block(f, B: np.ndarray) -> np.ndarray:
+    """A⁻¹ B in the LU's precision (LAPACK getrs on a block; no conversion to float64)."""
+    if B.size == 0:
+        return B
+    return _lapack("getrs", f[0])(f[0], f[1], B.astype(f[0].dtype, copy=False))[0]
+
+
+__all__ = ["BACKWARD_GROWTH", "BACKWARD_TOL", "ETA_ACCEPT", "RCOND_MECHANISM",
+           "RCOND_MECHANISM_F32", "RCOND_UPDATE", "RCOND_UPDATE_F32", "MechanismError",
+           "SchemeFactor", "SchemeSolver",
+           "lu", "lu_solve", "norm1", "norm2", "null_modes", "rcond", "scheme_apply",
+           "scheme_apply_t", "scheme_rhs", "scheme_rows"]
