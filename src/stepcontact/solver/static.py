@@ -824,13 +824,17 @@ class StaticSolver:
             big = max(abs(lam0), abs(lam1))
             path = self._level_path(seg, pattern, rates, lam0, lam1)
             if path is None:
-                y_max = float(np.abs(self._combine(self.cond.y, rates)).max(initial=0)) * big
                 self._f = self._combine({k: v.f for k, v in self.sys.loads.items()}, rates)
-                f_max = float(np.abs(self._f).max(initial=0)) * big
+                f_rate = float(np.abs(self._f).max(initial=0))
+                y_max, f_max = self._segment_scales(
+                    float(np.abs(self._combine(self.cond.y, rates)).max(initial=0)),
+                    f_rate, abs(lam0), big)
+                far = f_max < f_rate * big  # the scales look only part of the way
                 forcing = (direction * self._combine(self.cond.hhat, rates),
                            direction * self._combine(self.cond.e, rates))
             else:  # the load is a polynomial in the level: its forcings at every point
                 y_max, f_max = path.scales()
+                far = False
                 if self.crack is not None:  # crack water kinks where the level passes a CFE
                     path.add_stops(self.crack.kinks(pattern))
             # the factors' rates along μ (crack water follows them)
@@ -878,7 +882,8 @@ class StaticSolver:
                     break
                 end = span if path is None else path.piece_end(mu)
                 remaining = end - mu
-                grp = 1e-10 * max(abs(lam), span, 1.0)
+                look = self._look(span, far, f_rate if far else 0.0)
+                grp = 1e-10 * max(abs(lam), look, 1.0)
                 if path is None:
                     dmu, dmu_ev, fired = eng.next_event(ds, dw, remaining, grp)
                 else:
@@ -895,7 +900,7 @@ class StaticSolver:
                     dmu_p = eng.article_step(ds)
                     if dmu_p < dmu:
                         dmu, fired = dmu_p, np.zeros(m, bool)
-                if dmu <= 1e-12 * max(span, 1.0):
+                if dmu <= 1e-12 * max(look, 1.0):
                     small_steps += 1
                     if small_steps > 100:
                         self.status = Status.CYCLING
@@ -1042,6 +1047,36 @@ class StaticSolver:
                     hk.after_event(info)
             self._checkpoint()
         return True, ds, dw
+
+    def _segment_scales(self, y: float, f: float, lam0: float, big: float
+                        ) -> tuple[float, float]:
+        """Displacement and force scales (m, N) a load-factor segment brings at its start, from
+        the sizes ``y`` = max |y'|, ``f`` = max |f'| of its rates and |λ| at its two ends
+        (``lam0`` = |λ₀|, ``big`` = max |λ|): the load at its far end, ``y · big``,
+        ``f · big``, unless the path already has a size (a force scale) and that would grow a
+        scale more than :data:`LOOKAHEAD_GROWTH` times at once — then at most that many times
+        (never below the load at λ₀); the rates of the scheme decided at the start then look
+        ahead to its next event (:meth:`_reach`), event by event.  A segment whose end lies
+        absurdly far beyond the limit load (1e10 times) otherwise set limit tolerances
+        (LIMIT_TOL · rtol of the scales) of the size of the real forces: a slip load off by
+        1e-4, or equilibrium "lost" at once.  From zero (no force scale yet) the whole segment
+        is looked at, as before."""
+        eng = self.engine
+        y_max, f_max = y * big, f * big
+        if eng.F_scale <= 1e-300:  # the start from zero: no size to compare with
+            return y_max, f_max
+        return (min(y_max, max(y * lam0, LOOKAHEAD_GROWTH * eng.W_scale)),
+                min(f_max, max(f * lam0, LOOKAHEAD_GROWTH * eng.F_scale)))
+
+    def _look(self, span: float, far: bool, f: float) -> float:
+        """The length of load factor (λ) that sets the relative tolerances of the event
+        search (events grouped within 1e-10 of it, steps below 1e-12 of it small): the
+        segment's span, or on a segment that runs far beyond the path's size
+        (:meth:`_segment_scales`) the λ-length over which its load rate ``f`` (max |f'|, N)
+        grows to :data:`LOOKAHEAD_GROWTH` times the current force scale."""
+        if not far:
+            return span
+        return min(span, LOOKAHEAD_GROWTH * self.engine.F_scale / max(f, 1e-300))
 
     def _reach(self, ds, dw, span: float) -> float:
         """How far the path's scales look ahead along the rates (ds, dw) of the scheme just
