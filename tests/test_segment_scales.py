@@ -27,6 +27,8 @@ import pytest
 import faceted_reference as fr
 import stepcontact as sc
 from test_contact3d import F, W, assert_block_statics, block_model
+from test_water_level import CONCRETE as DAM_CONCRETE
+from test_water_level import GAMMA, dam
 
 TOL = 1e-9
 ENDS = (1e3, 1e6, 1e10, 1e13)  # segment end / slip load
@@ -77,3 +79,16 @@ def test_3d_block_slides_at_the_polygon_limit_whatever_the_segment_end(k, theta,
         assert res.lam[-1] == pytest.approx(slip, rel=TOL), ratio
         assert res.residual.max() <= TOL and res.violation.max() <= TOL, ratio
         assert_block_statics(model, res)
+
+
+@pytest.mark.parametrize("top", [1e3, 1e7, 1e9, 1e11, 1e13])
+def test_dam_slides_at_the_hand_level_whatever_the_segment_end(top):
+    """A level path to 1e3 … 1e13 m: sliding at h = f W / (γ H_d) + H_d / 2 (above the crest,
+    hand statics) to 1e-9 relative; every state exact to 1e-9."""
+    f, height = 0.7, 10.0
+    weight = DAM_CONCRETE.density * 9.81 * 8.0 * height
+    h_star = f * weight / (GAMMA * height) + height / 2
+    res = sc.solve_static(dam(f, height, top))
+    assert res.status == sc.Status.EQUILIBRIUM_LOST, res.message
+    assert res.multipliers[-1].equilibrium_lost == pytest.approx(h_star, rel=TOL)
+    assert res.residual.max() <= TOL and res.violation.max() <= TOL
