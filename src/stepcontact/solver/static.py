@@ -1068,7 +1068,8 @@ class StaticSolver:
         eng = self.engine
         if eng.F_scale <= 1e-300:  # the start from zero: no size to compare with
             return whole
-        return (min(whole[0], max(start[0], LOOKAHEAD_GROWTH * eng.W_scale)),
+        w_cap = LOOKAHEAD_GROWTH * eng.W_scale if eng.W_scale > 1e-300 else np.inf
+        return (min(whole[0], max(start[0], w_cap)),
                 min(whole[1], max(start[1], LOOKAHEAD_GROWTH * eng.F_scale)))
 
     def _look(self, span: float, far: bool, f: float, path=None) -> float:
