@@ -98,11 +98,34 @@ class LevelPath:
         load for j = 0), N."""
         return self.basis.vectors.T @ coef + self.own_rate(j) * self.own[3]
 
-    def scales(self) -> tuple[float, float]:
-        """(max |y|, max |f|) at the two ends of the segment and at its node levels: the
-        size of the response and of the load, for tolerances."""
-        hs = np.r_[self.h0, self.stops]
+    def scales(self, start: bool = False) -> tuple[float, float]:
+        """(max |y|, max |f|) at the two ends of the segment and at its node levels (at its
+        start h0 only if ``start``): the size of the response and of the load, for
+        tolerances."""
+        hs = np.r_[self.h0] if start else np.r_[self.h0, self.stops]
         g = np.array([self.basis.factors(h) for h in hs])
         y = np.abs(g @ self.Y.T + hs[:, None] * self.own[2][None, :]).max(initial=0.0)
         f = np.abs(g @ self.basis.vectors + hs[:, None] * self.own[3][None, :]).max(initial=0.0)
         return float(y), float(f)
+
+    def reach(self, f_limit: float) -> float:
+        """μ (m) of the first node level (or the segment's end) where the load's size
+        max |f| exceeds ``f_limit`` (N); the segment's length if none does."""
+        h = self.stops
+        g = np.array([self.basis.factors(x) for x in h]).reshape(len(h), -1)
+        f = np.abs(g @ self.basis.vectors + h[:, None] * self.own[3][None, :]).max(
+            axis=1, initial=0.0)
+        over = np.flatnonzero(f > f_limit)
+        return abs((h[over[0]] if over.size else self.h1) - self.h0)
+
+    def far_stops(self, growth: float) -> np.ndarray:
+        """Levels (m) that split the segment beyond its last node level into pieces each
+        ``growth`` times longer than the one before (from the last node level's distance to
+        h0, at least 1 m): a level run far beyond the structure's size is expanded in Taylor
+        terms over pieces of the path's own size, not over the whole run (whose powers
+        μ^j of 1e10 m made the event roots round-off)."""
+        span = abs(self.h1 - self.h0)
+        inner = np.abs(self.stops[:-1] - self.h0)
+        d = max(float(inner.max(initial=0.0)), 1.0)
+        n = int(np.floor(np.log(span / d) / np.log(growth))) if span > d * growth else 0
+        return self.h0 + self.direction * d * growth ** np.arange(1, n + 1, dtype=float)

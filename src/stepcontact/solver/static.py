@@ -824,13 +824,21 @@ class StaticSolver:
             big = max(abs(lam0), abs(lam1))
             path = self._level_path(seg, pattern, rates, lam0, lam1)
             if path is None:
-                y_max = float(np.abs(self._combine(self.cond.y, rates)).max(initial=0)) * big
                 self._f = self._combine({k: v.f for k, v in self.sys.loads.items()}, rates)
-                f_max = float(np.abs(self._f).max(initial=0)) * big
+                f_rate = float(np.abs(self._f).max(initial=0))
+                y_rate = float(np.abs(self._combine(self.cond.y, rates)).max(initial=0))
+                y_max, f_max = self._segment_scales(
+                    (y_rate * abs(lam0), f_rate * abs(lam0)), (y_rate * big, f_rate * big))
+                far = f_max < f_rate * big  # the scales look only part of the way
                 forcing = (direction * self._combine(self.cond.hhat, rates),
                            direction * self._combine(self.cond.e, rates))
             else:  # the load is a polynomial in the level: its forcings at every point
-                y_max, f_max = path.scales()
+                y_whole, f_whole = path.scales()
+                y_now, f_now = path.scales(start=True)
+                y_max, f_max = self._segment_scales((y_now, f_now), (y_whole, f_whole))
+                far = f_max < f_whole
+                if far:
+                    path.add_stops(path.far_stops(LOOKAHEAD_GROWTH))
                 if self.crack is not None:  # crack water kinks where the level passes a CFE
                     path.add_stops(self.crack.kinks(pattern))
             # the factors' rates along μ (crack water follows them)
@@ -878,7 +886,8 @@ class StaticSolver:
                     break
                 end = span if path is None else path.piece_end(mu)
                 remaining = end - mu
-                grp = 1e-10 * max(abs(lam), span, 1.0)
+                look = self._look(span, far, f_rate if far and path is None else 0.0, path)
+                grp = 1e-10 * max(abs(lam), look, 1.0)
                 if path is None:
                     dmu, dmu_ev, fired = eng.next_event(ds, dw, remaining, grp)
                 else:
@@ -895,7 +904,7 @@ class StaticSolver:
                     dmu_p = eng.article_step(ds)
                     if dmu_p < dmu:
                         dmu, fired = dmu_p, np.zeros(m, bool)
-                if dmu <= 1e-12 * max(span, 1.0):
+                if dmu <= 1e-12 * max(look, 1.0):
                     small_steps += 1
                     if small_steps > 100:
                         self.status = Status.CYCLING
@@ -1042,6 +1051,40 @@ class StaticSolver:
                     hk.after_event(info)
             self._checkpoint()
         return True, ds, dw
+
+    def _segment_scales(self, start: tuple[float, float], whole: tuple[float, float]
+                        ) -> tuple[float, float]:
+        """Displacement and force scales (m, N) a segment brings at its start, from the sizes
+        (max |y|, max |f|) of its response and load at its start (``start``) and over the
+        whole segment (``whole``: at its far end, or its node levels for a level path): the
+        whole segment's, unless the path already has a size (a force scale) and that would
+        grow a scale more than :data:`LOOKAHEAD_GROWTH` times at once — then at most that many
+        times (never below the start's); the rates of the scheme decided at the start then
+        look ahead to its next event (:meth:`_reach`), event by event.  A segment whose end
+        lies absurdly far beyond the limit load (1e10 times) otherwise set limit tolerances
+        (LIMIT_TOL · rtol of the scales) of the size of the real forces: a slip load off by
+        1e-4, or equilibrium "lost" at once.  From zero (no force scale yet) the whole segment
+        is looked at, as before."""
+        eng = self.engine
+        if eng.F_scale <= 1e-300:  # the start from zero: no size to compare with
+            return whole
+        w_cap = LOOKAHEAD_GROWTH * eng.W_scale if eng.W_scale > 1e-300 else np.inf
+        return (min(whole[0], max(start[0], w_cap)),
+                min(whole[1], max(start[1], LOOKAHEAD_GROWTH * eng.F_scale)))
+
+    def _look(self, span: float, far: bool, f: float, path=None) -> float:
+        """The length of load factor (λ, or level in m) that sets the relative tolerances of
+        the event search (events grouped within 1e-10 of it, steps below 1e-12 of it small):
+        the segment's span, or on a segment that runs far beyond the path's size
+        (:meth:`_segment_scales`) the length over which its load grows to
+        :data:`LOOKAHEAD_GROWTH` times the current force scale (load rate ``f``, max |f'|, N;
+        on a level path to the first node level beyond, :meth:`LevelPath.reach`)."""
+        if not far:
+            return span
+        limit = LOOKAHEAD_GROWTH * self.engine.F_scale
+        if path is not None:
+            return min(span, path.reach(limit))
+        return min(span, limit / max(f, 1e-300))
 
     def _reach(self, ds, dw, span: float) -> float:
         """How far the path's scales look ahead along the rates (ds, dw) of the scheme just
