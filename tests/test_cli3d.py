@@ -210,6 +210,10 @@ def test_info_and_export(boxes, tmp_path):
     assert sf["eccentricity"] == pytest.approx(e, rel=TOL)
     assert sf["normal_force"] == pytest.approx(-W, rel=TOL)
     assert sf["lam_sliding"] == res.lam[-1] and sf["facets"] == K
+    for opt in (["--design", "1.0"], ["--cohesion", "2e5"]):  # not silently ignored in 3D
+        out = runner.invoke(app, ["info", str(result), *opt])
+        assert out.exit_code != 0 and f"{opt[0]}: the design-state check" in out.output
+        assert "3D joints" in out.output and "Traceback" not in out.output
     out = runner.invoke(app, ["export", str(result), "--vtu", str(tmp_path / "pv"), "--model",
                               str(path)])
     assert out.exit_code == 0, out.output

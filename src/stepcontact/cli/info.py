@@ -248,6 +248,12 @@ def info(
         raise _fail(f"--design {design}: give a finite, non-zero design load factor", as_json)
     if cohesion is not None and not math.isfinite(cohesion):
         raise _fail(f"--cohesion {cohesion}: give a finite cohesion ≥ 0 Pa", as_json)
+    if (design is not None or cohesion is not None) and getattr(res, "n_t", 1) > 1:
+        opt = "--design" if design is not None else "--cohesion"
+        raise _fail(f"{opt}: the design-state check (engineers' factors, load margins) is not "
+                    "available for 3D joints yet; `stepcontact info` without it shows each 3D "
+                    "joint's force, moment, eccentricities, compressed area and sliding "
+                    "factor", as_json)
     summary = result_info(res, result_file, design, cohesion)
     if as_json:
         typer.echo(json.dumps(summary, indent=2, ensure_ascii=False))
