@@ -433,13 +433,36 @@ def test_mortar_patch_quadratic(plus_el, minus_el):
         assert_allclose(carried, quad(plus.points[mo.nodes]), atol=1e-12, rtol=0)
 
 
-@pytest.mark.parametrize("element", ["tet10", "hex20"])
-def test_mortar_refuses_tri6_and_quad8_on_the_cfe_side(element):
-    """tri6 and quad8 facets have corners with ∫ φ ≤ 0: mortar CFEs on them are refused with
-    the reason; as the S− side they are accepted (previous test)."""
-    S = surface_of_mesh(_box(element), element)
-    with pytest.raises(ModelError, match="∫ φ ≤ 0"):
-        mortar(S, S)
+@pytest.mark.parametrize("plus_el, minus_el", [("tet10", "hex20"), ("hex20", "tet10"),
+                                               ("hex20", "hex20")])
+def test_mortar_on_tri6_and_quad8_in_the_transformed_basis(plus_el, minus_el):
+    """tri6/quad8 facets on S+ (corners with ∫ φ ≤ 0), S− turned by 20°: in the transformed
+    basis every CFE has a positive area, Σ D = 1 m², each end's weights add up to 1, and a
+    linear and the quadratic field x² + xy − y² (held by tri6 and quad8 alike) are carried
+    exactly to the CFE's own end, the transformed nodal value d̂ = T⁻ᵀ d (hand formula:
+    d̂_mid = (d_m − (d_c1 + d_c2)/5) · 5/3; 1e-12)."""
+    def mesh(el, n, lo, hi, zs):
+        return MESHES[el].init_tensor(np.linspace(lo, hi, n), np.linspace(lo, hi, n + 1), zs)
+
+    mm = mesh(minus_el, 4, -0.5, 1.5, np.array([-0.4, 0.0]))
+    c, s = np.cos(np.radians(20)), np.sin(np.radians(20))
+    p = mm.p.copy()
+    p[:2] = np.array([[c, -s], [s, c]]) @ (p[:2] - 0.5) + 0.5
+    minus = surface_of_mesh(type(mm)(p, mm.t), minus_el)
+    plus = surface_of_mesh(mesh(plus_el, 3, 0.0, 1.0, np.array([0.0, 0.3])).with_defaults(),
+                           plus_el, boundary="front")
+    mo = mortar(plus, minus)
+    assert mo.area.min() > 0
+    assert_allclose(mo.area.sum(), 1.0, atol=1e-12, rtol=0)
+    assert_allclose(mo.weights.sum(axis=1), 1.0, atol=1e-12, rtol=0)
+    assert_allclose(mo.own_weights.sum(axis=1), 1.0, atol=1e-12, rtol=0)
+    for field in (lambda q: 2 * q[:, 0] - 3 * q[:, 1] + 0.5,
+                  lambda q: q[:, 0] ** 2 + q[:, 0] * q[:, 1] - q[:, 1] ** 2):
+        u = field(minus.points)
+        carried = (mo.weights * u[np.maximum(mo.cols, 0)] * (mo.cols >= 0)).sum(axis=1)
+        v = field(plus.points)
+        own = (mo.own_weights * v[np.maximum(mo.own_cols, 0)] * (mo.own_cols >= 0)).sum(axis=1)
+        assert_allclose(carried, own, atol=1e-12, rtol=0)
 
 
 def test_curved_quadratic_sphere_area_converges():

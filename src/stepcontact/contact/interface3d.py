@@ -18,7 +18,9 @@ and bonds (eq. (12)) as in 2D.  How a CFE joins S+ to S− (``Interface.cfe``):
   2D), or of the other side when some facets of the coarser one face it only in part and
   none of its own do (a block's face on a larger base); its other end the row D⁻¹ M of the
   facets opposite, its area D_i = ∫ φ_i dA; a uniform pressure passes exactly between
-  non-matching meshes;
+  non-matching meshes.  Between two tri6/quad8 sides (tet10/hex20) in the transformed basis
+  φ̂ = T φ (:data:`~stepcontact.contact.surface3d.TRANSFORMED_KINDS`), the CFE's own end
+  the transformed nodal value d̂ = T⁻ᵀ d;
 * ``"auto"``: node-to-node where the meshes match, mortar otherwise.
 
 Against a :class:`~stepcontact.model.obstacle.RigidPlane` every S+ node gets a CFE to the
@@ -100,8 +102,8 @@ def _positive_areas(item: str, surf: Surface, nodes: np.ndarray) -> np.ndarray:
     a = surf.nodal_areas()[nodes]
     if np.any(a <= 0):
         raise ModelError(item, f"its CFEs sit on '{surf.kind}' faces, whose corner nodes "
-                         "have no positive tributary area (∫ φ ≤ 0): use cfe = 'mortar' with "
-                         "the other side on tri3/quad4/quad9 faces, or linear or hex27 elements")
+                         "have no positive tributary area (∫ φ ≤ 0): use cfe = 'mortar' (its "
+                         "transformed basis), or linear or hex27 elements")
     return a
 
 
@@ -119,6 +121,8 @@ def _mortar_sides(splus: Surface, sminus: Surface, axis):
     side only in part and none of the other's do (a block's face on a larger base): then the
     other one, so that no dual function is fitted to a sliver of a facet."""
     ok_p, ok_m = splus.kind in MORTAR_KINDS, sminus.kind in MORTAR_KINDS
+    if not (ok_p or ok_m):  # both tri6/quad8: either, in the transformed basis
+        ok_p = ok_m = True
     if ok_p != ok_m:
         first = ok_p
     else:
@@ -153,19 +157,20 @@ def _mortar(model: Model, itf: Interface, splus: Surface, sminus: Surface) -> di
     bp, bm = model.body(itf.plus.body), model.body(itf.minus.body)
     off = model.node_offsets
     axis = None if itf.axis is None else np.asarray(itf.axis, float)
-    if splus.kind not in MORTAR_KINDS and sminus.kind not in MORTAR_KINDS:
-        raise ModelError(f"interface '{itf.name}'", f"mortar CFEs need tri3, quad4 or quad9 "
-                         f"faces on one side at least; both sides have '{splus.kind}' and "
-                         f"'{sminus.kind}' faces (tet10/hex20 bodies), whose corner nodes have "
-                         "∫ φ ≤ 0: not available yet (mesh one side with tet4, hex8 or hex27)")
     on_plus, mo = _mortar_sides(splus, sminus, axis)
+    # the CFE's own end: its node, or on tri6/quad8 facets the transformed nodal value
+    own = ((mo.nodes[:, None], np.ones((len(mo.nodes), 1))) if mo.own_cols is None
+           else (mo.own_cols, mo.own_weights))
     if on_plus:
         n_m, wm = _ends(mo.cols, mo.weights, off[bm.name])
-        return dict(order=mo.nodes, xp=mo.x, xm=mo.x - mo.gap[:, None] * mo.normal,
-                    nrm=mo.normal, trib=mo.area, n_m=n_m, wm=wm, geo_gap=mo.gap)
+        parts = dict(order=mo.nodes, xp=mo.x, xm=mo.x - mo.gap[:, None] * mo.normal,
+                     nrm=mo.normal, trib=mo.area, n_m=n_m, wm=wm, geo_gap=mo.gap)
+        if mo.own_cols is not None:
+            parts["plus"] = _ends(*own, off[bp.name])
+        return parts
     # CFEs on the S− nodes: their S+ end the weighted row
     n_p, wp = _ends(mo.cols, mo.weights, off[bp.name])
-    n_m, wm = _ends(mo.nodes[:, None], np.ones((len(mo.nodes), 1)), off[bm.name])
+    n_m, wm = _ends(*own, off[bm.name])
     nrm = -mo.normal  # S−'s outward normal: from S− to S+
     return dict(order=mo.nodes, xp=mo.x, xm=mo.x, nrm=nrm, trib=mo.area, n_m=n_m, wm=wm,
                 plus=(n_p, wp), geo_gap=mo.gap)

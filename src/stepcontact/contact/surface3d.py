@@ -691,6 +691,42 @@ MORTAR_GAUSS = 3
 #: facet kinds of the side that carries mortar CFEs: those whose ∫ φ_i > 0 at every node
 #: (a flat tri6 has 0 at its corners, a quad8 −A/12)
 MORTAR_KINDS = ("tri3", "quad4", "quad9")
+#: facet kinds that carry mortar CFEs in the transformed basis of Popp et al. (2012), "Dual
+#: quadratic mortar finite element methods for 3D finite deformation contact":
+#: φ̂_c = φ_c + α Σ φ_m (the two mid-sides next to corner c), φ̂_m = (1 − 2α) φ_m
+TRANSFORMED_KINDS = ("tri6", "quad8")
+#: α of the transformation: Σ φ̂ = Σ φ = 1 for any α (each mid-side gives α to each of its two
+#: corners); on a flat facet of area A, ∫ φ̂_c = 2αA/3 (tri6) or (8α − 1)A/12 (quad8) and
+#: ∫ φ̂_m = (1 − 2α)A/3, all > 0 for 1/8 < α < 1/2; α = 1/5 gives 2A/15, A/20 and A/5
+ALPHA = 0.2
+
+
+def _transformation(kind: str) -> np.ndarray:
+    """T (n, n) of a tri6/quad8 facet, φ̂ = T φ (φ̂_i = Σ_j T_ij φ_j)."""
+    k, n = FACET_KINDS[kind]
+    T = np.eye(n)
+    side = np.arange(k)
+    T[side, k + side] = ALPHA
+    T[(side + 1) % k, k + side] = ALPHA
+    T[k + side, k + side] = 1 - 2 * ALPHA
+    return T
+
+
+def _own_ends(plus: Surface, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The S+ ends of mortar CFEs on tri6/quad8 facets: the nodal values of the transformed
+    basis, d̂ = T⁻ᵀ d: d̂_c = d_c at a corner, d̂_m = (d_m − α (d_c1 + d_c2)) / (1 − 2α) at a
+    mid-side node between corners c1, c2 (node ids (m, 3), −1 padding; weights, Σ = 1)."""
+    k = FACET_KINDS[plus.kind][0]
+    side = np.arange(k)
+    own = np.full((len(plus.points), 3), -1, dtype=np.int64)
+    own[:, 0] = np.arange(len(plus.points))
+    wts = np.zeros((len(plus.points), 3))
+    wts[:, 0] = 1.0
+    mids = plus.facets[:, k + side].ravel()
+    own[mids, 1] = plus.facets[:, side].ravel()
+    own[mids, 2] = plus.facets[:, (side + 1) % k].ravel()
+    wts[mids] = np.array([1.0, -ALPHA, -ALPHA]) / (1 - 2 * ALPHA)
+    return own[nodes], wts[nodes]
 
 
 @dataclass(frozen=True, eq=False)
@@ -727,6 +763,10 @@ class Mortar:
     facet_overlap : (F⁺,) float
         The area of each S+ facet that faces S−, m² (its area when wholly faced, 0 when not
         at all): facets faced only in part have dual functions fitted to a part of them.
+    own_cols, own_weights : (m, 3) int, float or None
+        On tri6/quad8 facets (:data:`TRANSFORMED_KINDS`), the CFE's own end on S+: the
+        nodal value d̂_i of the transformed basis (:func:`_own_ends`); None otherwise (the
+        node itself).
     """
 
     D: object
@@ -742,6 +782,8 @@ class Mortar:
     x: np.ndarray
     gap: np.ndarray
     facet_overlap: np.ndarray | None = None
+    own_cols: np.ndarray | None = None
+    own_weights: np.ndarray | None = None
 
 
 def _inverse_map(kind: str, corners: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -778,7 +820,10 @@ def _pairs(plus: Surface, minus: Surface) -> tuple[np.ndarray, np.ndarray]:
 
 def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mortar:
     """Mortar CFEs on the nodes of S+ (segment-based integration): S+ of ``tri3``, ``quad4``
-    or ``quad9`` facets (:data:`MORTAR_KINDS`), S− of any kind.
+    or ``quad9`` facets (:data:`MORTAR_KINDS`), or of ``tri6``/``quad8`` facets in the
+    transformed basis φ̂ = T φ (:data:`TRANSFORMED_KINDS`, whose corners have ∫ φ ≤ 0: the
+    dual functions are built on φ̂, and each CFE's own end is the transformed nodal value
+    d̂ = T⁻ᵀ d, ``own_cols``/``own_weights``), S− of any kind.
 
     For every pair of facing facets (e on S+, f on S−): both are projected onto the auxiliary
     plane of e (through its centroid, ⊥ its normal at the centre, exact for flat facets), the
@@ -801,7 +846,7 @@ def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mor
     """
     from scipy.sparse import coo_matrix
 
-    if plus.kind not in MORTAR_KINDS:
+    if plus.kind not in MORTAR_KINDS + TRANSFORMED_KINDS:
         raise ModelError(f"plus surface '{plus.name}'",
                          f"mortar CFEs on '{plus.kind}' facets are not implemented (one of "
                          f"{MORTAR_KINDS}): their corners have ∫ φ ≤ 0, so the dual basis "
@@ -859,6 +904,9 @@ def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mor
     at = 2 * polygon_areas(tri, np.full(len(tri), 3))
     w = at[:, None] * wg[None]  # (T, G), m²
     phi = shape(plus.kind, _inverse_map(plus.kind, cp[tp], y))[0]  # (T, G, n⁺)
+    transformed = plus.kind in TRANSFORMED_KINDS
+    if transformed:
+        phi = np.einsum("ij,tgj->tgi", _transformation(plus.kind), phi)  # φ̂ = T φ
     psi = shape(minus.kind, _inverse_map(minus.kind, cm[tp], y))[0]  # (T, G, n⁻)
     ep, fm = plus.facets[e[tp]], minus.facets[f[tp]]
     k_p, k_m = phi.shape[2], psi.shape[2]
@@ -899,10 +947,19 @@ def mortar(plus: Surface, minus: Surface, axis: np.ndarray | None = None) -> Mor
     wts[r, pos] = rows.data / Dd[nodes][r]
     nrm = nd[nodes] / np.linalg.norm(nd[nodes], axis=1)[:, None]
     x = plus.points[nodes]
+    own = own_w = None
+    if transformed:
+        own, own_w = _own_ends(plus, nodes)
+        used = np.unique(own[own >= 0])
+        g_all = np.zeros(n_p)
+        g_all[used] = project_points(plus.points[used], minus).gap
+        gap = np.einsum("mc,mc->m", np.where(own >= 0, g_all[own], 0.0), own_w)
+    else:
+        gap = project_points(x, minus).gap
     return Mortar(D=D, M=M, M_dual=Md, nodes=nodes, area=Dd[nodes], cols=cols, weights=wts,
                   normal=nrm, basis=local_basis(nrm, axis), overlap_area=float(w.sum()), x=x,
-                  gap=project_points(x, minus).gap,
-                  facet_overlap=np.bincount(e[tp], w.sum(axis=1), minlength=len(plus)))
+                  gap=gap, facet_overlap=np.bincount(e[tp], w.sum(axis=1), minlength=len(plus)),
+                  own_cols=own, own_weights=own_w)
 
 
 __all__ = ["ELEMENT_FACETS", "FACET_KINDS", "Mortar", "NodeToFacet", "Surface", "clip_polygons",
