@@ -154,6 +154,24 @@ def test_block_on_a_base_slides_at_the_polygon_limit(base, cfe, element):
         assert np.all(np.count_nonzero(np.asarray(res.cfe["plus_nodes"]) >= 0, axis=1) == 1)
 
 
+@pytest.mark.parametrize("element", ["tet10", "hex20"])
+def test_tet10_and_hex20_block_on_a_base_slides_at_the_polygon_limit(element):
+    """A tet10/hex20 block on a base of its own kind (mortar in the transformed basis, on the
+    block's face, since the base's facets face it only in part): sliding at
+    f W cos(π/k) / cos(θ − θ_f), k = 8, θ = 0.3, to 1e-9 relative, with equilibrium and the
+    contact conditions to 1e-9 at every state (measured ~1e-14); the CFEs at mid-side nodes
+    act on the transformed value (three S+ nodes), those at corners on the corner alone."""
+    k, theta = 8, 0.3
+    model = block_model(k, theta, base=(3, 3, 1), cfe="mortar", element=element)
+    res = sc.solve_static(model)
+    assert res.status == sc.Status.EQUILIBRIUM_LOST, res.message
+    assert res.lam[-1] == pytest.approx(fr.slip_limit(F * W, k, theta), rel=TOL)
+    assert res.residual.max() < TOL and res.violation.max() < TOL
+    assert_block_statics(model, res)
+    ends = np.count_nonzero(np.asarray(res.cfe["plus_nodes"]) >= 0, axis=1)
+    assert set(ends.tolist()) == {1, 3}
+
+
 def test_loading_from_zero_every_cfe_closed_and_stuck():
     """From λ = 0 every CFE is closed with N = Q = 0 (every facet of every CFE at its limit at
     once: the degenerate start); after the weight all CFEs stick with Σ N = −W (1e-9) and
