@@ -408,12 +408,10 @@ def test_mortar_on_matching_meshes_ties_node_to_node():
     assert_allclose(mo.gap, 0.0, atol=1e-15, rtol=0)
 
 
-@pytest.mark.parametrize("plus_el, minus_el", [("hex27", "tet10"), ("hex27", "hex20"),
-                                               ("hex8", "tet10")])
-def test_mortar_patch_quadratic(plus_el, minus_el):
-    """Quadratic facets (quad9 on S+, tri6 or quad8 on S−), S− turned by 20°: Σ D = Σ M = 1 m²,
-    a linear field carried exactly, and the quadratic field x² + xy − y² too where both sides
-    hold it (1e-12)."""
+def _turned_pair(plus_el: str, minus_el: str):
+    """(S+, S−): the "front" face of a 1 m × 1 m block of ``plus_el`` cells (2 × 3 in plan,
+    0 ≤ z ≤ 0.3) and the surface of a 2 m × 2 m block of ``minus_el`` cells (3 × 4 in plan,
+    −0.4 ≤ z ≤ 0) turned by 20° in plan about (0.5, 0.5): facets that cross each other."""
     def mesh(el, n, lo, hi, zs):
         return MESHES[el].init_tensor(np.linspace(lo, hi, n), np.linspace(lo, hi, n + 1), zs)
 
@@ -424,6 +422,16 @@ def test_mortar_patch_quadratic(plus_el, minus_el):
     minus = surface_of_mesh(type(mm)(p, mm.t), minus_el)
     plus = surface_of_mesh(mesh(plus_el, 3, 0.0, 1.0, np.array([0.0, 0.3])).with_defaults(),
                            plus_el, boundary="front")
+    return plus, minus
+
+
+@pytest.mark.parametrize("plus_el, minus_el", [("hex27", "tet10"), ("hex27", "hex20"),
+                                               ("hex8", "tet10")])
+def test_mortar_patch_quadratic(plus_el, minus_el):
+    """Quadratic facets (quad9 on S+, tri6 or quad8 on S−), S− turned by 20°: Σ D = Σ M = 1 m²,
+    a linear field carried exactly, and the quadratic field x² + xy − y² too where both sides
+    hold it (1e-12)."""
+    plus, minus = _turned_pair(plus_el, minus_el)
     mo = _check_patch(plus, minus, 1.0)
     if plus_el == "hex27":  # quad9, tri6 and quad8 all hold the full quadratics
         def quad(q):
@@ -441,16 +449,7 @@ def test_mortar_on_tri6_and_quad8_in_the_transformed_basis(plus_el, minus_el):
     linear and the quadratic field x² + xy − y² (held by tri6 and quad8 alike) are carried
     exactly to the CFE's own end, the transformed nodal value d̂ = T⁻ᵀ d (hand formula:
     d̂_mid = (d_m − (d_c1 + d_c2)/5) · 5/3; 1e-12)."""
-    def mesh(el, n, lo, hi, zs):
-        return MESHES[el].init_tensor(np.linspace(lo, hi, n), np.linspace(lo, hi, n + 1), zs)
-
-    mm = mesh(minus_el, 4, -0.5, 1.5, np.array([-0.4, 0.0]))
-    c, s = np.cos(np.radians(20)), np.sin(np.radians(20))
-    p = mm.p.copy()
-    p[:2] = np.array([[c, -s], [s, c]]) @ (p[:2] - 0.5) + 0.5
-    minus = surface_of_mesh(type(mm)(p, mm.t), minus_el)
-    plus = surface_of_mesh(mesh(plus_el, 3, 0.0, 1.0, np.array([0.0, 0.3])).with_defaults(),
-                           plus_el, boundary="front")
+    plus, minus = _turned_pair(plus_el, minus_el)
     mo = mortar(plus, minus)
     assert mo.area.min() > 0
     assert_allclose(mo.area.sum(), 1.0, atol=1e-12, rtol=0)
