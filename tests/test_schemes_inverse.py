@@ -120,6 +120,29 @@ def _walk(rng, m, steps):
         yield states
 
 
+def _checked_walk(eng, c64, rng):
+    """The 120 schemes of :func:`_walk` through ``eng``: a regular one's rates (with and
+    without a residual r) checked against the dense solve to RTOL, a singular one's
+    (condition number > 1e12) MechanismError; yields (states, its dense matrix A, or None
+    when singular)."""
+    G, d = c64.G, c64.d
+    n = 2 * eng.m
+    h, e = vm.first_forcing(c64)
+    for states in _walk(rng, eng.m, 120):
+        rel = eng.relations(states, article=False)
+        r = rng.standard_normal(n) * 1e-6
+        A, b = _dense(rel, G, d, h, e, r)
+        _, b0 = _dense(rel, G, d, h, e, np.zeros(n))
+        if _cond(A) > 1e12:
+            with pytest.raises(MechanismError):
+                eng.rates(states, (h, e))
+            yield states, None
+            continue
+        _close(eng.rates(states, (h, e)), _rates(A, b0, G, d, h, e))
+        _close(eng.rates(states, (h, e), r), _rates(A, b, G, d, h, e))
+        yield states, A
+
+
 @pytest.mark.parametrize("precision", ["float64", "float32"])
 @pytest.mark.parametrize("max_rank", [3, 6])
 def test_walk_of_updates_and_commits_equals_dense_solves(block, max_rank, precision):
@@ -133,18 +156,10 @@ def test_walk_of_updates_and_commits_equals_dense_solves(block, max_rank, precis
     h, e = vm.first_forcing(c64)
     rng = np.random.default_rng(4)
     checked = singular = 0
-    for states in _walk(rng, m, 120):
-        rel = eng.relations(states, article=False)
-        r = rng.standard_normal(n) * 1e-6
-        A, b = _dense(rel, G, d, h, e, r)
-        _, b0 = _dense(rel, G, d, h, e, np.zeros(n))
-        if _cond(A) > 1e12:
-            with pytest.raises(MechanismError):
-                eng.rates(states, (h, e))
+    for states, A in _checked_walk(eng, c64, rng):
+        if A is None:
             singular += 1
             continue
-        _close(eng.rates(states, (h, e)), _rates(A, b0, G, d, h, e))
-        _close(eng.rates(states, (h, e), r), _rates(A, b, G, d, h, e))
         checked += 1
         if checked % 10 == 0:  # the rate problem's block: unit rates on 10 CFEs' rows
             cols = rng.choice(m, size=10, replace=False)
@@ -283,22 +298,6 @@ def test_walk_under_the_cost_based_rank_policy(block):
     """The walk of :func:`test_walk_of_updates_and_commits_equals_dense_solves` (float64) with
     the default rank policy: every rate equals the dense solve to RTOL."""
     system, c64, _ = block
-    G, d = c64.G, c64.d
     eng = _engine(system, c64, None)
-    m, n = eng.m, 2 * eng.m
-    h, e = vm.first_forcing(c64)
-    rng = np.random.default_rng(4)
-    checked = 0
-    for states in _walk(rng, m, 120):
-        rel = eng.relations(states, article=False)
-        r = rng.standard_normal(n) * 1e-6
-        A, b = _dense(rel, G, d, h, e, r)
-        _, b0 = _dense(rel, G, d, h, e, np.zeros(n))
-        if _cond(A) > 1e12:
-            with pytest.raises(MechanismError):
-                eng.rates(states, (h, e))
-            continue
-        _close(eng.rates(states, (h, e)), _rates(A, b0, G, d, h, e))
-        _close(eng.rates(states, (h, e), r), _rates(A, b, G, d, h, e))
-        checked += 1
-    assert checked >= 60
+    walk = _checked_walk(eng, c64, np.random.default_rng(4))
+    assert sum(A is not None for _, A in walk) >= 60
