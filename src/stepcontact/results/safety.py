@@ -170,6 +170,8 @@ class InterfaceSafety:
     is_level: bool = False
     design_state: dict = field(default_factory=dict)
     limit_patterns: dict = field(default_factory=dict)
+    #: ΣA_k, the area of the joint's CFEs, m² (the joint length times the thickness)
+    joint_area: float | None = None
 
     @property
     def friction_only_factor(self) -> np.ndarray:
@@ -202,6 +204,39 @@ class InterfaceSafety:
         """The factors at the design state (plain Python numbers; None where not computable,
         with the reasons in ``notes``); ``{}`` without a design value."""
         return dict(self.design_state)
+
+    # ---- the guideline checks' quantities (stepcontact.results.dam_checks) ------------------
+    def strength_factor(self, cohesion: float, tan_phi: float, i: int = -1) -> float:
+        """The sliding factor of state ``i`` with a given strength, EM 1110-2-2100 (2005)
+        eq. (3-1): F = (c A_c + N' tan φ) / H, with N' = −ΣN (N), H = |ΣQ| (N), A_c the
+        compressed area (m²), ``cohesion`` c in Pa and ``tan_phi`` tan φ uniform over the joint
+        (peak or residual strength, whatever the joint's own law); inf without shear."""
+        n_eff, h = -float(self.normal_force[i]), abs(float(self.shear_force[i]))
+        a_c = 0.0 if self.compressed_area is None else float(self.compressed_area[i])
+        resist = cohesion * a_c + tan_phi * n_eff
+        if h <= 1e-12 * max(abs(n_eff), cohesion * a_c, 1e-300):
+            return float("inf")
+        return resist / h
+
+    def linear_stresses(self, i: int = -1) -> tuple[float, float]:
+        """(σ_heel, σ_toe), Pa (compression negative), of state ``i`` by the gravity method: a
+        linear pressure under the joint with the resultant N' at a = ``from_toe`` from the toe
+        (the gravity method: e.g. USACE EM 1110-2-2200 (1995), *Gravity Dam Design*, ch. 4
+        [to be checked]): σ = −N'/A (1 ± 6e/L), e = L/2 − a, inside the kern; outside it the
+        compressed length 3a (or 3(L − a)) carries the triangle of peak 2N'/(3 a t), t = A/L.
+        NaN when the resultant is outside the joint or there is no normal force."""
+        L, A = self.joint_length, self.joint_area
+        a = np.nan if self.from_toe is None else float(self.from_toe[i])
+        n_eff = -float(self.normal_force[i])
+        if not (L and A and np.isfinite(a) and n_eff > 0 and 0.0 < a < L):
+            return float("nan"), float("nan")
+        t = A / L
+        if L / 3 <= a <= 2 * L / 3:
+            e = L / 2 - a  # > 0: the resultant towards the toe
+            return -n_eff / A * (1 - 6 * e / L), -n_eff / A * (1 + 6 * e / L)
+        if a < L / 3:
+            return 0.0, -2 * n_eff / (3 * a * t)
+        return -2 * n_eff / (3 * (L - a) * t), 0.0
 
     def at(self, i: int = -1) -> dict[str, object]:
         """The quantities of state ``i`` (default the last) and the path's limits, as plain
@@ -823,7 +858,7 @@ def interface_safety(res: Result, interface: str, design: float | None = None,
         joint_length=vals["joint_length"], joint_heel=jt.heel, joint_toe=jt.toe,
         cohesion=None if cohesion is None else float(cohesion),
         cohesion_source=vals["cohesion_source"], pattern=pattern, is_level=is_level,
-        design_state=design_state, limit_patterns=found,
+        design_state=design_state, limit_patterns=found, joint_area=float(area.sum()),
     )
 
 
