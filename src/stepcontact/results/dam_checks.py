@@ -287,7 +287,7 @@ class DamCheck:
         """The rows as text cells: combination, joint, check, value, unit, required, verdict,
         source (what the Markdown and a terminal table show)."""
         return [[r.combination, r.joint, r.check, _fmt(r.value, 4), r.unit, r.required_text,
-                 r.verdict, r.source + (f"; {r.note}" if r.note else "")] for r in self.rows]
+                 r.verdict, "; ".join(t for t in (r.source, r.note) if t)] for r in self.rows]
 
     def to_markdown(self) -> str:
         """The checks as a Markdown table, then the overall verdict of each combination."""
