@@ -36,6 +36,18 @@ from stepcontact.model import (
     Tie,
 )
 from stepcontact.model.bond import Bond
+from stepcontact.model.combinations import (  # issue 29 §2: load combinations
+    BaseUplift,
+    Combination,
+    DamSite,
+    Earthquake,
+    Ice,
+    PostTensioning,
+    Reservoir,
+    SelfWeight,
+    Silt,
+    Tailwater,
+)
 from stepcontact.model.mesh import (
     box,
     cylinder,
@@ -52,6 +64,13 @@ from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
+from stepcontact.results.dam_checks import (  # issue 29 §2
+    DamCheck,
+    JointStrength,
+    check_combination,
+    guideline_table,
+    load_guidelines,
+)
 from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
 from stepcontact.solver.condensation import Condensation, condense
 from stepcontact.solver.dynamic import DynamicResult
@@ -162,4 +181,20 @@ __all__ = [
     "StaticResult",
     "StepInfo",
     "System",
+    # issue 29 §2: load combinations and the guidelines' checks
+    "BaseUplift",
+    "Combination",
+    "DamCheck",
+    "DamSite",
+    "Earthquake",
+    "Ice",
+    "JointStrength",
+    "PostTensioning",
+    "Reservoir",
+    "SelfWeight",
+    "Silt",
+    "Tailwater",
+    "check_combination",
+    "guideline_table",
+    "load_guidelines",
 ]

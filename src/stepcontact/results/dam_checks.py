@@ -2,7 +2,7 @@
 
 The required values of USACE EM 1110-2-2100 (2005), FERC Engineering Guidelines ch. 3 (2016)
 and the CDA Dam Safety Guidelines 2007 (2013 ed.) are data (``stepcontact/data/
-dam_guidelines.toml``), every value with its source and whether it was confirmed
+guidelines/dam_guidelines.toml``), every value with its source and whether it was confirmed
 (:func:`load_guidelines`; the docs table is :func:`guideline_table`).  A value not confirmed
 against the document is shown "[to be checked]" wherever it is used.
 
@@ -139,10 +139,11 @@ def _criteria(key: str, raw: list[dict], conditions) -> tuple[Criterion, ...]:
 
 
 def load_guidelines(text: str | None = None) -> dict[str, Guideline]:
-    """The guidelines of ``stepcontact/data/dam_guidelines.toml`` (or of the TOML ``text``),
-    by key: "usace", "ferc", "cda"."""
+    """The guidelines of ``stepcontact/data/guidelines/dam_guidelines.toml`` (or of the TOML
+    ``text``), by key: "usace", "ferc", "cda"."""
     if text is None:
-        text = (files("stepcontact") / "data" / "dam_guidelines.toml").read_text("utf-8")
+        path = files("stepcontact") / "data" / "guidelines" / "dam_guidelines.toml"
+        text = path.read_text("utf-8")
     data = tomllib.loads(text)
     out = {}
     for key, g in data["guideline"].items():
