@@ -332,3 +332,52 @@ def test_bad_inputs_name_the_item():
     with pytest.raises(ValueError, match="friction_angle"):
         JointStrength(friction_angle=95.0)
     assert re.search(r"\[to be checked\]", guideline_table())
+
+
+def test_per_joint_checks_of_a_dam_in_two_lifts():
+    """The dam in two lifts joined at y = 18 m (matching meshes, f = 1): the base's checks are
+    the single dam's, and the lift joint's are the hand statics of the upper lift — its weight
+    (a rectangle and a triangle) and the reservoir on its face, (h − 18)²γ_w/2 at (h − 18)/3
+    above the joint, about the joint's toe (16, 18) (1e-9 relative); no uplift is given in the
+    lift joint, so its uplift factor is not evaluated."""
+    y1 = 18.0
+    x1 = B - SLOPE * y1  # 16 m
+    concrete = sc.Material(E=25e9, nu=0.2, density=RHO)
+    rock = sc.Material(E=25e9, nu=0.2, density=0.0)
+    lower = sc.quad_region("lift 1", [(0, 0), (B, 0), (x1, y1), (0, y1)], 9, 6, concrete)
+    upper = sc.quad_region("lift 2", [(0, y1), (x1, y1), (CREST, HEIGHT), (0, HEIGHT)], 9, 6,
+                           concrete)
+    fnd = sc.rectangle("rock", (-27, -27), (54, 0), 27, 9, rock)
+    m = sc.Model(bodies=[fnd, lower, upper], name="dam in lifts")
+    base = sc.Interface("base", plus=m.select("lift 1", y=0), minus=m.select("rock", y=0),
+                        friction=1.0)
+    lift = sc.Interface("lift", plus=m.select("lift 2", y=y1), minus=m.select("lift 1", y=y1),
+                        friction=1.0)
+    m = m.add(sc.Support("deep rock", m.select("rock", y=-27), "xy"), base, lift)
+    on_face = lambda x, y: np.abs(x - (B - SLOPE * y)) < 1e-6  # noqa: E731
+    site = DamSite(m, base="base", heel=(0, 0), toe=(B, 0), dam=("lift 1", "lift 2"),
+                   upstream=(m.select("lift 1", x=0.0), m.select("lift 2", x=0.0)),
+                   downstream=(m.select("lift 1", on_face), m.select("lift 2", on_face)))
+    combo = usual()
+    res = sc.solve_static(combo.model(site))
+    chk = check_combination(res, combo, site, strength=STRENGTH)
+    assert res.status == sc.Status.COMPLETED
+    assert all(chk.row("usual", j, "crack length").value == 0.0 for j in ("base", "lift"))
+    ref = hand(33.0, 3.0, SILT)
+    assert chk.row("usual", "base", CHECKS["sliding_peak"]).value == pytest.approx(
+        ref["F_peak"], rel=RTOL)
+    assert chk.row("usual", "base", "resultant |e|/L").value == pytest.approx(ref["e_rel"],
+                                                                              rel=RTOL)
+    # the upper lift about the lift joint's toe (x1, y1)
+    d = 33.0 - y1
+    w_r, w_t = RHO * G * CREST * (HEIGHT - y1), RHO * G * (x1 - CREST) * (HEIGHT - y1) / 2
+    x_t = (CREST + x1 + CREST) / 3
+    n_eff, shear = w_r + w_t, GW * d * d / 2
+    M = -(CREST / 2 - x1) * w_r - (x_t - x1) * w_t - d / 3 * shear  # r × F about the toe
+    a = M / n_eff
+    f_peak = (C_PEAK * x1 + n_eff * np.tan(np.radians(PHI_PEAK))) / shear
+    assert chk.row("usual", "lift", CHECKS["sliding_peak"]).value == pytest.approx(f_peak,
+                                                                                   rel=RTOL)
+    assert chk.row("usual", "lift", "resultant |e|/L").value == pytest.approx(
+        abs(x1 / 2 - a) / x1, rel=RTOL)
+    assert chk.row("usual", "lift", CHECKS["uplift"]).passed is None

@@ -108,17 +108,26 @@ class DamSite:
     """Where the load cases act in ``model``: the base joint ``base`` (an interface name) from
     ``heel`` to ``toe`` (points (x, y), m; the heel at y = 0), the dam's ``dam`` bodies
     (self-weight, inertia), the ``upstream`` face (reservoir, silt, ice) and the
-    ``downstream`` face (tailwater) as node sets."""
+    ``downstream`` face (tailwater) as node sets — a tuple of node sets for a face across
+    several bodies (a dam in lifts)."""
 
     model: Model
     base: str
     heel: tuple[float, float]
     toe: tuple[float, float]
-    upstream: NodeSet
+    upstream: NodeSet | tuple[NodeSet, ...]
     dam: tuple[str, ...]
-    downstream: NodeSet | None = None
+    downstream: NodeSet | tuple[NodeSet, ...] | None = None
 
     def __post_init__(self):
+        for face in ("upstream", "downstream"):
+            v = getattr(self, face)
+            if v is None and face == "downstream":
+                continue
+            sets = (v,) if isinstance(v, NodeSet) else tuple(v)
+            if not sets or not all(isinstance(n, NodeSet) for n in sets):
+                raise ModelError(f"dam site.{face}", "give a node set or a tuple of node sets")
+            object.__setattr__(self, face, sets)
         object.__setattr__(self, "heel", _point(self.heel, "dam site.heel"))
         object.__setattr__(self, "toe", _point(self.toe, "dam site.toe"))
         object.__setattr__(self, "dam", tuple(self.dam))
@@ -179,7 +188,7 @@ class Reservoir:
         _finite(self.unit_weight, "reservoir.unit_weight", positive=True)
 
     def items(self, site: DamSite, combo: Combination) -> dict[str, list]:
-        out = [WaterLoad(site.upstream, level=None, unit_weight=self.unit_weight)]
+        out = [WaterLoad(n, level=None, unit_weight=self.unit_weight) for n in site.upstream]
         if self.crack_water:
             out.append(CrackWater(site.base, level=None, unit_weight=self.unit_weight,
                                   entry=site.heel))
@@ -200,8 +209,8 @@ class Tailwater:
         if site.downstream is None:
             raise ModelError(f"combination '{combo.name}'.tailwater", "the dam site has no "
                              "downstream face: give DamSite(downstream=...)")
-        return {"tailwater": [WaterLoad(site.downstream, level=self.level,
-                                        unit_weight=self.unit_weight)]}
+        return {"tailwater": [WaterLoad(n, level=self.level, unit_weight=self.unit_weight)
+                              for n in site.downstream]}
 
 
 @dataclass(frozen=True)
@@ -290,26 +299,27 @@ class Silt:
     def items(self, site: DamSite, combo: Combination) -> dict[str, list]:
         p = HydrostaticPressure(float(self.level),
                                 float(self.coefficient * self.submerged_unit_weight))
-        return {"silt": [EdgeLoad(site.upstream, normal=p)]}
+        return {"silt": [EdgeLoad(n, normal=p) for n in site.upstream]}
 
 
-def _face_pair(site: DamSite, y: float, item: str) -> tuple[list[int], list[float]]:
-    """The nodes of the upstream face around elevation ``y`` and the weights that put a force
-    at y on them by the lever rule (statically exact: same resultant and moment)."""
-    pts = site.model.body(site.upstream.body).points[site.upstream.index]
-    idx = np.asarray(site.upstream.index)
+def _face_pair(site: DamSite, y: float, item: str) -> tuple[list[tuple], list[float]]:
+    """The nodes (body, index) of the upstream face around elevation ``y`` and the weights
+    that put a force at y on them by the lever rule (statically exact: same resultant and
+    moment)."""
+    pts = np.concatenate([site.model.body(n.body).points[n.index] for n in site.upstream])
+    idx = [(n.body, int(i)) for n in site.upstream for i in n.index]
     order = np.argsort(pts[:, 1], kind="stable")
-    ys, idx = pts[order, 1], idx[order]
+    ys, idx = pts[order, 1], [idx[i] for i in order]
     tol = 1e-9 * max(1.0, float(np.ptp(ys)))
     if not ys[0] - tol <= y <= ys[-1] + tol:
         raise ModelError(item, f"elevation {y:g} m is outside the upstream face (y = "
                          f"{ys[0]:g} … {ys[-1]:g} m)")
     j = int(np.argmin(np.abs(ys - y)))
     if abs(ys[j] - y) <= tol:
-        return [int(idx[j])], [1.0]
+        return [idx[j]], [1.0]
     k = int(np.searchsorted(ys, y))
     w = (y - ys[k - 1]) / (ys[k] - ys[k - 1])
-    return [int(idx[k - 1]), int(idx[k])], [1.0 - w, w]
+    return [idx[k - 1], idx[k]], [1.0 - w, w]
 
 
 @dataclass(frozen=True)
@@ -328,8 +338,8 @@ class Ice:
     def items(self, site: DamSite, combo: Combination) -> dict[str, list]:
         nodes, w = _face_pair(site, float(self.level), f"combination '{combo.name}'.ice.level")
         fx = site.downstream_sign * float(self.force)
-        return {"ice": [NodalLoad(NodeSet(site.upstream.body, [n], name=f"ice node {n}"),
-                                  fx=fx * wi) for n, wi in zip(nodes, w, strict=True)]}
+        return {"ice": [NodalLoad(NodeSet(b, [n], name=f"ice node {n} of '{b}'"), fx=fx * wi)
+                        for (b, n), wi in zip(nodes, w, strict=True)]}
 
 
 @dataclass(frozen=True)
@@ -451,20 +461,6 @@ class Combination:
         pats = self.patterns(site)
         names = {p.name for p in pats}
         return site.model.add(*pats, *(s for s in self.segments() if s.pattern in names))
-
-    @property
-    def design_pattern(self) -> str | None:
-        """The pattern of the program's last segment (the checks read the last state)."""
-        for name in reversed(ORDER):
-            if any(_pattern_of(c) == name for c in self.cases):
-                return name
-        return None
-
-
-def _pattern_of(case) -> str | None:
-    return {SelfWeight: "self-weight", Reservoir: "reservoir", Tailwater: "tailwater",
-            Silt: "silt", Ice: "ice", PostTensioning: "post-tensioning",
-            Earthquake: "earthquake"}.get(type(case))
 
 
 __all__ = ["CONDITIONS", "BaseUplift", "Combination", "DamSite", "Earthquake", "Ice",
