@@ -329,7 +329,7 @@ def test_bad_inputs_name_the_item():
         Combination("i", "usual", (Ice(1e5, 50.0),)).model(site)
     with pytest.raises(KeyError, match="variant"):
         check_combination(None, usual(), site, variant="critical, excellent")
-    with pytest.raises(ValueError, match="friction_angle"):
+    with pytest.raises(ModelError, match="friction_angle"):
         JointStrength(friction_angle=95.0)
     assert re.search(r"\[to be checked\]", guideline_table())
 
@@ -381,3 +381,28 @@ def test_per_joint_checks_of_a_dam_in_two_lifts():
     assert chk.row("usual", "lift", "resultant |e|/L").value == pytest.approx(
         abs(x1 / 2 - a) / x1, rel=RTOL)
     assert chk.row("usual", "lift", CHECKS["uplift"]).passed is None
+
+
+def test_program_order_and_crack_water_in_the_uplift_factor():
+    """The program: self-weight, tailwater, reservoir to its level, silt (exact list).  With
+    crack water and k_h = 0.2 the heel opens over 4.5 m and water enters beyond the heel CFE
+    (where the uplift is below the reservoir's head): the uplift factor is the downward loads
+    over the uplift plus the crack water, (W + V_tw)/(U + ΣW_crack), with W, V_tw (the
+    tailwater wedge) and U by hand and ΣW_crack from the run (1e-9 relative)."""
+    assert [(s.pattern, s.end) for s in usual().segments()] == [
+        ("self-weight", 1.0), ("tailwater", 1.0), ("reservoir", 33.0), ("silt", 1.0)]
+    site = dam_site()
+    combo = Combination("wet", "earthquake", (SelfWeight(), Reservoir(33.0, crack_water=True),
+                                              Tailwater(3.0),
+                                              BaseUplift(drain=(X_DRAIN, 0.0), ratio=K_DRAIN),
+                                              Earthquake(0.2)))
+    res = sc.solve_static(combo.model(site))
+    assert res.status == sc.Status.COMPLETED
+    wet = float(np.asarray(res.water)[-1].sum())
+    assert wet > 0  # the precondition: water entered the opened heel
+    ref = hand(33.0, 3.0)
+    down = RHO * G * (B + CREST) / 2 * HEIGHT + GW * SLOPE * 3.0**2 / 2
+    chk = check_combination(res, combo, site)
+    assert chk.row("wet", "base", CHECKS["uplift"]).value == pytest.approx(
+        down / (ref["U"] + wet), rel=RTOL)
+    assert chk.row("wet", "base", "crack length").value > 0

@@ -451,16 +451,22 @@ class Combination:
             elif isinstance(c, Earthquake):
                 ends["earthquake"] = [float(c.k_h)] + (
                     [0.0] if self.condition == "post-earthquake" else [])
-        return [Segment(name, end) for name in ORDER for end in ends.get(name, [1.0])]
+        present = {_PATTERN[type(c)] for c in self.cases if type(c) in _PATTERN}
+        return [Segment(name, end) for name in ORDER if name in present
+                for end in ends.get(name, [1.0])]
 
     def model(self, site: DamSite) -> Model:
         """``site.model`` with the combination's patterns and program (it must have none)."""
         if site.model.patterns or site.model.program or site.model.stages:
             raise ModelError(f"combination '{self.name}'", "the dam site's model already has "
                              "load patterns, segments or stages: give the model without loads")
-        pats = self.patterns(site)
-        names = {p.name for p in pats}
-        return site.model.add(*pats, *(s for s in self.segments() if s.pattern in names))
+        return site.model.add(*self.patterns(site), *self.segments())
+
+
+#: the pattern of each case (:class:`BaseUplift` adds to the reservoir's and tailwater's)
+_PATTERN = {SelfWeight: "self-weight", Reservoir: "reservoir", Tailwater: "tailwater",
+            Silt: "silt", Ice: "ice", PostTensioning: "post-tensioning",
+            Earthquake: "earthquake"}
 
 
 __all__ = ["CONDITIONS", "BaseUplift", "Combination", "DamSite", "Earthquake", "Ice",

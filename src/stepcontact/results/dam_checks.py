@@ -50,6 +50,7 @@ from typing import Any
 import numpy as np
 
 from stepcontact.enums import Status
+from stepcontact.errors import ModelError
 from stepcontact.model.combinations import BaseUplift, Reservoir, Tailwater
 
 #: a run's result (a StaticResult), read through its attributes
@@ -203,16 +204,16 @@ class JointStrength:
         for name in ("cohesion", "residual_cohesion"):
             v = getattr(self, name)
             if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"joint strength.{name} = {v!r}: give a cohesion ≥ 0 Pa")
+                raise ModelError(f"joint strength.{name}", f"is {v!r}: give a cohesion ≥ 0 Pa")
         for name in ("friction_angle", "residual_friction_angle"):
             v = getattr(self, name)
             if v is not None and not (np.isfinite(v) and 0 <= v < 90):
-                raise ValueError(f"joint strength.{name} = {v!r}: give an angle in [0, 90) "
-                                 "degrees")
+                raise ModelError(f"joint strength.{name}", f"is {v!r}: give an angle in "
+                                 "[0, 90) degrees")
         v = self.compressive_strength
         if v is not None and not (np.isfinite(v) and v > 0):
-            raise ValueError(f"joint strength.compressive_strength = {v!r}: give a strength "
-                             "> 0 Pa")
+            raise ModelError("joint strength.compressive_strength", f"is {v!r}: give a "
+                             "strength > 0 Pa")
 
 
 @dataclass(frozen=True)
