@@ -190,6 +190,13 @@ def test_combination_table_against_hand_statics(runs, name, h, t, silt):
     assert all(not r.checked for r in chk.rows if r.required is not None)  # all unconfirmed
     assert TO_BE_CHECKED in chk.to_markdown()
     assert chk.passed == all(r.passed for r in chk.rows if r.passed is not None)
+    # FERC: the friction-only factor N' tan φ / H beside the peak one, its own required value
+    ferc = check_combination(res, combo, site, guideline="ferc", strength=STRENGTH)
+    fo = ferc.row(name, "base", CHECKS["sliding_friction_only"])
+    assert fo.value == pytest.approx(ref["N"] / ref["H"], rel=RTOL)
+    f_fo = load_guidelines()["ferc"].required("sliding_friction_only", "unusual" if
+                                               name == "flood" else "usual").value
+    assert fo.required == f_fo and fo.passed == (ref["N"] / ref["H"] >= f_fo)
 
 
 def test_earthquake_and_post_earthquake_against_hand_statics():
