@@ -43,7 +43,7 @@ the heel) [to be checked]; the silt load as an equivalent fluid of lateral coeff
 submerged unit weight γ'_s: EM 1110-2-2200 (1995) ch. 3 (which quotes 85 pcf ≈ 13.4 kN/m³ of
 equivalent fluid, horizontal) [to be checked]; the ice load as a line load at the reservoir
 level: EM 1110-2-2200 (1995) ch. 3 and CDA (2007) Technical Bulletin "Structural considerations
-for dam safety" (typical thrusts 70–250 kN/m) [to be checked]; pseudo-static inertia k_h W:
+for dam safety" [to be checked]; pseudo-static inertia k_h W:
 EM 1110-2-2200 (1995) ch. 3 (seismic coefficient method) [to be checked].  The hydrodynamic
 pressure of the reservoir during an earthquake is not a case here: give its items (e.g.
 Westergaard's pressure per unit k_h) in ``Earthquake.reservoir_items``.
