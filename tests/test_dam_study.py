@@ -10,11 +10,11 @@ import os
 
 import numpy as np
 import pytest
-from cli_checks import assert_one_line_error
-from figure_checks import assert_readable
 from typer.testing import CliRunner
 
 import stepcontact as sc
+from cli_checks import assert_one_line_error
+from figure_checks import assert_readable
 from stepcontact.cli import app
 from stepcontact.errors import ModelError
 from stepcontact.study import dam_report as R
