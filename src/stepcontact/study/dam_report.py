@@ -336,6 +336,9 @@ def _assumptions(s: DamSection) -> list[_Block]:
         "each state (stepcontact.results.safety).",
         "Hand statics: rigid base, uncracked base, the uplift as above, no crack water; "
         "moments about the toe, positive when they resist (press the heel down).",
+        f"One mesh (dam cells of {s.cell:g} m): the levels of first opening and of failure "
+        "depend on it (the heel is a singular corner of the elastic solution); run the study "
+        "again with the cells halved to see by how much.",
     ]
     return [_Heading(2, "Assumptions"), _List(items)]
 
