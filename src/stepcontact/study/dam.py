@@ -20,7 +20,8 @@ strain per metre of dam:
   ``tailwater`` level, a line of drains ``drain_position`` m from the heel with efficiency
   ``drain_efficiency`` (E), the crack water (``crack_water``), and ``max_level``, the level up
   to which the study raises the reservoir looking for failure;
-* the mesh: ``cell`` (m), the dam's cell size.
+* the mesh: ``cell`` (m), the dam's cell size; ``level_step`` (m): the reservoir's segments
+  end every so many metres (the reported states of the λ–u curve).
 
 :func:`dam_model` builds the :class:`~stepcontact.model.Model`: the dam meshed with
 :func:`~stepcontact.model.mesh.quad_region`, the rock with
@@ -127,6 +128,7 @@ class DamSection:
     crack_water: bool = True
     cell: float = 1.0
     foundation_cell: float | None = None
+    level_step: float | None = None
 
     def __post_init__(self):
         for key in ("height", "crest_width", "cell"):
@@ -135,7 +137,7 @@ class DamSection:
                     "residual_cohesion", "tailwater"):
             _non_negative(self, key)
         for key in ("foundation_depth", "upstream_extent", "downstream_extent",
-                    "foundation_cell", "max_level"):
+                    "foundation_cell", "max_level", "level_step"):
             if getattr(self, key) is not None:
                 _positive(self, key)
         if self.concrete.density <= 0:
@@ -232,6 +234,17 @@ class DamSection:
         """The dam's cells along the base and up the height."""
         return (max(2, round(self.base_length / self.cell)), max(2, round(self.height / self.cell)))
 
+    @property
+    def levels(self) -> tuple[float, ...]:
+        """The levels at which the reservoir's segments end, m: every ``level_step`` (default
+        H/20: the points of the λ–u curve, the states between events being polynomials in the
+        level) and the normal, flood and top levels."""
+        step = self.height / 20 if self.level_step is None else float(self.level_step)
+        n = int(math.floor(self.top_level / step + 1e-9))
+        stops = {round(k * step, 12) for k in range(1, n + 1)}
+        stops |= {float(self.normal_level), float(self.flood_level), self.top_level}
+        return tuple(sorted(v for v in stops if 0 < v <= self.top_level))
+
     def replace(self, **changes) -> DamSection:
         return dataclasses.replace(self, **changes)
 
@@ -293,8 +306,8 @@ def dam_model(s: DamSection, levels: tuple[float, ...] | None = None) -> Model:
     """The model of the section ``s`` (see the module's docstring): bodies ``dam`` (and
     ``rock``), interface ``base``, patterns ``weight``, ``tailwater`` (with a tailwater) and
     ``reservoir`` (its factor is the level, m); the program: the weight, the tailwater, then
-    the reservoir raised through ``levels`` (m; default the normal and flood levels, then
-    :attr:`DamSection.top_level`)."""
+    the reservoir raised through ``levels`` (m; default :attr:`DamSection.levels`: every
+    ``level_step``, the normal and flood levels, up to :attr:`DamSection.top_level`)."""
     heel, toe, crest_down, crest_up = s.corners
     nx, ny = s.cells
     dam = quad_region(DAM, list(s.corners), nx, ny, s.concrete)
@@ -332,7 +345,7 @@ def dam_model(s: DamSection, levels: tuple[float, ...] | None = None) -> Model:
             Uplift(base, head=[(x, 0.0, s.tailwater * v) for x, v in per_tail])]))
         program.append(Segment("tailwater", 1.0))
     if levels is None:
-        levels = tuple(dict.fromkeys((s.normal_level, s.flood_level, s.top_level)))
+        levels = s.levels
     program += [Segment("reservoir", float(h)) for h in levels]
     return m.add(*items, *program)
 

@@ -257,6 +257,7 @@ FIELDS: dict[str, tuple[str, str]] = {
     "crack_water": ("–", "full reservoir pressure in the crack opened from the heel"),
     "cell": ("m", "cell size of the dam's mesh"),
     "foundation_cell": ("m", "cell size of the foundation's mesh (default 1.6 × cell)"),
+    "level_step": ("m", "the reservoir's segments end every so many metres (default H/20)"),
 }
 
 
