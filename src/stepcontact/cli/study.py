@@ -257,8 +257,8 @@ def study(
                            "duration, a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on "
                            "40 × 4): about 30 s on two idle cores (the full study, 29 cases "
                            "and its mesh check: about 7 min with --workers 2). dam: cells of "
-                           "H/15 (2 m for the default dam: 3.5 s of CPU, 12 s on two busy "
-                           "cores; the full study, H/60: 4.5 s of CPU, 17 s).")
+                           "H/15 (2 m for the default dam): 3 s of CPU, 11 s on two busy "
+                           "cores (the full study, H/60: 5 s of CPU, 18 s).")
     ] = False,
     E0: Annotated[
         float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
@@ -282,7 +282,8 @@ def study(
     ] = None,
     friction: Annotated[
         float | None, typer.Option("--friction", min=0.0, help="Friction coefficient of "
-                                   "the slab's base (default 0.6).")
+                                   "the slab's base (default 0.6); dam: tan φ of the joint "
+                                   "(instead of --friction-angle).")
     ] = None,
     gap_pressure: Annotated[
         str | None, typer.Option("--gap-pressure", metavar="uplift|joint", help="Pressure in "
@@ -377,13 +378,13 @@ def study(
 
         stepcontact study slab --quick -o slab-quick
 
-        stepcontact study dam --quick -o dam-quick
-
-        stepcontact study dam --height 40 --drain 4 --drain-efficiency 0.5 --cohesion 3e5
-
         stepcontact study slab --E0 30 --amplitude 0.3 --workers 4
 
         stepcontact study slab --scheduler tcp://10.0.0.5:8786
+
+        stepcontact study dam --quick -o dam-quick
+
+        stepcontact study dam --height 40 --drain 4 --drain-efficiency 0.5 --cohesion 3e5
     """
     from stepcontact.study import basin
     from stepcontact.study.report import write_report
@@ -579,6 +580,9 @@ def _print_dam(st: Any, console: Console) -> None:
                       f(v["sigma_toe"], ".1f", 1e3))
     _print_wide(table, console)
     first, fail = st.first_opening, st.failure
+    if st.first_break is not None:
+        console.print(f"the joint's bond first breaks: h = {st.first_break[0]:.3f} m at x = "
+                      f"{st.first_break[1]:.2f} m")
     console.print("first opening of the base: " + (f"h = {first[0]:.3f} m at x = "
                                                    f"{first[1]:.2f} m" if first else "none"))
     console.print("failure: " + (f"h = {fail[0]:.3f} m ({fail[1]})" if fail else

@@ -54,7 +54,7 @@ FIGURES = {"section": "figures/section.png", "base_stresses": "figures/base_stre
            "level_displacement": "figures/level_displacement.png"}
 #: colours of the named states
 COLORS = {"self-weight": "#7f7f7f", "normal": "#1f77b4", "flood": "#ff7f0e",
-          "first opening": "#2ca02c", "failure": "#d62728"}
+          "first break": "#9467bd", "first opening": "#2ca02c", "failure": "#d62728"}
 _WATER = "#9ecae1"
 
 
@@ -171,6 +171,9 @@ def _level_marks(ax, study: DamStudy, *, vertical: bool) -> None:
     s = study.section
     marks = [(s.normal_level, "normal", f"normal level {s.normal_level:g} m"),
              (s.flood_level, "flood", f"flood level {s.flood_level:g} m")]
+    if study.first_break is not None:
+        marks.append((study.first_break[0], "first break",
+                      f"bond first breaks {study.first_break[0]:.2f} m"))
     if study.first_opening is not None:
         marks.append((study.first_opening[0], "first opening",
                       f"first opening {study.first_opening[0]:.2f} m"))
@@ -397,6 +400,9 @@ def _results(study: DamStudy) -> list[_Block]:
     text.append("The base first opens at h = " + (f"{first[0]:.3f} m, at x = {first[1]:.2f} m "
                                                   "from the heel." if first else
                                                   "— (it does not open)."))
+    if study.first_break is not None:
+        text.append(f"The joint's bond first breaks at h = {study.first_break[0]:.3f} m, at "
+                    f"x = {study.first_break[1]:.2f} m from the heel.")
     text.append("The dam fails at h = " + (f"{fail[0]:.3f} m ({fail[1]})." if fail else
                                            f"— (not up to {s.top_level:g} m)."))
     hl = study.hand_levels

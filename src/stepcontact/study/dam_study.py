@@ -66,7 +66,8 @@ class DamStudy:
     normal, flood, first-opening and last states); ``path``: arrays along the reservoir's
     states — ``level`` (m), ``crest_ux`` (m, the upstream crest corner's horizontal
     displacement), ``open_length`` (m), ``broken_length`` (m, a bonded joint's broken
-    length); ``first_opening`` (level, x from the heel) or None; ``failure``: the level and
+    length); ``first_opening`` (level, x from the heel) or None (and ``first_break``, a
+    bonded joint's first break); ``failure``: the level and
     mode of failure, or None when the dam holds up to ``section.top_level``; ``hand_levels``:
     the rigid-base levels of sliding and of heel tension; ``margins``: the factors on the
     level; ``seconds`` (CPU time of the run)."""
@@ -82,6 +83,7 @@ class DamStudy:
     margins: dict[str, float | None]
     seconds: float = 0.0
     notes: list[str] = field(default_factory=list)
+    first_break: tuple[float, float] | None = None
 
     def row(self, name: str) -> NamedState | None:
         return next((n for n in self.named if n.name == name), None)
@@ -137,12 +139,14 @@ def hand_levels(s: DamSection) -> dict[str, float | None]:
             "heel_tension": _hand_level(s, "sigma_heel", 0.0)}
 
 
-def _first_opening(res, k: np.ndarray) -> tuple[float, float] | None:
-    """(level, x) of the first opening of the base while the reservoir rises."""
+def _first_event(res, k: np.ndarray,
+                 transition: Transition = Transition.OPENED) -> tuple[float, float] | None:
+    """(level, x) of the first ``transition`` of a CFE of the base (opening, or a bond's
+    break) while the reservoir rises."""
     reservoir = {g for g, (p, _, _) in enumerate(res.segments) if p == "reservoir"}
     on = set(k.tolist())
     for e in res.events:
-        if e.segment in reservoir and e.cfe in on and e.transition == Transition.OPENED:
+        if e.segment in reservoir and e.cfe in on and e.transition == transition:
             return float(e.lam), float(e.x)
     return None
 
@@ -187,7 +191,8 @@ def run_dam(section: DamSection, *,
     path = {"state": states, "level": level, "crest_ux": ux, "open_length": open_length,
             "broken_length": broken}
 
-    first = _first_opening(res, k)
+    first = _first_event(res, k)
+    broke = _first_event(res, k, Transition.BROKEN) if s.bonded else None
     fail = None
     limits = [(v, m) for v, m in ((safety.lam_sliding, "sliding"),
                                   (safety.lam_overturning, "overturning")) if v is not None]
@@ -213,16 +218,18 @@ def run_dam(section: DamSection, *,
     if s.flood_level != s.normal_level:
         add("flood", f"{CASES['flood']}, h = {s.flood_level:g} m",
             _level_state(res, s.flood_level), s.flood_level)
-    if first is not None:
-        i = next(int(j) for j, lv in zip(states, level, strict=True) if lv >= first[0])
-        add("first opening", f"the base first opens, at x = {first[1]:.2f} m from the heel",
-            i, first[0])
+    for what, ev in (("first break", broke), ("first opening", first)):
+        if ev is not None:
+            i = next(int(j) for j, lv in zip(states, level, strict=True) if lv >= ev[0])
+            verb = "the bond first breaks" if what == "first break" else "the base first opens"
+            add(what, f"{verb}, at x = {ev[1]:.2f} m from the heel", i, ev[0])
     if fail is not None:
         add("failure", f"the last state of equilibrium: {fail[1]}", len(res.lam) - 1,
             float(res.lam[-1]))
     margins: dict[str, float | None] = {}
-    for what, lv in (("first opening", first[0] if first else None),
-                     ("failure", fail[0] if fail else None)):
+    limits_found = ([("first break", broke[0] if broke else None)] if s.bonded else []) + [
+        ("first opening", first[0] if first else None), ("failure", fail[0] if fail else None)]
+    for what, lv in limits_found:
         for case, h in (("normal", s.normal_level), ("flood", s.flood_level)):
             margins[f"{what} / {case}"] = None if lv is None else lv / h
     notes = []
@@ -236,7 +243,7 @@ def run_dam(section: DamSection, *,
                      f"{s.top_level / s.normal_level:.3g} (normal) and "
                      f"{s.top_level / s.flood_level:.3g} (flood)")
     return DamStudy(s, res, safety, named, path, first, fail, hand_levels(s), margins,
-                    time.process_time() - t0, notes)
+                    time.process_time() - t0, notes, broke)
 
 
 def summary(study: DamStudy) -> dict[str, Any]:
@@ -263,7 +270,8 @@ def summary(study: DamStudy) -> dict[str, Any]:
                   "stress": "Pa (σ_n ≤ 0 in compression in 'values'; compression > 0 in "
                             "'hand')", "level": "m above the base"},
         "status": str(study.result.status), "message": study.result.message,
-        "first_opening": study.first_opening, "failure": study.failure,
+        "first_opening": study.first_opening, "first_break": study.first_break,
+        "failure": study.failure,
         "hand_levels": study.hand_levels, "margins": study.margins,
         "named": [{"name": n.name, "description": n.description, "state": n.state,
                    "level": n.level, "values": n.values, "hand": n.hand}
