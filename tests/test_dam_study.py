@@ -184,6 +184,8 @@ def test_the_quick_command_writes_the_report(tmp_path):
         assert (out / rel).stat().st_size > 0
         assert rel in md
     assert (out / "summary.json").is_file()
+    res = sc.load_result(out / "result.nc")  # the run, for stepcontact info/plot/export
+    assert res.status == sc.Status.EQUILIBRIUM_LOST and "base" in res.interface_names
     assert "margins on the level" in r.output and "written:" in r.output
 
 

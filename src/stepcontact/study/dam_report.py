@@ -10,8 +10,8 @@
 * :func:`plot_level_displacement` — the λ–u curve: the level against the crest's horizontal
   displacement;
 * :func:`write_report` — ``report.md``, ``report.html`` (rendered by the slab study's
-  machinery, :mod:`stepcontact.study.report`), ``summary.json`` and the figures
-  ``figures/*.png``, all written atomically.
+  machinery, :mod:`stepcontact.study.report`), ``summary.json``, the figures
+  ``figures/*.png`` and the run's ``result.nc``, all written atomically.
 
 Units: SI (m, N and N·m per metre of dam, Pa); the figures show stresses in MPa and
 displacements in mm.  No guideline's criteria or verdicts: the report gives the figures and the
@@ -491,8 +491,9 @@ def report_blocks(study: DamStudy) -> tuple[str, list[_Block]]:
 
 def write_report(study: DamStudy, out_dir: str | os.PathLike[str], *,
                  dpi: float = DPI) -> dict[str, Path]:
-    """Write the report into ``out_dir``: ``report.md``, ``report.html``, ``summary.json``
-    and the figures of :data:`FIGURES`, all atomically; their paths by key."""
+    """Write the report into ``out_dir``: ``report.md``, ``report.html``, ``summary.json``,
+    the figures of :data:`FIGURES` and the run's result file ``result.nc`` (for
+    ``stepcontact info``, ``plot`` and ``export``), all atomically; their paths by key."""
     out = Path(out_dir)
     paths = {key: out / rel for key, rel in FIGURES.items()}
     for key, plot in (("section", plot_section), ("base_stresses", plot_base_stresses),
@@ -505,6 +506,8 @@ def write_report(study: DamStudy, out_dir: str | os.PathLike[str], *,
     write_text(paths["markdown"], _to_markdown(title, blocks))
     write_text(paths["html"], _to_html(title, blocks))
     write_text(paths["summary"], json.dumps(summary(study), indent=2, ensure_ascii=False))
+    paths["result"] = out / "result.nc"
+    study.result.save(paths["result"])
     return paths
 
 
