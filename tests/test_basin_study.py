@@ -189,6 +189,6 @@ def test_the_study_command(tiny, tmp_path, monkeypatch):
     assert (store / "report" / "figures" / "limits.png").stat().st_size > 0
     md = (store / "report" / "report.md").read_text(encoding="utf-8")
     assert "## Mesh and its convergence" in md and "No mesh-convergence check" not in md
-    bad = runner.invoke(app, ["study", "dam", "-o", str(tmp_path / "x")])
+    bad = runner.invoke(app, ["study", "tunnel", "-o", str(tmp_path / "x")])
     assert bad.exit_code == 2
-    assert "unknown study 'dam'" in bad.output and "Traceback" not in bad.output
+    assert "unknown study 'tunnel'" in bad.output and "Traceback" not in bad.output

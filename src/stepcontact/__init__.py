@@ -86,7 +86,9 @@ _PLOTS = ("plot_interfaces", "plot_interface_map", "plot_load_path", "plot_defor
 _STUDY = {"run_sweep": "sweep", "grid": "sweep", "cases_from_list": "sweep",
           "collect": "sweep", "to_grid": "sweep", "BasinStudy": "basin", "run_basin": "basin",
           "Slab": "slab", "Impulse": "slab", "limit_thickness": "slab",
-          "hydraulic_jump": "hydraulics"}
+          "hydraulic_jump": "hydraulics",
+          # issue 29 §3: the dam study (a parametric gravity-dam section, its static runs)
+          "DamSection": "dam", "dam_model": "dam", "run_dam": "dam_study"}
 
 
 def __getattr__(name: str):

@@ -240,21 +240,26 @@ def _sweep_interrupted(e: Any, study: Any, as_json: bool) -> typer.Exit:
     return typer.Exit(e.exit_code)
 
 
-STUDIES = ("slab",)
+STUDIES = ("slab", "dam")
 
 
 def study(
     name: Annotated[str, typer.Argument(metavar="STUDY", help="The study: slab (the "
-                                        "stilling-basin slab of the article, Figs. 4–5).")],
+                                        "stilling-basin slab of the article, Figs. 4–5) or "
+                                        "dam (a gravity-dam section, static).")],
     output: Annotated[
-        Path, typer.Option("--output", "-o", help="Directory of the study: the cases, their "
-                           "result files, the dataset, the figures and the report.")
-    ] = Path("slab-study"),
+        Path | None, typer.Option("--output", "-o", help="Directory of the study: the cases, "
+                                  "their result files, the dataset, the figures and the "
+                                  "report (default: slab-study or dam-study).")
+    ] = None,
     quick: Annotated[
         bool, typer.Option("--quick", help="A coarse version (7 cases: three positions, one "
                            "duration, a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on "
                            "40 × 4): about 30 s on two idle cores (the full study, 29 cases "
-                           "and its mesh check: about 7 min with --workers 2).")
+                           "and its mesh check: about 7 min with --workers 2). dam: cells of "
+                           "H/15 (2 m for the default dam): 5 s of CPU, 15–19 s on two "
+                           "cores under a load of 10 (the full study, H/60: 7 s of CPU, "
+                           "29 s).")
     ] = False,
     E0: Annotated[
         float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
@@ -278,7 +283,8 @@ def study(
     ] = None,
     friction: Annotated[
         float | None, typer.Option("--friction", min=0.0, help="Friction coefficient of "
-                                   "the slab's base (default 0.6).")
+                                   "the slab's base (default 0.6); dam: tan φ of the joint "
+                                   "(instead of --friction-angle).")
     ] = None,
     gap_pressure: Annotated[
         str | None, typer.Option("--gap-pressure", metavar="uplift|joint", help="Pressure in "
@@ -304,14 +310,70 @@ def study(
     quiet: Annotated[
         bool, typer.Option("--quiet", "-q", help="No progress bar and no tables.")
     ] = False,
+    height: Annotated[
+        float | None, typer.Option("--height", help="dam: height H, m (default 30).")
+    ] = None,
+    crest_width: Annotated[
+        float | None, typer.Option("--crest-width", help="dam: crest width, m (default 5).")
+    ] = None,
+    upstream_slope: Annotated[
+        float | None, typer.Option("--upstream-slope", help="dam: batter of the upstream "
+                                   "face, horizontal per vertical (default 0: vertical).")
+    ] = None,
+    downstream_slope: Annotated[
+        float | None, typer.Option("--downstream-slope", help="dam: batter of the downstream "
+                                   "face (default 0.75).")
+    ] = None,
+    normal_level: Annotated[
+        float | None, typer.Option("--normal-level", help="dam: normal reservoir level above "
+                                   "the base, m (default 27).")
+    ] = None,
+    flood_level: Annotated[
+        float | None, typer.Option("--flood-level", help="dam: flood level, m (default 30).")
+    ] = None,
+    tailwater: Annotated[
+        float | None, typer.Option("--tailwater", help="dam: tailwater level, m (default 0).")
+    ] = None,
+    friction_angle: Annotated[
+        float | None, typer.Option("--friction-angle", help="dam: friction angle φ of the "
+                                   "joint, degrees (default 45; or --friction tan φ).")
+    ] = None,
+    cohesion: Annotated[
+        float | None, typer.Option("--cohesion", help="dam: cohesion of the joint, Pa (default "
+                                   "0; > 0 makes a bond that breaks).")
+    ] = None,
+    tensile_strength: Annotated[
+        float | None, typer.Option("--tensile-strength", help="dam: tensile strength of the "
+                                   "joint's bond, Pa (default 0).")
+    ] = None,
+    drain: Annotated[
+        float | None, typer.Option("--drain", help="dam: drain line's distance from the heel, "
+                                   "m (default: no drains).")
+    ] = None,
+    drain_efficiency: Annotated[
+        float | None, typer.Option("--drain-efficiency", help="dam: drain efficiency E, 0…1 "
+                                   "(default 0).")
+    ] = None,
+    cell: Annotated[
+        float | None, typer.Option("--cell", help="dam: cell size of the dam's mesh, m "
+                                   "(default H/60, --quick H/15).")
+    ] = None,
+    rigid_base: Annotated[
+        bool, typer.Option("--rigid-base", help="dam: a rigid base instead of the rock block.")
+    ] = False,
 ) -> None:
-    """Run a ready-made study and write its figures and report. See docs/slab-study.md.
+    """Run a ready-made study and write its figures and report. See docs/slab-study.md and
+    docs/dam-study.md.
 
     slab: the limit thickness of a stilling-basin slab (apron) on its soil foundation against
     the position of a pressure impulse (the article's Fig. 5), beside the static-only limit,
     with the contact stresses just before lift-off (Fig. 4), a table of all cases and the
     design formulas for the same inputs; every case is one case of a sweep (resumable: a
     rerun skips the finished cases).
+
+    dam: a gravity-dam section on its foundation under self-weight, the reservoir at the normal
+    and flood levels and raised until the dam fails: the joint's figures at each level, the
+    margins as factors on the level, and the hand statics a reviewer checks.
 
     Examples:
 
@@ -320,14 +382,39 @@ def study(
         stepcontact study slab --E0 30 --amplitude 0.3 --workers 4
 
         stepcontact study slab --scheduler tcp://10.0.0.5:8786
+
+        stepcontact study dam --quick -o dam-quick
+
+        stepcontact study dam --height 40 --drain 4 --drain-efficiency 0.5 --cohesion 3e5
     """
     from stepcontact.study import basin
     from stepcontact.study.report import write_report
 
     console = Console(highlight=False, soft_wrap=True)
+    dam = {"height": height, "crest_width": crest_width, "upstream_slope": upstream_slope,
+           "downstream_slope": downstream_slope, "normal_level": normal_level,
+           "flood_level": flood_level, "tailwater": tailwater,
+           "friction_angle": friction_angle, "cohesion": cohesion,
+           "tensile_strength": tensile_strength, "drain_position": drain,
+           "drain_efficiency": drain_efficiency, "cell": cell}
+    if name == "dam":
+        slab_only = {"--E0": E0, "--h-kr": h_kr, "--amplitude": amplitude,
+                     "--position": positions or None, "--duration": durations or None,
+                     "--gap-pressure": gap_pressure, "--scheduler": scheduler,
+                     "--workers": workers, "--serial": serial or None, "--rerun": rerun or None}
+        _dam_study(dam, quick=quick, friction=friction, rigid_base=rigid_base,
+                   output=Path("dam-study") if output is None else output, quiet=quiet,
+                   console=console, unused=[k for k, v in slab_only.items() if v is not None])
+        return
+    output = Path("slab-study") if output is None else output
     try:
         if name not in STUDIES:
             raise _Failure(f"unknown study '{name}' (known: {', '.join(STUDIES)})")
+        dam_only = [k for k, v in dam.items() if v is not None] + (
+            ["rigid_base"] if rigid_base else [])
+        if dam_only:
+            raise _Failure(f"--{dam_only[0].replace('_', '-')} applies to the dam study, not "
+                           f"to the {name} study")
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
         st = _basin_study(quick, {"E0": E0, "h_kr": h_kr, "amplitude": amplitude,
@@ -412,3 +499,94 @@ def _print_study(ds: Any, st: Any, failed: Sequence[int], console: Console) -> N
     chk = basin.MeshCheck.of(ds)
     if chk is not None:
         console.print(chk.summary())
+
+
+# ---------------------------------------------------------------------------- the dam study ---
+
+def _dam_section(values: dict[str, Any], *, quick: bool, friction: float | None,
+                 rigid_base: bool) -> Any:
+    """The DamSection of the options given (None: the default); --quick: cells of H/15,
+    otherwise H/60, unless --cell is given."""
+    import dataclasses
+
+    from stepcontact.study.dam import DamSection
+
+    changes = {k: v for k, v in values.items() if v is not None}
+    if friction is not None:
+        if "friction_angle" in changes:
+            raise _Failure("give either --friction (tan φ) or --friction-angle (φ), not both")
+        if not (math.isfinite(friction) and friction > 0):
+            raise _Failure(f"--friction: must be a positive coefficient tan φ, got {friction}")
+        changes["friction_angle"] = math.degrees(math.atan(friction))
+    if rigid_base:
+        changes["rock"] = None
+    base = DamSection()
+    height = changes.get("height", base.height)
+    if "cell" not in changes and isinstance(height, int | float) and height > 0:
+        changes["cell"] = height / (15.0 if quick else 60.0)
+    try:
+        return dataclasses.replace(base, **changes)
+    except StepContactError as e:
+        raise _Failure(_error_text(e)) from None
+
+
+def _dam_study(values: dict[str, Any], *, quick: bool, friction: float | None,
+               rigid_base: bool, output: Path, quiet: bool, console: Console,
+               unused: Sequence[str]) -> None:
+    """``stepcontact study dam``: build the section, run it, write the report."""
+    from stepcontact.study.dam_report import write_report
+    from stepcontact.study.dam_study import run_dam
+
+    err = Console(stderr=True, soft_wrap=True, highlight=False)
+    try:
+        if unused:
+            raise _Failure(f"{unused[0]} applies to the slab study, not to the dam study")
+        section = _dam_section(values, quick=quick, friction=friction, rigid_base=rigid_base)
+        say = None if quiet else (lambda text: err.print(Text(f"dam study: {text}",
+                                                               style="cyan")))
+        try:
+            st = run_dam(section, progress=say)
+            if say:
+                say(f"writing the report into {output}")
+            files = write_report(st, output)
+        except (StepContactError, OSError) as e:
+            raise _Failure(_error_text(e)) from None
+    except _Failure as e:
+        raise _fail(str(e), False) from None
+    if not quiet:
+        _print_dam(st, console)
+    for f in files.values():
+        console.print(Text(f"written: {f}", style="green"))
+
+
+def _print_dam(st: Any, console: Console) -> None:
+    """The dam study's figures at the named levels and its margins."""
+    table = Table(title=f"dam study: {st.section.height:g} m dam, base "
+                  f"{st.section.base_length:g} m (forces kN per metre, σ_n kPa, < 0 "
+                  "compression)", box=box.SIMPLE_HEAD, title_justify="left")
+    cols = ("case", "level m", "ΣN", "ΣQ", "SFF", "overturning", "resultant from toe m",
+            "open m", "σ heel", "σ toe")
+    for c in cols:
+        table.add_column(c, justify="left" if c == "case" else "right", no_wrap=True)
+
+    def f(v: Any, spec: str, scale: float = 1.0) -> str:
+        return "—" if v is None or not math.isfinite(v) else f"{v / scale + 0.0:{spec}}"
+
+    for n in st.named:
+        v = n.values
+        table.add_row(n.name, f(n.level, ".3f"), f(v["normal_force"], ".1f", 1e3),
+                      f(v["shear_force"], ".1f", 1e3), f(v["shear_friction_factor"], ".3f"),
+                      f(v["overturning_factor"], ".3f"), f(v["resultant_from_toe"], ".2f"),
+                      f(v["open_length"], ".2f"), f(v["sigma_heel"], ".1f", 1e3),
+                      f(v["sigma_toe"], ".1f", 1e3))
+    _print_wide(table, console)
+    first, fail = st.first_opening, st.failure
+    if st.first_break is not None:
+        console.print(f"the joint's bond first breaks: h = {st.first_break[0]:.3f} m at x = "
+                      f"{st.first_break[1]:.2f} m")
+    console.print("first opening of the base: " + (f"h = {first[0]:.3f} m at x = "
+                                                   f"{first[1]:.2f} m" if first else "none"))
+    console.print("failure: " + (f"h = {fail[0]:.3f} m ({fail[1]})" if fail else
+                                 f"none up to {st.section.top_level:g} m"))
+    console.print("margins on the level: " + ", ".join(
+        f"{k} = {f(v, '.3f')}" for k, v in st.margins.items()))

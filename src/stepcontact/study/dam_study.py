@@ -1,0 +1,284 @@
+"""The dam study's static runs (issue 29 §3, first version): a gravity-dam section
+(:class:`~stepcontact.study.dam.DamSection`) under self-weight, then the reservoir rising to
+its normal level (the usual case), to its flood level (the unusual case) and on until the dam
+slides or loses equilibrium (the incremental analysis to failure), in one run whose load
+parameter is the reservoir level h (m).
+
+:func:`run_dam` solves the section once (:func:`~stepcontact.solver.static.solve_static`) and
+reads, with :func:`~stepcontact.results.safety.interface_safety`, the joint's figures at each
+named level — ΣN, ΣQ, the friction-only and shear-friction factors, the overturning factor
+about the toe, the resultant's position, the compressed and open lengths, σ_n at the heel and
+the toe — and the **margins as factors on the level**: the level at the first opening of the
+base, and the level at failure (sliding or overturning), each over the normal and the flood
+level.  Beside them, the rigid-base hand statics of the same levels
+(:func:`~stepcontact.study.dam.hand_statics`).  No guideline's criteria or verdicts here.
+
+Example
+-------
+>>> from stepcontact.study.dam import DamSection
+>>> st = run_dam(DamSection(cell=2.0))                       # doctest: +SKIP
+>>> st.margins["failure / normal"]                           # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+from stepcontact.enums import ContactState, Status, Transition
+from stepcontact.errors import SolverError
+from stepcontact.study.dam import DAM, JOINT, DamSection, dam_model, hand_statics
+
+#: the named levels of the study and what they stand for
+CASES = {"self-weight": "self-weight (and tailwater), empty reservoir",
+         "normal": "usual case: reservoir at the normal level",
+         "flood": "unusual case: reservoir at the flood level"}
+
+
+@dataclass
+class NamedState:
+    """The joint's figures at one state of the run (SI; forces per metre of dam, N; stresses
+    Pa, σ_n ≤ 0 in compression; lengths m).  ``values``: the keys of
+    :meth:`~stepcontact.results.safety.InterfaceSafety.at` plus ``sigma_heel``, ``sigma_toe``;
+    ``hand``: :func:`~stepcontact.study.dam.hand_statics` at the level."""
+
+    name: str
+    description: str
+    state: int
+    level: float
+    values: dict[str, Any]
+    hand: dict[str, float]
+
+
+@dataclass
+class DamStudy:
+    """What :func:`run_dam` found.
+
+    ``section``; ``result`` (the :class:`~stepcontact.results.result.StaticResult`);
+    ``safety`` (its :class:`~stepcontact.results.safety.InterfaceSafety` for the joint, the
+    normal level as the design value); ``named`` (the :class:`NamedState` of the self-weight,
+    normal, flood, first-opening and last states); ``path``: arrays along the reservoir's
+    states — ``level`` (m), ``crest_ux`` (m, the upstream crest corner's horizontal
+    displacement), ``open_length`` (m), ``broken_length`` (m, a bonded joint's broken
+    length); ``first_opening`` (level, x from the heel) or None (and ``first_break``, a
+    bonded joint's first break); ``failure``: the level and
+    mode of failure, or None when the dam holds up to ``section.top_level``; ``hand_levels``:
+    the rigid-base levels of sliding and of heel tension; ``margins``: the factors on the
+    level; ``seconds`` (CPU time of the run)."""
+
+    section: DamSection
+    result: Any
+    safety: Any
+    named: list[NamedState]
+    path: dict[str, np.ndarray]
+    first_opening: tuple[float, float] | None
+    failure: tuple[float, str] | None
+    hand_levels: dict[str, float | None]
+    margins: dict[str, float | None]
+    seconds: float = 0.0
+    notes: list[str] = field(default_factory=list)
+    first_break: tuple[float, float] | None = None
+
+    def row(self, name: str) -> NamedState | None:
+        return next((n for n in self.named if n.name == name), None)
+
+
+def _joint(res) -> np.ndarray:
+    """The base's CFEs, heel to toe."""
+    k = np.flatnonzero(np.asarray(res.cfe["interface"]) == list(res.interface_names).index(JOINT))
+    return k[np.argsort(np.asarray(res.cfe["x"])[k, 0], kind="stable")]
+
+
+def base_stresses(study: DamStudy, state: int) -> tuple[np.ndarray, np.ndarray]:
+    """x from the heel (m) and σ_n = N/A (Pa, ≤ 0 in compression) of the base's CFEs at
+    ``state``."""
+    res = study.result
+    k = _joint(res)
+    return (np.asarray(res.cfe["x"])[k, 0],
+            np.asarray(res.N)[state, k] / np.asarray(res.cfe["area"])[k])
+
+
+def _segment_end(res, segment: int) -> int:
+    idx = np.flatnonzero(np.asarray(res.segment) == segment)
+    return int(idx[-1])
+
+
+def _level_state(res, level: float) -> int | None:
+    """The last state at the reservoir ``level`` (a segment of 'reservoir' ends there)."""
+    lam, seg = np.asarray(res.lam, float), np.asarray(res.segment)
+    reservoir = [g for g, (p, _, _) in enumerate(res.segments) if p == "reservoir"]
+    hit = np.flatnonzero(np.isin(seg, reservoir) & (np.abs(lam - level) <= 1e-12 * level))
+    return int(hit[-1]) if hit.size else None
+
+
+def _hand_level(s: DamSection, key: str, target: float) -> float | None:
+    """The level h in (0, top_level] at which hand_statics' ``key`` falls to ``target`` (a
+    root of the continuous statics; None if it does not within the range)."""
+    def g(h: float) -> float:
+        return hand_statics(s, h)[key] - target
+
+    lo, hi = 1e-9, s.top_level
+    if g(lo) <= 0:
+        return 0.0
+    if g(hi) > 0:
+        return None
+    return float(brentq(g, lo, hi, xtol=1e-12, rtol=1e-13))
+
+
+def hand_levels(s: DamSection) -> dict[str, float | None]:
+    """Rigid-base, uncracked limit-equilibrium levels (m): ``sliding`` (the shear-friction
+    factor (c B + tan φ ΣV)/ΣH falls to 1) and ``heel_tension`` (the linear base pressure at
+    the heel falls to 0: the resultant leaves the middle third)."""
+    return {"sliding": _hand_level(s, "shear_friction_factor", 1.0),
+            "heel_tension": _hand_level(s, "sigma_heel", 0.0)}
+
+
+def _first_event(res, k: np.ndarray,
+                 transition: Transition = Transition.OPENED) -> tuple[float, float] | None:
+    """(level, x) of the first ``transition`` of a CFE of the base (opening, or a bond's
+    break) while the reservoir rises."""
+    reservoir = {g for g, (p, _, _) in enumerate(res.segments) if p == "reservoir"}
+    on = set(k.tolist())
+    for e in res.events:
+        if e.segment in reservoir and e.cfe in on and e.transition == transition:
+            return float(e.lam), float(e.x)
+    return None
+
+
+def run_dam(section: DamSection, *,
+            progress: Callable[[str], None] | None = None) -> DamStudy:
+    """Solve ``section`` (self-weight, tailwater, then the level raised through the normal
+    and flood levels to ``section.top_level``) and read the joint's figures.  ``progress``
+    gets a line of text at each step.  A run that ends without an answer (not completed and
+    not a loss of equilibrium) is a :class:`~stepcontact.errors.SolverError`."""
+    from stepcontact.solver.static import solve_static
+
+    say = progress or (lambda text: None)
+    s = section
+    say(f"building the model: a {s.height:g} m dam, base {s.base_length:g} m, "
+        f"{s.cells[0]} × {s.cells[1]} cells")
+    model = dam_model(s)
+    say(f"solving: self-weight, then the level 0 → {s.normal_level:g} → {s.flood_level:g} → "
+        f"{s.top_level:g} m (or failure)")
+    t0 = time.process_time()
+    res = solve_static(model)
+    if res.status not in (Status.COMPLETED, Status.EQUILIBRIUM_LOST):
+        raise SolverError(f"the dam's run {res.message or res.status}: no answer to report")
+    say(f"reading the results: {len(res.events)} events, {len(res.lam)} states")
+    safety = res.interface_safety(JOINT, design=s.normal_level, heel=(0.0, 0.0))
+    k = _joint(res)
+    reservoir = [g for g, (p, _, _) in enumerate(res.segments) if p == "reservoir"]
+    last_load = _segment_end(res, reservoir[0] - 1)  # self-weight (and tailwater)
+    states = np.flatnonzero(np.isin(np.asarray(res.segment), reservoir))
+    states = np.r_[last_load, states]
+    level = np.where(np.isin(np.asarray(res.segment)[states], reservoir),
+                     np.asarray(res.lam, float)[states], 0.0)
+    crest = s.corners[3]
+    ux = np.asarray(res.node_history(point=crest, quantity="ux", body=DAM), float)[states]
+    area = np.asarray(res.cfe["area"], float)[k]
+    st = np.asarray(res.state)[states][:, k]
+    open_length = (st == int(ContactState.OPEN)) @ area / max(area.sum(), 1e-300) * \
+        float(safety.joint_length or safety.length)
+    bonded = st == int(ContactState.BONDED)
+    broken = (~bonded) @ area / max(area.sum(), 1e-300) * float(
+        safety.joint_length or safety.length) if s.bonded else np.zeros(len(states))
+    path = {"state": states, "level": level, "crest_ux": ux, "open_length": open_length,
+            "broken_length": broken}
+
+    first = _first_event(res, k)
+    broke = _first_event(res, k, Transition.BROKEN) if s.bonded else None
+    fail = None
+    limits = [(v, m) for v, m in ((safety.lam_sliding, "sliding"),
+                                  (safety.lam_overturning, "overturning")) if v is not None]
+    if limits:
+        fail = min(limits)
+        if safety.mechanism and safety.mechanism != "sliding":
+            fail = (fail[0], safety.mechanism if fail[1] == "overturning" else fail[1])
+    elif res.status == Status.EQUILIBRIUM_LOST:
+        fail = (float(res.lam[-1]), "loss of equilibrium")
+
+    named = []
+
+    def add(name: str, description: str, i: int | None, lv: float) -> None:
+        if i is None:
+            return
+        vals = safety.at(i)
+        named.append(NamedState(name, description, int(i), float(lv), vals,
+                                hand_statics(s, lv)))
+
+    add("self-weight", CASES["self-weight"], last_load, 0.0)
+    add("normal", f"{CASES['normal']}, h = {s.normal_level:g} m",
+        _level_state(res, s.normal_level), s.normal_level)
+    if s.flood_level != s.normal_level:
+        add("flood", f"{CASES['flood']}, h = {s.flood_level:g} m",
+            _level_state(res, s.flood_level), s.flood_level)
+    for what, ev in (("first break", broke), ("first opening", first)):
+        if ev is not None:
+            i = next(int(j) for j, lv in zip(states, level, strict=True) if lv >= ev[0])
+            verb = "the bond first breaks" if what == "first break" else "the base first opens"
+            add(what, f"{verb}, at x = {ev[1]:.2f} m from the heel", i, ev[0])
+    if fail is not None:
+        add("failure", f"the last state of equilibrium: {fail[1]}", len(res.lam) - 1,
+            float(res.lam[-1]))
+    margins: dict[str, float | None] = {}
+    limits_found = ([("first break", broke[0] if broke else None)] if s.bonded else []) + [
+        ("first opening", first[0] if first else None), ("failure", fail[0] if fail else None)]
+    for what, lv in limits_found:
+        for case, h in (("normal", s.normal_level), ("flood", s.flood_level)):
+            margins[f"{what} / {case}"] = None if lv is None else lv / h
+    notes = []
+    if _level_state(res, s.flood_level) is None:
+        notes.append(f"the dam failed before the flood level ({s.flood_level:g} m)")
+    if _level_state(res, s.normal_level) is None:
+        notes.append(f"the dam failed before the normal level ({s.normal_level:g} m)")
+    if fail is None:
+        notes.append(f"the dam did not fail up to the highest level of the run, "
+                     f"{s.top_level:g} m: the margins against failure are at least "
+                     f"{s.top_level / s.normal_level:.3g} (normal) and "
+                     f"{s.top_level / s.flood_level:.3g} (flood)")
+    return DamStudy(s, res, safety, named, path, first, fail, hand_levels(s), margins,
+                    time.process_time() - t0, notes, broke)
+
+
+def summary(study: DamStudy) -> dict[str, Any]:
+    """The study's figures as plain JSON-able values (``summary.json`` of the report)."""
+    def clean(v):
+        if isinstance(v, float | np.floating):
+            return float(v) if math.isfinite(v) else None
+        if isinstance(v, np.integer | np.bool_):
+            return v.item()
+        if isinstance(v, dict):
+            return {k: clean(x) for k, x in v.items()}
+        if isinstance(v, list | tuple):
+            return [clean(x) for x in v]
+        return v
+
+    import dataclasses
+
+    return clean({
+        "section": {f.name: (dataclasses.asdict(getattr(study.section, f.name))
+                             if dataclasses.is_dataclass(getattr(study.section, f.name))
+                             else getattr(study.section, f.name))
+                    for f in dataclasses.fields(study.section)},
+        "units": {"length": "m", "force": "N per metre of dam", "moment": "N·m per metre",
+                  "stress": "Pa (σ_n ≤ 0 in compression in 'values'; compression > 0 in "
+                            "'hand')", "level": "m above the base"},
+        "status": str(study.result.status), "message": study.result.message,
+        "first_opening": study.first_opening, "first_break": study.first_break,
+        "failure": study.failure,
+        "hand_levels": study.hand_levels, "margins": study.margins,
+        "named": [{"name": n.name, "description": n.description, "state": n.state,
+                   "level": n.level, "values": n.values, "hand": n.hand}
+                  for n in study.named],
+        "notes": study.notes, "cpu_seconds": study.seconds,
+    })
+
+
+__all__ = ["CASES", "DamStudy", "NamedState", "base_stresses", "hand_levels", "run_dam",
+           "summary"]
