@@ -52,7 +52,15 @@ from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
+from stepcontact.results.newmark import NewmarkSliding, newmark_sliding  # issue 29: Newmark
 from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
+from stepcontact.results.sliding import (  # issue 29: a run's slip beside Newmark's block
+    JointSlip,
+    SlidingComparison,
+    joint_slip,
+    rigid_block_yield,
+    sliding_comparison,
+)
 from stepcontact.solver.condensation import Condensation, condense
 from stepcontact.solver.dynamic import DynamicResult
 from stepcontact.solver.program import ProgramResult, run, solve_dynamic
@@ -162,4 +170,12 @@ __all__ = [
     "StaticResult",
     "StepInfo",
     "System",
+    # issue 29, sliding displacement (Newmark)
+    "JointSlip",
+    "NewmarkSliding",
+    "SlidingComparison",
+    "joint_slip",
+    "newmark_sliding",
+    "rigid_block_yield",
+    "sliding_comparison",
 ]
