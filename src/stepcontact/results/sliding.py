@@ -114,21 +114,23 @@ def joint_slip(res, interface: str) -> JointSlip:
                      sliding_at_end=bool(np.any(slipping(np.asarray(res.state)[-1, k]))))
 
 
-def rigid_block_yield(res, interface: str, mass: float, *, state: int = 0) -> float:
+def rigid_block_yield(res, interface: str, mass: float, *, state: int = -1) -> float:
     """The yield acceleration of the part above a straight frictional joint taken as a rigid
     block (Newmark 1965), m/s²: the horizontal acceleration at which the joint's friction
     Σ f_k |N_k| is used up by the shear already on it and the inertia force m a_y,
 
         a_y = (Σ_k f_k |N_k| − |ΣQ_k|) / m
 
-    from the CFE forces at ``state`` (default the start of the run, N per metre of thickness
-    in 2D) and ``mass`` (kg, per metre in 2D: the mass the joint carries).  It assumes a joint
-    along the direction of shaking (horizontal for a horizontal record), no cohesion, normal
-    forces not changed by the shaking (no vertical record, no rocking), and sliding in the
-    direction of the shear already on the joint (the other way a_y is (Σ f|N| + |ΣQ|)/m).
-    A rigid block of weight W = m g on a horizontal plane: a_y = f g.  For a dam, where the
-    water's uplift and the crack change N with the sliding, locate the yield acceleration
-    with the pseudo-static coefficient as a load instead."""
+    from the CFE forces of ``res`` at ``state`` — the static result the dynamic run starts
+    from (``initial`` of :func:`stepcontact.solve_dynamic`), its last state by default (N per
+    metre of thickness in 2D; a dynamic run's first state already carries the ground
+    acceleration at t = 0) — and ``mass`` (kg, per metre in 2D: the mass the joint carries).
+    It assumes a joint along the direction of shaking (horizontal for a horizontal record),
+    no cohesion, normal forces not changed by the shaking (no vertical record, no rocking),
+    and sliding in the direction of the shear already on the joint (the other way a_y is
+    (Σ f|N| + |ΣQ|)/m).  A rigid block of weight W = m g on a horizontal plane: a_y = f g.
+    For a dam, where the water's uplift and the crack change N with the sliding, locate the
+    yield acceleration with the pseudo-static coefficient as a load instead."""
     m = float(mass)
     if not np.isfinite(m) or m <= 0:
         raise ModelError("mass", f"must be a positive mass in kg (per metre of thickness in "
