@@ -287,6 +287,57 @@ def test_dynamic_solver_on_a_rigid_block_slides_as_newmark_under_a_sine(ky):
     assert np.allclose(times, want, rtol=0, atol=1e-2 * dt)
 
 
+def test_the_slip_of_a_compliant_layer_leaves_out_its_elastic_part():
+    """A rigid block on a compliant tangential layer (Jenkins, C_τ = 1e7 N/m, eq. (11)) under
+    a rectangular ground pulse: after the last stop the block rings on the layer (u_τ varies
+    by 0.6 mm) while its slip u_τ − Q/C_τ, the layer's plastic part, stays put — to 1e-12 of
+    the slide (measured 2.5e-16 m)."""
+    f, A, t0 = 0.3, 0.6 * G, 0.25
+    d, _ = rectangular_pulse(A, f * G, t0)
+    dm = sc.DiscreteModel(K=[[0.0, 0.0], [0.0, 0.0]], normal_rows=[[0, 1]],
+                          tangent_rows=[[1, 0]], loads={"weight": {"uy": -MASS * G}},
+                          friction=f, kt=1e7, dof_names=("ux", "uy"),
+                          dof_axes={"ux": "x", "uy": "y"}, program=[sc.Segment("weight", 1.0)])
+    st = sc.solve_static(dm)
+    res = sc.solve_dynamic(dm, dt=1e-3, duration=1.0, mass=np.diag([MASS, MASS]), initial=st,
+                           ground_acceleration=(Pulse(A, 0.0, t0, "rectangular"), (1, 0)))
+    assert res.status == Status.COMPLETED
+    js = sc.joint_slip(res, "contact")
+    after = res.time > res.events[-1].lam
+    assert after.sum() > 100 and not js.sliding_at_end
+    assert np.ptp(res.ut[after, 0]) > 1e-3 * d  # the layer rings ...
+    assert np.ptp(js.slip[after, 0]) < 1e-12 * d  # ... the slip does not
+    assert js.permanent_mean == js.slip[-1, 0] and js.permanent_mean < -0.5 * d
+
+
+def test_the_slip_of_a_3d_joint_has_two_components():
+    """The 3D rigid point block (faceted cone, k = 8, a vertex along ±x; one CFE) under a
+    rectangular ground pulse along x: it slides along −x by Newmark's distance (the vertex's
+    resistance is f W, a_y = f g), to 1e-9 relative, with no slip along y; the table sets the
+    slip's length beside Newmark."""
+    f, A, t0 = 0.3, 0.6 * G, 0.25
+    d, _ = rectangular_pulse(A, f * G, t0)
+    names = ("ux", "uy", "uz")
+    dm = sc.DiscreteModel(K=np.zeros((3, 3)), normal_rows=[[0, 0, 1]], tangent_rows=[[1, 0, 0]],
+                          tangent2_rows=[[0, 1, 0]], friction=f, facets=8, dof_names=names,
+                          loads={"weight": {"uz": -MASS * G}},
+                          dof_axes={"ux": "x", "uy": "y", "uz": "z"},
+                          program=[sc.Segment("weight", 1.0)])
+    st = sc.solve_static(dm)
+    res = sc.solve_dynamic(dm, dt=1e-2, duration=1.0, mass=MASS * np.eye(3), initial=st,
+                           ground_acceleration=(Pulse(A, 0.0, t0, "rectangular"), (1, 0, 0)))
+    assert res.status == Status.COMPLETED
+    name = res.interface_names[0]
+    js = sc.joint_slip(res, name)
+    assert js.slip.shape == (res.n_states, 1, 2) and js.mean.shape == (res.n_states, 2)
+    np.testing.assert_allclose(js.permanent_mean, [-d, 0.0], rtol=0, atol=1e-9 * d)
+    assert js.permanent_max == pytest.approx(d, rel=1e-9)
+    assert sc.rigid_block_yield(st, name, MASS) == pytest.approx(f * G, rel=1e-12)
+    row = sc.sliding_comparison(res, ([0.0, t0], [A, A]), f * G).rows[0]
+    assert row["dynamic_mean"] == pytest.approx(d, rel=1e-9)  # 3D: the slip's length
+    assert row["ratio"] == pytest.approx(1.0, rel=1e-9)
+
+
 # ---- errors name the argument -----------------------------------------------------------------
 @pytest.mark.parametrize("args, item", [
     (([0.0, 1.0, 1.0], [1, 2, 3], 1.0), "t"),

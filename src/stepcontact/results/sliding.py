@@ -156,7 +156,8 @@ class SlidingComparison:
     for the same record and yield acceleration (:func:`sliding_comparison`).
 
     ``rows``: one dict per joint — ``interface``, ``dynamic_mean`` and ``dynamic_max`` (m,
-    signed along the joint's tangent: :class:`JointSlip`), ``newmark`` (m, signed along the
+    signed along the joint's tangent: :class:`JointSlip`; a 3D joint's: the lengths of the
+    mean slip and of the largest), ``newmark`` (m, signed along the
     record's axis), ``ratio`` = |dynamic_mean| / |newmark| (NaN when Newmark's estimate is
     0), ``sliding_at_end``; ``newmark``: the :class:`NewmarkSliding` itself; ``a_yield``
     (m/s²); ``two_way``; ``joints``: the :class:`JointSlip` of each row."""
