@@ -218,8 +218,8 @@ def newmark_sliding(t, a_ground, a_yield: float, *, two_way: bool = False) -> Ne
     -------
     >>> import stepcontact as sc
     >>> r = sc.newmark_sliding([0.0, 0.5], [4.905, 4.905], 0.2 * 9.81)  # 0.5 g for 0.5 s
-    >>> round(r.magnitude, 6)   # V²/(2 a_y)(1 − a_y/A), V = 2.4525 m/s
-    0.919688
+    >>> print(f"{r.permanent:.5f} m")   # −V²/(2 a_y)(1 − a_y/A), V = 2.4525 m/s
+    -0.91969 m
     """
     t, a, ay = _checked(t, a_ground, a_yield)
     n = t.size
@@ -300,8 +300,9 @@ def newmark_sliding(t, a_ground, a_yield: float, *, two_way: bool = False) -> Ne
             break
         slides.append((t_start, tc, -d))
     time, s, xs, ag = path.arrays()
-    return NewmarkSliding(time=time, a_ground=ag, velocity=-s, displacement=-xs,
-                          permanent=-x, a_yield=ay, two_way=bool(two_way),
+    # (0.0 − x: no −0.0 where the block never slid)
+    return NewmarkSliding(time=time, a_ground=ag, velocity=0.0 - s, displacement=0.0 - xs,
+                          permanent=0.0 - x, a_yield=ay, two_way=bool(two_way),
                           slides=tuple(slides))
 
 
