@@ -213,6 +213,9 @@ def test_dynamic_solver_on_a_rigid_block_slides_newmarks_pulse_distance():
     ay = sc.rigid_block_yield(st, "contact", MASS)  # the state before the record
     assert ay == pytest.approx(f * G, rel=1e-12)  # f W / m
     table = sc.sliding_comparison(res, ([0.0, t0], [A, A]), ay)
+    # the run's own ground_acceleration (a rectangular pulse is linear by pieces: exact)
+    again = sc.sliding_comparison(res, (Pulse(A, 0.0, t0, "rectangular"), (1, 0)), ay)
+    assert again.rows[0]["newmark"] == table.rows[0]["newmark"]
     row = table.rows[0]
     assert row["interface"] == "contact" and row["ratio"] == pytest.approx(1.0, rel=1e-9)
     assert row["newmark"] == pytest.approx(-d, rel=1e-12)
@@ -346,6 +349,8 @@ def test_the_slip_of_a_3d_joint_has_two_components():
     (([0.0], [1.0], 1.0), "t"),
     (([0.0, 1.0], [1.0, np.nan], 1.0), "a_ground"),
     (([0.0, 1.0], [1.0, 2.0, 3.0], 1.0), "a_ground"),
+    (([0.0, 1.0], ["x", 2.0], 1.0), "a_ground"),
+    ((["0", "y"], [1.0, 2.0], 1.0), "t"),
     (([0.0, 1.0], [1.0, 2.0], -0.5), "a_yield"),
     (([0.0, 1.0], [1.0, 2.0], 0.0), "a_yield"),
     (([0.0, 1.0], [1.0, 2.0], np.nan), "a_yield"),
@@ -368,5 +373,11 @@ def test_bad_comparison_input_names_the_item():
         sc.rigid_block_yield(st, "contact", -1.0)
     with pytest.raises(ModelError, match="^record: "):
         sc.sliding_comparison(res, 3.0, 1.0)
+    with pytest.raises(ModelError, match="^record: a half_sine pulse is not piecewise"):
+        sc.sliding_comparison(res, Pulse(G, 0.0, 0.05), 1.0)
+    with pytest.raises(ModelError, match="^record: "):
+        sc.sliding_comparison(res, ([0.0, 1.0], ["x", 1.0]), 1.0)
+    with pytest.raises(ModelError, match="^t: times must increase"):
+        sc.sliding_comparison(res, ([0.0, 0.0], [1.0, 1.0]), 1.0)
     with pytest.raises(ModelError, match="^result: is not a dynamic result"):
         sc.joint_slip(st, "contact")

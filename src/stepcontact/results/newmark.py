@@ -87,8 +87,14 @@ class NewmarkSliding:
 
 def _checked(t, a_ground, a_yield) -> tuple[np.ndarray, np.ndarray, float]:
     """The record and the yield acceleration, checked: errors name the argument."""
-    t = np.asarray(t, dtype=float)
-    a = np.asarray(a_ground, dtype=float)
+    try:
+        t = np.asarray(t, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError("t", "give the record's times as numbers (s)") from None
+    try:
+        a = np.asarray(a_ground, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError("a_ground", "give the ground accelerations as numbers (m/s²)") from None
     if t.ndim != 1 or t.size < 2:
         raise ModelError("t", f"give the record's times as a 1-D array of at least two "
                          f"samples (s), got shape {t.shape}")

@@ -33,6 +33,7 @@ import numpy as np
 
 from stepcontact.enums import slipping
 from stepcontact.errors import ModelError
+from stepcontact.model.timefunction import Pulse
 from stepcontact.results.newmark import NewmarkSliding, newmark_sliding
 
 
@@ -181,16 +182,30 @@ class SlidingComparison:
 
 
 def _record_arrays(record) -> tuple[np.ndarray, np.ndarray]:
-    """(t, a) of ``record``: a pair of arrays, or an object with ``times`` and ``values``
-    (a :class:`~stepcontact.model.timefunction.Tabulated`)."""
+    """(t, a) of ``record``: a pair of arrays (s, m/s²); a
+    :class:`~stepcontact.model.timefunction.Tabulated` (any object with ``times`` and
+    ``values``); a rectangular or triangular
+    :class:`~stepcontact.model.timefunction.Pulse` (linear pieces: exact); or the run's
+    ``ground_acceleration`` pair (time function, direction)."""
+    if isinstance(record, tuple) and len(record) == 2 and callable(record[0]):
+        record = record[0]  # (time function, direction) as given to solve_dynamic
+    if isinstance(record, Pulse):
+        t0, t1 = record.start, record.start + record.duration
+        if record.shape == "rectangular":
+            return np.array([t0, t1]), np.full(2, float(record.amplitude))
+        if record.shape == "triangular":
+            return (np.array([t0, 0.5 * (t0 + t1), t1]),
+                    np.array([0.0, float(record.amplitude), 0.0]))
+        raise ModelError("record", f"a {record.shape} pulse is not piecewise linear: give it "
+                         "tabulated, Tabulated(times, values), fine enough for its curvature")
     if hasattr(record, "times") and hasattr(record, "values"):
         return np.asarray(record.times, float), np.asarray(record.values, float)
     try:
         t, a = record
+        return np.asarray(t, float), np.asarray(a, float)
     except (TypeError, ValueError):
-        raise ModelError("record", "give (t, a) arrays (s, m/s²) or a Tabulated time "
-                         "function") from None
-    return np.asarray(t, float), np.asarray(a, float)
+        raise ModelError("record", "give (t, a) arrays (s, m/s²), a Tabulated time function "
+                         "or a rectangular or triangular Pulse") from None
 
 
 def sliding_comparison(res, record, a_yield: float, *, interfaces=None,
@@ -200,8 +215,9 @@ def sliding_comparison(res, record, a_yield: float, *, interfaces=None,
     for the same record and the yield acceleration ``a_yield`` (m/s²; e.g.
     :func:`rigid_block_yield`).
 
-    ``record``: the run's ground acceleration — (t, a) arrays (s, m/s²) or a ``Tabulated``
-    time function — times ``scale`` (the record's amplitude factor, as given to the run);
+    ``record``: the run's ground acceleration — (t, a) arrays (s, m/s²), a ``Tabulated``
+    time function, a rectangular or triangular ``Pulse``, or the ``ground_acceleration``
+    pair given to the run — times ``scale`` (the record's amplitude factor, as given to the run);
     ``interfaces``: the joints (default all); ``two_way``: Newmark's two-directional sliding.
     """
     t, a = _record_arrays(record)
