@@ -11,7 +11,8 @@ From a :class:`~stepcontact.results.result.DynamicResult` (plain arrays, no new 
   (the Jenkins element of eq. (11): Q = C_τ (u_τ − slip)), so a stuck CFE's slip is constant
   and the slip at the end of the run is the joint's permanent displacement;
 * its **mean over the joint**, weighted by the CFEs' tributary areas A_k (m², per metre of
-  thickness in 2D): s̄(t) = Σ A_k slip_k(t) / Σ A_k, and the **largest** |slip_k| at the end;
+  thickness in 2D): s̄(t) = Σ A_k slip_k(t) / Σ A_k, and the **largest** |slip_k| at the end
+  (open CFEs count too: their u_τ is the tangential motion across the gap);
 * a **comparison** (:func:`sliding_comparison`) of each joint's permanent slip with Newmark's
   (1965) rigid-block sliding displacement (:func:`~stepcontact.results.newmark.newmark_sliding`)
   for the same ground-acceleration record and a yield acceleration a_y, given, or computed by
