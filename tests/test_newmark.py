@@ -93,6 +93,9 @@ def test_ramp_crossing_inside_a_piece_against_its_closed_form():
     assert r.slides[0][1] == pytest.approx(T + s1 / ay, rel=1e-12)
     # the history holds the samples, the start of the slide and its stop after the record
     assert len(r.time) == len(t) + 2
+    # a record starting at a_y exactly and rising slides from its first sample, listed once
+    r0 = sc.newmark_sliding([0.0, 1.0, 2.0], [ay, 2 * ay, 0.0], ay)
+    assert r0.slides[0][0] == 0.0 and np.all(np.diff(r0.time) > 0)
     k = np.searchsorted(r.time, 0.9)
     assert r.velocity[k] == pytest.approx(-(c * (r.time[k]**2 - ts**2) / 2
                                             - ay * (r.time[k] - ts)), rel=1e-12)
@@ -113,6 +116,7 @@ def test_samples_on_the_records_own_lines_change_nothing(two_way):
     af = np.append((a[:-1, None] + np.diff(a)[:, None] * fine).ravel(), a[-1])
     rf = sc.newmark_sliding(tf, af, 1.5, two_way=two_way)
     path = np.abs(np.diff(r.displacement)).sum()
+    assert np.all(np.diff(r.time) > 0) and np.all(np.diff(rf.time) > 0)  # each point once
     assert len(r.slides) >= 5 and len(rf.slides) == len(r.slides)
     assert abs(rf.permanent - r.permanent) <= 1e-12 * path
     assert np.allclose(np.array(rf.slides), np.array(r.slides), rtol=0, atol=1e-12 * t[-1])

@@ -266,8 +266,9 @@ def newmark_sliding(t, a_ground, a_yield: float, *, two_way: bool = False) -> Ne
             tau = (d * ay - W[i]) / (W[j] - W[i]) * (T[j] - T[i])
             k_new, tx, _ = at(T, W, i, max(tau, 0.0))
             path.add(T[1:i + 1][T[1:i + 1] < tx], 0.0, x, W[1:i + 1][T[1:i + 1] < tx])
+            if tx > tc:  # (τ = 0 in the first piece: the crossing is tc itself)
+                path.add(tx, 0.0, x, d * ay if tx < T[j] else float(W[j]))
             k, tc, ac = k_new, tx, d * ay if tx < T[j] else float(W[j])
-            path.add(tc, 0.0, x, ac)
             if k >= n - 1:  # the record ends at the crossing: a = 0 after it, no slide
                 break
         # ---- a slide in direction d: the forward slide of d·a -----------------------------
@@ -296,7 +297,8 @@ def newmark_sliding(t, a_ground, a_yield: float, *, two_way: bool = False) -> Ne
             x = x0 + d * float(xs)
             # stopped: d·a ≤ a_y there (round-off must not restart the slide at once)
             k, tc, ac, s0 = k_new, ts, d * min(d * a_s, ay), 0.0
-            path.add(tc, 0.0, x, ac)
+            if tc > t_start:
+                path.add(tc, 0.0, x, ac)
             break
         if s0 > 0.0:  # still sliding when the record ends: a = 0, decelerating at a_y
             x = x0 + d * s0**2 / (2.0 * ay)
@@ -304,7 +306,8 @@ def newmark_sliding(t, a_ground, a_yield: float, *, two_way: bool = False) -> Ne
             path.add(t_stop, 0.0, x, 0.0)
             slides.append((t_start, t_stop, -d))
             break
-        slides.append((t_start, tc, -d))
+        if tc > t_start:
+            slides.append((t_start, tc, -d))
     time, s, xs, ag = path.arrays()
     # (0.0 − x: no −0.0 where the block never slid)
     return NewmarkSliding(time=time, a_ground=ag, velocity=0.0 - s, displacement=0.0 - xs,
