@@ -71,7 +71,15 @@ from stepcontact.results.dam_checks import (  # issue 29 §2
     guideline_table,
     load_guidelines,
 )
+from stepcontact.results.newmark import NewmarkSliding, newmark_sliding  # issue 29: Newmark
 from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
+from stepcontact.results.sliding import (  # issue 29: a run's slip beside Newmark's block
+    JointSlip,
+    SlidingComparison,
+    joint_slip,
+    rigid_block_yield,
+    sliding_comparison,
+)
 from stepcontact.solver.condensation import Condensation, condense
 from stepcontact.solver.dynamic import DynamicResult
 from stepcontact.solver.program import ProgramResult, run, solve_dynamic
@@ -199,4 +207,12 @@ __all__ = [
     "check_combination",
     "guideline_table",
     "load_guidelines",
+    # issue 29, sliding displacement (Newmark)
+    "JointSlip",
+    "NewmarkSliding",
+    "SlidingComparison",
+    "joint_slip",
+    "newmark_sliding",
+    "rigid_block_yield",
+    "sliding_comparison",
 ]
