@@ -91,7 +91,7 @@ def face_masses(model, am, item: str | None = None) -> tuple[np.ndarray, np.ndar
         raise ModelError(item, f"body '{b.name}' is 3D: the added mass is available on the "
                          "faces of 2D bodies")
     pts = b.points
-    H = am.height(pts[np.unique(edges), 1])
+    H = am.height(pts[np.unique(edges), 1], item)
     n = outward_normals(b, edges)
     za, zb = am.level - pts[edges[:, 0], 1], am.level - pts[edges[:, 1], 1]
     L = np.linalg.norm(pts[edges[:, 1]] - pts[edges[:, 0]], axis=1)

@@ -159,19 +159,21 @@ class AddedMass:
         """The item's name in messages: ``added mass on node set 'upstream'``."""
         return f"added mass on {self.face.label}"
 
-    def height(self, y_face) -> float:
+    def height(self, y_face, item: str | None = None) -> float:
         """The reservoir depth H = level − bottom, m (bottom: the lowest of ``y_face``, the
-        elevations of the face's nodes, when not given); a ModelError when the face lies
-        below the bottom or the level is not above it."""
+        elevations of the face's nodes, when not given); a ModelError naming ``item``
+        (default: :attr:`label`) when the face lies below the bottom or the level is not
+        above it."""
+        item = self.label if item is None else item
         y = np.asarray(y_face, float)
         low = float(y.min()) if y.size else self.level
         bottom = low if self.bottom is None else float(self.bottom)
         if low < bottom - 1e-9 * max(1.0, abs(bottom)):
-            raise ModelError(f"{self.label}.bottom", f"is {bottom:g} m, above the face's lowest "
+            raise ModelError(f"{item}.bottom", f"is {bottom:g} m, above the face's lowest "
                              f"point ({low:g} m): the face cannot reach below the reservoir")
         H = self.level - bottom
         if H <= 0:
-            raise ModelError(f"{self.label}.level", f"is {self.level:g} m, not above the "
+            raise ModelError(f"{item}.level", f"is {self.level:g} m, not above the "
                              f"reservoir bottom ({bottom:g} m, the face's lowest point): the "
                              "reservoir is empty")
         return H
