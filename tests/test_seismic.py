@@ -280,3 +280,125 @@ def test_three_d_face_is_refused():
     am = sc.AddedMass(m.select("cube", boundary="left", name="wet"), level=1.5)
     with pytest.raises(ModelError, match=r"added mass on node set 'wet'.*3D"):
         face_masses(m, am)
+
+
+QUAKE_TOML = """
+[model]
+name = "block holding water"
+
+[materials.stiff]
+E = 1e13
+nu = 0.2
+density = 2400
+
+[[bodies]]
+name = "dam"
+kind = "rectangle"
+corner0 = [0.0, 0.0]
+corner1 = [8.0, 6.0]
+nx = 8
+ny = 6
+material = "stiff"
+
+[node_sets.upstream]
+body = "dam"
+x = 0.0
+
+[node_sets.base]
+body = "dam"
+y = 0.0
+
+[[obstacles]]
+name = "ground"
+points = [[-1.0, 0.0], [9.0, 0.0]]
+
+[[interfaces]]
+name = "base"
+plus = "base"
+obstacle = "ground"
+friction = 0.75
+
+[[added_masses]]
+nodes = "upstream"
+level = 5.0
+
+[patterns.weight]
+loads = [{ type = "gravity" }]
+
+[patterns.water]
+loads = [
+  { type = "water", nodes = "upstream", level = 5.0 },
+  { type = "uplift", interface = "base", head = { from = [0.0, 0.0, 5.0], to = [8.0, 0.0, 0.0] } },
+]
+
+[patterns.quake]
+loads = [{ type = "seismic", k_h = 1.0, reservoir = [{ nodes = "upstream", level = 5.0 }] }]
+
+[[program]]
+pattern = "weight"
+end = 1.0
+
+[[program]]
+pattern = "water"
+end = 1.0
+
+[[program]]
+pattern = "quake"
+end = 1.0
+"""
+
+
+def test_model_file_items():
+    """The model file's ``[[added_masses]]`` and ``type = "seismic"`` load build the same
+    items: the yield acceleration of the reservoir test's block against the same hand limit
+    equilibrium (relative 1e-9), and the added mass in ``model.added_masses``."""
+    import tomllib
+
+    from stepcontact.io.modelfile import model_from_dict
+
+    m = model_from_dict(tomllib.loads(QUAKE_TOML))
+    assert len(m.added_masses) == 1 and m.added_masses[0].level == 5.0
+    res = sc.solve_static(m)
+    W, U, P = RHO_C * G * 48.0, GAMMA_W * 5.0 * 8.0 / 2, GAMMA_W * 25.0 / 2
+    hand = (0.75 * (W - U) - P) / (W + 7 / 12 * GAMMA_W * 25.0)
+    assert abs(res.multipliers[-1].equilibrium_lost / hand - 1) < 1e-9
+
+
+@pytest.mark.parametrize(("change", "path", "text"), [
+    (("added_masses", 0, "nodes", "nope"), "added_masses[0].nodes", "unknown node set 'nope'"),
+    (("added_masses", 0, "bottom", 6.0), "added_masses[0].level", "reservoir is empty"),
+    (("quake", "direction", 2), "patterns.quake.loads[0].direction", "1 or -1"),
+    (("quake", "k_h", 0.0), "patterns.quake.loads[0].k_h", "load is zero"),
+    (("quake", "bodies", ["x"]), "patterns.quake.loads[0].bodies", "unknown body 'x'"),
+    (("reservoir", "nodes", "zz"), "patterns.quake.loads[0].reservoir[0].nodes",
+     "unknown node set 'zz'"),
+])
+def test_model_file_errors_name_the_field(change, path, text):
+    """A bad entry is reported at its field path with a message naming what is wrong."""
+    import tomllib
+
+    from stepcontact.io.modelfile import model_from_dict
+
+    d = tomllib.loads(QUAKE_TOML)
+    *where, key, value = change
+    target = {"quake": lambda: d["patterns"]["quake"]["loads"][0],
+              "reservoir": lambda: d["patterns"]["quake"]["loads"][0]["reservoir"][0],
+              "added_masses": lambda: d["added_masses"][where[1]]}[where[0]]()
+    target[key] = value
+    with pytest.raises(ModelError) as err:
+        model_from_dict(d)
+    found = dict(err.value.errors)
+    assert path in found and text in found[path], found
+
+
+def test_validate_reports_an_empty_reservoir(tmp_path):
+    """``validate`` checks the added masses against the mesh: a level below the face's foot
+    is reported at ``added_masses[0].level``."""
+    from stepcontact.io.modelfile import validate_model_file
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text(QUAKE_TOML.replace("nodes = \"upstream\"\nlevel = 5.0",
+                                      "nodes = \"upstream\"\nlevel = -1.0"), encoding="utf-8")
+    problems = validate_model_file(bad)
+    assert [(p.item, "reservoir is empty" in p.message) for p in problems] == [
+        ("added_masses[0].level", True)]
