@@ -196,6 +196,36 @@ def test_yield_acceleration_with_the_reservoir():
     assert abs(res.multipliers[-1].equilibrium_lost / hand - 1) < 1e-9
 
 
+def test_yield_acceleration_with_the_heel_opening():
+    """An elastic dam (E = 25 GPa, 8 m × 12 m) on a compliant joint (k_n = k_t = 1e8 Pa/m)
+    holding water 11 m deep with full uplift: on the k_h segment the heel opens step by step
+    (opening events) before the base slides throughout.  Global limit equilibrium holds
+    whatever the opened length while the resultant stays inside the base (overturning about
+    the toe needs k ≈ 0.3 here), so k_y = (f (W − U) − P) / (W + (7/12) γ_w h²) = 0.1706 as in
+    the rigid case; relative 1e-9 (measured ~2e-11; with E = 1e13 on this soft layer the
+    round-off of the stiffness ratio reaches ~4e-9)."""
+    f, B, Hb, h = 0.6, 8.0, 12.0, 11.0
+    m = sc.Model(bodies=[sc.rectangle("blk", (0, 0), (B, Hb), 8, 12, CONCRETE)])
+    ground = sc.RigidObstacle("ground", [(-1.0, 0.0), (B + 1.0, 0.0)])
+    base = sc.Interface("base", plus=m.select("blk", y=0.0), minus=ground, friction=f,
+                        layer=sc.ContactLayer(kn=1e8, kt=1e8))
+    face = m.select("blk", x=0.0)
+    m = m.add(
+        base, sc.LoadPattern("weight", [sc.BodyForce()]), sc.Segment("weight", 1.0),
+        sc.LoadPattern("water", [sc.WaterLoad(face, level=h),
+                                 sc.Uplift(base, head=[(0.0, 0.0, h), (B, 0.0, 0.0)])]),
+        sc.Segment("water", 1.0),
+        sc.LoadPattern("quake", [sc.SeismicCoefficient(reservoir=sc.AddedMass(face, level=h))]),
+        sc.Segment("quake", 1.0))
+    res = sc.solve_static(m)
+    assert res.status == sc.Status.EQUILIBRIUM_LOST
+    opened = [e for e in res.events if e.segment == 2 and e.transition == sc.Transition.OPENED]
+    assert len(opened) >= 2  # the crack grows with k_h
+    W, U, P = RHO_C * G * B * Hb, GAMMA_W * h * B / 2, GAMMA_W * h**2 / 2
+    hand = (f * (W - U) - P) / (W + 7 / 12 * GAMMA_W * h**2)
+    assert abs(res.multipliers[-1].equilibrium_lost / hand - 1) < 1e-9
+
+
 def test_pseudo_static_pattern_resultant_and_line_of_action():
     """The load of ``SeismicCoefficient(k_h=1)`` with a reservoir h = 5 m on the block's face:
     F_x = W + (7/12) γ_w h² (N per unit λ), F_y = 0, and its moment about the origin
