@@ -110,7 +110,8 @@ def test_dynamic_driver_carries_the_added_mass():
     vibrations die out and the base shear tends to (m_block + (7/12) ρ_w h²) a by Newton's
     law (the whole mass, block and water, moves with the ground).  The independent check of
     the driver: without the added mass the shear is m_block a, 36 % less.  Measured error
-    ~1e-12; tolerance 1e-9 relative on the shear, 1e-8 on its hydrodynamic part."""
+    ~1e-12; tolerance 1e-9 relative on the shear, 1e-8 on its hydrodynamic part and on its
+    line of action 0.4 h (from the moment of the normal contact forces)."""
     B, Hb, h, a = 8.0, 6.0, 5.0, 2.0
     m = sc.Model(bodies=[sc.rectangle("blk", (0, 0), (B, Hb), 8, 6, CONCRETE)])
     ground = sc.RigidObstacle("ground", [(-1.0, 0.0), (B + 1.0, 0.0)])
@@ -128,6 +129,14 @@ def test_dynamic_driver_carries_the_added_mass():
     water = 7 / 12 * RHO_W * a * h**2
     assert abs(shear / (block + water) - 1) < 1e-9
     assert abs((shear - block) / water - 1) < 1e-8
+    # the line of action: moments about the heel (0, 0) of the normal contact forces balance
+    # the weight W B/2 less the inertia turning the block upstream, m a H_b/2 (HRZ masses of
+    # rectangles: their first moment is exact) and the water's F_d · 0.4 h; the hydrodynamic
+    # force's lever from that balance is 0.4 h, relative 1e-8 (measured ~3e-11)
+    W = RHO_C * G * B * Hb
+    moment = (-res.N[-1]) @ res.cfe["x"][:, 0]
+    lever = (W * B / 2 - block * Hb / 2 - moment) / water
+    assert abs(lever / (0.4 * h) - 1) < 1e-8
 
 
 def _block(B=8.0, Hb=4.0, f=0.6, nx=8, ny=4):
