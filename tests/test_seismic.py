@@ -305,6 +305,8 @@ def test_errors_name_the_item():
     mf = sc.Model(bodies=[frame])
     with pytest.raises(ModelError, match=r"added mass on node set 'col'.*frame"):
         face_masses(mf, sc.AddedMass(mf.select("beam", x=0.0, name="col"), level=4.0))
+    with pytest.raises(ModelError, match=r"model\.added_masses\[0\].*AddedMass"):
+        m.replace(added_masses=(face,))
     # the error of an assembled pattern names the pattern, the load and the reservoir
     bad = m.add(sc.LoadPattern("quake", [sc.SeismicCoefficient(
         reservoir=sc.AddedMass(face, level=-1.0))]))

@@ -219,6 +219,10 @@ class Model:
         for key in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program",
                     "stages", "added_masses"):
             object.__setattr__(self, key, tuple(getattr(self, key)))
+        for i, am in enumerate(self.added_masses):
+            if getattr(type(am), "model_field", None) != "added_masses":
+                raise ModelError(f"model.added_masses[{i}]", f"must be an AddedMass (a "
+                                 f"reservoir on a face), got {type(am).__name__}")
         if self.stages and self.program:
             raise ModelError("model.program", "is given together with stages: with stages the "
                              "load program is the stages' own (Stage(program=...))")
