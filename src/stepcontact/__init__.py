@@ -216,3 +216,14 @@ __all__ = [
     "rigid_block_yield",
     "sliding_comparison",
 ]
+
+# issue 29 §1 (helper "seismic"): the reservoir's added mass (Westergaard 1933, Kuo 1982) and
+# pseudo-static seismic coefficients (the yield acceleration as an exact event)
+from stepcontact.model.seismic import (  # noqa: E402
+    AddedMass,
+    SeismicCoefficient,
+    westergaard_force,
+    westergaard_mass,
+)
+
+__all__ += ["AddedMass", "SeismicCoefficient", "westergaard_force", "westergaard_mass"]

@@ -23,6 +23,7 @@ from stepcontact.errors import ModelError
 from stepcontact.fem import continuum as _fem
 from stepcontact.fem.beam import add_self_weight, frame_stiffness
 from stepcontact.fem.discrete import assemble_discrete
+from stepcontact.fem.hydrodynamic import reservoir_forces
 from stepcontact.fem.level import facet_water_forces, is_level_pattern, level_basis
 from stepcontact.fem.system import DofMap, LoadVectors, System, reaction_rows
 from stepcontact.model import (
@@ -37,6 +38,7 @@ from stepcontact.model import (
     ObstacleMotion,
     PrescribedDisplacement,
 )
+from stepcontact.model.seismic import SeismicCoefficient
 
 #: the columns of a 2D model's DofMap.of (a 3D model's: DofMap.column)
 _DOF_INDEX = {"x": 0, "y": 1, "rz": 2}
@@ -214,6 +216,27 @@ def _pressure_function(spec, body, ns, item: str):
     return linear
 
 
+def _add_body_force(f: np.ndarray, model: Model, dofs: DofMap, ld: BodyForce,
+                    item: str) -> None:
+    """Add the consistent nodal forces of the body force ``ld`` (ρ g on its bodies) to f."""
+    off = model.node_offsets
+    names = ld.bodies or tuple(b.name for b in model.bodies)
+    if not np.all(np.isfinite(ld.g)):
+        raise ModelError(item, "gravity vector is NaN or inf")
+    for bn in names:
+        b = model.body(bn)
+        ids = off[b.name] + np.arange(b.n_nodes)
+        try:
+            g = ld.vector(b.dim)
+        except ModelError as err:
+            raise ModelError(f"{item} on body '{b.name}'", err.problem) from None
+        if isinstance(b, Body):
+            fb = _fem.body_force(b, g, model.thickness)
+            np.add.at(f, dofs.of[ids][:, :b.dim].ravel(), fb)
+        else:  # consistent loads of the uniform line load ρ A g (fem.beam)
+            add_self_weight(f, b, dofs.of[ids], g)
+
+
 def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
     """Force vector and prescribed displacements of one load pattern (per unit λ)."""
     pat = model.pattern(name)
@@ -285,21 +308,10 @@ def load_vectors(model: Model, dofs: DofMap, name: str) -> LoadVectors:
 
             f += water_forces(model, dofs, ld, item)
         elif isinstance(ld, BodyForce):
-            names = ld.bodies or tuple(b.name for b in model.bodies)
-            if not np.all(np.isfinite(ld.g)):
-                raise ModelError(item, "gravity vector is NaN or inf")
-            for bn in names:
-                b = model.body(bn)
-                ids = off[b.name] + np.arange(b.n_nodes)
-                try:
-                    g = ld.vector(b.dim)
-                except ModelError as err:
-                    raise ModelError(f"{item} on body '{b.name}'", err.problem) from None
-                if isinstance(b, Body):
-                    fb = _fem.body_force(b, g, model.thickness)
-                    np.add.at(f, dofs.of[ids][:, :b.dim].ravel(), fb)
-                else:  # consistent loads of the uniform line load ρ A g (fem.beam)
-                    add_self_weight(f, b, dofs.of[ids], g)
+            _add_body_force(f, model, dofs, ld, item)
+        elif isinstance(ld, SeismicCoefficient):  # inertia of the bodies and the reservoirs
+            _add_body_force(f, model, dofs, ld.body_force(), item)
+            f += reservoir_forces(model, dofs, ld, item)
         elif isinstance(ld, PrescribedDisplacement):
             if ld.dof not in _DOF_NAMES:
                 raise ModelError(item, f"unknown dof '{ld.dof}'")

@@ -104,7 +104,9 @@ def rayleigh_coefficients(zeta1: float, f1: float, zeta2: float, f2: float
 
 def mass(model, dofs, lumped: bool = False) -> sp.csr_matrix:
     """Global mass matrix M of eq. (7) of the model's bodies (continua: consistent or
-    HRZ-lumped; frames: lumped translations), kg, on the DOFs of ``dofs``."""
+    HRZ-lumped; frames: lumped translations), kg, on the DOFs of ``dofs``; plus the
+    reservoirs' added masses of ``model.added_masses`` (lumped,
+    :mod:`stepcontact.fem.hydrodynamic`)."""
     from stepcontact.model import Body
 
     rows, cols, vals = [], [], []
@@ -128,8 +130,13 @@ def mass(model, dofs, lumped: bool = False) -> sp.csr_matrix:
                     cols.append(d)
                     vals.append(half)
     r, c, v = (np.concatenate(a) if a else np.zeros(0) for a in (rows, cols, vals))
-    return sp.coo_matrix((v, (r.astype(np.int64), c.astype(np.int64))),
-                         shape=(dofs.ndof, dofs.ndof)).tocsr()
+    M = sp.coo_matrix((v, (r.astype(np.int64), c.astype(np.int64))),
+                      shape=(dofs.ndof, dofs.ndof)).tocsr()
+    if getattr(model, "added_masses", ()):  # the reservoirs (Westergaard 1933, Kuo 1982)
+        from stepcontact.fem.hydrodynamic import added_mass_matrix
+
+        M = (M + added_mass_matrix(model, dofs)).tocsr()
+    return M
 
 
 def check_mass(system, where: str = "dynamics") -> None:

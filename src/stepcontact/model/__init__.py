@@ -64,3 +64,8 @@ __all__ += ["cycles"]
 from stepcontact.model.stages import Stage  # noqa: E402
 
 __all__ += ["Stage"]
+
+# earthquakes on dams (issue 29 §1): the reservoir's added mass, pseudo-static coefficients
+from stepcontact.model.seismic import AddedMass, SeismicCoefficient  # noqa: E402
+
+__all__ += ["AddedMass", "SeismicCoefficient"]

@@ -211,11 +211,18 @@ class Model:
     #: construction stages (:class:`~stepcontact.model.stages.Stage`); with stages the
     #: program is theirs and ``program`` must be empty
     stages: tuple = ()
+    #: the reservoirs' added masses on faces (:class:`~stepcontact.model.seismic.AddedMass`),
+    #: added to the mass matrix of a dynamic interval
+    added_masses: tuple = ()
 
     def __post_init__(self):
         for key in ("bodies", "supports", "ties", "springs", "interfaces", "patterns", "program",
-                    "stages"):
+                    "stages", "added_masses"):
             object.__setattr__(self, key, tuple(getattr(self, key)))
+        for i, am in enumerate(self.added_masses):
+            if getattr(type(am), "model_field", None) != "added_masses":
+                raise ModelError(f"model.added_masses[{i}]", f"must be an AddedMass (a "
+                                 f"reservoir on a face), got {type(am).__name__}")
         if self.stages and self.program:
             raise ModelError("model.program", "is given together with stages: with stages the "
                              "load program is the stages' own (Stage(program=...))")
@@ -283,7 +290,7 @@ class Model:
                                  "LoadPattern), not by itself")
             if key is None:
                 raise ModelError("model.add", f"cannot add an object of type {type(it).__name__}")
-            groups[key].append(it)
+            groups.setdefault(key, list(getattr(self, key))).append(it)
         return dataclasses.replace(self, **{k: tuple(v) for k, v in groups.items()})
 
     def replace(self, **changes) -> Model:

@@ -108,6 +108,7 @@ from stepcontact.io.modelfile.load import (
 )
 from stepcontact.io.modelfile.load import _read_toml as _read_toml
 from stepcontact.io.modelfile.schema import (
+    AddedMassSpec,
     Amplitude,
     BodySpec,
     BondSpec,
@@ -144,6 +145,7 @@ from stepcontact.io.modelfile.schema import (
     QuadRegionSpec,
     RectangleSpec,
     SegmentSpec,
+    SeismicLoadSpec,
     SphericalBlockSpec,
     SpringSpec,
     StageSpec,
@@ -165,6 +167,7 @@ __all__ = [
     "validate_model_file",
     "validation_report",
     # the tables of the file (pydantic models), as before the split
+    "AddedMassSpec",
     "Amplitude",
     "BodySpec",
     "BondSpec",
@@ -200,6 +203,7 @@ __all__ = [
     "QuadRegionSpec",
     "RectangleSpec",
     "SegmentSpec",
+    "SeismicLoadSpec",
     "SphericalBlockSpec",
     "SpringSpec",
     "StageSpec",

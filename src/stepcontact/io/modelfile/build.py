@@ -39,6 +39,7 @@ from stepcontact.io.modelfile.schema import (
     QuadRegionSpec,
     RectangleSpec,
     SegmentSpec,
+    SeismicLoadSpec,
     SphericalBlockSpec,
     UpliftLoadSpec,
     WaterLoadSpec,
@@ -77,6 +78,7 @@ from stepcontact.model.mesh import (
 )
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.program import cycles
+from stepcontact.model.seismic import AddedMass, SeismicCoefficient
 from stepcontact.model.size import check_size
 from stepcontact.model.stages import Stage
 from stepcontact.model.water import CrackWater, Uplift, WaterLoad
@@ -423,6 +425,7 @@ class _Builder(_References):
                 name=spec.model.name or "model",
                 dynamics=dynamics,
                 stages=stages,
+                added_masses=self._added_masses(p),
             )
         except ModelError as e:
             p.add(self.file_path(e.item), e.problem)
@@ -615,6 +618,16 @@ class _Builder(_References):
             if ld.obstacle in obstacles:
                 loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,
                                             ld.rotation, ld.about))
+        elif isinstance(ld, SeismicLoadSpec):
+            if all(am.nodes in self.sets for am in ld.reservoir):
+                reservoir = []
+                for k, am in enumerate(ld.reservoir):
+                    try:
+                        reservoir.append(self._added_mass(am))
+                    except ModelError as e:
+                        raise ModelError(e.item, f"reservoir[{k}]: {e.problem}") from None
+                loads.append(SeismicCoefficient(ld.k_h, ld.k_v, tuple(ld.bodies),
+                                                tuple(reservoir), float(ld.direction), ld.g))
         elif ld.nodes not in self.sets:
             return
         elif isinstance(ld, WaterLoadSpec):
@@ -629,6 +642,24 @@ class _Builder(_References):
             loads.append(EdgeForce(self.sets[ld.nodes], ld.fx, ld.fy, ld.fz))
         else:
             loads.append(PrescribedDisplacement(self.sets[ld.nodes], ld.dof, ld.value))
+
+    def _added_mass(self, am) -> AddedMass:
+        """The :class:`~stepcontact.model.seismic.AddedMass` of a file's table (its node set
+        exists)."""
+        return AddedMass(self.sets[am.nodes], am.level, am.bottom, am.density)
+
+    def _added_masses(self, p: _Problems) -> tuple[AddedMass, ...]:
+        """The file's ``[[added_masses]]`` (a problem at its path where one cannot be made)."""
+        out = []
+        for i, am in enumerate(self.spec.added_masses):
+            if am.nodes not in self.sets:
+                continue  # reported
+            try:
+                out.append(self._added_mass(am))
+            except ModelError as e:
+                field = e.item.rpartition(".")[2] if "." in e.item else ""
+                p.add(f"added_masses[{i}]" + (f".{field}" if field else ""), e.problem)
+        return tuple(out)
 
     def _stages(self, p: _Problems, pattern_names: set[str]) -> tuple[Stage, ...]:
         """The construction stages of the file (their names were checked by

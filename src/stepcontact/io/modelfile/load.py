@@ -218,6 +218,11 @@ def validation_report(path: str | Path) -> Validation:
             for item, text in program_warnings(model):
                 problems.warn(item, text)
             out.ndof, out.n_cfes = int(system.dofs.ndof), int(system.cfe.m)
+            if model.added_masses:  # the reservoirs' faces and levels (fem.hydrodynamic)
+                from stepcontact.fem.hydrodynamic import face_masses
+
+                for i, am in enumerate(model.added_masses):
+                    face_masses(model, am, f"added_masses[{i}]")
             from stepcontact.fem.loadcheck import zero_patterns
 
             for name, text in zero_patterns(model, system.loads):

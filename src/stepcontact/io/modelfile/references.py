@@ -20,6 +20,7 @@ from stepcontact.io.modelfile.schema import (
     ObstacleMotionLoad,
     PressureLoad,
     SegmentSpec,
+    SeismicLoadSpec,
     UpliftLoadSpec,
     _body_name,
 )
@@ -237,10 +238,15 @@ class _References:
             if itf.name in names:
                 p.add(f"interfaces[{i}].name", f"duplicate interface name '{itf.name}'")
             names.add(itf.name)
+        for i, am in enumerate(spec.added_masses):
+            self._node_set(f"added_masses[{i}].nodes", am.nodes)
         for pname, pat in spec.patterns.items():
             for j, ld in enumerate(pat.loads):
                 path = f"{_path(['patterns', pname, 'loads', j])}"
-                if isinstance(ld, GravityLoad):
+                if isinstance(ld, SeismicLoadSpec):
+                    for k, am in enumerate(ld.reservoir):
+                        self._node_set(f"{path}.reservoir[{k}].nodes", am.nodes)
+                if isinstance(ld, GravityLoad | SeismicLoadSpec):
                     for b in ld.bodies:
                         if b not in bodies:
                             p.add(f"{path}.bodies",

@@ -78,6 +78,7 @@ _TAGS = {
     "type=crack_water",
     "type=displacement",
     "type=obstacle_motion",
+    "type=seismic",
     "material=name",
     "material=table",
 }
@@ -1025,22 +1026,59 @@ class ObstacleMotionLoad(_Spec):
                                 "obstacle's first point)")
 
 
+class AddedMassSpec(_Spec):
+    """``[[added_masses]]`` (and a seismic load's ``reservoir``): Westergaard's added mass of
+    a reservoir on the body edges in a node set, m_a = 7/8 · density · √(H (level − y))
+    (kg/m², H = level − bottom) along the edges' normal (Kuo 1982), lumped on their nodes;
+    in a dynamic interval it is part of the mass matrix (2D bodies)."""
+
+    nodes: str = Field(description="the upstream face (a node set on a body's boundary)")
+    level: float = Field(description="elevation of the free surface, m (y up)")
+    bottom: float | None = Field(None, description="elevation of the reservoir bottom at the "
+                                 "face, m (default: the face's lowest point)")
+    density: float = Field(1000.0, gt=0, description="density of water ρ_w, kg/m³")
+
+
+class SeismicLoadSpec(_Spec):
+    """Pseudo-static seismic coefficients per unit factor: the body force ρ g (k_h ·
+    direction, k_v) on ``bodies`` (all when empty; k_v > 0 upwards) and the added mass of each
+    ``reservoir`` times the same acceleration (Westergaard's pressure 7/8 k_h γ_w √(H z) on a
+    vertical face).  With k_h = 1 the pattern's factor is k_h: a segment of it locates the
+    yield acceleration (``equilibrium_lost``)."""
+
+    type: Literal["seismic"] = "seismic"
+    k_h: float = Field(1.0, description="horizontal seismic coefficient per unit factor (g)")
+    k_v: float = Field(0.0, description="vertical seismic coefficient per unit factor (g), "
+                       "inertia upwards when positive")
+    bodies: list[str] = Field([], description="the bodies the inertia acts on (all when "
+                              "empty)")
+    reservoir: list[AddedMassSpec] = Field([], description="reservoirs whose hydrodynamic "
+                                           "force acts with the coefficients (the tables of "
+                                           "`[[added_masses]]`)")
+    direction: Literal[1, -1] = Field(1, description="+1: the horizontal inertia along +x "
+                                      "(downstream with the reservoir on the left), −1: "
+                                      "along −x")
+    g: float = Field(9.81, gt=0, description="acceleration of gravity, m/s²")
+
+
 def _load_tag(v: Any) -> str | None:
     t = v.get("type") if isinstance(v, dict) else getattr(v, "type", None)
     return (f"type={t}" if t in ("gravity", "nodal", "edge_force", "pressure", "displacement",
-                                 "water", "uplift", "crack_water", "obstacle_motion")
+                                 "water", "uplift", "crack_water", "obstacle_motion",
+                                 "seismic")
             else None)
 
 
 LoadSpec = _tagged_union(
     _load_tag, "load_type",
     "type must be 'gravity', 'nodal', 'edge_force', 'pressure', 'water', 'uplift', "
-    "'crack_water', 'displacement' or 'obstacle_motion'",
+    "'crack_water', 'displacement', 'obstacle_motion' or 'seismic'",
     **{"type=gravity": GravityLoad, "type=nodal": NodalLoadSpec,
        "type=edge_force": EdgeForceLoad, "type=pressure": PressureLoad,
        "type=displacement": DisplacementLoad,
        "type=water": WaterLoadSpec, "type=uplift": UpliftLoadSpec,
-       "type=crack_water": CrackWaterSpec, "type=obstacle_motion": ObstacleMotionLoad},
+       "type=crack_water": CrackWaterSpec, "type=obstacle_motion": ObstacleMotionLoad,
+       "type=seismic": SeismicLoadSpec},
 )
 
 
@@ -1246,6 +1284,9 @@ class ModelFile(_Spec):
     stages: list[StageSpec] = Field([], description="construction stages, in order; their "
                                     "programs are the load program")
     dynamics: DynamicsSpec | None = None
+    added_masses: list[AddedMassSpec] = Field([], description="reservoirs' added masses "
+                                              "(Westergaard 1933), part of the mass matrix of "
+                                              "the dynamic intervals")
 
     model_config = ConfigDict(json_schema_extra={"anyOf": [{"required": ["program"]},
                                                            {"required": ["stages"]}]})
