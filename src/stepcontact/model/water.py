@@ -412,16 +412,16 @@ class CrackWater:
     belong to one facet of the face that carries them (:mod:`stepcontact.fem.crack`).  The
     uplift it replaces is the joint's ``Uplift(through="cfes")``.
 
-    ``bridge`` (m, 2D joints with an entry): closed CFEs within this distance of an entry
-    point, measured along the joint, do not cut the crack from the reservoir — the water
-    reaches the open CFEs beyond them, and acts on them too (as an effective stress: their
-    contact force drops by A (p_c − p_u)).  ``None`` (default) bridges the entry CFE alone:
-    at the re-entrant corner of a heel the elastic solution is singular, and the heel CFE may
-    stay closed (slipping under compression) while the CFEs behind it open; water then
-    enters the crack as soon as it opens behind the heel instead of waiting for the heel to
-    open.  ``0`` is the strict rule (only open CFEs conduct water, the entry CFE included).
-    A bridged CFE is wet only when an open CFE lies beyond it (a closed heel alone holds no
-    water).
+    ``bridge`` (m, ≥ 0; 2D joints with an entry): closed CFEs within this distance of an
+    entry point do not cut the crack from the reservoir — the water reaches the open CFEs
+    beyond them, and acts on them too (as an effective stress: their contact force drops by
+    A (p_c − p_u)).  At the re-entrant corner of a heel the elastic solution is singular, and
+    the heel CFE may stay closed (slipping under compression) while the CFEs behind it open;
+    with a bridge of about one element at the heel, water enters the crack as soon as it opens
+    behind the heel instead of waiting for the heel to open (then in a cascade of events at
+    one level).  A bridged CFE is wet only when an open CFE lies beyond it (a closed heel alone
+    holds no water).  ``0`` (default) is the strict rule: only open CFEs conduct water, the
+    entry CFE included.
 
     ``rule``: the uplift *beyond the crack tip* (2D joints with an entry):
 
@@ -447,7 +447,7 @@ class CrackWater:
     unit_weight: float = UNIT_WEIGHT_WATER
     entry: tuple | None = None
     pressure: float | None = None
-    bridge: float | None = None
+    bridge: float = 0.0
     rule: str = "connected"
 
     @staticmethod
@@ -478,12 +478,11 @@ class CrackWater:
                        stacklevel=4)
         if self.entry is not None:
             object.__setattr__(self, "entry", self._normal_entry(self.entry, f"{item}.entry"))
-        if self.bridge is not None:
-            b = _finite(self.bridge, f"{item}.bridge")
-            if b < 0:
-                raise ModelError(f"{item}.bridge", f"is {b:g} m: give a distance ≥ 0 m along "
-                                 "the joint from the entry (0: only open CFEs conduct water)")
-            object.__setattr__(self, "bridge", b)
+        b = _finite(self.bridge, f"{item}.bridge")
+        if b < 0:
+            raise ModelError(f"{item}.bridge", f"is {b:g} m: give a distance ≥ 0 m from the "
+                             "entry (0: only open CFEs conduct water)")
+        object.__setattr__(self, "bridge", b)
         if self.rule not in CRACK_RULES:
             raise ModelError(f"{item}.rule", f"'{self.rule}' is not one of "
                              f"{', '.join(map(repr, CRACK_RULES))}")
