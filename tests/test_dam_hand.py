@@ -236,3 +236,150 @@ def test_rigid_dam_opening_crack_and_failure(rule, f, drain):
             assert abs(lv[k] / lo - 1) <= tol and abs(lv[k] / hi - 1) <= tol, (k, lv[k], lo, hi)
         else:
             assert min(lo, hi) <= lv[k] * (1 + tol), (k, lv[k], lo, hi)
+
+
+# ---- the elastic dam: the crack's connection to the reservoir, and why drains do not delay the
+# heel's opening (issue 29 §2) ------------------------------------------------------------------
+H40, B40 = 40.0, 32.0  # m: the issue's 40 m dam (triangular, vertical upstream face)
+
+
+def elastic_dam(*, bridge: float = 0.0, bond: bool = True, uplift: bool = True,
+                crack: bool = True, top: float = 60.0) -> sc.Model:
+    """The issue's 40 m dam (B = 32 m), concrete (25 GPa) on rock (15 GPa), 2 m cells
+    (quad8: a CFE every metre), rigid contact; the base bonded (c = 300 kPa, σ_t = 0,
+    φ = 45°); uplift linear from the full head at the heel to 0 at the toe, crack water from
+    the heel (``bridge``: :class:`CrackWater`); the reservoir raised to ``top``."""
+    concrete = sc.Material(E=25e9, nu=0.2, density=RHO)
+    rock = sc.Material(E=15e9, nu=0.25, density=2650.0)
+    body = sc.polygon_region("dam", [(0.0, 0.0), (B40, 0.0), (0.0, H40)], concrete, "quad8",
+                             n=16)
+    ground = sc.rectangle("rock", (-B40, -B40), (2 * B40, 0.0), 48, 8, rock)
+    m = sc.Model(bodies=[ground, body])
+    base = sc.Interface("base", plus=m.select("dam", y=0.0), minus=m.select("rock", y=0.0),
+                        friction=1.0,
+                        bond=sc.Bond.mohr_coulomb(300e3, 0.0, 45.0) if bond else None)
+    loads = [sc.WaterLoad(m.select("dam", x=0.0), level=None)]
+    if uplift:
+        loads.append(sc.Uplift(base, head=[(0.0, 0.0, 1.0), (B40, 0.0, 0.0)], through="cfes"))
+    if crack:
+        loads.append(sc.CrackWater(base, level=None, entry=(0.0, 0.0), bridge=bridge))
+    return m.add(sc.Support("deep rock", m.select("rock", y=-B40)), base,
+                 sc.LoadPattern("weight", [sc.BodyForce(bodies=("dam",))]),
+                 sc.LoadPattern("reservoir", loads),
+                 sc.Segment("weight", 1.0), sc.Segment("reservoir", top))
+
+
+def rule_wet(states: np.ndarray, x: np.ndarray, bridge: float) -> np.ndarray:
+    """The connection rule written out (independent of fem.crack): walking from the heel
+    along the joint, the water passes open CFEs and, within ``bridge`` of the heel, closed
+    CFEs whose bond has broken; the run it reaches is wet if it holds an open CFE."""
+    order = np.argsort(x)
+    wet = np.zeros(len(x), bool)
+    run = []
+    for k in order:
+        is_open = states[k] == int(sc.ContactState.OPEN)
+        passes = (bridge > 0 and states[k] != int(sc.ContactState.BONDED)
+                  and x[k] <= bridge + 1e-9)
+        if not (is_open or passes):
+            break
+        run.append(k)
+    if any(states[k] == int(sc.ContactState.OPEN) for k in run):
+        wet[run] = True
+    return wet
+
+
+def most_openings_at_one_level(res) -> int:
+    """The largest number of CFEs that open at one level while the reservoir rises."""
+    lv = [round(e.lam, 9) for e in res.events
+          if e.segment == 1 and e.transition == Transition.OPENED]
+    return max(np.unique(lv, return_counts=True)[1], default=0)
+
+
+def test_crack_water_passes_the_closed_heel():
+    """The issue's 40 m dam: the heel CFE closes again (the singular corner) while the CFEs
+    behind it open.  With the strict rule (bridge = 0) water stays out until the heel opens,
+    then the crack fills in a cascade of openings at one level (the issue saw ~30 events);
+    with a bridge of 2 m (two CFEs) it enters as soon as the crack behind the heel opens, at
+    a lower level, and the crack grows level by level.  At the last state of every level (the
+    water's jumps at that level done; within a cascade a CFE that just closed still holds its
+    water until the next jump) the wet CFEs are those of the rule written out in the test
+    (:func:`rule_wet`), exactly."""
+    first_wet = {}
+    for bridge in (0.0, 2.0):
+        res = sc.solve_static(elastic_dam(bridge=bridge))
+        x = res.cfe["x"][:, 0]
+        seg = np.flatnonzero(res.segment == 1)
+        settled = seg[np.r_[res.lam[seg][1:] != res.lam[seg][:-1], True]]
+        for i in settled:  # the last state at each level (the water's jumps there done)
+            wet = res.crack_pressure[i] > 0
+            np.testing.assert_array_equal(wet, rule_wet(res.state[i], x, bridge),
+                                          err_msg=f"bridge {bridge} m, state {i}")
+        # the first level where water is in the crack beyond the heel CFE
+        deep = [i for i in np.flatnonzero(res.segment == 1)
+                if (res.crack_pressure[i][x > 0.5] > 0).any()]
+        first_wet[bridge] = res.lam[deep[0]]
+        if bridge == 0.0:
+            assert most_openings_at_one_level(res) >= 6  # the cascade at water entry
+        else:
+            assert most_openings_at_one_level(res) <= 3
+    assert first_wet[2.0] < first_wet[0.0] - 1.0  # water in the crack a metre of level earlier
+
+
+def test_uplift_on_a_closed_rigid_joint_only_relieves_the_contact():
+    """Why drains do not delay the heel's opening in an elastic dam on elastic rock: on a
+    closed joint with rigid contact the uplift pushes both faces apart by equal forces that
+    the contact carries across, so nothing deforms — each CFE's compression drops by exactly
+    A_k p_k (the effective stress), σ' = σ₀ − p.  A CFE opens where σ₀ reaches p; at the heel
+    p = γ_w h with or without drains.  Checked at h = 30 m (closed) against the same dam
+    without uplift: displacements equal to 1e-9 of their size, N_k + A_k p_k equal to 1e-9 of
+    the largest N."""
+    runs = [sc.solve_static(elastic_dam(bond=False, uplift=u, crack=False, top=30.0))
+            for u in (True, False)]
+    with_u, without = runs
+    i, j = len(with_u.lam) - 1, len(without.lam) - 1
+    assert with_u.lam[i] == without.lam[j] == 30.0
+    assert not (with_u.state[i] == int(sc.ContactState.OPEN)).any()
+    u1, u0 = with_u.displacement(i), without.displacement(j)
+    np.testing.assert_allclose(u1, u0, atol=1e-9 * np.abs(u0).max())
+    x, area = with_u.cfe["x"][:, 0], with_u.cfe["area"]
+    p = GAMMA_W * 30.0 * (1 - x / B40)
+    N0 = np.abs(without.N[j]).max()
+    np.testing.assert_allclose(-with_u.N[i] + area * p, -without.N[j], atol=1e-9 * N0)
+
+
+# ---- the drained uplift and the rule's inputs ----------------------------------------------
+@pytest.mark.parametrize(("reference", "h_d"), [
+    # h_down + (1 − E)(h_up − h_down)·r: r = (L − X)/L on the line, 1 from the tailwater
+    ("line", 2.0 + (1 - 0.5) * (30.0 - 2.0) * (20.0 - 4.0) / 20.0),
+    ("tailwater", 2.0 + (1 - 0.5) * (30.0 - 2.0))])
+def test_drained_uplift_profile(reference, h_d):
+    """Uplift.drained: the full head at the heel, h_d at the drains, the tailwater's head at
+    the toe, linear between (hand values, 1e-12)."""
+    up = sc.Uplift.drained("base", heel=(0.0, 0.0), toe=(20.0, 0.0), drain=(4.0, 0.0),
+                           efficiency=0.5, head_up=30.0, head_down=2.0, reference=reference)
+    x = np.array([0.0, 2.0, 4.0, 12.0, 20.0])
+    want = np.interp(x, [0.0, 4.0, 20.0], [30.0, h_d, 2.0]) * GAMMA_W
+    np.testing.assert_allclose(up.function()(x, 0 * x), want, rtol=1e-12)
+    assert up.drains.efficiency == 0.5 and up.drains.at == (4.0, 0.0)
+
+
+@pytest.mark.parametrize(("kw", "field"), [
+    ({"efficiency": 1.5}, "efficiency"), ({"drain": (25.0, 0.0)}, "drain"),
+    ({"reference": "heel"}, "reference"), ({"drain": (4.0,)}, "drain")])
+def test_drained_uplift_refuses_bad_input(kw, field):
+    """A drain efficiency outside [0, 1], drains off the base, an unknown reference or a
+    malformed point: a ModelError naming the field."""
+    args = {"heel": (0.0, 0.0), "toe": (20.0, 0.0), "drain": (4.0, 0.0), "efficiency": 0.5}
+    with pytest.raises(sc.ModelError, match=field):
+        sc.Uplift.drained("base", **{**args, **kw})
+
+
+def test_crack_water_rule_and_bridge_inputs():
+    """rule="em1110" needs a 2D entry (the heel); a negative bridge and an unknown rule are
+    refused, naming the field."""
+    with pytest.raises(sc.ModelError, match="rule"):
+        sc.CrackWater("base", rule="em1110")
+    with pytest.raises(sc.ModelError, match="rule"):
+        sc.CrackWater("base", entry=(0.0, 0.0), rule="usbr")
+    with pytest.raises(sc.ModelError, match="bridge"):
+        sc.CrackWater("base", entry=(0.0, 0.0), bridge=-1.0)

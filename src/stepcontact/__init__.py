@@ -51,7 +51,15 @@ from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
-from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
+from stepcontact.model.water import (  # Drains, the *_RULES/REFERENCES: issue 29 §2 (damhand)
+    CRACK_RULES,
+    DRAIN_REFERENCES,
+    CrackWater,
+    Drains,
+    LinearProfile,
+    Uplift,
+    WaterLoad,
+)
 from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
 from stepcontact.solver.condensation import Condensation, condense
 from stepcontact.solver.dynamic import DynamicResult
@@ -162,4 +170,8 @@ __all__ = [
     "StaticResult",
     "StepInfo",
     "System",
+    # issue 29 §2 (damhand)
+    "CRACK_RULES",
+    "DRAIN_REFERENCES",
+    "Drains",
 ]

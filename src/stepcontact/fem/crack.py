@@ -32,8 +32,9 @@ open CFEs only.  In 2D this is the run of open CFEs from the heel; in 3D, the re
 CFEs joined to the upstream edge.
 
 **Bridged CFEs** (2D, :class:`~stepcontact.model.CrackWater` ``bridge``, m): closed CFEs
-within that distance of the entry, which do not cut the connection — at the singular
-re-entrant corner of a heel their closure is an artefact of the elastic solution.  They count as
+within that distance of the entry and not bonded (an intact bond keeps water out), which do
+not cut the connection — at the singular re-entrant corner of a heel their closure is an
+artefact of the elastic solution.  They count as
 conducting in the graph; a component reached from an entry is wet if it holds at least one open
 CFE, and then its bridged closed CFEs are wet too (the water's force acts on them as an
 effective stress, their contact force dropping by W_k).
@@ -60,7 +61,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from stepcontact.contact.laws import OPEN
+from stepcontact.contact.laws import BONDED, OPEN
 from stepcontact.errors import ModelError
 from stepcontact.model.water import CrackWater
 
@@ -120,11 +121,13 @@ class CrackWaterData:
         op = self.wettable & (states == OPEN)
         if not self.gated.any():
             return op
-        key = op.tobytes()
+        bridged = self.bridged
+        if bridged is not None:  # closed, not bonded (an intact bond keeps water out)
+            bridged = bridged & self.wettable & (states != BONDED) & ~op
+        key = op.tobytes() if bridged is None else op.tobytes() + bridged.tobytes()
         wet = self._memo.get(key)
         if wet is None:
-            bridged = self.bridged
-            conducts = op if bridged is None else op | (bridged & self.wettable)
+            conducts = op if bridged is None else op | bridged
             i, j = self.links
             both = conducts[i] & conducts[j]
             m = len(op)

@@ -413,7 +413,8 @@ class CrackWater:
     uplift it replaces is the joint's ``Uplift(through="cfes")``.
 
     ``bridge`` (m, ≥ 0; 2D joints with an entry): closed CFEs within this distance of an
-    entry point do not cut the crack from the reservoir — the water reaches the open CFEs
+    entry point, and not bonded (an intact bond of a bonded joint keeps the water out), do not
+    cut the crack from the reservoir — the water reaches the open CFEs
     beyond them, and acts on them too (as an effective stress: their contact force drops by
     A (p_c − p_u)).  At the re-entrant corner of a heel the elastic solution is singular, and
     the heel CFE may stay closed (slipping under compression) while the CFEs behind it open;
