@@ -65,7 +65,7 @@ CONT_DRAINS = 0.04  # the same with drains (the step at the tip; see the module 
 
 
 def dam(f: float, rule: str = "connected", drain: float | None = None, bridge: float = 0.0,
-        top: float = 60.0) -> sc.Model:
+        top: float = 60.0, entry: tuple = (0.0, 0.0)) -> sc.Model:
     """The rigid dam on its compliant layer, friction ``f``, then the reservoir to ``top``."""
     stiff = sc.Material(E=1e14, nu=0.2, density=RHO)
     body = sc.polygon_region("dam", [(0.0, 0.0), (B, 0.0), (0.0, H)], stiff, "quad4",
@@ -81,7 +81,7 @@ def dam(f: float, rule: str = "connected", drain: float | None = None, bridge: f
         up = sc.Uplift.drained(base, heel=(0.0, 0.0), toe=(B, 0.0), drain=(drain, 0.0),
                                efficiency=2 / 3, reference="tailwater", through="cfes")
     loads = [sc.WaterLoad(m.select("dam", x=0.0), level=None), up,
-             sc.CrackWater(base, level=None, entry=(0.0, 0.0), rule=rule, bridge=bridge)]
+             sc.CrackWater(base, level=None, entry=entry, rule=rule, bridge=bridge)]
     return m.add(sc.Support("slab", m.select("rock", y=-DX)), base,
                  sc.LoadPattern("weight", [sc.BodyForce(bodies=("dam",))]),
                  sc.LoadPattern("reservoir", loads),
@@ -383,3 +383,37 @@ def test_crack_water_rule_and_bridge_inputs():
         sc.CrackWater("base", entry=(0.0, 0.0), rule="usbr")
     with pytest.raises(sc.ModelError, match="bridge"):
         sc.CrackWater("base", entry=(0.0, 0.0), bridge=-1.0)
+
+
+def test_em1110_needs_the_entry_at_an_end_of_the_joint():
+    """The EM 1110 profile runs from the tip to the far end: an entry in the middle of the
+    base is refused when the model is assembled, naming the crack water's rule."""
+    with pytest.raises(sc.ModelError, match="rule"):
+        sc.solve_static(dam(1.5, "em1110", entry=(B / 2, 0.0)))
+
+
+def test_model_file_drained_uplift_and_crack_rule():
+    """The model file's ``drained`` table builds the same uplift as ``Uplift.drained`` (hand
+    values at the heel, the drains and the toe, 1e-12), and refuses ``drained`` beside a
+    head; ``crack_water`` passes ``rule`` and ``bridge``."""
+    from pydantic import ValidationError
+
+    from stepcontact.io.modelfile import schema
+    from stepcontact.io.modelfile.schema import CrackWaterSpec, UpliftLoadSpec
+
+    drained = {"heel": [0.0, 0.0], "toe": [B, 0.0], "drain": [DRAIN, 0.0],
+               "efficiency": 2 / 3, "reference": "tailwater"}
+    spec = UpliftLoadSpec(interface="base", drained=drained)
+    assert spec.drained.efficiency == 2 / 3 and spec.head is None
+    with pytest.raises(ValidationError, match="not both"):
+        UpliftLoadSpec(interface="base", head=1.0, drained=drained)
+    cw = CrackWaterSpec(interface="base", entry=(0.0, 0.0), rule="em1110", bridge=1.5)
+    assert (cw.rule, cw.bridge) == ("em1110", 1.5)
+    with pytest.raises(ValidationError):
+        CrackWaterSpec(interface="base", entry=(0.0, 0.0), bridge=-1.0)
+    assert "drained" in str(schema())
+    up = sc.Uplift.drained("base", heel=(0.0, 0.0), toe=(B, 0.0), drain=(DRAIN, 0.0),
+                           efficiency=2 / 3, reference="tailwater")
+    x = np.array([0.0, DRAIN, B])
+    np.testing.assert_allclose(up.function()(x, 0 * x), GAMMA_W * np.array([1.0, 1 / 3, 0.0]),
+                               rtol=1e-12, atol=1e-9)
