@@ -71,7 +71,7 @@ def dam(f: float, rule: str = "connected", drain: float | None = None, bridge: f
     body = sc.polygon_region("dam", [(0.0, 0.0), (B, 0.0), (0.0, H)], stiff, "quad4",
                              n=int(B / DX))
     slab = sc.rectangle("rock", (-2 * DX, -DX), (B + 2 * DX, 0.0), int(B / DX) + 4, 1,
-                        sc.Material(E=1e14, nu=0.2, density=0.0))
+                        sc.Material(E=1e14, nu=0.2, density=2650.0))
     m = sc.Model(bodies=[slab, body])
     base = sc.Interface("base", plus=m.select("dam", y=0.0), minus=m.select("rock", y=0.0),
                         friction=f, layer=sc.ContactLayer(kn=KN, kt=KN))
@@ -417,3 +417,63 @@ def test_model_file_drained_uplift_and_crack_rule():
     x = np.array([0.0, DRAIN, B])
     np.testing.assert_allclose(up.function()(x, 0 * x), GAMMA_W * np.array([1.0, 1 / 3, 0.0]),
                                rtol=1e-12, atol=1e-9)
+
+
+def fixed_level_dam(rule: str, h: float = 44.0) -> sc.Model:
+    """The rigid dam with drains at a fixed level h (m), the reservoir's pattern scaling it
+    (λ = 1: the face pressure, the drained uplift and the crack water of level h)."""
+    m = dam(1.5, rule, DRAIN)
+    base = m.interfaces[0]
+    loads = [sc.WaterLoad(m.select("dam", x=0.0), level=h),
+             sc.Uplift.drained(base, heel=(0.0, 0.0), toe=(B, 0.0), drain=(DRAIN, 0.0),
+                               efficiency=2 / 3, reference="tailwater", head_up=h,
+                               through="cfes"),
+             sc.CrackWater(base, level=h, entry=(0.0, 0.0), rule=rule)]
+    return m.replace(patterns=(m.patterns[0], sc.LoadPattern("reservoir", loads)),
+                     program=(sc.Segment("weight", 1.0), sc.Segment("reservoir", 1.0)))
+
+
+def em1110_profile(x: np.ndarray, tip: float, p_tip: float) -> np.ndarray:
+    """The EM 1110 pressure beyond a tip upstream of the drains ("tailwater", E = 2/3, no
+    tailwater): p_tip at the tip, p_tip/3 at the drains, 0 at the toe, linear between."""
+    return np.interp(x, [tip, DRAIN, B], [p_tip, p_tip / 3, 0.0])
+
+
+def test_em1110_profile_beyond_the_tip_static_and_dynamic():
+    """Fixed level h = 44 m, the reservoir's factor ramped to 1: once the heel and the CFE
+    at 2 m have opened (the tip upstream of the drains at 4 m), the water pressure beyond the
+    tip is the EM 1110 profile — γ_w h λ at the tip, a third of it at the drains, 0 at the
+    toe — at the static state and at every dynamic state with that crack (1e-9 relative).  A
+    slow ramp (20 s against the block's rocking period ≈ 0.1 s) opens the first two CFEs at the
+    static factors within 0.1 % (the dynamic part of the response)."""
+    m = fixed_level_dam("em1110")
+    st = sc.solve_static(m)
+    x = st.cfe["x"][:, 0]
+    beyond = x > 2.0 + 1e-9
+
+    def check(res, i, lam):
+        if set(x[res.state[i] == int(sc.ContactState.OPEN)]) != {0.0, 2.0}:
+            return False  # (the crack of the heel and the CFE at 2 m only)
+        p_tip = GAMMA_W * 44.0 * lam
+        np.testing.assert_allclose(res.crack_pressure[i][beyond],
+                                   em1110_profile(x[beyond], 2.0, p_tip), rtol=1e-9,
+                                   atol=1e-9 * p_tip)
+        return True
+
+    opened = [e for e in st.events if e.transition == Transition.OPENED]
+    assert [e.x for e in opened[:2]] == [0.0, 2.0]
+    i2 = int(np.flatnonzero(st.lam == opened[1].lam)[-1])
+    assert check(st, i2, st.lam[i2])
+    weight = sc.solve_static(m.replace(program=(sc.Segment("weight", 1.0),)))
+    T = 20.0
+
+    def ramp(t):
+        return 0.5 * (1 - np.cos(np.pi * min(float(t), T) / T))
+
+    dyn = sc.solve_dynamic(m, dt=0.02, duration=T, loads={"reservoir": ramp}, initial=weight)
+    d_open = [e for e in dyn.events if e.transition == Transition.OPENED]
+    assert [e.x for e in d_open[:2]] == [0.0, 2.0]
+    for e, s in zip(d_open[:2], opened[:2], strict=True):
+        assert ramp(e.lam) == pytest.approx(s.lam, rel=1e-3)
+    checked = sum(check(dyn, i, ramp(dyn.time[i])) for i in range(len(dyn.time)))
+    assert checked >= 2

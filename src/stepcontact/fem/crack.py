@@ -269,8 +269,9 @@ class CrackWaterData:
     def pressure(self, states: np.ndarray, factors: dict[str, float],
                  water: np.ndarray) -> np.ndarray:
         """Water pressure in the joint (m,), Pa, where the water acts: the CFEs wet in
-        ``states`` or loaded by ``water`` (a jump in progress): W/A + p_u."""
-        filled = self.wet(states) | (water != 0)
+        ``states`` (and beyond the tip under the EM 1110 rule) or loaded by ``water`` (a jump
+        in progress): W/A + p_u."""
+        filled = self.loaded(self.wet(states)) | (water != 0)
         return np.where(filled, water / self.area + self.uplift_pressure(factors), 0.0)
 
     def kinks(self, pattern: str) -> np.ndarray:
