@@ -37,7 +37,7 @@ continuous form the discrete model's crack, when CFE n opens, ends between x_n �
 wet tributary lengths) and x_n; the trapezoidal springs (Δ = B/16) make the levels differ by
 O(Δ/B): 1.5 % relative (measured: 0.03 % at the heel, up to 1.4 % as the crack grows); with
 drains, 4 % (the pressure steps at the tip from γ_w h to the drained profile, and the discrete
-model places that step within Δ/2; measured up to 3.2 %).  Where the crack runs on at one
+model places that step within Δ/2; measured up to 1.9 %).  Where the crack runs on at one
 level (a cascade), the continuous path is unstable there too: only h(c) ≤ that level is
 checked.
 """
