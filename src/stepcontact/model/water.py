@@ -11,6 +11,11 @@ a node set, so reversing a gmsh curve changes nothing.
   pressure head (m of water) or a pressure (Pa): a constant, a :class:`LinearProfile` by
   coordinates (e.g. from the heel head to the toe head, or through a drainage line) or a
   function of (x, y).
+* :meth:`Uplift.drained` — the guidelines' bilinear uplift with a line of drains (full head at
+  the heel, the drained head at the drain line, the tailwater's at the toe; :class:`Drains`).
+* :class:`CrackWater` — water in the opened part of a joint (the crack), with the rule for the
+  uplift beyond the crack's tip (``rule``) and the crack's connection to the reservoir
+  (``bridge``).
 * :class:`LinearProfile` — a value varying linearly between points given by coordinates, for
   :class:`~stepcontact.model.EdgeLoad` pressures too (``EdgeLoad(nodes, normal=profile)``).
 
