@@ -63,7 +63,7 @@ from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
-from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
+from stepcontact.model.water import (  # Drains, the *_RULES/REFERENCES: issue 29 §2 (damhand)
 from stepcontact.results.dam_checks import (  # issue 29 §2
     DamCheck,
     JointStrength,
@@ -72,6 +72,14 @@ from stepcontact.results.dam_checks import (  # issue 29 §2
     load_guidelines,
 )
 from stepcontact.results.newmark import NewmarkSliding, newmark_sliding  # issue 29: Newmark
+    CRACK_RULES,
+    DRAIN_REFERENCES,
+    CrackWater,
+    Drains,
+    LinearProfile,
+    Uplift,
+    WaterLoad,
+)
 from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
 from stepcontact.results.sliding import (  # issue 29: a run's slip beside Newmark's block
     JointSlip,
@@ -215,6 +223,10 @@ __all__ = [
     "newmark_sliding",
     "rigid_block_yield",
     "sliding_comparison",
+    # issue 29 §2 (damhand)
+    "CRACK_RULES",
+    "DRAIN_REFERENCES",
+    "Drains",
 ]
 
 # issue 29 §1 (helper "seismic"): the reservoir's added mass (Westergaard 1933, Kuo 1982) and

@@ -30,6 +30,27 @@ distance).  The wet CFEs are the open CFEs of the components of the graph of ope
 edges between two open neighbours) that hold an open entry CFE: the water reaches a CFE through
 open CFEs only.  In 2D this is the run of open CFEs from the heel; in 3D, the region of open
 CFEs joined to the upstream edge.
+
+**Bridged CFEs** (2D, :class:`~stepcontact.model.CrackWater` ``bridge``, m): closed CFEs
+within that distance of the entry and not bonded (an intact bond keeps water out), which do
+not cut the connection — at the singular re-entrant corner of a heel their closure is an
+artefact of the elastic solution.  They count as
+conducting in the graph; a component reached from an entry is wet if it holds at least one open
+CFE, and then its bridged closed CFEs are wet too (the water's force acts on them as an
+effective stress, their contact force dropping by W_k).
+
+**The uplift beyond the tip** (``rule="em1110"``, 2D): on the CFEs beyond the wet run, along
+the joint away from the entry, the given uplift p_u is replaced by the cracked-base profile of
+USACE EM 1110-2-2200 (1995) / EM 1110-2-2100 (2005) [sections to be checked]: linear from the
+crack pressure at the tip p_c,tip to the uplift at the far end (the toe) p_u,toe, through the
+drained head at the drain line while the tip has not reached it
+(:class:`~stepcontact.model.water.Drains`):
+
+    p_k = a_k p_c,tip + b_k p_u,toe,    W_k = A_k (p_k − p_u,k)                   (N)
+
+with a_k, b_k ≥ 0 the weights of the piecewise linear profile, functions of the tip's position
+only: W is linear in the factors between events, and changes with the wet set (the tip), where
+the drivers apply the jump as for water entering a CFE.
 """
 
 from __future__ import annotations
@@ -40,7 +61,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from stepcontact.contact.laws import OPEN
+from stepcontact.contact.laws import BONDED, OPEN
 from stepcontact.errors import ModelError
 from stepcontact.model.water import CrackWater
 
@@ -72,6 +93,12 @@ class CrackWaterData:
         The entry CFEs of those joints.
     gated : (m,) bool
         CFEs of joints with entries (wet only when joined to an entry by open CFEs).
+    bridged : (m,) bool
+        Closed CFEs that do not cut the connection (conduct water while closed).
+    beyond : tuple
+        Joints with the EM 1110 rule: (order, s, drain) each — the joint's CFEs in order from
+        the entry, their distances from the entry CFE along the joint (m), and (s_d, E,
+        reference) of its drains or None.
     """
 
     wettable: np.ndarray
@@ -83,6 +110,8 @@ class CrackWaterData:
     links: np.ndarray
     entry: np.ndarray
     gated: np.ndarray
+    bridged: np.ndarray | None = None
+    beyond: tuple = ()
     #: wet sets of the open sets seen so far (the driver asks for one scheme many times)
     _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -92,21 +121,109 @@ class CrackWaterData:
         op = self.wettable & (states == OPEN)
         if not self.gated.any():
             return op
-        key = op.tobytes()
+        bridged = self.bridged
+        if bridged is not None:  # closed, not bonded (an intact bond keeps water out)
+            bridged = bridged & self.wettable & (states != BONDED) & ~op
+        key = op.tobytes() if bridged is None else op.tobytes() + bridged.tobytes()
         wet = self._memo.get(key)
         if wet is None:
+            conducts = op if bridged is None else op | bridged
             i, j = self.links
-            both = op[i] & op[j]
+            both = conducts[i] & conducts[j]
             m = len(op)
             graph = sp.csr_matrix((np.ones(int(both.sum())), (i[both], j[both])),
                                   shape=(m, m))
             _, label = connected_components(graph, directed=False)
-            reached = label[self.entry & op]
-            wet = op & (~self.gated | np.isin(label, reached))
+            reached = label[self.entry & conducts]
+            if bridged is not None:  # a component of closed bridged CFEs holds no water
+                reached = np.intersect1d(reached, label[op & self.gated])
+            wet = conducts & (~self.gated | np.isin(label, reached))
             if len(self._memo) >= 256:
                 self._memo.clear()
             self._memo[key] = wet
         return wet.copy()
+
+    def _profile(self, wet: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The EM 1110 profile beyond the tip for the wet set ``wet``: (a, b, tip, end), each
+        (m,) — p_k = a_k p_c[tip_k] + b_k p_u[end_k] on the CFEs with tip_k ≥ 0 (the module's
+        docstring); tip = −1 elsewhere."""
+        key = ("beyond", wet.tobytes())
+        out = self._memo.get(key)
+        if out is not None:
+            return out
+        m = len(wet)
+        a, b = np.zeros(m), np.zeros(m)
+        tip, end = np.full(m, -1, np.int64), np.full(m, -1, np.int64)
+        for order, s, drain in self.beyond:
+            w = np.flatnonzero(wet[order])
+            if not len(w) or w[-1] == len(order) - 1:
+                continue  # dry, or cracked through: nothing beyond the tip
+            t = int(w[-1])
+            rest = np.arange(t + 1, len(order))
+            s_t, s_e, sk = s[t], s[-1], s[rest]
+            if drain is None or drain[0] <= s_t:  # no drains, or the crack has reached them
+                u = (sk - s_t) / (s_e - s_t)
+                ak, bk = 1.0 - u, u
+            else:  # tip → drained head at the drains → toe
+                s_d, eff, ref = drain
+                r = (1.0 - eff) * ((s_e - s_d) / (s_e - s_t) if ref == "line" else 1.0)
+                up = sk <= s_d
+                u1 = (sk - s_t) / (s_d - s_t)
+                u2 = (sk - s_d) / max(s_e - s_d, 1e-300)
+                ak = np.where(up, 1.0 - u1 + u1 * r, (1.0 - u2) * r)
+                bk = np.where(up, u1 * (1.0 - r), (1.0 - u2) * (1.0 - r) + u2)
+            ks = order[rest]
+            a[ks], b[ks], tip[ks], end[ks] = ak, bk, order[t], order[-1]
+        out = (a, b, tip, end)
+        if len(self._memo) >= 256:
+            self._memo.clear()
+        self._memo[key] = out
+        return out
+
+    def _pressures(self, factors: dict[str, float], rates: dict[str, float] | None
+                   ) -> tuple[np.ndarray, np.ndarray]:
+        """(p_c, p_u) (m,), Pa, at the factors (or their rates per unit μ, as :meth:`net`)."""
+        pc, pu = np.zeros(len(self.y)), np.zeros(len(self.y))
+        moving = factors if rates is None else rates
+        for name, q in self.crack.items():
+            pc += moving.get(name, 0.0) * q
+        for name, q in self.uplift.items():
+            pu += moving.get(name, 0.0) * q
+        for name, g in self.level.items():
+            if name not in moving:
+                continue
+            h = factors.get(name, 0.0)
+            if rates is None:
+                pc += g * np.maximum(h - self.y, 0.0)
+            else:
+                r = rates[name]
+                tol = 1e-12 * max(1.0, abs(h))
+                above = (h - self.y > tol) | ((np.abs(h - self.y) <= tol) & (r > 0))
+                pc += r * np.where(above, g, 0.0)
+        return pc, pu
+
+    def force_of(self, wet: np.ndarray, factors: dict[str, float],
+                 rates: dict[str, float] | None = None) -> np.ndarray:
+        """W (m,), N, of the wet set ``wet`` at ``factors`` (with ``rates``: dW/dμ): A (p_c −
+        p_u) on the wet CFEs, and A (p_k − p_u) beyond the tips of EM 1110 joints."""
+        W = np.where(wet, self.area * self.net(factors, rates), 0.0)
+        if not self.beyond or not wet.any():
+            return W
+        a, b, tip, end = self._profile(wet)
+        on = tip >= 0
+        if not on.any():
+            return W
+        pc, pu = self._pressures(factors, rates)
+        p = a[on] * pc[tip[on]] + b[on] * pu[end[on]]
+        W[on] = self.area[on] * (p - pu[on])
+        return W
+
+    def loaded(self, wet: np.ndarray) -> np.ndarray:
+        """The CFEs the crack water loads in the wet set ``wet``: the wet ones and, with the EM
+        1110 rule, those beyond the tip."""
+        if not self.beyond or not wet.any():
+            return wet
+        return wet | (self._profile(wet)[2] >= 0)
 
     def uplift_pressure(self, factors: dict[str, float]) -> np.ndarray:
         """p_u (m,), Pa, at the pattern factors ``factors``."""
@@ -141,19 +258,20 @@ class CrackWaterData:
     def force(self, states: np.ndarray, factors: dict[str, float]) -> np.ndarray:
         """W = A (p_c − p_u) (m,), N, on the wet CFEs of the scheme ``states`` at
         ``factors``."""
-        return np.where(self.wet(states), self.area * self.net(factors), 0.0)
+        return self.force_of(self.wet(states), factors)
 
     def rate(self, states: np.ndarray, factors: dict[str, float],
              rates: dict[str, float]) -> np.ndarray:
         """dW/dμ (m,) of the scheme ``states`` when the factors move at ``rates`` (per unit
         μ) from ``factors``."""
-        return np.where(self.wet(states), self.area * self.net(factors, rates), 0.0)
+        return self.force_of(self.wet(states), factors, rates)
 
     def pressure(self, states: np.ndarray, factors: dict[str, float],
                  water: np.ndarray) -> np.ndarray:
         """Water pressure in the joint (m,), Pa, where the water acts: the CFEs wet in
-        ``states`` or loaded by ``water`` (a jump in progress): W/A + p_u."""
-        filled = self.wet(states) | (water != 0)
+        ``states`` (and beyond the tip under the EM 1110 rule) or loaded by ``water`` (a jump
+        in progress): W/A + p_u."""
+        filled = self.loaded(self.wet(states)) | (water != 0)
         return np.where(filled, water / self.area + self.uplift_pressure(factors), 0.0)
 
     def kinks(self, pattern: str) -> np.ndarray:
@@ -280,6 +398,8 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
     links = [np.zeros((2, 0), np.int64)]
     entry = np.zeros(m, bool)
     gated = np.zeros(m, bool)
+    bridged = np.zeros(m, bool)
+    beyond = []
     for name, cw in entries.items():
         if cw.entry is None:
             continue
@@ -296,6 +416,9 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
             at = [int(np.argmin(np.hypot(*(cfe.x[order] - pt).T))) for pt in points]
             links.append(_chain_links(order))
             entry[order[at]] = True
+            bridged[_bridged(cw, cfe.x[order], order)] = True
+            if cw.rule == "em1110":
+                beyond.append(_em1110_joint(model, cw, cfe.x[order], order, at, item))
         else:  # 3D: the facets of the carrying face, the CFEs along each polyline
             itf = next(i for i in model.interfaces if i.name == name)
             lk = _facet_links(model, cfe, itf, ks)
@@ -311,7 +434,44 @@ def crack_water(model, cfe, levels: dict) -> CrackWaterData | None:
                 pu = np.asarray(ld.function()(cfe.x[ks, 0], cfe.x[ks, 1]), float)
                 uplift.setdefault(p.name, np.zeros(m))[ks] += np.broadcast_to(pu, ks.shape)
     return CrackWaterData(wettable, crack, uplift, level, cfe.area.copy(), y,
-                          np.concatenate(links, axis=1), entry, gated)
+                          np.concatenate(links, axis=1), entry, gated,
+                          bridged if bridged.any() else None, tuple(beyond))
+
+
+def _bridged(cw: CrackWater, x: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """The CFEs (global indices) of a 2D joint whose closure does not cut the crack from the
+    reservoir (:class:`CrackWater` ``bridge``): those within ``bridge`` metres of an entry
+    point (``x``: the joint's CFE points in ``order``; none for ``bridge=0``)."""
+    if cw.bridge <= 0:
+        return order[:0]
+    d = np.min([np.hypot(*(x - pt).T) for pt in cw.entries], axis=0)
+    return order[d <= cw.bridge * (1 + 1e-12)]
+
+
+def _em1110_joint(model, cw: CrackWater, x: np.ndarray, order: np.ndarray, at: list[int],
+                  item: str) -> tuple:
+    """(order, s, drain) of a 2D joint with the EM 1110 rule (:attr:`CrackWaterData.beyond`):
+    its CFEs from the entry end, their distances along the joint from the entry CFE (m), and
+    (s_d, E, reference) of the drains of its :class:`~stepcontact.model.Uplift` (None: no
+    drains).  The entry must be at an end of the joint (the heel)."""
+    from stepcontact.model.water import Uplift
+
+    if len(at) != 1 or at[0] not in (0, len(order) - 1) or len(order) < 2:
+        raise ModelError(f"{item[:-len('.entry')]}.rule", "'em1110' needs one entry at an end of "
+                         "the joint (the heel): the uplift beyond the crack runs from the tip "
+                         "to the other end (the toe)")
+    if at[0] != 0:
+        order, x = order[::-1], x[::-1]
+    s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(x, axis=0).T))]
+    drains = [ld.drains for p in model.patterns for ld in p.loads
+              if isinstance(ld, Uplift) and ld.name == cw.name and ld.drains is not None]
+    drain = None
+    if drains:
+        dr = drains[0]
+        d = x[-1] - x[0]
+        s_d = float((np.asarray(dr.at) - x[0]) @ d / np.hypot(*d)) * s[-1] / np.hypot(*d)
+        drain = (s_d, dr.efficiency, dr.reference)
+    return order, s, drain
 
 
 __all__ = ["CrackWaterData", "crack_water"]

@@ -39,6 +39,9 @@ __all__ = [
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad  # noqa: E402
 
 __all__ += ["CrackWater", "LinearProfile", "Uplift", "WaterLoad"]
+from stepcontact.model.water import Drains  # noqa: E402  (issue 29 §2)
+
+__all__ += ["Drains"]
 
 # joints with initial strength (eq. (12))
 from stepcontact.model.bond import Bond  # noqa: E402

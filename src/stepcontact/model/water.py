@@ -11,6 +11,11 @@ a node set, so reversing a gmsh curve changes nothing.
   pressure head (m of water) or a pressure (Pa): a constant, a :class:`LinearProfile` by
   coordinates (e.g. from the heel head to the toe head, or through a drainage line) or a
   function of (x, y).
+* :meth:`Uplift.drained` — the guidelines' bilinear uplift with a line of drains (full head at
+  the heel, the drained head at the drain line, the tailwater's at the toe; :class:`Drains`).
+* :class:`CrackWater` — water in the opened part of a joint (the crack), with the rule for the
+  uplift beyond the crack's tip (``rule``) and the crack's connection to the reservoir
+  (``bridge``).
 * :class:`LinearProfile` — a value varying linearly between points given by coordinates, for
   :class:`~stepcontact.model.EdgeLoad` pressures too (``EdgeLoad(nodes, normal=profile)``).
 
@@ -183,6 +188,38 @@ class WaterLoad:
         return (EdgeLoad(self.nodes, normal=self.pressure),)
 
 
+#: how the head at a drain line is taken (:meth:`Uplift.drained`)
+DRAIN_REFERENCES = ("line", "tailwater")
+#: the uplift beyond a crack's tip (:class:`CrackWater` ``rule``)
+CRACK_RULES = ("connected", "em1110")
+
+
+@dataclass(frozen=True)
+class Drains:
+    """A line of foundation drains under a joint (:meth:`Uplift.drained`).
+
+    ``at`` (x, y), m: where the drain line meets the joint; ``efficiency`` E ∈ [0, 1]; and
+    ``reference``: the head the drains reduce, ``"line"`` (the undrained heel–toe line at the
+    drains, USACE EM 1110-2-2200 (1995) [section to be checked]) or ``"tailwater"``
+    (the full head difference h_up − h_down, the form for drains near the upstream face in the
+    same section, and USBR (1976)'s h_down + (h_up − h_down)/3, E = 2/3 [to be checked]).  The crack
+    water's EM 1110-2-2100 rule (:class:`CrackWater` ``rule="em1110"``) reads it: the drains
+    act beyond the crack tip while the crack has not reached them.
+    """
+
+    at: tuple[float, float]
+    efficiency: float
+    reference: str = "line"
+
+    def head(self, h_up: float, h_down: float, remaining: float) -> float:
+        """Pressure head at the drain line (m): h_down + (1 − E)(h_up − h_down)·r, with
+        r = (L − X)/L (``remaining``: the fraction of the seepage path from the heel, or the
+        crack tip, to the toe that lies beyond the drains) for ``"line"`` and r = 1 for
+        ``"tailwater"``."""
+        r = remaining if self.reference == "line" else 1.0
+        return h_down + (1.0 - self.efficiency) * (h_up - h_down) * r
+
+
 @dataclass(frozen=True, eq=False)
 class Uplift:
     """Uplift (pore) pressure in a joint: it pushes the S+ body and the S− body apart.
@@ -214,6 +251,10 @@ class Uplift:
 
     In a 3D joint the uplift acts through the CFEs (``through="cfes"``; ``"faces"`` is
     refused), with p evaluated at the plan coordinates (x, y) of each CFE's S+ point.
+
+    ``drains``: the line of drains the profile was built with (:meth:`drained`; None: no
+    drains) — what the EM 1110-2-2100 crack rule of :class:`CrackWater` needs to move the
+    drained profile with the crack tip.
     """
 
     interface: Interface | str
@@ -221,6 +262,62 @@ class Uplift:
     pressure: object = None
     unit_weight: float = UNIT_WEIGHT_WATER
     through: str = "faces"
+    drains: Drains | None = None
+
+    @classmethod
+    def drained(cls, interface: Interface | str, *, heel: tuple[float, float],
+                toe: tuple[float, float], drain: tuple[float, float], efficiency: float,
+                head_up: float = 1.0, head_down: float = 0.0, reference: str = "line",
+                **kw) -> Uplift:
+        """The guidelines' uplift with a line of drains: bilinear, the full head ``head_up``
+        at the ``heel``, h_d at the ``drain`` line, ``head_down`` (the tailwater's pressure
+        head) at the ``toe`` (points (x, y), m; heads in m of water, per unit λ):
+
+        .. math::  h_d = h_{down} + (1 - E)\\,(h_{up} - h_{down})\\, r
+
+        with E the drains' ``efficiency`` and r = (L − X)/L (``reference="line"``: the drains
+        reduce the undrained heel–toe line's head at the drains, L the base length and X the
+        drains' distance from the heel: USACE EM 1110-2-2200 (1995), kept by EM 1110-2-2100
+        (2005) [sections to be checked]; Ebeling et al. (2000) ERDC/ITL TR-00-1) or r = 1
+        (``"tailwater"``: the form for drains near the upstream face, and USBR (1976) Design of
+        Gravity Dams [section to be checked]: h_d = h_down + (h_up − h_down)/3, i.e. E = 2/3
+        [to be checked]).  With the level as the factor of the pattern
+        (``WaterLoad(level=None)``), give ``head_up=1`` (per metre of level, the heel at
+        y = 0) and no tailwater (``head_down=0``): the uplift then scales with the level, like
+        the single-segment profile of ``examples/cracked_base.py``.
+        ``kw`` goes to :class:`Uplift` (``unit_weight``, ``through``)."""
+        name = interface if isinstance(interface, str) else interface.name
+        item = f"uplift on interface '{name}'"
+        e = _finite(efficiency, f"{item}.efficiency")
+        if not 0.0 <= e <= 1.0:
+            raise ModelError(f"{item}.efficiency", f"is {e:g}: a drain efficiency E lies "
+                             "between 0 (no drains) and 1 (the drains take the head to the "
+                             "tailwater's)")
+        if reference not in DRAIN_REFERENCES:
+            raise ModelError(f"{item}.reference", f"'{reference}' is not one of "
+                             f"{', '.join(map(repr, DRAIN_REFERENCES))}")
+        pts = {}
+        for key, v in (("heel", heel), ("toe", toe), ("drain", drain)):
+            a = np.asarray(v, dtype=float)
+            if a.shape != (2,) or not np.all(np.isfinite(a)):
+                raise ModelError(f"{item}.{key}", f"must be a point (x, y), got {v!r}")
+            pts[key] = a
+        h_up = _finite(head_up, f"{item}.head_up")
+        h_down = _finite(head_down, f"{item}.head_down")
+        d = pts["toe"] - pts["heel"]
+        L = float(np.hypot(*d))
+        if L == 0:
+            raise ModelError(f"{item}.toe", "coincides with the heel")
+        X = float((pts["drain"] - pts["heel"]) @ d) / L
+        if not 0.0 < X < L:
+            raise ModelError(f"{item}.drain", f"lies {X:g} m along the base from the heel, "
+                             f"outside the base (0 … {L:g} m): the drains cross the joint "
+                             "between the heel and the toe")
+        drains = Drains((float(pts["drain"][0]), float(pts["drain"][1])), e, reference)
+        h_d = drains.head(h_up, h_down, (L - X) / L)
+        head = [(*map(float, pts["heel"]), h_up), (*map(float, pts["drain"]), h_d),
+                (*map(float, pts["toe"]), h_down)]
+        return cls(interface, head=head, drains=drains, **kw)
 
     @staticmethod
     def form_problem(head, pressure) -> str | None:
@@ -319,6 +416,36 @@ class CrackWater:
     an open entry CFE through open neighbours, two CFEs being neighbours when their nodes
     belong to one facet of the face that carries them (:mod:`stepcontact.fem.crack`).  The
     uplift it replaces is the joint's ``Uplift(through="cfes")``.
+
+    ``bridge`` (m, ≥ 0; 2D joints with an entry): closed CFEs within this distance of an
+    entry point, and not bonded (an intact bond of a bonded joint keeps the water out), do not
+    cut the crack from the reservoir — the water reaches the open CFEs
+    beyond them, and acts on them too (as an effective stress: their contact force drops by
+    A (p_c − p_u)).  At the re-entrant corner of a heel the elastic solution is singular, and
+    the heel CFE may stay closed (slipping under compression) while the CFEs behind it open;
+    with a bridge of about one element at the heel, water enters the crack as soon as it opens
+    behind the heel instead of waiting for the heel to open (then in a cascade of events at
+    one level).  A bridged CFE is wet only when an open CFE lies beyond it (a closed heel alone
+    holds no water).  ``0`` (default) is the strict rule: only open CFEs conduct water, the
+    entry CFE included.
+
+    ``rule``: the uplift *beyond the crack tip* (2D joints with an entry):
+
+    * ``"connected"`` (default) — beyond the wet CFEs the given :class:`Uplift` acts
+      unchanged; the crack water replaces it only in the crack;
+    * ``"em1110"`` — the cracked-base rule of USACE EM 1110-2-2200 (1995), carried into
+      EM 1110-2-2100 (2005) [sections to be checked], as compared for the three federal
+      agencies by Ebeling et al. (2000), ERDC/ITL TR-00-1, and drawn in the CADAM3D help
+      ("USACE uplift distribution with cracking not extending / extending beyond
+      drains"): full reservoir pressure in the crack to its tip, then linear from the tip
+      to the uplift at the toe (the far end of the joint from the entry).  With drains (an
+      ``Uplift.drained`` on the joint) not yet reached by the crack: linear from the tip to
+      the drained head at the drain line, h_toe + (1 − E)(h_tip − h_toe)·(L − X)/(L − T)
+      (``"line"``; L the base length, X the drains' and T the tip's distance from the heel)
+      or h_toe + (1 − E)(h_tip − h_toe) (``"tailwater"``), then linear to the toe.  Once
+      the tip reaches the drain line the drains are ineffective: linear from the tip to the
+      toe.  The profile beyond the tip moves with the tip, at every event that changes
+      the wet set (:mod:`stepcontact.fem.crack`).
     """
 
     interface: Interface | str
@@ -326,6 +453,8 @@ class CrackWater:
     unit_weight: float = UNIT_WEIGHT_WATER
     entry: tuple | None = None
     pressure: float | None = None
+    bridge: float = 0.0
+    rule: str = "connected"
 
     @staticmethod
     def form_problem(level, pressure) -> str | None:
@@ -355,6 +484,18 @@ class CrackWater:
                        stacklevel=4)
         if self.entry is not None:
             object.__setattr__(self, "entry", self._normal_entry(self.entry, f"{item}.entry"))
+        b = _finite(self.bridge, f"{item}.bridge")
+        if b < 0:
+            raise ModelError(f"{item}.bridge", f"is {b:g} m: give a distance ≥ 0 m from the "
+                             "entry (0: only open CFEs conduct water)")
+        object.__setattr__(self, "bridge", b)
+        if self.rule not in CRACK_RULES:
+            raise ModelError(f"{item}.rule", f"'{self.rule}' is not one of "
+                             f"{', '.join(map(repr, CRACK_RULES))}")
+        if self.rule == "em1110" and (self.entry is None or self.entry_dim != 2):
+            raise ModelError(f"{item}.rule", "'em1110' moves the uplift beyond the crack tip, "
+                             "which needs the point where water enters the 2D joint: give "
+                             "entry=(x, y) (the heel)")
 
     @staticmethod
     def _normal_entry(entry, item: str) -> tuple:
@@ -469,5 +610,5 @@ class CrackWater:
         return self.unit_weight * np.maximum(h - y, 0.0)
 
 
-__all__ = ["UNIT_WEIGHT_WATER", "CrackWater", "HydrostaticPressure", "LinearProfile", "Uplift",
-           "WaterLoad"]
+__all__ = ["CRACK_RULES", "DRAIN_REFERENCES", "UNIT_WEIGHT_WATER", "CrackWater", "Drains",
+           "HydrostaticPressure", "LinearProfile", "Uplift", "WaterLoad"]

@@ -1620,8 +1620,7 @@ class _DynamicRun:
         crack, water_on = self.crack, self.water_on
         if crack is None or not water_on.any():
             return np.zeros(self.m)
-        return np.where(water_on, crack.area * crack.net(self.factors_at(t) if c is None
-                                                         else c), 0.0)
+        return crack.force_of(water_on, self.factors_at(t) if c is None else c)
 
     def water_load(self, W: np.ndarray) -> np.ndarray:
         """The nodal load (ndof,) of crack-water forces W (m,): −Bᵀ [0; W]."""
@@ -1972,7 +1971,8 @@ class _DynamicRun:
             W_t = p_t = self.no_water  # (the recorder copies the row)
         else:
             W_t = self.water_at(t, c)
-            p_t = np.where(self.water_on, W_t / crack.area + crack.uplift_pressure(c), 0.0)
+            p_t = np.where(crack.loaded(self.water_on), W_t / crack.area
+                           + crack.uplift_pressure(c), 0.0)
         viol = eng.violation()
         i = self.rec.append(lam=t, segment=0, kind=kind,
                             factors=[c.get(n, 0.0) for n in self.names],

@@ -607,13 +607,21 @@ class _Builder(_References):
             found = [i for i in interfaces if i.name == ld.interface]
             if found:
                 through = ld.through or ("cfes" if self.dim == 3 else "faces")
-                loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight, through))
+                if ld.drained is not None:
+                    d = ld.drained
+                    loads.append(Uplift.drained(
+                        found[0], heel=d.heel, toe=d.toe, drain=d.drain,
+                        efficiency=d.efficiency, head_up=d.head_up, head_down=d.head_down,
+                        reference=d.reference, unit_weight=ld.unit_weight, through=through))
+                else:
+                    loads.append(Uplift(found[0], ld.head, ld.pressure, ld.unit_weight,
+                                        through))
         elif isinstance(ld, CrackWaterSpec):
             found = [i for i in interfaces if i.name == ld.interface]
             if found:
                 loads.append(CrackWater(found[0], ld.level, ld.unit_weight,
                                         None if ld.entry is None else _entry_tuple(ld.entry),
-                                        ld.pressure))
+                                        ld.pressure, ld.bridge, ld.rule))
         elif isinstance(ld, ObstacleMotionLoad):
             if ld.obstacle in obstacles:
                 loads.append(ObstacleMotion(obstacles[ld.obstacle], ld.dx, ld.dy,

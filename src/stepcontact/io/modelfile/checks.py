@@ -78,7 +78,10 @@ def check_plausible(spec: ModelFile, p: _Problems) -> None:
                 p.implausible("gravity", math.hypot(*ld.g), f"{path}.g")
             if isinstance(ld, WaterLoadSpec | UpliftLoadSpec | CrackWaterSpec):
                 p.implausible("unit_weight_water", ld.unit_weight, f"{path}.unit_weight")
-            if isinstance(ld, UpliftLoadSpec):
+            if isinstance(ld, UpliftLoadSpec) and ld.drained is not None:
+                for key in ("head_up", "head_down"):
+                    p.implausible("head", getattr(ld.drained, key), f"{path}.drained.{key}")
+            elif isinstance(ld, UpliftLoadSpec):
                 key, value = (("head", ld.head) if ld.head is not None else
                               ("pressure", ld.pressure))
                 values = ([pt[2] for pt in value.points]

@@ -957,6 +957,23 @@ class WaterLoadSpec(_Spec):
     unit_weight: float = Field(9810.0, gt=0, description="unit weight of water γ_w, N/m³")
 
 
+class DrainedSpec(_Spec):
+    """The guidelines' bilinear uplift with a line of drains (:meth:`Uplift.drained`): the
+    full head at the heel, h_down + (1 − E)(h_up − h_down)·r at the drains, the tailwater's
+    head at the toe."""
+
+    heel: Point = Field(description="the heel (x, y), m: the full head head_up")
+    toe: Point = Field(description="the toe (x, y), m: the tailwater's head head_down")
+    drain: Point = Field(description="where the drain line meets the joint (x, y), m")
+    efficiency: float = Field(ge=0, le=1, description="drain efficiency E, 0 … 1")
+    head_up: float = Field(1.0, description="pressure head at the heel, m of water (1: per "
+                           "metre of level, when the pattern's factor is the level)")
+    head_down: float = Field(0.0, description="pressure head at the toe (tailwater), m")
+    reference: Literal["line", "tailwater"] = Field(
+        "line", description="line: the drains reduce the heel–toe line's head at the drains, "
+        "r = (L − X)/L; tailwater: the full head difference, r = 1 (USBR's h/3 is E = 2/3)")
+
+
 class UpliftLoadSpec(_Spec):
     """Uplift in a joint: the pressure pushes the S+ and S− bodies of ``interface`` apart."""
 
@@ -969,9 +986,16 @@ class UpliftLoadSpec(_Spec):
         None, description="faces: integrated over each face's mesh; cfes: A_k p(x_k) across "
         "each CFE (exact effective stress on non-matching meshes); default faces in 2D, cfes "
         "in 3D (the only way in 3D, p at each CFE's plan position (x, y))")
+    drained: DrainedSpec | None = Field(
+        None, description="the bilinear uplift of a line of drains, instead of head or "
+        "pressure (heel, toe, drain, efficiency, head_up, head_down, reference)")
 
     @model_validator(mode="after")
     def _one(self) -> UpliftLoadSpec:
+        if self.drained is not None:
+            if self.head is not None or self.pressure is not None:
+                raise ValueError("give drained, or head or pressure, not both")
+            return self
         if (text := Uplift.form_problem(self.head, self.pressure)) is not None:
             raise ValueError(text)
         return self
@@ -995,6 +1019,14 @@ class CrackWaterSpec(_Spec):
         "points: only open CFEs joined to one by open CFEs are wet; omitted: every open CFE. "
         "A 3D joint takes (x, y, z) points: a point, a polyline along the upstream edge, or a "
         "list of polylines (the entry CFEs are the row along each)")
+    bridge: float = Field(0.0, ge=0, description="m (2D, with an entry): closed CFEs within "
+                          "this distance of the entry, not bonded, do not cut the crack from "
+                          "the reservoir (the singular heel); 0: only open CFEs conduct water")
+    rule: Literal["connected", "em1110"] = Field(
+        "connected", description="the uplift beyond the crack's tip (2D, with an entry): "
+        "connected: the given uplift; em1110: linear from the tip's pressure to the toe's, "
+        "through the drained head while the crack has not reached the drains (USACE "
+        "EM 1110-2-2100)")
 
     @model_validator(mode="after")
     def _level_or_pressure(self) -> CrackWaterSpec:
