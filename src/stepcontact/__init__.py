@@ -64,14 +64,6 @@ from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import (  # Drains, the *_RULES/REFERENCES: issue 29 §2 (damhand)
-from stepcontact.results.dam_checks import (  # issue 29 §2
-    DamCheck,
-    JointStrength,
-    check_combination,
-    guideline_table,
-    load_guidelines,
-)
-from stepcontact.results.newmark import NewmarkSliding, newmark_sliding  # issue 29: Newmark
     CRACK_RULES,
     DRAIN_REFERENCES,
     CrackWater,
@@ -80,6 +72,14 @@ from stepcontact.results.newmark import NewmarkSliding, newmark_sliding  # issue
     Uplift,
     WaterLoad,
 )
+from stepcontact.results.dam_checks import (  # issue 29 §2
+    DamCheck,
+    JointStrength,
+    check_combination,
+    guideline_table,
+    load_guidelines,
+)
+from stepcontact.results.newmark import NewmarkSliding, newmark_sliding  # issue 29: Newmark
 from stepcontact.results.result import Event, Multipliers, StaticResult, load_result
 from stepcontact.results.sliding import (  # issue 29: a run's slip beside Newmark's block
     JointSlip,
