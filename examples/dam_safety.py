@@ -186,19 +186,20 @@ def _cell(chk, combo: str, check: str, scale: float) -> str:
     v = "—" if r.value is None else f"{r.value * scale:.3g}"
     if r.required is None:
         return v
-    return f"{v} {r.relation}{r.required:.3g} {r.verdict}"
+    mark = "" if r.checked else "*"  # * a required value not confirmed against the document
+    return f"{v} ({r.relation} {r.required:.3g}{mark}) {r.verdict}"
 
 
 def verdict_table(checks: dict, names: list[str]) -> str:
     """The checks of every combination, one column each (value, required value, verdict)."""
     first = checks[names[0]]
     head = f"{first.guideline} ({first.variant})" if first.variant else first.guideline
-    lines = [head, f"{'':28s}" + "".join(f"{n:>19s}" for n in names)]
+    lines = [head, f"{'':28s}" + "".join(f"{n:>24s}" for n in names)]
     for check, label, _unit, scale in ROWS:
-        lines.append(f"{label:28s}" + "".join(f"{_cell(checks[n], n, check, scale):>19s}"
+        lines.append(f"{label:28s}" + "".join(f"{_cell(checks[n], n, check, scale):>24s}"
                                               for n in names))
     lines.append(f"{'verdict':28s}" + "".join(
-        f"{('pass' if checks[n].verdicts().get(n, False) else 'FAIL'):>19s}" for n in names))
+        f"{('pass' if checks[n].verdicts().get(n, False) else 'FAIL'):>24s}" for n in names))
     return "\n".join(lines)
 
 
@@ -216,8 +217,8 @@ def main(out: Path) -> None:
     names = [c.name for c in combos]
     print(f"gravity dam H = {HEIGHT:g} m, B = {B:g} m, f = {FRICTION:g}, c = 0; drains at "
           f"{X_DRAIN:g} m, K = {K_DRAIN:.4f}; silt {SILT[0]:g} m")
-    print("\nguideline checks of the base (value, required value, verdict; every required "
-          "value [to be checked]):")
+    print("\nguideline checks of the base: value (required value) verdict; * a required value "
+          "[to be checked] against the document")
     print(verdict_table(usace, names))
     print(verdict_table(cda, names))
 
