@@ -36,7 +36,7 @@ uplift as given: the run's crack, if any, does not change N').
 Figures (``dam_safety_*.png``): the section with its loads per combination, the base normal
 stress per combination, and the k_h – crest displacement curve up to the yield acceleration.
 Run:  python examples/dam_safety.py [--out DIR]   (figures in DIR, default ./dam_safety_out;
-``--out docs/figures`` refreshes the user guide's figures; about 10 s)
+``--out docs/figures`` refreshes the user guide's figures; a few seconds)
 """
 
 import sys
