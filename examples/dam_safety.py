@@ -27,11 +27,15 @@ k_y: after the usual loads, a segment of a ``SeismicCoefficient`` pattern per un
 dam's inertia and Westergaard's pressure) runs until equilibrium is lost; its λ is k_y,
 located as an event, and k_y / k_h is the margin on the extreme combination's coefficient.
 
+The crack water is on (``Reservoir(level, crack_water=True)``): where the base opens from the
+heel, the full reservoir head replaces the drained uplift.
+
 Hand statics (rigid-body statics of the dam, independent of the model) are printed beside the
 model's figures for every combination whose base stays compressed: ΣV' = N', ΣH, the moment
-about the toe, the resultant's distance from the toe and the sliding factor N' tan φ / H; and
-the yield acceleration by limit equilibrium, k_y = (f N' − H)/(W + (7/12) γ_w h²) (the
-uplift as given: the run's crack, if any, does not change N').
+about the toe, the resultant's distance from the toe and the sliding factor N' tan φ / H.  At
+the yield acceleration every CFE in contact slips, so limit equilibrium gives
+k_y = (f (N' − ΣW) − H₀)/(W + (7/12) γ_w h²), ΣW the crack water's force beyond the uplift
+(read from the run); without the crack (ΣW = 0) it is the uncracked base's k_y.
 
 Figures (``dam_safety_*.png``): the section with its loads per combination, the base normal
 stress per combination, and the k_h – crest displacement curve up to the yield acceleration.
@@ -56,7 +60,7 @@ from stepcontact.model.combinations import (
     Silt,
     Tailwater,
 )
-from stepcontact.results.dam_checks import JointStrength, check_combination
+from stepcontact.results.dam_checks import JointStrength, check_combination, load_guidelines
 
 GAMMA_W, RHO_C, G = 9810.0, 2400.0, 9.81  # N/m³, kg/m³, m/s²
 HEIGHT, CREST, SLOPE = 40.0, 5.0, 0.8  # m, m, horizontal per vertical (downstream batter)
@@ -168,20 +172,17 @@ def hand(h: float, t: float, k_h: float = 0.0) -> dict[str, float]:
 
 
 # ---- output ------------------------------------------------------------------------------------
-ROWS = [("load condition", "class", None, 1.0),
-        ("sliding factor (peak)", "sliding factor N' tan φ / H", "-", 1.0),
-        ("resultant |e|/L", "resultant |e|/L", "-", 1.0),
-        ("compressed base (fraction)", "compressed base L_c/L", "-", 1.0),
-        ("uplift factor", "uplift factor (N' + U)/U", "-", 1.0),
-        ("heel stress (linear)", "heel σ (linear), MPa", "Pa", 1e-6),
-        ("toe stress (linear)", "toe σ (linear), MPa", "Pa", 1e-6),
-        ("crack length", "crack length, m", "m", 1.0)]
+#: the table's rows: (check in DamCheck, label, scale of the value)
+ROWS = [("sliding factor (peak)", "sliding factor N' tan φ / H", 1.0),
+        ("resultant |e|/L", "resultant |e|/L", 1.0),
+        ("compressed base (fraction)", "compressed base L_c/L", 1.0),
+        ("uplift factor", "uplift factor (N' + U)/U", 1.0),
+        ("heel stress (linear)", "heel σ (linear), MPa", 1e-6),
+        ("toe stress (linear)", "toe σ (linear), MPa", 1e-6),
+        ("crack length", "crack length, m", 1.0)]
 
 
 def _cell(chk, combo: str, check: str, scale: float) -> str:
-    if check == "load condition":
-        r = chk.row(combo, "—", check)
-        return r.note.split("'")[-2]  # the guideline's class of the combination's condition
     r = chk.row(combo, "base", check)
     v = "—" if r.value is None else f"{r.value * scale:.3g}"
     if r.required is None:
@@ -190,12 +191,17 @@ def _cell(chk, combo: str, check: str, scale: float) -> str:
     return f"{v} ({r.relation} {r.required:.3g}{mark}) {r.verdict}"
 
 
-def verdict_table(checks: dict, names: list[str]) -> str:
-    """The checks of every combination, one column each (value, required value, verdict)."""
+def verdict_table(checks: dict, combos: list[Combination], guideline: str) -> str:
+    """The checks of every combination against ``guideline``, one column each: the
+    guideline's class of the combination, then value (required value) verdict per check."""
+    g = load_guidelines()[guideline]
+    names = [c.name for c in combos]
     first = checks[names[0]]
     head = f"{first.guideline} ({first.variant})" if first.variant else first.guideline
-    lines = [head, f"{'':28s}" + "".join(f"{n:>24s}" for n in names)]
-    for check, label, _unit, scale in ROWS:
+    lines = [head, f"{'':28s}" + "".join(f"{n:>24s}" for n in names),
+             f"{'class':28s}" + "".join(f"{g.condition_class(c.condition)[0]:>24s}"
+                                        for c in combos)]
+    for check, label, scale in ROWS:
         lines.append(f"{label:28s}" + "".join(f"{_cell(checks[n], n, check, scale):>24s}"
                                               for n in names))
     lines.append(f"{'verdict':28s}" + "".join(
@@ -219,8 +225,8 @@ def main(out: Path) -> None:
           f"{X_DRAIN:g} m, K = {K_DRAIN:.4f}; silt {SILT[0]:g} m")
     print("\nguideline checks of the base: value (required value) verdict; * a required value "
           "[to be checked] against the document")
-    print(verdict_table(usace, names))
-    print(verdict_table(cda, names))
+    print(verdict_table(usace, combos, "usace"))
+    print(verdict_table(cda, combos, "cda"))
 
     print("\nhand statics beside the model (per metre; moments about the toe):")
     levels = {"usual": NORMAL + (0.0,), "flood": FLOOD + (0.0,), "extreme": NORMAL + (K_H,),
