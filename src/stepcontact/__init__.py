@@ -163,3 +163,13 @@ __all__ = [
     "StepInfo",
     "System",
 ]
+
+# issue 29 §1, ground motions from files: earthquake records (PEER .AT2, two-column,
+# one-column with dt), their baseline figures, and the components that act together
+from stepcontact.model.records import (  # noqa: E402
+    AccelerationRecord,
+    GroundMotion,
+    RecordFigures,
+)
+
+__all__ += ["AccelerationRecord", "GroundMotion", "RecordFigures"]

@@ -263,8 +263,9 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
                    max_steps: int = MAX_STEPS, prefix: str = "", ground=None) -> int:
     """Check, before any work, that a dynamic interval of ``duration`` in steps of ``dt`` (s)
     can follow its loads (pattern → time function; ``ground`` the time function of a ground
-    acceleration) and ends; returns the estimated number of steps.  ModelError (items named
-    with ``prefix``, e.g. ``"dynamics."``) when
+    acceleration, or {item: time function} of its components) and ends; returns the
+    estimated number of steps.  ModelError (items named with ``prefix``, e.g.
+    ``"dynamics."``) when
 
     * ``dt`` is longer than the interval (a single stretched step follows nothing);
     * the steps (duration / dt, plus one per break of a load inside the interval) exceed
@@ -289,7 +290,9 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
                          f"({prefix}duration = {duration:g} s): give dt ≤ duration (a step "
                          "that long follows neither the loads nor the motion)")
     funcs = {f"{prefix}loads['{n}']": g for n, g in loads.items()}
-    if ground is not None:
+    if isinstance(ground, Mapping):  # the components of a ground motion, by item
+        funcs.update(ground)
+    elif ground is not None:
         funcs["ground_acceleration"] = ground
     n_breaks = 0
     for g in funcs.values():
