@@ -8,6 +8,7 @@ event budget) writes its result file and exits with code 3.
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import tomllib
@@ -39,6 +40,7 @@ from stepcontact.cli.common import (
     _load,
     _warn,
     events_table,
+    print_records,
 )
 from stepcontact.cli.progress import _run_program
 from stepcontact.enums import SlipTreatment, Status
@@ -210,6 +212,8 @@ def _analyse(
     warnings = [text for _, text in zero_patterns(model)]
     warnings += [f"{item}: {text}" for item, text in program_warnings(model)]
     _warn(warnings)
+    # the earthquake records' baseline figures, before any work (JSON: in the summary)
+    records = print_records(model, Console(file=io.StringIO()) if as_json else console)
     result_path.parent.mkdir(parents=True, exist_ok=True)
     summaries: list[dict[str, Any]] = []
 
@@ -225,6 +229,8 @@ def _analyse(
                        precision=precision, after_static=static_done, stop=stop,
                        scheduler=scheduler)
     (summary,) = summaries
+    if records:
+        summary["ground_motion"] = records
     if out.dynamic is not None:
         summary["dynamics"] = _final_dynamics(model, out.dynamic, stop,
                                               result_path=result_path, plot_path=plot_path,

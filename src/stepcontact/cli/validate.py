@@ -14,7 +14,7 @@ from rich import box
 from rich.console import Console
 from rich.text import Text
 
-from stepcontact.cli.common import EXIT_ERROR, JsonOption, Table
+from stepcontact.cli.common import EXIT_ERROR, JsonOption, Table, print_records
 
 
 def problems_table(problems: Sequence[Any], title: str) -> Table:
@@ -90,6 +90,7 @@ def validate(
             + (f" ({len(warnings)} warnings)" if warnings else ""),
             style="green",
         ))
+        print_records(report.model, console)
 
 
 def check(

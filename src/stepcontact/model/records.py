@@ -75,7 +75,9 @@ G_RECORD = 9.80665
 RecordFormat = Literal["at2", "two_column", "one_column"]
 RECORD_FORMATS: tuple[str, ...] = get_args(RecordFormat)
 #: the units of a record's values and their factor to m/s²
-RECORD_UNITS: dict[str, float] = {"g": G_RECORD, "m/s2": 1.0, "cm/s2": 0.01, "gal": 0.01}
+RecordUnits = Literal["g", "m/s2", "cm/s2", "gal"]
+RECORD_UNITS: dict[str, float] = dict(zip(get_args(RecordUnits), (G_RECORD, 1.0, 0.01, 0.01),
+                                          strict=True))
 #: the axes a component acts along (y is vertical in 2D, z in 3D)
 AXES: tuple[str, ...] = ("x", "y", "z")
 #: the largest deviation of a two-column file's time steps from their median, relative: a
@@ -479,6 +481,28 @@ class GroundMotion:
         return tuple(r.figures() for r in self.records)
 
 
+def model_records(model) -> list[tuple[str, RecordFigures]]:
+    """The records of a model's dynamic intervals (``model.dynamics``, and the stages'
+    ``dynamics``) with their baseline figures: [(interval, figures)], the interval named
+    ``dynamics`` or ``stage 'name'.dynamics`` — what ``stepcontact validate`` and ``run``
+    print before any work."""
+    out: list[tuple[str, RecordFigures]] = []
+    seen: set[int] = set()
+    intervals = [(f"stage '{st.name}'.dynamics", st.dynamics)
+                 for st in getattr(model, "stages", ())]
+    intervals.append(("dynamics", getattr(model, "dynamics", None)))
+    for where, dyn in intervals:
+        ground = getattr(dyn, "ground", None)
+        if ground is None or id(dyn) in seen:
+            continue
+        seen.add(id(dyn))
+        recs = ground.records if isinstance(ground, GroundMotion) else (
+            (ground,) if isinstance(ground, AccelerationRecord) else ())
+        out += [(where, r.figures()) for r in recs]
+    return out
+
+
 __all__ = ["AXES", "DT_TOLERANCE", "G_RECORD", "RECORD_FORMATS", "RECORD_UNITS",
-           "AccelerationRecord", "GroundMotion", "RecordFigures", "arias_cumulative",
-           "read_at2", "read_one_column", "read_two_column", "scale_factor"]
+           "AccelerationRecord", "GroundMotion", "RecordFigures", "RecordUnits",
+           "arias_cumulative", "model_records", "read_at2", "read_one_column",
+           "read_two_column", "scale_factor"]

@@ -178,7 +178,18 @@ class Validation:
             "patterns": len(m.patterns),
             "segments": len(m.effective_program),
             "stages": len(m.stages),
+            **_ground_motion_summary(m),
         }
+
+
+def _ground_motion_summary(model: Model) -> dict[str, Any]:
+    """{"ground_motion": [the baseline figures of every record, with its interval]} of a
+    model whose dynamic intervals have earthquake records ({} without)."""
+    from stepcontact.model.records import model_records
+
+    figs = model_records(model)
+    return {"ground_motion": [{"interval": where, **f.as_dict()} for where, f in figs]
+            } if figs else {}
 
 
 def validation_report(path: str | Path) -> Validation:
