@@ -1216,6 +1216,11 @@ def _ground_components(ground_acceleration) -> tuple[tuple[object, object], ...]
 
 #: the axes a ground acceleration may name (y vertical in 2D, z in 3D)
 _AXES = ("x", "y", "z")
+#: the sign convention of a ground acceleration, carried in the result's ``units``
+#: (``units["ground_acceleration"]``) of a run with one
+GROUND_CONVENTION = ("m s-2; a positive value accelerates the ground along +axis (its "
+                     "direction); u, v, a are relative to the ground (the effective load is "
+                     "-M r a_g(t))")
 
 
 def _ground_translation(system: System, direction) -> np.ndarray:
@@ -2712,7 +2717,8 @@ class _DynamicRun:
             status=status, message=message, counters=counters,
             geometry=result_geometry(system), crack=self.crack is not None,
             units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
-                   "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
+                   "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2",
+                   **({"ground_acceleration": GROUND_CONVENTION} if self.ground else {})},
             u=extra["u"].array(), v=extra["v"].array(), a=extra["a"].array(),
             energy=dict(zip(ENERGY_TERMS, np.array(self.energy, float).reshape(
                 -1, len(ENERGY_TERMS)).T.copy(), strict=True)), dt=self.dt0,
