@@ -391,7 +391,8 @@ def run(
     Prints the events and the summary; writes the result file and a contact-stress figure.
 
     A dynamic interval (the dynamics table) runs after the load program and writes
-    MODEL-dynamic.nc.
+    MODEL-dynamic.nc; its earthquake records' baseline figures (PGA, Arias intensity, 5–95 %
+    duration) and their sign convention are printed first (--json: ground_motion).
     When the program does not complete (lost equilibrium, no answer), the interval cannot
     start: 'dynamics not run: <reason>' is printed on stderr, the JSON summary lists it under
     "dynamics_not_run", and the exit code is 3 (the static result is still written).

@@ -45,6 +45,10 @@ def validate(
     A 3D mesh (volume cells or physical volumes) is an error naming the mesh file and its
     element types: 3D models are not supported yet.
 
+    Earthquake records of a dynamic interval ([[dynamics.ground_motion]]) are read and their
+    baseline figures printed: PGA (m/s² and g) and its time, Arias intensity, 5–95 %
+    duration, sampling (--json: summary.ground_motion).
+
     Exit code 2 when there are errors (warnings alone exit with 0).
 
     Examples:
