@@ -56,8 +56,8 @@ class Tabulated:
     hold: bool = True
 
     def __post_init__(self):
-        t = np.asarray(self.times, dtype=float)
-        v = np.asarray(self.values, dtype=float)
+        t = np.array(self.times, dtype=float)  # (copies: kept read-only below)
+        v = np.array(self.values, dtype=float)
         if t.ndim != 1 or t.shape != v.shape or len(t) < 2:
             raise ModelError("tabulated time function", "give at least two (time, value) pairs "
                              "of the same length")
@@ -69,6 +69,11 @@ class Tabulated:
                              f"({t[k + 1]} s) follows {t[k]} s")
         object.__setattr__(self, "times", tuple(t.tolist()))
         object.__setattr__(self, "values", tuple(v.tolist()))
+        # the arrays np.interp reads at every call (a record of thousands of samples would be
+        # converted from the tuples at every time step otherwise)
+        t.flags.writeable = v.flags.writeable = False
+        object.__setattr__(self, "_t", t)
+        object.__setattr__(self, "_v", v)
 
     @classmethod
     def from_csv(cls, path, hold: bool = True) -> Tabulated:
@@ -95,7 +100,7 @@ class Tabulated:
     def __call__(self, t):
         tt = np.asarray(t, dtype=float)
         right = self.values[-1] if self.hold else 0.0
-        out = np.interp(tt, self.times, self.values, left=0.0, right=right)
+        out = np.interp(tt, self._t, self._v, left=0.0, right=right)
         return out if np.ndim(t) else float(out)
 
     def breaks(self) -> np.ndarray:
