@@ -370,7 +370,8 @@ def test_a_model_file_record_slides_the_block_and_validate_prints_its_figures(tm
 def test_run_prints_the_records_figures_and_the_sign_convention(tmp_path):
     """``stepcontact run`` on a model file with a record (a constant 0.2 g for 0.1 s): the
     record's PGA (0.2 g = 1.961 m/s², by hand) and the sign convention are printed before the
-    run; ``--json`` carries the figures under ``ground_motion`` and the run completes."""
+    run, and the result file carries the convention; ``--json`` carries the figures under
+    ``ground_motion`` and the run completes."""
     write_at2(tmp_path / "short.AT2", [0.2] * 51, 0.002)
     path = tmp_path / "block.toml"
     path.write_text(BLOCK.replace("duration = 0.6", "duration = 0.1")
@@ -381,6 +382,8 @@ def test_run_prints_the_records_figures_and_the_sign_convention(tmp_path):
     text = " ".join(out.output.split())
     assert "dynamics: ground motion x 'short.AT2': PGA 1.961 m/s² (0.2 g) at 0 s" in text
     assert "relative to the ground" in text
+    dres = sc.load_result(tmp_path / "r-dynamic.nc")  # the result file says it too
+    assert "relative to the ground" in dres.units["ground_acceleration"]
     js = CliRunner().invoke(app, ["run", str(path), "-o", str(tmp_path / "j.nc"), "--no-plot",
                                   "--json", "--quiet"])
     assert js.exit_code == 0, js.output
