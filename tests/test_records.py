@@ -394,6 +394,20 @@ def test_run_prints_the_records_figures_and_the_sign_convention(tmp_path):
     assert summary["dynamics"]["status"] == "completed"
 
 
+def test_a_record_longer_than_its_interval_is_warned_about(tmp_path):
+    """A record of 0.2 s in an interval of 0.1 s: ``validate`` warns (exit 0), naming the
+    table and both lengths — the rest of the record would not be applied."""
+    write_at2(tmp_path / "long.AT2", [0.1] * 101, 0.002)
+    path = tmp_path / "block.toml"
+    path.write_text(BLOCK.replace("duration = 0.6", "duration = 0.1")
+                    + '\n[[dynamics.ground_motion]]\nfile = "long.AT2"\n')
+    out = CliRunner().invoke(app, ["validate", str(path), "--json"])
+    assert out.exit_code == 0, out.output
+    (warning,) = json.loads(out.stdout)["problems"]
+    assert warning["item"] == "dynamics.ground_motion[0]"
+    assert "lasts until 0.2 s, the interval only 0.1 s" in warning["message"]
+
+
 @pytest.mark.parametrize(("table", "item", "words"), [
     ('file = "none.AT2"', "dynamics.ground_motion[0].file", "none.AT2"),
     ('file = "r.txt"', "dynamics.ground_motion[0].format", "give the format"),

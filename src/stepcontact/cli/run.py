@@ -199,6 +199,7 @@ def _analyse(
     from stepcontact.fem.loadcheck import zero_patterns
     from stepcontact.io.interrupt import StopRequest
     from stepcontact.model.consistency import check_consistency, program_warnings
+    from stepcontact.model.records import record_warnings
     from stepcontact.results.file import ResultWriter
     from stepcontact.solver.program import check_dynamic_mass
 
@@ -211,6 +212,7 @@ def _analyse(
     check_dynamic_mass(model)  # (a free body without density: needs the assembled DOFs)
     warnings = [text for _, text in zero_patterns(model)]
     warnings += [f"{item}: {text}" for item, text in program_warnings(model)]
+    warnings += [f"{item}: {text}" for item, text in record_warnings(model)]
     _warn(warnings)
     # the earthquake records' baseline figures, before any work (JSON: in the summary)
     records = print_records(model, Console(file=io.StringIO()) if as_json else console)

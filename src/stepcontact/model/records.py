@@ -481,12 +481,9 @@ class GroundMotion:
         return tuple(r.figures() for r in self.records)
 
 
-def model_records(model) -> list[tuple[str, RecordFigures]]:
-    """The records of a model's dynamic intervals (``model.dynamics``, and the stages'
-    ``dynamics``) with their baseline figures: [(interval, figures)], the interval named
-    ``dynamics`` or ``stage 'name'.dynamics`` — what ``stepcontact validate`` and ``run``
-    print before any work."""
-    out: list[tuple[str, RecordFigures]] = []
+def _model_intervals(model):
+    """(name, dynamic interval, its records) of every dynamic interval of ``model`` with
+    records (``model.dynamics`` and the stages' ``dynamics``, each once)."""
     seen: set[int] = set()
     intervals = [(f"stage '{st.name}'.dynamics", st.dynamics)
                  for st in getattr(model, "stages", ())]
@@ -498,11 +495,35 @@ def model_records(model) -> list[tuple[str, RecordFigures]]:
         seen.add(id(dyn))
         recs = ground.records if isinstance(ground, GroundMotion) else (
             (ground,) if isinstance(ground, AccelerationRecord) else ())
-        out += [(where, r.figures()) for r in recs]
+        if recs:
+            yield where, dyn, recs
+
+
+def model_records(model) -> list[tuple[str, RecordFigures]]:
+    """The records of a model's dynamic intervals (``model.dynamics``, and the stages'
+    ``dynamics``) with their baseline figures: [(interval, figures)], the interval named
+    ``dynamics`` or ``stage 'name'.dynamics`` — what ``stepcontact validate`` and ``run``
+    print before any work."""
+    return [(where, r.figures()) for where, _, recs in _model_intervals(model) for r in recs]
+
+
+def record_warnings(model) -> list[tuple[str, str]]:
+    """(item, text) of every record that outlasts its dynamic interval: the part after the
+    interval's end is not applied (a run of a shorter interval is legitimate — the strong
+    phase only — but should be a choice).  Items ``dynamics.ground_motion[j]``."""
+    out = []
+    for where, dyn, recs in _model_intervals(model):
+        for j, r in enumerate(recs):
+            end = float(r.times[-1])
+            if end > float(dyn.duration) * (1 + 1e-9):
+                out.append((f"{where}.ground_motion[{j}]", (
+                    f"the record '{r.name}' lasts until {end:g} s, the interval only "
+                    f"{float(dyn.duration):g} s: the record after {float(dyn.duration):g} s "
+                    f"is not applied (its 95 % Arias time is {r.figures().t95:.4g} s)")))
     return out
 
 
 __all__ = ["AXES", "DT_TOLERANCE", "G_RECORD", "RECORD_FORMATS", "RECORD_UNITS",
            "AccelerationRecord", "GroundMotion", "RecordFigures", "RecordUnits",
            "arias_cumulative", "model_records", "read_at2", "read_one_column",
-           "read_two_column", "scale_factor"]
+           "read_two_column", "record_warnings", "scale_factor"]

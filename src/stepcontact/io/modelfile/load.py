@@ -228,6 +228,10 @@ def validation_report(path: str | Path) -> Validation:
             check_consistency(model)  # what run refuses, seen in the model itself
             for item, text in program_warnings(model):
                 problems.warn(item, text)
+            from stepcontact.model.records import record_warnings
+
+            for item, text in record_warnings(model):  # records cut by their interval
+                problems.warn(item, text)
             out.ndof, out.n_cfes = int(system.dofs.ndof), int(system.cfe.m)
             from stepcontact.fem.loadcheck import zero_patterns
 
