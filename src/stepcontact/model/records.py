@@ -507,13 +507,35 @@ def model_records(model) -> list[tuple[str, RecordFigures]]:
     return [(where, r.figures()) for where, _, recs in _model_intervals(model) for r in recs]
 
 
+def grid_problem(record: AccelerationRecord, dt: float) -> str:
+    """Why the samples of ``record`` are not on the step grid of a dynamic interval of time
+    step ``dt`` (s), or "": the driver lands a step on every sample (a break of the record's
+    time function), so samples between the steps cut every step — each landing a
+    convex combination of a whole step's ends, which the ledger books as numerical
+    dissipation — where a time step equal to the record's, or a whole fraction of it, steps
+    through the samples exactly."""
+    t = np.asarray(record.times)
+    on = np.abs(t / dt - np.round(t / dt)) <= 1e-6 * np.maximum(1.0, np.abs(t / dt))
+    if np.all(on):
+        return ""
+    k = int(np.flatnonzero(~on)[0])
+    return (f"the record '{record.name}' (dt = {record.dt:g} s) has samples off the steps of "
+            f"dt = {dt:g} s (the first at {t[k]:g} s): every step is cut at them, which "
+            f"damps the motion numerically; give dt = {record.dt:g} s or a whole fraction of "
+            "it")
+
+
 def record_warnings(model) -> list[tuple[str, str]]:
-    """(item, text) of every record that outlasts its dynamic interval: the part after the
-    interval's end is not applied (a run of a shorter interval is legitimate — the strong
-    phase only — but should be a choice).  Items ``dynamics.ground_motion[j]``."""
+    """(item, text) of every record whose samples are off the interval's step grid
+    (:func:`grid_problem`), and of every record that outlasts its dynamic interval: the part
+    after the interval's end is not applied (a run of a shorter interval is legitimate — the
+    strong phase only — but should be a choice).  Items ``dynamics.ground_motion[j]``."""
     out = []
     for where, dyn, recs in _model_intervals(model):
         for j, r in enumerate(recs):
+            text = grid_problem(r, float(dyn.dt))
+            if text:
+                out.append((f"{where}.ground_motion[{j}]", text))
             end = float(r.times[-1])
             if end > float(dyn.duration) * (1 + 1e-9):
                 out.append((f"{where}.ground_motion[{j}]", (
@@ -526,4 +548,4 @@ def record_warnings(model) -> list[tuple[str, str]]:
 __all__ = ["AXES", "DT_TOLERANCE", "G_RECORD", "RECORD_FORMATS", "RECORD_UNITS",
            "AccelerationRecord", "GroundMotion", "RecordFigures", "RecordUnits",
            "arias_cumulative", "model_records", "read_at2", "read_one_column",
-           "read_two_column", "record_warnings", "scale_factor"]
+           "grid_problem", "read_two_column", "record_warnings", "scale_factor"]
