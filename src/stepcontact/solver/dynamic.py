@@ -1174,6 +1174,15 @@ class _DampedLayers:
         return 0.5 * self.kn * x**2
 
 
+#: the axes a ground acceleration may name (y vertical in 2D, z in 3D)
+_AXES = ("x", "y", "z")
+#: the sign convention of a ground acceleration, carried in the result's ``units``
+#: (``units["ground_acceleration"]``) of a run with one
+GROUND_CONVENTION = ("m s-2; a positive value accelerates the ground along +axis (its "
+                     "direction); u, v, a are relative to the ground (the effective load is "
+                     "-M r a_g(t))")
+
+
 def _ground_components(ground_acceleration) -> tuple[tuple[object, object], ...]:
     """The components (a_g(t), direction) of ``ground_acceleration``, checked: None (none);
     (a_g, (dx, dy)) — (dx, dy, dz) in 3D, or an axis "x", "y", "z" —; a sequence of such
@@ -1212,15 +1221,6 @@ def _ground_components(ground_acceleration) -> tuple[tuple[object, object], ...]
                                  f"vector (dx, dy), or (dx, dy, dz) in 3D, got {direction!r}")
         out.append((g_fun, direction))
     return tuple(out)
-
-
-#: the axes a ground acceleration may name (y vertical in 2D, z in 3D)
-_AXES = ("x", "y", "z")
-#: the sign convention of a ground acceleration, carried in the result's ``units``
-#: (``units["ground_acceleration"]``) of a run with one
-GROUND_CONVENTION = ("m s-2; a positive value accelerates the ground along +axis (its "
-                     "direction); u, v, a are relative to the ground (the effective load is "
-                     "-M r a_g(t))")
 
 
 def _ground_translation(system: System, direction) -> np.ndarray:
