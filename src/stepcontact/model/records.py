@@ -485,8 +485,8 @@ def _model_intervals(model):
     """(name, dynamic interval, its records) of every dynamic interval of ``model`` with
     records (``model.dynamics`` and the stages' ``dynamics``, each once)."""
     seen: set[int] = set()
-    intervals = [(f"stage '{st.name}'.dynamics", st.dynamics)
-                 for st in getattr(model, "stages", ())]
+    intervals = [(f"stages[{k}].dynamics", st.dynamics)
+                 for k, st in enumerate(getattr(model, "stages", ()))]
     intervals.append(("dynamics", getattr(model, "dynamics", None)))
     for where, dyn in intervals:
         ground = getattr(dyn, "ground", None)
@@ -502,8 +502,8 @@ def _model_intervals(model):
 def model_records(model) -> list[tuple[str, RecordFigures]]:
     """The records of a model's dynamic intervals (``model.dynamics``, and the stages'
     ``dynamics``) with their baseline figures: [(interval, figures)], the interval named
-    ``dynamics`` or ``stage 'name'.dynamics`` — what ``stepcontact validate`` and ``run``
-    print before any work."""
+    ``dynamics`` or ``stages[k].dynamics`` (as in a model file) — what ``stepcontact
+    validate`` and ``run`` print before any work."""
     return [(where, r.figures()) for where, _, recs in _model_intervals(model) for r in recs]
 
 
