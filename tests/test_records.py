@@ -25,6 +25,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -309,8 +310,8 @@ def test_a_record_off_the_step_grid_is_warned_about_and_damped():
     steps pass through the samples and the ledger's numerical term stays 0 (to 1e-15 of the
     input); with dt = 10 ms every step is cut at a sample and the landings remove energy
     (numerical > 1 % of the work put in; measured 30 % over 2 s) — what
-    :func:`grid_problem` warns about."""
-    from stepcontact.model.records import grid_problem
+    :func:`grid_problem` and ``solve_dynamic`` (RecordGridWarning) warn about."""
+    from stepcontact.model.records import RecordGridWarning, grid_problem
 
     k = (2 * np.pi * 2.0) ** 2
     dm = sc.DiscreteModel(K=[[k]], normal_rows=[[1.0]], tangent_rows=[[0.0]], gaps=1e3,
@@ -318,8 +319,12 @@ def test_a_record_off_the_step_grid_is_warned_about_and_damped():
     t = np.arange(401) * 0.005
     rec = AccelerationRecord(t, np.sin(2 * np.pi * 1.3 * t) * np.exp(-0.3 * t), name="r")
     for dt, off in ((0.005, False), (0.0025, False), (0.01, True)):
-        res = sc.solve_dynamic(dm, dt=dt, duration=2.0, mass=np.eye(1),
-                               ground_acceleration=rec)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            res = sc.solve_dynamic(dm, dt=dt, duration=2.0, mass=np.eye(1),
+                                   ground_acceleration=rec)
+        said = [str(w.message) for w in caught if w.category is RecordGridWarning]
+        assert len(said) == int(off)  # solve_dynamic warns where the steps cut the record
         assert res.status == Status.COMPLETED
         work = np.abs(res.energy["external"]).max()
         assert bool(res.energy["numerical"][-1] > 0.01 * work) is off

@@ -170,6 +170,7 @@ from stepcontact.model.records import (  # noqa: E402
     AccelerationRecord,
     GroundMotion,
     RecordFigures,
+    RecordGridWarning,
 )
 
-__all__ += ["AccelerationRecord", "GroundMotion", "RecordFigures"]
+__all__ += ["AccelerationRecord", "GroundMotion", "RecordFigures", "RecordGridWarning"]

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
+from warnings import catch_warnings, simplefilter
 
 import numpy as np
 import typer
@@ -199,7 +200,7 @@ def _analyse(
     from stepcontact.fem.loadcheck import zero_patterns
     from stepcontact.io.interrupt import StopRequest
     from stepcontact.model.consistency import check_consistency, program_warnings
-    from stepcontact.model.records import record_warnings
+    from stepcontact.model.records import RecordGridWarning, record_warnings
     from stepcontact.results.file import ResultWriter
     from stepcontact.solver.program import check_dynamic_mass
 
@@ -226,10 +227,12 @@ def _analyse(
                                         attrs=writer.attrs))
 
     stop = StopRequest()
-    out = _run_program(model, slip=slip, eps_p=eps_p, max_events=max_events,
-                       progress_bar=not quiet and not as_json, output=writer,
-                       precision=precision, after_static=static_done, stop=stop,
-                       scheduler=scheduler)
+    with catch_warnings():  # (said above, by record_warnings)
+        simplefilter("ignore", RecordGridWarning)
+        out = _run_program(model, slip=slip, eps_p=eps_p, max_events=max_events,
+                           progress_bar=not quiet and not as_json, output=writer,
+                           precision=precision, after_static=static_done, stop=stop,
+                           scheduler=scheduler)
     (summary,) = summaries
     if records:
         summary["ground_motion"] = records

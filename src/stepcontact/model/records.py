@@ -507,6 +507,11 @@ def model_records(model) -> list[tuple[str, RecordFigures]]:
     return [(where, r.figures()) for where, _, recs in _model_intervals(model) for r in recs]
 
 
+class RecordGridWarning(UserWarning):
+    """A record whose samples are off the step grid of its dynamic interval
+    (:func:`grid_problem`): every step is cut at them, which damps the motion numerically."""
+
+
 def grid_problem(record: AccelerationRecord, dt: float) -> str:
     """Why the samples of ``record`` are not on the step grid of a dynamic interval of time
     step ``dt`` (s), or "": the driver lands a step on every sample (a break of the record's
@@ -548,4 +553,5 @@ def record_warnings(model) -> list[tuple[str, str]]:
 __all__ = ["AXES", "DT_TOLERANCE", "G_RECORD", "RECORD_FORMATS", "RECORD_UNITS",
            "AccelerationRecord", "GroundMotion", "RecordFigures", "RecordUnits",
            "arias_cumulative", "model_records", "read_at2", "read_one_column",
-           "grid_problem", "read_two_column", "record_warnings", "scale_factor"]
+           "RecordGridWarning", "grid_problem", "read_two_column", "record_warnings",
+           "scale_factor"]

@@ -108,6 +108,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import operator
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -1320,11 +1321,32 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
                          "interval (model.dynamics)")
     check_newmark(dt, duration, alpha=alpha, restitution=restitution)  # the model's rules
     ground = _ground_components(ground_acceleration)
+    _warn_off_grid(ground_acceleration, dt)
     # Δt, the step count and every load's sampling, before any work (check_interval)
     check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
                    else max_steps, ground=_ground_items(ground))
     return Interval(mdl, stage, dt, duration, loads, mass, damping, restitution,
                     record_every, alpha, ground)
+
+
+def _warn_off_grid(ground_acceleration, dt: float) -> None:
+    """A :class:`~stepcontact.model.records.RecordGridWarning` for every earthquake record of
+    ``ground_acceleration`` whose samples are off the step grid of ``dt``
+    (:func:`~stepcontact.model.records.grid_problem`: every step would be cut at them)."""
+    from stepcontact.model.records import (
+        AccelerationRecord,
+        GroundMotion,
+        RecordGridWarning,
+        grid_problem,
+    )
+
+    recs = (ground_acceleration.records if isinstance(ground_acceleration, GroundMotion)
+            else (ground_acceleration,) if isinstance(ground_acceleration, AccelerationRecord)
+            else ())
+    for r in recs:
+        text = grid_problem(r, dt)
+        if text:
+            warnings.warn(RecordGridWarning(f"ground_acceleration: {text}"), stacklevel=4)
 
 
 def _ground_items(ground: tuple) -> dict[str, object]:
