@@ -239,3 +239,13 @@ from stepcontact.model.seismic import (  # noqa: E402
 )
 
 __all__ += ["AddedMass", "SeismicCoefficient", "westergaard_force", "westergaard_mass"]
+# issue 29 §1, ground motions from files: earthquake records (PEER .AT2, two-column,
+# one-column with dt), their baseline figures, and the components that act together
+from stepcontact.model.records import (  # noqa: E402
+    AccelerationRecord,
+    GroundMotion,
+    RecordFigures,
+    RecordGridWarning,
+)
+
+__all__ += ["AccelerationRecord", "GroundMotion", "RecordFigures", "RecordGridWarning"]

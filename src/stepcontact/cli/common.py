@@ -238,3 +238,20 @@ def _state_list(states: Sequence[int], limit: int = 8, count: bool = True) -> st
         return text + more
     return f"{len(states)} state{'' if len(states) == 1 else 's'}: {text}{more}" if states \
         else "no state"
+
+
+def print_records(model: Model | None, console: Console) -> list[dict[str, Any]]:
+    """Print the baseline figures of the earthquake records of ``model``'s dynamic intervals
+    (PGA, Arias intensity, 5–95 % duration, sampling; one line each,
+    :meth:`~stepcontact.model.records.RecordFigures.line`) and return them for the JSON
+    summary (``ground_motion``); nothing without records."""
+    from stepcontact.model.records import model_records
+
+    figs = model_records(model) if model is not None else []
+    for where, f in figs:
+        console.print(Text(f"{where}: {f.line()}"), soft_wrap=True)
+    if figs:
+        console.print(Text("sign convention: a positive record value accelerates the ground "
+                           "along +axis; displacements, velocities and accelerations are "
+                           "relative to the ground"), soft_wrap=True)
+    return [{"interval": where, **f.as_dict()} for where, f in figs]

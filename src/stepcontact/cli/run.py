@@ -8,6 +8,7 @@ event budget) writes its result file and exits with code 3.
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import tomllib
@@ -15,6 +16,7 @@ from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
+from warnings import catch_warnings, simplefilter
 
 import numpy as np
 import typer
@@ -39,6 +41,7 @@ from stepcontact.cli.common import (
     _load,
     _warn,
     events_table,
+    print_records,
 )
 from stepcontact.cli.progress import _run_program
 from stepcontact.enums import SlipTreatment, Status
@@ -197,6 +200,7 @@ def _analyse(
     from stepcontact.fem.loadcheck import zero_patterns
     from stepcontact.io.interrupt import StopRequest
     from stepcontact.model.consistency import check_consistency, program_warnings
+    from stepcontact.model.records import RecordGridWarning, record_warnings
     from stepcontact.results.file import ResultWriter
     from stepcontact.solver.program import check_dynamic_mass
 
@@ -209,7 +213,10 @@ def _analyse(
     check_dynamic_mass(model)  # (a free body without density: needs the assembled DOFs)
     warnings = [text for _, text in zero_patterns(model)]
     warnings += [f"{item}: {text}" for item, text in program_warnings(model)]
+    warnings += [f"{item}: {text}" for item, text in record_warnings(model)]
     _warn(warnings)
+    # the earthquake records' baseline figures, before any work (JSON: in the summary)
+    records = print_records(model, Console(file=io.StringIO()) if as_json else console)
     result_path.parent.mkdir(parents=True, exist_ok=True)
     summaries: list[dict[str, Any]] = []
 
@@ -220,11 +227,15 @@ def _analyse(
                                         attrs=writer.attrs))
 
     stop = StopRequest()
-    out = _run_program(model, slip=slip, eps_p=eps_p, max_events=max_events,
-                       progress_bar=not quiet and not as_json, output=writer,
-                       precision=precision, after_static=static_done, stop=stop,
-                       scheduler=scheduler)
+    with catch_warnings():  # (said above, by record_warnings)
+        simplefilter("ignore", RecordGridWarning)
+        out = _run_program(model, slip=slip, eps_p=eps_p, max_events=max_events,
+                           progress_bar=not quiet and not as_json, output=writer,
+                           precision=precision, after_static=static_done, stop=stop,
+                           scheduler=scheduler)
     (summary,) = summaries
+    if records:
+        summary["ground_motion"] = records
     if out.dynamic is not None:
         summary["dynamics"] = _final_dynamics(model, out.dynamic, stop,
                                               result_path=result_path, plot_path=plot_path,
@@ -385,7 +396,8 @@ def run(
     Prints the events and the summary; writes the result file and a contact-stress figure.
 
     A dynamic interval (the dynamics table) runs after the load program and writes
-    MODEL-dynamic.nc.
+    MODEL-dynamic.nc; its earthquake records' baseline figures (PGA, Arias intensity, 5–95 %
+    duration) and their sign convention are printed first (--json: ground_motion).
     When the program does not complete (lost equilibrium, no answer), the interval cannot
     start: 'dynamics not run: <reason>' is printed on stderr, the JSON summary lists it under
     "dynamics_not_run", and the exit code is 3 (the static result is still written).

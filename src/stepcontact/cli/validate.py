@@ -14,7 +14,7 @@ from rich import box
 from rich.console import Console
 from rich.text import Text
 
-from stepcontact.cli.common import EXIT_ERROR, JsonOption, Table
+from stepcontact.cli.common import EXIT_ERROR, JsonOption, Table, print_records
 
 
 def problems_table(problems: Sequence[Any], title: str) -> Table:
@@ -44,6 +44,10 @@ def validate(
 
     A 3D mesh (volume cells or physical volumes) is an error naming the mesh file and its
     element types: 3D models are not supported yet.
+
+    Earthquake records of a dynamic interval ([[dynamics.ground_motion]]) are read and their
+    baseline figures printed: PGA (m/s² and g) and its time, Arias intensity, 5–95 %
+    duration, sampling (--json: summary.ground_motion).
 
     Exit code 2 when there are errors (warnings alone exit with 0).
 
@@ -90,6 +94,7 @@ def validate(
             + (f" ({len(warnings)} warnings)" if warnings else ""),
             style="green",
         ))
+        print_records(report.model, console)
 
 
 def check(

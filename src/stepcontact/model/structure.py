@@ -143,7 +143,11 @@ class DynamicInterval:
     coefficients (a₀ in 1/s, a₁ in s); ``restitution`` e of the impacts; ``record_every`` k:
     every k-th step is recorded (events and the end always); ``alpha`` the HHT-α numerical
     damping (0: Newmark's average acceleration); ``max_steps`` the limit of the number of
-    time steps (the interval is refused, before any work, when duration / dt exceeds it).
+    time steps (the interval is refused, before any work, when duration / dt exceeds it);
+    ``ground`` the ground acceleration of the interval: an earthquake record or the records
+    that act together (:class:`~stepcontact.model.records.AccelerationRecord`,
+    :class:`~stepcontact.model.records.GroundMotion`; a positive value accelerates the ground
+    along +axis, the displacements are relative to the ground).
 
     Checked at once (:func:`~stepcontact.model.timefunction.check_newmark`: dt and duration
     positive, α ∈ :data:`~stepcontact.model.timefunction.HHT_ALPHA_RANGE`, e ∈ [0, 1];
@@ -161,6 +165,7 @@ class DynamicInterval:
     record_every: int = 1
     alpha: float = 0.0
     max_steps: int = MAX_STEPS
+    ground: object = None
 
     def __post_init__(self):
         # dt, duration, HHT-α and e: the rules solve_dynamic applies to its own arguments
@@ -177,8 +182,14 @@ class DynamicInterval:
             raise ModelError("dynamics.record_every", "must be at least 1")
         object.__setattr__(self, "loads", tuple((str(n), g) for n, g in self.loads))
         object.__setattr__(self, "damping", tuple(float(x) for x in self.damping))
+        ground = None
+        if self.ground is not None:
+            if not hasattr(self.ground, "components"):
+                raise ModelError("dynamics.ground", "must be a record (AccelerationRecord) or "
+                                 f"a GroundMotion, got {type(self.ground).__name__}")
+            ground = {f"dynamics.ground ({ax})": g for g, ax in self.ground.components()}
         check_interval(self.dt, self.duration, dict(self.loads), max_steps=self.max_steps,
-                       prefix="dynamics.")
+                       prefix="dynamics.", ground=ground)
 
 
 @dataclass(frozen=True, eq=False)

@@ -56,8 +56,8 @@ class Tabulated:
     hold: bool = True
 
     def __post_init__(self):
-        t = np.asarray(self.times, dtype=float)
-        v = np.asarray(self.values, dtype=float)
+        t = np.array(self.times, dtype=float)  # (copies: kept read-only below)
+        v = np.array(self.values, dtype=float)
         if t.ndim != 1 or t.shape != v.shape or len(t) < 2:
             raise ModelError("tabulated time function", "give at least two (time, value) pairs "
                              "of the same length")
@@ -69,6 +69,11 @@ class Tabulated:
                              f"({t[k + 1]} s) follows {t[k]} s")
         object.__setattr__(self, "times", tuple(t.tolist()))
         object.__setattr__(self, "values", tuple(v.tolist()))
+        # the arrays np.interp reads at every call (a record of thousands of samples would be
+        # converted from the tuples at every time step otherwise)
+        t.flags.writeable = v.flags.writeable = False
+        object.__setattr__(self, "_t", t)
+        object.__setattr__(self, "_v", v)
 
     @classmethod
     def from_csv(cls, path, hold: bool = True) -> Tabulated:
@@ -95,7 +100,7 @@ class Tabulated:
     def __call__(self, t):
         tt = np.asarray(t, dtype=float)
         right = self.values[-1] if self.hold else 0.0
-        out = np.interp(tt, self.times, self.values, left=0.0, right=right)
+        out = np.interp(tt, self._t, self._v, left=0.0, right=right)
         return out if np.ndim(t) else float(out)
 
     def breaks(self) -> np.ndarray:
@@ -263,8 +268,9 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
                    max_steps: int = MAX_STEPS, prefix: str = "", ground=None) -> int:
     """Check, before any work, that a dynamic interval of ``duration`` in steps of ``dt`` (s)
     can follow its loads (pattern → time function; ``ground`` the time function of a ground
-    acceleration) and ends; returns the estimated number of steps.  ModelError (items named
-    with ``prefix``, e.g. ``"dynamics."``) when
+    acceleration, or {item: time function} of its components) and ends; returns the
+    estimated number of steps.  ModelError (items named with ``prefix``, e.g.
+    ``"dynamics."``) when
 
     * ``dt`` is longer than the interval (a single stretched step follows nothing);
     * the steps (duration / dt, plus one per break of a load inside the interval) exceed
@@ -289,7 +295,9 @@ def check_interval(dt: float, duration: float, loads: Mapping[str, object], *,
                          f"({prefix}duration = {duration:g} s): give dt ≤ duration (a step "
                          "that long follows neither the loads nor the motion)")
     funcs = {f"{prefix}loads['{n}']": g for n, g in loads.items()}
-    if ground is not None:
+    if isinstance(ground, Mapping):  # the components of a ground motion, by item
+        funcs.update(ground)
+    elif ground is not None:
         funcs["ground_acceleration"] = ground
     n_breaks = 0
     for g in funcs.values():

@@ -108,6 +108,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import operator
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -1174,24 +1175,53 @@ class _DampedLayers:
         return 0.5 * self.kn * x**2
 
 
-def _ground_function(ground_acceleration):
-    """The time function a_g(t) of ``ground_acceleration`` = (a_g, (dx, dy)) — (dx, dy, dz)
-    in 3D —, checked."""
+#: the axes a ground acceleration may name (y vertical in 2D, z in 3D)
+_AXES = ("x", "y", "z")
+#: the sign convention of a ground acceleration, carried in the result's ``units``
+#: (``units["ground_acceleration"]``) of a run with one
+GROUND_CONVENTION = ("m s-2; a positive value accelerates the ground along +axis (its "
+                     "direction); u, v, a are relative to the ground (the effective load is "
+                     "-M r a_g(t))")
+
+
+def _ground_components(ground_acceleration) -> tuple[tuple[object, object], ...]:
+    """The components (a_g(t), direction) of ``ground_acceleration``, checked: None (none);
+    (a_g, (dx, dy)) — (dx, dy, dz) in 3D, or an axis "x", "y", "z" —; a sequence of such
+    pairs, applied together; or a record or ground motion
+    (:class:`~stepcontact.model.records.AccelerationRecord`,
+    :class:`~stepcontact.model.records.GroundMotion`: its ``components()``)."""
     if ground_acceleration is None:
-        return None
-    try:
-        g_fun, direction = ground_acceleration
-    except (TypeError, ValueError):
-        raise ModelError("ground_acceleration", "give (time function, (dx, dy)), or "
-                         "(dx, dy, dz) in 3D") from None
-    if not callable(g_fun):
-        raise ModelError("ground_acceleration", "its first entry must be a time function "
-                         "a_g(t), m/s²")
-    d = np.asarray(direction, float)
-    if d.shape not in ((2,), (3,)) or not np.all(np.isfinite(d)) or not np.any(d):
-        raise ModelError("ground_acceleration", f"the direction must be a nonzero vector "
-                         f"(dx, dy), or (dx, dy, dz) in 3D, got {direction!r}")
-    return g_fun
+        return ()
+    if hasattr(ground_acceleration, "components"):
+        pairs = tuple(ground_acceleration.components())
+    elif (isinstance(ground_acceleration, Sequence) and ground_acceleration
+          and not callable(ground_acceleration[0])
+          and all(isinstance(p, Sequence) and len(p) == 2 for p in ground_acceleration)):
+        pairs = tuple(ground_acceleration)
+    else:
+        pairs = (ground_acceleration,)
+    out = []
+    for pair in pairs:
+        try:
+            g_fun, direction = pair
+        except (TypeError, ValueError):
+            raise ModelError("ground_acceleration", "give (time function, (dx, dy)), or "
+                             "(dx, dy, dz) in 3D, a list of such pairs, or a record "
+                             "(AccelerationRecord, GroundMotion)") from None
+        if not callable(g_fun):
+            raise ModelError("ground_acceleration", "its first entry must be a time function "
+                             "a_g(t), m/s²")
+        if isinstance(direction, str):
+            if direction not in _AXES:
+                raise ModelError("ground_acceleration", f"the axis must be one of "
+                                 f"{', '.join(_AXES)}, got {direction!r}")
+        else:
+            d = np.asarray(direction, float)
+            if d.shape not in ((2,), (3,)) or not np.all(np.isfinite(d)) or not np.any(d):
+                raise ModelError("ground_acceleration", f"the direction must be a nonzero "
+                                 f"vector (dx, dy), or (dx, dy, dz) in 3D, got {direction!r}")
+        out.append((g_fun, direction))
+    return tuple(out)
 
 
 def _ground_translation(system: System, direction) -> np.ndarray:
@@ -1200,10 +1230,16 @@ def _ground_translation(system: System, direction) -> np.ndarray:
     frames: their nodes' u_x, u_y; a discrete model: its DOFs' axes
     (:attr:`~stepcontact.DiscreteModel.dof_axes`, r_i = e_i · d) — refused when none of its
     DOFs translates along the direction (the load would be zero)."""
-    d = np.asarray(direction, float)
-    d = d / np.linalg.norm(d)
     dim = (system.discrete.dof_axes.shape[1] if system.discrete is not None
            else system.dofs.dim)
+    if isinstance(direction, str):  # an axis: its unit vector in the model's dimension
+        if _AXES.index(direction) >= dim:
+            raise ModelError("ground_acceleration", f"axis '{direction}' in a {dim}D model: "
+                             f"give {' or '.join(_AXES[:dim])} (the vertical is "
+                             f"{_AXES[dim - 1]})")
+        direction = np.eye(dim)[_AXES.index(direction)]
+    d = np.asarray(direction, float)
+    d = d / np.linalg.norm(d)
     if len(d) != dim:
         raise ModelError("ground_acceleration", f"the direction has {len(d)} components, the "
                          f"model is {dim}D: give ({', '.join('dx dy dz'.split()[:dim])})")
@@ -1240,6 +1276,9 @@ class Interval:
     restitution: float
     record_every: int
     alpha: float
+    #: the ground acceleration's components (a_g(t), direction or axis)
+    #: (:func:`_ground_components`): the argument's, or the dynamic interval's ``ground``
+    ground: tuple = ()
 
 
 def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None = None,
@@ -1275,15 +1314,48 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
         restitution, record_every = spec.restitution, spec.record_every
         alpha = spec.alpha
         max_steps = getattr(spec, "max_steps", None) if max_steps is None else max_steps
+        if ground_acceleration is None:  # the record of the model's interval
+            ground_acceleration = getattr(spec, "ground", None)
     if dt is None or duration is None:
         raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
                          "interval (model.dynamics)")
     check_newmark(dt, duration, alpha=alpha, restitution=restitution)  # the model's rules
+    ground = _ground_components(ground_acceleration)
+    _warn_off_grid(ground_acceleration, dt)
     # Δt, the step count and every load's sampling, before any work (check_interval)
     check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
-                   else max_steps, ground=_ground_function(ground_acceleration))
+                   else max_steps, ground=_ground_items(ground))
     return Interval(mdl, stage, dt, duration, loads, mass, damping, restitution,
-                     record_every, alpha)
+                    record_every, alpha, ground)
+
+
+def _warn_off_grid(ground_acceleration, dt: float) -> None:
+    """A :class:`~stepcontact.model.records.RecordGridWarning` for every earthquake record of
+    ``ground_acceleration`` whose samples are off the step grid of ``dt``
+    (:func:`~stepcontact.model.records.grid_problem`: every step would be cut at them)."""
+    from stepcontact.model.records import (
+        AccelerationRecord,
+        GroundMotion,
+        RecordGridWarning,
+        grid_problem,
+    )
+
+    recs = (ground_acceleration.records if isinstance(ground_acceleration, GroundMotion)
+            else (ground_acceleration,) if isinstance(ground_acceleration, AccelerationRecord)
+            else ())
+    for r in recs:
+        text = grid_problem(r, dt)
+        if text:
+            warnings.warn(RecordGridWarning(f"ground_acceleration: {text}"), stacklevel=4)
+
+
+def _ground_items(ground: tuple) -> dict[str, object]:
+    """{item: a_g(t)} of the ground acceleration's components, for the messages of
+    :func:`~stepcontact.model.timefunction.check_interval`."""
+    if len(ground) == 1:
+        return {"ground_acceleration": ground[0][0]}
+    return {f"ground_acceleration[{i}]" + (f" ({d})" if isinstance(d, str) else ""): g
+            for i, (g, d) in enumerate(ground)}
 
 
 def one_thread(fn):
@@ -1336,7 +1408,9 @@ class _DynamicRun:
         self.iv = iv
         self.alpha, self.restitution = iv.alpha, iv.restitution
         self.record_every = iv.record_every
-        self.ground_acceleration = ground_acceleration
+        #: (a_g(t), direction) of every component of the ground acceleration
+        self.ground = (iv.ground if ground_acceleration is None
+                       else _ground_components(ground_acceleration))
         self.hooks, self.max_events, self.rtol = hooks, max_events, rtol
         self.u0 = u0
         self._assemble(model, initial)
@@ -1499,12 +1573,11 @@ class _DynamicRun:
                              and np.array_equal(self.free, np.arange(self.ndof)))
         self.names = list(system.loads)
         self.f_of = {n: system.loads[n].f for n in self.names}
-        self.r_ground = None
+        self.r_ground: list[tuple[object, np.ndarray]] = []
         self._factors_last: tuple[float, dict] | None = None
         self._F_held_part: tuple[bool, np.ndarray] | None = None
-        if self.ground_acceleration is not None:
-            self.r_ground = -(self.M @ _ground_translation(system,
-                                                           self.ground_acceleration[1]))
+        for g_fun, direction in self.ground:  # −M r a_g(t) per component
+            self.r_ground.append((g_fun, -(self.M @ _ground_translation(system, direction))))
         # water in the opened joints (fem.crack): W = A (p_c − p_u) on the CFEs of
         # ``water_on`` (the wet set of the scheme the run is in), a load −Bᵀ [0; W] that
         # follows the factors in time and jumps where the wet set changes (settle_water)
@@ -1652,8 +1725,8 @@ class _DynamicRun:
                     F += c * f_of[name]
         if F is None:
             F = F0.copy()
-        if self.r_ground is not None:
-            F += float(self.ground_acceleration[0](t)) * self.r_ground
+        for g_fun, r in self.r_ground:
+            F += float(g_fun(t)) * r
         if self.crack is not None and self.water_on.any():
             F += self.water_load(self.water_at(t, c_t))
         return F
@@ -2052,11 +2125,10 @@ class _DynamicRun:
         self.n_impacts = 0
         self.zero_restarts = 0
         self.end_time = end_time = float(self.iv.duration)
-        ga = self.ground_acceleration
         breaks = np.unique(np.concatenate(
             [np.asarray(g.breaks(), float) for g in self.loads.values() if hasattr(g, "breaks")]
-            + ([np.asarray(ga[0].breaks(), float)]
-               if ga is not None and hasattr(ga[0], "breaks") else []) + [np.zeros(0)]))
+            + [np.asarray(g.breaks(), float) for g, _ in self.ground if hasattr(g, "breaks")]
+            + [np.zeros(0)]))
         self.breaks = breaks[(breaks > 0) & (breaks < end_time)]
 
     def integrate(self) -> None:
@@ -2667,7 +2739,8 @@ class _DynamicRun:
             status=status, message=message, counters=counters,
             geometry=result_geometry(system), crack=self.crack is not None,
             units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
-                   "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2"},
+                   "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2",
+                   **({"ground_acceleration": GROUND_CONVENTION} if self.ground else {})},
             u=extra["u"].array(), v=extra["v"].array(), a=extra["a"].array(),
             energy=dict(zip(ENERGY_TERMS, np.array(self.energy, float).reshape(
                 -1, len(ENERGY_TERMS)).T.copy(), strict=True)), dt=self.dt0,

@@ -131,7 +131,7 @@ def solve_dynamic(
     initial: StaticResult | None = None,
     u0: np.ndarray | None = None,
     v0: np.ndarray | None = None,
-    ground_acceleration: tuple[object, tuple[float, float]] | None = None,
+    ground_acceleration: object = None,
     restitution: float = 0.0,
     alpha: float = 0.0,
     record_every: int = 1,
@@ -176,10 +176,16 @@ def solve_dynamic(
         starts so), a compliant layer's its spring's.  A static state
         given as u0 (its loads as time functions, e.g. ``Constant(1.0)``) thus gives the
         answer of ``initial=``.
-    ground_acceleration : (time function, (dx, dy)), optional
-        Ground acceleration a_g(t) (m/s²) along the unit direction (dx, dy): the effective
-        load −M r a_g(t), r the rigid translation along it; displacements are relative to the
-        ground.
+    ground_acceleration : (time function, (dx, dy)), record or GroundMotion, optional
+        Ground acceleration a_g(t) (m/s²) along the unit direction (dx, dy) — (dx, dy, dz) in
+        3D, or an axis "x", "y", "z" —: the effective load −M r a_g(t), r the rigid
+        translation along it; a list of such pairs, an earthquake record
+        (:class:`~stepcontact.model.records.AccelerationRecord`) or the records that act
+        together (:class:`~stepcontact.model.records.GroundMotion`, e.g. horizontal and
+        vertical) are applied together.  A positive a_g accelerates the ground along +d;
+        the displacements, velocities and accelerations reported are relative to the ground
+        (the result's ``units["ground_acceleration"]`` says so).  Default: the model's
+        dynamic interval's ``ground``.
     restitution : float
         Newton's coefficient e ∈ [0, 1] of the impacts of rigid contacts: the step is cut
         where a CFE closes, the normal velocities of the closing (and closed) CFEs jump to

@@ -27,6 +27,7 @@ from stepcontact.io.modelfile.schema import (
     EdgeForceLoad,
     ExtrudeSpec,
     GravityLoad,
+    GroundMotionSpec,
     HalfDiscSpec,
     MaterialSpec,
     MeshBodySpec,
@@ -731,6 +732,9 @@ class _Builder(_References):
                 p.add(item, getattr(e, "problem", str(e)))
                 continue
             loads.append((tf.pattern, g))
+        ground = self._ground_motion(spec.ground_motion, p, where)
+        if ground is False:  # a record that could not be read: reported
+            return None
         d = spec.damping
         try:
             damping = ((d.a0, d.a1) if d.ratios is None else rayleigh_coefficients(
@@ -741,12 +745,51 @@ class _Builder(_References):
                 return None
             return DynamicInterval(spec.dt, spec.duration, tuple(loads), spec.mass, damping,
                                    spec.restitution, spec.record_every, spec.alpha,
-                                   spec.max_steps)
+                                   spec.max_steps, ground)
         except ModelError as e:
             item = e.item
             p.add(where + item[len("dynamics"):] if item.startswith("dynamics") else item,
                   e.problem)
             return None
+
+
+    def _ground_motion(self, specs, p, where: str):
+        """The earthquake records of ``[[{where}.ground_motion]]`` as one
+        :class:`~stepcontact.model.records.GroundMotion` (None without records; False when a
+        record could not be read: the problem is reported, naming the field or the file and
+        its line)."""
+        if not specs:
+            return None
+        from stepcontact.model.records import AccelerationRecord, GroundMotion
+
+        records, ok = [], True
+        for j, gm in enumerate(specs):
+            item = f"{where}.ground_motion[{j}]"
+            if "xyz".index(gm.axis) >= self.dim:
+                p.add(f"{item}.axis", f"'{gm.axis}' in a {self.dim}D model: give x or y (the "
+                      "vertical is y)")
+                ok = False
+                continue
+            path = Path(gm.file)
+            if not path.is_absolute():
+                path = self.base / path
+            try:
+                records.append(AccelerationRecord.read(
+                    path, gm.format, units=gm.units, dt=gm.dt, scale=gm.scale,
+                    target_pga=gm.target_pga, target_pga_g=gm.target_pga_g,
+                    polarity=gm.polarity, axis=gm.axis, name=gm.file))
+            except ModelError as e:  # a field of the table, or the file and its line
+                field = e.item if e.item in GroundMotionSpec.model_fields else "file"
+                text = e.problem if field != "file" or e.item == str(path) else str(e)
+                p.add(f"{item}.{field}", f"{gm.file}: {text}" if field == "file" else text)
+                ok = False
+        if not ok:
+            return False
+        try:
+            return GroundMotion(tuple(records))
+        except ModelError as e:
+            p.add(f"{where}.ground_motion", e.problem)
+            return False
 
 
 def _entry_tuple(entry) -> tuple:

@@ -178,7 +178,18 @@ class Validation:
             "patterns": len(m.patterns),
             "segments": len(m.effective_program),
             "stages": len(m.stages),
+            **_ground_motion_summary(m),
         }
+
+
+def _ground_motion_summary(model: Model) -> dict[str, Any]:
+    """{"ground_motion": [the baseline figures of every record, with its interval]} of a
+    model whose dynamic intervals have earthquake records ({} without)."""
+    from stepcontact.model.records import model_records
+
+    figs = model_records(model)
+    return {"ground_motion": [{"interval": where, **f.as_dict()} for where, f in figs]
+            } if figs else {}
 
 
 def validation_report(path: str | Path) -> Validation:
@@ -216,6 +227,10 @@ def validation_report(path: str | Path) -> Validation:
 
             check_consistency(model)  # what run refuses, seen in the model itself
             for item, text in program_warnings(model):
+                problems.warn(item, text)
+            from stepcontact.model.records import record_warnings
+
+            for item, text in record_warnings(model):  # records cut by their interval
                 problems.warn(item, text)
             out.ndof, out.n_cfes = int(system.dofs.ndof), int(system.cfe.m)
             if model.added_masses:  # the reservoirs' faces and levels (fem.hydrodynamic)

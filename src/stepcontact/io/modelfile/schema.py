@@ -51,6 +51,7 @@ from stepcontact.model.mesh import (
     grading_problem,
 )
 from stepcontact.model.obstacle import ObstacleSide
+from stepcontact.model.records import RecordFormat, RecordUnits
 from stepcontact.model.supports import _ALL_DOFS as ALL_DOFS
 from stepcontact.model.timefunction import HHT_ALPHA_RANGE, RESTITUTION_RANGE, MassKind, PulseShape
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift
@@ -1273,6 +1274,40 @@ class DampingSpec(_Spec):
     frequencies: tuple[float, float] | None = None
 
 
+class GroundMotionSpec(_Spec):
+    """``[[dynamics.ground_motion]]``: an earthquake record applied as the ground acceleration
+    (:class:`~stepcontact.model.records.AccelerationRecord`): a positive value accelerates the
+    ground along +axis; the displacements reported are relative to the ground.  The records
+    of one interval act together, one per axis (horizontal x with vertical y in 2D; x, y, z in
+    3D)."""
+
+    file: str = Field(description="the record file, relative to the model file")
+    format: RecordFormat | None = Field(None, description="at2 (PEER NGA, in g; the default "
+                                        "for a .AT2 file), two_column (time, value) or "
+                                        "one_column (values, with dt)")
+    units: RecordUnits | None = Field(None, description="units of a text file's values "
+                                      "(required for two_column and one_column; an AT2 file "
+                                      "is in g); g = 9.80665 m/s²")
+    dt: float | None = Field(None, gt=0, description="time step of a one_column file, s")
+    scale: float | None = Field(None, gt=0, description="factor on the record's values")
+    target_pga: float | None = Field(None, gt=0, description="scale the record to this peak "
+                                     "ground acceleration, m/s²")
+    target_pga_g: float | None = Field(None, gt=0, description="scale the record to this peak "
+                                       "ground acceleration, in g")
+    polarity: Literal[1, -1] = Field(1, description="-1 flips the record's sign")
+    axis: Literal["x", "y", "z"] = Field("x", description="the axis the ground accelerates "
+                                         "along (y is vertical in 2D, z in 3D)")
+
+    @model_validator(mode="after")
+    def _one_scale(self) -> GroundMotionSpec:
+        given = [k for k in ("scale", "target_pga", "target_pga_g")
+                 if getattr(self, k) is not None]
+        if len(given) > 1:
+            raise ValueError(f"give one of scale, target_pga and target_pga_g, not "
+                             f"{' and '.join(given)}")
+        return self
+
+
 class DynamicsSpec(_Spec):
     """``[dynamics]``: a dynamic interval after the load program (Newmark, events located in
     time), starting from the program's last state."""
@@ -1290,6 +1325,9 @@ class DynamicsSpec(_Spec):
     max_steps: int = Field(10_000_000, ge=1, description="limit of the number of time steps: "
                            "an interval with more (duration / dt) is refused before any work")
     loads: list[TimeFunctionSpec] = []
+    ground_motion: list[GroundMotionSpec] = Field([], description="earthquake records applied "
+                                                  "together as the ground acceleration, one "
+                                                  "per axis")
 
 
 StageSpec.model_rebuild()
