@@ -62,6 +62,7 @@ from stepcontact.model.mesh import (
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
+from stepcontact.model.structure import CRACK_WATER_CHOICES  # issue 29 §1: crack water
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift, WaterLoad
 from stepcontact.results.dam_checks import (  # issue 29 §2
@@ -197,4 +198,6 @@ __all__ = [
     "check_combination",
     "guideline_table",
     "load_guidelines",
+    # issue 29 §1: crack water during an earthquake
+    "CRACK_WATER_CHOICES",
 ]

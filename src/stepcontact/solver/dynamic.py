@@ -120,6 +120,7 @@ from stepcontact.enums import FACET_SLIP, VERTEX_SLIP, Status
 from stepcontact.enums import slipping as _slipping
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
+from stepcontact.model.structure import check_crack_water
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
 from stepcontact.results.build import build_result, cfe_arrays, stage_fields
 from stepcontact.results.recorder import Recorder
@@ -1240,6 +1241,9 @@ class Interval:
     restitution: float
     record_every: int
     alpha: float
+    #: the crack water during the interval (:data:`~stepcontact.model.structure.
+    #: CRACK_WATER_CHOICES`)
+    crack_water: str = "full"
 
 
 def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None = None,
@@ -1247,10 +1251,12 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
                      mass: str | sp.spmatrix = "consistent",
                      damping: tuple[float, float] = (0.0, 0.0), restitution: float = 0.0,
                      record_every: int = 1, alpha: float = 0.0, max_steps: int | None = None,
-                     ground_acceleration=None) -> Interval:
+                     ground_acceleration=None, crack_water: str | None = None) -> Interval:
     """The interval to run: the arguments, or (without dt and duration) the dynamic interval
     of the model or of the stage ``stage``; Δt, the duration, HHT-α and the loads' sampling
-    checked before any work (:func:`~stepcontact.model.timefunction.check_interval`)."""
+    checked before any work (:func:`~stepcontact.model.timefunction.check_interval`).
+    ``crack_water`` None: the interval's own (``DynamicInterval.crack_water``), else
+    ``"full"``."""
     mdl = model.model if isinstance(model, System) else model
     spec = getattr(mdl, "dynamics", None)
     if stage is not None:
@@ -1275,6 +1281,9 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
         restitution, record_every = spec.restitution, spec.record_every
         alpha = spec.alpha
         max_steps = getattr(spec, "max_steps", None) if max_steps is None else max_steps
+    if crack_water is None:
+        crack_water = getattr(spec, "crack_water", "full") if spec is not None else "full"
+    check_crack_water(crack_water, "crack_water")
     if dt is None or duration is None:
         raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
                          "interval (model.dynamics)")
@@ -1283,7 +1292,7 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
     check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
                    else max_steps, ground=_ground_function(ground_acceleration))
     return Interval(mdl, stage, dt, duration, loads, mass, damping, restitution,
-                     record_every, alpha)
+                    record_every, alpha, crack_water)
 
 
 def one_thread(fn):
@@ -1511,6 +1520,39 @@ class _DynamicRun:
         self.crack = crack = system.crack
         self.water_on = (crack.wet(states) if crack is not None and initial is not None
                          else np.zeros(self.m, bool))
+        self._held_water(states)
+
+    def _held_water(self, states) -> None:
+        """The crack water of the interval's choice (``Interval.crack_water``, issue 29 §1):
+        ``p_open`` (m,), Pa, the water pressure a CFE carries while it is open (NaN: dry, the
+        joint's uplift p_u acts as before), fixed at the start for ``"unchanged"`` and
+        ``"none"`` — the wet set of the start (``water_on``) holds its crack pressure
+        p_c = (p_c − p_u) + p_u at the factors the interval starts from; with ``"none"`` a CFE
+        of a crack-water joint closed at the start and carrying uplift holds 0 (W = −A p_u
+        cancels the uplift while it is open).  None for ``"full"`` (the static rule,
+        :meth:`~stepcontact.fem.crack.CrackWaterData.wet`, in time)."""
+        crack, choice = self.crack, self.iv.crack_water
+        self.p_open = None
+        if crack is None or choice == "full":
+            return
+        c0 = self.static
+        p_open = np.full(self.m, np.nan)
+        held = self.water_on
+        p_open[held] = (crack.net(c0) + crack.uplift_pressure(c0))[held]
+        if choice == "none":
+            lifted = np.zeros(self.m, bool)
+            for q in crack.uplift.values():
+                lifted |= q != 0
+            new = crack.wettable & lifted & (states != OPEN) & ~held
+            p_open[new] = 0.0
+        self.p_open = p_open
+
+    def wet_of(self, states) -> np.ndarray:
+        """The CFEs the crack water loads in the scheme ``states`` (m,) bool: the static rule
+        for ``"full"``; the open CFEs with a held pressure (``p_open``) else."""
+        if self.p_open is None:
+            return self.crack.wet(states)
+        return (states == OPEN) & ~np.isnan(self.p_open)
 
     def _initial_loads(self) -> None:
         """The load at t = 0 and the load held from the static run (a static state is at
@@ -1620,8 +1662,11 @@ class _DynamicRun:
         crack, water_on = self.crack, self.water_on
         if crack is None or not water_on.any():
             return np.zeros(self.m)
-        return np.where(water_on, crack.area * crack.net(self.factors_at(t) if c is None
-                                                         else c), 0.0)
+        c = self.factors_at(t) if c is None else c
+        if self.p_open is not None:  # held pressures: W = A (p_held − p_u(t))
+            return np.where(water_on, crack.area * (np.nan_to_num(self.p_open)
+                                                    - crack.uplift_pressure(c)), 0.0)
+        return np.where(water_on, crack.area * crack.net(c), 0.0)
 
     def water_load(self, W: np.ndarray) -> np.ndarray:
         """The nodal load (ndof,) of crack-water forces W (m,): −Bᵀ [0; W]."""
@@ -1907,7 +1952,7 @@ class _DynamicRun:
         returns whether the water moved."""
         moved = False
         for _ in range(2 * self.m + 2):
-            new = self.crack.wet(self.eng.states)
+            new = self.wet_of(self.eng.states)
             if np.array_equal(new, self.water_on):
                 break
             F_left = self.force_at(t_now)
@@ -2302,7 +2347,7 @@ class _DynamicRun:
                      & ((old[changed] == OPEN) != (dec.new[changed] == OPEN))]
         # and a CFE that opens (closes) where crack water enters (leaves): the load of the
         # step changes with it
-        wet_moves = crack is not None and not np.array_equal(crack.wet(dec.new),
+        wet_moves = crack is not None and not np.array_equal(self.wet_of(dec.new),
                                                              self.water_on)
         # and a rigid slip that stops here: its friction force jumps to what equilibrium
         # at t requires (re-solved in accelerations, not the slip's f p)

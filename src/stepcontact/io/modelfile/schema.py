@@ -1219,6 +1219,10 @@ class DynamicsSpec(_Spec):
     record_every: int = Field(1, ge=1)
     max_steps: int = Field(10_000_000, ge=1, description="limit of the number of time steps: "
                            "an interval with more (duration / dt) is refused before any work")
+    crack_water: Literal["full", "unchanged", "none"] = Field(
+        "full", description="water in the opened joints during the interval: full (enters "
+        "every connected opening at its crack pressure), unchanged (the pre-earthquake wet set "
+        "and pressures held) or none (held, and no pressure in the joints opened during it)")
     loads: list[TimeFunctionSpec] = []
 
 
