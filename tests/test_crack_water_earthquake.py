@@ -273,3 +273,21 @@ def test_an_unknown_choice_is_refused_naming_the_item():
     with pytest.raises(ModelError, match=r"crack_water.*'full', 'unchanged' or 'none'"):
         sc.solve_dynamic(m, dt=0.01, duration=0.1, loads={"quake": sc.Constant(0.1)},
                          crack_water="partial")
+
+
+def test_the_model_file_gives_the_choice_and_names_a_wrong_one(tmp_path):
+    """``[dynamics] crack_water`` reaches the interval; an unknown value is a problem of
+    ``dynamics.crack_water``."""
+    from test_dynamic_inputs import DYN_FILE
+
+    path = tmp_path / "m.toml"
+    path.write_text(DYN_FILE.replace('mass = "lumped"', 'mass = "lumped"\n'
+                                     'crack_water = "unchanged"'))
+    assert sc.load_model(path).dynamics.crack_water == "unchanged"
+    path.write_text(DYN_FILE)
+    assert sc.load_model(path).dynamics.crack_water == "full"
+    path.write_text(DYN_FILE.replace('mass = "lumped"', 'mass = "lumped"\n'
+                                     'crack_water = "dry"'))
+    problems = sc.validate_model_file(path)
+    assert any(p.item.startswith("dynamics.crack_water") and p.severity == "error"
+               for p in problems), problems
