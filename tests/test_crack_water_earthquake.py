@@ -81,15 +81,18 @@ def quake():
     return st, runs
 
 
-def _common_checks(res):
+def _common_checks(res, drains=None):
+    """Completed, equilibrium and the contact conditions, the ledger balanced; the water acts
+    in open CFEs only (no contact force there) — except, with "none", the ``drains``
+    (closed before the shaking), which keep W = −A p_u once opened."""
     assert res.status == Status.COMPLETED, res.message
     assert res.residual.max() < 1e-9 and res.violation.max() < 1e-8
     e = res.energy
     assert np.abs(e["error"]).max() < 1e-8 * np.abs(e["external"]).max()
     scale = float(np.abs(res.N).max())
     for i in range(len(res.lam)):
-        wet = _watered(res, i)
-        assert np.all(res.state[i][wet] == OPEN)  # the water acts in open CFEs only
+        wet = _watered(res, i) & (True if drains is None else ~drains)
+        assert np.all(res.state[i][wet] == OPEN)
         np.testing.assert_allclose(res.N[i][wet], 0.0, atol=1e-12 * scale)
 
 
@@ -124,28 +127,30 @@ def test_full_lets_the_reservoir_into_every_opening_joined_to_the_heel(quake):
 def test_the_held_choices_keep_the_pre_earthquake_water_and_pressures(quake, choice):
     st, runs = quake
     res = runs[choice]
-    _common_checks(res)
     x = res.cfe["x"][:, 0]
     held = _watered(st, len(st.lam) - 1)
     closed0 = st.state[-1] != OPEN
     pu = _pu(x)
-    new_any = np.zeros(len(x), bool)
+    drains = closed0 & (pu > 0) if choice == "none" else None
+    _common_checks(res, drains)
+    drained = np.zeros(len(x), bool)
     for i in range(len(res.lam)):
         op = res.state[i] == OPEN
         wet = _watered(res, i)
-        new = op & closed0  # opened by the shaking (closed before it)
-        new_any |= new
+        drained |= op & closed0  # opened by the shaking (closed before it)
         # the held set where it is open, with its pre-earthquake pressure
         np.testing.assert_array_equal(wet & held, op & held)
         np.testing.assert_allclose(res.crack_pressure[i][op & held], _pc(), rtol=1e-9)
         if choice == "unchanged":  # no water enters: the uplift acts there as before
             np.testing.assert_array_equal(wet, op & held)
-        else:  # "none": no pressure at all in a new opening, W = −A p_u cancels the uplift
-            np.testing.assert_array_equal(wet, op & (held | (new & (pu > 0))))
+        else:  # "none": no pressure at all in a crack the shaking opened, from its opening
+            # on, open or closed again: W = −A p_u cancels the uplift there
+            new = drained & drains
+            np.testing.assert_array_equal(wet, (op & held) | new)
             np.testing.assert_allclose(res.crack_pressure[i][new], 0.0, atol=1e-9 * _pc())
             np.testing.assert_allclose(res.water[i][new], -res.cfe["area"][new] * pu[new],
                                        rtol=1e-9)
-    assert new_any[2:].any()  # the shaking opened CFEs beyond the static crack
+    assert drained[2:].any()  # the shaking opened CFEs beyond the static crack
     # and the held CFEs closed during the interval (carrying contact force) and reopened,
     # their pressure back (checked at every state above)
     shut = np.flatnonzero(np.any(res.state[:, held] != OPEN, axis=1))
@@ -177,13 +182,16 @@ def _lifted():
                  sc.Segment("weight", 1.0), sc.Segment("lift", 1.0)), Bb, Hb
 
 
-@pytest.mark.parametrize(("choice", "p"), [("full", 40e3), ("unchanged", 20e3),
-                                           ("none", 0.0)])
-def test_a_block_thrown_off_its_base_moves_under_the_pressure_of_the_choice(choice, p):
+@pytest.mark.parametrize(("choice", "p", "g_drop"), [
+    ("full", 40e3, 2.0), ("unchanged", 20e3, 2.0), ("none", 0.0, 2.0), ("none", 0.0, 0.5)])
+def test_a_block_thrown_off_its_base_moves_under_the_pressure_of_the_choice(choice, p, g_drop):
+    """The ground drops at ``g_drop`` g for 0.04 s.  At 0.5 g only the uplift's help opens
+    the base (m a < m g < m a + B p_u): under "none" the opened base loses the uplift and
+    falls back — it lands and stays drained (no chatter between the two pressures)."""
     m, Bb, Hb = _lifted()
     st = sc.solve_static(m)
     assert st.status == Status.COMPLETED and np.all(st.state[-1] != OPEN)
-    A = 2 * 9.81  # m/s², the ground drops at 2 g for 0.04 s
+    A = g_drop * 9.81  # m/s²
     res = sc.solve_dynamic(m, dt=1e-3, duration=0.06, initial=st, crack_water=choice,
                            ground_acceleration=(Pulse(-A, 0.0, 0.04, "rectangular"),
                                                 (0.0, 1.0)))
@@ -196,14 +204,23 @@ def test_a_block_thrown_off_its_base_moves_under_the_pressure_of_the_choice(choi
     mtot = one @ (M @ one)
     assert mtot == pytest.approx(RHO * Bb * Hb, rel=1e-12)
     allopen = np.flatnonzero(np.all(res.state == OPEN, axis=1) & (res.time < 0.04 - 1e-9))
-    assert allopen.size > 20 and np.all(np.diff(allopen) == 1)
-    i0, i1 = allopen[0], allopen[-1]
+    assert allopen.size > 0
+    run = allopen[: np.argmax(np.r_[np.diff(allopen) != 1, True]) + 1]  # the first flight
+    assert run.size > (20 if g_drop > 1 else 1)
+    i0, i1 = run[0], run[-1]
     vbar = res.v @ (M @ one) / mtot
     acc = (p * Bb - RHO * 9.81 * Bb * Hb) / mtot + A
     np.testing.assert_allclose(vbar[i1] - vbar[i0], acc * (res.time[i1] - res.time[i0]),
                                rtol=1e-9)
     np.testing.assert_allclose(res.crack_pressure[i1], p if choice == "full" else 0.0,
                                atol=1e-9 * 40e3)
+    assert np.abs(res.energy["error"]).max() < 1e-8 * np.abs(res.energy["external"]).max()
+    if choice == "none":  # drained from the first opening on, open or closed
+        first = int(np.flatnonzero(np.all(res.state == OPEN, axis=1))[0])
+        drained = np.broadcast_to(-20e3 * res.cfe["area"], res.water[first:].shape)
+        np.testing.assert_allclose(res.water[first:], drained, rtol=1e-9)
+        if g_drop < 1:  # it falls back: closed at the end, a bounded number of events
+            assert np.all(res.state[-1] != OPEN) and len(res.events) < 100
 
 
 def _staged(choice: str):

@@ -175,8 +175,8 @@ class DynamicInterval:
     enters a new opening (the joint's uplift acts there, as before the earthquake), a held
     CFE that closes carries contact force and gets its held pressure back when it reopens;
     ``"none"`` — as ``"unchanged"``, but a CFE closed at the start that opens during the
-    interval carries no water pressure at all (the joint's uplift is cancelled there,
-    W = −A p_u)."""
+    interval carries no water pressure at all from then on, open or closed again (the
+    joint's uplift is cancelled there, W = −A p_u)."""
 
     dt: float
     duration: float

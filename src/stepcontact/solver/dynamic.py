@@ -50,7 +50,10 @@ on the wet CFEs the force W = A (p_c − p_u) is a load −Bᵀ [0; W] that foll
 time functions; where a CFE opens (closes) the step is cut there, as at any event, and the
 load jumps at that instant — followed like a pulse's edge, the contact forces with it; a CFE
 that opens under the jump is wet in turn.  The pressure in the gap thus follows the opened
-length in time.
+length in time.  That is the choice ``crack_water="full"`` of the interval; ``"unchanged"``
+holds the wet set and pressures the interval starts from, ``"none"`` holds them and puts no
+pressure in the joints the motion opens (:class:`~stepcontact.model.DynamicInterval`,
+:meth:`_DynamicRun._held_water`; issue 29 §1).
 
 Joints with initial strength (eq. (12), :class:`~stepcontact.model.Bond`): a bonded CFE
 carries tension and shear (no relative motion, or its layer's compliance) inside its strength
@@ -1523,36 +1526,41 @@ class _DynamicRun:
         self._held_water(states)
 
     def _held_water(self, states) -> None:
-        """The crack water of the interval's choice (``Interval.crack_water``, issue 29 §1):
-        ``p_open`` (m,), Pa, the water pressure a CFE carries while it is open (NaN: dry, the
-        joint's uplift p_u acts as before), fixed at the start for ``"unchanged"`` and
-        ``"none"`` — the wet set of the start (``water_on``) holds its crack pressure
-        p_c = (p_c − p_u) + p_u at the factors the interval starts from; with ``"none"`` a CFE
-        of a crack-water joint closed at the start and carrying uplift holds 0 (W = −A p_u
-        cancels the uplift while it is open).  None for ``"full"`` (the static rule,
-        :meth:`~stepcontact.fem.crack.CrackWaterData.wet`, in time)."""
+        """The crack water of the interval's choice (``Interval.crack_water``, issue 29 §1),
+        fixed at the start for ``"unchanged"`` and ``"none"``: ``p_open`` (m,), Pa, the water
+        pressure a CFE carries (NaN: dry, the joint's uplift p_u acts as before) — the wet set
+        of the start (``water_on``, ``held``) holds its crack pressure p_c = (p_c − p_u) + p_u
+        at the factors the interval starts from while it is open; with ``"none"`` a CFE of a
+        crack-water joint closed at the start and carrying uplift (``drains``) holds 0 from
+        the instant it first opens, open or closed again (W = −A p_u cancels the uplift of a
+        crack the shaking opened: the rule is monotone, so a CFE that the uplift alone held
+        open cannot chatter between its two pressures at one instant).  None for ``"full"``
+        (the static rule, :meth:`~stepcontact.fem.crack.CrackWaterData.wet`, in time)."""
         crack, choice = self.crack, self.iv.crack_water
         self.p_open = None
         if crack is None or choice == "full":
             return
         c0 = self.static
         p_open = np.full(self.m, np.nan)
-        held = self.water_on
+        self.held = held = self.water_on.copy()
         p_open[held] = (crack.net(c0) + crack.uplift_pressure(c0))[held]
+        self.drains = np.zeros(self.m, bool)
+        self.drained = np.zeros(self.m, bool)  # the drains opened so far
         if choice == "none":
             lifted = np.zeros(self.m, bool)
             for q in crack.uplift.values():
                 lifted |= q != 0
-            new = crack.wettable & lifted & (states != OPEN) & ~held
-            p_open[new] = 0.0
+            self.drains = crack.wettable & lifted & (states != OPEN) & ~held
+            p_open[self.drains] = 0.0
         self.p_open = p_open
 
     def wet_of(self, states) -> np.ndarray:
         """The CFEs the crack water loads in the scheme ``states`` (m,) bool: the static rule
-        for ``"full"``; the open CFEs with a held pressure (``p_open``) else."""
+        for ``"full"``; else the open held CFEs and the drains open now or opened before."""
         if self.p_open is None:
             return self.crack.wet(states)
-        return (states == OPEN) & ~np.isnan(self.p_open)
+        op = states == OPEN
+        return (op & self.held) | (self.drains & (op | self.drained))
 
     def _initial_loads(self) -> None:
         """The load at t = 0 and the load held from the static run (a static state is at
@@ -1957,6 +1965,8 @@ class _DynamicRun:
                 break
             F_left = self.force_at(t_now)
             self.water_on[:] = new
+            if self.p_open is not None:  # ("none": a drain once opened stays drained)
+                self.drained |= new & self.drains
             self.a = self.load_jump(self.force_at(t_now) - F_left, t_now, step)
             moved = True
         return moved
