@@ -308,3 +308,15 @@ def test_the_model_file_gives_the_choice_and_names_a_wrong_one(tmp_path):
     problems = sc.validate_model_file(path)
     assert any(p.item.startswith("dynamics.crack_water") and p.severity == "error"
                for p in problems), problems
+
+
+def test_the_interval_of_the_model_carries_its_choice_and_an_argument_overrides_it():
+    from stepcontact.solver.dynamic import dynamic_interval
+
+    dyn = sc.DynamicInterval(dt=0.01, duration=0.1, loads=(("quake", sc.Constant(0.1)),),
+                             crack_water="none")
+    m = _dam().replace(dynamics=dyn)
+    assert dynamic_interval(m).crack_water == "none"
+    assert dynamic_interval(m, crack_water="unchanged").crack_water == "unchanged"
+    # the arguments' own interval (dt, duration given): the default unless given
+    assert dynamic_interval(m, dt=0.01, duration=0.1).crack_water == "full"

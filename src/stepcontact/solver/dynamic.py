@@ -1258,8 +1258,8 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
     """The interval to run: the arguments, or (without dt and duration) the dynamic interval
     of the model or of the stage ``stage``; Δt, the duration, HHT-α and the loads' sampling
     checked before any work (:func:`~stepcontact.model.timefunction.check_interval`).
-    ``crack_water`` None: the interval's own (``DynamicInterval.crack_water``), else
-    ``"full"``."""
+    ``crack_water`` None: the model's (or stage's) interval's own when it is the one run
+    (``DynamicInterval.crack_water``), else ``"full"``."""
     mdl = model.model if isinstance(model, System) else model
     spec = getattr(mdl, "dynamics", None)
     if stage is not None:
@@ -1284,9 +1284,10 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
         restitution, record_every = spec.restitution, spec.record_every
         alpha = spec.alpha
         max_steps = getattr(spec, "max_steps", None) if max_steps is None else max_steps
-    if crack_water is None:
-        crack_water = getattr(spec, "crack_water", "full") if spec is not None else "full"
-    check_crack_water(crack_water, "crack_water")
+        if crack_water is None:
+            crack_water = getattr(spec, "crack_water", "full")
+    crack_water = check_crack_water("full" if crack_water is None else crack_water,
+                                    "crack_water")
     if dt is None or duration is None:
         raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
                          "interval (model.dynamics)")

@@ -219,7 +219,8 @@ def solve_dynamic(
         estimate.
     crack_water : "full", "unchanged" or "none", optional
         The water in the opened joints (:class:`~stepcontact.model.CrackWater`) during the
-        interval (default: the dynamic interval's ``crack_water``, else ``"full"``):
+        interval (default: the dynamic interval's ``crack_water`` where the model's interval
+        is run, else ``"full"``):
         :class:`~stepcontact.model.DynamicInterval` and the user guide's *Crack water during
         an earthquake* (issue 29 §1).
 
