@@ -320,3 +320,11 @@ def test_the_interval_of_the_model_carries_its_choice_and_an_argument_overrides_
     assert dynamic_interval(m, crack_water="unchanged").crack_water == "unchanged"
     # the arguments' own interval (dt, duration given): the default unless given
     assert dynamic_interval(m, dt=0.01, duration=0.1).crack_water == "full"
+
+
+def test_the_schema_offers_the_model_choices():
+    from stepcontact.io.modelfile import schema
+
+    p = schema()["$defs"]["DynamicsSpec"]["properties"]["crack_water"]
+    assert tuple(p["enum"]) == sc.CRACK_WATER_CHOICES == ("full", "unchanged", "none")
+    assert p["default"] == "full"

@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 import numpy as np
 
@@ -134,7 +135,8 @@ def _check_dimension(model: Model) -> None:
 #: the choices of the crack water during a dynamic interval (:class:`DynamicInterval`
 #: ``crack_water``; issue 29 §1): the static rule, the pre-earthquake water held, or held
 #: with no pressure in the new openings
-CRACK_WATER_CHOICES: tuple[str, ...] = ("full", "unchanged", "none")
+CrackWaterChoice = Literal["full", "unchanged", "none"]
+CRACK_WATER_CHOICES: tuple[str, ...] = get_args(CrackWaterChoice)
 
 
 def check_crack_water(choice, item: str) -> str:
