@@ -1534,8 +1534,8 @@ class _DynamicRun:
         at the factors the interval starts from while it is open; with ``"none"`` a CFE of a
         crack-water joint closed at the start and carrying uplift (``drains``) holds 0 from
         the instant it first opens, open or closed again (W = −A p_u cancels the uplift of a
-        crack the shaking opened: the rule is monotone, so a CFE that the uplift alone held
-        open cannot chatter between its two pressures at one instant).  None for ``"full"``
+        crack the shaking opened: the rule is monotone, so a CFE that only the uplift's help
+        opens cannot chatter between its two pressures at one instant).  None for ``"full"``
         (the static rule, :meth:`~stepcontact.fem.crack.CrackWaterData.wet`, in time)."""
         crack, choice = self.crack, self.iv.crack_water
         self.p_open = None
