@@ -62,6 +62,7 @@ from stepcontact.model.mesh import (
 from stepcontact.model.obstacle import ObstacleMotion, RigidObstacle, RigidPlane
 from stepcontact.model.program import cycles
 from stepcontact.model.stages import Stage
+from stepcontact.model.structure import CRACK_WATER_CHOICES  # issue 29 §1: crack water
 from stepcontact.model.timefunction import Constant, Harmonic, Pulse, Tabulated
 from stepcontact.model.water import (  # Drains, the *_RULES/REFERENCES: issue 29 §2 (damhand)
     CRACK_RULES,
@@ -227,6 +228,8 @@ __all__ = [
     "CRACK_RULES",
     "DRAIN_REFERENCES",
     "Drains",
+    # issue 29 §1: crack water during an earthquake
+    "CRACK_WATER_CHOICES",
 ]
 
 # issue 29 §1 (helper "seismic"): the reservoir's added mass (Westergaard 1933, Kuo 1982) and

@@ -8,6 +8,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 import numpy as np
 
@@ -131,6 +132,21 @@ def _check_dimension(model: Model) -> None:
                                  "CFE's plan position, A_k p across each CFE)")
 
 
+#: the choices of the crack water during a dynamic interval (:class:`DynamicInterval`
+#: ``crack_water``; issue 29 §1): the static rule, the pre-earthquake water held, or held
+#: with no pressure in the new openings
+CrackWaterChoice = Literal["full", "unchanged", "none"]
+CRACK_WATER_CHOICES: tuple[str, ...] = get_args(CrackWaterChoice)
+
+
+def check_crack_water(choice, item: str) -> str:
+    """``choice`` if it is one of :data:`CRACK_WATER_CHOICES`, else ModelError naming
+    ``item``."""
+    if not isinstance(choice, str) or choice not in CRACK_WATER_CHOICES:
+        raise ModelError(item, f"must be {_either(CRACK_WATER_CHOICES)}, got {choice!r}")
+    return choice
+
+
 @dataclass(frozen=True, eq=False)
 class DynamicInterval:
     """A dynamic interval after the load program (method.md §4): Newmark time integration
@@ -154,7 +170,19 @@ class DynamicInterval:
     :func:`~stepcontact.model.timefunction.check_interval`): dt ≤ duration,
     the step count, loads that act inside [0, duration], and at least 10 steps per period of
     a varying load (a harmonic; 5 steps in the duration of a half-sine or triangular pulse or
-    of a table that returns to zero)."""
+    of a table that returns to zero).
+
+    ``crack_water``: the water in the opened joints (:class:`~stepcontact.model.CrackWater`)
+    during the interval, one of :data:`CRACK_WATER_CHOICES` (the guidelines differ on it:
+    the user guide's *Crack water during an earthquake*): ``"full"`` (default) — water
+    enters every opening joined to the entry at its crack pressure, which follows its time
+    function, and leaves a CFE that closes; ``"unchanged"`` — the pre-earthquake wet set and
+    its pressures (at the factors of the state the interval starts from) are held: no water
+    enters a new opening (the joint's uplift acts there, as before the earthquake), a held
+    CFE that closes carries contact force and gets its held pressure back when it reopens;
+    ``"none"`` — as ``"unchanged"``, but a CFE closed at the start that opens during the
+    interval carries no water pressure at all from then on, open or closed again (the
+    joint's uplift is cancelled there, W = −A p_u)."""
 
     dt: float
     duration: float
@@ -166,6 +194,7 @@ class DynamicInterval:
     alpha: float = 0.0
     max_steps: int = MAX_STEPS
     ground: object = None
+    crack_water: str = "full"  # (issue 29 §1: crack water during an earthquake)
 
     def __post_init__(self):
         # dt, duration, HHT-α and e: the rules solve_dynamic applies to its own arguments
@@ -180,6 +209,7 @@ class DynamicInterval:
                              f"coefficients (a0, a1), got {self.damping!r}")
         if int(self.record_every) < 1:
             raise ModelError("dynamics.record_every", "must be at least 1")
+        check_crack_water(self.crack_water, "dynamics.crack_water")
         object.__setattr__(self, "loads", tuple((str(n), g) for n, g in self.loads))
         object.__setattr__(self, "damping", tuple(float(x) for x in self.damping))
         ground = None

@@ -50,7 +50,10 @@ on the wet CFEs the force W = A (p_c − p_u) is a load −Bᵀ [0; W] that foll
 time functions; where a CFE opens (closes) the step is cut there, as at any event, and the
 load jumps at that instant — followed like a pulse's edge, the contact forces with it; a CFE
 that opens under the jump is wet in turn.  The pressure in the gap thus follows the opened
-length in time.
+length in time.  That is the choice ``crack_water="full"`` of the interval; ``"unchanged"``
+holds the wet set and pressures the interval starts from, ``"none"`` holds them and puts no
+pressure in the joints the motion opens (:class:`~stepcontact.model.DynamicInterval`,
+:meth:`_DynamicRun._held_water`; issue 29 §1).
 
 Joints with initial strength (eq. (12), :class:`~stepcontact.model.Bond`): a bonded CFE
 carries tension and shear (no relative motion, or its layer's compliance) inside its strength
@@ -121,6 +124,7 @@ from stepcontact.enums import FACET_SLIP, VERTEX_SLIP, Status
 from stepcontact.enums import slipping as _slipping
 from stepcontact.errors import ModelError
 from stepcontact.fem.assembly import System, assemble, dashpots
+from stepcontact.model.structure import check_crack_water
 from stepcontact.model.timefunction import MASS_KINDS, MAX_STEPS, check_interval, check_newmark
 from stepcontact.results.build import build_result, cfe_arrays, stage_fields
 from stepcontact.results.recorder import Recorder
@@ -1279,6 +1283,9 @@ class Interval:
     #: the ground acceleration's components (a_g(t), direction or axis)
     #: (:func:`_ground_components`): the argument's, or the dynamic interval's ``ground``
     ground: tuple = ()
+    #: the crack water during the interval (:data:`~stepcontact.model.structure.
+    #: CRACK_WATER_CHOICES`)
+    crack_water: str = "full"
 
 
 def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None = None,
@@ -1286,10 +1293,12 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
                      mass: str | sp.spmatrix = "consistent",
                      damping: tuple[float, float] = (0.0, 0.0), restitution: float = 0.0,
                      record_every: int = 1, alpha: float = 0.0, max_steps: int | None = None,
-                     ground_acceleration=None) -> Interval:
+                     ground_acceleration=None, crack_water: str | None = None) -> Interval:
     """The interval to run: the arguments, or (without dt and duration) the dynamic interval
     of the model or of the stage ``stage``; Δt, the duration, HHT-α and the loads' sampling
-    checked before any work (:func:`~stepcontact.model.timefunction.check_interval`)."""
+    checked before any work (:func:`~stepcontact.model.timefunction.check_interval`).
+    ``crack_water`` None: the model's (or stage's) interval's own when it is the one run
+    (``DynamicInterval.crack_water``), else ``"full"``."""
     mdl = model.model if isinstance(model, System) else model
     spec = getattr(mdl, "dynamics", None)
     if stage is not None:
@@ -1316,6 +1325,10 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
         max_steps = getattr(spec, "max_steps", None) if max_steps is None else max_steps
         if ground_acceleration is None:  # the record of the model's interval
             ground_acceleration = getattr(spec, "ground", None)
+        if crack_water is None:
+            crack_water = getattr(spec, "crack_water", "full")
+    crack_water = check_crack_water("full" if crack_water is None else crack_water,
+                                    "crack_water")
     if dt is None or duration is None:
         raise ModelError("dynamics", "give dt and duration (s), or a model with a dynamic "
                          "interval (model.dynamics)")
@@ -1326,7 +1339,7 @@ def dynamic_interval(model, *, stage: int | str | None = None, dt: float | None 
     check_interval(dt, duration, loads or {}, max_steps=MAX_STEPS if max_steps is None
                    else max_steps, ground=_ground_items(ground))
     return Interval(mdl, stage, dt, duration, loads, mass, damping, restitution,
-                    record_every, alpha, ground)
+                    record_every, alpha, ground, crack_water)
 
 
 def _warn_off_grid(ground_acceleration, dt: float) -> None:
@@ -1584,6 +1597,44 @@ class _DynamicRun:
         self.crack = crack = system.crack
         self.water_on = (crack.wet(states) if crack is not None and initial is not None
                          else np.zeros(self.m, bool))
+        self._held_water(states)
+
+    def _held_water(self, states) -> None:
+        """The crack water of the interval's choice (``Interval.crack_water``, issue 29 §1),
+        fixed at the start for ``"unchanged"`` and ``"none"``: ``p_open`` (m,), Pa, the water
+        pressure a CFE carries (NaN: dry, the joint's uplift p_u acts as before) — the wet set
+        of the start (``water_on``, ``held``) holds its crack pressure p_c = (p_c − p_u) + p_u
+        at the factors the interval starts from while it is open; with ``"none"`` a CFE of a
+        crack-water joint closed at the start and carrying uplift (``drains``) holds 0 from
+        the instant it first opens, open or closed again (W = −A p_u cancels the uplift of a
+        crack the shaking opened: the rule is monotone, so a CFE that only the uplift's help
+        opens cannot chatter between its two pressures at one instant).  None for ``"full"``
+        (the static rule, :meth:`~stepcontact.fem.crack.CrackWaterData.wet`, in time)."""
+        crack, choice = self.crack, self.iv.crack_water
+        self.p_open = None
+        if crack is None or choice == "full":
+            return
+        c0 = self.static
+        p_open = np.full(self.m, np.nan)
+        self.held = held = self.water_on.copy()
+        p_open[held] = (crack.net(c0) + crack.uplift_pressure(c0))[held]
+        self.drains = np.zeros(self.m, bool)
+        self.drained = np.zeros(self.m, bool)  # the drains opened so far
+        if choice == "none":
+            lifted = np.zeros(self.m, bool)
+            for q in crack.uplift.values():
+                lifted |= q != 0
+            self.drains = crack.wettable & lifted & (states != OPEN) & ~held
+            p_open[self.drains] = 0.0
+        self.p_open = p_open
+
+    def wet_of(self, states) -> np.ndarray:
+        """The CFEs the crack water loads in the scheme ``states`` (m,) bool: the static rule
+        for ``"full"``; else the open held CFEs and the drains open now or opened before."""
+        if self.p_open is None:
+            return self.crack.wet(states)
+        op = states == OPEN
+        return (op & self.held) | (self.drains & (op | self.drained))
 
     def _initial_loads(self) -> None:
         """The load at t = 0 and the load held from the static run (a static state is at
@@ -1693,7 +1744,11 @@ class _DynamicRun:
         crack, water_on = self.crack, self.water_on
         if crack is None or not water_on.any():
             return np.zeros(self.m)
-        return crack.force_of(water_on, self.factors_at(t) if c is None else c)
+        c = self.factors_at(t) if c is None else c
+        if self.p_open is not None:  # held pressures: W = A (p_held − p_u(t))
+            return np.where(water_on, crack.area * (np.nan_to_num(self.p_open)
+                                                    - crack.uplift_pressure(c)), 0.0)
+        return crack.force_of(water_on, c)
 
     def water_load(self, W: np.ndarray) -> np.ndarray:
         """The nodal load (ndof,) of crack-water forces W (m,): −Bᵀ [0; W]."""
@@ -1979,11 +2034,13 @@ class _DynamicRun:
         returns whether the water moved."""
         moved = False
         for _ in range(2 * self.m + 2):
-            new = self.crack.wet(self.eng.states)
+            new = self.wet_of(self.eng.states)
             if np.array_equal(new, self.water_on):
                 break
             F_left = self.force_at(t_now)
             self.water_on[:] = new
+            if self.p_open is not None:  # ("none": a drain once opened stays drained)
+                self.drained |= new & self.drains
             self.a = self.load_jump(self.force_at(t_now) - F_left, t_now, step)
             moved = True
         return moved
@@ -2374,7 +2431,7 @@ class _DynamicRun:
                      & ((old[changed] == OPEN) != (dec.new[changed] == OPEN))]
         # and a CFE that opens (closes) where crack water enters (leaves): the load of the
         # step changes with it
-        wet_moves = crack is not None and not np.array_equal(crack.wet(dec.new),
+        wet_moves = crack is not None and not np.array_equal(self.wet_of(dec.new),
                                                              self.water_on)
         # and a rigid slip that stops here: its friction force jumps to what equilibrium
         # at t requires (re-solved in accelerations, not the slip's f p)

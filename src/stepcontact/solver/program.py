@@ -141,6 +141,7 @@ def solve_dynamic(
     stage: int | str | None = None,
     backend: str = "auto",
     max_steps: int | None = None,
+    crack_water: str | None = None,
 ) -> DynamicResult:
     """Newmark time integration with the contact state followed exactly at every step, eqs.
     (7)–(10) (:mod:`stepcontact.solver.dynamic`'s docstring; the steps are
@@ -222,6 +223,12 @@ def solve_dynamic(
         :data:`~stepcontact.model.timefunction.MAX_STEPS` = 10⁷): an interval that would take
         more (duration / Δt plus the loads' breaks) is refused before any work, with the
         estimate.
+    crack_water : "full", "unchanged" or "none", optional
+        The water in the opened joints (:class:`~stepcontact.model.CrackWater`) during the
+        interval (default: the dynamic interval's ``crack_water`` where the model's interval
+        is run, else ``"full"``):
+        :class:`~stepcontact.model.DynamicInterval` and the user guide's *Crack water during
+        an earthquake* (issue 29 §1).
 
     Refused before any work (ModelError naming the item,
     :func:`~stepcontact.model.timefunction.check_interval`): Δt longer than the interval; more
@@ -269,7 +276,7 @@ def solve_dynamic(
     iv = _dynamic.dynamic_interval(
         model, stage=stage, dt=dt, duration=duration, loads=loads, mass=mass, damping=damping,
         restitution=restitution, record_every=record_every, alpha=alpha, max_steps=max_steps,
-        ground_acceleration=ground_acceleration)
+        ground_acceleration=ground_acceleration, crack_water=crack_water)
     system = model if isinstance(model, System) else assemble(model)
     if in_stages(system):
         initial = _stages_before(system, initial, iv.stage)

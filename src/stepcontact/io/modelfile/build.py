@@ -745,7 +745,7 @@ class _Builder(_References):
                 return None
             return DynamicInterval(spec.dt, spec.duration, tuple(loads), spec.mass, damping,
                                    spec.restitution, spec.record_every, spec.alpha,
-                                   spec.max_steps, ground)
+                                   spec.max_steps, ground, crack_water=spec.crack_water)
         except ModelError as e:
             item = e.item
             p.add(where + item[len("dynamics"):] if item.startswith("dynamics") else item,

@@ -52,6 +52,7 @@ from stepcontact.model.mesh import (
 )
 from stepcontact.model.obstacle import ObstacleSide
 from stepcontact.model.records import RecordFormat, RecordUnits
+from stepcontact.model.structure import CrackWaterChoice
 from stepcontact.model.supports import _ALL_DOFS as ALL_DOFS
 from stepcontact.model.timefunction import HHT_ALPHA_RANGE, RESTITUTION_RANGE, MassKind, PulseShape
 from stepcontact.model.water import CrackWater, LinearProfile, Uplift
@@ -1324,6 +1325,10 @@ class DynamicsSpec(_Spec):
     record_every: int = Field(1, ge=1)
     max_steps: int = Field(10_000_000, ge=1, description="limit of the number of time steps: "
                            "an interval with more (duration / dt) is refused before any work")
+    crack_water: CrackWaterChoice = Field(
+        "full", description="water in the opened joints during the interval: full (enters "
+        "every connected opening at its crack pressure), unchanged (the pre-earthquake wet set "
+        "and pressures held) or none (held, and no pressure in the joints opened during it)")
     loads: list[TimeFunctionSpec] = []
     ground_motion: list[GroundMotionSpec] = Field([], description="earthquake records applied "
                                                   "together as the ground acceleration, one "
