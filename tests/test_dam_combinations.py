@@ -11,10 +11,10 @@ weight (trapezoid = rectangle + triangle), the hydrostatic thrusts (γ_w h²/2 a
 tailwater's horizontal thrust and the weight of the water wedge on the downstream face, the
 uplift (two trapezoids through the drain head), the silt (K γ'_s s²/2 at s/3), the pseudo-
 static inertia k_h W at the centroid and the reservoir's hydrodynamic force (Westergaard 1933)
-(7/12) k_h γ_w h² at 0.4 h above the base (vertical face); their moment about the toe gives the resultant's distance
-a = M/N' from the toe, e = L/2 − a, and the sliding factor F = (c A + N' tan φ)/H
-(EM 1110-2-2100 eq. 3-1), the linear base pressure N'/L (1 ± 6e/L) and the flotation factor
-(N' + U)/U.
+(7/12) k_h γ_w h² at 0.4 h above the base (vertical face); their moment about the toe gives
+the resultant's distance a = M/N' from the toe, e = L/2 − a, and the sliding factor
+F = (c A + N' tan φ)/H (EM 1110-2-2100 eq. 3-1), the linear base pressure N'/L (1 ± 6e/L)
+and the flotation factor (N' + U)/U.
 
 **Tolerance**: 1e-9 relative.  The joint's resultant force and moment equal the loads' by the
 equilibrium of the dam whatever the foundation's stiffness; the loads are integrated exactly
@@ -106,7 +106,7 @@ def hand(h: float, t: float, silt=None, k_h: float = 0.0, k_v: float = 0.0,
         if k_h:
             forces.append((k_h * w, k_v * w, xc, yc))
     forces.append((GW * h * h / 2, 0.0, 0.0, h / 3))  # reservoir on the vertical face
-    if k_h and hydro:  # Westergaard (1933): (7/12) k_h γ_w h² at 0.4 h, horizontal on a vertical face
+    if k_h and hydro:  # Westergaard (1933): (7/12) k_h γ_w h² at 0.4 h, horizontal
         forces.append((7 / 12 * k_h * GW * h * h, 0.0, 0.0, 0.4 * h))
     forces.append((-GW * t * t / 2, 0.0, B, t / 3))  # tailwater, horizontal
     forces.append((0.0, -GW * SLOPE * t * t / 2, B - SLOPE * t / 3, 0.0))  # water wedge
@@ -400,7 +400,8 @@ def test_per_joint_checks_of_a_dam_in_two_lifts():
 
 def test_program_order_and_crack_water_in_the_uplift_factor():
     """The program: self-weight, tailwater, reservoir to its level, silt (exact list).  With
-    crack water and k_h = 0.15 (with the hydrodynamic force) the heel opens over 4.5 m and water enters beyond the heel CFE
+    crack water and k_h = 0.15 (with the hydrodynamic force) the heel opens over 4.5 m and
+    water enters beyond the heel CFE
     (where the uplift is below the reservoir's head): the uplift factor is the downward loads
     over the uplift plus the crack water, (W + V_tw)/(U + ΣW_crack), with W, V_tw (the
     tailwater wedge) and U by hand and ΣW_crack from the run (1e-9 relative)."""
