@@ -61,19 +61,20 @@ Example
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from stepcontact.errors import ModelError
-from stepcontact.model.loads import G_STANDARD, BodyForce, EdgeLoad, LoadPattern, NodalLoad
+from stepcontact.model import plausible
+from stepcontact.model.loads import G_STANDARD, BodyForce, LoadPattern, NodalLoad
 from stepcontact.model.seismic import AddedMass, SeismicCoefficient
 from stepcontact.model.structure import Model, Segment
 from stepcontact.model.supports import NodeSet
 from stepcontact.model.water import (
     UNIT_WEIGHT_WATER,
     CrackWater,
-    HydrostaticPressure,
     Uplift,
     WaterLoad,
 )
@@ -300,9 +301,14 @@ class Silt:
         _finite(self.coefficient, "silt.coefficient", positive=True)
 
     def items(self, site: DamSite, combo: Combination) -> dict[str, list]:
-        p = HydrostaticPressure(float(self.level),
-                                float(self.coefficient * self.submerged_unit_weight))
-        return {"silt": [EdgeLoad(n, normal=p) for n in site.upstream]}
+        # a WaterLoad of the equivalent fluid: its edges are split at the silt's level, so
+        # the nodal forces are exact (an EdgeLoad's Gauss rule is not, across the kink); the
+        # check of a water's unit weight does not apply to the silt's K γ'_s
+        gamma = float(self.coefficient * self.submerged_unit_weight)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", plausible.PlausibilityWarning)
+            return {"silt": [WaterLoad(n, level=float(self.level), unit_weight=gamma)
+                             for n in site.upstream]}
 
 
 def _face_pair(site: DamSite, y: float, item: str) -> tuple[list[tuple], list[float]]:
