@@ -423,8 +423,20 @@ def summary(study: DamStudy) -> dict[str, Any]:
                    "level": n.level, "values": n.values, "hand": n.hand}
                   for n in study.named],
         "notes": study.notes, "cpu_seconds": study.seconds,
+        "verdict": study.verdict, "verdicts": study.verdicts,
+        "checks": [] if study.checks is None else [
+            {"combination": r.combination, "joint": r.joint, "check": r.check,
+             "value": r.value, "unit": r.unit, "required": r.required,
+             "relation": r.relation, "verdict": r.verdict, "source": r.source,
+             "checked": r.checked, "note": r.note} for r in study.checks.rows],
+        "yield_acceleration": None if study.yield_acceleration is None else {
+            k: getattr(study.yield_acceleration, k)
+            for k in ("k_y", "mode", "design", "top", "margin", "first_slip",
+                      "first_opening", "open_length", "crack_water", "hand", "message",
+                      "seconds")},
     })
 
 
-__all__ = ["CASES", "DamStudy", "NamedState", "base_stresses", "hand_levels", "run_dam",
+__all__ = ["CASES", "CombinationRun", "DamStudy", "NamedState", "YieldAcceleration",
+           "base_stresses", "hand_levels", "run_combinations", "run_dam", "run_yield",
            "summary"]
