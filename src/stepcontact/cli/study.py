@@ -257,9 +257,9 @@ def study(
                            "duration, a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on "
                            "40 × 4): about 30 s on two idle cores (the full study, 29 cases "
                            "and its mesh check: about 7 min with --workers 2). dam: cells of "
-                           "H/15 (2 m for the default dam): 5 s of CPU, 15–19 s on two "
-                           "cores under a load of 10 (the full study, H/60: 7 s of CPU, "
-                           "29 s).")
+                           "H/15 (2 m for the default dam), with its combinations and yield "
+                           "run: 5.6 s of CPU, 18 s on two cores under a load of 12 (the "
+                           "full study, H/60: 12 s of CPU, 39 s).")
     ] = False,
     E0: Annotated[
         float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
