@@ -422,3 +422,21 @@ def test_program_order_and_crack_water_in_the_uplift_factor():
     assert chk.row("wet", "base", CHECKS["uplift"]).value == pytest.approx(
         down / (ref["U"] + wet), rel=RTOL)
     assert chk.row("wet", "base", "crack length").value > 0
+
+
+def test_silt_level_between_nodes_is_exact():
+    """Silt to 7.5 m on 3 m cells (the level inside an edge): the silt's thrust K γ'_s s²/2
+    at s/3 by hand, through ΣQ and the resultant's position (1e-9 relative).  Integrated by
+    the edge's Gauss rule across the kink ΣQ was off by 1.3e-4; the silt is now a WaterLoad of
+    its equivalent fluid, split at its level."""
+    site = dam_site()
+    silt = (7.5, 9000.0, 0.5)
+    combo = Combination("usual", "usual", (SelfWeight(), Reservoir(33.0), Tailwater(3.0),
+                                           BaseUplift(drain=(X_DRAIN, 0.0), ratio=K_DRAIN),
+                                           Silt(*silt)))
+    res = sc.solve_static(combo.model(site))
+    _closed(res)
+    ref = hand(33.0, 3.0, silt)
+    s = res.interface_safety("base", heel=(0, 0))
+    assert s.shear_force[-1] == pytest.approx(ref["H"], rel=RTOL)
+    assert s.from_toe[-1] == pytest.approx(ref["a"], rel=RTOL)
