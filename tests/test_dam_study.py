@@ -343,6 +343,7 @@ def test_the_report_has_the_verdicts_and_the_yield_acceleration(checked_study, t
     assert "## Yield acceleration" in md
     assert f"| the run's k_y | {st.yield_acceleration.k_y:.6g} |" in md
     assert "USACE EM 1110-2-2100" in md and "Westergaard 1933" in md
+    assert R.FIGURES["yield"] in md and (tmp_path / "rep" / R.FIGURES["yield"]).is_file()
     js = json.loads(files["summary"].read_text(encoding="utf-8"))
     assert js["verdict"] == "FAIL" and js["verdicts"]["usual"] == st.verdicts["usual"]
     assert js["yield_acceleration"]["k_y"] == pytest.approx(st.yield_acceleration.k_y,
@@ -379,3 +380,18 @@ def test_bad_combination_fields_name_the_field():
                        (dict(compressive_strength=0.0), "dam.compressive_strength")):
         with pytest.raises(ModelError, match=field.replace(".", r"\.")):
             DamSection(**bad)
+
+
+def test_the_yield_figure_is_readable(checked_study):
+    """The yield figure: readable, its curve ends at k_y (the last state of the k_h segment),
+    the design k_h and k_y marked in its legend, the open length within the base."""
+    st = checked_study
+    y = st.yield_acceleration
+    fig = R.plot_yield(st)
+    assert_readable(fig)
+    ax, axo = fig.axes[:2]
+    line = ax.get_lines()[0]
+    assert line.get_ydata()[-1] == y.k_y and line.get_ydata()[0] == 0.0
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert f"k_y = {y.k_y:.4f} (sliding)" in labels and "design k_h = 0.3" in labels
+    assert axo.get_ylim() == (0.0, st.section.base_length)

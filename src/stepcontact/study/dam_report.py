@@ -30,7 +30,7 @@ import numpy as np
 
 from stepcontact.io.atomic import write_text
 from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
-from stepcontact.study.dam import DamSection
+from stepcontact.study.dam import DAM, JOINT, DamSection
 from stepcontact.study.dam_study import DamStudy, base_stresses, summary
 from stepcontact.study.report import (
     _Block,
@@ -51,7 +51,8 @@ if TYPE_CHECKING:
 #: the figure files written by :func:`write_report`, relative to its ``out_dir``
 FIGURES = {"section": "figures/section.png", "base_stresses": "figures/base_stresses.png",
            "crack_length": "figures/crack_length.png",
-           "level_displacement": "figures/level_displacement.png"}
+           "level_displacement": "figures/level_displacement.png",
+           "yield": "figures/yield_acceleration.png"}
 #: colours of the named states
 COLORS = {"self-weight": "#7f7f7f", "normal": "#1f77b4", "flood": "#ff7f0e",
           "first break": "#9467bd", "first opening": "#2ca02c", "failure": "#d62728"}
@@ -227,6 +228,63 @@ def plot_level_displacement(study: DamStudy, path: str | os.PathLike[str] | None
     ax.set_ylabel("reservoir level h (m)")
     ax.grid(True, alpha=0.3)
     ax.set_title("Level against crest displacement (λ–u)", fontsize="medium")
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=3,
+               fontsize="x-small", frameon=False)
+    save_figure(fig, p, dpi)
+    return fig
+
+
+def yield_path(study: DamStudy) -> dict[str, np.ndarray]:
+    """The states of the yield run's k_h segment (and the last state before it, k_h = 0):
+    ``k_h``, ``crest_ux`` (m, the upstream crest corner), ``open_length`` (m)."""
+    y = study.yield_acceleration
+    res = y.result
+    seg = np.asarray(res.segment)
+    quake = [g for g, (pt, _, _) in enumerate(res.segments) if pt == "earthquake"]
+    on = np.flatnonzero(np.isin(seg, quake))
+    states = np.r_[on[0] - 1, on] if on.size and on[0] > 0 else on
+    k_h = np.where(np.isin(seg[states], quake), np.asarray(res.lam, float)[states], 0.0)
+    ux = np.asarray(res.node_history(point=study.section.corners[3], quantity="ux", body=DAM),
+                    float)[states]
+    opened = np.asarray(res.interface_safety(JOINT, heel=(0.0, 0.0)).open_length,
+                        float)[states]
+    return {"k_h": k_h, "crest_ux": ux, "open_length": opened}
+
+
+def plot_yield(study: DamStudy, path: str | os.PathLike[str] | None = None, *,
+               dpi: float = DPI) -> Figure:
+    """The incremental analysis to failure on k_h: left, k_h against the crest's horizontal
+    displacement (mm) after the usual loads; right, the open length of the base (m) against
+    k_h; dotted: the design k_h, the first slip and first opening, the yield acceleration
+    k_y."""
+    p = figure_path(path, dpi)
+    y = study.yield_acceleration
+    pth = yield_path(study)
+    fig = new_figure(figsize=(9.0, 5.0))
+    ax, axo = fig.subplots(1, 2)
+    ax.plot(pth["crest_ux"] * 1e3, pth["k_h"], color="k", lw=1.4, marker=".",
+            label="reported states")
+    axo.step(pth["k_h"], pth["open_length"], where="post", color="#d62728", lw=1.6,
+             label="open length")
+    marks = [(y.design, "#1f77b4", f"design k_h = {y.design:g}")]
+    if y.first_slip is not None:
+        marks.append((y.first_slip, "#7f7f7f", f"first slip {y.first_slip:.3f}"))
+    if y.first_opening is not None:
+        marks.append((y.first_opening, "#2ca02c", f"first opening {y.first_opening:.3f}"))
+    if y.k_y is not None:
+        marks.append((y.k_y, "#d62728", f"k_y = {y.k_y:.4f} ({y.mode})"))
+    for v, c, label in marks:
+        ax.axhline(v, color=c, lw=1.0, ls=":", label=label)
+        axo.axvline(v, color=c, lw=1.0, ls=":")
+    ax.set_xlabel("crest displacement u_x (mm, downstream > 0)")
+    ax.set_ylabel("seismic coefficient k_h (g)")
+    axo.set_xlabel("seismic coefficient k_h (g)")
+    axo.set_ylabel("open length of the base (m)")
+    axo.set_ylim(0.0, study.section.base_length)
+    axo.set_xlim(0.0, max(float(pth["k_h"].max(initial=0.0)), y.design) * 1.05)
+    for a in (ax, axo):
+        a.grid(True, alpha=0.3)
+    fig.suptitle("Yield acceleration: k_h raised after the usual loads", fontsize="medium")
     fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=3,
                fontsize="x-small", frameon=False)
     save_figure(fig, p, dpi)
@@ -558,7 +616,11 @@ def _yield(study: DamStudy) -> list[_Block]:
                   "ΣH(k) = ΣH₀ + k (W + P). It equals the run's k_y when the base stays "
                   "compressed up to it; a cracked base (crack water, a lost compressed area) "
                   "or a bond that breaks progressively gives a lower k_y."),
-            _Table(("quantity", "value"), rows)]
+            _Table(("quantity", "value"), rows),
+            _Image(FIGURES["yield"], "yield acceleration",
+                   "k_h against the crest's displacement after the usual loads, and the open "
+                   "length of the base against k_h (the design k_h, the first slip and "
+                   "opening and k_y dotted).")]
 
 
 def _events(study: DamStudy) -> list[_Block]:
@@ -623,10 +685,13 @@ def write_report(study: DamStudy, out_dir: str | os.PathLike[str], *,
     the figures of :data:`FIGURES` and the run's result file ``result.nc`` (for
     ``stepcontact info``, ``plot`` and ``export``), all atomically; their paths by key."""
     out = Path(out_dir)
-    paths = {key: out / rel for key, rel in FIGURES.items()}
-    for key, plot in (("section", plot_section), ("base_stresses", plot_base_stresses),
-                      ("crack_length", plot_crack_length),
-                      ("level_displacement", plot_level_displacement)):
+    plots = [("section", plot_section), ("base_stresses", plot_base_stresses),
+             ("crack_length", plot_crack_length),
+             ("level_displacement", plot_level_displacement)]
+    if study.yield_acceleration is not None:
+        plots.append(("yield", plot_yield))
+    paths = {key: out / FIGURES[key] for key, _ in plots}
+    for key, plot in plots:
         plot(study, paths[key], dpi=dpi)
     title, blocks = report_blocks(study)
     paths["markdown"], paths["html"] = out / "report.md", out / "report.html"
@@ -640,4 +705,5 @@ def write_report(study: DamStudy, out_dir: str | os.PathLike[str], *,
 
 
 __all__ = ["COLORS", "FIELDS", "FIGURES", "plot_base_stresses", "plot_crack_length",
-           "plot_level_displacement", "plot_section", "report_blocks", "write_report"]
+           "plot_level_displacement", "plot_section", "plot_yield", "report_blocks",
+           "write_report", "yield_path"]
