@@ -337,7 +337,9 @@ def test_the_report_has_the_verdicts_and_the_yield_acceleration(checked_study, t
     st = checked_study
     files = R.write_report(st, tmp_path / "rep")
     md = files["markdown"].read_text(encoding="utf-8")
-    assert "## Guideline verdicts" in md and "Overall verdict: **FAIL**" in md
+    assert "## Guideline verdicts" in md and "Overall verdict: FAIL (USACE" in md
+    html = files["html"].read_text(encoding="utf-8")
+    assert "Overall verdict: FAIL (USACE" in html and "<td>FAIL</td>" in html
     assert "### extreme (earthquake): FAIL" in md and "[to be checked]" in md
     assert "EM 1110-2-2100 Table 3-2" in md
     assert "## Yield acceleration" in md

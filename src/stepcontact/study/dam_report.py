@@ -558,7 +558,7 @@ def _verdicts(study: DamStudy) -> list[_Block]:
     g = load_guidelines()[study.section.guideline]
     blocks: list[_Block] = [
         _Heading(2, "Guideline verdicts"),
-        _Para(f"Overall verdict: **{study.verdict}** ({chk.guideline}"
+        _Para(f"Overall verdict: {study.verdict} ({chk.guideline}"
               + (f", {chk.variant}" if chk.variant else "") + "). A check passes when its "
               "value meets the required value; '—' is not evaluated (the guideline has no "
               "value, the joint no strength for it, or the quantity does not exist). "
