@@ -10,10 +10,11 @@ matching meshes (3 m cells).  The usual combination: reservoir at 33 m, tailwate
 weight (trapezoid = rectangle + triangle), the hydrostatic thrusts (γ_w h²/2 at h/3), the
 tailwater's horizontal thrust and the weight of the water wedge on the downstream face, the
 uplift (two trapezoids through the drain head), the silt (K γ'_s s²/2 at s/3), the pseudo-
-static inertia k_h W at the centroid; their moment about the toe gives the resultant's distance
-a = M/N' from the toe, e = L/2 − a, and the sliding factor F = (c A + N' tan φ)/H
-(EM 1110-2-2100 eq. 3-1), the linear base pressure N'/L (1 ± 6e/L) and the flotation factor
-(N' + U)/U.
+static inertia k_h W at the centroid and the reservoir's hydrodynamic force (Westergaard 1933)
+(7/12) k_h γ_w h² at 0.4 h above the base (vertical face); their moment about the toe gives
+the resultant's distance a = M/N' from the toe, e = L/2 − a, and the sliding factor
+F = (c A + N' tan φ)/H (EM 1110-2-2100 eq. 3-1), the linear base pressure N'/L (1 ± 6e/L)
+and the flotation factor (N' + U)/U.
 
 **Tolerance**: 1e-9 relative.  The joint's resultant force and moment equal the loads' by the
 equilibrium of the dam whatever the foundation's stiffness; the loads are integrated exactly
@@ -92,7 +93,7 @@ def flood() -> Combination:
 
 # ---- hand statics -----------------------------------------------------------------------------
 def hand(h: float, t: float, silt=None, k_h: float = 0.0, k_v: float = 0.0,
-         ice=None) -> dict:
+         ice=None, hydro: bool = True) -> dict:
     """Forces (N/m; x downstream, y up) and moments about the toe (N·m/m, anticlockwise) of the
     loads on the dam, and the engineers' quantities of the base."""
     forces = []  # (fx, fy, x, y): a force and a point of its line of action
@@ -105,6 +106,8 @@ def hand(h: float, t: float, silt=None, k_h: float = 0.0, k_v: float = 0.0,
         if k_h:
             forces.append((k_h * w, k_v * w, xc, yc))
     forces.append((GW * h * h / 2, 0.0, 0.0, h / 3))  # reservoir on the vertical face
+    if k_h and hydro:  # Westergaard (1933): (7/12) k_h γ_w h² at 0.4 h, horizontal
+        forces.append((7 / 12 * k_h * GW * h * h, 0.0, 0.0, 0.4 * h))
     forces.append((-GW * t * t / 2, 0.0, B, t / 3))  # tailwater, horizontal
     forces.append((0.0, -GW * SLOPE * t * t / 2, B - SLOPE * t / 3, 0.0))  # water wedge
     h_drain = t + K_DRAIN * (h - t)
@@ -200,18 +203,23 @@ def test_combination_table_against_hand_statics(runs, name, h, t, silt):
 
 
 def test_earthquake_and_post_earthquake_against_hand_statics():
-    """Pseudo-static k_h = 0.1, k_v = 0.05 (upwards) on the usual combination: the inertia
-    k_h W, k_v W at the centroid in the hand statics (1e-9 relative).  Post-earthquake the
-    earthquake is removed: the joint's forces are those of the usual loads again (equilibrium),
-    whatever slip it left."""
+    """Pseudo-static k_h = 0.05, k_v = 0.025 (upwards) on the usual combination: the inertia
+    k_h W, k_v W at the centroid and Westergaard's hydrodynamic force (7/12) k_h γ_w h² at
+    0.4 h in the hand statics (1e-9 relative; k_h is below the heel's opening at 0.078 with
+    the hydrodynamic force, so A_c = B).  Post-earthquake the earthquake is removed: the
+    joint's forces are those of the usual loads again (equilibrium), whatever slip it left.
+    Without the hydrodynamic force (``hydrodynamic=False``) the hand statics without it."""
     site = dam_site()
     cases = (SelfWeight(), Reservoir(33.0), Tailwater(3.0),
-             BaseUplift(drain=(X_DRAIN, 0.0), ratio=K_DRAIN), Earthquake(0.1, k_v=0.05))
+             BaseUplift(drain=(X_DRAIN, 0.0), ratio=K_DRAIN), Earthquake(0.05, k_v=0.025))
     eq = Combination("earthquake", "earthquake", cases)
     post = Combination("post-earthquake", "post-earthquake", cases)
-    assert [(s.pattern, s.end) for s in post.segments()][-2:] == [("earthquake", 0.1),
+    dry = Combination("dry", "earthquake", cases[:-1] + (Earthquake(0.05, k_v=0.025,
+                                                                   hydrodynamic=False),))
+    assert [(s.pattern, s.end) for s in post.segments()][-2:] == [("earthquake", 0.05),
                                                                    ("earthquake", 0.0)]
-    for combo, ref in ((eq, hand(33.0, 3.0, k_h=0.1, k_v=0.05)), (post, hand(33.0, 3.0))):
+    for combo, ref in ((eq, hand(33.0, 3.0, k_h=0.05, k_v=0.025)), (post, hand(33.0, 3.0)),
+                       (dry, hand(33.0, 3.0, k_h=0.05, k_v=0.025, hydro=False))):
         res = sc.solve_static(combo.model(site))
         _closed(res)
         chk = check_combination(res, combo, site, guideline="cda", strength=STRENGTH)
@@ -392,7 +400,8 @@ def test_per_joint_checks_of_a_dam_in_two_lifts():
 
 def test_program_order_and_crack_water_in_the_uplift_factor():
     """The program: self-weight, tailwater, reservoir to its level, silt (exact list).  With
-    crack water and k_h = 0.2 the heel opens over 4.5 m and water enters beyond the heel CFE
+    crack water and k_h = 0.15 (with the hydrodynamic force) the heel opens over 4.5 m and
+    water enters beyond the heel CFE
     (where the uplift is below the reservoir's head): the uplift factor is the downward loads
     over the uplift plus the crack water, (W + V_tw)/(U + ΣW_crack), with W, V_tw (the
     tailwater wedge) and U by hand and ΣW_crack from the run (1e-9 relative)."""
@@ -402,7 +411,7 @@ def test_program_order_and_crack_water_in_the_uplift_factor():
     combo = Combination("wet", "earthquake", (SelfWeight(), Reservoir(33.0, crack_water=True),
                                               Tailwater(3.0),
                                               BaseUplift(drain=(X_DRAIN, 0.0), ratio=K_DRAIN),
-                                              Earthquake(0.2)))
+                                              Earthquake(0.15)))
     res = sc.solve_static(combo.model(site))
     assert res.status == sc.Status.COMPLETED
     wet = float(np.asarray(res.water)[-1].sum())
@@ -413,3 +422,21 @@ def test_program_order_and_crack_water_in_the_uplift_factor():
     assert chk.row("wet", "base", CHECKS["uplift"]).value == pytest.approx(
         down / (ref["U"] + wet), rel=RTOL)
     assert chk.row("wet", "base", "crack length").value > 0
+
+
+def test_silt_level_between_nodes_is_exact():
+    """Silt to 7.5 m on 3 m cells (the level inside an edge): the silt's thrust K γ'_s s²/2
+    at s/3 by hand, through ΣQ and the resultant's position (1e-9 relative).  Integrated by
+    the edge's Gauss rule across the kink ΣQ was off by 1.3e-4; the silt is now a WaterLoad of
+    its equivalent fluid, split at its level."""
+    site = dam_site()
+    silt = (7.5, 9000.0, 0.5)
+    combo = Combination("usual", "usual", (SelfWeight(), Reservoir(33.0), Tailwater(3.0),
+                                           BaseUplift(drain=(X_DRAIN, 0.0), ratio=K_DRAIN),
+                                           Silt(*silt)))
+    res = sc.solve_static(combo.model(site))
+    _closed(res)
+    ref = hand(33.0, 3.0, silt)
+    s = res.interface_safety("base", heel=(0, 0))
+    assert s.shear_force[-1] == pytest.approx(ref["H"], rel=RTOL)
+    assert s.from_toe[-1] == pytest.approx(ref["a"], rel=RTOL)

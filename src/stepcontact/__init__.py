@@ -105,7 +105,9 @@ _STUDY = {"run_sweep": "sweep", "grid": "sweep", "cases_from_list": "sweep",
           "Slab": "slab", "Impulse": "slab", "limit_thickness": "slab",
           "hydraulic_jump": "hydraulics",
           # issue 29 §3: the dam study (a parametric gravity-dam section, its static runs)
-          "DamSection": "dam", "dam_model": "dam", "run_dam": "dam_study"}
+          "DamSection": "dam", "dam_model": "dam", "run_dam": "dam_study",
+          # issue 29 §2–§3 (damwire): the study's site, combinations and yield acceleration
+          "dam_site": "dam", "run_yield": "dam_study"}
 
 
 def __getattr__(name: str):

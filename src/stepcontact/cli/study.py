@@ -257,9 +257,9 @@ def study(
                            "duration, a 20 × 2 slab mesh, tolerance 5 cm; its mesh check on "
                            "40 × 4): about 30 s on two idle cores (the full study, 29 cases "
                            "and its mesh check: about 7 min with --workers 2). dam: cells of "
-                           "H/15 (2 m for the default dam): 5 s of CPU, 15–19 s on two "
-                           "cores under a load of 10 (the full study, H/60: 7 s of CPU, "
-                           "29 s).")
+                           "H/15 (2 m for the default dam), with its combinations and yield "
+                           "run: 5.6 s of CPU, 18 s on two cores under a load of 12 (the "
+                           "full study, H/60: 12 s of CPU, 39 s).")
     ] = False,
     E0: Annotated[
         float | None, typer.Option("--E0", min=0.0, help="Energy head above the apron, m "
@@ -361,6 +361,22 @@ def study(
     rigid_base: Annotated[
         bool, typer.Option("--rigid-base", help="dam: a rigid base instead of the rock block.")
     ] = False,
+    kh: Annotated[
+        float | None, typer.Option("--kh", help="dam: design horizontal seismic coefficient "
+                                   "k_h of the extreme combination, g (default 0.1).")
+    ] = None,
+    kv: Annotated[
+        float | None, typer.Option("--kv", help="dam: design vertical seismic coefficient "
+                                   "k_v, g, > 0 upwards (default 0).")
+    ] = None,
+    guideline: Annotated[
+        str | None, typer.Option("--guideline", metavar="usace|ferc|cda", help="dam: the "
+                                 "guideline of the verdicts (default usace).")
+    ] = None,
+    silt_level: Annotated[
+        float | None, typer.Option("--silt-level", help="dam: silt against the upstream face "
+                                   "up to this level, m (default: no silt).")
+    ] = None,
 ) -> None:
     """Run a ready-made study and write its figures and report. See docs/slab-study.md and
     docs/dam-study.md.
@@ -373,7 +389,10 @@ def study(
 
     dam: a gravity-dam section on its foundation under self-weight, the reservoir at the normal
     and flood levels and raised until the dam fails: the joint's figures at each level, the
-    margins as factors on the level, and the hand statics a reviewer checks.
+    margins as factors on the level, and the hand statics a reviewer checks; the load
+    combinations (usual, flood, extreme with the pseudo-static earthquake --kh/--kv,
+    post-earthquake) with the verdicts of a guideline (--guideline), and the yield
+    acceleration k_y (k_h raised until the dam fails) with its margin k_y / k_h.
 
     Examples:
 
@@ -386,6 +405,8 @@ def study(
         stepcontact study dam --quick -o dam-quick
 
         stepcontact study dam --height 40 --drain 4 --drain-efficiency 0.5 --cohesion 3e5
+
+        stepcontact study dam --quick --kh 0.15 --kv 0.05 --guideline ferc
     """
     from stepcontact.study import basin
     from stepcontact.study.report import write_report
@@ -396,7 +417,8 @@ def study(
            "flood_level": flood_level, "tailwater": tailwater,
            "friction_angle": friction_angle, "cohesion": cohesion,
            "tensile_strength": tensile_strength, "drain_position": drain,
-           "drain_efficiency": drain_efficiency, "cell": cell}
+           "drain_efficiency": drain_efficiency, "cell": cell, "k_h": kh, "k_v": kv,
+           "guideline": guideline, "silt_level": silt_level}
     if name == "dam":
         slab_only = {"--E0": E0, "--h-kr": h_kr, "--amplitude": amplitude,
                      "--position": positions or None, "--duration": durations or None,
@@ -413,7 +435,8 @@ def study(
         dam_only = [k for k, v in dam.items() if v is not None] + (
             ["rigid_base"] if rigid_base else [])
         if dam_only:
-            raise _Failure(f"--{dam_only[0].replace('_', '-')} applies to the dam study, not "
+            flag = {"k_h": "kh", "k_v": "kv"}.get(dam_only[0], dam_only[0])
+            raise _Failure(f"--{flag.replace('_', '-')} applies to the dam study, not "
                            f"to the {name} study")
         if serial and scheduler is not None:
             raise _Failure("give either --serial or --scheduler, not both")
@@ -589,4 +612,22 @@ def _print_dam(st: Any, console: Console) -> None:
     console.print("failure: " + (f"h = {fail[0]:.3f} m ({fail[1]})" if fail else
                                  f"none up to {st.section.top_level:g} m"))
     console.print("margins on the level: " + ", ".join(
-        f"{k} = {f(v, '.3f')}" for k, v in st.margins.items()))
+        f"{k} = {f(v, '.3f')}" for k, v in st.margins.items() if "k_h" not in k))
+    y = st.yield_acceleration
+    if y is not None:
+        console.print("yield acceleration: " + (
+            f"k_y = {y.k_y:.4f} ({y.mode}); margin k_y / k_h = {y.margin:.3f} (k_h = "
+            f"{y.design:g}); hand, base compressed: {y.hand['k_y']:.4f}" if y.k_y is not None
+            else f"not reached up to k_h = {y.top:g} (margin > {y.top / y.design:.3g})"))
+    if st.combinations:
+        verdicts = Table(title=f"guideline verdicts: {st.checks.guideline}"
+                         + (f", {st.checks.variant}" if st.checks.variant else "")
+                         + " (required values [to be checked]: see the report)",
+                         box=box.SIMPLE_HEAD, title_justify="left")
+        for c in ("combination", "condition", "verdict", "failed checks"):
+            verdicts.add_column(c, no_wrap=c != "failed checks")
+        for c in st.combinations:
+            verdicts.add_row(c.combination.name, c.combination.condition, c.verdict,
+                             ", ".join(r.check for r in c.checks.failed()) or "—")
+        verdicts.add_row("overall", "", st.verdict, "")
+        _print_wide(verdicts, console)

@@ -21,8 +21,10 @@ case                        what it adds (pattern; segment)
 :class:`Ice`                a line load F (N/m) at the ice level on the upstream face ("ice")
 :class:`PostTensioning`     the anchor force (N/m) on the anchor heads, and its reaction on the
                             fixed anchor in the rock ("post-tensioning"; 0 → 1)
-:class:`Earthquake`         pseudo-static inertia ρ (k_h g, k_v g) on the dam's bodies, per unit
-                            k_h, and any items given for the reservoir ("earthquake"; 0 → k_h;
+:class:`Earthquake`         a :class:`~stepcontact.model.seismic.SeismicCoefficient` per unit
+                            k_h: inertia ρ (k_h g, k_v g) on the dam's bodies and Westergaard's
+                            pseudo-static pressure of the reservoir (an ``AddedMass`` at the
+                            combination's level) on the upstream face ("earthquake"; 0 → k_h;
                             then back to 0 in a post-earthquake combination)
 ==========================  ====================================================================
 
@@ -44,9 +46,9 @@ submerged unit weight γ'_s: EM 1110-2-2200 (1995) ch. 3 (which quotes 85 pcf �
 equivalent fluid, horizontal) [to be checked]; the ice load as a line load at the reservoir
 level: EM 1110-2-2200 (1995) ch. 3 and CDA (2007) Technical Bulletin "Structural considerations
 for dam safety" [to be checked]; pseudo-static inertia k_h W:
-EM 1110-2-2200 (1995) ch. 3 (seismic coefficient method) [to be checked].  The hydrodynamic
-pressure of the reservoir during an earthquake is not a case here: give its items (e.g.
-Westergaard's pressure per unit k_h) in ``Earthquake.reservoir_items``.
+EM 1110-2-2200 (1995) ch. 3 (seismic coefficient method) [to be checked]; the reservoir's
+hydrodynamic pressure during the earthquake: Westergaard (1933), on a batter Kuo (1982)
+(:mod:`stepcontact.model.seismic`; ``Earthquake(hydrodynamic=False)`` leaves it out).
 
 Example
 -------
@@ -59,18 +61,20 @@ Example
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from stepcontact.errors import ModelError
-from stepcontact.model.loads import G_STANDARD, BodyForce, EdgeLoad, LoadPattern, NodalLoad
+from stepcontact.model import plausible
+from stepcontact.model.loads import G_STANDARD, BodyForce, LoadPattern, NodalLoad
+from stepcontact.model.seismic import AddedMass, SeismicCoefficient
 from stepcontact.model.structure import Model, Segment
 from stepcontact.model.supports import NodeSet
 from stepcontact.model.water import (
     UNIT_WEIGHT_WATER,
     CrackWater,
-    HydrostaticPressure,
     Uplift,
     WaterLoad,
 )
@@ -297,9 +301,14 @@ class Silt:
         _finite(self.coefficient, "silt.coefficient", positive=True)
 
     def items(self, site: DamSite, combo: Combination) -> dict[str, list]:
-        p = HydrostaticPressure(float(self.level),
-                                float(self.coefficient * self.submerged_unit_weight))
-        return {"silt": [EdgeLoad(n, normal=p) for n in site.upstream]}
+        # a WaterLoad of the equivalent fluid: its edges are split at the silt's level, so
+        # the nodal forces are exact (an EdgeLoad's Gauss rule is not, across the kink); the
+        # check of a water's unit weight does not apply to the silt's K γ'_s
+        gamma = float(self.coefficient * self.submerged_unit_weight)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", plausible.PlausibilityWarning)
+            return {"silt": [WaterLoad(n, level=float(self.level), unit_weight=gamma)
+                             for n in site.upstream]}
 
 
 def _face_pair(site: DamSite, y: float, item: str) -> tuple[list[tuple], list[float]]:
@@ -372,11 +381,20 @@ class PostTensioning:
 
 @dataclass(frozen=True)
 class Earthquake:
-    """Pseudo-static earthquake: the inertia ρ (k_h g, k_v g) of the dam's bodies, the
-    horizontal part towards the toe (downstream: the critical direction with a full
-    reservoir), k_v > 0 upwards (it lightens the dam).  The pattern is per unit k_h and its
-    segment goes to ``k_h`` (the result's λ is k_h); ``reservoir_items``: further loads per
-    unit k_h in the same pattern (e.g. the reservoir's hydrodynamic pressure).  In a
+    """Pseudo-static earthquake through :class:`~stepcontact.model.seismic.SeismicCoefficient`
+    (one path for the coefficient method): the inertia ρ g (k_h, k_v) of the dam's bodies,
+    the horizontal part towards the toe (downstream: the critical direction with a full
+    reservoir), k_v > 0 upwards (it lightens the dam), and — with ``hydrodynamic`` (default)
+    and a :class:`Reservoir` case — the reservoir's pseudo-static pressure on the upstream
+    face, an :class:`~stepcontact.model.seismic.AddedMass` at the combination's level (the
+    reservoir's bottom at the heel, y = 0) times the same acceleration: on a vertical face
+    Westergaard's p(z) = (7/8) k_h γ_w √(h z), resultant (7/12) k_h γ_w h² at 0.4 h above the
+    base (Westergaard 1933); on a batter its normal form (Kuo 1982).
+
+    The pattern is ``SeismicCoefficient(k_h=1, k_v=k_v/k_h)``: per unit k_h, k_v in the fixed
+    ratio k_v/k_h, and its segment goes to ``k_h`` (the result's λ is k_h; a longer segment
+    locates the yield acceleration, :mod:`stepcontact.study.dam_study`).
+    ``reservoir_items``: further loads per unit k_h in the same pattern.  In a
     post-earthquake combination the earthquake is applied and then removed (the checks read
     the state after it, cracked and slid)."""
 
@@ -384,17 +402,27 @@ class Earthquake:
     k_v: float = 0.0
     reservoir_items: tuple = ()
     g: float = G_STANDARD
+    hydrodynamic: bool = True
 
     def __post_init__(self):
         _finite(self.k_h, "earthquake.k_h", positive=True)
         _finite(self.k_v, "earthquake.k_v")
         object.__setattr__(self, "reservoir_items", tuple(self.reservoir_items))
 
+    def coefficient(self, site: DamSite, combo: Combination) -> SeismicCoefficient:
+        """The pattern's item: the inertia per unit k_h of the dam's bodies and, with
+        ``hydrodynamic`` and a reservoir case, of the reservoir's added mass on each upstream
+        face at the reservoir's level."""
+        res = combo.find(Reservoir) if self.hydrodynamic else None
+        water = () if res is None else tuple(
+            AddedMass(n, level=float(res.level), bottom=site.heel[1],
+                      density=float(res.unit_weight) / float(self.g)) for n in site.upstream)
+        return SeismicCoefficient(k_h=1.0, k_v=float(self.k_v) / float(self.k_h),
+                                  bodies=site.dam, reservoir=water,
+                                  direction=site.downstream_sign, g=float(self.g))
+
     def items(self, site: DamSite, combo: Combination) -> dict[str, list]:
-        gx = site.downstream_sign * float(self.g)
-        gy = float(self.k_v / self.k_h * self.g)
-        return {"earthquake": [BodyForce(g=(gx, gy), bodies=site.dam),
-                               *self.reservoir_items]}
+        return {"earthquake": [self.coefficient(site, combo), *self.reservoir_items]}
 
 
 LoadCase = (SelfWeight | Reservoir | Tailwater | BaseUplift | Silt | Ice | PostTensioning

@@ -82,7 +82,19 @@ from stepcontact.model import (
     WaterLoad,
 )
 from stepcontact.model.bond import Bond
+from stepcontact.model.combinations import (
+    BaseUplift,
+    Combination,
+    DamSite,
+    Earthquake,
+    Reservoir,
+    SelfWeight,
+    Silt,
+    Tailwater,
+)
 from stepcontact.model.mesh import quad_region, rectangle
+from stepcontact.model.supports import NodeSet
+from stepcontact.results.dam_checks import JointStrength
 
 #: unit weight of water γ_w, N/m³ (the model's default of WaterLoad and Uplift)
 GAMMA_W = 9810.0
@@ -129,6 +141,14 @@ class DamSection:
     cell: float = 1.0
     foundation_cell: float | None = None
     level_step: float | None = None
+    guideline: str = "usace"
+    guideline_variant: str | None = None
+    k_h: float = 0.1
+    k_v: float = 0.0
+    max_kh: float = 1.0
+    silt_level: float | None = None
+    silt_unit_weight: float = 13.4e3
+    compressive_strength: float | None = None
 
     def __post_init__(self):
         for key in ("height", "crest_width", "cell"):
@@ -167,10 +187,43 @@ class DamSection:
         if not self.top_level > self.flood_level:
             raise ModelError("dam.max_level", f"must be above the flood level "
                              f"({self.flood_level:g} m), got {self.max_level}")
+        self._check_combinations()
         cells = max(self.base_length, self.height) / self.cell
         if cells > MAX_CELLS:
             raise ModelError("dam.cell", f"{self.cell:g} m makes {cells:.0f} cells along a "
                              f"side of the dam (at most {MAX_CELLS}): give the size in m")
+
+    def _check_combinations(self) -> None:
+        """The fields of the combinations and the guideline checks (errors name the field)."""
+        from stepcontact.results.dam_checks import load_guidelines
+
+        gs = load_guidelines()
+        if self.guideline not in gs:
+            raise ModelError("dam.guideline", f"'{self.guideline}' is not a guideline "
+                             f"(known: {', '.join(gs)})")
+        g = gs[self.guideline]
+        if self.guideline_variant is not None and self.guideline_variant not in g.variants:
+            raise ModelError("dam.guideline_variant", f"'{self.guideline_variant}' is not a "
+                             f"variant of {g.title} (variants: "
+                             f"{', '.join(repr(v) for v in g.variants)})")
+        _positive(self, "k_h", "")
+        if not (isinstance(self.k_v, int | float) and math.isfinite(self.k_v)
+                and abs(self.k_v) < 1):
+            raise ModelError("dam.k_v", f"must be a number in (−1, 1) (> 0: the inertia "
+                             f"upwards), got {self.k_v}")
+        _positive(self, "max_kh", "")
+        if not self.max_kh > self.k_h:
+            raise ModelError("dam.max_kh", f"must be above the design k_h ({self.k_h:g}): "
+                             f"the run to the yield acceleration goes beyond it, got "
+                             f"{self.max_kh}")
+        if self.silt_level is not None:
+            _positive(self, "silt_level")
+            if self.silt_level > self.height:
+                raise ModelError("dam.silt_level", f"must be at most the dam's height "
+                                 f"({self.height:g} m), got {self.silt_level}")
+        _positive(self, "silt_unit_weight", " (N/m³)")
+        if self.compressive_strength is not None:
+            _positive(self, "compressive_strength", " (Pa)")
 
     # ------------------------------------------------------------------ geometry ---
     @property
@@ -268,10 +321,10 @@ class DamSection:
                 + self.tailwater * np.interp(x, xs, [p[1] for p in tail]))
 
 
-def _positive(s: DamSection, key: str) -> None:
+def _positive(s: DamSection, key: str, unit: str = " (m)") -> None:
     v = getattr(s, key)
-    if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-        raise ModelError(f"dam.{key}", f"must be a positive number (m), got {v}")
+    if isinstance(v, bool) or not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+        raise ModelError(f"dam.{key}", f"must be a positive number{unit}, got {v}")
 
 
 def _non_negative(s: DamSection, key: str) -> None:
@@ -302,12 +355,10 @@ def joint_bond(s: DamSection) -> Bond | None:
                              residual_cohesion=s.residual_cohesion)
 
 
-def dam_model(s: DamSection, levels: tuple[float, ...] | None = None) -> Model:
-    """The model of the section ``s`` (see the module's docstring): bodies ``dam`` (and
-    ``rock``), interface ``base``, patterns ``weight``, ``tailwater`` (with a tailwater) and
-    ``reservoir`` (its factor is the level, m); the program: the weight, the tailwater, then
-    the reservoir raised through ``levels`` (m; default :attr:`DamSection.levels`: every
-    ``level_step``, the normal and flood levels, up to :attr:`DamSection.top_level`)."""
+def _bare(s: DamSection) -> tuple[Model, list, Interface, NodeSet, NodeSet]:
+    """The bodies of the section, its supports and joint, and its upstream and downstream
+    faces (node sets of the dam): (model of the bodies, [supports], joint, upstream,
+    downstream)."""
     heel, toe, crest_down, crest_up = s.corners
     nx, ny = s.cells
     dam = quad_region(DAM, list(s.corners), nx, ny, s.concrete)
@@ -331,8 +382,19 @@ def dam_model(s: DamSection, levels: tuple[float, ...] | None = None) -> Model:
     base = Interface(JOINT, plus=m.select(DAM, y=0.0), minus=minus,
                      friction=s.residual_friction if bond is not None else s.friction,
                      bond=bond)
+    return (m, items, base, m.select(DAM, where=_on_line(heel, crest_up, tol)),
+            m.select(DAM, where=_on_line(toe, crest_down, tol)))
+
+
+def dam_model(s: DamSection, levels: tuple[float, ...] | None = None) -> Model:
+    """The model of the section ``s`` (see the module's docstring): bodies ``dam`` (and
+    ``rock``), interface ``base``, patterns ``weight``, ``tailwater`` (with a tailwater) and
+    ``reservoir`` (its factor is the level, m); the program: the weight, the tailwater, then
+    the reservoir raised through ``levels`` (m; default :attr:`DamSection.levels`: every
+    ``level_step``, the normal and flood levels, up to :attr:`DamSection.top_level`)."""
+    m, items, base, upstream, downstream = _bare(s)
     per_level, per_tail = s.uplift_heads()
-    reservoir = [WaterLoad(m.select(DAM, where=_on_line(heel, crest_up, tol)), level=None),
+    reservoir = [WaterLoad(upstream, level=None),
                  Uplift(base, head=[(x, 0.0, v) for x, v in per_level])]
     if s.crack_water:
         reservoir.append(CrackWater(base, level=None, entry=(0.0, 0.0)))
@@ -341,13 +403,89 @@ def dam_model(s: DamSection, levels: tuple[float, ...] | None = None) -> Model:
     program = [Segment("weight", 1.0)]
     if s.tailwater > 0:
         items.append(LoadPattern("tailwater", [
-            WaterLoad(m.select(DAM, where=_on_line(toe, crest_down, tol)), level=s.tailwater),
+            WaterLoad(downstream, level=s.tailwater),
             Uplift(base, head=[(x, 0.0, s.tailwater * v) for x, v in per_tail])]))
         program.append(Segment("tailwater", 1.0))
     if levels is None:
         levels = s.levels
     program += [Segment("reservoir", float(h)) for h in levels]
     return m.add(*items, *program)
+
+
+# ------------------------------------------------------------------- combinations ---
+
+def dam_site(s: DamSection) -> DamSite:
+    """The section's model without loads (bodies, supports, the joint ``base``) as a
+    :class:`~stepcontact.model.combinations.DamSite`: heel (0, 0), toe (B, 0), the upstream
+    and downstream faces, the dam's body — where the load cases of
+    :mod:`stepcontact.model.combinations` act."""
+    m, items, base, upstream, downstream = _bare(s)
+    return DamSite(m.add(*items, base), base=JOINT, heel=(0.0, 0.0),
+                   toe=(s.base_length, 0.0), upstream=upstream, dam=(DAM,),
+                   downstream=downstream)
+
+
+def drain_ratio(s: DamSection) -> float:
+    """The drains' head ratio K of :class:`~stepcontact.model.combinations.BaseUplift`:
+    the drain-line head t + (1 − E)(h − t)(B − x_d)/B is H₂ + K (H₁ − H₂) with
+    K = (1 − E)(B − x_d)/B (1 without drains)."""
+    if s.drain_position is None:
+        return 1.0
+    B = s.base_length
+    return (1.0 - s.drain_efficiency) * (B - float(s.drain_position)) / B
+
+
+def _static_cases(s: DamSection, level: float) -> tuple:
+    """Self-weight, the reservoir at ``level`` (with the crack water if the section has it),
+    the tailwater, the uplift (drained or not) and the silt."""
+    cases: list = [SelfWeight(g=G), Reservoir(float(level), crack_water=s.crack_water,
+                                              unit_weight=GAMMA_W)]
+    if s.tailwater > 0:
+        cases.append(Tailwater(float(s.tailwater), unit_weight=GAMMA_W))
+    drain = None if s.drain_position is None else (float(s.drain_position), 0.0)
+    cases.append(BaseUplift(drain=drain, ratio=drain_ratio(s) if drain else 1.0 / 3.0,
+                            unit_weight=GAMMA_W))
+    if s.silt_level is not None:
+        cases.append(Silt(float(s.silt_level), float(s.silt_unit_weight), 1.0))
+    return tuple(cases)
+
+
+def earthquake(s: DamSection, k_h: float | None = None) -> Earthquake:
+    """The pseudo-static earthquake of the section at ``k_h`` (default the design
+    ``s.k_h``), k_v in the section's ratio k_v/k_h, with the reservoir's Westergaard
+    pressure (:class:`~stepcontact.model.combinations.Earthquake`)."""
+    kh = float(s.k_h if k_h is None else k_h)
+    return Earthquake(kh, k_v=float(s.k_v) * kh / float(s.k_h), g=G)
+
+
+def combinations(s: DamSection) -> list[Combination]:
+    """The section's load combinations (:mod:`stepcontact.model.combinations`):
+
+    * ``usual`` (condition usual): self-weight, the reservoir at the normal level, the
+      tailwater, the uplift, the silt;
+    * ``unusual (flood)`` (condition flood): the same at the flood level (left out when it
+      equals the normal level);
+    * ``extreme (earthquake)`` (condition earthquake): the usual loads and the pseudo-static
+      earthquake k_h, k_v with the reservoir's hydrodynamic pressure;
+    * ``post-earthquake``: the same earthquake applied and removed — the cracked, slid state
+      under the usual loads."""
+    usual = _static_cases(s, s.normal_level)
+    out = [Combination("usual", "usual", usual)]
+    if s.flood_level != s.normal_level:
+        out.append(Combination("unusual (flood)", "flood", _static_cases(s, s.flood_level)))
+    quake = earthquake(s)
+    out += [Combination("extreme (earthquake)", "earthquake", usual + (quake,)),
+            Combination("post-earthquake", "post-earthquake", usual + (quake,))]
+    return out
+
+
+def joint_strength(s: DamSection) -> JointStrength:
+    """The joint's strength for the checks: peak c, φ; residual c_r, φ_r when
+    ``residual_friction_angle`` is given; the ``compressive_strength``."""
+    return JointStrength(cohesion=float(s.cohesion), friction_angle=float(s.friction_angle),
+                         residual_cohesion=float(s.residual_cohesion),
+                         residual_friction_angle=s.residual_friction_angle,
+                         compressive_strength=s.compressive_strength)
 
 
 # ------------------------------------------------------------------ hand statics ---
@@ -365,15 +503,17 @@ def _linear_load(points: list[tuple[float, float]], B: float) -> tuple[float, fl
     return F, M
 
 
-def _face_water(level: float, top: float, slope: float) -> tuple[float, float, float]:
+def _face_water(level: float, top: float, slope: float,
+                gamma: float = GAMMA_W) -> tuple[float, float, float]:
     """Hydrostatic load on a face of batter ``slope`` (horizontal per vertical) wetted from
     y = 0 to d = min(level, top): (horizontal force γ_w ∫(h − y) dy, its moment arm ∫(h−y) y dy
-    / ∫(h−y) dy, the vertical force n ∫ γ_w (h − y) dy), per metre; zeros when dry."""
+    / ∫(h−y) dy, the vertical force n ∫ γ_w (h − y) dy), per metre; zeros when dry.
+    ``gamma``: the fluid's unit weight, N/m³ (the silt's equivalent fluid K γ'_s)."""
     d = min(max(level, 0.0), top)
     if d <= 0:
         return 0.0, 0.0, 0.0
-    F = GAMMA_W * (level * d - d * d / 2)
-    Fy = GAMMA_W * (level * d * d / 2 - d ** 3 / 3)  # ∫ γ (h − y) y dy
+    F = gamma * (level * d - d * d / 2)
+    Fy = gamma * (level * d * d / 2 - d ** 3 / 3)  # ∫ γ (h − y) y dy
     return F, Fy / F, slope * F
 
 
@@ -387,9 +527,11 @@ def hand_statics(s: DamSection, level: float) -> dict[str, float]:
     horizontal distance of the section's centroid from the toe), ``H_up`` (the reservoir's
     horizontal thrust γ_w (h d − d²/2), d = min(h, H)) and ``H_up_arm`` (its height above the
     base), ``V_up`` (the water's weight on an upstream batter) and ``V_up_lever``, ``H_down``,
-    ``H_down_arm``, ``V_down``, ``V_down_lever`` (the tailwater's), ``U`` (uplift force ∫ γ_w
-    h_u dx) and ``U_lever``, ``sum_V`` (net downward force on the base, W + V_up + V_down − U),
-    ``sum_H`` (net downstream force, H_up − H_down), ``M_resisting``, ``M_overturning``,
+    ``H_down_arm``, ``V_down``, ``V_down_lever`` (the tailwater's), ``H_silt``, ``H_silt_arm``,
+    ``V_silt`` (the silt's, an equivalent fluid of unit weight ``silt_unit_weight`` = K γ'_s
+    normal to the upstream face; zeros without silt), ``U`` (uplift force ∫ γ_w h_u dx) and
+    ``U_lever``, ``sum_V`` (net downward force on the base, W + V_up + V_down + V_silt − U),
+    ``sum_H`` (net downstream force, H_up + H_silt − H_down), ``M_resisting``, ``M_overturning``,
     ``sum_M`` (their difference), ``resultant_from_toe`` = ΣM/ΣV, ``eccentricity`` e = B/2 −
     ΣM/ΣV (> 0: the resultant downstream of the base's centre), the linear
     base pressures ``sigma_heel``, ``sigma_toe`` = ΣV/B (1 ∓ 6e/B) (Pa, compression positive;
@@ -416,10 +558,14 @@ def hand_statics(s: DamSection, level: float) -> dict[str, float]:
     res, tail = s.uplift_heads()
     pts = [(x, GAMMA_W * (level * a + t * b)) for (x, a), (_, b) in zip(res, tail, strict=True)]
     U, MU = _linear_load(pts, B)
-    sum_V = W + Vu + Vd - U
-    sum_H = Hu - Hd
-    resisting = W * (B - x_w) + Vu * (B - Vu_x) + Vd * Vd_from_toe + Hd * Hd_arm
-    overturning = Hu * Hu_arm + MU
+    # silt: an equivalent fluid K γ'_s = silt_unit_weight, normal to the upstream face
+    Hs, Hs_arm, Vs = (0.0, 0.0, 0.0) if s.silt_level is None else _face_water(
+        float(s.silt_level), H, nu, float(s.silt_unit_weight))
+    sum_V = W + Vu + Vd + Vs - U
+    sum_H = Hu + Hs - Hd
+    resisting = (W * (B - x_w) + Vu * (B - Vu_x) + Vd * Vd_from_toe + Hd * Hd_arm
+                 + Vs * (B - nu * Hs_arm))
+    overturning = Hu * Hu_arm + MU + Hs * Hs_arm
     sum_M = resisting - overturning
     from_toe = sum_M / sum_V if sum_V else float("nan")
     e = B / 2 - from_toe
@@ -430,7 +576,8 @@ def hand_statics(s: DamSection, level: float) -> dict[str, float]:
         ov = resisting / overturning if overturning > 0 else float("inf")
     return {"level": float(level), "W": W, "W_lever": B - x_w, "H_up": Hu, "H_up_arm": Hu_arm,
             "V_up": Vu, "V_up_lever": B - Vu_x, "H_down": Hd, "H_down_arm": Hd_arm,
-            "V_down": Vd, "V_down_lever": Vd_from_toe, "U": U,
+            "V_down": Vd, "V_down_lever": Vd_from_toe, "H_silt": Hs, "H_silt_arm": Hs_arm,
+            "V_silt": Vs, "U": U,
             "U_lever": MU / U if U else 0.0, "sum_V": sum_V, "sum_H": sum_H,
             "M_resisting": resisting, "M_overturning": overturning, "sum_M": sum_M,
             "resultant_from_toe": from_toe, "eccentricity": e,
@@ -438,5 +585,42 @@ def hand_statics(s: DamSection, level: float) -> dict[str, float]:
             "sliding_factor": sf, "shear_friction_factor": sff, "overturning_factor": ov}
 
 
-__all__ = ["DAM", "GAMMA_W", "JOINT", "ROCK", "DamSection", "dam_model", "hand_statics",
-           "joint_bond"]
+def hand_yield(s: DamSection, level: float | None = None) -> dict[str, float]:
+    """The rigid-base, friction-and-cohesion limit equilibrium of the section's pseudo-static
+    yield acceleration at the reservoir ``level`` (default the normal level), per metre of
+    dam, with the **exact load set of the study** (:func:`combinations`): the static loads of
+    :func:`hand_statics` (uncracked base, no crack water) and, per unit k_h, the inertia
+    W (1, r) (r = k_v/k_h, + up) at the centroid and the reservoir's pseudo-static pressure
+    (Westergaard 1933 in Kuo's (1982) normal form on a face of batter n_u): with the face wet
+    to d = min(h, H),
+
+        P = ∫₀ᵈ (7/8) γ_w √(h (h − y)) dy · (1 − r n_u)/√(1 + n_u²)
+          = (7/12) γ_w (h^{3/2} − (h − d)^{3/2}) √h · (1 − r n_u)/√(1 + n_u²)
+
+    horizontal (downstream), and n_u P vertical (down).  Sliding of the whole base,
+    c B + tan φ ΣV(k) = ΣH(k) with ΣV(k) = ΣV₀ − k r W + k n_u P and ΣH(k) = ΣH₀ + k (W + P):
+
+        k_y = (c B + tan φ ΣV₀ − ΣH₀) / (W + P + tan φ (r W − n_u P))
+
+    (EM 1110-2-2100 (2005) eq. (3-1) with the seismic coefficient method of EM 1110-2-2200
+    (1995) ch. 3 [to be checked]).  It equals the elastic run's yield acceleration when the
+    whole base stays compressed up to it (no crack, no crack water) and the dam slides before
+    it overturns; it is a check of the load set, not of the cracked answer.  Keys: the
+    :func:`hand_statics` figures ``W``, ``sum_V`` (ΣV₀), ``sum_H`` (ΣH₀), and ``P``,
+    ``r``, ``n_u``, ``tan_phi``, ``c``, ``B``, ``k_y`` (dimensionless)."""
+    h = float(s.normal_level if level is None else level)
+    st = hand_statics(s, h)
+    nu, B = s.upstream_slope, s.base_length
+    d = min(h, s.height)
+    r = float(s.k_v) / float(s.k_h)
+    P = (7.0 / 12.0 * GAMMA_W * (h ** 1.5 - (h - d) ** 1.5) * math.sqrt(h)
+         * (1.0 - r * nu) / math.sqrt(1.0 + nu * nu))
+    W, tan, c = st["W"], s.friction, float(s.cohesion)
+    k_y = (c * B + tan * st["sum_V"] - st["sum_H"]) / (W + P + tan * (r * W - nu * P))
+    return {"level": h, "W": W, "sum_V": st["sum_V"], "sum_H": st["sum_H"], "P": P, "r": r,
+            "n_u": nu, "tan_phi": tan, "c": c, "B": B, "k_y": k_y}
+
+
+__all__ = ["DAM", "GAMMA_W", "JOINT", "ROCK", "DamSection", "combinations", "dam_model",
+           "dam_site", "drain_ratio", "earthquake", "hand_statics", "hand_yield", "joint_bond",
+           "joint_strength"]

@@ -30,7 +30,7 @@ import numpy as np
 
 from stepcontact.io.atomic import write_text
 from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
-from stepcontact.study.dam import DamSection
+from stepcontact.study.dam import DAM, JOINT, DamSection
 from stepcontact.study.dam_study import DamStudy, base_stresses, summary
 from stepcontact.study.report import (
     _Block,
@@ -51,7 +51,8 @@ if TYPE_CHECKING:
 #: the figure files written by :func:`write_report`, relative to its ``out_dir``
 FIGURES = {"section": "figures/section.png", "base_stresses": "figures/base_stresses.png",
            "crack_length": "figures/crack_length.png",
-           "level_displacement": "figures/level_displacement.png"}
+           "level_displacement": "figures/level_displacement.png",
+           "yield": "figures/yield_acceleration.png"}
 #: colours of the named states
 COLORS = {"self-weight": "#7f7f7f", "normal": "#1f77b4", "flood": "#ff7f0e",
           "first break": "#9467bd", "first opening": "#2ca02c", "failure": "#d62728"}
@@ -233,6 +234,63 @@ def plot_level_displacement(study: DamStudy, path: str | os.PathLike[str] | None
     return fig
 
 
+def yield_path(study: DamStudy) -> dict[str, np.ndarray]:
+    """The states of the yield run's k_h segment (and the last state before it, k_h = 0):
+    ``k_h``, ``crest_ux`` (m, the upstream crest corner), ``open_length`` (m)."""
+    y = study.yield_acceleration
+    res = y.result
+    seg = np.asarray(res.segment)
+    quake = [g for g, (pt, _, _) in enumerate(res.segments) if pt == "earthquake"]
+    on = np.flatnonzero(np.isin(seg, quake))
+    states = np.r_[on[0] - 1, on] if on.size and on[0] > 0 else on
+    k_h = np.where(np.isin(seg[states], quake), np.asarray(res.lam, float)[states], 0.0)
+    ux = np.asarray(res.node_history(point=study.section.corners[3], quantity="ux", body=DAM),
+                    float)[states]
+    opened = np.asarray(res.interface_safety(JOINT, heel=(0.0, 0.0)).open_length,
+                        float)[states]
+    return {"k_h": k_h, "crest_ux": ux, "open_length": opened}
+
+
+def plot_yield(study: DamStudy, path: str | os.PathLike[str] | None = None, *,
+               dpi: float = DPI) -> Figure:
+    """The incremental analysis to failure on k_h: left, k_h against the crest's horizontal
+    displacement (mm) after the usual loads; right, the open length of the base (m) against
+    k_h; dotted: the design k_h, the first slip and first opening, the yield acceleration
+    k_y."""
+    p = figure_path(path, dpi)
+    y = study.yield_acceleration
+    pth = yield_path(study)
+    fig = new_figure(figsize=(9.0, 5.0))
+    ax, axo = fig.subplots(1, 2)
+    ax.plot(pth["crest_ux"] * 1e3, pth["k_h"], color="k", lw=1.4, marker=".",
+            label="reported states")
+    axo.step(pth["k_h"], pth["open_length"], where="post", color="#d62728", lw=1.6,
+             label="open length")
+    marks = [(y.design, "#1f77b4", f"design k_h = {y.design:g}")]
+    if y.first_slip is not None:
+        marks.append((y.first_slip, "#7f7f7f", f"first slip {y.first_slip:.3f}"))
+    if y.first_opening is not None:
+        marks.append((y.first_opening, "#2ca02c", f"first opening {y.first_opening:.3f}"))
+    if y.k_y is not None:
+        marks.append((y.k_y, "#d62728", f"k_y = {y.k_y:.4f} ({y.mode})"))
+    for v, c, label in marks:
+        ax.axhline(v, color=c, lw=1.0, ls=":", label=label)
+        axo.axvline(v, color=c, lw=1.0, ls=":")
+    ax.set_xlabel("crest displacement u_x (mm, downstream > 0)")
+    ax.set_ylabel("seismic coefficient k_h (g)")
+    axo.set_xlabel("seismic coefficient k_h (g)")
+    axo.set_ylabel("open length of the base (m)")
+    axo.set_ylim(0.0, study.section.base_length)
+    axo.set_xlim(0.0, max(float(pth["k_h"].max(initial=0.0)), y.design) * 1.05)
+    for a in (ax, axo):
+        a.grid(True, alpha=0.3)
+    fig.suptitle("Yield acceleration: k_h raised after the usual loads", fontsize="medium")
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=3,
+               fontsize="x-small", frameon=False)
+    save_figure(fig, p, dpi)
+    return fig
+
+
 # ----------------------------------------------------------------------------- report ---
 
 #: unit and meaning of each field of DamSection
@@ -260,14 +318,25 @@ FIELDS: dict[str, tuple[str, str]] = {
     "crack_water": ("–", "full reservoir pressure in the crack opened from the heel"),
     "cell": ("m", "cell size of the dam's mesh"),
     "foundation_cell": ("m", "cell size of the foundation's mesh (default 1.6 × cell)"),
+    "guideline": ("", "the guideline of the verdicts: usace, ferc or cda"),
+    "guideline_variant": ("", "the guideline's variant (USACE: structure class, site "
+                          "information)"),
+    "k_h": ("g", "design horizontal seismic coefficient (extreme combination)"),
+    "k_v": ("g", "design vertical seismic coefficient, > 0 upwards (ratio k_v/k_h kept on "
+            "the yield run)"),
+    "max_kh": ("g", "the yield run's highest k_h"),
+    "silt_level": ("m", "silt against the upstream face up to this level (none: no silt)"),
+    "silt_unit_weight": ("N/m³", "the silt's equivalent fluid K γ'_s"),
+    "compressive_strength": ("Pa", "the joint's compressive strength (none: no stress check)"),
     "level_step": ("m", "the reservoir's segments end every so many metres (default H/20)"),
 }
 
 
 def _field_value(name: str, v) -> str:
     if v is None:
-        return {"rock": "none: rigid base", "drain_position": "none: no drains"}.get(
-            name, "default")
+        return {"rock": "none: rigid base", "drain_position": "none: no drains",
+                "guideline_variant": "the guideline's default", "silt_level": "none: no silt",
+                "compressive_strength": "none: no stress check"}.get(name, "default")
     if hasattr(v, "E") and hasattr(v, "density"):
         return f"E = {_modulus(v.E)}, ν = {v.nu:g}, ρ = {v.density:g} kg/m³"
     if isinstance(v, float):
@@ -343,8 +412,50 @@ def _assumptions(s: DamSection) -> list[_Block]:
         f"One mesh (dam cells of {s.cell:g} m): the levels of first opening and of failure "
         "depend on it (the heel is a singular corner of the elastic solution); run the study "
         "again with the cells halved to see by how much.",
+        *_combination_assumptions(s),
     ]
     return [_Heading(2, "Assumptions"), _List(items)]
+
+
+def _combination_assumptions(s: DamSection) -> list[str]:
+    from stepcontact.results.dam_checks import load_guidelines
+
+    g = load_guidelines()[s.guideline]
+    variant = s.guideline_variant or g.default_variant
+    silt = ("" if s.silt_level is None else
+            f", silt to {s.silt_level:g} m (an equivalent fluid of {s.silt_unit_weight:g} "
+            "N/m³ normal to the upstream face: EM 1110-2-2200 (1995) ch. 3 [to be checked])")
+    return [
+        "Load combinations (stepcontact.model.combinations), each its own run from the "
+        f"unloaded dam: usual — self-weight, reservoir at the normal level "
+        f"({s.normal_level:g} m), tailwater, uplift{silt}"
+        + ("" if s.flood_level == s.normal_level else
+           f"; unusual (flood) — the same at the flood level ({s.flood_level:g} m)")
+        + f"; extreme (earthquake) — the usual loads and the pseudo-static earthquake k_h = "
+        f"{s.k_h:g}, k_v = {s.k_v:g} (+ up); post-earthquake — the same earthquake applied "
+        "and removed, the checks read the cracked, slid state under the usual loads.",
+        "Pseudo-static earthquake (seismic coefficient method, EM 1110-2-2200 (1995) ch. 3 "
+        "[to be checked]): inertia ρ g (k_h, k_v) of the dam towards the toe, and the "
+        "reservoir's hydrodynamic pressure p(z) = (7/8) k_h γ_w √(h z) on the upstream face "
+        "(Westergaard 1933; resultant (7/12) k_h γ_w h² at 0.4 h on a vertical face; on a "
+        "batter the normal-direction form of Kuo 1982): rigid face, incompressible water, no "
+        "hydrodynamic pressure on the tailwater face, the hydrostatic loads unchanged by k_v.",
+        f"Guideline verdicts: {g.title} ({g.document}), variant "
+        f"'{variant or '—'}' ({g.variant_meaning}). Each combination's condition is read as "
+        "the guideline's load class (the verdict table's first row, with its source); every "
+        "required value carries its source and is marked [to be checked] where it was not "
+        "confirmed against the document — check those before relying on a verdict.",
+        "The checks read the joint's state at the end of each combination's run: the "
+        "sliding factor (c A_c + N' tan φ)/H with the compressed area A_c of the elastic "
+        "model (EM 1110-2-2100 eq. 3-1), the resultant's position and the compressed "
+        "fraction of the base, the uplift factor, the compressive stress factor when a "
+        "compressive strength is given (stepcontact.results.dam_checks). A combination whose "
+        "run loses equilibrium fails.",
+        f"Yield acceleration: after the usual loads, k_h raised on one segment from 0 to "
+        f"{s.max_kh:g} (k_v in the ratio {s.k_v:g}/{s.k_h:g}, the hydrodynamic pressure "
+        "with it, cracks and crack water as they develop); k_y is the k_h at which "
+        "equilibrium is lost, an exact event of the run, and its margin is k_y / k_h.",
+    ]
 
 
 _FIGURE_ROWS = (
@@ -413,8 +524,9 @@ def _results(study: DamStudy) -> list[_Block]:
     margins = [(k, _num(v, ".4f")) for k, v in study.margins.items()]
     blocks: list[_Block] = [_Heading(2, "Results"), _Para(" ".join(text))]
     blocks += [_Heading(3, "Margins as factors on the level"),
-               _Para("Level at the limit over the named level (m/m). Not the guidelines' "
-                     "factors of safety."),
+               _Para("Level at the limit over the named level (m/m), and the yield "
+                     "acceleration over the design k_h. Not the guidelines' factors of "
+                     "safety."),
                _Table(("limit / named level", "factor"), margins)]
     blocks += [_List(study.notes)] if study.notes else []
     named = study.named
@@ -434,6 +546,81 @@ def _results(study: DamStudy) -> list[_Block]:
                       [(label, *(_num(n.hand[key] / scale, spec) for n in hand))
                        for label, key, scale, spec in _HAND_ROWS])]
     return blocks
+
+
+def _verdicts(study: DamStudy) -> list[_Block]:
+    """The guideline verdicts: a summary per combination, then each one's checks."""
+    if not study.combinations:
+        return []
+    from stepcontact.results.dam_checks import load_guidelines
+
+    chk = study.checks
+    g = load_guidelines()[study.section.guideline]
+    blocks: list[_Block] = [
+        _Heading(2, "Guideline verdicts"),
+        _Para(f"Overall verdict: {study.verdict} ({chk.guideline}"
+              + (f", {chk.variant}" if chk.variant else "") + "). A check passes when its "
+              "value meets the required value; '—' is not evaluated (the guideline has no "
+              "value, the joint no strength for it, or the quantity does not exist). "
+              "Required values marked [to be checked] were not confirmed against the "
+              "document."),
+        _Table(("combination", "condition", "guideline class", "verdict", "failed checks",
+                "run", "CPU s"),
+               [(c.combination.name, c.combination.condition,
+                 g.condition_class(c.combination.condition)[0], c.verdict,
+                 ", ".join(r.check for r in c.checks.failed()) or "—",
+                 str(c.result.message or c.result.status), f"{c.seconds:.2f}")
+                for c in study.combinations])]
+    for c in study.combinations:
+        rows = [(r[2], r[3], r[4], r[5], r[6], r[7]) for r in c.checks.table_rows()
+                if r[1] != "—" or r[6] != "—"]
+        blocks += [_Heading(3, f"{c.combination.name}: {c.verdict}"),
+                   _Table(("check", "value", "unit", "required", "verdict", "source / note"),
+                          rows)]
+    return blocks
+
+
+def _yield(study: DamStudy) -> list[_Block]:
+    """The yield acceleration and its hand check."""
+    y = study.yield_acceleration
+    if y is None:
+        return []
+    h = y.hand
+    found = (f"k_y = {y.k_y:.6g} ({y.mode}), the design k_h = {y.design:g}: margin "
+             f"k_y / k_h = {y.margin:.4g}." if y.k_y is not None else
+             f"Equilibrium was not lost up to k_h = {y.top:g}: k_y > {y.top:g} (margin at "
+             f"least {y.top / y.design:.3g}).")
+    text = (f"{found} On the k_h segment the first CFE of the base slips at k_h = "
+            f"{_num(y.first_slip, '.4g')} and the first opens at k_h = "
+            f"{_num(y.first_opening, '.4g')}; at the last state the base is open over "
+            f"{y.open_length:.3g} m with a crack-water force of {y.crack_water / 1e3:.4g} kN. "
+            f"The run: {y.message} ({y.seconds:.2f} s of CPU).")
+    rows = [("W, weight (kN)", _num(h["W"] / 1e3, ".1f")),
+            ("ΣV₀, net downward load of the usual loads (kN)", _num(h["sum_V"] / 1e3, ".1f")),
+            ("ΣH₀, net downstream load of the usual loads (kN)",
+             _num(h["sum_H"] / 1e3, ".1f")),
+            ("P, hydrodynamic force per unit k_h (kN), (7/12) γ_w h² on a vertical face",
+             _num(h["P"] / 1e3, ".1f")),
+            ("r = k_v / k_h", _num(h["r"], ".4g")), ("n_u, upstream batter", _num(h["n_u"], "g")),
+            ("tan φ", _num(h["tan_phi"], ".4f")), ("c (kPa)", _num(h["c"] / 1e3, "g")),
+            ("B (m)", _num(h["B"], "g")),
+            ("hand k_y = (c B + tan φ ΣV₀ − ΣH₀) / (W + P + tan φ (r W − n_u P))",
+             _num(h["k_y"], ".6g")),
+            ("the run's k_y", _num(y.k_y, ".6g")),
+            ("run / hand", _num(None if y.k_y is None else y.k_y / h["k_y"], ".6g"))]
+    return [_Heading(2, "Yield acceleration (incremental analysis to failure on k_h)"),
+            _Para(text),
+            _Para("Hand check (stepcontact.study.dam.hand_yield): rigid base, the whole base "
+                  "compressed, no crack water, sliding of the whole base, per metre of dam; "
+                  "sliding c B + tan φ ΣV(k) = ΣH(k) with ΣV(k) = ΣV₀ − k r W + k n_u P and "
+                  "ΣH(k) = ΣH₀ + k (W + P). It equals the run's k_y when the base stays "
+                  "compressed up to it; a cracked base (crack water, a lost compressed area) "
+                  "or a bond that breaks progressively gives a lower k_y."),
+            _Table(("quantity", "value"), rows),
+            _Image(FIGURES["yield"], "yield acceleration",
+                   "k_h against the crest's displacement after the usual loads, and the open "
+                   "length of the base against k_h (the design k_h, the first slip and "
+                   "opening and k_y dotted).")]
 
 
 def _events(study: DamStudy) -> list[_Block]:
@@ -475,17 +662,20 @@ def _figures() -> list[_Block]:
 def report_blocks(study: DamStudy) -> tuple[str, list[_Block]]:
     """The report's title and blocks."""
     s = study.section
-    title = f"Gravity-dam study: a {s.height:g} m section, static"
+    title = f"Gravity-dam study: a {s.height:g} m section, static and pseudo-static"
     blocks: list[_Block] = [
         _Para("Source: stepcontact.study.dam_study (docs/dam-study.md). The dam on its "
               "foundation under self-weight, the reservoir at the normal level (usual case) "
-              "and the flood level (unusual case), and the level raised until the dam fails. "
-              "Units SI: m, N and N·m per metre of dam, Pa."),
+              "and the flood level (unusual case), and the level raised until the dam fails; "
+              "the load combinations with the guideline's verdicts, and the seismic "
+              "coefficient raised until the dam fails (the yield acceleration). "
+              "Units SI: m, N and N·m per metre of dam, Pa; seismic coefficients in g."),
         *_software(study), *_inputs(s),
         _Image(FIGURES["section"], "the section and its loads",
                "The section with its loads at the normal level and the uplift head along "
                "the base."),
-        *_assumptions(s), *_results(study), *_figures(), *_events(study)]
+        *_assumptions(s), *_verdicts(study), *_results(study), *_yield(study), *_figures(),
+        *_events(study)]
     return title, blocks
 
 
@@ -495,10 +685,13 @@ def write_report(study: DamStudy, out_dir: str | os.PathLike[str], *,
     the figures of :data:`FIGURES` and the run's result file ``result.nc`` (for
     ``stepcontact info``, ``plot`` and ``export``), all atomically; their paths by key."""
     out = Path(out_dir)
-    paths = {key: out / rel for key, rel in FIGURES.items()}
-    for key, plot in (("section", plot_section), ("base_stresses", plot_base_stresses),
-                      ("crack_length", plot_crack_length),
-                      ("level_displacement", plot_level_displacement)):
+    plots = [("section", plot_section), ("base_stresses", plot_base_stresses),
+             ("crack_length", plot_crack_length),
+             ("level_displacement", plot_level_displacement)]
+    if study.yield_acceleration is not None:
+        plots.append(("yield", plot_yield))
+    paths = {key: out / FIGURES[key] for key, _ in plots}
+    for key, plot in plots:
         plot(study, paths[key], dpi=dpi)
     title, blocks = report_blocks(study)
     paths["markdown"], paths["html"] = out / "report.md", out / "report.html"
@@ -512,4 +705,5 @@ def write_report(study: DamStudy, out_dir: str | os.PathLike[str], *,
 
 
 __all__ = ["COLORS", "FIELDS", "FIGURES", "plot_base_stresses", "plot_crack_length",
-           "plot_level_displacement", "plot_section", "report_blocks", "write_report"]
+           "plot_level_displacement", "plot_section", "plot_yield", "report_blocks",
+           "write_report", "yield_path"]

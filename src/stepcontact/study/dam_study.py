@@ -33,7 +33,20 @@ from scipy.optimize import brentq
 
 from stepcontact.enums import ContactState, Status, Transition
 from stepcontact.errors import SolverError
-from stepcontact.study.dam import DAM, JOINT, DamSection, dam_model, hand_statics
+from stepcontact.model.combinations import Combination
+from stepcontact.results.dam_checks import DamCheck, check_combination
+from stepcontact.study.dam import (
+    DAM,
+    JOINT,
+    DamSection,
+    combinations,
+    dam_model,
+    dam_site,
+    earthquake,
+    hand_statics,
+    hand_yield,
+    joint_strength,
+)
 
 #: the named levels of the study and what they stand for
 CASES = {"self-weight": "self-weight (and tailwater), empty reservoir",
@@ -54,6 +67,53 @@ class NamedState:
     level: float
     values: dict[str, Any]
     hand: dict[str, float]
+
+
+@dataclass
+class CombinationRun:
+    """One load combination of the study: the ``combination``
+    (:class:`~stepcontact.model.combinations.Combination`), its run ``result`` and its
+    guideline ``checks`` (:class:`~stepcontact.results.dam_checks.DamCheck`)."""
+
+    combination: Combination
+    result: Any
+    checks: DamCheck
+    seconds: float = 0.0
+
+    @property
+    def verdict(self) -> str:
+        """"pass", "FAIL" or "not evaluated" (no check with a required value)."""
+        done = [r.passed for r in self.checks.rows if r.passed is not None]
+        return "not evaluated" if not done else "pass" if all(done) else "FAIL"
+
+
+@dataclass
+class YieldAcceleration:
+    """The incremental analysis to failure on the seismic coefficient: after the usual
+    combination, k_h (with k_v in the section's ratio and the reservoir's hydrodynamic
+    pressure) raised from 0 to ``section.max_kh`` on one segment whose λ is k_h.
+
+    ``k_y``: the yield (critical) acceleration, g — the λ at which equilibrium is lost, an
+    exact event (None: not lost up to ``top``; 0.0: lost before the earthquake); ``mode``
+    (sliding, rotation…); ``design`` k_h and ``margin`` = k_y / k_h; ``first_slip`` and
+    ``first_opening``: the k_h of the first CFE of the base to slip / to open on the segment;
+    ``open_length`` (m) and ``crack_water`` (N per metre, the resultant of the crack water)
+    at the last state; ``hand``: :func:`~stepcontact.study.dam.hand_yield` (rigid base, whole
+    base compressed, no crack water); ``result`` the run."""
+
+    k_y: float | None
+    mode: str | None
+    design: float
+    top: float
+    margin: float | None
+    first_slip: float | None
+    first_opening: float | None
+    open_length: float
+    crack_water: float
+    hand: dict[str, float]
+    result: Any
+    message: str = ""
+    seconds: float = 0.0
 
 
 @dataclass
@@ -84,9 +144,24 @@ class DamStudy:
     seconds: float = 0.0
     notes: list[str] = field(default_factory=list)
     first_break: tuple[float, float] | None = None
+    combinations: list[CombinationRun] = field(default_factory=list)
+    checks: DamCheck | None = None
+    yield_acceleration: YieldAcceleration | None = None
 
     def row(self, name: str) -> NamedState | None:
         return next((n for n in self.named if n.name == name), None)
+
+    @property
+    def verdicts(self) -> dict[str, str]:
+        """{combination: "pass", "FAIL" or "not evaluated"} of the guideline checks."""
+        return {c.combination.name: c.verdict for c in self.combinations}
+
+    @property
+    def verdict(self) -> str:
+        """The overall verdict: "FAIL" if a combination fails, "pass" if every evaluated one
+        passes, "not evaluated" without combinations or evaluated checks."""
+        vs = [v for v in self.verdicts.values() if v != "not evaluated"]
+        return "not evaluated" if not vs else "FAIL" if "FAIL" in vs else "pass"
 
 
 def _joint(res) -> np.ndarray:
@@ -151,13 +226,77 @@ def _first_event(res, k: np.ndarray,
     return None
 
 
-def run_dam(section: DamSection, *,
-            progress: Callable[[str], None] | None = None) -> DamStudy:
-    """Solve ``section`` (self-weight, tailwater, then the level raised through the normal
-    and flood levels to ``section.top_level``) and read the joint's figures.  ``progress``
-    gets a line of text at each step.  A run that ends without an answer (not completed and
-    not a loss of equilibrium) is a :class:`~stepcontact.errors.SolverError`."""
+def _solve(model, what: str):
     from stepcontact.solver.static import solve_static
+
+    res = solve_static(model)
+    if res.status not in (Status.COMPLETED, Status.EQUILIBRIUM_LOST):
+        raise SolverError(f"the dam's {what} run {res.message or res.status}: no answer to "
+                          "report")
+    return res
+
+
+def run_combinations(s: DamSection, say: Callable[[str], None] = lambda t: None
+                     ) -> tuple[list[CombinationRun], DamCheck]:
+    """Run each of the section's combinations (:func:`~stepcontact.study.dam.combinations`)
+    and check its last state against the section's guideline
+    (:func:`~stepcontact.results.dam_checks.check_combination`, joint ``base``)."""
+    site = dam_site(s)
+    runs, total = [], None
+    for combo in combinations(s):
+        say(f"combination '{combo.name}' ({combo.condition})")
+        t0 = time.process_time()
+        res = _solve(combo.model(site), f"'{combo.name}' combination")
+        chk = check_combination(res, combo, site, guideline=s.guideline,
+                                variant=s.guideline_variant, joints=[JOINT],
+                                strength=joint_strength(s))
+        runs.append(CombinationRun(combo, res, chk, time.process_time() - t0))
+        total = chk if total is None else total + chk
+    return runs, total
+
+
+def run_yield(s: DamSection, say: Callable[[str], None] = lambda t: None) -> YieldAcceleration:
+    """The incremental analysis to failure on k_h (:class:`YieldAcceleration`): the usual
+    combination, then one segment of the earthquake pattern from k_h = 0 to
+    ``s.max_kh``; the yield acceleration is the λ at which equilibrium is lost (exact)."""
+    site = dam_site(s)
+    usual = combinations(s)[0]
+    combo = Combination("yield acceleration", "earthquake",
+                        usual.cases + (earthquake(s, s.max_kh),))
+    say(f"yield acceleration: the usual loads, then k_h 0 → {s.max_kh:g} (or failure)")
+    t0 = time.process_time()
+    res = _solve(combo.model(site), "yield-acceleration")
+    seconds = time.process_time() - t0
+    quake = [g for g, (p, _, _) in enumerate(res.segments) if p == "earthquake"]
+    mult = next((m for m in res.multipliers if m.segment in quake), None)
+    last_seg = int(np.asarray(res.segment)[-1])
+    safety = res.interface_safety(JOINT, heel=(0.0, 0.0))
+    k_y = mode = None
+    if res.status == Status.EQUILIBRIUM_LOST:
+        k_y = float(res.lam[-1]) if last_seg in quake else 0.0
+        if mult is not None and mult.equilibrium_lost is not None:
+            k_y = float(mult.equilibrium_lost)
+        mode = safety.mechanism or "loss of equilibrium"
+    k = _joint(res)
+    water = 0.0 if res.water is None else float(np.asarray(res.water, float)[-1, k].sum())
+    return YieldAcceleration(
+        k_y=k_y, mode=mode, design=float(s.k_h), top=float(s.max_kh),
+        margin=None if k_y is None else k_y / float(s.k_h),
+        first_slip=None if mult is None else mult.first_slip,
+        first_opening=None if mult is None else mult.first_opening,
+        open_length=float(safety.open_length[-1]), crack_water=water, hand=hand_yield(s),
+        result=res, message=str(res.message), seconds=seconds)
+
+
+def run_dam(section: DamSection, *,
+            progress: Callable[[str], None] | None = None, checks: bool = True) -> DamStudy:
+    """Solve ``section`` (self-weight, tailwater, then the level raised through the normal
+    and flood levels to ``section.top_level``) and read the joint's figures; with
+    ``checks`` (default) also run the section's load combinations with their guideline
+    verdicts (:func:`run_combinations`) and the incremental analysis to failure on k_h
+    (:func:`run_yield`).  ``progress`` gets a line of text at each step.  A run that ends
+    without an answer (not completed and not a loss of equilibrium) is a
+    :class:`~stepcontact.errors.SolverError`."""
 
     say = progress or (lambda text: None)
     s = section
@@ -167,9 +306,7 @@ def run_dam(section: DamSection, *,
     say(f"solving: self-weight, then the level 0 → {s.normal_level:g} → {s.flood_level:g} → "
         f"{s.top_level:g} m (or failure)")
     t0 = time.process_time()
-    res = solve_static(model)
-    if res.status not in (Status.COMPLETED, Status.EQUILIBRIUM_LOST):
-        raise SolverError(f"the dam's run {res.message or res.status}: no answer to report")
+    res = _solve(model, "level")
     say(f"reading the results: {len(res.events)} events, {len(res.lam)} states")
     safety = res.interface_safety(JOINT, design=s.normal_level, heel=(0.0, 0.0))
     k = _joint(res)
@@ -242,8 +379,17 @@ def run_dam(section: DamSection, *,
                      f"{s.top_level:g} m: the margins against failure are at least "
                      f"{s.top_level / s.normal_level:.3g} (normal) and "
                      f"{s.top_level / s.flood_level:.3g} (flood)")
-    return DamStudy(s, res, safety, named, path, first, fail, hand_levels(s), margins,
-                    time.process_time() - t0, notes, broke)
+    study = DamStudy(s, res, safety, named, path, first, fail, hand_levels(s), margins,
+                     time.process_time() - t0, notes, broke)
+    if checks:
+        study.combinations, study.checks = run_combinations(s, say)
+        study.yield_acceleration = y = run_yield(s, say)
+        margins["yield k_h / design k_h"] = y.margin
+        if y.k_y is None:
+            notes.append(f"equilibrium was not lost up to k_h = {y.top:g}: the yield "
+                         f"acceleration is above it (margin at least {y.top / y.design:.3g})")
+        study.seconds = time.process_time() - t0
+    return study
 
 
 def summary(study: DamStudy) -> dict[str, Any]:
@@ -277,8 +423,20 @@ def summary(study: DamStudy) -> dict[str, Any]:
                    "level": n.level, "values": n.values, "hand": n.hand}
                   for n in study.named],
         "notes": study.notes, "cpu_seconds": study.seconds,
+        "verdict": study.verdict, "verdicts": study.verdicts,
+        "checks": [] if study.checks is None else [
+            {"combination": r.combination, "joint": r.joint, "check": r.check,
+             "value": r.value, "unit": r.unit, "required": r.required,
+             "relation": r.relation, "verdict": r.verdict, "source": r.source,
+             "checked": r.checked, "note": r.note} for r in study.checks.rows],
+        "yield_acceleration": None if study.yield_acceleration is None else {
+            k: getattr(study.yield_acceleration, k)
+            for k in ("k_y", "mode", "design", "top", "margin", "first_slip",
+                      "first_opening", "open_length", "crack_water", "hand", "message",
+                      "seconds")},
     })
 
 
-__all__ = ["CASES", "DamStudy", "NamedState", "base_stresses", "hand_levels", "run_dam",
+__all__ = ["CASES", "CombinationRun", "DamStudy", "NamedState", "YieldAcceleration",
+           "base_stresses", "hand_levels", "run_combinations", "run_dam", "run_yield",
            "summary"]
