@@ -108,11 +108,8 @@ def combinations(site: DamSite) -> list[Combination]:
         return (SelfWeight(), Reservoir(h, crack_water=True), Tailwater(t),
                 BaseUplift(drain=(X_DRAIN, 0.0), ratio=K_DRAIN), Silt(*SILT))
 
-    # the reservoir's hydrodynamic pressure per unit k_h: a SeismicCoefficient on the
-    # (massless) rock carries only its Westergaard part; the dam's inertia is the Earthquake's
-    hydro = sc.SeismicCoefficient(k_h=1.0, bodies=("rock",),
-                                  reservoir=westergaard(site, NORMAL[0]))
-    quake = Earthquake(K_H, reservoir_items=(hydro,))
+    # the dam's inertia and, on its upstream face, Westergaard's pressure of the reservoir
+    quake = Earthquake(K_H)
     return [Combination("usual", "usual", static(NORMAL)),
             Combination("flood", "flood", static(FLOOD)),
             Combination("extreme", "extreme", static(NORMAL) + (quake,)),
