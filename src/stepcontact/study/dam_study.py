@@ -47,6 +47,7 @@ from stepcontact.study.dam import (
     hand_yield,
     joint_strength,
 )
+from stepcontact.study.dam_quake import QuakeRun, run_quake
 
 #: the named levels of the study and what they stand for
 CASES = {"self-weight": "self-weight (and tailwater), empty reservoir",
@@ -147,6 +148,7 @@ class DamStudy:
     combinations: list[CombinationRun] = field(default_factory=list)
     checks: DamCheck | None = None
     yield_acceleration: YieldAcceleration | None = None
+    earthquake: QuakeRun | None = None
 
     def row(self, name: str) -> NamedState | None:
         return next((n for n in self.named if n.name == name), None)
@@ -389,6 +391,10 @@ def run_dam(section: DamSection, *,
             notes.append(f"equilibrium was not lost up to k_h = {y.top:g}: the yield "
                          f"acceleration is above it (margin at least {y.top / y.design:.3g})")
         study.seconds = time.process_time() - t0
+    if s.record is not None:  # the earthquake record (stepcontact.study.dam_quake)
+        y = study.yield_acceleration or run_yield(s, say)
+        study.earthquake = run_quake(s, y.k_y, say=say)
+        study.seconds = time.process_time() - t0
     return study
 
 
@@ -434,6 +440,7 @@ def summary(study: DamStudy) -> dict[str, Any]:
             for k in ("k_y", "mode", "design", "top", "margin", "first_slip",
                       "first_opening", "open_length", "crack_water", "hand", "message",
                       "seconds")},
+        "earthquake": None if study.earthquake is None else study.earthquake.figures(),
     })
 
 
