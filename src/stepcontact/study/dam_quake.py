@@ -403,9 +403,9 @@ def plot_quake(run: QuakeRun, path: str | os.PathLike[str] | None = None, *,
     ax_o.set_xlabel("time t (s)")
     if base_length:
         ax_o.set_ylim(0.0, float(base_length))
-    for a in (ax_a, ax_s, ax_o):
+    for a, where in ((ax_a, "upper right"), (ax_s, "lower right"), (ax_o, "upper right")):
         a.grid(True, alpha=0.3)
-        a.legend(loc="upper right", fontsize="x-small", frameon=False)
+        a.legend(loc=where, fontsize="x-small", frameon=False)
     fig.suptitle(f"Earthquake record: crack water '{run.quake.crack_water}'",
                  fontsize="medium")
     save_figure(fig, p, dpi)

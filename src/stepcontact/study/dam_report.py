@@ -31,6 +31,7 @@ import numpy as np
 from stepcontact.io.atomic import write_text
 from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
 from stepcontact.study.dam import DAM, JOINT, DamSection
+from stepcontact.study.dam_quake import QUAKE_FIGURES, plot_quake, quake_blocks
 from stepcontact.study.dam_study import DamStudy, base_stresses, summary
 from stepcontact.study.report import (
     _Block,
@@ -674,7 +675,8 @@ def report_blocks(study: DamStudy) -> tuple[str, list[_Block]]:
         _Image(FIGURES["section"], "the section and its loads",
                "The section with its loads at the normal level and the uplift head along "
                "the base."),
-        *_assumptions(s), *_verdicts(study), *_results(study), *_yield(study), *_figures(),
+        *_assumptions(s), *_verdicts(study), *_results(study), *_yield(study),
+        *quake_blocks(study.earthquake), *_figures(),
         *_events(study)]
     return title, blocks
 
@@ -693,6 +695,10 @@ def write_report(study: DamStudy, out_dir: str | os.PathLike[str], *,
     paths = {key: out / FIGURES[key] for key, _ in plots}
     for key, plot in plots:
         plot(study, paths[key], dpi=dpi)
+    if study.earthquake is not None:  # the earthquake record (stepcontact.study.dam_quake)
+        paths["quake"] = out / QUAKE_FIGURES["quake"]
+        plot_quake(study.earthquake, paths["quake"], dpi=dpi,
+                   base_length=study.section.base_length)
     title, blocks = report_blocks(study)
     paths["markdown"], paths["html"] = out / "report.md", out / "report.html"
     paths["summary"] = out / "summary.json"

@@ -23,6 +23,7 @@ Example
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -409,6 +410,8 @@ def summary(study: DamStudy) -> dict[str, Any]:
             return {k: clean(x) for k, x in v.items()}
         if isinstance(v, list | tuple):
             return [clean(x) for x in v]
+        if isinstance(v, os.PathLike):  # the earthquake record's files
+            return str(v)
         return v
 
     import dataclasses
