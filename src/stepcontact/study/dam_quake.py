@@ -315,7 +315,7 @@ def run_quake(s: DamSection, k_y: float | None, *,
     acceleration ``k_y`` (g; None: not reached, no estimate).  A run that ends without an
     answer is a :class:`~stepcontact.errors.SolverError`."""
     from stepcontact.solver.static import solve_static
-    from stepcontact.study.dam import JOINT, earthquake, joint_strength
+    from stepcontact.study.dam import JOINT, G, earthquake, joint_strength
 
     q = s.record
     t0 = time.process_time()
@@ -334,7 +334,7 @@ def run_quake(s: DamSection, k_y: float | None, *,
     notes = []
     one = two = None
     if k_y is not None and k_y > 0:
-        a_y = float(k_y) * G_RECORD
+        a_y = float(k_y) * G  # k_y in the model's g (its weight and SeismicCoefficient)
         rec = (h.times, h.values)
         one = sliding_comparison(shaking, (rec[0], -rec[1]), a_y, interfaces=JOINT)
         two = sliding_comparison(shaking, rec, a_y, interfaces=JOINT, two_way=True)
@@ -381,9 +381,10 @@ def plot_quake(run: QuakeRun, path: str | os.PathLike[str] | None = None, *,
     if run.vertical is not None:
         ax_a.plot(run.vertical.times, run.vertical.values / G_RECORD, color="#7f7f7f", lw=0.6,
                   label="vertical (y)")
-    if run.k_y is not None:
+    if run.newmark_one is not None:
+        a_y = run.newmark_one.a_yield / G_RECORD  # k_y g, in the records' g
         for sign in (1, -1):
-            ax_a.axhline(sign * run.k_y, color="#d62728", lw=1.0, ls=":",
+            ax_a.axhline(sign * a_y, color="#d62728", lw=1.0, ls=":",
                          label=f"± k_y = {run.k_y:.4f} g" if sign > 0 else None)
     ax_a.set_ylabel("a_g (g)")
     slip = run.slip
