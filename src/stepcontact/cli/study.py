@@ -419,7 +419,10 @@ def study(
     margins as factors on the level, and the hand statics a reviewer checks; the load
     combinations (usual, flood, extreme with the pseudo-static earthquake --kh/--kv,
     post-earthquake) with the verdicts of a guideline (--guideline), and the yield
-    acceleration k_y (k_h raised until the dam fails) with its margin k_y / k_h.
+    acceleration k_y (k_h raised until the dam fails) with its margin k_y / k_h; with
+    --record, the earthquake record as a time history after the usual loads (Westergaard's
+    added mass, the crack water of --crack-water) and the post-earthquake stage: the base's
+    permanent slip beside Newmark's estimate at k_y and the post-earthquake verdict.
 
     Examples:
 
@@ -434,6 +437,8 @@ def study(
         stepcontact study dam --height 40 --drain 4 --drain-efficiency 0.5 --cohesion 3e5
 
         stepcontact study dam --quick --kh 0.15 --kv 0.05 --guideline ferc
+
+        stepcontact study dam --quick --record record.AT2 --target-pga 0.3
     """
     from stepcontact.study import basin
     from stepcontact.study.report import write_report
