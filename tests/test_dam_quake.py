@@ -193,6 +193,19 @@ def test_errors_name_the_field(tmp_path):
         QuakeRecord(path, units="m/s2").records()
 
 
+def test_the_vertical_component_takes_the_horizontal_factor(tmp_path):
+    """A vertical record is read along y and scaled by the horizontal's factor (the target
+    PGA is the horizontal's); the polarity flips the horizontal only: hand values of the
+    peaks, 1e-12."""
+    h, v = tmp_path / "h.AT2", tmp_path / "v.AT2"
+    write_at2(h, pulse_values(0.3), DELTA)
+    write_at2(v, 0.5 * pulse_values(0.3), DELTA)
+    rh, rv = QuakeRecord(h, vertical=v, target_pga=0.25, polarity=-1).records()
+    assert rh.axis == "x" and rv.axis == "y"
+    assert rh.values.min() == pytest.approx(-0.25 * G_REC, rel=1e-12)
+    assert rv.values.max() == pytest.approx(0.5 * 0.25 * G_REC, rel=1e-12)
+
+
 def test_the_command_line_options(tmp_path):
     """--record without a file, --crack-water without --record, a bad choice: one-line
     errors naming the option or the field."""

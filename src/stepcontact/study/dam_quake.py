@@ -325,7 +325,8 @@ def run_quake(s: DamSection, k_y: float | None, *,
         f"{interval.dt:g} s (crack water '{q.crack_water}'), then the post-earthquake stage")
     res = solve_static(model)
     shaking = res.dynamics.get("earthquake") if res.dynamics else None
-    if shaking is None or res.status != Status.COMPLETED:
+    if shaking is None or shaking.status != Status.COMPLETED or res.status not in (
+            Status.COMPLETED, Status.EQUILIBRIUM_LOST):
         raise SolverError(f"the dam's earthquake run {res.message or res.status}: no answer "
                           "to report")
     from stepcontact.results.sliding import joint_slip
@@ -343,6 +344,9 @@ def run_quake(s: DamSection, k_y: float | None, *,
                      "estimate")
     else:
         notes.append("the dam loses equilibrium before the earthquake: no Newmark estimate")
+    if res.status == Status.EQUILIBRIUM_LOST:
+        notes.append(f"the dam loses equilibrium after the shaking ({res.message}): the "
+                     "post-earthquake state is the last state of equilibrium")
     if slip.sliding_at_end:
         notes.append("the base still slides at the end of the shaking: the slip is not yet "
                      "permanent (give a longer duration)")

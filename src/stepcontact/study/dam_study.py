@@ -394,7 +394,11 @@ def run_dam(section: DamSection, *,
         study.seconds = time.process_time() - t0
     if s.record is not None:  # the earthquake record (stepcontact.study.dam_quake)
         y = study.yield_acceleration or run_yield(s, say)
-        study.earthquake = run_quake(s, y.k_y, say=say)
+        if y.k_y == 0.0:
+            notes.append("the dam loses equilibrium under the usual loads: the earthquake "
+                         "record is not run")
+        else:
+            study.earthquake = run_quake(s, y.k_y, say=say)
         study.seconds = time.process_time() - t0
     return study
 
