@@ -193,6 +193,29 @@ def test_errors_name_the_field(tmp_path):
         QuakeRecord(path, units="m/s2").records()
 
 
+def test_the_staged_model_carries_the_choices(tmp_path):
+    """The record run's model: the stages usual → earthquake → post-earthquake, the
+    interval with the chosen crack water, the record's time step and length, the Rayleigh
+    coefficients of ζ at the two frequencies (a₀ = 2ζω₁ω₂/(ω₁ + ω₂), a₁ = 2ζ/(ω₁ + ω₂) for
+    equal ratios, 1e-12), and Westergaard's added mass at the normal level."""
+    from stepcontact.study.dam_quake import quake_model
+
+    path = tmp_path / "p.AT2"
+    write_at2(path, pulse_values(0.3), DELTA)
+    s = stiff_section(path).replace(record=QuakeRecord(
+        path, crack_water="none", damping_ratio=0.05, damping_frequencies=(2.0, 10.0)))
+    model, *_, interval, (a0, a1, fs) = quake_model(s)
+    assert [st.name for st in model.stages] == ["usual", "earthquake", "post-earthquake"]
+    assert model.stages[1].dynamics is interval and interval.crack_water == "none"
+    assert interval.dt == pytest.approx(DELTA) and interval.duration == pytest.approx(0.3)
+    w1, w2 = 2 * np.pi * 2.0, 2 * np.pi * 10.0
+    assert a0 == pytest.approx(2 * 0.05 * w1 * w2 / (w1 + w2), rel=1e-12)
+    assert a1 == pytest.approx(2 * 0.05 / (w1 + w2), rel=1e-12)
+    assert interval.damping == (a0, a1) and fs == (2.0, 10.0)
+    masses = model.added_masses
+    assert len(masses) == 1 and masses[0].level == LEVEL
+
+
 def test_the_vertical_component_takes_the_horizontal_factor(tmp_path):
     """A vertical record is read along y and scaled by the horizontal's factor (the target
     PGA is the horizontal's); the polarity flips the horizontal only: hand values of the
