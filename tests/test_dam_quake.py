@@ -245,3 +245,10 @@ def test_the_command_line_options(tmp_path):
     assert_one_line_error(r, "dam.record.crack_water")
     r = runner.invoke(app, ["study", "slab", "--record", str(path), "-o", out])
     assert_one_line_error(r, "--record")
+    txt = tmp_path / "r.txt"
+    txt.write_text("0.0 0.1\n0.01 0.2\n0.02 0.0\n")
+    r = runner.invoke(app, ["study", "dam", "--quick", "--record", str(txt), "-o", out])
+    assert_one_line_error(r, "format")
+    r = runner.invoke(app, ["study", "dam", "--quick", "--record", str(txt), "--record-format",
+                            "two_column", "-o", out])
+    assert_one_line_error(r, "units")

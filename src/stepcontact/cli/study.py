@@ -387,6 +387,15 @@ def study(
         Path | None, typer.Option("--record-vertical", help="dam: the record's vertical "
                                   "component (+ up), scaled as the horizontal.")
     ] = None,
+    record_format: Annotated[
+        str | None, typer.Option("--record-format", metavar="at2|two_column|one_column",
+                                 help="dam: the record files' format (default: .AT2 by the "
+                                 "name).")
+    ] = None,
+    record_dt: Annotated[
+        float | None, typer.Option("--record-dt", help="dam: the sampling of a one-column "
+                                   "record file, s.")
+    ] = None,
     record_units: Annotated[
         str | None, typer.Option("--record-units", metavar="g|m/s2|cm/s2|gal",
                                  help="dam: units of a text record file.")
@@ -451,7 +460,8 @@ def study(
            "tensile_strength": tensile_strength, "drain_position": drain,
            "drain_efficiency": drain_efficiency, "cell": cell, "k_h": kh, "k_v": kv,
            "guideline": guideline, "silt_level": silt_level}
-    quake = {"horizontal": record, "vertical": record_vertical, "units": record_units,
+    quake = {"horizontal": record, "vertical": record_vertical, "format": record_format,
+             "file_dt": record_dt, "units": record_units,
              "target_pga": target_pga, "polarity": polarity, "crack_water": crack_water}
     if name == "dam":
         slab_only = {"--E0": E0, "--h-kr": h_kr, "--amplitude": amplitude,
@@ -562,7 +572,8 @@ def _print_study(ds: Any, st: Any, failed: Sequence[int], console: Console) -> N
 
 def _quake_flags(quake: dict[str, Any]) -> list[str]:
     """The earthquake-record options given, by their flags' names (without --)."""
-    flags = {"horizontal": "record", "vertical": "record_vertical", "units": "record_units"}
+    flags = {"horizontal": "record", "vertical": "record_vertical", "units": "record_units",
+             "format": "record_format", "file_dt": "record_dt"}
     return [flags.get(k, k) for k, v in quake.items() if v is not None]
 
 
