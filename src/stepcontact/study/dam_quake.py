@@ -45,6 +45,7 @@ Example
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import time
@@ -368,6 +369,13 @@ def run_quake(s: DamSection, k_y: float | None, *,
                     time.process_time() - t0, notes)
 
 
+def describe_record(q: QuakeRecord) -> str:
+    """The record's fields that are given, in a line (the report's inputs)."""
+    parts = [f"{f.name} = {getattr(q, f.name)}" for f in dataclasses.fields(q)
+             if getattr(q, f.name) is not None and getattr(q, f.name) != f.default]
+    return ", ".join(parts)
+
+
 # --------------------------------------------------------------------------- figure ---
 
 def plot_quake(run: QuakeRun, path: str | os.PathLike[str] | None = None, *,
@@ -474,6 +482,15 @@ def quake_blocks(run: QuakeRun | None) -> list:
             f"({run.seconds:.2f} s of CPU).")
     return [_Heading(2, "Earthquake record"), _Para(text),
             _Table(("input", "value"), inputs),
+            _Para("Assumptions: the elastic dam and rock with the joint's exact contact "
+                  "(opening, slip, the crack water chosen) during the shaking; Westergaard's "
+                  "(1933) added mass at the normal level (rigid face, incompressible water, "
+                  "no surface waves); the ground motion applied at the foundation's fixed "
+                  "bottom (a rock block with its mass: no deconvolution, no radiation "
+                  "damping) or at a rigid base; Rayleigh "
+                  "damping as given. Sign convention: a positive record value accelerates "
+                  "the ground along +x (downstream) or +y (up); displacements are relative "
+                  "to the ground; the slip is the dam's relative to the rock, downstream > 0."),
             _Para("Newmark's rigid block (Newmark 1965) slides when the ground's acceleration "
                   "exceeds a_y = k_y g, k_y the study's yield acceleration (downstream; the "
                   "two-directional estimate takes the same a_y upstream). Assumptions: a "
@@ -491,5 +508,5 @@ def quake_blocks(run: QuakeRun | None) -> list:
                    "the base during the shaking.")]
 
 
-__all__ = ["DEFAULT_CRACK_WATER", "QUAKE_FIGURES", "QuakeRecord", "QuakeRun",
+__all__ = ["DEFAULT_CRACK_WATER", "QUAKE_FIGURES", "QuakeRecord", "QuakeRun", "describe_record",
            "fundamental_frequency", "plot_quake", "quake_blocks", "quake_model", "run_quake"]

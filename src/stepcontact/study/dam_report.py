@@ -31,7 +31,12 @@ import numpy as np
 from stepcontact.io.atomic import write_text
 from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
 from stepcontact.study.dam import DAM, JOINT, DamSection
-from stepcontact.study.dam_quake import QUAKE_FIGURES, plot_quake, quake_blocks
+from stepcontact.study.dam_quake import (
+    QUAKE_FIGURES,
+    describe_record,
+    plot_quake,
+    quake_blocks,
+)
 from stepcontact.study.dam_study import DamStudy, base_stresses, summary
 from stepcontact.study.report import (
     _Block,
@@ -330,6 +335,7 @@ FIELDS: dict[str, tuple[str, str]] = {
     "silt_unit_weight": ("N/m³", "the silt's equivalent fluid K γ'_s"),
     "compressive_strength": ("Pa", "the joint's compressive strength (none: no stress check)"),
     "level_step": ("m", "the reservoir's segments end every so many metres (default H/20)"),
+    "record": ("", "the earthquake record (none: no time history; see 'Earthquake record')"),
 }
 
 
@@ -337,7 +343,10 @@ def _field_value(name: str, v) -> str:
     if v is None:
         return {"rock": "none: rigid base", "drain_position": "none: no drains",
                 "guideline_variant": "the guideline's default", "silt_level": "none: no silt",
-                "compressive_strength": "none: no stress check"}.get(name, "default")
+                "compressive_strength": "none: no stress check",
+                "record": "none"}.get(name, "default")
+    if name == "record":  # the earthquake record (stepcontact.study.dam_quake)
+        return describe_record(v)
     if hasattr(v, "E") and hasattr(v, "density"):
         return f"E = {_modulus(v.E)}, ν = {v.nu:g}, ρ = {v.density:g} kg/m³"
     if isinstance(v, float):
