@@ -345,6 +345,10 @@ def run_quake(s: DamSection, k_y: float | None, *,
                      "estimate")
     else:
         notes.append("the dam loses equilibrium before the earthquake: no Newmark estimate")
+    if k_y and s.k_v:
+        notes.append(f"k_y is the yield run's, with the design ratio k_v/k_h = "
+                     f"{s.k_v / s.k_h:g} of a pseudo-static vertical inertia; Newmark's "
+                     "estimate takes it as it is and the horizontal record only")
     if res.status == Status.EQUILIBRIUM_LOST:
         notes.append(f"the dam loses equilibrium after the shaking ({res.message}): the "
                      "post-earthquake state is the last state of equilibrium")
