@@ -107,7 +107,9 @@ _STUDY = {"run_sweep": "sweep", "grid": "sweep", "cases_from_list": "sweep",
           # issue 29 §3: the dam study (a parametric gravity-dam section, its static runs)
           "DamSection": "dam", "dam_model": "dam", "run_dam": "dam_study",
           # issue 29 §2–§3 (damwire): the study's site, combinations and yield acceleration
-          "dam_site": "dam", "run_yield": "dam_study"}
+          "dam_site": "dam", "run_yield": "dam_study",
+          # issue 29 §1, §3 (damquake): the earthquake record in the dam study
+          "QuakeRecord": "dam_quake", "run_quake": "dam_quake"}
 
 
 def __getattr__(name: str):

@@ -377,6 +377,42 @@ def study(
         float | None, typer.Option("--silt-level", help="dam: silt against the upstream face "
                                    "up to this level, m (default: no silt).")
     ] = None,
+    record: Annotated[
+        Path | None, typer.Option("--record", help="dam: an earthquake record, the horizontal "
+                                  "component (PEER .AT2 in g, or a text file with "
+                                  "--record-units): run it after the usual loads, then the "
+                                  "post-earthquake stage.")
+    ] = None,
+    record_vertical: Annotated[
+        Path | None, typer.Option("--record-vertical", help="dam: the record's vertical "
+                                  "component (+ up), scaled as the horizontal.")
+    ] = None,
+    record_format: Annotated[
+        str | None, typer.Option("--record-format", metavar="at2|two_column|one_column",
+                                 help="dam: the record files' format (default: .AT2 by the "
+                                 "name).")
+    ] = None,
+    record_dt: Annotated[
+        float | None, typer.Option("--record-dt", help="dam: the sampling of a one-column "
+                                   "record file, s.")
+    ] = None,
+    record_units: Annotated[
+        str | None, typer.Option("--record-units", metavar="g|m/s2|cm/s2|gal",
+                                 help="dam: units of a text record file.")
+    ] = None,
+    target_pga: Annotated[
+        float | None, typer.Option("--target-pga", help="dam: scale the record to this peak "
+                                   "horizontal acceleration, g.")
+    ] = None,
+    polarity: Annotated[
+        int | None, typer.Option("--polarity", help="dam: 1, or -1 to flip the horizontal "
+                                 "record (the other direction of shaking).")
+    ] = None,
+    crack_water: Annotated[
+        str | None, typer.Option("--crack-water", metavar="unchanged|none|full",
+                                 help="dam: the water in a crack during the shaking (default "
+                                 "unchanged: USACE, FERC; none: USBR; full: ICOLD).")
+    ] = None,
 ) -> None:
     """Run a ready-made study and write its figures and report. See docs/slab-study.md and
     docs/dam-study.md.
@@ -392,7 +428,10 @@ def study(
     margins as factors on the level, and the hand statics a reviewer checks; the load
     combinations (usual, flood, extreme with the pseudo-static earthquake --kh/--kv,
     post-earthquake) with the verdicts of a guideline (--guideline), and the yield
-    acceleration k_y (k_h raised until the dam fails) with its margin k_y / k_h.
+    acceleration k_y (k_h raised until the dam fails) with its margin k_y / k_h; with
+    --record, the earthquake record as a time history after the usual loads (Westergaard's
+    added mass, the crack water of --crack-water) and the post-earthquake stage: the base's
+    permanent slip beside Newmark's estimate at k_y and the post-earthquake verdict.
 
     Examples:
 
@@ -407,6 +446,8 @@ def study(
         stepcontact study dam --height 40 --drain 4 --drain-efficiency 0.5 --cohesion 3e5
 
         stepcontact study dam --quick --kh 0.15 --kv 0.05 --guideline ferc
+
+        stepcontact study dam --quick --record record.AT2 --target-pga 0.3
     """
     from stepcontact.study import basin
     from stepcontact.study.report import write_report
@@ -419,12 +460,15 @@ def study(
            "tensile_strength": tensile_strength, "drain_position": drain,
            "drain_efficiency": drain_efficiency, "cell": cell, "k_h": kh, "k_v": kv,
            "guideline": guideline, "silt_level": silt_level}
+    quake = {"horizontal": record, "vertical": record_vertical, "format": record_format,
+             "file_dt": record_dt, "units": record_units,
+             "target_pga": target_pga, "polarity": polarity, "crack_water": crack_water}
     if name == "dam":
         slab_only = {"--E0": E0, "--h-kr": h_kr, "--amplitude": amplitude,
                      "--position": positions or None, "--duration": durations or None,
                      "--gap-pressure": gap_pressure, "--scheduler": scheduler,
                      "--workers": workers, "--serial": serial or None, "--rerun": rerun or None}
-        _dam_study(dam, quick=quick, friction=friction, rigid_base=rigid_base,
+        _dam_study(dam, quick=quick, friction=friction, rigid_base=rigid_base, quake=quake,
                    output=Path("dam-study") if output is None else output, quiet=quiet,
                    console=console, unused=[k for k, v in slab_only.items() if v is not None])
         return
@@ -433,7 +477,7 @@ def study(
         if name not in STUDIES:
             raise _Failure(f"unknown study '{name}' (known: {', '.join(STUDIES)})")
         dam_only = [k for k, v in dam.items() if v is not None] + (
-            ["rigid_base"] if rigid_base else [])
+            ["rigid_base"] if rigid_base else []) + _quake_flags(quake)
         if dam_only:
             flag = {"k_h": "kh", "k_v": "kv"}.get(dam_only[0], dam_only[0])
             raise _Failure(f"--{flag.replace('_', '-')} applies to the dam study, not "
@@ -526,6 +570,31 @@ def _print_study(ds: Any, st: Any, failed: Sequence[int], console: Console) -> N
 
 # ---------------------------------------------------------------------------- the dam study ---
 
+def _quake_flags(quake: dict[str, Any]) -> list[str]:
+    """The earthquake-record options given, by their flags' names (without --)."""
+    flags = {"horizontal": "record", "vertical": "record_vertical", "units": "record_units",
+             "format": "record_format", "file_dt": "record_dt"}
+    return [flags.get(k, k) for k, v in quake.items() if v is not None]
+
+
+def _quake_record(quake: dict[str, Any]) -> Any:
+    """The QuakeRecord of the --record options (None without --record)."""
+    from stepcontact.study.dam_quake import QuakeRecord
+
+    given = {k: v for k, v in quake.items() if v is not None}
+    if "horizontal" not in given:
+        if given:
+            flag = _quake_flags(given)[0].replace("_", "-")
+            raise _Failure(f"--{flag} needs an earthquake record: give --record FILE")
+        return None
+    try:
+        rec = QuakeRecord(**given)
+        rec.records()  # read now: a bad file is an error before the static runs
+        return rec
+    except StepContactError as e:
+        raise _Failure(_error_text(e)) from None
+
+
 def _dam_section(values: dict[str, Any], *, quick: bool, friction: float | None,
                  rigid_base: bool) -> Any:
     """The DamSection of the options given (None: the default); --quick: cells of H/15,
@@ -555,7 +624,7 @@ def _dam_section(values: dict[str, Any], *, quick: bool, friction: float | None,
 
 def _dam_study(values: dict[str, Any], *, quick: bool, friction: float | None,
                rigid_base: bool, output: Path, quiet: bool, console: Console,
-               unused: Sequence[str]) -> None:
+               unused: Sequence[str], quake: dict[str, Any] | None = None) -> None:
     """``stepcontact study dam``: build the section, run it, write the report."""
     from stepcontact.study.dam_report import write_report
     from stepcontact.study.dam_study import run_dam
@@ -565,6 +634,9 @@ def _dam_study(values: dict[str, Any], *, quick: bool, friction: float | None,
         if unused:
             raise _Failure(f"{unused[0]} applies to the slab study, not to the dam study")
         section = _dam_section(values, quick=quick, friction=friction, rigid_base=rigid_base)
+        rec = _quake_record(quake or {})
+        if rec is not None:
+            section = section.replace(record=rec)
         say = None if quiet else (lambda text: err.print(Text(f"dam study: {text}",
                                                                style="cyan")))
         try:
@@ -631,3 +703,34 @@ def _print_dam(st: Any, console: Console) -> None:
                              ", ".join(r.check for r in c.checks.failed()) or "—")
         verdicts.add_row("overall", "", st.verdict, "")
         _print_wide(verdicts, console)
+    if st.earthquake is not None:
+        _print_quake(st.earthquake, console)
+
+
+def _print_quake(q: Any, console: Console) -> None:
+    """The earthquake record's run: the permanent slip beside Newmark's estimates."""
+    table = Table(title=f"earthquake record: {q.record.figures().line()}; crack water "
+                  f"'{q.quake.crack_water}', {q.seconds:.1f} s of CPU", box=box.SIMPLE_HEAD,
+                  title_justify="left")
+    for c in ("quantity", "value"):
+        table.add_column(c, justify="left" if c == "quantity" else "right", no_wrap=True)
+    one, two = q.newmark_one, q.newmark_two
+
+    def mm(v: float | None) -> str:
+        return "—" if v is None else f"{v * 1e3:.2f}"
+
+    table.add_row("permanent slip, mean (mm, downstream > 0)", mm(q.slip.permanent_mean))
+    table.add_row("permanent slip, largest CFE (mm)", mm(q.slip.permanent_max))
+    table.add_row("Newmark one-directional, downstream (mm)",
+                  mm(None if one is None else abs(one.newmark.permanent)))
+    table.add_row("Newmark two-directional (mm, along −x)",
+                  mm(None if two is None else -two.newmark.permanent))
+    table.add_row("yield acceleration k_y (g)", "—" if q.k_y is None else f"{q.k_y:.4f}")
+    table.add_row("largest open length during the shaking (m)",
+                  f"{q.max_open:.2f} at {q.max_open_time:.3f} s")
+    sf = q.post.get("sliding_factor")
+    table.add_row("post-earthquake sliding factor", "—" if sf is None else f"{sf:.3f}")
+    table.add_row("post-earthquake verdict", q.verdict)
+    _print_wide(table, console)
+    for note in q.notes:
+        console.print(f"note: {note}")

@@ -1616,7 +1616,8 @@ class _DynamicRun:
             return
         c0 = self.static
         p_open = np.full(self.m, np.nan)
-        self.held = held = self.water_on.copy()
+        # (its own name: ``held`` is the compliant layers' components, 2m, in accel_forces)
+        self.water_held = held = self.water_on.copy()
         p_open[held] = (crack.net(c0) + crack.uplift_pressure(c0))[held]
         self.drains = np.zeros(self.m, bool)
         self.drained = np.zeros(self.m, bool)  # the drains opened so far
@@ -1634,7 +1635,7 @@ class _DynamicRun:
         if self.p_open is None:
             return self.crack.wet(states)
         op = states == OPEN
-        return (op & self.held) | (self.drains & (op | self.drained))
+        return (op & self.water_held) | (self.drains & (op | self.drained))
 
     def _initial_loads(self) -> None:
         """The load at t = 0 and the load held from the static run (a static state is at

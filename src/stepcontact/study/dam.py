@@ -149,6 +149,8 @@ class DamSection:
     silt_level: float | None = None
     silt_unit_weight: float = 13.4e3
     compressive_strength: float | None = None
+    #: the earthquake record (issue 29 §1: stepcontact.study.dam_quake.QuakeRecord), or None
+    record: object = None
 
     def __post_init__(self):
         for key in ("height", "crest_width", "cell"):
@@ -188,6 +190,9 @@ class DamSection:
             raise ModelError("dam.max_level", f"must be above the flood level "
                              f"({self.flood_level:g} m), got {self.max_level}")
         self._check_combinations()
+        if self.record is not None and type(self.record).__name__ != "QuakeRecord":
+            raise ModelError("dam.record", f"must be a QuakeRecord "
+                             f"(stepcontact.study.dam_quake), got {type(self.record).__name__}")
         cells = max(self.base_length, self.height) / self.cell
         if cells > MAX_CELLS:
             raise ModelError("dam.cell", f"{self.cell:g} m makes {cells:.0f} cells along a "

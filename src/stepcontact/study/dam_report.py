@@ -31,6 +31,12 @@ import numpy as np
 from stepcontact.io.atomic import write_text
 from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
 from stepcontact.study.dam import DAM, JOINT, DamSection
+from stepcontact.study.dam_quake import (
+    QUAKE_FIGURES,
+    describe_record,
+    plot_quake,
+    quake_blocks,
+)
 from stepcontact.study.dam_study import DamStudy, base_stresses, summary
 from stepcontact.study.report import (
     _Block,
@@ -329,6 +335,7 @@ FIELDS: dict[str, tuple[str, str]] = {
     "silt_unit_weight": ("N/m³", "the silt's equivalent fluid K γ'_s"),
     "compressive_strength": ("Pa", "the joint's compressive strength (none: no stress check)"),
     "level_step": ("m", "the reservoir's segments end every so many metres (default H/20)"),
+    "record": ("", "the earthquake record (none: no time history; see 'Earthquake record')"),
 }
 
 
@@ -336,7 +343,10 @@ def _field_value(name: str, v) -> str:
     if v is None:
         return {"rock": "none: rigid base", "drain_position": "none: no drains",
                 "guideline_variant": "the guideline's default", "silt_level": "none: no silt",
-                "compressive_strength": "none: no stress check"}.get(name, "default")
+                "compressive_strength": "none: no stress check",
+                "record": "none"}.get(name, "default")
+    if name == "record":  # the earthquake record (stepcontact.study.dam_quake)
+        return describe_record(v)
     if hasattr(v, "E") and hasattr(v, "density"):
         return f"E = {_modulus(v.E)}, ν = {v.nu:g}, ρ = {v.density:g} kg/m³"
     if isinstance(v, float):
@@ -674,7 +684,8 @@ def report_blocks(study: DamStudy) -> tuple[str, list[_Block]]:
         _Image(FIGURES["section"], "the section and its loads",
                "The section with its loads at the normal level and the uplift head along "
                "the base."),
-        *_assumptions(s), *_verdicts(study), *_results(study), *_yield(study), *_figures(),
+        *_assumptions(s), *_verdicts(study), *_results(study), *_yield(study),
+        *quake_blocks(study.earthquake), *_figures(),
         *_events(study)]
     return title, blocks
 
@@ -693,6 +704,10 @@ def write_report(study: DamStudy, out_dir: str | os.PathLike[str], *,
     paths = {key: out / FIGURES[key] for key, _ in plots}
     for key, plot in plots:
         plot(study, paths[key], dpi=dpi)
+    if study.earthquake is not None:  # the earthquake record (stepcontact.study.dam_quake)
+        paths["quake"] = out / QUAKE_FIGURES["quake"]
+        plot_quake(study.earthquake, paths["quake"], dpi=dpi,
+                   base_length=study.section.base_length)
     title, blocks = report_blocks(study)
     paths["markdown"], paths["html"] = out / "report.md", out / "report.html"
     paths["summary"] = out / "summary.json"

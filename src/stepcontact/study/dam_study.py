@@ -23,6 +23,7 @@ Example
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -47,6 +48,7 @@ from stepcontact.study.dam import (
     hand_yield,
     joint_strength,
 )
+from stepcontact.study.dam_quake import QuakeRun, run_quake
 
 #: the named levels of the study and what they stand for
 CASES = {"self-weight": "self-weight (and tailwater), empty reservoir",
@@ -147,6 +149,7 @@ class DamStudy:
     combinations: list[CombinationRun] = field(default_factory=list)
     checks: DamCheck | None = None
     yield_acceleration: YieldAcceleration | None = None
+    earthquake: QuakeRun | None = None
 
     def row(self, name: str) -> NamedState | None:
         return next((n for n in self.named if n.name == name), None)
@@ -389,6 +392,14 @@ def run_dam(section: DamSection, *,
             notes.append(f"equilibrium was not lost up to k_h = {y.top:g}: the yield "
                          f"acceleration is above it (margin at least {y.top / y.design:.3g})")
         study.seconds = time.process_time() - t0
+    if s.record is not None:  # the earthquake record (stepcontact.study.dam_quake)
+        y = study.yield_acceleration or run_yield(s, say)
+        if y.k_y == 0.0:
+            notes.append("the dam loses equilibrium under the usual loads: the earthquake "
+                         "record is not run")
+        else:
+            study.earthquake = run_quake(s, y.k_y, say=say)
+        study.seconds = time.process_time() - t0
     return study
 
 
@@ -403,6 +414,8 @@ def summary(study: DamStudy) -> dict[str, Any]:
             return {k: clean(x) for k, x in v.items()}
         if isinstance(v, list | tuple):
             return [clean(x) for x in v]
+        if isinstance(v, os.PathLike):  # the earthquake record's files
+            return str(v)
         return v
 
     import dataclasses
@@ -434,6 +447,7 @@ def summary(study: DamStudy) -> dict[str, Any]:
             for k in ("k_y", "mode", "design", "top", "margin", "first_slip",
                       "first_opening", "open_length", "crack_water", "hand", "message",
                       "seconds")},
+        "earthquake": None if study.earthquake is None else study.earthquake.figures(),
     })
 
 
