@@ -1,0 +1,533 @@
+"""The dam study on a user's model file (issue 29 §3): ``stepcontact study dam --model
+FILE.toml``.
+
+The file's bodies, meshes (Gmsh too), materials, supports and interfaces are used as they are;
+its ``[dam]`` table (:class:`~stepcontact.io.modelfile.dam.DamSpec`) names the dam's bodies,
+the base joint, the upstream and downstream faces, the heel and the toe, and gives the water,
+drains, silt, the joint's strength for the checks, the guideline and k_h, k_v.  The file's own
+``[patterns]``, ``[[program]]``, ``[[stages]]``, ``[dynamics]`` and ``[[added_masses]]`` are
+not used (a :class:`DamFileWarning`): the study writes its own programs.
+
+:func:`dam_file` reads the file into a :class:`DamFile`, which gives the study what the
+parametric section (:class:`~stepcontact.study.dam.DamSection`) gives it: the
+:class:`~stepcontact.model.combinations.DamSite` (:meth:`DamFile.site`), the combinations
+(:meth:`DamFile.combinations`: usual, flood, extreme, post-earthquake, as
+:func:`stepcontact.study.dam.combinations`), the pseudo-static earthquake, the joint's strength
+and the level run's model (:meth:`DamFile.model`: self-weight, tailwater, then the reservoir
+raised through the levels, its factor the level h in m) — so that
+:func:`~stepcontact.study.dam_study.run_dam` runs it unchanged.
+
+The uplift under the base (EM 1110-2-2100 (2005) ch. 3 [to be checked]): full reservoir head h
+at the heel, the tailwater head t at the toe, at the drain line (distance X from the heel along
+the base of length L) the head t + K (h − t), K = (1 − E)(L − X)/L for a drain efficiency E
+(or K given), linear between (:class:`~stepcontact.model.combinations.BaseUplift`).
+
+No rigid-base hand statics: they need the parametric section's geometry.  The report gives
+instead the run's own figures of the joint at each named level (ΣN, ΣQ, the resultant's
+position about the toe, from the contact forces).
+
+Example
+-------
+>>> from stepcontact.study.dam_file import dam_file                    # doctest: +SKIP
+>>> from stepcontact.study.dam_study import run_dam                    # doctest: +SKIP
+>>> study = run_dam(dam_file("examples/data/dam_study.toml"))          # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from stepcontact.errors import ModelError
+from stepcontact.io.modelfile.build import _Builder
+from stepcontact.io.modelfile.dam import DamSpec
+from stepcontact.io.modelfile.errors import _Problems, _validate
+from stepcontact.io.modelfile.load import _read_toml
+from stepcontact.model import Model, Segment
+from stepcontact.model.combinations import (
+    BaseUplift,
+    Combination,
+    DamSite,
+    Earthquake,
+    Reservoir,
+    SelfWeight,
+    Silt,
+    Tailwater,
+)
+from stepcontact.model.supports import NodeSet
+from stepcontact.model.water import UNIT_WEIGHT_WATER
+from stepcontact.results.dam_checks import JointStrength
+
+#: gravity, m/s² (as the parametric section's, :data:`stepcontact.study.dam.G`)
+G = 9.81
+#: the parts of a model file the study does not use
+IGNORED = ("patterns", "program", "stages", "dynamics", "added_masses")
+
+
+class DamFileWarning(UserWarning):
+    """A part of a model file that the dam study does not use."""
+
+
+@dataclass(frozen=True, eq=False)
+class DamFile:
+    """A user's model (``model``: bodies, supports and interfaces, no loads) and its ``[dam]``
+    table ``spec``; ``upstream``/``downstream``: the faces' node sets; ``source``: the file.
+    Built by :func:`dam_file`; the checks of the geometry name the field of ``[dam]``."""
+
+    model: Model
+    spec: DamSpec
+    upstream: tuple[NodeSet, ...]
+    downstream: tuple[NodeSet, ...]
+    source: str = ""
+
+    def __post_init__(self):
+        d = self.spec
+        from stepcontact.results.dam_checks import load_guidelines
+
+        gs = load_guidelines()
+        if d.guideline not in gs:
+            raise ModelError("dam.guideline", f"'{d.guideline}' is not a guideline (known: "
+                             f"{', '.join(gs)})")
+        g = gs[d.guideline]
+        if d.guideline_variant is not None and d.guideline_variant not in g.variants:
+            raise ModelError("dam.guideline_variant", f"'{d.guideline_variant}' is not a "
+                             f"variant of {g.title} (variants: "
+                             f"{', '.join(repr(v) for v in g.variants)})")
+        if d.heel[1] != 0.0:
+            raise ModelError("dam.heel", f"is at y = {d.heel[1]:g} m: the levels are "
+                             "elevations with the datum at the heel; put the heel at y = 0 "
+                             "(translate the model)")
+        for which, sets in (("upstream_face", self.upstream),
+                            ("downstream_face", self.downstream)):
+            for ns in sets:
+                self._on_boundary(which, ns)
+        for which in ("heel", "toe"):
+            self._on_joint(which, getattr(d, which))
+        if d.drain is not None:
+            L = self.base_length
+            u = (np.asarray(d.toe) - np.asarray(d.heel)) / L
+            r = np.asarray(d.drain) - np.asarray(d.heel)
+            if not (0.0 < float(r @ u) < L and abs(r[0] * u[1] - r[1] * u[0]) <= 1e-6 * L):
+                raise ModelError("dam.drain", f"({d.drain[0]:g}, {d.drain[1]:g}) is not on "
+                                 "the base between the heel and the toe")
+        if not self.top_level > self.flood_level:
+            raise ModelError("dam.max_level", f"must be above the flood level "
+                             f"({self.flood_level:g} m), got {self.top_level:g}")
+        if d.silt_level is not None and d.silt_level > self.height:
+            raise ModelError("dam.silt_level", f"must be at most the dam's height "
+                             f"({self.height:g} m), got {d.silt_level:g}")
+        if self.interface.bond is not None and d.friction_angle is None:
+            raise ModelError("dam.friction_angle", f"the joint '{d.joint}' has a bond: give "
+                             "the peak friction angle φ of its checks (degrees)")
+
+    # ---------------------------------------------------------------- geometry checks ---
+    def _body(self, name: str):
+        return next(b for b in self.model.bodies if b.name == name)
+
+    def _on_boundary(self, which: str, ns: NodeSet) -> None:
+        """The face's nodes are on the boundary of a dam body and make at least one edge."""
+        if ns.body not in self.spec.bodies:
+            raise ModelError(f"dam.{which}", f"node set '{ns.name}' is on body '{ns.body}', "
+                             f"not on the dam's bodies ({', '.join(self.spec.bodies)})")
+        b = self._body(ns.body)
+        edges = np.asarray(b.boundary)
+        on = np.zeros(b.n_nodes, bool)
+        on[edges.ravel()] = True
+        idx = np.asarray(ns.index)
+        inner = idx[~on[idx]]
+        if inner.size:
+            p = b.points[inner[0]]
+            raise ModelError(f"dam.{which}", f"node set '{ns.name}' is not on a boundary of "
+                             f"body '{ns.body}': {inner.size} of its nodes are inside it "
+                             f"(e.g. node {int(inner[0])} at ({p[0]:g}, {p[1]:g}))")
+        mine = np.isin(edges[:, :2], idx).all(axis=1)
+        if not mine.any():
+            raise ModelError(f"dam.{which}", f"node set '{ns.name}' has no edge of the "
+                             f"boundary of body '{ns.body}' (a face needs two adjacent "
+                             "boundary nodes at least)")
+
+    def _on_joint(self, which: str, point) -> None:
+        """The point is a node of the dam's side of the joint (S+)."""
+        plus = self.interface.plus
+        pts = self._body(plus.body).points[np.asarray(plus.index)]
+        dist = np.hypot(*(pts - np.asarray(point)).T)
+        span = float(np.ptp(pts, axis=0).max()) if len(pts) > 1 else 1.0
+        k = int(np.argmin(dist))
+        if dist[k] > 1e-6 * max(span, 1.0):
+            raise ModelError(f"dam.{which}", f"({point[0]:g}, {point[1]:g}) is not on the "
+                             f"joint '{self.spec.joint}': the nearest node of its dam side is "
+                             f"({pts[k, 0]:g}, {pts[k, 1]:g}), {dist[k]:.3g} m away")
+
+    # ----------------------------------------------------------------- what the study uses ---
+    @property
+    def interface(self):
+        return next(i for i in self.model.interfaces if i.name == self.spec.joint)
+
+    @property
+    def joint(self) -> str:
+        """The base joint's interface name."""
+        return self.spec.joint
+
+    @property
+    def body(self) -> str:
+        """The body of the crest point (the first dam body)."""
+        return self.crest_body()[0]
+
+    @property
+    def heel(self) -> tuple[float, float]:
+        return tuple(map(float, self.spec.heel))
+
+    @property
+    def toe(self) -> tuple[float, float]:
+        return tuple(map(float, self.spec.toe))
+
+    def crest_body(self) -> tuple[str, tuple[float, float]]:
+        """(body, point) of the λ–u curve: ``[dam] crest`` on the dam body that has a node
+        there, or the highest node of the upstream face."""
+        if self.spec.crest is not None:
+            c = np.asarray(self.spec.crest, float)
+            for name in self.spec.bodies:
+                pts = self._body(name).points
+                if np.min(np.hypot(*(pts - c).T)) <= 1e-6 * max(self.height, 1.0):
+                    return name, (float(c[0]), float(c[1]))
+            raise ModelError("dam.crest", f"({c[0]:g}, {c[1]:g}) is not a node of the dam's "
+                             "bodies")
+        best = max(((ns.body, self._body(ns.body).points[i]) for ns in self.upstream
+                    for i in ns.index), key=lambda t: t[1][1])
+        return best[0], (float(best[1][0]), float(best[1][1]))
+
+    @property
+    def crest(self) -> tuple[float, float]:
+        return self.crest_body()[1]
+
+    @property
+    def height(self) -> float:
+        """The dam's height above the heel, m (its bodies' highest node)."""
+        return float(max(self._body(b).points[:, 1].max() for b in self.spec.bodies))
+
+    @property
+    def base_length(self) -> float:
+        """Heel to toe, m."""
+        return float(math.dist(self.spec.heel, self.spec.toe))
+
+    @property
+    def normal_level(self) -> float:
+        return float(self.spec.normal_level)
+
+    @property
+    def flood_level(self) -> float:
+        return float(self.spec.normal_level if self.spec.flood_level is None
+                     else self.spec.flood_level)
+
+    @property
+    def top_level(self) -> float:
+        """The highest level of the run to failure, m (``max_level``, default 3 × height)."""
+        return 3.0 * self.height if self.spec.max_level is None else float(self.spec.max_level)
+
+    @property
+    def levels(self) -> tuple[float, ...]:
+        """The level run's segment ends, m: every ``level_step`` (default height / 20), the
+        normal, flood and top levels (as :attr:`stepcontact.study.dam.DamSection.levels`)."""
+        step = self.height / 20 if self.spec.level_step is None else float(self.spec.level_step)
+        n = int(math.floor(self.top_level / step + 1e-9))
+        stops = {round(k * step, 12) for k in range(1, n + 1)}
+        stops |= {self.normal_level, self.flood_level, self.top_level}
+        return tuple(sorted(v for v in stops if 0 < v <= self.top_level))
+
+    @property
+    def bonded(self) -> bool:
+        return self.interface.bond is not None
+
+    @property
+    def friction_angle(self) -> float:
+        """φ of the checks, degrees (``[dam] friction_angle``, default atan of the
+        interface's friction)."""
+        if self.spec.friction_angle is not None:
+            return float(self.spec.friction_angle)
+        return math.degrees(math.atan(float(self.interface.friction)))
+
+    def __getattr__(self, key: str):
+        # the [dam] table's plain values (k_h, k_v, max_kh, guideline, tailwater, ...)
+        if key != "spec" and key in DamSpec.model_fields:
+            return getattr(self.spec, key)
+        raise AttributeError(key)
+
+    @property
+    def drain_ratio(self) -> float:
+        """The drains' head ratio K (1 without drains): given, or (1 − E)(L − X)/L."""
+        d = self.spec
+        if d.drain is None:
+            return 1.0
+        if d.drain_ratio is not None:
+            return float(d.drain_ratio)
+        L = self.base_length
+        X = float(math.dist(d.heel, d.drain))
+        return (1.0 - float(d.drain_efficiency)) * (L - X) / L
+
+    # -------------------------------------------------------------------- the builders ---
+    def site(self) -> DamSite:
+        """The model without loads as a :class:`~stepcontact.model.combinations.DamSite`."""
+        d = self.spec
+        return DamSite(self.model, base=d.joint, heel=self.heel, toe=self.toe,
+                       upstream=self.upstream, dam=tuple(d.bodies),
+                       downstream=self.downstream or None)
+
+    def static_cases(self, level: float, *, silt: bool = True) -> tuple:
+        """Self-weight, the reservoir at ``level`` (m), the tailwater, the uplift (drained or
+        not) and (``silt``) the silt — as :func:`stepcontact.study.dam._static_cases`."""
+        d = self.spec
+        cases: list = [SelfWeight(g=G), Reservoir(float(level), crack_water=d.crack_water,
+                                                  unit_weight=UNIT_WEIGHT_WATER)]
+        if d.tailwater > 0:
+            cases.append(Tailwater(float(d.tailwater), unit_weight=UNIT_WEIGHT_WATER))
+        drain = None if d.drain is None else tuple(map(float, d.drain))
+        cases.append(BaseUplift(drain=drain, ratio=self.drain_ratio if drain else 1.0 / 3.0,
+                                unit_weight=UNIT_WEIGHT_WATER))
+        if silt and d.silt_level is not None:
+            cases.append(Silt(float(d.silt_level), float(d.silt_unit_weight), 1.0))
+        return tuple(cases)
+
+    def earthquake(self, k_h: float | None = None) -> Earthquake:
+        """The pseudo-static earthquake at ``k_h`` (default the design k_h), k_v in the ratio
+        k_v/k_h, with the reservoir's Westergaard pressure."""
+        kh = float(self.spec.k_h if k_h is None else k_h)
+        return Earthquake(kh, k_v=float(self.spec.k_v) * kh / float(self.spec.k_h), g=G)
+
+    def combinations(self) -> list[Combination]:
+        """usual, unusual (flood) (when the flood level is above the normal one), extreme
+        (earthquake), post-earthquake (:func:`stepcontact.study.dam.combinations`)."""
+        usual = self.static_cases(self.normal_level)
+        out = [Combination("usual", "usual", usual)]
+        if self.flood_level != self.normal_level:
+            out.append(Combination("unusual (flood)", "flood",
+                                   self.static_cases(self.flood_level)))
+        quake = self.earthquake()
+        return out + [Combination("extreme (earthquake)", "earthquake", usual + (quake,)),
+                      Combination("post-earthquake", "post-earthquake", usual + (quake,))]
+
+    def joint_strength(self) -> JointStrength:
+        d = self.spec
+        return JointStrength(cohesion=float(d.cohesion), friction_angle=self.friction_angle,
+                             residual_cohesion=float(d.residual_cohesion),
+                             residual_friction_angle=d.residual_friction_angle,
+                             compressive_strength=d.compressive_strength)
+
+    def level_model(self, levels: tuple[float, ...] | None = None) -> Model:
+        """The level run: self-weight (pattern ``self-weight``), the tailwater, then the
+        reservoir (its factor the level, m) through ``levels`` (default :attr:`levels`); no
+        silt (as the parametric section's level run, :func:`stepcontact.study.dam.dam_model`)."""
+        site = self.site()
+        combo = Combination("level run", "usual", self.static_cases(self.top_level, silt=False))
+        patterns = combo.patterns(site)
+        program = [Segment("self-weight", 1.0)]
+        if any(p.name == "tailwater" for p in patterns):
+            program.append(Segment("tailwater", 1.0))
+        program += [Segment("reservoir", float(h))
+                    for h in (self.levels if levels is None else levels)]
+        return site.model.add(*patterns, *program)
+
+    def hand_statics(self, level: float) -> dict[str, float]:
+        """Not available for a user's model (they need the parametric section's geometry):
+        an empty dict."""
+        return {}
+
+    def hand_yield(self) -> None:
+        return None
+
+    def hand_levels(self) -> dict[str, float | None]:
+        return {"sliding": None, "heel_tension": None}
+
+    def as_dict(self) -> dict:
+        """The ``[dam]`` table and the file (``summary.json``)."""
+        return {"model_file": self.source, **self.spec.model_dump(),
+                "height": self.height, "base_length": self.base_length,
+                "friction_angle_used": self.friction_angle, "drain_ratio_K": self.drain_ratio}
+
+
+def dam_file(path: str | Path) -> DamFile:
+    """Read a model file with a ``[dam]`` table into a :class:`DamFile` (errors:
+    :class:`~stepcontact.errors.ModelError` naming the field, e.g. ``dam.upstream_face``; a
+    file without ``[dam]`` is an error naming the file).  The parts of the file the study does
+    not use are a :class:`DamFileWarning`."""
+    path = Path(str(path))
+    spec = _validate(_read_toml(path))
+    if spec.dam is None:
+        raise ModelError(str(path), "has no [dam] table: the dam study needs one (the dam's "
+                         "bodies, joint, faces, heel, toe and levels; docs/dam-study.md, "
+                         "'From a model file')")
+    problems = _Problems()
+    builder = _Builder(spec, path.parent, problems)
+    model = builder.model()
+    problems.raise_if_any()
+    assert model is not None
+    for where, message in problems.warnings:
+        warnings.warn(f"{where}: {message}", problems.category.get((where, message),
+                                                                   FutureWarning), stacklevel=2)
+    ignored = [k for k in IGNORED if getattr(spec, k)]
+    if ignored:
+        warnings.warn(DamFileWarning(
+            f"{path.name}: {', '.join(ignored)} not used by the dam study (its loads and "
+            "programs come from [dam])"), stacklevel=2)
+    bare = model.replace(patterns=(), program=(), stages=(), dynamics=None, added_masses=())
+    sets = builder.sets
+    d = spec.dam
+    return DamFile(bare, d, tuple(sets[n] for n in d.faces("upstream_face")),
+                   tuple(sets[n] for n in d.faces("downstream_face")), source=str(path))
+
+
+
+
+
+# ------------------------------------------------------------------------- the report ---
+
+def plot_model_section(study, path=None, *, dpi: float | None = None):
+    """The model file's dam with its loads (m): the outline of every body's mesh (the dam's
+    bodies shaded), the upstream and downstream faces, heel, toe, crest point and drain line,
+    the normal and flood levels and the tailwater; below, the uplift head along the base (m
+    of water) at the normal and flood levels, uncracked."""
+    from matplotlib.collections import LineCollection
+
+    from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
+
+    dpi = DPI if dpi is None else dpi
+    p = figure_path(path, dpi)
+    s: DamFile = study.section
+    fig = new_figure(figsize=(9.0, 7.6))
+    ax, axu = fig.subplots(2, 1, height_ratios=(3.0, 1.2))
+    ax.set_aspect("equal", adjustable="datalim")
+    for b in s.model.bodies:
+        mine = b.name in s.spec.bodies
+        edges = np.asarray(b.boundary)[:, :2]
+        ax.add_collection(LineCollection(b.points[edges], colors="0.2" if mine else "#a08c64",
+                                         linewidths=1.2 if mine else 0.8))
+        ax.plot([], [], color="0.2" if mine else "#a08c64",
+                label=f"{'dam' if mine else 'other'} body '{b.name}' (mesh outline)")
+    for faces, color, label in ((s.upstream, "#1f77b4", "upstream face"),
+                                (s.downstream, "#2ca02c", "downstream face")):
+        for i, ns in enumerate(faces):
+            pts = s._body(ns.body).points[np.asarray(ns.index)]
+            ax.plot(pts[:, 0], pts[:, 1], ".", color=color, ms=5,
+                    label=f"{label} '{ns.name}'" if i == 0 else None)
+    H = s.height
+    ups = np.concatenate([s._body(ns.body).points[np.asarray(ns.index)] for ns in s.upstream])
+    x_up = float(ups[:, 0].min())
+    sign = 1.0 if s.toe[0] >= s.heel[0] else -1.0
+    reach = x_up - sign * 0.3 * H
+    for lv, name, color in ((s.flood_level, "flood", "#ff7f0e"),
+                            (s.normal_level, "normal", "#1f77b4")):
+        y = min(lv, H)
+        ax.plot([reach, x_up], [y, y], color=color, lw=1.4, ls="--",
+                label=f"{name} level {lv:g} m")
+    if s.spec.tailwater > 0:
+        t = float(s.spec.tailwater)
+        ax.plot([s.toe[0], s.toe[0] + sign * 0.3 * H], [t, t], color="#17becf", lw=1.4,
+                ls="--", label=f"tailwater {t:g} m")
+    ax.plot(*s.heel, "v", color="#d62728", ms=8, label=f"heel ({s.heel[0]:g}, {s.heel[1]:g})")
+    ax.plot(*s.toe, "^", color="#9467bd", ms=8, label=f"toe ({s.toe[0]:g}, {s.toe[1]:g})")
+    ax.plot(*s.crest, "o", mfc="none", color="k", ms=8,
+            label=f"crest point ({s.crest[0]:g}, {s.crest[1]:g})")
+    if s.spec.drain is not None:
+        xd, yd = s.spec.drain
+        ax.plot([xd, xd], [yd, yd - 0.2 * H], color="k", lw=1.5, ls=":",
+                label=f"drains, K = {s.drain_ratio:.4g}")
+    ax.autoscale_view()
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(f"Dam of {Path(s.source).name}: height {H:g} m, base {s.base_length:g} m "
+                 f"(joint '{s.joint}')", fontsize="medium")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="x-small", frameon=False)
+    site = s.site()
+    uplift = s.static_cases(s.normal_level)[-1 if s.spec.silt_level is None else -2]
+    for lv, name, color in ((s.normal_level, "normal", "#1f77b4"),
+                            (s.flood_level, "flood", "#ff7f0e")):
+        pts = np.asarray(uplift.heads(site, lv - s.heel[1], float(s.spec.tailwater) - s.toe[1]))
+        dist = np.hypot(pts[:, 0] - s.heel[0], pts[:, 1] - s.heel[1])
+        axu.plot(dist, pts[:, 2], color=color, lw=1.5, marker=".",
+                 label=f"{name} level {lv:g} m")
+    axu.set_ylim(bottom=0.0)
+    axu.set_xlim(0.0, s.base_length)
+    axu.set_xlabel("distance from the heel along the base (m)")
+    axu.set_ylabel("uplift head (m)")
+    axu.grid(True, alpha=0.3)
+    axu.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="x-small",
+               frameon=False, title="uncracked base", title_fontsize="x-small")
+    save_figure(fig, p, dpi)
+    return fig
+
+
+def report_inputs(s: DamFile) -> list:
+    """The report's "Model and inputs": the file, its bodies and the ``[dam]`` table."""
+    from stepcontact.study.report import _Heading, _modulus, _Para, _Table
+
+    bodies = [(b.name, "dam" if b.name in s.spec.bodies else "other",
+               f"{b.n_nodes} nodes, {len(b.cells)} cells",
+               f"E = {_modulus(b.material.E)}, ν = {b.material.nu:g}, ρ = "
+               f"{b.material.density:g} kg/m³") for b in s.model.bodies]
+    rows = [(k, "—" if v is None else f"{v:g}" if isinstance(v, float) else str(v),
+             DamSpec.model_fields[k].description or "")
+            for k, v in s.spec.model_dump().items()]
+    itf = s.interface
+    derived = [("height above the heel", f"{s.height:g}", "m"),
+               ("base length heel → toe", f"{s.base_length:g}", "m"),
+               ("φ of the checks", f"{s.friction_angle:g}", "°"),
+               ("the interface's friction coefficient", f"{float(itf.friction):g}", "–"),
+               ("the interface's bond", "yes" if itf.bond is not None else "none", ""),
+               ("drain head ratio K", f"{s.drain_ratio:.6g}", "–"),
+               ("levels of the level run", f"{len(s.levels)} up to {s.top_level:g}", "m")]
+    return [_Heading(2, "Model and inputs"),
+            _Para(f"The model file {s.source}: its bodies, supports and interfaces as given; "
+                  "its [dam] table below (SI units; plane strain, per metre of dam; levels "
+                  "are elevations above the heel). The file's own load patterns, program, "
+                  "stages and dynamics are not used by the study."),
+            _Table(("body", "role", "mesh", "material"), bodies),
+            _Table(("[dam] field", "value", "meaning"), rows),
+            _Table(("derived", "value", "unit"), derived)]
+
+
+def report_assumptions(s: DamFile) -> list:
+    """The report's assumptions for a model file's dam."""
+    from stepcontact.study.report import _Heading, _List
+
+    d = s.spec
+    uplift = ("Uplift under the base: full reservoir head h at the heel, the tailwater head "
+              "t at the toe, linear between" if d.drain is None else
+              f"Uplift under the base: full head h at the heel, t at the toe and t + K (h − t) "
+              f"at the drain line ({d.drain[0]:g}, {d.drain[1]:g}), K = {s.drain_ratio:.4f}, "
+              "linear between (EM 1110-2-2100 (2005) ch. 3 [to be checked])")
+    return [_Heading(2, "Assumptions"), _List([
+        "Plane strain (or as the file's [model] says), per metre of dam; the file's bodies "
+        "linear elastic, its supports and interfaces as given; the only nonlinearity is the "
+        "contact (unilateral, Coulomb friction, bonds), solved exactly event by event "
+        "(Lukashevich & Rozin 2013).",
+        "Loads (stepcontact.model.combinations on the file's DamSite): self-weight of the "
+        f"dam's bodies ({', '.join(d.bodies)}, g = {G:g} m/s²); the reservoir's hydrostatic "
+        "pressure (γ_w = 9810 N/m³) on the upstream face, its factor the level; the tailwater "
+        "on the downstream face; the silt as an equivalent fluid. The weight of the other "
+        "bodies is not applied.",
+        uplift + "; it acts on both faces of the joint.",
+        ("Crack water: where the joint has opened in a run connected to the heel, the full "
+         "reservoir pressure replaces the uplift." if d.crack_water else "No crack water."),
+        "The level run: self-weight, the tailwater, then the reservoir from the heel up "
+        f"through the normal ({s.normal_level:g} m) and flood ({s.flood_level:g} m) levels to "
+        f"{s.top_level:g} m or until the dam loses equilibrium (no silt in this run).",
+        "Combinations: usual (normal level), unusual (flood level, when above the normal), "
+        f"extreme (the usual loads and the pseudo-static earthquake k_h = {d.k_h:g}, k_v = "
+        f"{d.k_v:g}, with Westergaard's pressure on the upstream face), post-earthquake; the "
+        "yield acceleration: after the usual loads, k_h raised from 0 to "
+        f"{d.max_kh:g} until equilibrium is lost (an exact event).",
+        f"Checks of the joint '{d.joint}' with φ = {s.friction_angle:g}°, c = "
+        f"{d.cohesion / 1e3:g} kPa against {d.guideline} "
+        f"({d.guideline_variant or 'its default variant'}); required values marked [to be "
+        "checked] were not confirmed against the document.",
+        "Moments are about the toe; the resultant's position is measured from the toe along "
+        "the base. No rigid-base hand statics (they need the parametric section's geometry).",
+        "One mesh (the file's): the levels of first opening and failure depend on it (the "
+        "heel is a singular corner of the elastic solution).",
+    ])]
+
+__all__ = ["IGNORED", "DamFile", "DamFileWarning", "dam_file", "plot_model_section",
+           "report_assumptions", "report_inputs"]
