@@ -22,9 +22,11 @@ at the heel, the tailwater head t at the toe, at the drain line (distance X from
 the base of length L) the head t + K (h − t), K = (1 − E)(L − X)/L for a drain efficiency E
 (or K given), linear between (:class:`~stepcontact.model.combinations.BaseUplift`).
 
-No rigid-base hand statics: they need the parametric section's geometry.  The report gives
-instead the run's own figures of the joint at each named level (ΣN, ΣQ, the resultant's
-position about the toe, from the contact forces).
+The rigid-base hand statics (:meth:`DamFile.hand_statics`, the figures of
+:func:`stepcontact.study.dam.hand_statics`) are summed from the model's own geometry: the
+weight of the dam's cells, the hydrostatic pressure integrated exactly on the faces' edges,
+the uplift along the base — the sums of the forces and of their moments about the toe that a
+reviewer checks.  The yield acceleration has no hand check here.
 
 Example
 -------
@@ -284,12 +286,16 @@ class DamFile:
                                                   unit_weight=UNIT_WEIGHT_WATER)]
         if d.tailwater > 0:
             cases.append(Tailwater(float(d.tailwater), unit_weight=UNIT_WEIGHT_WATER))
-        drain = None if d.drain is None else tuple(map(float, d.drain))
-        cases.append(BaseUplift(drain=drain, ratio=self.drain_ratio if drain else 1.0 / 3.0,
-                                unit_weight=UNIT_WEIGHT_WATER))
+        cases.append(self.uplift())
         if silt and d.silt_level is not None:
             cases.append(Silt(float(d.silt_level), float(d.silt_unit_weight), 1.0))
         return tuple(cases)
+
+    def uplift(self) -> BaseUplift:
+        """The uplift case: the drain line with its head ratio K, or none."""
+        drain = None if self.spec.drain is None else tuple(map(float, self.spec.drain))
+        return BaseUplift(drain=drain, ratio=self.drain_ratio if drain else 1.0 / 3.0,
+                          unit_weight=UNIT_WEIGHT_WATER)
 
     def earthquake(self, k_h: float | None = None) -> Earthquake:
         """The pseudo-static earthquake at ``k_h`` (default the design k_h), k_v in the ratio
@@ -331,21 +337,167 @@ class DamFile:
         return site.model.add(*patterns, *program)
 
     def hand_statics(self, level: float) -> dict[str, float]:
-        """Not available for a user's model (they need the parametric section's geometry):
-        an empty dict."""
-        return {}
+        """Rigid-base limit-equilibrium statics at the reservoir ``level`` (m) from the
+        model's own geometry — the keys of :func:`stepcontact.study.dam.hand_statics`, per the
+        model's thickness (per metre of dam in plane strain): the weight ρ g A of the dam's
+        cells (areas and centroids of their corner polygons), the hydrostatic pressure
+        γ_w max(h − y, 0) on each edge of the upstream face (and of the downstream face at
+        the tailwater level, the silt's K γ'_s on the upstream face), normal to the edge and
+        integrated exactly (linear on the wet part of a straight edge: Simpson's rule), and
+        the uplift γ_w × the head of :class:`~stepcontact.model.combinations.BaseUplift`
+        along the base; uncracked base, no crack water.  Forces are resolved on the global
+        axes (the base horizontal, as the section's); moments about the toe, positive when
+        they resist; then ΣV, ΣH, ΣM, the resultant's position, e and the linear base
+        pressures ΣV/L (1 ∓ 6e/L), and the factors tan φ ΣV/ΣH, (c L + tan φ ΣV)/ΣH and
+        ΣM_r/ΣM_o.  Straight cell edges are assumed (the corner nodes)."""
+        return _hand_statics(self, float(level))
 
     def hand_yield(self) -> None:
+        """No rigid-base hand check of the yield acceleration for a model file's dam."""
         return None
 
     def hand_levels(self) -> dict[str, float | None]:
-        return {"sliding": None, "heel_tension": None}
+        """The rigid-base levels of sliding and of heel tension from :meth:`hand_statics`
+        (:func:`stepcontact.study.dam_study.hand_levels`)."""
+        from stepcontact.study.dam_study import hand_levels
+
+        return hand_levels(self)
 
     def as_dict(self) -> dict:
         """The ``[dam]`` table and the file (``summary.json``)."""
         return {"model_file": self.source, **self.spec.model_dump(),
                 "height": self.height, "base_length": self.base_length,
                 "friction_angle_used": self.friction_angle, "drain_ratio_K": self.drain_ratio}
+
+
+def _cell_weight(model: Model, name: str, g: float) -> tuple[float, np.ndarray]:
+    """(weight ρ g A, centroid) of body ``name`` from its cells' corner polygons (per unit
+    thickness)."""
+    b = next(x for x in model.bodies if x.name == name)
+    nc = 4 if str(b.element).startswith("quad") else 3
+    P = b.points[np.asarray(b.cells)[:, :nc]]  # (cells, corners, 2)
+    Q = np.roll(P, -1, axis=1)
+    cross = P[..., 0] * Q[..., 1] - Q[..., 0] * P[..., 1]
+    A = 0.5 * cross.sum(axis=1)  # signed
+    c = ((P + Q) * cross[..., None]).sum(axis=1) / (6.0 * A[:, None])
+    area = np.abs(A)
+    return float(b.material.density * g * area.sum()), (area @ c) / area.sum()
+
+
+def _face_edges(model: Model, ns: NodeSet) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """(P0, P1, outward normal) of each boundary edge of ``ns``'s body with both ends in the
+    set (the edges a WaterLoad loads)."""
+    b = next(x for x in model.bodies if x.name == ns.body)
+    edges = np.asarray(b.boundary)[:, :2]
+    mine = edges[np.isin(edges, np.asarray(ns.index)).all(axis=1)]
+    cells = np.asarray(b.cells)
+    out = []
+    for a, c in mine:  # the face's edges (not a hot path: tens of edges)
+        owner = cells[np.flatnonzero((cells == a).any(axis=1) & (cells == c).any(axis=1))[0]]
+        centre = b.points[owner].mean(axis=0)
+        p0, p1 = b.points[a], b.points[c]
+        t = (p1 - p0) / np.hypot(*(p1 - p0))
+        n = np.array([t[1], -t[0]])
+        if n @ (p0 - centre) < 0:
+            n = -n
+        out.append((p0, p1, n))
+    return out
+
+
+def _pressure_piece(p0, p1, q0: float, q1: float) -> tuple[float, np.ndarray]:
+    """(∫ q ds, the point of action) of a pressure linear from q0 at p0 to q1 at p1."""
+    L = float(np.hypot(*(p1 - p0)))
+    F = 0.5 * (q0 + q1) * L
+    if F == 0.0:
+        return 0.0, p0
+    s = L / 6.0 * (4 * 0.5 * (q0 + q1) * 0.5 * L + q1 * L) / F  # ∫ q s ds / ∫ q ds (Simpson)
+    return F, p0 + (p1 - p0) * (s / L)
+
+
+def _hydrostatic(model: Model, faces, level: float, gamma: float
+                 ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(force on the body, point of action) per wet edge of ``faces`` under γ max(h − y, 0)."""
+    out = []
+    for ns in faces:
+        for p0, p1, n in _face_edges(model, ns):
+            y0, y1 = float(p0[1]), float(p1[1])
+            if min(y0, y1) >= level:
+                continue
+            if max(y0, y1) > level:  # the wet part of the edge
+                w = (level - y0) / (y1 - y0)
+                cut = p0 + (p1 - p0) * w
+                p0, p1 = (p0, cut) if y0 < level else (cut, p1)
+            F, at = _pressure_piece(p0, p1, gamma * (level - p0[1]), gamma * (level - p1[1]))
+            out.append((-F * n, at))
+    return out
+
+
+def _hand_statics(d: DamFile, h: float) -> dict[str, float]:
+    """:meth:`DamFile.hand_statics`."""
+    site, toe, sgn = d.site(), np.asarray(d.toe), (1.0 if d.toe[0] >= d.heel[0] else -1.0)
+    t_mul = float(d.model.thickness)
+
+    def moments(items) -> tuple[float, float, float, float]:
+        """(horizontal force downstream, vertical force down, their moments about the toe,
+        + resisting)."""
+        H = V = MH = MV = 0.0
+        for f, at in items:
+            r = np.asarray(at) - toe
+            H += sgn * f[0]
+            V -= f[1]
+            MH += sgn * (-r[1] * f[0])
+            MV += sgn * (r[0] * f[1])
+        return H * t_mul, V * t_mul, MH * t_mul, MV * t_mul
+
+    W = MW = 0.0
+    for name in d.spec.bodies:
+        w, c = _cell_weight(d.model, name, G)
+        W += w * t_mul
+        MW += sgn * (toe[0] - c[0]) * w * t_mul
+    Hu, Vu, MHu, MVu = moments(_hydrostatic(d.model, d.upstream, h, UNIT_WEIGHT_WATER))
+    t = float(d.spec.tailwater)
+    Hd, Vd, MHd, MVd = moments(_hydrostatic(d.model, d.downstream, t, UNIT_WEIGHT_WATER)) \
+        if t > 0 else (0.0, 0.0, 0.0, 0.0)
+    Hd = -Hd  # the tailwater pushes upstream: its thrust as a positive number
+    silt = d.spec.silt_level
+    Hs, Vs, MHs, MVs = moments(_hydrostatic(d.model, d.upstream, float(silt),
+                                            float(d.spec.silt_unit_weight))) \
+        if silt is not None else (0.0, 0.0, 0.0, 0.0)
+    uplift = d.uplift()
+    pts = np.asarray(uplift.heads(site, h - d.heel[1], t - d.toe[1] if t > 0 else 0.0))
+    m = np.array([-(toe - d.heel)[1], (toe - d.heel)[0]]) * sgn / d.base_length  # into the dam
+    pieces = [_pressure_piece(pts[i, :2], pts[i + 1, :2], UNIT_WEIGHT_WATER * pts[i, 2],
+                              UNIT_WEIGHT_WATER * pts[i + 1, 2]) for i in range(len(pts) - 1)]
+    _, Uv, _, MU = moments([(F * m, at) for F, at in pieces])
+    U = -Uv
+    sum_V = W + Vu + Vd + Vs - U
+    sum_H = Hu + Hs - Hd
+    parts = [MW, MHu, MVu, MHd, MVd, MHs, MVs, MU]
+    resisting = sum(v for v in parts if v > 0)
+    overturning = -sum(v for v in parts if v < 0)
+    sum_M = resisting - overturning
+    L = d.base_length
+    from_toe = sum_M / sum_V if sum_V else float("nan")
+    e = L / 2 - from_toe
+    tan, c = math.tan(math.radians(d.friction_angle)), float(d.spec.cohesion)
+
+    def ratio(a: float, b: float) -> float:
+        return a / b if b > 0 else float("inf")
+
+    def lever(a: float, b: float) -> float:  # 0 without the force
+        return a / b if b else 0.0
+
+    return {"level": h, "W": W, "W_lever": lever(MW, W), "H_up": Hu,
+            "H_up_arm": lever(-MHu, Hu), "V_up": Vu, "V_up_lever": lever(MVu, Vu),
+            "H_down": Hd, "H_down_arm": lever(MHd, Hd), "V_down": Vd,
+            "V_down_lever": lever(MVd, Vd), "H_silt": Hs, "H_silt_arm": lever(-MHs, Hs),
+            "V_silt": Vs, "U": U, "U_lever": lever(-MU, U), "sum_V": sum_V,
+            "sum_H": sum_H, "M_resisting": resisting, "M_overturning": overturning,
+            "sum_M": sum_M, "resultant_from_toe": from_toe, "eccentricity": e,
+            "sigma_heel": sum_V / L * (1 - 6 * e / L), "sigma_toe": sum_V / L * (1 + 6 * e / L),
+            "sliding_factor": ratio(tan * sum_V, sum_H),
+            "shear_friction_factor": ratio(c * L + tan * sum_V, sum_H),
+            "overturning_factor": ratio(resisting, overturning)}
 
 
 def dam_file(path: str | Path) -> DamFile:
@@ -441,7 +593,7 @@ def plot_model_section(study, path=None, *, dpi: float | None = None):
                  f"(joint '{s.joint}')", fontsize="medium")
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="x-small", frameon=False)
     site = s.site()
-    uplift = s.static_cases(s.normal_level)[-1 if s.spec.silt_level is None else -2]
+    uplift = s.uplift()
     for lv, name, color in ((s.normal_level, "normal", "#1f77b4"),
                             (s.flood_level, "flood", "#ff7f0e")):
         pts = np.asarray(uplift.heads(site, lv - s.heel[1], float(s.spec.tailwater) - s.toe[1]))
@@ -524,7 +676,11 @@ def report_assumptions(s: DamFile) -> list:
         f"({d.guideline_variant or 'its default variant'}); required values marked [to be "
         "checked] were not confirmed against the document.",
         "Moments are about the toe; the resultant's position is measured from the toe along "
-        "the base. No rigid-base hand statics (they need the parametric section's geometry).",
+        "the base. Hand statics (rigid base, uncracked, no crack water): the weight of the "
+        "dam's cells (corner polygons), the hydrostatic pressure integrated exactly on the "
+        "faces' edges and the uplift along the base, resolved on the global axes (a "
+        "horizontal base assumed for ΣV, ΣH and the linear base pressures); no hand check of "
+        "the yield acceleration.",
         "One mesh (the file's): the levels of first opening and failure depend on it (the "
         "heel is a singular corner of the elastic solution).",
     ])]

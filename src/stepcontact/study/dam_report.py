@@ -531,11 +531,10 @@ def _results(study: DamStudy) -> list[_Block]:
     text.append("The dam fails at h = " + (f"{fail[0]:.3f} m ({fail[1]})." if fail else
                                            f"— (not up to {s.top_level:g} m)."))
     hl = study.hand_levels
-    if isinstance(s, DamSection):
-        text.append("Rigid-base hand statics (uncracked base, no crack water): the resultant "
-                    "leaves the middle third (linear heel stress 0) at h = "
-                    f"{_num(hl['heel_tension'], '.3f', 'm')}; the shear-friction factor falls "
-                    f"to 1 at h = {_num(hl['sliding'], '.3f', 'm')}.")
+    text.append("Rigid-base hand statics (uncracked base, no crack water): the resultant "
+                "leaves the middle third (linear heel stress 0) at h = "
+                f"{_num(hl['heel_tension'], '.3f', 'm')}; the shear-friction factor falls to "
+                f"1 at h = {_num(hl['sliding'], '.3f', 'm')}.")
     margins = [(k, _num(v, ".4f")) for k, v in study.margins.items()]
     blocks: list[_Block] = [_Heading(2, "Results"), _Para(" ".join(text))]
     blocks += [_Heading(3, "Margins as factors on the level"),
@@ -552,13 +551,8 @@ def _results(study: DamStudy) -> list[_Block]:
                _Table(("figure", *(n.name for n in named)),
                       [(label, *(f(n) for n in named)) for label, f in _FIGURE_ROWS])]
     hand = [n for n in named if n.name != "failure"]
-    if not all(n.hand for n in hand):  # a model file's dam: no section geometry
-        return blocks + [_Heading(3, "Hand statics for a reviewer"),
-                         _Para("Not available for a model file's dam: the rigid-base hand "
-                               "statics need the parametric section's geometry. The run's own "
-                               "sums of the forces on the joint and the resultant's position "
-                               "about the toe are in the table above (ΣN, ΣQ, resultant from "
-                               "the toe), each from the contact forces at that state.")]
+    if not all(n.hand for n in hand):  # no hand statics for this dam
+        return blocks
     blocks += [_Heading(3, "Hand statics for a reviewer"),
                _Para("Rigid base, uncracked base, per metre of dam; moments about the toe, "
                      "positive when they resist. With the base fully compressed the run's ΣN, "

@@ -247,11 +247,13 @@ def _level_state(res, level: float) -> int | None:
     return int(hit[-1]) if hit.size else None
 
 
-def _hand_level(s: DamSection, key: str, target: float) -> float | None:
+def _hand_level(s, key: str, target: float) -> float | None:
     """The level h in (0, top_level] at which hand_statics' ``key`` falls to ``target`` (a
     root of the continuous statics; None if it does not within the range)."""
+    d = dam_of(s)
+
     def g(h: float) -> float:
-        return hand_statics(s, h)[key] - target
+        return d.hand_statics(h)[key] - target
 
     lo, hi = 1e-9, s.top_level
     if g(lo) <= 0:
@@ -261,7 +263,7 @@ def _hand_level(s: DamSection, key: str, target: float) -> float | None:
     return float(brentq(g, lo, hi, xtol=1e-12, rtol=1e-13))
 
 
-def hand_levels(s: DamSection) -> dict[str, float | None]:
+def hand_levels(s) -> dict[str, float | None]:
     """Rigid-base, uncracked limit-equilibrium levels (m): ``sliding`` (the shear-friction
     factor (c B + tan φ ΣV)/ΣH falls to 1) and ``heel_tension`` (the linear base pressure at
     the heel falls to 0: the resultant leaves the middle third)."""
