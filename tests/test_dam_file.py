@@ -237,3 +237,25 @@ def test_the_section_figure_of_a_model_file(studies, tmp_path):
     up = next(ln for ln in fig.axes[1].lines if ln.get_label().startswith("normal"))
     # the uplift head: 27 m at the heel, 0 at the toe (no drains, no tailwater)
     assert up.get_ydata()[0] == 27.0 and up.get_ydata()[-1] == 0.0
+
+
+def test_a_friction_angle_other_than_the_joints_is_a_warning(tmp_path):
+    text = TEXT.replace("friction_angle = 45.0", "friction_angle = 40.0")
+    with pytest.warns(DamFileWarning, match="dam.friction_angle"):
+        d = dam_file(_file(tmp_path, text))
+    assert d.friction_angle == 40.0
+
+
+def test_a_gmsh_model_names_its_faces_by_physical_curves(tmp_path):
+    """The Gmsh example (a block on a foundation, examples/data/gmsh_block.toml) with a [dam]
+    table whose face is a physical curve: the names resolve (no unknown node set), and the
+    block's joint at y = 1 m is refused at the heel (the levels' datum is y = 0)."""
+    data = EXAMPLE.parent
+    (tmp_path / "gmsh_block.msh").write_bytes((data / "gmsh_block.msh").read_bytes())
+    text = (data / "gmsh_block.toml").read_text(encoding="utf-8") + (
+        '\n[dam]\nbodies = ["block"]\njoint = "joint"\nupstream_face = "push_face"\n'
+        "heel = [1.0, 1.0]\ntoe = [3.0, 1.0]\nnormal_level = 0.8\n")
+    with pytest.warns(DamFileWarning, match="patterns, program"), \
+            pytest.raises(ModelError) as e:
+        dam_file(_file(tmp_path, text))
+    assert e.value.item == "dam.heel" and "datum" in str(e.value)

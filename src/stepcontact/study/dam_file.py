@@ -458,7 +458,7 @@ def _hand_statics(d: DamFile, h: float) -> dict[str, float]:
     t = float(d.spec.tailwater)
     Hd, Vd, MHd, MVd = moments(_hydrostatic(d.model, d.downstream, t, UNIT_WEIGHT_WATER)) \
         if t > 0 else (0.0, 0.0, 0.0, 0.0)
-    Hd = -Hd  # the tailwater pushes upstream: its thrust as a positive number
+    Hd = 0.0 - Hd  # the tailwater pushes upstream: its thrust as a positive number
     silt = d.spec.silt_level
     Hs, Vs, MHs, MVs = moments(_hydrostatic(d.model, d.upstream, float(silt),
                                             float(d.spec.silt_unit_weight))) \
@@ -527,8 +527,16 @@ def dam_file(path: str | Path) -> DamFile:
     bare = model.replace(patterns=(), program=(), stages=(), dynamics=None, added_masses=())
     sets = builder.sets
     d = spec.dam
-    return DamFile(bare, d, tuple(sets[n] for n in d.faces("upstream_face")),
-                   tuple(sets[n] for n in d.faces("downstream_face")), source=str(path))
+    out = DamFile(bare, d, tuple(sets[n] for n in d.faces("upstream_face")),
+                  tuple(sets[n] for n in d.faces("downstream_face")), source=str(path))
+    itf = out.interface
+    if d.friction_angle is not None and itf.bond is None and not math.isclose(
+            math.tan(math.radians(d.friction_angle)), float(itf.friction), rel_tol=1e-9):
+        warnings.warn(DamFileWarning(
+            f"dam.friction_angle: the checks use tan {d.friction_angle:g}° = "
+            f"{math.tan(math.radians(d.friction_angle)):.6g} but the joint '{d.joint}' slides "
+            f"in the runs with its friction {float(itf.friction):.6g}"), stacklevel=2)
+    return out
 
 
 
@@ -538,7 +546,7 @@ def dam_file(path: str | Path) -> DamFile:
 
 def plot_model_section(study, path=None, *, dpi: float | None = None):
     """The model file's dam with its loads (m): the outline of every body's mesh (the dam's
-    bodies shaded), the upstream and downstream faces, heel, toe, crest point and drain line,
+    bodies dark), the upstream and downstream faces, heel, toe, crest point and drain line,
     the normal and flood levels and the tailwater; below, the uplift head along the base (m
     of water) at the normal and flood levels, uncracked."""
     from matplotlib.collections import LineCollection
