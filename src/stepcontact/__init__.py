@@ -107,7 +107,9 @@ _STUDY = {"run_sweep": "sweep", "grid": "sweep", "cases_from_list": "sweep",
           # issue 29 §3: the dam study (a parametric gravity-dam section, its static runs)
           "DamSection": "dam", "dam_model": "dam", "run_dam": "dam_study",
           # issue 29 §2–§3 (damwire): the study's site, combinations and yield acceleration
-          "dam_site": "dam", "run_yield": "dam_study"}
+          "dam_site": "dam", "run_yield": "dam_study",
+          # issue 29 §3 (damfile): the dam study on a user's model file with a [dam] table
+          "dam_file": "dam_file", "DamFile": "dam_file"}
 
 
 def __getattr__(name: str):
