@@ -255,10 +255,20 @@ def test_a_gmsh_model_names_its_faces_by_physical_curves(tmp_path):
     text = (data / "gmsh_block.toml").read_text(encoding="utf-8") + (
         '\n[dam]\nbodies = ["block"]\njoint = "joint"\nupstream_face = "push_face"\n'
         "heel = [1.0, 1.0]\ntoe = [3.0, 1.0]\nnormal_level = 0.8\n")
-    with pytest.warns(DamFileWarning, match="patterns, program"), \
-            pytest.raises(ModelError) as e:
+    with pytest.raises(ModelError) as e:
         dam_file(_file(tmp_path, text))
     assert e.value.item == "dam.heel" and "datum" in str(e.value)
+    assert "push_face" not in str(e.value)  # the physical curve is a node set: no problem
+
+
+def test_validate_reports_the_dam_tables_geometry(tmp_path):
+    """`stepcontact validate` lists the [dam] geometry problems with their fields (the same
+    checks as the study's)."""
+    text = TEXT.replace("heel = [0.0, 0.0]", "heel = [1.0, 0.0]").replace(
+        'upstream_face = "upstream"', 'upstream_face = "rock_top"')
+    problems = {p.item for p in validate_model_file(_file(tmp_path, text))
+                if p.severity == "error"}
+    assert problems == {"dam.heel", "dam.upstream_face"}
 
 
 GEO = """\

@@ -46,7 +46,7 @@ import numpy as np
 
 from stepcontact.errors import ModelError
 from stepcontact.io.modelfile.build import _Builder
-from stepcontact.io.modelfile.dam import DamSpec
+from stepcontact.io.modelfile.dam import DamSpec, dam_geometry_problems
 from stepcontact.io.modelfile.errors import _Problems, _validate
 from stepcontact.io.modelfile.load import _read_toml
 from stepcontact.model import Model, Segment
@@ -99,23 +99,10 @@ class DamFile:
             raise ModelError("dam.guideline_variant", f"'{d.guideline_variant}' is not a "
                              f"variant of {g.title} (variants: "
                              f"{', '.join(repr(v) for v in g.variants)})")
-        if d.heel[1] != 0.0:
-            raise ModelError("dam.heel", f"is at y = {d.heel[1]:g} m: the levels are "
-                             "elevations with the datum at the heel; put the heel at y = 0 "
-                             "(translate the model)")
-        for which, sets in (("upstream_face", self.upstream),
-                            ("downstream_face", self.downstream)):
-            for ns in sets:
-                self._on_boundary(which, ns)
-        for which in ("heel", "toe"):
-            self._on_joint(which, getattr(d, which))
-        if d.drain is not None:
-            L = self.base_length
-            u = (np.asarray(d.toe) - np.asarray(d.heel)) / L
-            r = np.asarray(d.drain) - np.asarray(d.heel)
-            if not (0.0 < float(r @ u) < L and abs(r[0] * u[1] - r[1] * u[0]) <= 1e-6 * L):
-                raise ModelError("dam.drain", f"({d.drain[0]:g}, {d.drain[1]:g}) is not on "
-                                 "the base between the heel and the toe")
+        problems = dam_geometry_problems(d, self.model, {"upstream_face": self.upstream,
+                                                         "downstream_face": self.downstream})
+        if problems:
+            raise ModelError(*problems[0])
         if not self.top_level > self.flood_level:
             raise ModelError("dam.max_level", f"must be above the flood level "
                              f"({self.flood_level:g} m), got {self.top_level:g}")
@@ -129,40 +116,6 @@ class DamFile:
     # ---------------------------------------------------------------- geometry checks ---
     def _body(self, name: str):
         return next(b for b in self.model.bodies if b.name == name)
-
-    def _on_boundary(self, which: str, ns: NodeSet) -> None:
-        """The face's nodes are on the boundary of a dam body and make at least one edge."""
-        if ns.body not in self.spec.bodies:
-            raise ModelError(f"dam.{which}", f"node set '{ns.name}' is on body '{ns.body}', "
-                             f"not on the dam's bodies ({', '.join(self.spec.bodies)})")
-        b = self._body(ns.body)
-        edges = np.asarray(b.boundary)
-        on = np.zeros(b.n_nodes, bool)
-        on[edges.ravel()] = True
-        idx = np.asarray(ns.index)
-        inner = idx[~on[idx]]
-        if inner.size:
-            p = b.points[inner[0]]
-            raise ModelError(f"dam.{which}", f"node set '{ns.name}' is not on a boundary of "
-                             f"body '{ns.body}': {inner.size} of its nodes are inside it "
-                             f"(e.g. node {int(inner[0])} at ({p[0]:g}, {p[1]:g}))")
-        mine = np.isin(edges[:, :2], idx).all(axis=1)
-        if not mine.any():
-            raise ModelError(f"dam.{which}", f"node set '{ns.name}' has no edge of the "
-                             f"boundary of body '{ns.body}' (a face needs two adjacent "
-                             "boundary nodes at least)")
-
-    def _on_joint(self, which: str, point) -> None:
-        """The point is a node of the dam's side of the joint (S+)."""
-        plus = self.interface.plus
-        pts = self._body(plus.body).points[np.asarray(plus.index)]
-        dist = np.hypot(*(pts - np.asarray(point)).T)
-        span = float(np.ptp(pts, axis=0).max()) if len(pts) > 1 else 1.0
-        k = int(np.argmin(dist))
-        if dist[k] > 1e-6 * max(span, 1.0):
-            raise ModelError(f"dam.{which}", f"({point[0]:g}, {point[1]:g}) is not on the "
-                             f"joint '{self.spec.joint}': the nearest node of its dam side is "
-                             f"({pts[k, 0]:g}, {pts[k, 1]:g}), {dist[k]:.3g} m away")
 
     # ----------------------------------------------------------------- what the study uses ---
     @property

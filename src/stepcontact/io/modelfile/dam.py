@@ -8,13 +8,16 @@ joint's strength for the checks, the guideline and the seismic coefficients.  SI
 Pa, N/m³; angles in degrees; levels are elevations with the datum at the heel (y = 0).
 
 The schema checks types and ranges (errors name the field, ``dam.upstream_face``);
-:func:`dam_problems` checks the names against the file's bodies, interfaces and node sets; the
-geometry (a face on the dam's boundary, heel and toe on the joint) is checked when the study
-builds its site (:func:`stepcontact.study.dam_file.dam_file`).
+:func:`dam_problems` checks the names against the file's bodies, interfaces and node sets;
+:func:`dam_geometry_problems` the geometry on the built model (a face on the boundary of a dam
+body, heel and toe nodes of the joint, the heel at y = 0, the drain on the base) — both when
+the file is built or validated, and again when the study builds its site
+(:func:`stepcontact.study.dam_file.dam_file`).
 """
 
 from __future__ import annotations
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 Point = tuple[float, float]
@@ -132,4 +135,74 @@ def dam_problems(dam: DamSpec, bodies, interfaces) -> list[tuple[str, str]]:
     return out
 
 
-__all__ = ["DamSpec", "dam_problems"]
+def _face_problem(dam: DamSpec, bodies: dict, ns) -> str | None:
+    """Why the node set ``ns`` is not a face of the dam: not on a dam body, a node inside
+    its body, or no boundary edge with both ends in the set (None: a face)."""
+    if ns.body not in dam.bodies:
+        return (f"node set '{ns.name}' is on body '{ns.body}', not on the dam's bodies "
+                f"({', '.join(dam.bodies)})")
+    b = bodies[ns.body]
+    edges = np.asarray(b.boundary)
+    on = np.zeros(b.n_nodes, bool)
+    on[edges.ravel()] = True
+    idx = np.asarray(ns.index)
+    inner = idx[~on[idx]]
+    if inner.size:
+        p = b.points[inner[0]]
+        return (f"node set '{ns.name}' is not on a boundary of body '{ns.body}': "
+                f"{inner.size} of its nodes are inside it (e.g. node {int(inner[0])} at "
+                f"({p[0]:g}, {p[1]:g}))")
+    if not np.isin(edges[:, :2], idx).all(axis=1).any():
+        return (f"node set '{ns.name}' has no edge of the boundary of body '{ns.body}' (a "
+                "face needs two adjacent boundary nodes at least)")
+    return None
+
+
+def _joint_problem(dam: DamSpec, bodies: dict, plus, point) -> str | None:
+    """Why ``point`` is not a node of the joint's dam side ``plus`` (None: it is)."""
+    pts = bodies[plus.body].points[np.asarray(plus.index)]
+    dist = np.hypot(*(pts - np.asarray(point)).T)
+    span = float(np.ptp(pts, axis=0).max()) if len(pts) > 1 else 1.0
+    k = int(np.argmin(dist))
+    if dist[k] <= 1e-6 * max(span, 1.0):
+        return None
+    return (f"({point[0]:g}, {point[1]:g}) is not on the joint '{dam.joint}': the nearest "
+            f"node of its dam side is ({pts[k, 0]:g}, {pts[k, 1]:g}), {dist[k]:.3g} m away")
+
+
+def dam_geometry_problems(dam: DamSpec, model, faces: dict) -> list[tuple[str, str]]:
+    """(field, problem) of the ``[dam]`` table's geometry on the built ``model``: the heel at
+    y = 0 (the levels' datum), each face node set (``faces``: {"upstream_face": [NodeSet],
+    "downstream_face": [...]}) on the boundary of a dam body, heel and toe nodes of the
+    joint's dam side (S+), the drain line on the base between them.  Names that do not
+    exist are :func:`dam_problems`' (skipped here)."""
+    out = []
+    if dam.heel[1] != 0.0:
+        out.append(("dam.heel", f"is at y = {dam.heel[1]:g} m: the levels are elevations "
+                    "with the datum at the heel; put the heel at y = 0 (translate the model)"))
+    bodies = {b.name: b for b in model.bodies}
+    for which, sets in faces.items():
+        for ns in sets:
+            why = _face_problem(dam, bodies, ns) if ns.body in bodies else None
+            if why:
+                out.append((f"dam.{which}", why))
+    itf = next((i for i in model.interfaces if i.name == dam.joint), None)
+    plus = getattr(itf, "plus", None)
+    if plus is not None and getattr(plus, "body", None) in bodies:
+        for which in ("heel", "toe"):
+            why = _joint_problem(dam, bodies, plus, getattr(dam, which))
+            if why:
+                out.append((f"dam.{which}", why))
+    L = float(np.hypot(dam.toe[0] - dam.heel[0], dam.toe[1] - dam.heel[1]))
+    if L == 0:
+        out.append(("dam.toe", "coincides with the heel"))
+    elif dam.drain is not None:
+        u = (np.asarray(dam.toe) - np.asarray(dam.heel)) / L
+        r = np.asarray(dam.drain) - np.asarray(dam.heel)
+        if not (0.0 < float(r @ u) < L and abs(r[0] * u[1] - r[1] * u[0]) <= 1e-6 * L):
+            out.append(("dam.drain", f"({dam.drain[0]:g}, {dam.drain[1]:g}) is not on the "
+                        "base between the heel and the toe"))
+    return out
+
+
+__all__ = ["DamSpec", "dam_geometry_problems", "dam_problems"]
