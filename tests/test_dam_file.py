@@ -380,3 +380,19 @@ def test_a_gmsh_dam_gives_the_hand_statics_and_the_runs_equilibrium(tmp_path):
     _close(-n.values["normal_force"], n.hand["sum_V"], "ΣN")
     _close(n.values["shear_force"], n.hand["sum_H"], "ΣQ")
     _close(n.values["resultant_from_toe"], n.hand["resultant_from_toe"], "resultant")
+
+
+def test_a_bonded_joint_from_the_file_as_the_section(tmp_path):
+    """The file's interface with a Mohr–Coulomb bond (c = 300 kPa, σ_t = 100 kPa, φ = 45°)
+    and [dam] cohesion for the checks: the parametric section with the same cohesion and
+    tensile strength (reference), to 1e-9 — the first break too."""
+    text = TEXT.replace("friction = 1.0                 # tan 45°",
+                        "friction = 1.0\nbond = { cohesion = 3e5, tensile_strength = 1e5, "
+                        "friction_angle = 45.0, friction = 1.0 }").replace(
+        "cohesion = 0.0\n", "cohesion = 3e5\n")
+    d = dam_file(_file(tmp_path, text))
+    assert d.bonded
+    par = run_dam(DamSection(cell=2.0, cohesion=3e5, tensile_strength=1e5))
+    fil = run_dam(d)
+    _compare(par, fil)
+    _close(fil.first_break[0], par.first_break[0], "first break")
