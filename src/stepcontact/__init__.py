@@ -109,7 +109,9 @@ _STUDY = {"run_sweep": "sweep", "grid": "sweep", "cases_from_list": "sweep",
           # issue 29 §2–§3 (damwire): the study's site, combinations and yield acceleration
           "dam_site": "dam", "run_yield": "dam_study",
           # issue 29 §1, §3 (damquake): the earthquake record in the dam study
-          "QuakeRecord": "dam_quake", "run_quake": "dam_quake"}
+          "QuakeRecord": "dam_quake", "run_quake": "dam_quake",
+          # issue 29 §3 (damfile): the dam study on a user's model file with a [dam] table
+          "dam_file": "dam_file", "DamFile": "dam_file"}
 
 
 def __getattr__(name: str):

@@ -413,6 +413,12 @@ def study(
                                  help="dam: the water in a crack during the shaking (default "
                                  "unchanged: USACE, FERC; none: USBR; full: ICOLD).")
     ] = None,
+    model_file: Annotated[
+        Path | None, typer.Option("--model", help="dam: the study on a model file with a "
+                                  "[dam] table (its bodies, meshes, materials, supports and "
+                                  "interfaces; its own loads and program are not used), "
+                                  "instead of the parametric section (docs/dam-study.md).")
+    ] = None,
 ) -> None:
     """Run a ready-made study and write its figures and report. See docs/slab-study.md and
     docs/dam-study.md.
@@ -448,6 +454,7 @@ def study(
         stepcontact study dam --quick --kh 0.15 --kv 0.05 --guideline ferc
 
         stepcontact study dam --quick --record record.AT2 --target-pga 0.3
+        stepcontact study dam --model examples/data/dam_study.toml -o dam-file
     """
     from stepcontact.study import basin
     from stepcontact.study.report import write_report
@@ -470,14 +477,16 @@ def study(
                      "--workers": workers, "--serial": serial or None, "--rerun": rerun or None}
         _dam_study(dam, quick=quick, friction=friction, rigid_base=rigid_base, quake=quake,
                    output=Path("dam-study") if output is None else output, quiet=quiet,
-                   console=console, unused=[k for k, v in slab_only.items() if v is not None])
+                   console=console, unused=[k for k, v in slab_only.items() if v is not None],
+                   model=model_file)
         return
     output = Path("slab-study") if output is None else output
     try:
         if name not in STUDIES:
             raise _Failure(f"unknown study '{name}' (known: {', '.join(STUDIES)})")
-        dam_only = [k for k, v in dam.items() if v is not None] + (
-            ["rigid_base"] if rigid_base else []) + _quake_flags(quake)
+        dam_only = ([k for k, v in dam.items() if v is not None]
+                    + (["rigid_base"] if rigid_base else []) + _quake_flags(quake)
+                    + (["model"] if model_file else []))
         if dam_only:
             flag = {"k_h": "kh", "k_v": "kv"}.get(dam_only[0], dam_only[0])
             raise _Failure(f"--{flag.replace('_', '-')} applies to the dam study, not "
@@ -624,8 +633,10 @@ def _dam_section(values: dict[str, Any], *, quick: bool, friction: float | None,
 
 def _dam_study(values: dict[str, Any], *, quick: bool, friction: float | None,
                rigid_base: bool, output: Path, quiet: bool, console: Console,
-               unused: Sequence[str], quake: dict[str, Any] | None = None) -> None:
-    """``stepcontact study dam``: build the section, run it, write the report."""
+               unused: Sequence[str], quake: dict[str, Any] | None = None,
+               model: Path | None = None) -> None:
+    """``stepcontact study dam``: build the section (or read the model file ``model``), run
+    it, write the report."""
     from stepcontact.study.dam_report import write_report
     from stepcontact.study.dam_study import run_dam
 
@@ -633,8 +644,13 @@ def _dam_study(values: dict[str, Any], *, quick: bool, friction: float | None,
     try:
         if unused:
             raise _Failure(f"{unused[0]} applies to the slab study, not to the dam study")
-        section = _dam_section(values, quick=quick, friction=friction, rigid_base=rigid_base)
+        section = (_dam_section(values, quick=quick, friction=friction, rigid_base=rigid_base)
+                   if model is None else _dam_file(model, values, quick=quick,
+                                                   friction=friction, rigid_base=rigid_base))
         rec = _quake_record(quake or {})
+        if rec is not None and model is not None:
+            raise _Failure("--record applies to the parametric section; a model file's dam is "
+                           "studied under its combinations and the yield acceleration only")
         if rec is not None:
             section = section.replace(record=rec)
         say = None if quiet else (lambda text: err.print(Text(f"dam study: {text}",
@@ -652,6 +668,37 @@ def _dam_study(values: dict[str, Any], *, quick: bool, friction: float | None,
         _print_dam(st, console)
     for f in files.values():
         console.print(Text(f"written: {f}", style="green"))
+
+
+def _dam_file(path: Path, values: dict[str, Any], *, quick: bool, friction: float | None,
+              rigid_base: bool) -> Any:
+    """The dam of a model file (``--model``): the section's options do not apply (its
+    [dam] table gives them), nor --quick (the mesh is the file's); the file's warnings
+    (e.g. its own patterns, not used) are printed."""
+    import warnings
+
+    from stepcontact.study.dam_file import dam_file
+
+    if quick:
+        raise _Failure("--quick does not apply with --model: the mesh is the model file's "
+                       "(coarsen it there)")
+    given = [k for k, v in values.items() if v is not None] + (
+        ["friction"] if friction is not None else []) + (["rigid_base"] if rigid_base else [])
+    if given:
+        flag = {"k_h": "kh", "k_v": "kv", "drain_position": "drain"}.get(given[0], given[0])
+        raise _Failure(f"--{flag.replace('_', '-')} applies to the parametric section, not "
+                       "with --model: give it in the model file's [dam] table")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            section = dam_file(path)
+        except FileNotFoundError:
+            raise _Failure(f"{path}: file not found") from None
+        except StepContactError as e:
+            text = _error_text(e)
+            raise _Failure(text if text.startswith(str(path)) else f"{path}: {text}") from None
+    _warn([str(w.message) for w in caught])
+    return section
 
 
 def _print_dam(st: Any, console: Console) -> None:
@@ -689,7 +736,8 @@ def _print_dam(st: Any, console: Console) -> None:
     if y is not None:
         console.print("yield acceleration: " + (
             f"k_y = {y.k_y:.4f} ({y.mode}); margin k_y / k_h = {y.margin:.3f} (k_h = "
-            f"{y.design:g}); hand, base compressed: {y.hand['k_y']:.4f}" if y.k_y is not None
+            f"{y.design:g})" + (f"; hand, base compressed: {y.hand['k_y']:.4f}" if y.hand
+                                else "") if y.k_y is not None
             else f"not reached up to k_h = {y.top:g} (margin > {y.top / y.design:.3g})"))
     if st.combinations:
         verdicts = Table(title=f"guideline verdicts: {st.checks.guideline}"

@@ -30,14 +30,14 @@ import numpy as np
 
 from stepcontact.io.atomic import write_text
 from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
-from stepcontact.study.dam import DAM, JOINT, DamSection
+from stepcontact.study.dam import DamSection
 from stepcontact.study.dam_quake import (
     QUAKE_FIGURES,
     describe_record,
     plot_quake,
     quake_blocks,
 )
-from stepcontact.study.dam_study import DamStudy, base_stresses, summary
+from stepcontact.study.dam_study import DamStudy, base_stresses, dam_of, summary
 from stepcontact.study.report import (
     _Block,
     _Heading,
@@ -74,8 +74,12 @@ def plot_section(study: DamStudy, path: str | os.PathLike[str] | None = None, *,
     reservoir's thrust H and the uplift U at the normal level (arrows, values in the legend,
     kN per metre); below, the uplift head along the base (m of water) at the normal and flood
     levels."""
-    p = figure_path(path, dpi)
     s = study.section
+    if not isinstance(s, DamSection):  # a model file's dam: drawn from its mesh
+        from stepcontact.study.dam_file import plot_model_section
+
+        return plot_model_section(study, path, dpi=dpi)
+    p = figure_path(path, dpi)
     H, B = s.height, s.base_length
     up, down = s.extents
     fig = new_figure(figsize=(9.0, 7.6))
@@ -156,11 +160,12 @@ def plot_base_stresses(study: DamStudy, path: str | os.PathLike[str] | None = No
         c = COLORS.get(n.name, "k")
         x, sn = base_stresses(study, n.state)
         ax.plot(x, sn / 1e6, color=c, lw=1.5, marker=".", label=f"{n.name}, h = {n.level:.2f} m")
-        if n.name != "failure":
+        if n.name != "failure" and n.hand:  # no hand statics for a model file's dam
             ax.plot([0.0, B], [-n.hand["sigma_heel"] / 1e6, -n.hand["sigma_toe"] / 1e6],
                     color=c, lw=1.0, ls="--")
-    ax.plot([], [], color="0.3", lw=1.0, ls="--",
-            label="rigid base, uncracked: linear (same colour)")
+    if any(n.hand for n in study.named):
+        ax.plot([], [], color="0.3", lw=1.0, ls="--",
+                label="rigid base, uncracked: linear (same colour)")
     ax.axhline(0.0, color="0.3", lw=0.6)
     ax.set_xlim(0.0, B)
     ax.set_xlabel("x from the heel (m)")
@@ -250,9 +255,10 @@ def yield_path(study: DamStudy) -> dict[str, np.ndarray]:
     on = np.flatnonzero(np.isin(seg, quake))
     states = np.r_[on[0] - 1, on] if on.size and on[0] > 0 else on
     k_h = np.where(np.isin(seg[states], quake), np.asarray(res.lam, float)[states], 0.0)
-    ux = np.asarray(res.node_history(point=study.section.corners[3], quantity="ux", body=DAM),
+    d = dam_of(study.section)
+    ux = np.asarray(res.node_history(point=d.crest, quantity="ux", body=d.body),
                     float)[states]
-    opened = np.asarray(res.interface_safety(JOINT, heel=(0.0, 0.0)).open_length,
+    opened = np.asarray(res.interface_safety(d.joint, heel=d.heel).open_length,
                         float)[states]
     return {"k_h": k_h, "crest_ux": ux, "open_length": opened}
 
@@ -355,6 +361,10 @@ def _field_value(name: str, v) -> str:
 
 
 def _inputs(s: DamSection) -> list[_Block]:
+    if not isinstance(s, DamSection):
+        from stepcontact.study.dam_file import report_inputs
+
+        return report_inputs(s)
     rows = [(f.name, _field_value(f.name, getattr(s, f.name)), *FIELDS.get(f.name, ("", "")))
             for f in dataclasses.fields(s)]
     up, down = s.extents
@@ -374,6 +384,10 @@ def _inputs(s: DamSection) -> list[_Block]:
 
 
 def _assumptions(s: DamSection) -> list[_Block]:
+    if not isinstance(s, DamSection):
+        from stepcontact.study.dam_file import report_assumptions
+
+        return report_assumptions(s)
     res_k = (1.0 - s.drain_efficiency) * (s.base_length - s.drain_position) / s.base_length \
         if s.drain_position is not None else None
     uplift = ("Uplift under the base: full reservoir head h at the heel, the tailwater head t "
@@ -547,6 +561,8 @@ def _results(study: DamStudy) -> list[_Block]:
                _Table(("figure", *(n.name for n in named)),
                       [(label, *(f(n) for n in named)) for label, f in _FIGURE_ROWS])]
     hand = [n for n in named if n.name != "failure"]
+    if not all(n.hand for n in hand):  # no hand statics for this dam
+        return blocks
     blocks += [_Heading(3, "Hand statics for a reviewer"),
                _Para("Rigid base, uncracked base, per metre of dam; moments about the toe, "
                      "positive when they resist. With the base fully compressed the run's ΣN, "
@@ -595,7 +611,7 @@ def _yield(study: DamStudy) -> list[_Block]:
     y = study.yield_acceleration
     if y is None:
         return []
-    h = y.hand
+    h = y.hand or {}
     found = (f"k_y = {y.k_y:.6g} ({y.mode}), the design k_h = {y.design:g}: margin "
              f"k_y / k_h = {y.margin:.4g}." if y.k_y is not None else
              f"Equilibrium was not lost up to k_h = {y.top:g}: k_y > {y.top:g} (margin at "
@@ -605,6 +621,13 @@ def _yield(study: DamStudy) -> list[_Block]:
             f"{_num(y.first_opening, '.4g')}; at the last state the base is open over "
             f"{y.open_length:.3g} m with a crack-water force of {y.crack_water / 1e3:.4g} kN. "
             f"The run: {y.message} ({y.seconds:.2f} s of CPU).")
+    if not h:  # a model file's dam: no hand check
+        return [_Heading(2, "Yield acceleration (incremental analysis to failure on k_h)"),
+                _Para(text + " No rigid-base hand check for a model file's dam (it needs the "
+                      "parametric section's geometry)."),
+                _Image(FIGURES["yield"], "yield acceleration",
+                       "k_h against the crest's displacement after the usual loads, and the "
+                       "open length of the base against k_h.")]
     rows = [("W, weight (kN)", _num(h["W"] / 1e3, ".1f")),
             ("ΣV₀, net downward load of the usual loads (kN)", _num(h["sum_V"] / 1e3, ".1f")),
             ("ΣH₀, net downstream load of the usual loads (kN)",

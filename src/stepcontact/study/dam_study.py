@@ -167,18 +167,73 @@ class DamStudy:
         return "not evaluated" if not vs else "FAIL" if "FAIL" in vs else "pass"
 
 
-def _joint(res) -> np.ndarray:
-    """The base's CFEs, heel to toe."""
-    k = np.flatnonzero(np.asarray(res.cfe["interface"]) == list(res.interface_names).index(JOINT))
-    return k[np.argsort(np.asarray(res.cfe["x"])[k, 0], kind="stable")]
+class _Parametric:
+    """The parametric section's builders (:mod:`stepcontact.study.dam`) under the names a
+    model file's dam has them (:class:`stepcontact.study.dam_file.DamFile`): what the runs
+    below take of a dam."""
+
+    joint, body, heel = JOINT, DAM, (0.0, 0.0)
+
+    def __init__(self, s: DamSection):
+        self.s = s
+        self.crest = s.corners[3]
+        self.toe = (s.base_length, 0.0)
+
+    def site(self):
+        return dam_site(self.s)
+
+    def combinations(self) -> list[Combination]:
+        return combinations(self.s)
+
+    def earthquake(self, k_h: float | None = None):
+        return earthquake(self.s, k_h)
+
+    def joint_strength(self):
+        return joint_strength(self.s)
+
+    def level_model(self, levels=None):
+        return dam_model(self.s, levels)
+
+    def hand_statics(self, level: float) -> dict[str, float]:
+        return hand_statics(self.s, level)
+
+    def hand_yield(self) -> dict[str, float]:
+        return hand_yield(self.s)
+
+    def hand_levels(self) -> dict[str, float | None]:
+        return hand_levels(self.s)
+
+
+def dam_of(s):
+    """The builders of a dam: a :class:`~stepcontact.study.dam.DamSection`'s, or a model
+    file's :class:`~stepcontact.study.dam_file.DamFile` itself (site, combinations,
+    earthquake, joint strength, level model, hand figures; joint, body, heel, toe, crest)."""
+    return _Parametric(s) if isinstance(s, DamSection) else s
+
+
+def _joint(res, dam=None) -> np.ndarray:
+    """The base's CFEs, heel to toe (by their distance along the base from the heel)."""
+    name = JOINT if dam is None else dam.joint
+    k = np.flatnonzero(np.asarray(res.cfe["interface"]) == list(res.interface_names).index(name))
+    return k[np.argsort(_along(res, k, dam), kind="stable")]
+
+
+def _along(res, k: np.ndarray, dam=None) -> np.ndarray:
+    """Distance of the CFEs ``k`` from the heel along the base, m (x for the section)."""
+    x = np.asarray(res.cfe["x"])[k, :2]
+    if dam is None or isinstance(dam, _Parametric):
+        return x[:, 0]
+    heel, toe = np.asarray(dam.heel), np.asarray(dam.toe)
+    return (x - heel) @ ((toe - heel) / np.hypot(*(toe - heel)))
 
 
 def base_stresses(study: DamStudy, state: int) -> tuple[np.ndarray, np.ndarray]:
-    """x from the heel (m) and σ_n = N/A (Pa, ≤ 0 in compression) of the base's CFEs at
-    ``state``."""
+    """x from the heel (m; along the base for a model file's dam) and σ_n = N/A (Pa, ≤ 0 in
+    compression) of the base's CFEs at ``state``."""
     res = study.result
-    k = _joint(res)
-    return (np.asarray(res.cfe["x"])[k, 0],
+    d = dam_of(study.section)
+    k = _joint(res, d)
+    return (_along(res, k, d),
             np.asarray(res.N)[state, k] / np.asarray(res.cfe["area"])[k])
 
 
@@ -195,11 +250,13 @@ def _level_state(res, level: float) -> int | None:
     return int(hit[-1]) if hit.size else None
 
 
-def _hand_level(s: DamSection, key: str, target: float) -> float | None:
+def _hand_level(s, key: str, target: float) -> float | None:
     """The level h in (0, top_level] at which hand_statics' ``key`` falls to ``target`` (a
     root of the continuous statics; None if it does not within the range)."""
+    d = dam_of(s)
+
     def g(h: float) -> float:
-        return hand_statics(s, h)[key] - target
+        return d.hand_statics(h)[key] - target
 
     lo, hi = 1e-9, s.top_level
     if g(lo) <= 0:
@@ -209,7 +266,7 @@ def _hand_level(s: DamSection, key: str, target: float) -> float | None:
     return float(brentq(g, lo, hi, xtol=1e-12, rtol=1e-13))
 
 
-def hand_levels(s: DamSection) -> dict[str, float | None]:
+def hand_levels(s) -> dict[str, float | None]:
     """Rigid-base, uncracked limit-equilibrium levels (m): ``sliding`` (the shear-friction
     factor (c B + tan φ ΣV)/ΣH falls to 1) and ``heel_tension`` (the linear base pressure at
     the heel falls to 0: the resultant leaves the middle third)."""
@@ -239,33 +296,38 @@ def _solve(model, what: str):
     return res
 
 
-def run_combinations(s: DamSection, say: Callable[[str], None] = lambda t: None
+def run_combinations(s, say: Callable[[str], None] = lambda t: None
                      ) -> tuple[list[CombinationRun], DamCheck]:
-    """Run each of the section's combinations (:func:`~stepcontact.study.dam.combinations`)
-    and check its last state against the section's guideline
-    (:func:`~stepcontact.results.dam_checks.check_combination`, joint ``base``)."""
-    site = dam_site(s)
+    """Run each of the combinations of ``s`` (a :class:`~stepcontact.study.dam.DamSection`,
+    :func:`~stepcontact.study.dam.combinations`, or a model file's
+    :class:`~stepcontact.study.dam_file.DamFile`) and check its last state against the
+    guideline (:func:`~stepcontact.results.dam_checks.check_combination`, the base joint)."""
+    d = dam_of(s)
+    site = d.site()
     runs, total = [], None
-    for combo in combinations(s):
+    for combo in d.combinations():
         say(f"combination '{combo.name}' ({combo.condition})")
         t0 = time.process_time()
         res = _solve(combo.model(site), f"'{combo.name}' combination")
         chk = check_combination(res, combo, site, guideline=s.guideline,
-                                variant=s.guideline_variant, joints=[JOINT],
-                                strength=joint_strength(s))
+                                variant=s.guideline_variant, joints=[d.joint],
+                                strength=d.joint_strength())
         runs.append(CombinationRun(combo, res, chk, time.process_time() - t0))
         total = chk if total is None else total + chk
     return runs, total
 
 
-def run_yield(s: DamSection, say: Callable[[str], None] = lambda t: None) -> YieldAcceleration:
+def run_yield(s, say: Callable[[str], None] = lambda t: None) -> YieldAcceleration:
     """The incremental analysis to failure on k_h (:class:`YieldAcceleration`): the usual
     combination, then one segment of the earthquake pattern from k_h = 0 to
-    ``s.max_kh``; the yield acceleration is the λ at which equilibrium is lost (exact)."""
-    site = dam_site(s)
-    usual = combinations(s)[0]
+    ``s.max_kh``; the yield acceleration is the λ at which equilibrium is lost (exact).
+    ``s``: a :class:`~stepcontact.study.dam.DamSection` or a model file's
+    :class:`~stepcontact.study.dam_file.DamFile`."""
+    d = dam_of(s)
+    site = d.site()
+    usual = d.combinations()[0]
     combo = Combination("yield acceleration", "earthquake",
-                        usual.cases + (earthquake(s, s.max_kh),))
+                        usual.cases + (d.earthquake(s.max_kh),))
     say(f"yield acceleration: the usual loads, then k_h 0 → {s.max_kh:g} (or failure)")
     t0 = time.process_time()
     res = _solve(combo.model(site), "yield-acceleration")
@@ -273,25 +335,25 @@ def run_yield(s: DamSection, say: Callable[[str], None] = lambda t: None) -> Yie
     quake = [g for g, (p, _, _) in enumerate(res.segments) if p == "earthquake"]
     mult = next((m for m in res.multipliers if m.segment in quake), None)
     last_seg = int(np.asarray(res.segment)[-1])
-    safety = res.interface_safety(JOINT, heel=(0.0, 0.0))
+    safety = res.interface_safety(d.joint, heel=d.heel)
     k_y = mode = None
     if res.status == Status.EQUILIBRIUM_LOST:
         k_y = float(res.lam[-1]) if last_seg in quake else 0.0
         if mult is not None and mult.equilibrium_lost is not None:
             k_y = float(mult.equilibrium_lost)
         mode = safety.mechanism or "loss of equilibrium"
-    k = _joint(res)
+    k = _joint(res, d)
     water = 0.0 if res.water is None else float(np.asarray(res.water, float)[-1, k].sum())
     return YieldAcceleration(
         k_y=k_y, mode=mode, design=float(s.k_h), top=float(s.max_kh),
         margin=None if k_y is None else k_y / float(s.k_h),
         first_slip=None if mult is None else mult.first_slip,
         first_opening=None if mult is None else mult.first_opening,
-        open_length=float(safety.open_length[-1]), crack_water=water, hand=hand_yield(s),
+        open_length=float(safety.open_length[-1]), crack_water=water, hand=d.hand_yield(),
         result=res, message=str(res.message), seconds=seconds)
 
 
-def run_dam(section: DamSection, *,
+def run_dam(section, *,
             progress: Callable[[str], None] | None = None, checks: bool = True) -> DamStudy:
     """Solve ``section`` (self-weight, tailwater, then the level raised through the normal
     and flood levels to ``section.top_level``) and read the joint's figures; with
@@ -299,28 +361,32 @@ def run_dam(section: DamSection, *,
     verdicts (:func:`run_combinations`) and the incremental analysis to failure on k_h
     (:func:`run_yield`).  ``progress`` gets a line of text at each step.  A run that ends
     without an answer (not completed and not a loss of equilibrium) is a
-    :class:`~stepcontact.errors.SolverError`."""
+    :class:`~stepcontact.errors.SolverError`.  ``section``: a
+    :class:`~stepcontact.study.dam.DamSection`, or a model file's
+    :class:`~stepcontact.study.dam_file.DamFile` (:mod:`stepcontact.study.dam_file`)."""
 
     say = progress or (lambda text: None)
     s = section
-    say(f"building the model: a {s.height:g} m dam, base {s.base_length:g} m, "
-        f"{s.cells[0]} × {s.cells[1]} cells")
-    model = dam_model(s)
+    d = dam_of(s)
+    cells = (f"{s.cells[0]} × {s.cells[1]} cells" if isinstance(s, DamSection) else
+             f"the mesh of {s.source}")
+    say(f"building the model: a {s.height:g} m dam, base {s.base_length:g} m, {cells}")
+    model = d.level_model()
     say(f"solving: self-weight, then the level 0 → {s.normal_level:g} → {s.flood_level:g} → "
         f"{s.top_level:g} m (or failure)")
     t0 = time.process_time()
     res = _solve(model, "level")
     say(f"reading the results: {len(res.events)} events, {len(res.lam)} states")
-    safety = res.interface_safety(JOINT, design=s.normal_level, heel=(0.0, 0.0))
-    k = _joint(res)
+    safety = res.interface_safety(d.joint, design=s.normal_level, heel=d.heel)
+    k = _joint(res, d)
     reservoir = [g for g, (p, _, _) in enumerate(res.segments) if p == "reservoir"]
     last_load = _segment_end(res, reservoir[0] - 1)  # self-weight (and tailwater)
     states = np.flatnonzero(np.isin(np.asarray(res.segment), reservoir))
     states = np.r_[last_load, states]
     level = np.where(np.isin(np.asarray(res.segment)[states], reservoir),
                      np.asarray(res.lam, float)[states], 0.0)
-    crest = s.corners[3]
-    ux = np.asarray(res.node_history(point=crest, quantity="ux", body=DAM), float)[states]
+    ux = np.asarray(res.node_history(point=d.crest, quantity="ux", body=d.body),
+                    float)[states]
     area = np.asarray(res.cfe["area"], float)[k]
     st = np.asarray(res.state)[states][:, k]
     open_length = (st == int(ContactState.OPEN)) @ area / max(area.sum(), 1e-300) * \
@@ -350,7 +416,7 @@ def run_dam(section: DamSection, *,
             return
         vals = safety.at(i)
         named.append(NamedState(name, description, int(i), float(lv), vals,
-                                hand_statics(s, lv)))
+                                d.hand_statics(lv)))
 
     add("self-weight", CASES["self-weight"], last_load, 0.0)
     add("normal", f"{CASES['normal']}, h = {s.normal_level:g} m",
@@ -382,7 +448,7 @@ def run_dam(section: DamSection, *,
                      f"{s.top_level:g} m: the margins against failure are at least "
                      f"{s.top_level / s.normal_level:.3g} (normal) and "
                      f"{s.top_level / s.flood_level:.3g} (flood)")
-    study = DamStudy(s, res, safety, named, path, first, fail, hand_levels(s), margins,
+    study = DamStudy(s, res, safety, named, path, first, fail, d.hand_levels(), margins,
                      time.process_time() - t0, notes, broke)
     if checks:
         study.combinations, study.checks = run_combinations(s, say)
@@ -424,7 +490,8 @@ def summary(study: DamStudy) -> dict[str, Any]:
         "section": {f.name: (dataclasses.asdict(getattr(study.section, f.name))
                              if dataclasses.is_dataclass(getattr(study.section, f.name))
                              else getattr(study.section, f.name))
-                    for f in dataclasses.fields(study.section)},
+                    for f in dataclasses.fields(study.section)}
+        if isinstance(study.section, DamSection) else study.section.as_dict(),
         "units": {"length": "m", "force": "N per metre of dam", "moment": "N·m per metre",
                   "stress": "Pa (σ_n ≤ 0 in compression in 'values'; compression > 0 in "
                             "'hand')", "level": "m above the base"},
@@ -452,5 +519,5 @@ def summary(study: DamStudy) -> dict[str, Any]:
 
 
 __all__ = ["CASES", "CombinationRun", "DamStudy", "NamedState", "YieldAcceleration",
-           "base_stresses", "hand_levels", "run_combinations", "run_dam", "run_yield",
+           "base_stresses", "dam_of", "hand_levels", "run_combinations", "run_dam", "run_yield",
            "summary"]

@@ -16,6 +16,7 @@ import numpy as np
 
 from stepcontact.errors import ModelError
 from stepcontact.io.modelfile.checks import check_plausible
+from stepcontact.io.modelfile.dam import dam_geometry_problems
 from stepcontact.io.modelfile.errors import _known, _path, _Problems
 from stepcontact.io.modelfile.references import _References
 from stepcontact.io.modelfile.schema import (
@@ -432,6 +433,11 @@ class _Builder(_References):
             p.add(self.file_path(e.item), e.problem)
             return None
         self.check_chain(model)
+        if spec.dam is not None:  # the dam study's table: its geometry on the model built
+            faces = {w: [sets[n] for n in spec.dam.faces(w) if n in sets]
+                     for w in ("upstream_face", "downstream_face")}
+            for path, text in dam_geometry_problems(spec.dam, model, faces):
+                p.add(path, text)
         return model
 
     #: the model's dimension (2 or 3), known after :meth:`check_dimension`

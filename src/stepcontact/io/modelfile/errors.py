@@ -133,6 +133,8 @@ def _program_problems(d: Any) -> list[tuple[str, str]]:
     if not isinstance(d, dict):
         return []
     program, stages = d.get("program"), d.get("stages")
+    if isinstance(d.get("dam"), dict) and not program and not stages:
+        return []  # the dam study writes its own programs (stepcontact.io.modelfile.dam)
     if stages:
         if program:
             return [("program", "is given together with [[stages]]: with stages the load "

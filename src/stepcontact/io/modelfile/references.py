@@ -11,6 +11,7 @@ from pathlib import Path
 
 from stepcontact.errors import ModelError
 from stepcontact.io.meshfile import GROUP_KINDS, MeshFile, read_mesh
+from stepcontact.io.modelfile.dam import dam_problems
 from stepcontact.io.modelfile.errors import _known, _path, _Problems
 from stepcontact.io.modelfile.schema import (
     CrackWaterSpec,
@@ -240,6 +241,12 @@ class _References:
             names.add(itf.name)
         for i, am in enumerate(spec.added_masses):
             self._node_set(f"added_masses[{i}].nodes", am.nodes)
+        if spec.dam is not None:  # the dam study's table (stepcontact.io.modelfile.dam)
+            for which in ("upstream_face", "downstream_face"):
+                for n in spec.dam.faces(which):
+                    self._node_set(f"dam.{which}", n)
+            for path, text in dam_problems(spec.dam, bodies, names):
+                p.add(path, text)
         for pname, pat in spec.patterns.items():
             for j, ld in enumerate(pat.loads):
                 path = f"{_path(['patterns', pname, 'loads', j])}"

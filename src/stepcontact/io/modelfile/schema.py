@@ -29,6 +29,7 @@ from pydantic import (
 
 from stepcontact.enums import MAX_FACETS
 from stepcontact.errors import ModelError
+from stepcontact.io.modelfile.dam import DamSpec
 from stepcontact.model.bodies import SolidKind
 from stepcontact.model.bond import FRICTION_ANGLE_RANGE, Bond
 from stepcontact.model.items import (
@@ -1362,9 +1363,13 @@ class ModelFile(_Spec):
     added_masses: list[AddedMassSpec] = Field([], description="reservoirs' added masses "
                                               "(Westergaard 1933), part of the mass matrix of "
                                               "the dynamic intervals")
+    dam: DamSpec | None = Field(None, description="the dam study of this model (`stepcontact "
+                                "study dam --model FILE`): its bodies, joint, faces, water, "
+                                "strength and guideline; with it [[program]] is optional")
 
     model_config = ConfigDict(json_schema_extra={"anyOf": [{"required": ["program"]},
-                                                           {"required": ["stages"]}]})
+                                                           {"required": ["stages"]},
+                                                           {"required": ["dam"]}]})
 
 
 def schema() -> dict[str, Any]:
