@@ -458,7 +458,8 @@ def run_dam(section, *,
             notes.append(f"equilibrium was not lost up to k_h = {y.top:g}: the yield "
                          f"acceleration is above it (margin at least {y.top / y.design:.3g})")
         study.seconds = time.process_time() - t0
-    if s.record is not None:  # the earthquake record (stepcontact.study.dam_quake)
+    if getattr(s, "record", None) is not None:  # the record (stepcontact.study.dam_quake;
+        # a model file's dam has none)
         y = study.yield_acceleration or run_yield(s, say)
         if y.k_y == 0.0:
             notes.append("the dam loses equilibrium under the usual loads: the earthquake "
