@@ -337,3 +337,21 @@ def test_the_schema_offers_the_model_choices():
     assert tuple(p["enum"]) == sc.CRACK_WATER_CHOICES == ("full", "unchanged", "none")
     assert p["default"] == "full"
 
+
+def test_the_result_records_the_choice_and_the_file_keeps_it(quake, tmp_path):
+    """Each run's result names the choice it was run with (the three runs of the fixture, one
+    per choice, set by hand there), kept through the .nc file and shown by `stepcontact
+    info`."""
+    from typer.testing import CliRunner
+
+    from stepcontact.cli import app
+
+    _, runs = quake
+    for choice, res in runs.items():
+        assert res.crack_water == choice
+        path = tmp_path / f"{choice}.nc"
+        res.save(path)
+        assert sc.load_result(path).crack_water == choice
+        out = CliRunner().invoke(app, ["info", str(path)], terminal_width=400)
+        assert out.exit_code == 0, out.output
+        assert f"crack_water {choice}:" in " ".join(out.output.split())
