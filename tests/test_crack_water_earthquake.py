@@ -255,6 +255,14 @@ def test_after_the_earthquake_the_water_enters_at_the_start_and_the_sliding_fact
     seg = int(res.segment[i_dyn])
     assert res.segments[seg][0] == "quake: settle after dynamics"
     np.testing.assert_allclose(res.water[i_dyn], dres.water[-1], rtol=0, atol=1e-9 * _pc())
+    # its crack pressures are those of the held rule, by hand: p_c in the pre-earthquake
+    # crack (CFEs 0, 1) where open (1e-9 relative), 0 in every other CFE (1e-9 p_c; "none":
+    # W = −A p_u there) — the opening the interval left dry included, not the static rule's
+    # p_u
+    held_open = (res.state[i_dyn] == OPEN) & (np.arange(len(x)) < 2)
+    np.testing.assert_allclose(res.crack_pressure[i_dyn][held_open], _pc(), rtol=1e-9)
+    assert res.state[i_dyn][2] == OPEN and _pu(x[2]) > 0
+    np.testing.assert_allclose(res.crack_pressure[i_dyn][~held_open], 0.0, atol=1e-9 * _pc())
     at_start = [i for i in range(i_dyn + 1, len(res.lam))
                 if res.segment[i] == seg and res.lam[i] == 1.0]
     assert at_start
@@ -328,3 +336,22 @@ def test_the_schema_offers_the_model_choices():
     p = schema()["$defs"]["DynamicsSpec"]["properties"]["crack_water"]
     assert tuple(p["enum"]) == sc.CRACK_WATER_CHOICES == ("full", "unchanged", "none")
     assert p["default"] == "full"
+
+
+def test_the_result_records_the_choice_and_the_file_keeps_it(quake, tmp_path):
+    """Each run's result names the choice it was run with (the three runs of the fixture, one
+    per choice, set by hand there), kept through the .nc file and shown by `stepcontact
+    info`."""
+    from typer.testing import CliRunner
+
+    from stepcontact.cli import app
+
+    _, runs = quake
+    for choice, res in runs.items():
+        assert res.crack_water == choice
+        path = tmp_path / f"{choice}.nc"
+        res.save(path)
+        assert sc.load_result(path).crack_water == choice
+        out = CliRunner().invoke(app, ["info", str(path)], terminal_width=400)
+        assert out.exit_code == 0, out.output
+        assert f"crack_water {choice}:" in " ".join(out.output.split())

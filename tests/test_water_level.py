@@ -183,3 +183,31 @@ def test_interpolation_in_a_level_segment_is_refused():
     with pytest.raises(ValueError, match="end a segment at"):
         res.interpolate(5.0, segment=1)
     res.interpolate(0.5, segment=0)  # the weight segment is proportional: fine
+
+
+def test_a_level_segment_of_zero_length_is_a_no_op():
+    """A segment to the level already reached (here 0 m after the weight, and 5 m twice) does
+    nothing, as a proportional segment of zero length: the same events at the same levels as
+    the program without it, the same sliding level (1e-12 relative), and its start and end
+    states equal the state before it (1e-12 of the largest force)."""
+    ref = sc.solve_static(dam(0.3, 20.0).replace(program=(
+        sc.Segment("weight", 1.0), sc.Segment("reservoir", 5.0), sc.Segment("reservoir", 30.0))))
+    res = sc.solve_static(dam(0.3, 20.0).replace(program=(
+        sc.Segment("weight", 1.0), sc.Segment("reservoir", 0.0), sc.Segment("reservoir", 5.0),
+        sc.Segment("reservoir", 5.0), sc.Segment("reservoir", 30.0))))
+    assert res.status == ref.status == sc.Status.EQUILIBRIUM_LOST, res.message
+    assert res.multipliers[-1].equilibrium_lost == pytest.approx(
+        ref.multipliers[-1].equilibrium_lost, rel=1e-12)
+    moved = {0: 0, 2: 1, 4: 2}  # segments of res that are segments of ref
+    assert [(e.cfe, e.transition) for e in res.events if e.segment in (1, 3)] == []
+    assert [(moved[e.segment], e.cfe, e.transition) for e in res.events] == [
+        (e.segment, e.cfe, e.transition) for e in ref.events]
+    assert np.allclose([e.lam for e in res.events], [e.lam for e in ref.events],
+                       rtol=1e-12, atol=0)
+    scale = np.abs(res.N).max()
+    for seg in (1, 3):
+        idx = np.flatnonzero(res.segment == seg)
+        before = idx[0] - 1
+        for i in idx:
+            assert np.abs(res.N[i] - res.N[before]).max() <= 1e-12 * scale
+            assert np.abs(res.Q[i] - res.Q[before]).max() <= 1e-12 * scale

@@ -1125,6 +1125,14 @@ class DynamicResult(StaticResult):
         """Time of every state, s."""
         return self.lam
 
+    @property
+    def crack_water(self) -> str | None:
+        """The crack-water choice of the interval ("full", "unchanged" or "none";
+        :class:`~stepcontact.model.DynamicInterval`), kept in ``units["crack_water"]`` (saved
+        with the result); None for a model without crack water."""
+        note = self.units.get("crack_water")
+        return None if note is None else note.partition(":")[0]
+
     def velocities(self, states=None) -> np.ndarray:
         idx = np.arange(self.n_states) if states is None else np.asarray(states)
         return self.v[idx]

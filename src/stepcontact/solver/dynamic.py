@@ -1188,6 +1188,20 @@ GROUND_CONVENTION = ("m s-2; a positive value accelerates the ground along +axis
                      "-M r a_g(t))")
 
 
+#: what each crack-water choice of an interval does (issue 29 §1), carried in the result's
+#: ``units["crack_water"]`` of a run with crack water as "choice: note"
+#: (:attr:`~stepcontact.results.result.DynamicResult.crack_water`)
+CRACK_WATER_NOTES = {
+    "full": "the static rule in time (water enters every opening joined to an entry)",
+    "unchanged": "the wet set and pressures of the start held (no water enters new openings)",
+    "none": "the wet set and pressures of the start held, no pressure in new openings"}
+
+
+def crack_water_note(choice: str) -> str:
+    """``units["crack_water"]`` of a dynamic result run with crack-water choice ``choice``."""
+    return f"{choice}: {CRACK_WATER_NOTES[choice]}"
+
+
 def _ground_components(ground_acceleration) -> tuple[tuple[object, object], ...]:
     """The components (a_g(t), direction) of ``ground_acceleration``, checked: None (none);
     (a_g, (dx, dy)) — (dx, dy, dz) in 3D, or an axis "x", "y", "z" —; a sequence of such
@@ -2798,7 +2812,9 @@ class _DynamicRun:
             geometry=result_geometry(system), crack=self.crack is not None,
             units={"lam": "s", "N": "N", "Q": "N", "un": "m", "ut": "m", "sigma_n": "Pa",
                    "tau": "Pa", "u": "m", "stress": "Pa", "position": "m", "area": "m2",
-                   **({"ground_acceleration": GROUND_CONVENTION} if self.ground else {})},
+                   **({"ground_acceleration": GROUND_CONVENTION} if self.ground else {}),
+                   **({"crack_water": crack_water_note(self.iv.crack_water)}
+                      if self.crack is not None else {})},
             u=extra["u"].array(), v=extra["v"].array(), a=extra["a"].array(),
             energy=dict(zip(ENERGY_TERMS, np.array(self.energy, float).reshape(
                 -1, len(ENERGY_TERMS)).T.copy(), strict=True)), dt=self.dt0,

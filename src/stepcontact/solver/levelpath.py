@@ -67,13 +67,19 @@ class LevelPath:
 
     def forcings(self, mu: float) -> tuple[list, np.ndarray]:
         """Forcings (ĥ_j, e_j) of the Taylor coefficients j = 1 … 4 of the load in μ at μ (on
-        the current piece), and those coefficients (4, P) of the g_p."""
+        the current piece), and those coefficients (4, P) of the g_p.  On a segment of zero
+        length (h1 = h0) they are all zero: the segment is a no-op, as a proportional
+        segment of zero length is."""
         h = self.level(mu)
         end = self.level(self.piece_end(mu))
-        c = self.basis.taylor(h, end)[1:]
-        c = c * (self.direction ** np.arange(1, len(c) + 1))[:, None]
-        out = [(self.H @ cj, self.E @ cj) for cj in c]
         h_own, e_own = self.own[0], self.own[1]
+        if end == h:  # a segment of zero length (it ends at the current level): nothing moves
+            c = np.zeros((self.basis.degree, len(self.basis.names)))
+            h_own, e_own = np.zeros_like(h_own), np.zeros_like(e_own)
+        else:
+            c = self.basis.taylor(h, end)[1:]
+            c = c * (self.direction ** np.arange(1, len(c) + 1))[:, None]
+        out = [(self.H @ cj, self.E @ cj) for cj in c]
         out[0] = (out[0][0] + self.direction * h_own, out[0][1] + self.direction * e_own)
         self._own_active = bool(np.any(h_own) or np.any(e_own))
         return out, c

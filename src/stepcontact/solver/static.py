@@ -350,7 +350,11 @@ class StaticSolver:
         eng._relations = {}
         self.fields.add(k, self.cond)
         self._load_resultants = self._load_moments = None
-        self._record(1.0, seg, "dynamics")  # (its field is u to round-off)
+        # (its field is u to round-off; its crack pressures the interval's own: with held
+        # crack water an open CFE may be dry, not filled as by the static rule)
+        held = (self.crack is not None and dres.crack_pressure is not None)
+        self._record(1.0, seg, "dynamics",
+                     pressure=np.asarray(dres.crack_pressure[j], float) if held else None)
         return self.status == Status.COMPLETED
 
     def _level_path(self, seg: int, pattern: str, rates: dict[str, float], lam0: float,
@@ -663,11 +667,14 @@ class StaticSolver:
         return self.status == Status.COMPLETED
 
     # ---- recording ---------------------------------------------------------------------------
-    def _record(self, lam: float, seg: int, kind: str, final: bool = False) -> int:
+    def _record(self, lam: float, seg: int, kind: str, final: bool = False,
+                pressure: np.ndarray | None = None) -> int:
         """Record the current state.  Its displacement field and stresses are stored (one
         solve) at the start, segment starts and ends, the state where the run stops
         (``final``, or a violation found here) and, with ``store_fields="all"``, every state;
-        the other states' fields are recomputed exactly on request from (factors, s, w)."""
+        the other states' fields are recomputed exactly on request from (factors, s, w).
+        ``pressure``: the crack pressures (m,), Pa, to record instead of the static rule's
+        (the end of a dynamic interval that held its crack water)."""
         eng = self.engine
         store = final or kind != "event" or self.store_fields == "all"
         if self.crack is None and not self._ghosts:  # s is all the CFEs transmit
@@ -698,7 +705,8 @@ class StaticSolver:
             reactions=0.0 if later else self.cond.reactions(self.c, st, eng.w),
             water=self.sw, stage=self.stage,
             pressure=(0.0 if self.crack is None else
-                      self.crack.pressure(eng.states, self.c, self.sw)))
+                      self.crack.pressure(eng.states, self.c, self.sw) if pressure is None
+                      else pressure))
         if later:
             self._reactions_due.append(i)
         if store:
