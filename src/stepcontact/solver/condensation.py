@@ -341,8 +341,8 @@ def schur_pays(n: int, c: int, n2m: int) -> bool:
     rate) — and fits (:func:`schur_fits`).  A compact joint (c ≪ n) takes the Schur route; a
     joint as long as the model (c ~ n^½ ... n) the solves.  (The 3D slab of
     ``benchmarks/slab3d.py`` at s = 4, 327 144 DOFs and c = 12 150, is near the balance and
-    takes the Schur route: measured 160 s of process CPU for PARDISO's Schur complement and
-    G against about 430 s for the factorisation and the 6 075 solves.)"""
+    takes the Schur route: measured 152 s of process CPU for the factorisation with PARDISO's
+    Schur complement and G, against 434 s for the plain factorisation and the 6 075 solves.)"""
     if c == 0:
         return False
     schur = 2.0 / 3.0 * c**3 + 1.0 * c**2 * n2m + 1.0 * c * n2m**2
