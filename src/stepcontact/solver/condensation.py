@@ -250,6 +250,7 @@ class Condensation:
             starts = range(0, n2m, block)
             threads = solve_threads(factor, len(starts))
             if threads > 1:  # each block's arithmetic as in one thread: the same G
+                # (BLAS held to one thread: the solver threads take the cores)
                 with one_blas_thread(0), ThreadPoolExecutor(threads) as pool:
                     list(pool.map(columns_of, starts))
                 extra["solve_threads"] = threads
