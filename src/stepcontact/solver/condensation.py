@@ -30,6 +30,8 @@ from __future__ import annotations
 import contextlib
 import functools
 import hashlib
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -42,7 +44,7 @@ from stepcontact.fem.assembly import System
 from stepcontact.model import size as _size
 from stepcontact.solver.clock import Stopwatch
 from stepcontact.solver.cluster import ColumnJob
-from stepcontact.solver.linalg import Factor, factorize
+from stepcontact.solver.linalg import Factor, factorize, one_blas_thread
 
 #: share of the machine's physical memory that the dense contact matrices may take
 DENSE_MEMORY_SHARE = 0.5
@@ -53,11 +55,13 @@ def dense_memory(n2m: int, c: int = 0, itemsize: int = 8) -> dict[str, int]:
     the scheme solver's LU, the LU of a refactorisation in flight (the old base is kept until
     the new scheme is known to be regular) and the update workspace (up to max(48, 2m/10)
     columns and rows): 2.25 more 2m × 2m arrays; and, for forming G as a
-    Schur complement on ``c`` contact DOFs, the trailing dense block of the sparse factors
-    with its extracted copies (three c × c float64 arrays).  ``itemsize``: 8 for float64
-    dense matrices, 4 for float32 (``precision="float32"``)."""
+    Schur complement on ``c`` contact DOFs, the dense c × c block (PARDISO's Schur
+    complement S, factorised in place, or SuperLU's trailing block of L, then of U) and two
+    dense c × 2m arrays (B_cᵀ and its triangular solve, ``linalg.condensed_cholesky``), in
+    float64.  ``itemsize``: 8 for float64 dense matrices, 4 for float32
+    (``precision="float32"``)."""
     return {"G": itemsize * n2m**2, "schemes": int(2.25 * itemsize * n2m**2),
-            "schur": 3 * 8 * c**2}
+            "schur": 8 * (c**2 + 2 * c * n2m)}
 
 
 def _gb(b: float) -> str:
@@ -234,13 +238,25 @@ class Condensation:
         else:
             G = np.zeros((n2m, n2m), dtype)
             BT = B.T.tocsc()
-            for s in range(0, n2m, block):
+
+            def columns_of(s: int) -> None:
                 X = factor.solve(BT[:, s : s + block].toarray())
                 Gs = B @ X.reshape(A.shape[0], -1)
                 if shifted:  # D G − I, column block by column block
                     Gs *= d[:, None]
                     Gs[np.arange(s, s + Gs.shape[1]), np.arange(Gs.shape[1])] -= 1.0
                 G[:, s : s + block] = Gs
+
+            starts = range(0, n2m, block)
+            threads = solve_threads(factor, len(starts))
+            if threads > 1:  # each block's arithmetic as in one thread: the same G
+                # (BLAS held to one thread: the solver threads take the cores)
+                with one_blas_thread(0), ThreadPoolExecutor(threads) as pool:
+                    list(pool.map(columns_of, starts))
+                extra["solve_threads"] = threads
+            else:
+                for s in starts:
+                    columns_of(s)
             solves = n2m
         if not shifted:
             _symmetrise(G)
@@ -278,6 +294,21 @@ class Condensation:
                         "build it where it is used (workers: sc.condense(model))")
 
 
+#: threads that solve G's column blocks at once with a factor whose solves may run
+#: concurrently and release the GIL (SciPy's SuperLU: its triangular solves read the factors
+#: only, with thread-local work memory); PARDISO's solves are threaded inside MKL and one
+#: handle takes one solve at a time
+SOLVE_THREADS = 2
+
+
+def solve_threads(factor: Factor, blocks: int) -> int:
+    """How many threads solve the ``blocks`` column blocks of G with ``factor``: up to
+    :data:`SOLVE_THREADS` (no more than the cores) for SciPy's SuperLU, else 1."""
+    if getattr(factor, "name", "") != "scipy-superlu" or blocks < 2:
+        return 1
+    return max(1, min(SOLVE_THREADS, os.cpu_count() or 1, blocks))
+
+
 def _symmetrise(G: np.ndarray, block: int = 1024) -> None:
     """G ← (G + Gᵀ)/2 in place, by blocks (no 2m × 2m temporaries)."""
     n = G.shape[0]
@@ -288,13 +319,14 @@ def _symmetrise(G: np.ndarray, block: int = 1024) -> None:
             G[j : j + block, i : i + block] = S.T
 
 
-def schur_fits(c: int, limit: float | None = None) -> bool:
-    """Whether the dense trailing block of c contact DOFs (and its copies) fits in a quarter
-    of ``limit`` (default: DENSE_MEMORY_SHARE of the physical memory)."""
+def schur_fits(c: int, limit: float | None = None, n2m: int = 0) -> bool:
+    """Whether the dense work of the Schur route on c contact DOFs for 2m = ``n2m`` contact
+    unknowns (:func:`dense_memory`) fits in a quarter of ``limit`` (default:
+    DENSE_MEMORY_SHARE of the physical memory)."""
     if limit is None:
         phys = _size.physical_memory()
         limit = DENSE_MEMORY_SHARE * phys if phys else float("inf")
-    return dense_memory(0, c)["schur"] <= 0.25 * limit
+    return dense_memory(n2m, c)["schur"] <= 0.25 * limit
 
 
 #: work of one flop of a sparse triangular solve against one of dense BLAS-3 work (measured
@@ -304,16 +336,20 @@ SPARSE_SOLVE_PENALTY = 5.0
 
 def schur_pays(n: int, c: int, n2m: int) -> bool:
     """Whether G is cheaper as the Schur complement on the c contact DOFs ((2/3)c³ for the
-    trailing block and 4c²m for the two triangular solves, dense) than by 2m sparse solves
-    (4·nnz(L) each, nnz(L) ≈ 4.5 n log₂ n on 2D meshes, at the sparse rate) — and fits.
-    A compact joint (c ≪ n) takes the Schur route; a joint as long as the model (c ~ n^½ ... n)
-    the solves."""
+    dense block's factorisation, 2c²m for the one triangular solve and 4cm² for the
+    symmetric product G = Wᵀ W, :func:`~stepcontact.solver.linalg.condensed_cholesky`) than
+    by 2m sparse solves (4·nnz(L) each, nnz(L) ≈ 4.5 n log₂ n on 2D meshes, at the sparse
+    rate) — and fits (:func:`schur_fits`).  A compact joint (c ≪ n) takes the Schur route; a
+    joint as long as the model (c ~ n^½ ... n) the solves.  (The 3D slab of
+    ``benchmarks/slab3d.py`` at s = 4, 327 144 DOFs and c = 12 150, is near the balance and
+    takes the Schur route: measured 152 s of process CPU for the factorisation with PARDISO's
+    Schur complement and G, against 434 s for the plain factorisation and the 6 075 solves.)"""
     if c == 0:
         return False
-    schur = 2.0 / 3.0 * c**3 + 2.0 * c**2 * n2m
+    schur = 2.0 / 3.0 * c**3 + 1.0 * c**2 * n2m + 1.0 * c * n2m**2
     nnz_l = 4.5 * n * np.log2(max(n, 2))
     solves = SPARSE_SOLVE_PENALTY * n2m * 4.0 * nnz_l
-    return schur <= solves and schur_fits(c)
+    return schur <= solves and schur_fits(c, n2m=n2m)
 
 
 def contact_dofs(B: sp.spmatrix) -> np.ndarray:
