@@ -337,13 +337,7 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
     # while the other sticks is admissible, but only an artefact of the indeterminate split)
     groups = _redundant_groups(eng, L, guess, cfes)
 
-    def order(cb):
-        cb = np.asarray(cb)
-        mixed = sum(len(set(cb[g].tolist())) > 1 for g in groups)
-        return mixed, int(np.sum(cb != guess[cfes]))
-
-    combos = sorted(itertools.product(*options), key=order)
-    for combo in combos:
+    for combo in _ordered_schemes(options, groups, guess[cfes]):
         trial = guess.copy()
         trial[cfes] = combo
         try:
@@ -359,6 +353,46 @@ def _singular_point(eng, L, guess, forcing, normal_lim, two_sided) -> RateOutcom
         raise MechanismError(None, None, _admissible(eng, L, driven, forcing, normal_lim))
     raise RateProblemFailure(Status.RATE_PROBLEM, L, "no consistent scheme at a point whose "
                              "stuck scheme is singular")
+
+
+#: combinations of states keyed per block in :func:`_ordered_schemes`
+_KEY_BLOCK = 1 << 20
+
+
+def _ordered_schemes(options: list, groups: list[np.ndarray], guess: np.ndarray):
+    """The schemes of :func:`_singular_point`: every combination of the CFEs' state
+    ``options`` (the product, the last CFE's option varying fastest), ordered by (the number
+    of redundant ``groups`` whose CFEs are not all in one state, the number of CFEs whose
+    state differs from ``guess``), ties in product order — the order of a stable sort of
+    ``itertools.product(*options)`` by that key, without forming it: the key of every
+    combination is computed in vectorised blocks from its mixed-radix index (one byte each:
+    34⁴ = 1.3 M combinations of a plate on 4 corners with 32 facets cost 0.1 s instead of a
+    Python sort of 85 s), and the combinations are decoded one at a time, lowest key first,
+    as they are tried."""
+    opts = [np.asarray(o) for o in options]
+    sizes = np.array([len(o) for o in opts], dtype=np.int64)
+    total = int(np.prod(sizes))
+    if total == 0:
+        return
+    strides = np.ones(len(opts), dtype=np.int64)
+    strides[:-1] = np.cumprod(sizes[::-1])[::-1][1:]
+
+    def decode(idx: np.ndarray) -> np.ndarray:
+        return np.stack([o[(idx // st) % n] for o, st, n in zip(opts, strides, sizes, strict=True)],
+                        axis=1)
+
+    width = len(opts) + 1
+    keys = np.empty(total, dtype=np.int16)
+    for a in range(0, total, _KEY_BLOCK):
+        cb = decode(np.arange(a, min(total, a + _KEY_BLOCK)))
+        mixed = np.zeros(len(cb), dtype=np.int16)
+        for g in groups:
+            mixed += np.any(cb[:, g] != cb[:, g[:1]], axis=1)
+        keys[a:a + len(cb)] = mixed * width + np.count_nonzero(cb != guess, axis=1)
+    for k in np.unique(keys):
+        for a in range(0, total, _KEY_BLOCK):
+            for i in a + np.flatnonzero(keys[a:a + _KEY_BLOCK] == k):
+                yield tuple(decode(np.array([i]))[0].tolist())
 
 
 def _redundant_groups(eng, L, guess, cfes) -> list[np.ndarray]:
