@@ -734,6 +734,41 @@ class SchemeFactor:
             self.base.spent += W_PASS * 4.0 * self.V.size * (1 if bs.ndim == 1 else bs.shape[1])
         return y
 
+    def inverse_block(self, rows: np.ndarray) -> np.ndarray:
+        """The block (A⁻¹)[rows, rows] of the inverse of the row-scaled scheme matrix, float64,
+        O(k n r) at most for r = len(rows) and k changed rows (no pass over X):
+
+            A⁻¹[R, R] = X[R, R] − Z[R] C⁻¹ (V X)[:, R],
+
+        (V X)[:, R] read from the base's products V Z where every row of R has a slot there and
+        the slots' rows are still this scheme's (Z_j = X e_j), else one product V X[:, R].
+        The solution of a right-hand side that vanishes outside R, restricted to R, is this
+        block times its entries in R: the rate problem's responses at its own CFEs
+        (:func:`~stepcontact.solver.rate.solve_rate_problem`)."""
+        live = self._live()
+        if live is not None:
+            return live.inverse_block(rows)
+        b = self.base
+        X = b.X
+        out = np.asarray(X[np.ix_(rows, rows)], dtype=np.float64)
+        if self.V is None:
+            return out
+        fs = b.slot[self.idx]
+        sl = b.slot[rows]
+        if np.array_equal(b.vrow[fs], _block_rows(self.rel, self.idx)):
+            has = sl >= 0
+            VX = np.empty((len(fs), len(rows)), b.dtype)
+            VX[:, has] = b.VZ[np.ix_(fs, sl[has])]
+            rest = np.flatnonzero(~has)
+        else:
+            VX = np.empty((len(fs), len(rows)), b.dtype)
+            rest = np.arange(len(rows))
+        if rest.size:
+            VX[:, rest] = self.V @ X[:, rows[rest]]
+            b.spent += 2.0 * self.V.size * rest.size  # (BLAS-3: weight 1)
+        b.spent += 2.0 * len(self.idx) * len(rows) ** 2
+        return out - _mv(self.Z[rows], lu_solve(self.C_lu, np.asarray(VX, np.float64)))
+
     def _refine(self, bs: np.ndarray, y: np.ndarray,
                 floor: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Iterative refinement of y ≈ A⁻¹ bs (float32 schemes) against the exact operator:
