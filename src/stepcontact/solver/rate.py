@@ -46,6 +46,11 @@ ENUMERATE_CFES = 5
 #: … and with at most this many complementary bases in all (6⁵ = 7 776 in 2D: every 2D problem
 #: of ENUMERATE_CFES CFEs; a faceted cone's k facets give 2 (1 + 2k) bases per CFE)
 ENUMERATE_BASES = 8000
+#: a rate problem of at least this many variables takes the base scheme's responses at its
+#: own CFEs only (:func:`_responses`); a smaller one solves its columns as a block, whose
+#: cost is a few passes over the dense matrices (and whose round-off its recorded event
+#: sequences, e.g. the choices at a mechanism's point, were made with)
+RESPONSE_ROWS_MIN = 64
 
 
 class RateProblemFailure(Exception):
@@ -288,26 +293,34 @@ def _responses(eng, fact, var, R: np.ndarray, ds0: np.ndarray, dw0: np.ndarray):
 
         s'_R = y_R + D_R ŵ'_R = (A⁻¹)[R, R] b_R + D_R W⁻¹ r_R       (ĥ = e = 0)
 
-    from the block (A⁻¹)[R, R] of the rows R of those CFEs (:meth:`SchemeFactor.inverse_block`,
+    from the block (A⁻¹)[R, R] of the rows R of those CFEs (:meth:`SchemeFactor.solve_rows`,
     no pass over the inverse or over G), and the rates of a solution z by one solve of the
     combined right-hand side R z (one pass over each, its backward error checked as every
-    solve's).  Otherwise (springs, a float32 scheme) the columns are solved as a block."""
+    solve's).  Otherwise (springs, a float32 scheme, fewer than ``RESPONSE_ROWS_MIN``
+    columns) the columns are solved as a block (a pass over the inverse and G each)."""
     lay = eng.layout
+    nv = R.shape[1]
     fact = fact._live() or fact
     rel = fact.rel
     cf = np.unique(var.cfe)
     Sb, Wb = rel.S[cf], rel.W[cf]
-    if (not fact.owner.refine and not np.count_nonzero(Sb)
+    if (nv >= RESPONSE_ROWS_MIN and not fact.owner.refine and not np.count_nonzero(Sb)
             and np.all(np.abs(np.linalg.det(Wb)) > 0)):
         rr = lay.rows(cf).T.ravel()  # the CFEs' rows, component-major
         pos = np.full(lay.n, -1)
         pos[rr] = np.arange(len(rr))
         Rr = R[rr]
-        Y = fact.inverse_block(rr) @ (fact.scale[rr, None] * Rr)
-        # w' of each CFE's rows from its relations W w' = r (the right-hand side per column)
-        rk = Rr.reshape(lay.n_c, len(cf), -1).transpose(1, 0, 2)  # (CFE, component, column)
-        wk = np.linalg.solve(Wb, rk)
-        dS_rows = Y + fact.owner.d[rr, None] * wk.transpose(1, 0, 2).reshape(len(rr), -1)
+        Y = fact.solve_rows(rr, fact.scale[rr, None] * Rr)
+        # w' of each column's CFE from its relations W w' = r (column j: var.effect[j] on
+        # the rows of its CFE alone)
+        at = np.searchsorted(cf, var.cfe)
+        wj = np.einsum("jab,jb->ja", np.linalg.inv(Wb)[at], var.effect)
+        dS_rows = Y
+        cols = np.arange(len(var.cfe))
+        d = fact.owner.d
+        for c in range(lay.n_c):
+            rc = c * len(cf) + at  # (positions in rr of component c of each column's CFE)
+            dS_rows[rc, cols] += d[rr[rc]] * wj[:, c]
         zeros = lay.zeros()
 
         def combine(z):
