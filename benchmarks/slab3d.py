@@ -59,6 +59,11 @@ event loop refactorises the dense 3m × 3m scheme matrix at about every second e
 The assembly (outside T_total) takes 0.22, 1.0 and 8.8 s of process CPU at s = 1, 2 and 4
 with the tet4/hex8 kernels (4.9, 25 and 362 s with scikit-fem's generic form before); at
 s = 4 the solver's setup takes 436 s, about 90 % of it forming G by 6 075 sparse solves.
+The s = 2 event loop (process CPU, 1 672 event points, old and new side by side at load
+10–14): 44.3 s before the rate problem's responses were read from the update's products and
+commits kept the base's slots, 21.9 s after (26.5 → 13.1 ms per event point; the same events,
+λ within 5e-13); the earlier "refactorises at every second point" was cut before that by
+the cost-based rank policy (docs/performance.md, "The 3D event loop per event point").
 
 ``--setup-only``: the setup alone, each size in a fresh process, split into the model, the
 assembly's steps (stiffness, loads, contact search, contact operator, restraint check), T_F,
