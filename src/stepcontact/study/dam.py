@@ -200,17 +200,7 @@ class DamSection:
 
     def _check_combinations(self) -> None:
         """The fields of the combinations and the guideline checks (errors name the field)."""
-        from stepcontact.results.dam_checks import load_guidelines
-
-        gs = load_guidelines()
-        if self.guideline not in gs:
-            raise ModelError("dam.guideline", f"'{self.guideline}' is not a guideline "
-                             f"(known: {', '.join(gs)})")
-        g = gs[self.guideline]
-        if self.guideline_variant is not None and self.guideline_variant not in g.variants:
-            raise ModelError("dam.guideline_variant", f"'{self.guideline_variant}' is not a "
-                             f"variant of {g.title} (variants: "
-                             f"{', '.join(repr(v) for v in g.variants)})")
+        check_guideline(self.guideline, self.guideline_variant)
         _positive(self, "k_h", "")
         if not (isinstance(self.k_v, int | float) and math.isfinite(self.k_v)
                 and abs(self.k_v) < 1):
@@ -324,6 +314,22 @@ class DamSection:
         xs = [p[0] for p in res]
         return (level * np.interp(x, xs, [p[1] for p in res])
                 + self.tailwater * np.interp(x, xs, [p[1] for p in tail]))
+
+
+def check_guideline(guideline: str, variant: str | None) -> None:
+    """A ModelError naming ``dam.guideline`` or ``dam.guideline_variant`` when the guideline
+    is not in the data file (:func:`~stepcontact.results.dam_checks.load_guidelines`) or the
+    variant is not one of its variants."""
+    from stepcontact.results.dam_checks import load_guidelines
+
+    gs = load_guidelines()
+    if guideline not in gs:
+        raise ModelError("dam.guideline", f"'{guideline}' is not a guideline "
+                         f"(known: {', '.join(gs)})")
+    g = gs[guideline]
+    if variant is not None and variant not in g.variants:
+        raise ModelError("dam.guideline_variant", f"'{variant}' is not a variant of "
+                         f"{g.title} (variants: {', '.join(repr(v) for v in g.variants)})")
 
 
 def _positive(s: DamSection, key: str, unit: str = " (m)") -> None:

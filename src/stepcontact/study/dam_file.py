@@ -63,6 +63,7 @@ from stepcontact.model.combinations import (
 from stepcontact.model.supports import NodeSet
 from stepcontact.model.water import UNIT_WEIGHT_WATER
 from stepcontact.results.dam_checks import JointStrength
+from stepcontact.study.dam import check_guideline
 
 #: gravity, m/s² (as the parametric section's, :data:`stepcontact.study.dam.G`)
 G = 9.81
@@ -88,17 +89,7 @@ class DamFile:
 
     def __post_init__(self):
         d = self.spec
-        from stepcontact.results.dam_checks import load_guidelines
-
-        gs = load_guidelines()
-        if d.guideline not in gs:
-            raise ModelError("dam.guideline", f"'{d.guideline}' is not a guideline (known: "
-                             f"{', '.join(gs)})")
-        g = gs[d.guideline]
-        if d.guideline_variant is not None and d.guideline_variant not in g.variants:
-            raise ModelError("dam.guideline_variant", f"'{d.guideline_variant}' is not a "
-                             f"variant of {g.title} (variants: "
-                             f"{', '.join(repr(v) for v in g.variants)})")
+        check_guideline(d.guideline, d.guideline_variant)
         problems = dam_geometry_problems(d, self.model, {"upstream_face": self.upstream,
                                                          "downstream_face": self.downstream})
         if problems:
