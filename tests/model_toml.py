@@ -25,3 +25,31 @@ nx = {nx}
 ny = {ny}
 material = "{material}"
 """
+
+
+def block_on_floor(model: str, friction: float = 0.3) -> str:
+    """:func:`concrete_block` resting on a rigid floor line y = 0 through the interface
+    "base" (its bottom node set on the obstacle "floor", friction ``friction``), with its
+    self-weight as the pattern "weight" and a program of that one segment to 1."""
+    return concrete_block(model) + f"""
+[node_sets.bottom]
+body = "block"
+y = 0.0
+
+[[obstacles]]
+name = "floor"
+points = [[-5.0, 0.0], [5.0, 0.0]]
+
+[[interfaces]]
+name = "base"
+plus = "bottom"
+obstacle = "floor"
+friction = {friction}
+
+[patterns.weight]
+loads = [{{ type = "gravity" }}]
+
+[[program]]
+pattern = "weight"
+end = 1.0
+"""

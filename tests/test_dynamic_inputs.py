@@ -26,7 +26,7 @@ from typer.testing import CliRunner
 
 import stepcontact as sc
 from cli_checks import assert_one_line_error
-from model_toml import concrete_block
+from model_toml import block_on_floor
 from stepcontact.cli.commands import app
 from stepcontact.enums import Status
 from stepcontact.errors import ModelError, StepContactError
@@ -195,28 +195,7 @@ def test_ground_acceleration_on_a_discrete_model_without_axes_is_refused():
                           floor_block()[0].dof_axes)
 
 
-CONTINUUM_BLOCK = concrete_block("ground-block") + """
-[node_sets.bottom]
-body = "block"
-y = 0.0
-
-[[obstacles]]
-name = "floor"
-points = [[-5.0, 0.0], [5.0, 0.0]]
-
-[[interfaces]]
-name = "base"
-plus = "bottom"
-obstacle = "floor"
-friction = 0.3
-
-[patterns.weight]
-loads = [{ type = "gravity" }]
-
-[[program]]
-pattern = "weight"
-end = 1.0
-"""
+CONTINUUM_BLOCK = block_on_floor("ground-block")
 
 
 def test_ground_acceleration_slides_a_continuum_block_by_the_closed_form(tmp_path):

@@ -33,7 +33,7 @@ import pytest
 from typer.testing import CliRunner
 
 import stepcontact as sc
-from model_toml import concrete_block
+from model_toml import block_on_floor
 from stepcontact.cli.commands import app
 from stepcontact.enums import Status
 from stepcontact.errors import ModelError
@@ -336,28 +336,7 @@ def test_a_record_off_the_step_grid_is_warned_about_and_damped():
 
 
 # ---- the model file ----------------------------------------------------------------------
-BLOCK = concrete_block("record-block") + """
-[node_sets.bottom]
-body = "block"
-y = 0.0
-
-[[obstacles]]
-name = "floor"
-points = [[-5.0, 0.0], [5.0, 0.0]]
-
-[[interfaces]]
-name = "base"
-plus = "bottom"
-obstacle = "floor"
-friction = 0.3
-
-[patterns.weight]
-loads = [{ type = "gravity" }]
-
-[[program]]
-pattern = "weight"
-end = 1.0
-
+BLOCK = block_on_floor("record-block") + """
 [dynamics]
 dt = 0.002
 duration = 0.6
