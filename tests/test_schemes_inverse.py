@@ -301,3 +301,30 @@ def test_walk_under_the_cost_based_rank_policy(block):
     eng = _engine(system, c64, None)
     walk = _checked_walk(eng, c64, np.random.default_rng(4))
     assert sum(A is not None for _, A in walk) >= 60
+
+
+def test_solve_rows_equals_the_dense_solve(block):
+    """:meth:`SchemeFactor.solve_rows` — (A⁻¹ b)[R] for right-hand sides b that vanish
+    outside the rows R of a few CFEs, from the base's products V Z and columns Z (the rate
+    problem's responses) — along the walk under the default rank policy (updates, commits
+    that keep the slots, rows changed back): equal to the dense solve of the row-scaled
+    scheme (independent LU) to RTOL of its largest entry."""
+    system, c64, _ = block
+    eng = _engine(system, c64, None)
+    rng = np.random.default_rng(7)
+    m, checked = eng.m, 0
+    for states, A in _checked_walk(eng, c64, np.random.default_rng(5)):
+        if A is None:
+            continue
+        fac = eng.factor(states, article=False)
+        cf = np.sort(rng.choice(m, size=3, replace=False))
+        R = np.concatenate([cf, cf + m])  # the CFEs' rows, component-major
+        bs = np.zeros((len(R), 4))
+        bs[rng.integers(0, len(R), 8), rng.integers(0, 4, 8)] = rng.standard_normal(8)
+        full = np.zeros((2 * m, 4))
+        full[R] = bs
+        ref = _solve(A * fac.scale[:, None], full)[R]
+        got = fac.solve_rows(R, bs)
+        assert np.abs(got - ref).max() <= RTOL * max(np.abs(ref).max(), 1e-300)
+        checked += 1
+    assert checked >= 60

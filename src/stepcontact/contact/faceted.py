@@ -469,18 +469,20 @@ class FacetedCoulombLaw:
         neighbour)."""
         new = base.copy()
         sl = active & (var_kind != OPENING)
-        for j in np.unique(var_local[sl]):
-            at = sl & (var_local == j)
-            fc, zz = facet[at], z[at]
-            top = int(fc[np.argmax(zz)])
-            nb = [(fc_, z_) for fc_, z_ in zip(fc, zz, strict=True)
-                  if (fc_ - top) % self.k in (1, self.k - 1)]
-            if not nb:
-                new[j] = FACET_SLIP + top
-                continue
-            other = int(max(nb, key=lambda t: t[1])[0])
-            v = top if (top - other) % self.k == 1 else other  # vertex v between v − 1 and v
-            new[j] = VERTEX_SLIP + v
+        cf, pos = np.unique(var_local[sl], return_inverse=True)
+        if cf.size:  # (per CFE a row of its facets' rates, −∞ where a facet is not active)
+            k = self.k
+            zf = np.full((cf.size, k), -np.inf)
+            zf[pos, facet[sl]] = z[sl]
+            r = np.arange(cf.size)
+            top = np.argmax(zf, axis=1)  # (ties: the lowest facet, the variables' order)
+            left, right = (top - 1) % k, (top + 1) % k
+            zl, zr = zf[r, left], zf[r, right]
+            # the active neighbour with the larger rate (a tie: the lower facet)
+            other = np.where((zr > zl) | ((zr == zl) & (right < left)), right, left)
+            alone = np.isneginf(np.maximum(zl, zr))
+            v = np.where((top - other) % k == 1, top, other)  # vertex v between v − 1 and v
+            new[cf] = np.where(alone, FACET_SLIP + top, VERTEX_SLIP + v)
         opened = np.zeros(len(base), bool)
         opened[var_local[active & (var_kind == OPENING)]] = True
         new[opened] = OPEN

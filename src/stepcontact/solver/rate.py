@@ -46,6 +46,11 @@ ENUMERATE_CFES = 5
 #: … and with at most this many complementary bases in all (6⁵ = 7 776 in 2D: every 2D problem
 #: of ENUMERATE_CFES CFEs; a faceted cone's k facets give 2 (1 + 2k) bases per CFE)
 ENUMERATE_BASES = 8000
+#: a rate problem of at least this many variables takes the base scheme's responses at its
+#: own CFEs only (:func:`_responses`); a smaller one solves its columns as a block, whose
+#: cost is a few passes over the dense matrices (and whose round-off its recorded event
+#: sequences, e.g. the choices at a mechanism's point, were made with)
+RESPONSE_ROWS_MIN = 64
 
 
 class RateProblemFailure(Exception):
@@ -193,18 +198,17 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
     for c in range(lay.n_c):
         R[rows[:, c], np.arange(nv)] = var.effect[:, c]
     try:
-        dS, dW = fact.solve(lay.zeros(1), lay.zeros(1), R)
+        dS_at, combine = _responses(eng, fact, var, R, ds0, dw0)
     except MechanismError as exc:
         exc.states = base
         raise
     eng.counters["rate_solves"] += 1 + nv
-    S0 = np.concatenate([ds0[:, None], dS], axis=1)
-    Wm = var.comp[:, :1] * S0[rows[:, 0]]
+    Wm = var.comp[:, :1] * dS_at(rows[:, 0])
     for c in range(1, lay.n_c):
-        Wm = Wm + var.comp[:, c:c + 1] * S0[rows[:, c]]
+        Wm = Wm + var.comp[:, c:c + 1] * dS_at(rows[:, c])
     q, M = Wm[:, 0], Wm[:, 1:]
     if kept is not None:  # small frictional point: are there other admissible schemes?
-        kept.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, kept)
+        kept.alternatives = _alternatives(eng, L, base, var, M, q, combine, kept)
         return kept
     start = _start_basis(eng, var, guess)
     sol = None
@@ -223,9 +227,10 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         z = sol.z
         active = z > 1e-9 * max(np.abs(z).max(initial=0), 1e-300)
         new = _states_from(eng, base, var, active, z)
+        ds, dw = combine(z)  # (before a commit of the new scheme retires the base's factor)
         _check_mechanism(eng, new, forcing)
-        out = RateOutcome(new, ds0 + dS @ z, dw0 + dW @ z, how, L)
-        out.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, out)
+        out = RateOutcome(new, ds, dw, how, L)
+        out.alternatives = _alternatives(eng, L, base, var, M, q, combine, out)
         return out
     # no solution found: the ray names a scheme; equilibrium is lost only with evidence
     ray = sol.ray if sol.ray is not None else np.zeros(nv, bool)
@@ -255,9 +260,10 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         z = found[0]
         active = z > 1e-9 * max(np.abs(z).max(initial=0), 1e-300)
         new = _states_from(eng, base, var, active, z)
+        ds, dw = combine(z)
         _check_mechanism(eng, new, forcing)
-        out = RateOutcome(new, ds0 + dS @ z, dw0 + dW @ z, "enumeration of the LCP", L)
-        out.alternatives = _alternatives(eng, L, base, var, M, q, ds0, dS, out)
+        out = RateOutcome(new, ds, dw, "enumeration of the LCP", L)
+        out.alternatives = _alternatives(eng, L, base, var, M, q, combine, out)
         return out
     complete = _bases(eng, var) is not None
     names = {OPENING: "opens", 1: "slips +", -1: "slips −"}
@@ -272,6 +278,59 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         f" (certificate: {sol.message}, along which {ray_text}; that scheme "
         f"{'is singular but the load does no work on it' if singular else 'is regular'})",
         certificate=trial[L])
+
+
+def _responses(eng, fact, var, R: np.ndarray, ds0: np.ndarray, dw0: np.ndarray):
+    """The base scheme's responses to the rate problem's variables (column j of ``R``: the
+    relation right-hand sides of z_j = 1, nonzero in the rows of its CFE only).  Returns
+    (``dS_at``: rows ↦ the force rates s' of every column in those rows (rows of the
+    variables' CFEs), ``combine``: z ↦ the rates (s', w') of the base's load rates plus
+    Σ z_j column j).
+
+    Where the base scheme holds every variable's CFE by displacement rows only (S = 0 in its
+    block, W regular: a stuck CFE on a rigid joint, w' = r), the columns are not solved in
+    full: with y = t' = A⁻¹ b (b = R, scaled) and those rows' relations W w' = r,
+
+        s'_R = y_R + D_R ŵ'_R = (A⁻¹)[R, R] b_R + D_R W⁻¹ r_R       (ĥ = e = 0)
+
+    from the block (A⁻¹)[R, R] of the rows R of those CFEs (:meth:`SchemeFactor.solve_rows`,
+    no pass over the inverse or over G), and the rates of a solution z by one solve of the
+    combined right-hand side R z (one pass over each, its backward error checked as every
+    solve's).  Otherwise (springs, a float32 scheme, fewer than ``RESPONSE_ROWS_MIN``
+    columns) the columns are solved as a block (a pass over the inverse and G each)."""
+    lay = eng.layout
+    nv = R.shape[1]
+    fact = fact._live() or fact
+    rel = fact.rel
+    cf = np.unique(var.cfe)
+    Sb, Wb = rel.S[cf], rel.W[cf]
+    if (nv >= RESPONSE_ROWS_MIN and not fact.owner.refine and not np.count_nonzero(Sb)
+            and np.all(np.abs(np.linalg.det(Wb)) > 0)):
+        rr = lay.rows(cf).T.ravel()  # the CFEs' rows, component-major
+        pos = np.full(lay.n, -1)
+        pos[rr] = np.arange(len(rr))
+        Rr = R[rr]
+        Y = fact.solve_rows(rr, fact.scale[rr, None] * Rr)
+        # w' of each column's CFE from its relations W w' = r (column j: var.effect[j] on
+        # the rows of its CFE alone)
+        at = np.searchsorted(cf, var.cfe)
+        wj = np.einsum("jab,jb->ja", np.linalg.inv(Wb)[at], var.effect)
+        dS_rows = Y
+        cols = np.arange(len(var.cfe))
+        d = fact.owner.d
+        for c in range(lay.n_c):
+            rc = c * len(cf) + at  # (positions in rr of component c of each column's CFE)
+            dS_rows[rc, cols] += d[rr[rc]] * wj[:, c]
+        zeros = lay.zeros()
+
+        def combine(z):
+            ds, dw = fact.solve(zeros, zeros, R @ z)
+            return ds0 + ds, dw0 + dw
+
+        return (lambda r: np.concatenate([ds0[r, None], dS_rows[pos[r]]], axis=1)), combine
+    dS, dW = fact.solve(lay.zeros(1), lay.zeros(1), R)
+    S0 = np.concatenate([ds0[:, None], dS], axis=1)
+    return (lambda r: S0[r]), (lambda z: (ds0 + dS @ z, dw0 + dW @ z))
 
 
 def _same(a: np.ndarray, b: np.ndarray) -> bool:
@@ -497,9 +556,10 @@ def _enumerate(eng, L, base, var, M, q, bases=None) -> list[np.ndarray]:
     return enumerate_solutions(M, q, bases)
 
 
-def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list[np.ndarray]:
+def _alternatives(eng, L, base, var, M, q, combine, chosen: RateOutcome) -> list[np.ndarray]:
     """Other admissible schemes of a small rate problem with several solutions (none when M is
-    positive definite: a P-matrix has exactly one)."""
+    positive definite: a P-matrix has exactly one); ``combine``: z ↦ the rates of a solution
+    (:func:`_responses`)."""
     bases = _bases(eng, var)
     if bases is None:  # too many CFEs to enumerate: nothing to report
         return []
@@ -516,7 +576,7 @@ def _alternatives(eng, L, base, var, M, q, ds0, dS, chosen: RateOutcome) -> list
     seen = [chosen.ds]
     out = []
     for z in sols:
-        ds = ds0 + dS @ z
+        ds = combine(z)[0]
         if any(np.abs(ds - s).max() <= 1e-7 * scale for s in seen):
             continue
         seen.append(ds)

@@ -605,6 +605,15 @@ class _Base:
         self.vsum = np.empty(cap)
         #: the block row (S_j·, W_j·) of each slot's latest relation (:func:`_block_rows`)
         self.vrow = np.empty((cap, 2 * rel.layout.n_c))
+        #: each slot's previous row (its V, scale, |R| 1, block row, and its products V Z
+        #: with the first ``vz2k`` columns): a row that changes back to it (a rate problem's
+        #: stuck scheme, then the next scheme near the base) is swapped in, not formed again
+        self.V2 = np.empty((cap, n), self.dtype)
+        self.VZ2 = np.empty((cap, cap), self.dtype)
+        self.vscale2 = np.empty(cap)
+        self.vsum2 = np.empty(cap)
+        self.vrow2 = np.full((cap, 2 * rel.layout.n_c), np.nan)
+        self.vz2k = np.zeros(cap, np.int64)
         self.loads: OrderedDict[int, tuple] = OrderedDict()
         #: the rank policy's account: weighted flops the updates of this base have cost, and
         #: the rows the latest :meth:`prepare` formed (:meth:`SchemeSolver._commit_now`)
@@ -621,10 +630,12 @@ class _Base:
         Z = np.empty((n, new), self.dtype, order="F")
         Z[:, :k] = self.Z[:, :k]
         self.Z = Z
-        VZ = np.empty((new, new), self.dtype)
-        VZ[:k, :k] = self.VZ[:k, :k]
-        self.VZ = VZ
-        for name in ("V", "R0", "vscale", "vsum", "vrow"):
+        for name in ("VZ", "VZ2"):
+            VZ = np.empty((new, new), self.dtype)
+            VZ[:k, :k] = getattr(self, name)[:k, :k]
+            setattr(self, name, VZ)
+        for name in ("V", "R0", "vscale", "vsum", "vrow", "V2", "vscale2", "vsum2", "vrow2",
+                     "vz2k"):
             old = getattr(self, name)
             a = np.empty((new,) + old.shape[1:], old.dtype)
             a[:k] = getattr(self, name)[:k]
@@ -640,6 +651,7 @@ class _Base:
             self._grow(k1)
             self.Z[:, k0:k1] = self.X[:, new_rows]  # Z_j = X e_j
             self.slot[new_rows] = np.arange(k0, k1)
+            self.vrow2[k0:k1] = np.nan  # (no previous row)
             self.k = k1
             solver.counters["scheme_columns"] += new_rows.size
         slots = self.slot[idx]
@@ -649,6 +661,10 @@ class _Base:
         rows_j, row, stale = idx[stale], row[stale], slots[stale]
         if new_rows.size and k0:  # new columns of V Z (rows about to change are redone below)
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
+        if stale.size:
+            rows_j, row, stale = self._swap(rows_j, row, stale, k0)
+        self.formed = int(stale.size)  # (the new slots are stale too)
+        solver.counters["scheme_rows"] += self.formed
         if stale.size:
             # the changed rows, and the base rows of the new slots (formed once), together
             lay = self.rel.layout
@@ -668,8 +684,70 @@ class _Base:
             self.vsum[stale] = _row_sums(R)
             self.vrow[stale] = row
             self.VZ[stale, :k] = self.V[stale] @ self.Z[:, :k]
-        self.formed = int(stale.size)  # (the new slots are stale too)
         return slots
+
+    def _swap(self, rows_j, row, stale, k0):
+        """Of the slots ``stale`` whose rows change (to the block rows ``row``): the existing
+        ones keep their current row as the previous one, and those whose new row is their
+        previous row take it back (with its products V Z; those with the columns added
+        since it was kept are formed, a k-column product).  Returns the rows still to be
+        formed (rows_j, row, stale) of the rest."""
+        old = np.flatnonzero(stale < k0)
+        if not old.size:
+            return rows_j, row, stale
+        so = stale[old]
+        back = (self.vrow2[so] == row[old]).all(axis=1)
+        k = self.k
+        keep = (self.V[so].copy(), self.vscale[so].copy(), self.vsum[so].copy(),
+                self.vrow[so].copy(), self.VZ[so, :k].copy())
+        sb = so[back]
+        if sb.size:
+            self.V[sb] = self.V2[sb]
+            self.vscale[sb] = self.vscale2[sb]
+            self.vsum[sb] = self.vsum2[sb]
+            self.vrow[sb] = self.vrow2[sb]
+            kv = int(self.vz2k[sb].min())
+            self.VZ[sb, :kv] = self.VZ2[sb, :kv]
+            if kv < k:
+                self.VZ[sb, kv:k] = self.V[sb] @ self.Z[:, kv:k]
+        self.V2[so], self.vscale2[so], self.vsum2[so], self.vrow2[so] = keep[:4]
+        self.VZ2[so, :k] = keep[4]
+        self.vz2k[so] = k
+        rest = np.ones(len(stale), bool)
+        rest[old[back]] = False
+        return rows_j[rest], row[rest], stale[rest]
+
+    def adopt(self, old: _Base, cs: np.ndarray, C_lu) -> None:
+        """Take over the slots of ``old`` after the update of its slots ``cs`` (capacitance
+        ``C_lu``) was committed into its inverse, X₁ = X − Z_c C⁻¹ V_c X (this base's X):
+        every slot keeps its row, so a scheme that changes the same rows again (a rate
+        problem's stuck scheme after every commit) forms none of them afresh.  With
+        W = C⁻¹ (V Z)[c, :] the columns and products become
+
+            Z₁ = X₁ E = Z − Z_c W  (copied from X₁),   V Z₁ = V Z − (V Z)[:, c] W,
+
+        the committed rows are the base's now (R0 ← R0 + V, V ← 0, their products 0, their
+        previous rows relative to the new base row), the other rows' differences unchanged
+        (their base rows are); the products of the previous rows (V₂ Z) are formed again
+        when a row changes back.  O(n K + k K²) for K slots, against O(n K²) to form them."""
+        K = old.k
+        names = ("Z", "V", "R0", "VZ", "VZ2", "vscale", "vsum", "vrow", "V2", "vscale2",
+                 "vsum2", "vrow2", "vz2k")
+        for name in names:
+            setattr(self, name, getattr(old, name))
+        self.slot = old.slot
+        self.k = K
+        srow = np.empty(K, np.int64)
+        on = np.flatnonzero(old.slot >= 0)
+        srow[old.slot[on]] = on
+        self.Z[:, :K] = self.X[:, srow]
+        Wc = _lu_solve_block(C_lu, self.VZ[cs, :K])
+        self.VZ[:K, :K] -= self.VZ[:K, cs] @ Wc
+        self.VZ[cs, :K] = 0.0
+        self.R0[cs] += self.V[cs]
+        self.V2[cs] -= self.V[cs]
+        self.V[cs] = 0.0
+        self.vz2k[:K] = 0
 
     def load(self, solver: SchemeSolver, hhat: np.ndarray, e: np.ndarray):
         """(b₀, y₀ = X b₀) of the load rates (ĥ, e) on the base scheme (cached)."""
@@ -733,6 +811,46 @@ class SchemeFactor:
             y = y - _mv(self.Z, lu_solve(self.C_lu, _mv(self.V, y)))
             self.base.spent += W_PASS * 4.0 * self.V.size * (1 if bs.ndim == 1 else bs.shape[1])
         return y
+
+    def solve_rows(self, rows: np.ndarray, bs: np.ndarray) -> np.ndarray:
+        """(A⁻¹ b)[rows] for a block of scaled right-hand sides b that vanish outside ``rows``
+        (``bs``: their entries in ``rows``, (r, c), each column with a few nonzeros: the rate
+        problem's, a unit rate on one CFE's rows), float64, without a pass over X:
+
+            (A⁻¹ b)[R] = U[R] − Z[R] C⁻¹ (V X b),    U = X[:, R] b_R  (O(n nnz)),
+
+        V X b from the base's products V Z for the rows of R that have a slot there (Z_j =
+        X e_j; the slots' rows still this scheme's) and one product V (X[:, R'] b_R') for the
+        rest R'; O(k (r + k) c) for k changed rows instead of the O(k n c) of a block solve."""
+        live = self._live()
+        if live is not None:
+            return live.solve_rows(rows, bs)
+        b = self.base
+        X = b.X
+        B = sp.csc_matrix(bs.astype(X.dtype, copy=False))
+        U = np.asarray((B.T @ X[:, rows].T).T, dtype=np.float64)  # Σ over nonzeros: X[:, j] b_j
+        out = U[rows]
+        if self.V is None:
+            return out
+        fs = b.slot[self.idx]
+        sl = b.slot[rows]
+        has = np.zeros(len(rows), bool)
+        if np.array_equal(b.vrow[fs], _block_rows(self.rel, self.idx)):
+            has = sl >= 0
+        VXb = np.zeros((len(fs), bs.shape[1]))
+        if has.any():  # (V Z)[:, has] b_has, sparse in b
+            Bh = sp.csr_matrix(B[has])
+            VXb += np.asarray((Bh.T @ b.VZ[np.ix_(fs, sl[has])].T).T, dtype=np.float64)
+        rest = np.flatnonzero(~has)
+        if rest.size:
+            Br = sp.csc_matrix(B[rest])
+            cols = np.flatnonzero(np.diff(Br.indptr))
+            if cols.size:
+                Ur = (Br[:, cols].T @ X[:, rows[rest]].T).T  # X[:, R'] b_R', (n, c')
+                VXb[:, cols] += _mv(self.V, np.asarray(Ur))
+                b.spent += 2.0 * self.V.size * cols.size  # (BLAS-3: weight 1)
+        b.spent += 2.0 * len(fs) * (len(fs) + len(rows)) * bs.shape[1]
+        return out - _mv(self.Z[rows], lu_solve(self.C_lu, VXb))
 
     def _refine(self, bs: np.ndarray, y: np.ndarray,
                 floor: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -1002,11 +1120,14 @@ class SchemeSolver:
         #: inverse (scheme_inversions, O(n³); scheme_reinversions of them for lost accuracy)
         #: or by a rank-k commit into the inverse (scheme_commits, two passes over it);
         #: scheme_updates: Woodbury updates set up; scheme_columns: changed rows given a slot;
+        #: scheme_rows: changed rows formed from G (a row changed back to its previous
+        #: relation is not formed again: :meth:`_Base._swap`);
         #: scheme_solves: right-hand sides solved with the inverse (a pass over it each)
         self.counters = {"scheme_factorizations": 0, "scheme_inversions": 0,
                          "scheme_commits": 0, "scheme_reinversions": 0,
                          "scheme_policy_inversions": 0, "scheme_updates": 0,
-                         "scheme_columns": 0, "scheme_solves": 0, "refinements": 0}
+                         "scheme_columns": 0, "scheme_rows": 0, "scheme_solves": 0,
+                         "refinements": 0}
         #: (s', y, G y) of the rates solved last (:meth:`SchemeFactor._rates`)
         self.last_product: tuple | None = None
         #: the backward error of the first solve on the latest inverse from an LU
@@ -1088,7 +1209,17 @@ class SchemeSolver:
         rowsum[fac.idx] = fac.row_sums
         self.counters["scheme_commits"] += 1
         self.counters["scheme_factorizations"] += 1
-        self._install(_Base(fac.rel, self.n, fac.scale, X, b.rcond, rowsum, b.commits + 1))
+        new = _Base(fac.rel, self.n, fac.scale, X, b.rcond, rowsum, b.commits + 1)
+        if self._retain(b):
+            new.adopt(b, b.slot[fac.idx], fac.C_lu)
+        self._install(new)
+
+    def _retain(self, b: _Base) -> bool:
+        """Whether a commit of an update of the base ``b`` keeps its slots
+        (:meth:`_Base.adopt`): by default while they cover at most half the rows (beyond
+        that Z and V Z are as large as X: the commit starts afresh); not with a fixed rank
+        rule (``max_rank``, float32 schemes), whose bases start empty."""
+        return not self.fixed_rank and 2 * b.k <= self.n
 
     def exact_apply(self, rel: Relations, scale: np.ndarray, trans: int = 0):
         """X ↦ A X (``trans=1``: Aᵀ X) of the scheme ``rel`` with row scales ``scale``, by
@@ -1220,9 +1351,13 @@ class SchemeSolver:
         n = self.n
         b.spent += self._setup_cost(b, b.formed, b.k, k)
         b.formed = 0
-        # a commit also drops the slots of the other K − k rows (an excursion's, formed again
-        # when it recurs): their set-up is part of its price
-        price = self._costs(k)[0] + self._setup_cost(b, b.k - k, b.k - k, 0)
+        # a commit keeps the slots (:meth:`_Base.adopt`, O(n K + k K²)) while they cover at
+        # most half the rows, beyond which it drops those of the other K − k rows (an
+        # excursion's, formed again when it recurs): their set-up is part of its price
+        if self._retain(b):
+            price = self._costs(k)[0] + W_PASS * n * b.k + 2.0 * k * b.k * b.k
+        else:
+            price = self._costs(k)[0] + self._setup_cost(b, b.k - k, b.k - k, 0)
         return b.spent >= price or 2 * b.k > n
 
     def _setup_cost(self, b: _Base, r: int, slots: int, k: int) -> float:
