@@ -717,38 +717,6 @@ class _Base:
         rest[old[back]] = False
         return rows_j[rest], row[rest], stale[rest]
 
-    def adopt(self, old: _Base, cs: np.ndarray, C_lu) -> None:
-        """Take over the slots of ``old`` after the update of its slots ``cs`` (capacitance
-        ``C_lu``) was committed into its inverse, X₁ = X − Z_c C⁻¹ V_c X (this base's X):
-        every slot keeps its row, so a scheme that changes the same rows again (a rate
-        problem's stuck scheme after every commit) forms none of them afresh.  With
-        W = C⁻¹ (V Z)[c, :] the columns and products become
-
-            Z₁ = X₁ E = Z − Z_c W  (copied from X₁),   V Z₁ = V Z − (V Z)[:, c] W,
-
-        the committed rows are the base's now (R0 ← R0 + V, V ← 0, their products 0, their
-        previous rows relative to the new base row), the other rows' differences unchanged
-        (their base rows are); the products of the previous rows (V₂ Z) are formed again
-        when a row changes back.  O(n K + k K²) for K slots, against O(n K²) to form them."""
-        K = old.k
-        names = ("Z", "V", "R0", "VZ", "VZ2", "vscale", "vsum", "vrow", "V2", "vscale2",
-                 "vsum2", "vrow2", "vz2k")
-        for name in names:
-            setattr(self, name, getattr(old, name))
-        self.slot = old.slot
-        self.k = K
-        srow = np.empty(K, np.int64)
-        on = np.flatnonzero(old.slot >= 0)
-        srow[old.slot[on]] = on
-        self.Z[:, :K] = self.X[:, srow]
-        Wc = _lu_solve_block(C_lu, self.VZ[cs, :K])
-        self.VZ[:K, :K] -= self.VZ[:K, cs] @ Wc
-        self.VZ[cs, :K] = 0.0
-        self.R0[cs] += self.V[cs]
-        self.V2[cs] -= self.V[cs]
-        self.V[cs] = 0.0
-        self.vz2k[:K] = 0
-
     def load(self, solver: SchemeSolver, hhat: np.ndarray, e: np.ndarray):
         """(b₀, y₀ = X b₀) of the load rates (ĥ, e) on the base scheme (cached)."""
         key = hash((hhat.tobytes(), e.tobytes()))
@@ -1209,17 +1177,7 @@ class SchemeSolver:
         rowsum[fac.idx] = fac.row_sums
         self.counters["scheme_commits"] += 1
         self.counters["scheme_factorizations"] += 1
-        new = _Base(fac.rel, self.n, fac.scale, X, b.rcond, rowsum, b.commits + 1)
-        if self._retain(b):
-            new.adopt(b, b.slot[fac.idx], fac.C_lu)
-        self._install(new)
-
-    def _retain(self, b: _Base) -> bool:
-        """Whether a commit of an update of the base ``b`` keeps its slots
-        (:meth:`_Base.adopt`): by default while they cover at most half the rows (beyond
-        that Z and V Z are as large as X: the commit starts afresh); not with a fixed rank
-        rule (``max_rank``, float32 schemes), whose bases start empty."""
-        return not self.fixed_rank and 2 * b.k <= self.n
+        self._install(_Base(fac.rel, self.n, fac.scale, X, b.rcond, rowsum, b.commits + 1))
 
     def exact_apply(self, rel: Relations, scale: np.ndarray, trans: int = 0):
         """X ↦ A X (``trans=1``: Aᵀ X) of the scheme ``rel`` with row scales ``scale``, by
@@ -1351,13 +1309,9 @@ class SchemeSolver:
         n = self.n
         b.spent += self._setup_cost(b, b.formed, b.k, k)
         b.formed = 0
-        # a commit keeps the slots (:meth:`_Base.adopt`, O(n K + k K²)) while they cover at
-        # most half the rows, beyond which it drops those of the other K − k rows (an
-        # excursion's, formed again when it recurs): their set-up is part of its price
-        if self._retain(b):
-            price = self._costs(k)[0] + W_PASS * n * b.k + 2.0 * k * b.k * b.k
-        else:
-            price = self._costs(k)[0] + self._setup_cost(b, b.k - k, b.k - k, 0)
+        # a commit also drops the slots of the other K − k rows (an excursion's, formed again
+        # when it recurs): their set-up is part of its price
+        price = self._costs(k)[0] + self._setup_cost(b, b.k - k, b.k - k, 0)
         return b.spent >= price or 2 * b.k > n
 
     def _setup_cost(self, b: _Base, r: int, slots: int, k: int) -> float:

@@ -171,6 +171,8 @@ class StaticSolver:
         #: water in opened joints (fem.crack) and the force W (m,) it applies now, N
         self.crack = system.crack
         self.sw = np.zeros(cfe.m)
+        #: a wet set held at the current point (:meth:`_hold_water`), or None: the scheme's
+        self._held_wet: np.ndarray | None = None
         #: joints with initial strength (eq. (12)): bonded CFEs start BONDED; ``ghost``
         #: (n,) is what broken bonds still transmit while their release is followed (N)
         self.bonds = bool(self.law.has_bond.any())
@@ -450,13 +452,19 @@ class StaticSolver:
         closes) under it changes the wet set, and the rest of the jump is recomputed for the new
         set — a crack that runs along a joint at one λ, event by event, in its order.  Returns
         True if anything moved, False if nothing had to, None if the run stopped (equilibrium
-        lost under the water, no progress)."""
+        lost under the water, no progress).
+
+        A wet set that recurs with no progress in between (water entering a CFE closes it and
+        the dry CFE opens again: no consistent pair at this λ) is held: the water stays in the
+        union of the cycle's wet sets for this jump (a closed CFE at zero gap keeps its
+        water, as a bridged one does), and the result's ``nonunique`` records it."""
         crack, eng, m = self.crack, self.engine, self.cfe.m
         moved = False
         saved_f = self._f
+        seen: list[np.ndarray] = []  # wet sets restarted for at this λ with no progress
         try:
             while True:
-                target = crack.force(eng.states, self.c)
+                target = crack.force_of(self._wet(eng.states), self.c)
                 delta = target - self.sw
                 size = max(float(np.abs(target).max(initial=0)),
                            float(np.abs(self.sw).max(initial=0)))
@@ -464,7 +472,7 @@ class StaticSolver:
                     self.sw = target
                     return moved
                 moved = True
-                wet = crack.wet(eng.states)
+                wet = self._wet(eng.states)
                 forcing = self._water_forcing(delta)
                 self._f = self._water_load(delta)
                 eng.F_scale = max(eng.F_scale, float(np.abs(delta).max()))
@@ -475,12 +483,15 @@ class StaticSolver:
                                                    mult, False, 1.0, False)
                     if not ok or self.status != Status.COMPLETED:
                         return STOP
-                    if not np.array_equal(crack.wet(eng.states), wet):
+                    if not np.array_equal(self._wet(eng.states), wet):
                         return RESTART  # the wet set changed: the rest of the jump anew
                     return ds, dw
 
-                def went(tau, start=start, delta=delta):
+                progress = [False]
+
+                def went(tau, start=start, delta=delta, progress=progress):
                     self.sw = start + tau * delta
+                    progress[0] = progress[0] or tau > 0.0
 
                 out = follow_jump(eng, point, JumpState(np.zeros(m, bool)), moved=went,
                                   stalled=self._stalled(lam, seg, "water enters the opened "
@@ -489,14 +500,50 @@ class StaticSolver:
                     return None
                 if out == DONE:
                     self.sw = start + delta
+                elif out == RESTART:
+                    if progress[0]:
+                        seen.clear()
+                    seen.append(wet)
+                    self._hold_water(seen, self._wet(eng.states), lam, seg, pattern)
         finally:
             self._f = saved_f
+
+    def _wet(self, states: np.ndarray) -> np.ndarray:
+        """The wet set: held at this point (:meth:`_hold_water`), else the scheme's."""
+        return self._held_wet if self._held_wet is not None else self.crack.wet(states)
+
+    def _hold_water(self, seen: list[np.ndarray], now: np.ndarray, lam: float, seg: int,
+                    pattern: str) -> bool:
+        """If the wet set ``now`` is one of the sets ``seen`` at this point (water entering a
+        CFE closes it, and dry it opens again: no consistent wet set at this λ), hold the
+        water in the union of the cycle's sets until the next event — a closed CFE at zero
+        gap keeps its water, as a bridged one does — and record it in the result's
+        ``nonunique`` (the CFEs whose water came and went).  Returns whether it held."""
+        first = next((i for i, w in enumerate(seen) if np.array_equal(now, w)), None)
+        if first is None:
+            return False
+        cycle = seen[first:]
+        union = np.logical_or.reduce(cycle)
+        flips = np.flatnonzero(union & ~np.logical_and.reduce(cycle))
+        if not flips.size:  # (the same set again: no cycle)
+            return False
+        self._held_wet = union
+        cfe = self.cfe
+        self.rec.nonunique.append({
+            "lam": float(lam), "segment": seg, "pattern": pattern,
+            "cfes": [f"{cfe.names[cfe.interface[k]]}[{cfe.local[k]}]" for k in flips],
+            "followed": ["wet"] * len(flips), "alternatives": [["dry"] * len(flips)],
+            "why": "crack water: water entering these CFEs closes them and dry they open "
+                   "again (no consistent wet set at this λ); the water is held in them "
+                   "until the next event",
+        })
+        return True
 
     def _with_water(self, states, dc, base, base_f, path, forcings, coefs, base_lead):
         """The crack-water rate dW/dμ (m,) of the scheme ``states`` and the forcing with it
         (for a level path the first Taylor coefficient carries it, and leads when it moves);
         sets the load rate ``self._f`` to match."""
-        wr = self.crack.rate(states, self.c, dc)
+        wr = self.crack.force_of(self._wet(states), self.c, dc)
         self._wr = wr
         if not wr.any():
             if path is not None:
@@ -518,10 +565,18 @@ class StaticSolver:
         (out of those that closed) at the same λ (:meth:`_water_jump`), and decide the scheme
         again with the crack-water rates of the new wet set, until both agree."""
         m = self.cfe.m
+        seen: list[np.ndarray] = []  # the wet sets after each jump at this point
         for _ in range(50):
+            if self._held_wet is None:
+                seen.append(self._wet(self.engine.states))
             moved = self._water_jump(lam, seg, pattern, mult)
             if moved is None:
                 return False, None, None, forcing
+            if moved and self._held_wet is None:
+                now = self._wet(self.engine.states)
+                if self._hold_water(seen, now, lam, seg, pattern):
+                    continue  # (the held water's jump, then the scheme decided with it)
+                seen.append(now)
             wr_new, forcing = self._with_water(self.engine.states, dc, base, base_f, path,
                                                forcings, coefs, base_lead)
             if not moved and np.array_equal(wr_new, wr):
@@ -862,6 +917,7 @@ class StaticSolver:
             fired = np.zeros(m, dtype=bool)
             small_steps = 0
             seg_start = True
+            self._held_wet = None
             while True:
                 lam = lam0 + direction * mu
                 if path is not None:
@@ -927,6 +983,8 @@ class StaticSolver:
                     eng.advance_poly(dmu, dss, dws)
                 if self.crack is not None:  # the crack water moved with the path (linear)
                     self.sw = self.sw + dmu * self._wr
+                    if dmu > 0.0:
+                        self._held_wet = None  # (held until the next event)
                 mu = mu + dmu
                 for name, rate in rates.items():
                     self.c[name] = c0[name] + rate * direction * mu
