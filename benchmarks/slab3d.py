@@ -62,11 +62,11 @@ s = 4 the solver's setup took 436 s, about 90 % of it forming G by 6 075 sparse 
 G is now read off PARDISO's Schur complement on the 12 150 contact DOFs at s = 4 as well
 (G = Wᵀ W, W = L⁻¹ B_cᵀ with S = L Lᵀ): the solver's setup takes 153 s of process CPU there
 (T_F with the Schur complement 123 s, T_G 29 s; peak RSS 6.9 GB).
-The s = 2 event loop (process CPU, 1 672 event points, old and new side by side at load
-10–14): 44.3 s before the rate problem's responses were read from the update's products and
-commits kept the base's slots, 21.9 s after (26.5 → 13.1 ms per event point; the same events,
-λ within 5e-13); the earlier "refactorises at every second point" was cut before that by
-the cost-based rank policy (docs/performance.md, "The 3D event loop per event point").
+The s = 2 event loop (process CPU, 1 672 event points, old and new side by side at load 1.1):
+44.6 s before the rate problem's responses were read from the update's products, 27.9 s
+after (26.7 → 16.7 ms per event point; the same events); the earlier "refactorises at every
+second point" was cut before that by the cost-based rank policy (docs/performance.md, "The 3D
+event loop per event point").
 
 ``--setup-only``: the setup alone, each size in a fresh process, split into the model, the
 assembly's steps (stiffness, loads, contact search, contact operator, restraint check), T_F,
