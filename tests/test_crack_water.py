@@ -435,8 +435,10 @@ loads = [{ type = "gravity", bodies = ["dam"] }]
 [patterns.reservoir]
 loads = [
   { type = "water", nodes = "upstream" },
-  { type = "uplift", interface = "base", drained = { heel = [0.0, 0.0], toe = [8.0, 0.0], drain = [2.0, 0.0], efficiency = 0.6667, reference = "tailwater" } },
-  { type = "crack_water", interface = "base", entry = [0.0, 0.0], rule = "em1110", bridge = 1.0 },
+  { type = "uplift", interface = "base", drained = { heel = [0.0, 0.0], toe = [8.0, 0.0], \
+drain = [2.0, 0.0], efficiency = 0.6667, reference = "tailwater" } },
+  { type = "crack_water", interface = "base", entry = [0.0, 0.0], rule = "em1110", \
+bridge = 1.0 },
 ]
 [[program]]
 pattern = "weight"
