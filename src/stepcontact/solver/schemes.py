@@ -363,14 +363,16 @@ def scheme_rows(G: np.ndarray, d: np.ndarray, rel: Relations, idx: np.ndarray,
     return _rows(G, d, idx, *_coefficients(rel, idx), shifted)
 
 
-def _rows(G, d, idx, rs, rw, offs, shifted=False):
+def _rows(G, d, idx, rs, rw, offs, shifted=False, order="F"):
     """:func:`scheme_rows` from the coefficients of the rows ``idx`` (:func:`_coefficients`;
-    the rows may be of different schemes)."""
+    the rows may be of different schemes); ``order``: the rows' memory order ("F" for an LU
+    to overwrite, "C" for rows kept as rows: the gathers of G's rows then write contiguously,
+    the same numbers)."""
     if shifted:
-        return _shifted_rows(G, d, idx, rs, rw, offs)
+        return _shifted_rows(G, d, idx, rs, rw, offs, order)
     dt = G.dtype
     coef = (-(rw + d[idx] * rs)).astype(dt)
-    rows = np.empty((len(idx), G.shape[1]), dt, order="F")
+    rows = np.empty((len(idx), G.shape[1]), dt, order=order)
     if len(idx) == G.shape[0] and np.array_equal(idx, np.arange(len(idx))):
         np.multiply(G, coef[:, None], out=rows)  # every row: no copy of G
     else:
@@ -419,10 +421,10 @@ def _force_size(rs: np.ndarray, offs) -> np.ndarray:
     return ref
 
 
-def _shifted_rows(M, d, idx, rs, rw, offs):
+def _shifted_rows(M, d, idx, rs, rw, offs, order="F"):
     dt = M.dtype
     rwd = rw / d[idx]
-    rows = np.empty((len(idx), M.shape[1]), dt, order="F")
+    rows = np.empty((len(idx), M.shape[1]), dt, order=order)
     if len(idx) == M.shape[0] and np.array_equal(idx, np.arange(len(idx))):
         np.multiply(M, (-(rwd + rs)).astype(dt)[:, None], out=rows)
     else:
@@ -675,7 +677,7 @@ class _Base:
                                      self.rel.by_rows()[:, :, fresh]], axis=2)
             R, sc = _rows(solver.G, solver.d, both,
                           *_unpack(blocks, _offset_rows(lay.m, lay.n_c)[:, both]),
-                          solver.shifted)
+                          solver.shifted, order="C")
             ks = rows_j.size
             self.R0[stale[new_slot]] = R[ks:]
             R, sc = R[:ks], sc[:ks]
@@ -785,7 +787,7 @@ class SchemeFactor:
         (``bs``: their entries in ``rows``, (r, c), each column with a few nonzeros: the rate
         problem's, a unit rate on one CFE's rows), float64, without a pass over X:
 
-            (A⁻¹ b)[R] = U[R] − Z[R] C⁻¹ (V X b),    U = X[:, R] b_R  (O(n nnz)),
+            (A⁻¹ b)[R] = X[R, R] b_R − Z[R] C⁻¹ (V X b)   (O(r n) to gather X[R, R]),
 
         V X b from the base's products V Z for the rows of R that have a slot there (Z_j =
         X e_j; the slots' rows still this scheme's) and one product V (X[:, R'] b_R') for the
@@ -796,8 +798,9 @@ class SchemeFactor:
         b = self.base
         X = b.X
         B = sp.csc_matrix(bs.astype(X.dtype, copy=False))
-        U = np.asarray((B.T @ X[:, rows].T).T, dtype=np.float64)  # Σ over nonzeros: X[:, j] b_j
-        out = U[rows]
+        # (X b)[R] = X[R, R] b_R: the rows R of X only (a pass over r of its n rows)
+        Xrr = X[rows][:, rows]
+        out = np.asarray((B.T @ Xrr.T).T, dtype=np.float64)  # Σ over nonzeros: X[R, j] b_j
         if self.V is None:
             return out
         fs = b.slot[self.idx]
