@@ -53,3 +53,54 @@ loads = [{{ type = "gravity" }}]
 pattern = "weight"
 end = 1.0
 """
+
+
+def gravity_dam() -> str:
+    """The 2D gravity dam of docs/model-file.md without its water: concrete 8 m × 10 m (8 × 10
+    cells) on rock 18 m × 5 m (18 × 5), the joint "base" (f = 0.7) between the node sets
+    "dam_base" and "rock_top", the rock held at "bed", the upstream face "upstream", and the
+    pattern "weight" (the dam's self-weight)."""
+    return """
+[materials.concrete]
+E = 30e9
+nu = 0.2
+density = 2400
+[materials.rock]
+E = 10e9
+nu = 0.25
+[[bodies]]
+name = "rock"
+corner0 = [-5.0, -5.0]
+corner1 = [13.0, 0.0]
+nx = 18
+ny = 5
+material = "rock"
+[[bodies]]
+name = "dam"
+corner0 = [0.0, 0.0]
+corner1 = [8.0, 10.0]
+nx = 8
+ny = 10
+material = "concrete"
+[node_sets.upstream]
+body = "dam"
+x = 0.0
+[node_sets.dam_base]
+body = "dam"
+y = 0.0
+[node_sets.rock_top]
+body = "rock"
+y = 0.0
+[node_sets.bed]
+body = "rock"
+y = -5.0
+[[supports]]
+nodes = "bed"
+[[interfaces]]
+name = "base"
+plus = "dam_base"
+minus = "rock_top"
+friction = 0.7
+[patterns.weight]
+loads = [{ type = "gravity", bodies = ["dam"] }]
+"""

@@ -22,6 +22,7 @@ import pytest
 from scipy.optimize import brentq
 
 import stepcontact as sc
+from model_toml import gravity_dam
 from stepcontact.enums import Status, Transition
 from stepcontact.errors import ModelError
 
@@ -387,51 +388,7 @@ def test_stress_diagram_draws_the_crack_pressure(crack_run):
 # the docs' dam (docs/model-file.md) with drains and the EM 1110 cracked-base rule: water
 # entering the heel's CFEs raises the pressure beyond the tip, which closes the heel, and
 # dry the heel opens again: no wet set is consistent at that level
-_EM1110_DAM = """
-[model]
-name = "gravity dam, EM 1110 crack water"
-[materials.concrete]
-E = 30e9
-nu = 0.2
-density = 2400
-[materials.rock]
-E = 10e9
-nu = 0.25
-[[bodies]]
-name = "rock"
-corner0 = [-5.0, -5.0]
-corner1 = [13.0, 0.0]
-nx = 18
-ny = 5
-material = "rock"
-[[bodies]]
-name = "dam"
-corner0 = [0.0, 0.0]
-corner1 = [8.0, 10.0]
-nx = 8
-ny = 10
-material = "concrete"
-[node_sets.upstream]
-body = "dam"
-x = 0.0
-[node_sets.dam_base]
-body = "dam"
-y = 0.0
-[node_sets.rock_top]
-body = "rock"
-y = 0.0
-[node_sets.bed]
-body = "rock"
-y = -5.0
-[[supports]]
-nodes = "bed"
-[[interfaces]]
-name = "base"
-plus = "dam_base"
-minus = "rock_top"
-friction = 0.7
-[patterns.weight]
-loads = [{ type = "gravity", bodies = ["dam"] }]
+_EM1110_DAM = gravity_dam() + """
 [patterns.reservoir]
 loads = [
   { type = "water", nodes = "upstream" },

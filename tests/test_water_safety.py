@@ -20,6 +20,7 @@ from skfem import MeshQuad, MeshTri
 from typer.testing import CliRunner
 
 import stepcontact as sc
+from model_toml import gravity_dam
 from stepcontact.cli.commands import app
 from stepcontact.errors import ModelError
 from stepcontact.io.modelfile import model_from_dict, validation_report
@@ -356,49 +357,7 @@ def test_cli_info_and_plot_show_the_safety(sliding_run, tmp_path):
 # --------------------------------------------------------------------------------------------
 # model files
 # --------------------------------------------------------------------------------------------
-DAM_FILE = """
-[materials.concrete]
-E = 30e9
-nu = 0.2
-density = 2400
-[materials.rock]
-E = 10e9
-nu = 0.25
-[[bodies]]
-name = "rock"
-corner0 = [-5.0, -5.0]
-corner1 = [13.0, 0.0]
-nx = 18
-ny = 5
-material = "rock"
-[[bodies]]
-name = "dam"
-corner0 = [0.0, 0.0]
-corner1 = [8.0, 10.0]
-nx = 8
-ny = 10
-material = "concrete"
-[node_sets.upstream]
-body = "dam"
-x = 0.0
-[node_sets.dam_base]
-body = "dam"
-y = 0.0
-[node_sets.rock_top]
-body = "rock"
-y = 0.0
-[node_sets.bed]
-body = "rock"
-y = -5.0
-[[supports]]
-nodes = "bed"
-[[interfaces]]
-name = "base"
-plus = "dam_base"
-minus = "rock_top"
-friction = 0.7
-[patterns.weight]
-loads = [{ type = "gravity", bodies = ["dam"] }]
+DAM_FILE = gravity_dam() + """
 [patterns.water]
 loads = [
     { type = "water", nodes = "upstream", level = 9.5 },
