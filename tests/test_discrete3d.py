@@ -15,7 +15,7 @@ import scipy.sparse as sp
 
 import stepcontact as sc
 from stepcontact.contact.layout import ContactLayout
-from stepcontact.enums import MAX_FACETS
+from stepcontact.enums import MAX_FACETS, Status
 from stepcontact.errors import ModelError
 from stepcontact.fem.discrete import assemble_discrete
 
@@ -257,3 +257,45 @@ def test_static_runs_match_the_faceted_reference():
             j = int(np.flatnonzero(done)[-1])
             np.testing.assert_allclose(np.asarray(res.Q)[j, 0], ref.Q[leg + 1], rtol=0,
                                        atol=1e-10 * fN)
+
+
+def _block_on_four_corners(**kw) -> sc.DiscreteModel:
+    """A rigid block (u_x, u_y, u_z, θ_x, θ_y, θ_z; springs of 1 kN/m to the ground) on four
+    corner CFEs at (±1, ±0.5, 0) m, f = 0.5 on the 8-faceted cone: 10 kN of weight, then a
+    push (1, 0.3) kN with a 0.2 kN·m torque about z per unit λ."""
+    corners = [(1.0, 0.5), (-1.0, 0.5), (-1.0, -0.5), (1.0, -0.5)]
+
+    def rows(d):  # d·u_p of the corner p: d·u + θ·(r × d)
+        return np.array([np.concatenate([d, np.cross([x, y, 0.0], d)]) for x, y in corners])
+
+    return sc.DiscreteModel(
+        K=np.eye(6) * 1e3, normal_rows=rows(np.array([0.0, 0.0, 1.0])),
+        tangent_rows=rows(np.array([1.0, 0.0, 0.0])),
+        tangent2_rows=rows(np.array([0.0, 1.0, 0.0])), gaps=np.zeros(4), friction=0.5,
+        loads={"W": np.array([0, 0, -1e4, 0, 0, 0.0]),
+               "H": np.array([1e3, 300.0, 0, 0, 0, 200.0])},
+        program=[sc.Segment("W", 1.0), sc.Segment("H", 10.0)], **kw)
+
+
+def test_a_rigid_block_on_four_rigid_corners_names_the_redundant_contacts():
+    """Four rigid corners under a rigid body: their forces are not determined (a split of
+    many).  Where the path depends on the split the run stops on the contact check and says
+    why, naming the CFEs; with a stiffness on the joint it completes, and the first slip is
+    the closed form: Q_i = F/4 + M/Σr²·(−y_i, x_i) on equal springs, N = W/4, the corner
+    (1, −0.5) first, at f N cos(π/8)/cos(θ − 22.5°) (tolerance 1e-9)."""
+    res = sc.solve_static(_block_on_four_corners())
+    if res.status != Status.COMPLETED:  # (whether a split shows depends on the path)
+        assert res.status == Status.VIOLATION
+        assert "not determined by the model" in res.message
+        assert all(f"[{k}]" in res.message for k in range(4))
+    res = sc.solve_static(_block_on_four_corners(kn=1e9, kt=1e9))
+    assert res.status == Status.COMPLETED
+    # (the springs to the ground, k_g = 1 kN/m, take their shares: 4 k / (4 k + k_g) of the
+    # forces, k Σr² / (k Σr² + k_g) of the torque)
+    kg, k = 1e3, 1e9
+    ct, cr = 4 * k / (4 * k + kg), 5 * k / (5 * k + kg)
+    q = ct * np.array([250.0, 75.0]) + cr * 200.0 / 5.0 * np.array([0.5, 1.0])  # per unit λ
+    theta = np.arctan2(q[1], q[0])
+    N = 2500.0 * ct
+    lam = 0.5 * N * np.cos(np.pi / 8) / np.cos(theta - np.pi / 8) / np.hypot(*q)
+    assert res.multipliers[-1].first_slip == pytest.approx(lam, rel=1e-9)

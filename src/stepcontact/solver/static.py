@@ -770,9 +770,35 @@ class StaticSolver:
         if viol > self.violation_limit and self.status == Status.COMPLETED:
             self.status = Status.VIOLATION
             self.message = (f"the contact conditions are violated by {viol:.2e} (relative) at "
-                            f"λ = {lam:.10g} (segment {seg}); the run stops here")
+                            f"λ = {lam:.10g} (segment {seg}); the run stops here"
+                            + self._redundancy_note())
             self._store_field(i)  # the run stops here: its field and the full check
         return i
+
+    def _redundancy_note(self) -> str:
+        """Where the closed CFEs, all stuck, share a self-stress (redundant rigid contacts: a
+        rigid body held at more points than it has freedoms), the text that says so: their
+        forces are not determined by the model, and a path that depends on their split (a
+        slip that moves the normal forces) has no unique answer.  Empty otherwise (and for
+        models beyond the self-stress check's size)."""
+        eng = self.engine
+        stuck = eng.states.copy()
+        closed = (stuck != OPEN) & (stuck != BONDED)
+        stuck[closed] = STICK
+        Z = eng.self_stress(stuck)
+        if Z.shape[1] == 0:
+            return ""
+        ZQ, Zp = eng.layout.split(Z)
+        aq = np.abs(ZQ) if eng.layout.n_t == 1 else np.abs(ZQ).sum(axis=1)
+        on = np.flatnonzero(((aq + np.abs(Zp)) > 1e-9 * max(np.abs(Z).max(), 1e-300))
+                            .any(axis=1))
+        cfe = self.cfe
+        names = [f"{cfe.names[cfe.interface[k]]}[{cfe.local[k]}]" for k in on[:8]]
+        more = f" and {on.size - 8} more" if on.size > 8 else ""
+        return (f"; the forces of CFE {', '.join(names)}{more} are not determined by the "
+                "model (redundant rigid contacts, e.g. a rigid body held at more points than "
+                "it has freedoms: their split is one of many): give the joint a stiffness "
+                "(kn, kt) or model the body as deformable")
 
     def _flush_reactions(self) -> None:
         """Form the reactions of the recorded states that wait for them (their s is all the
