@@ -46,6 +46,11 @@ ENUMERATE_CFES = 5
 #: … and with at most this many complementary bases in all (6⁵ = 7 776 in 2D: every 2D problem
 #: of ENUMERATE_CFES CFEs; a faceted cone's k facets give 2 (1 + 2k) bases per CFE)
 ENUMERATE_BASES = 8000
+#: a point with at least this many CFEs in L (every slipping CFE is in L: it may stick) tries
+#: the rate problem of its core first (:func:`_core_outcome`)
+CORE_MIN = 64
+#: … taking the CFEs its solution leaves inconsistent into the core, at most this many times
+CORE_ROUNDS = 4
 #: a rate problem of at least this many variables takes the base scheme's responses at its
 #: own CFEs only (:func:`_responses`); a smaller one solves its columns as a block, whose
 #: cost is a few passes over the dense matrices (and whose round-off its recorded event
@@ -174,6 +179,10 @@ def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_li
         return kept  # CFEs in mid-slip, none at a limit: nothing else to choose from
     if kept is not None and not (len(L) <= ENUMERATE_CFES and _frictional(eng, L)):
         return kept
+    if kept is None and len(L) >= CORE_MIN:
+        out = _core_outcome(eng, L, guess, forcing, normal_lim, two_sided, method)
+        if out is not None:
+            return out
     base = _base_scheme(eng, L, guess)
     h, e = forcing
     try:
@@ -351,6 +360,44 @@ def _lemke_fallback(eng, M, q, start, failed):
     if not sol.solved:
         return failed, "Lemke's method from the stuck scheme"
     return sol, f"principal pivoting from the current scheme, after {failed.message}"
+
+
+def _core_outcome(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_lim, two_sided,
+                  method: str) -> RateOutcome | None:
+    """The rate problem of the point's core only, if its solution is consistent for all of L;
+    else None (the whole problem decides).
+
+    L holds every slipping CFE, since any of them may stick when others change; in a large
+    joint that is hundreds of CFEs in mid-slip, whose stuck scheme (the base of the whole
+    problem) is that many rows from the current one.  The core is the rest of L: the CFEs
+    that fired (the guess changes them), the closed ones that are not slipping and those at a
+    normal or two-sided limit.  Its problem keeps the others in their (slipping) states; its
+    solution is taken when the rates of that scheme leave every CFE of L in its state (the
+    test of a kept scheme); the CFEs they leave out of their states join the core and its
+    problem is solved again (at most :data:`CORE_ROUNDS` times, while the core is at most
+    half of L).  A mechanism or a failure of the core problem is left to the whole problem,
+    which may stick a slipping CFE.  A P-matrix problem
+    has one solution, which this is; where the whole problem has several, this is the one
+    that keeps the mid-slip CFEs slipping (as the whole problem's start from the guessed
+    scheme aims to)."""
+    one = _one_law(eng)
+    states = eng.states
+    sl = (one.slip_mask(states) if one is not None and hasattr(one, "slip_mask")
+          else slipping(states))
+    core = L[(guess[L] != states[L]) | ~sl[L] | normal_lim[L] | two_sided[L]]
+    for _ in range(CORE_ROUNDS):
+        if not 0 < core.size <= len(L) // 2:
+            return None
+        try:
+            out = solve_rate_problem(eng, core, guess, forcing, normal_lim, two_sided, method)
+        except (MechanismError, RateProblemFailure):
+            return None
+        cons = eng.consistent(out.states, L, out.ds, out.dw, normal_lim, two_sided)
+        off = cons != out.states[L]
+        if not np.count_nonzero(off):
+            return out
+        core = np.union1d(core, L[off])  # (the CFEs its rates leave out of their states)
+    return None
 
 
 def _slipping_only(eng, L: np.ndarray, normal_lim, two_sided) -> bool:
