@@ -159,28 +159,33 @@ def _start_basis(eng, var: RateVariables, guess: np.ndarray) -> np.ndarray:
 
 
 def solve_rate_problem(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_lim, two_sided,
-                       method: str = "pivoting") -> RateOutcome:
+                       method: str = "pivoting", guess_rates=None) -> RateOutcome:
     """Choose the states of the CFEs in L (ascending) so that the rates are consistent.
 
     ``eng`` is the :class:`~stepcontact.solver.engine.EventEngine` (its laws, state and scheme
     solver), ``guess`` the current scheme with the natural transitions of the CFEs that fired,
-    ``forcing`` the load rates (ĥ, e) on the contact unknowns.  Raises
+    ``forcing`` the load rates (ĥ, e) on the contact unknowns; ``guess_rates``: the guess's
+    rates (ds, dw) if known (False: the guess is singular).  Raises
     :class:`MechanismError` (equilibrium lost, with evidence) or :class:`RateProblemFailure`.
     """
     # the guessed scheme is kept when its rates are consistent (the common case, one solve)
     kept = None
-    try:
-        ds, dw = eng.rates(guess, forcing, article=False)
+    if guess_rates is None:
+        try:
+            guess_rates = eng.rates(guess, forcing, article=False)
+        except MechanismError:
+            guess_rates = False
+    if guess_rates is not False:
+        ds, dw = guess_rates
         if _same(eng.consistent(guess, L, ds, dw, normal_lim, two_sided), guess[L]):
             kept = RateOutcome(guess, ds, dw, "the current scheme stays consistent", L)
-    except MechanismError:
-        pass
     if kept is not None and _slipping_only(eng, L, normal_lim, two_sided):
         return kept  # CFEs in mid-slip, none at a limit: nothing else to choose from
     if kept is not None and not (len(L) <= ENUMERATE_CFES and _frictional(eng, L)):
         return kept
     if kept is None and len(L) >= CORE_MIN:
-        out = _core_outcome(eng, L, guess, forcing, normal_lim, two_sided, method)
+        out = _core_outcome(eng, L, guess, forcing, normal_lim, two_sided, method,
+                            guess_rates)
         if out is not None:
             return out
     base = _base_scheme(eng, L, guess)
@@ -363,7 +368,7 @@ def _lemke_fallback(eng, M, q, start, failed):
 
 
 def _core_outcome(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_lim, two_sided,
-                  method: str) -> RateOutcome | None:
+                  method: str, guess_rates) -> RateOutcome | None:
     """The rate problem of the point's core only, if its solution is consistent for all of L;
     else None (the whole problem decides).
 
@@ -389,7 +394,8 @@ def _core_outcome(eng, L: np.ndarray, guess: np.ndarray, forcing, normal_lim, tw
         if not 0 < core.size <= len(L) // 2:
             return None
         try:
-            out = solve_rate_problem(eng, core, guess, forcing, normal_lim, two_sided, method)
+            out = solve_rate_problem(eng, core, guess, forcing, normal_lim, two_sided, method,
+                                     guess_rates)
         except (MechanismError, RateProblemFailure):
             return None
         cons = eng.consistent(out.states, L, out.ds, out.dw, normal_lim, two_sided)
