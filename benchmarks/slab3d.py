@@ -53,20 +53,19 @@ condensation built with a memory limit just below the float64 need holds G in fl
 run in float32 gives the same events as the float64 run (λ compared, largest relative
 difference printed).
 
-Measured (docs/performance.md, "3D"): s = 1 and 2 complete (T_total/(T_F + T_G) = 13.2 and
-22.7 from process CPU, M_run/M_F = 1.40 and 1.36); s = 4 does not finish in 15 minutes: the
-event loop refactorises the dense 3m × 3m scheme matrix at about every second event point.
-The assembly (outside T_total) takes 0.22, 1.0 and 8.8 s of process CPU at s = 1, 2 and 4
-with the tet4/hex8 kernels (4.9, 25 and 362 s with scikit-fem's generic form before); at
-s = 4 the solver's setup took 436 s, about 90 % of it forming G by 6 075 sparse solves.
-G is now read off PARDISO's Schur complement on the 12 150 contact DOFs at s = 4 as well
-(G = Wᵀ W, W = L⁻¹ B_cᵀ with S = L Lᵀ): the solver's setup takes 153 s of process CPU there
-(T_F with the Schur complement 123 s, T_G 29 s; peak RSS 6.9 GB).
-The s = 2 event loop (process CPU, 1 672 event points, old and new side by side at load 1.1):
-44.6 s before the rate problem's responses were read from the update's products, 27.9 s
-after (26.7 → 16.7 ms per event point; the same events); the earlier "refactorises at every
-second point" was cut before that by the cost-based rank policy (docs/performance.md, "The 3D
-event loop per event point").
+Measured (docs/performance.md, "3D"): s = 4 (327 144 DOFs, 2 025 CFEs) completes: 8 697
+events at 6 679 event points, T_total 907 s wall (1 738 s process CPU on both cores; setup
+79 s wall, event loop 822 s), plus 10.5 s of assembly: 15.3 min in all on the 2-core machine,
+just over the issue's 15.  T_total/(T_F + T_G) = 11.9, M_run/M_F = 1.53 (9.2 GB against
+6.0 GB), 5.0 events per second.  The same loop before the rate problem's core
+(``solver/rate.py`` ``_core_outcome``) had reached event point 3 035 after 1 714 s wall
+(0.56 s per point against 0.12 s); the first s = 4 attempt of this issue stopped at point 862
+after 53 min (assembly and setup included).  s = 2: T_total/(T_F + T_G) 22.7 at first, 9.5
+after the responses were read from the update's products; the loop's CPU 44.6 → 27.9 →
+18.3 s with the core (the same 2 076 events each time).  The assembly (outside T_total)
+takes 0.22, 1.0 and 8.8 s of process CPU at s = 1, 2 and 4 with the tet4/hex8 kernels (4.9,
+25 and 362 s with scikit-fem's generic form before).  G is read off PARDISO's Schur
+complement on the 12 150 contact DOFs at s = 4 (G = Wᵀ W, W = L⁻¹ B_cᵀ with S = L Lᵀ).
 
 ``--setup-only``: the setup alone, each size in a fresh process, split into the model, the
 assembly's steps (stiffness, loads, contact search, contact operator, restraint check), T_F,

@@ -306,8 +306,8 @@ def test_walk_under_the_cost_based_rank_policy(block):
 def test_solve_rows_equals_the_dense_solve(block):
     """:meth:`SchemeFactor.solve_rows` — (A⁻¹ b)[R] for right-hand sides b that vanish
     outside the rows R of a few CFEs, from the base's products V Z and columns Z (the rate
-    problem's responses) — along the walk under the default rank policy (updates, commits
-    that keep the slots, rows changed back): equal to the dense solve of the row-scaled
+    problem's responses) — along the walk under the default rank policy (updates, commits,
+    rows changed back): equal to the dense solve of the row-scaled
     scheme (independent LU) to RTOL of its largest entry."""
     system, c64, _ = block
     eng = _engine(system, c64, None)
@@ -328,3 +328,39 @@ def test_solve_rows_equals_the_dense_solve(block):
         assert np.abs(got - ref).max() <= RTOL * max(np.abs(ref).max(), 1e-300)
         checked += 1
     assert checked >= 60
+
+
+@pytest.mark.parametrize("dtype, tol", [(np.float64, 1e-12), (np.float32, 1e-4)])
+@pytest.mark.parametrize("k, a", [(40, 1), (40, 3), (100, 50), (5, 5)])
+def test_a_bordered_capacitance_lu_solves_as_the_dense_one(k, a, dtype, tol):
+    """:func:`_border_lu` — the LU of C from that of its leading block, extended by a new
+    rows and columns — in LAPACK's form: its solves equal the dense solve of C (numpy's, an
+    independent LU) to ``tol`` of the solution, and its condition estimate is gecon's of the
+    plain LU within a factor 10 (the same matrix)."""
+    from stepcontact.solver.schemes import _border_lu, _lapack, lu_solve, rcond
+
+    rng = np.random.default_rng(k + a)
+    C = (np.eye(k + a) + 0.3 * rng.standard_normal((k + a, k + a))).astype(dtype)
+    lead = np.array(C[:k, :k], order="F")
+    f = _border_lu(_lapack("getrf", lead)(lead)[:2], C)
+    b = rng.standard_normal((k + a, 2))
+    ref = np.linalg.solve(C.astype(np.float64), b)
+    assert np.abs(lu_solve(f, b) - ref).max() <= tol * np.abs(ref).max()
+    anorm = float(np.abs(C).sum(axis=0).max())
+    plain = np.array(C, order="F")
+    r_plain = rcond(_lapack("getrf", plain)(plain)[:2], anorm=anorm)
+    assert 0.1 < rcond(f, anorm=anorm) / r_plain < 10.0
+
+
+def test_the_walk_with_bordered_capacitances_equals_dense_solves(block, monkeypatch):
+    """The walk under the default rank policy with every capacitance of two or more rows
+    extended from a recent one where it can (``BORDER_MIN`` = 2): every rate equals the
+    dense solve to RTOL, and bordering happened."""
+    import stepcontact.solver.schemes as schemes
+
+    monkeypatch.setattr(schemes, "BORDER_MIN", 2)
+    system, c64, _ = block
+    eng = _engine(system, c64, None)
+    walk = _checked_walk(eng, c64, np.random.default_rng(4))
+    assert sum(A is not None for _, A in walk) >= 60
+    assert eng.schemes.counters["scheme_bordered"] >= 5

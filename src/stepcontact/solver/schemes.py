@@ -132,6 +132,10 @@ MAX_RANK = 48
 W_INVERT = 1.8
 W_PASS = 8.0
 W_SMALL_LU = 3.0
+#: a capacitance LU is extended by bordering (:func:`_border_lu`) from one of at least this
+#: many rows; each base keeps its latest BORDER_KEEP capacitance LUs for that
+BORDER_MIN = 32
+BORDER_KEEP = 3
 #: solves assumed per scheme for the O(k n) cost of each solve of an update, when an update is
 #: weighed against an inversion before it is set up (the event loop makes about three per
 #: event point: the rates, the rate problem, the correction)
@@ -607,6 +611,11 @@ class _Base:
         self.vsum = np.empty(cap)
         #: the block row (S_j·, W_j·) of each slot's latest relation (:func:`_block_rows`)
         self.vrow = np.empty((cap, 2 * rel.layout.n_c))
+        #: how many times each slot's row has changed (a capacitance LU formed with a slot's
+        #: row is reused only while its version stands: :meth:`SchemeSolver._bordered`)
+        self.version = np.zeros(cap, np.int64)
+        #: LUs of recent capacitances (slots in their order, their versions, (lu, piv))
+        self.caps: list[tuple[np.ndarray, np.ndarray, tuple]] = []
         #: each slot's previous row (its V, scale, |R| 1, block row, and its products V Z
         #: with the first ``vz2k`` columns): a row that changes back to it (a rate problem's
         #: stuck scheme, then the next scheme near the base) is swapped in, not formed again
@@ -637,7 +646,7 @@ class _Base:
             VZ[:k, :k] = getattr(self, name)[:k, :k]
             setattr(self, name, VZ)
         for name in ("V", "R0", "vscale", "vsum", "vrow", "V2", "vscale2", "vsum2", "vrow2",
-                     "vz2k"):
+                     "vz2k", "version"):
             old = getattr(self, name)
             a = np.empty((new,) + old.shape[1:], old.dtype)
             a[:k] = getattr(self, name)[:k]
@@ -663,6 +672,7 @@ class _Base:
         rows_j, row, stale = idx[stale], row[stale], slots[stale]
         if new_rows.size and k0:  # new columns of V Z (rows about to change are redone below)
             self.VZ[:k0, k0:k] = self.V[:k0] @ self.Z[:, k0:k]
+        self.version[stale] += 1  # (formed below or swapped back: the row changes)
         if stale.size:
             rows_j, row, stale = self._swap(rows_j, row, stale, k0)
         self.formed = int(stale.size)  # (the new slots are stale too)
@@ -1092,12 +1102,14 @@ class SchemeSolver:
         #: or by a rank-k commit into the inverse (scheme_commits, two passes over it);
         #: scheme_updates: Woodbury updates set up; scheme_columns: changed rows given a slot;
         #: scheme_rows: changed rows formed from G (a row changed back to its previous
-        #: relation is not formed again: :meth:`_Base._swap`);
+        #: relation is not formed again: :meth:`_Base._swap`); scheme_bordered: capacitance
+        #: LUs extended from a recent one by bordering (:func:`_border_lu`);
         #: scheme_solves: right-hand sides solved with the inverse (a pass over it each)
         self.counters = {"scheme_factorizations": 0, "scheme_inversions": 0,
                          "scheme_commits": 0, "scheme_reinversions": 0,
                          "scheme_policy_inversions": 0, "scheme_updates": 0,
-                         "scheme_columns": 0, "scheme_rows": 0, "scheme_solves": 0,
+                         "scheme_columns": 0, "scheme_rows": 0, "scheme_bordered": 0,
+                         "scheme_solves": 0,
                          "refinements": 0}
         #: (s', y, G y) of the rates solved last (:meth:`SchemeFactor._rates`)
         self.last_product: tuple | None = None
@@ -1250,18 +1262,31 @@ class SchemeSolver:
             self._refactor(rel)
             return self._plain(rel)
         slots = b.prepare(self, rel, idx)
+        prev, order = self._bordered(b, slots)
+        if order is not None:  # (the rows in the order of the capacitance reused)
+            idx, slots = idx[order], slots[order]
         C = b.VZ[slots][:, slots]
         C.flat[:: len(slots) + 1] += 1.0
         # (measured against ‖I‖ = 1 at least: C = I + V Z and det A = det A₀ det C, so a
         # C far below the identity is singular even where it is 1 × 1 — whose own condition
         # number is always 1)
         cnorm = max(float(np.abs(C).sum(axis=0).max()), 1.0)
-        C_lu = _lapack("getrf", C)(C, overwrite_a=1)[:2]  # (small: LAPACK directly)
+        if prev is not None:
+            C_lu = _border_lu(prev, C)
+            if not rcond(C_lu, anorm=cnorm) > self.rcond_update:
+                prev = None  # (no pivoting across the border: the plain LU decides)
+            else:
+                self.counters["scheme_bordered"] += 1
+        if prev is None:
+            C_lu = _lapack("getrf", C)(C, overwrite_a=1)[:2]  # (small: LAPACK directly)
         self.counters["scheme_updates"] += 1
         if not rcond(C_lu, anorm=cnorm) > self.rcond_update:
             # ill-conditioned update, possibly singular: a full factorisation of this scheme
             self._refactor(rel)
             return self._plain(rel)
+        b.caps.append((slots.copy(), b.version[slots], C_lu))
+        if len(b.caps) > BORDER_KEEP:
+            b.caps.pop(0)
         scale = b.scale.copy()
         scale[idx] = b.vscale[slots]
         fac = SchemeFactor(self, b, idx, b.V[slots], b.Z[:, slots], C_lu, scale, rel,
@@ -1270,6 +1295,32 @@ class SchemeSolver:
             self._commit(fac)
             return self._plain(rel)
         return fac
+
+    def _bordered(self, b: _Base, slots: np.ndarray):
+        """A recent capacitance LU of the base ``b`` to extend to the slots ``slots`` (the
+        changed rows of a new scheme): the largest one whose slots are all among them with
+        their rows unchanged since (versions), at least ``BORDER_MIN`` of them and at least
+        half of the new ones.  Returns (its (lu, piv), the order of ``slots`` that puts its
+        slots first, in its order) or (None, None)."""
+        best, bk = None, BORDER_MIN - 1
+        where = None
+        for cs, cv, lu in b.caps:
+            k = len(cs)
+            if k <= bk or 2 * k < len(slots) or k > len(slots):
+                continue
+            if where is None:
+                where = np.full(b.k, -1)
+                where[slots] = np.arange(len(slots))
+            p = where[cs]
+            if np.count_nonzero(p < 0) or not np.array_equal(b.version[cs], cv):
+                continue
+            best, bk = (lu, p), k
+        if best is None:
+            return None, None
+        lu, p = best
+        rest = np.ones(len(slots), bool)
+        rest[p] = False
+        return lu, np.concatenate([p, np.flatnonzero(rest)])
 
     def _costs(self, k: int) -> tuple[float, float]:
         """(commit, inversion) cost of a scheme k rows from the base, weighted flops
@@ -1344,6 +1395,35 @@ class SchemeSolver:
         if self._singular is not None and self._singular[0] == rel.key():
             return self._singular[1], self._singular[2]
         return scheme_rows(self.G, self.d, rel, np.arange(self.n), self.shifted)
+
+
+def _border_lu(prev: tuple, C: np.ndarray) -> tuple:
+    """The LU (LAPACK's form: (lu, piv), 0-based pivots) of C from that ``prev`` = (lu, piv)
+    of its leading k × k block, by bordering: with P C₁₁ = L U,
+
+        P C₁₂ = L Y,   X U = C₂₁,   S = C₂₂ − X Y,   P_s S = L_s U_s,
+
+    C = [[Pᵀ L, 0], [P_sᵀ (P_s X), P_sᵀ L_s]] [[U, Y], [0, U_s]]: lu = [[lu₁₁, Y], [P_s X,
+    lu_s]], piv = [piv, piv_s + k].  O(k² a + a³) for a new rows instead of O((k + a)³); no
+    pivoting across the border (the caller checks the result's condition number)."""
+    lu_p, piv_p = prev
+    k, n = lu_p.shape[0], C.shape[0]
+    if n == k:
+        return prev
+    dt = lu_p.dtype
+    laswp = _lapack("laswp", lu_p)
+    PB = laswp(np.array(C[:k, k:], dtype=dt, order="F"), piv_p)
+    Y = sla.solve_triangular(lu_p, PB, lower=True, unit_diagonal=True, check_finite=False)
+    X = sla.solve_triangular(lu_p, np.array(C[k:, :k].T, dtype=dt), lower=False, trans="T",
+                             check_finite=False).T
+    S = np.array(C[k:, k:] - X @ Y, dtype=dt, order="F")
+    lu_s, piv_s = _lapack("getrf", S)(S, overwrite_a=1)[:2]
+    out = np.empty((n, n), dt, order="F")
+    out[:k, :k] = lu_p
+    out[:k, k:] = Y
+    out[k:, :k] = laswp(np.asfortranarray(X), piv_s)
+    out[k:, k:] = lu_s
+    return out, np.concatenate([piv_p, piv_s + k]).astype(piv_p.dtype)
 
 
 def _lu_solve_block(f, B: np.ndarray) -> np.ndarray:
