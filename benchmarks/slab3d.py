@@ -54,10 +54,11 @@ run in float32 gives the same events as the float64 run (λ compared, largest re
 difference printed).
 
 Measured (docs/performance.md, "3D"): s = 4 (327 144 DOFs, 2 025 CFEs) completes: 8 697
-events at 6 679 event points, T_total 907 s wall (1 738 s process CPU on both cores; setup
-79 s wall, event loop 822 s; 911.7 s in a second run), plus 10.5 s of assembly: 15.3 min in
-all on the 2-core machine, just over the issue's 15.  T_total/(T_F + T_G) = 11.9, M_run/M_F
-= 1.53 (9.2 GB against 6.0 GB), 5.0 events per second.  The same loop before the rate problem's core
+events at 6 679 event points.  With the residual check's G t by symv: T_total 817 s wall
+(1 577 s process CPU on both cores; setup 71 s, event loop 740 s) plus 11 s of assembly,
+13.8 min in all on the 2-core machine (the issue asks for under 15); without it, two runs
+took 907 and 912 s (the machine varies by about 10 % between runs).  T_total/(T_F + T_G) =
+11.9 in all three, M_run/M_F = 1.53 (9.2 GB against 6.0 GB), 5.5 events per second.  The same loop before the rate problem's core
 (``solver/rate.py`` ``_core_outcome``) had reached event point 3 035 after 1 714 s wall
 (0.56 s per point against 0.12 s); the first s = 4 attempt of this issue stopped at point 862
 after 53 min (assembly and setup included).  s = 2: T_total/(T_F + T_G) 22.7 at first, 9.5
