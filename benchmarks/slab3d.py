@@ -53,20 +53,20 @@ condensation built with a memory limit just below the float64 need holds G in fl
 run in float32 gives the same events as the float64 run (λ compared, largest relative
 difference printed).
 
-Measured (docs/performance.md, "3D"): s = 4 (327 144 DOFs, 2 025 CFEs) completes: 8 697
-events at 6 679 event points.  With the residual check's G t by symv: T_total 817 s wall
-(1 577 s process CPU on both cores; setup 71 s, event loop 740 s) plus 11 s of assembly,
-13.8 min in all on the 2-core machine (the issue asks for under 15); without it, two runs
-took 907 and 912 s (the machine varies by about 10 % between runs).  T_total/(T_F + T_G) =
-11.9 in all three, M_run/M_F = 1.53 (9.2 GB against 6.0 GB), 5.5 events per second.  The
-same loop before the rate problem's core (``solver/rate.py`` ``_core_outcome``) had reached
-event point 3 035 after 1 714 s wall (0.56 s per point against 0.12 s); the first s = 4
-attempt of this issue stopped at point 862 after 53 min (assembly and setup included).  s = 2: T_total/(T_F + T_G) 22.7 at first, 9.5
-after the responses were read from the update's products; the loop's CPU 44.6 → 27.9 →
-18.3 s with the core (the same 2 076 events each time).  The assembly (outside T_total)
-takes 0.22, 1.0 and 8.8 s of process CPU at s = 1, 2 and 4 with the tet4/hex8 kernels (4.9,
-25 and 362 s with scikit-fem's generic form before).  G is read off PARDISO's Schur
-complement on the 12 150 contact DOFs at s = 4 (G = Wᵀ W, W = L⁻¹ B_cᵀ with S = L Lᵀ).
+Measured (docs/performance.md, "3D"): s = 4 (327 144 DOFs, 2 025 CFEs) completes: 8 697 events
+at 6 679 event points. With the residual check's G t by symv: T_total 817 s wall (1 577 s
+process CPU on both cores; setup 71 s, event loop 740 s) plus 11 s of assembly, 13.8 min in all
+on the 2-core machine (the issue asks for under 15); without it, two runs took 907 and 912 s
+(the machine varies by about 10 % between runs). T_total/(T_F + T_G) = 11.9 in all three,
+M_run/M_F = 1.53 (9.2 GB against 6.0 GB), 5.5 events per second. The same loop before the rate
+problem's core (``solver/rate.py`` ``_core_outcome``) had reached event point 3 035 after 1 714
+s wall (0.56 s per point against 0.12 s); the first s = 4 attempt of this issue stopped at point
+862 after 53 min (assembly and setup included). s = 2: T_total/(T_F + T_G) 22.7 at first, 9.5
+after the responses were read from the update's products; the loop's CPU 44.6 → 27.9 → 18.3 s
+with the core (the same 2 076 events each time). The assembly (outside T_total) takes 0.22, 1.0
+and 8.8 s of process CPU at s = 1, 2 and 4 with the tet4/hex8 kernels (4.9, 25 and 362 s with
+scikit-fem's generic form before). G is read off PARDISO's Schur complement on the 12 150
+contact DOFs at s = 4 (G = Wᵀ W, W = L⁻¹ B_cᵀ with S = L Lᵀ).
 
 ``--setup-only``: the setup alone, each size in a fresh process, split into the model, the
 assembly's steps (stiffness, loads, contact search, contact operator, restraint check), T_F,
