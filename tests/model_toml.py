@@ -27,10 +27,12 @@ material = "{material}"
 """
 
 
-def block_on_floor(model: str, friction: float = 0.3) -> str:
+def block_on_floor(model: str, friction: float = 0.3, layer: str = "") -> str:
     """:func:`concrete_block` resting on a rigid floor line y = 0 through the interface
-    "base" (its bottom node set on the obstacle "floor", friction ``friction``), with its
-    self-weight as the pattern "weight" and a program of that one segment to 1."""
+    "base" (its bottom node set on the obstacle "floor", friction ``friction``, ``layer``: a
+    TOML inline table of a compliant layer, or none), with its self-weight as the pattern
+    "weight" and a program of that one segment to 1."""
+    layer = f"\nlayer = {layer}" if layer else ""
     return concrete_block(model) + f"""
 [node_sets.bottom]
 body = "block"
@@ -44,7 +46,7 @@ points = [[-5.0, 0.0], [5.0, 0.0]]
 name = "base"
 plus = "bottom"
 obstacle = "floor"
-friction = {friction}
+friction = {friction}{layer}
 
 [patterns.weight]
 loads = [{{ type = "gravity" }}]

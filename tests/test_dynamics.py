@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import stepcontact as sc
-from model_toml import concrete_block
+from model_toml import block_on_floor
 from stepcontact.enums import Status, Transition
 from stepcontact.errors import ModelError
 from stepcontact.model.timefunction import Harmonic, Pulse, Tabulated
@@ -202,35 +202,13 @@ def test_a_dynamic_result_round_trips_through_the_result_file(tmp_path):
     assert [e.transition for e in back.events] == [e.transition for e in res.events]
 
 
-DYN_FILE = concrete_block("dyn-block") + """
-[node_sets.bottom]
-body = "block"
-y = 0.0
-
+DYN_FILE = block_on_floor("dyn-block", 0.5, layer="{ kn = 1e10, kt = 1e10 }") + """
 [node_sets.top]
 body = "block"
 y = 0.5
 
-[[obstacles]]
-name = "floor"
-points = [[-5.0, 0.0], [5.0, 0.0]]
-
-[[interfaces]]
-name = "base"
-plus = "bottom"
-obstacle = "floor"
-friction = 0.5
-layer = { kn = 1e10, kt = 1e10 }
-
-[patterns.weight]
-loads = [{ type = "gravity" }]
-
 [patterns.push]
 loads = [{ type = "edge_force", nodes = "top", fx = 2e4 }]
-
-[[program]]
-pattern = "weight"
-end = 1.0
 
 [dynamics]
 dt = 1e-3

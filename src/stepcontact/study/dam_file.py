@@ -495,7 +495,7 @@ def plot_model_section(study, path=None, *, dpi: float | None = None):
     of water) at the normal and flood levels, uncracked."""
     from matplotlib.collections import LineCollection
 
-    from stepcontact.post.common import DPI, figure_path, new_figure, save_figure
+    from stepcontact.post.common import DPI, figure_path, new_figure
 
     dpi = DPI if dpi is None else dpi
     p = figure_path(path, dpi)
@@ -552,14 +552,24 @@ def plot_model_section(study, path=None, *, dpi: float | None = None):
         dist = np.hypot(pts[:, 0] - s.heel[0], pts[:, 1] - s.heel[1])
         axu.plot(dist, pts[:, 2], color=color, lw=1.5, marker=".",
                  label=f"{name} level {lv:g} m")
+    return finish_uplift_panel(fig, axu, (0.0, s.base_length),
+                               "distance from the heel along the base (m)", p, dpi)
+
+
+def finish_uplift_panel(fig, axu, xlim: tuple[float, float], xlabel: str, path, dpi: float):
+    """The uplift-head panel of a dam's section figure (this module's and the parametric
+    study's, :mod:`stepcontact.study.dam_report`) dressed — limits, labels (head in m), grid,
+    the legend beside it — and the figure saved to ``path`` (None: not saved)."""
+    from stepcontact.post.common import save_figure
+
     axu.set_ylim(bottom=0.0)
-    axu.set_xlim(0.0, s.base_length)
-    axu.set_xlabel("distance from the heel along the base (m)")
+    axu.set_xlim(*xlim)
+    axu.set_xlabel(xlabel)
     axu.set_ylabel("uplift head (m)")
     axu.grid(True, alpha=0.3)
     axu.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="x-small",
                frameon=False, title="uncracked base", title_fontsize="x-small")
-    save_figure(fig, p, dpi)
+    save_figure(fig, path, dpi)
     return fig
 
 

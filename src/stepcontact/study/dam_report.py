@@ -135,15 +135,9 @@ def plot_section(study: DamStudy, path: str | os.PathLike[str] | None = None, *,
     for lv, name in ((s.normal_level, "normal"), (s.flood_level, "flood")):
         axu.plot(x, s.uplift_head(x, lv), color=COLORS[name], lw=1.5,
                  label=f"{name} level {lv:g} m")
-    axu.set_ylim(bottom=0.0)
-    axu.set_xlim(left, right)
-    axu.set_xlabel("x from the heel (m)")
-    axu.set_ylabel("uplift head (m)")
-    axu.grid(True, alpha=0.3)
-    axu.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="x-small",
-               frameon=False, title="uncracked base", title_fontsize="x-small")
-    save_figure(fig, p, dpi)
-    return fig
+    from stepcontact.study.dam_file import finish_uplift_panel
+
+    return finish_uplift_panel(fig, axu, (left, right), "x from the heel (m)", p, dpi)
 
 
 def plot_base_stresses(study: DamStudy, path: str | os.PathLike[str] | None = None, *,
